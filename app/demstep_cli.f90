@@ -1,0 +1,217 @@
+!> Shared machinery of the demstep command line: variable specifications,
+!> reading a group's assignments into a namelist one at a time (so that an error
+!> names the variable), number formatting and checks.
+module demstep_cli
+  use demstep_kinds, only: dp
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_namelist, only: nml_group_type, nml_item_type
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
+  implicit none
+  private
+
+  public :: var, check_names, given, item_text, read_failed, check_positive, &
+    check_nonnegative, fmt_real, fmt_int, write_template, cli_context
+
+  !> Where a group handler writes: the human report and the result namelist.
+  type :: cli_context
+    !> Unit of the report (buffered; printed at the end on success).
+    integer :: report = -1
+    !> Unit of the result namelist (buffered; file or stdout at the end).
+    integer :: results = -1
+  end type cli_context
+
+  !> One input variable of a group: name, what its value must be, documentation,
+  !> and an example value for the template (a leading '!' comments it out there).
+  type, public :: var_spec
+    character(len=:), allocatable :: name, what, doc, example
+  end type var_spec
+
+contains
+
+  !> Build a variable specification.
+  pure function var(name, what, doc, example) result(spec)
+    character(len=*), intent(in) :: name, what, doc, example
+    type(var_spec) :: spec
+    spec%name = name
+    spec%what = what
+    spec%doc = doc
+    spec%example = example
+  end function var
+
+  !> Every assignment must name a known variable and have a value.
+  pure subroutine check_names(group, specs, status)
+    type(nml_group_type), intent(in) :: group
+    type(var_spec), intent(in) :: specs(:)
+    type(demstep_status_type), intent(out) :: status
+    integer :: i, j
+    do i = 1, size(group%items)
+      associate(item => group%items(i))
+        j = find(specs, item%name)
+        if (j == 0) then
+          call set_status(status, demstep_stat%invalid_input, "&"//group%name//": " &
+            //item%name//": unknown variable (known: "//names_of(specs)//")")
+          return
+        end if
+        if (len(item%value) == 0) then
+          call set_status(status, demstep_stat%invalid_input, "&"//group%name//": " &
+            //item%name//": no value given")
+          return
+        end if
+      end associate
+    end do
+    status%stat = demstep_stat%ok
+  end subroutine check_names
+
+  !> True when the group assigns variable `name`.
+  pure logical function given(group, name)
+    type(nml_group_type), intent(in) :: group
+    character(len=*), intent(in) :: name
+    integer :: i
+    given = .false.
+    do i = 1, size(group%items)
+      if (group%items(i)%name == name) given = .true.
+    end do
+  end function given
+
+  !> The single assignment `item` as namelist input of `group`.
+  pure function item_text(group, item) result(text)
+    type(nml_group_type), intent(in) :: group
+    type(nml_item_type), intent(in) :: item
+    character(len=:), allocatable :: text
+    text = "&"//group%name//" "//item%designator//" = "//item%value//" /"
+  end function item_text
+
+  !> The status for a value the runtime could not read.
+  pure subroutine read_failed(group, item, specs, status)
+    type(nml_group_type), intent(in) :: group
+    type(nml_item_type), intent(in) :: item
+    type(var_spec), intent(in) :: specs(:)
+    type(demstep_status_type), intent(out) :: status
+    integer :: j
+    j = find(specs, item%name)
+    call set_status(status, demstep_stat%invalid_input, "&"//group%name//": "//item%name// &
+      ": cannot read '"//item%value//"' as "//specs(max(j, 1))%what)
+  end subroutine read_failed
+
+  !> Status `invalid_input` unless x is finite and > 0.
+  pure subroutine check_positive(group, name, x, status)
+    character(len=*), intent(in) :: group, name
+    real(dp), intent(in) :: x
+    type(demstep_status_type), intent(inout) :: status
+    if (status%stat /= demstep_stat%ok) return
+    if (.not. ieee_is_finite(x)) then
+      call set_status(status, demstep_stat%invalid_input, "&"//group//": "//name// &
+        ": must be a finite number, not "//fmt_real(x))
+    else if (.not. x > 0.0_dp) then
+      call set_status(status, demstep_stat%invalid_input, "&"//group//": "//name// &
+        ": must be > 0, got "//fmt_real(x))
+    end if
+  end subroutine check_positive
+
+  !> Status `invalid_input` unless x is finite and >= 0.
+  pure subroutine check_nonnegative(group, name, x, status)
+    character(len=*), intent(in) :: group, name
+    real(dp), intent(in) :: x
+    type(demstep_status_type), intent(inout) :: status
+    if (status%stat /= demstep_stat%ok) return
+    if (.not. ieee_is_finite(x)) then
+      call set_status(status, demstep_stat%invalid_input, "&"//group//": "//name// &
+        ": must be a finite number, not "//fmt_real(x))
+    else if (x < 0.0_dp) then
+      call set_status(status, demstep_stat%invalid_input, "&"//group//": "//name// &
+        ": must be >= 0, got "//fmt_real(x))
+    end if
+  end subroutine check_nonnegative
+
+  !> A real with 10 significant digits, trailing zeros dropped: fixed notation for
+  !> magnitudes 1e-3 .. 1e7, else `1.25e-8`.
+  pure function fmt_real(x) result(text)
+    real(dp), intent(in) :: x
+    character(len=:), allocatable :: text
+    character(len=40) :: buf
+    character(len=16) :: form
+    integer :: e, k
+    if (ieee_is_nan(x)) then
+      text = "NaN"
+      return
+    else if (.not. ieee_is_finite(x)) then
+      text = merge("+Inf", "-Inf", x > 0.0_dp)
+      return
+    else if (x == 0.0_dp) then
+      text = "0"
+      return
+    end if
+    write(buf, '(es24.9e3)') x
+    k = index(buf, "E")
+    read(buf(k+1:), *) e
+    if (e >= -3 .and. e <= 6) then
+      write(form, '(a, i0, a)') "(f40.", 9 - e, ")"
+      write(buf, form) x
+      text = drop_zeros(trim(adjustl(buf)))
+    else
+      text = drop_zeros(trim(adjustl(buf(1:k-1))))//"e"//fmt_int(int(e, 8))
+    end if
+  end function fmt_real
+
+  pure function drop_zeros(number) result(text)
+    character(len=*), intent(in) :: number
+    character(len=:), allocatable :: text
+    integer :: last
+    text = number
+    if (index(text, ".") == 0) return
+    last = verify(text, "0", back=.true.)
+    if (text(last:last) == ".") last = last - 1
+    text = text(1:last)
+  end function drop_zeros
+
+  !> An integer as text.
+  pure function fmt_int(i) result(text)
+    integer(kind=8), intent(in) :: i
+    character(len=:), allocatable :: text
+    character(len=24) :: buf
+    write(buf, '(i0)') i
+    text = trim(buf)
+  end function fmt_int
+
+  !> Write a commented input group for the template.
+  subroutine write_template(unit, group, doc, specs)
+    integer, intent(in) :: unit
+    character(len=*), intent(in) :: group, doc
+    type(var_spec), intent(in) :: specs(:)
+    integer :: i
+    write(unit, '(a)') "! "//doc
+    write(unit, '(a)') "&"//group
+    do i = 1, size(specs)
+      if (specs(i)%example(1:1) == "!") then
+        ! an alternative to another variable: shown commented out
+        write(unit, '(2x, a, t40, a)') "! "//specs(i)%name//" = "//specs(i)%example(2:)//",", &
+          "! "//specs(i)%doc
+      else
+        write(unit, '(2x, a, t40, a)') specs(i)%name//" = "//specs(i)%example//",", &
+          "! "//specs(i)%doc
+      end if
+    end do
+    write(unit, '(a)') "/"
+  end subroutine write_template
+
+  pure integer function find(specs, name)
+    type(var_spec), intent(in) :: specs(:)
+    character(len=*), intent(in) :: name
+    do find = 1, size(specs)
+      if (specs(find)%name == name) return
+    end do
+    find = 0
+  end function find
+
+  pure function names_of(specs) result(text)
+    type(var_spec), intent(in) :: specs(:)
+    character(len=:), allocatable :: text
+    integer :: i
+    text = ""
+    do i = 1, size(specs)
+      if (i > 1) text = text//", "
+      text = text//specs(i)%name
+    end do
+  end function names_of
+
+end module demstep_cli

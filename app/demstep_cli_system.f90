@@ -1,0 +1,232 @@
+!> Group `&system`: one mass on a contact spring (the seed's model).
+module demstep_cli_system
+  use demstep, only: dp, i8, pi, demstep_status_type, demstep_stat, spring_type, &
+    new_spring, spring_omega, spring_period, critical_time_step, numerical_phase, &
+    growth_factor, discrete_contact_type, discrete_contact, simulate_contact, &
+    dashpot_lagged, dashpot_centred, lowercase, nml_group_type, set_status
+  use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
+    check_positive, check_nonnegative, fmt_real, fmt_int, cli_context
+  implicit none
+  private
+
+  public :: system_specs, system_doc, handle_system
+
+  !> One line on what the group is for.
+  character(len=*), parameter :: system_doc = &
+    "One mass M hitting a contact spring K at speed v0 (the seed's model): period, " &
+    //"stability limit and, for a step dt, the discrete contact."
+
+  !> Steps a damped contact may take when simulated.
+  integer(i8), parameter :: max_contact_steps = 100000000_i8
+
+contains
+
+  !> The variables of `&system`.
+  function system_specs() result(specs)
+    type(var_spec), allocatable :: specs(:)
+    specs = [ &
+      var("mass", "a real number", "mass M (> 0)", "0.01"), &
+      var("stiffness", "a real number", "normal stiffness K (> 0)", "1.0e5"), &
+      var("damping_ratio", "a real number", "viscous damping ratio zeta >= 0 (default 0)", "0.0"), &
+      var("dashpot", "a quoted word", "'lagged' (default, half-step-old velocity) or 'centred'", &
+        "'lagged'"), &
+      var("velocity", "a real number", "impact speed v0 > 0 (default 1), scales overlaps", "1.0"), &
+      var("dt", "a real number", "time step to assess (> 0), or give n_per_period", "!2.0e-4"), &
+      var("n_per_period", "a real number", "steps per natural period N = T/dt (> 0), or give dt", &
+        "10.0") ]
+  end function system_specs
+
+  !> Read, check and evaluate one `&system` group.
+  subroutine handle_system(ctx, group, status)
+    type(cli_context), intent(in) :: ctx
+    type(nml_group_type), intent(in) :: group
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: mass, stiffness, damping_ratio, velocity, dt, n_per_period
+    character(len=32) :: dashpot
+    namelist /system/ mass, stiffness, damping_ratio, dashpot, velocity, dt, n_per_period
+    type(var_spec), allocatable :: specs(:)
+    type(spring_type) :: spring
+    integer :: i, ios, kind
+    character(len=:), allocatable :: text
+    character(len=*), parameter :: g = "system"
+
+    specs = system_specs()
+    call check_names(group, specs, status)
+    if (status%stat /= demstep_stat%ok) return
+    mass = 0.0_dp
+    stiffness = 0.0_dp
+    damping_ratio = 0.0_dp
+    dashpot = "lagged"
+    velocity = 1.0_dp
+    dt = 0.0_dp
+    n_per_period = 0.0_dp
+    do i = 1, size(group%items)
+      text = item_text(group, group%items(i))
+      read(text, nml=system, iostat=ios)
+      if (ios /= 0) then
+        call read_failed(group, group%items(i), specs, status)
+        return
+      end if
+    end do
+
+    if (.not. given(group, "mass")) then
+      call set_status(status, demstep_stat%invalid_input, "&system: mass: required")
+      return
+    end if
+    if (.not. given(group, "stiffness")) then
+      call set_status(status, demstep_stat%invalid_input, "&system: stiffness: required")
+      return
+    end if
+    if (given(group, "dt") .and. given(group, "n_per_period")) then
+      call set_status(status, demstep_stat%invalid_input, &
+        "&system: dt: give either dt or n_per_period, not both")
+      return
+    end if
+    call check_positive(g, "mass", mass, status)
+    call check_positive(g, "stiffness", stiffness, status)
+    call check_nonnegative(g, "damping_ratio", damping_ratio, status)
+    call check_positive(g, "velocity", velocity, status)
+    if (given(group, "dt")) call check_positive(g, "dt", dt, status)
+    if (given(group, "n_per_period")) call check_positive(g, "n_per_period", n_per_period, status)
+    if (status%stat /= demstep_stat%ok) return
+    select case (lowercase(trim(adjustl(dashpot))))
+    case ("lagged")
+      kind = dashpot_lagged
+    case ("centred", "centered")
+      kind = dashpot_centred
+    case default
+      call set_status(status, demstep_stat%invalid_input, "&system: dashpot: must be 'lagged' or " &
+        //"'centred', got '"//trim(dashpot)//"'")
+      return
+    end select
+
+    call new_spring(spring, mass, stiffness, status, damping_ratio=damping_ratio, dashpot=kind)
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "&system: "//status%message
+      return
+    end if
+    if (given(group, "n_per_period")) dt = spring_period(spring)/n_per_period
+    call evaluate(ctx, group, spring, velocity, given(group, "dt") .or. given(group, "n_per_period"), &
+      dt, status)
+  end subroutine handle_system
+
+  !> Compute, report and write the result group.
+  subroutine evaluate(ctx, group, spring, velocity, have_dt, dt, status)
+    type(cli_context), intent(in) :: ctx
+    type(nml_group_type), intent(in) :: group
+    type(spring_type), intent(in) :: spring
+    real(dp), intent(in) :: velocity, dt
+    logical, intent(in) :: have_dt
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: period, omega, dt_critical, n_per_period, theta, period_numerical, rho
+    real(dp) :: zeta
+    type(discrete_contact_type) :: contact
+    type(demstep_status_type) :: phase_status
+    logical :: stable
+    integer :: u
+
+    u = ctx%report
+    period = spring_period(spring)
+    omega = spring_omega(spring)
+    dt_critical = critical_time_step(spring)
+    zeta = spring%damping/(2.0_dp*sqrt(spring%stiffness*spring%mass))
+    write(u, '(a)') "&system (line "//fmt_int(int(group%line, i8))//")"
+    call row(u, "mass M", fmt_real(spring%mass))
+    call row(u, "stiffness K", fmt_real(spring%stiffness))
+    if (zeta > 0.0_dp) call row(u, "damping ratio", fmt_real(zeta)//merge(" (lagged dashpot) ", &
+      " (centred dashpot)", spring%dashpot == dashpot_lagged))
+    call row(u, "natural period T", fmt_real(period)//"  (2 pi sqrt(M/K))")
+    call row(u, "omega", fmt_real(omega))
+    call row(u, "critical step", fmt_real(dt_critical)//"  (T/"//fmt_real(period/dt_critical)//")")
+    status%stat = demstep_stat%ok
+    if (.not. have_dt) then
+      call write_basic(ctx%results, period, omega, dt_critical)
+      write(u, '(a)') ""
+      return
+    end if
+
+    n_per_period = period/dt
+    stable = dt < dt_critical
+    rho = growth_factor(spring, dt)
+    call row(u, "time step dt", fmt_real(dt)//"  (N = T/dt = "//fmt_real(n_per_period)//")")
+    if (.not. stable) then
+      call row(u, "stable", "NO: dt >= critical step; amplitude grows by "//fmt_real(rho)// &
+        " per step")
+      call write_unstable(ctx%results, period, omega, dt_critical, dt, n_per_period, rho)
+      write(u, '(a)') ""
+      return
+    end if
+    call numerical_phase(omega*dt, theta, phase_status)
+    period_numerical = 2.0_dp*pi*dt/theta
+    if (.not. spring%damping > 0.0_dp) then
+      call discrete_contact(omega*dt, contact, status)
+    else
+      call simulate_contact(spring, dt, contact, status, max_steps=max_contact_steps)
+      if (status%stat == demstep_stat%not_converged) then
+        call set_status(status, demstep_stat%invalid_input, "&system: dt: a damped contact " &
+          //"would take more than "//fmt_int(max_contact_steps)//" steps to simulate")
+        return
+      end if
+    end if
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "&system: "//status%message
+      return
+    end if
+    call row(u, "stable", "yes (dt/dt_critical = "//fmt_real(dt/dt_critical)//")")
+    call row(u, "phase per step theta", fmt_real(theta)//"  (2 asin(omega dt/2), undamped)")
+    call row(u, "numerical period", fmt_real(period_numerical)//"  (error " &
+      //fmt_real(100.0_dp*(period_numerical/period - 1.0_dp))//" %)")
+    write(u, '(2x, a)') "discrete contact, onset at a step, impact speed "//fmt_real(velocity)//":"
+    call row(u, "  steps in contact", fmt_int(contact%steps))
+    call row(u, "  contact time", fmt_real(contact%contact_time*pi/omega)//"  (exact T/2 = " &
+      //fmt_real(pi/omega)//")")
+    call row(u, "  restitution", fmt_real(contact%restitution)//merge(" (gains energy)", &
+      "               ", contact%restitution > 1.0_dp))
+    call row(u, "  max overlap", fmt_real(contact%max_overlap*velocity/omega)// &
+      "  (exact v0/omega = "//fmt_real(velocity/omega)//")")
+    write(u, '(a)') ""
+    call write_stable(ctx%results, period, omega, dt_critical, dt, n_per_period, rho, theta, &
+      period_numerical, contact%steps, contact%contact_time*pi/omega, contact%restitution, &
+      contact%max_overlap*velocity/omega)
+  end subroutine evaluate
+
+  subroutine row(unit, label, value)
+    integer, intent(in) :: unit
+    character(len=*), intent(in) :: label, value
+    write(unit, '(2x, a, t28, a)') label, trim(value)
+  end subroutine row
+
+  !> Result without a time step.
+  subroutine write_basic(unit, period, omega, dt_critical)
+    integer, intent(in) :: unit
+    real(dp), intent(in) :: period, omega, dt_critical
+    namelist /system_result/ period, omega, dt_critical
+    write(unit, nml=system_result)
+  end subroutine write_basic
+
+  !> Result for a time step at or beyond the limit.
+  subroutine write_unstable(unit, period, omega, dt_critical, dt, n_per_period, growth_factor)
+    integer, intent(in) :: unit
+    real(dp), intent(in) :: period, omega, dt_critical, dt, n_per_period, growth_factor
+    logical :: stable
+    namelist /system_result/ period, omega, dt_critical, dt, n_per_period, stable, growth_factor
+    stable = .false.
+    write(unit, nml=system_result)
+  end subroutine write_unstable
+
+  !> Result for a stable time step, with the discrete contact.
+  subroutine write_stable(unit, period, omega, dt_critical, dt, n_per_period, growth_factor, &
+      theta, period_numerical, contact_steps, contact_time, restitution, max_overlap)
+    integer, intent(in) :: unit
+    real(dp), intent(in) :: period, omega, dt_critical, dt, n_per_period, growth_factor, theta, &
+      period_numerical, contact_time, restitution, max_overlap
+    integer(i8), intent(in) :: contact_steps
+    logical :: stable
+    namelist /system_result/ period, omega, dt_critical, dt, n_per_period, stable, &
+      growth_factor, theta, period_numerical, contact_steps, contact_time, restitution, &
+      max_overlap
+    stable = .true.
+    write(unit, nml=system_result)
+  end subroutine write_stable
+
+end module demstep_cli_system

@@ -1,0 +1,189 @@
+!> demstep: read a Fortran namelist deck, process the groups demstep knows, print a
+!> report and write a result namelist that a Fortran program can read back.
+!>
+!> Exit status: 0 success, 2 bad input or usage, 1 failure to write the output.
+program demstep_main
+  use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+  use demstep, only: demstep_version_string, demstep_status_type, demstep_stat, &
+    nml_group_type, read_text_file, scan_namelist, replace_file, process_id
+  use demstep_cli, only: cli_context, write_template, fmt_int
+  use demstep_cli_system, only: handle_system, system_specs, system_doc
+  implicit none
+
+  character(len=:), allocatable :: input, output, arg, text, skipped, tmp
+  logical :: namelist_only
+  type(nml_group_type), allocatable :: groups(:)
+  type(demstep_status_type) :: status
+  type(cli_context) :: ctx
+  integer :: i, nargs, known, ios, unit
+  character(len=256) :: msg
+
+  namelist_only = .false.
+  nargs = command_argument_count()
+  i = 0
+  do while (i < nargs)
+    i = i + 1
+    call argument(i, arg)
+    select case (arg)
+    case ("-h", "--help")
+      call print_help()
+      stop
+    case ("-V", "--version")
+      write(output_unit, '(a)') "demstep "//demstep_version_string
+      stop
+    case ("--template")
+      call print_template()
+      stop
+    case ("--namelist")
+      namelist_only = .true.
+    case ("-o", "--output")
+      if (i == nargs) call usage_error("option "//arg//" needs a file name")
+      i = i + 1
+      call argument(i, output)
+    case default
+      if (index(arg, "--output=") == 1) then
+        output = arg(10:)
+      else if (len(arg) > 1 .and. arg(1:1) == "-") then
+        call usage_error("unknown option '"//arg//"'")
+      else if (allocated(input)) then
+        call usage_error("more than one input file ('"//input//"', '"//arg//"')")
+      else
+        input = arg
+      end if
+    end select
+  end do
+  if (.not. allocated(input)) call usage_error("no input file")
+  if (allocated(output)) then
+    if (len(output) == 0) call usage_error("empty output file name")
+  end if
+
+  call read_text_file(input, text, status)
+  if (status%stat /= demstep_stat%ok) call fail(input//": "//status%message, 2)
+  call scan_namelist(text, groups, status)
+  if (status%stat /= demstep_stat%ok) call fail(input//": "//status%message, 2)
+
+  open(newunit=ctx%report, status="scratch", action="readwrite", form="formatted")
+  open(newunit=ctx%results, status="scratch", action="readwrite", form="formatted")
+  write(ctx%report, '(a)') "demstep "//demstep_version_string//": "//input
+  write(ctx%report, '(a)') ""
+  known = 0
+  skipped = ""
+  do i = 1, size(groups)
+    select case (groups(i)%name)
+    case ("system")
+      call handle_system(ctx, groups(i), status)
+    case default
+      skipped = skipped//" &"//groups(i)%name//" (line "//fmt_int(int(groups(i)%line, 8))//")"
+      cycle
+    end select
+    if (status%stat /= demstep_stat%ok) call fail(input//": "//status%message, 2)
+    known = known + 1
+  end do
+  if (known == 0) call fail(input//": no demstep group in the file (known: &system; see " &
+    //"demstep --template)", 2)
+  if (len(skipped) > 0) write(ctx%report, '(a)') "skipped groups (not demstep's):"//skipped
+
+  if (allocated(output)) then
+    tmp = output//".tmp"//fmt_int(int(process_id(), 8))
+    open(newunit=unit, file=tmp, status="replace", action="write", form="formatted", &
+      iostat=ios, iomsg=msg)
+    if (ios /= 0) call fail(output//": cannot write: "//trim(msg), 1)
+    call copy_unit(ctx%results, unit, ios)
+    if (ios /= 0) then
+      close(unit, status="delete")
+      call fail(output//": cannot write the results", 1)
+    end if
+    close(unit)
+    call replace_file(tmp, output, status)
+    if (status%stat /= demstep_stat%ok) then
+      open(newunit=unit, file=tmp, status="old", iostat=ios)
+      if (ios == 0) close(unit, status="delete")
+      call fail(output//": "//status%message, 1)
+    end if
+    write(ctx%report, '(a)') "results written to "//output
+  end if
+  if (namelist_only) then
+    call copy_unit(ctx%results, output_unit, ios)
+  else
+    call copy_unit(ctx%report, output_unit, ios)
+  end if
+  close(ctx%report)
+  close(ctx%results)
+
+contains
+
+  !> Print one line on stderr and end with the given exit status.
+  subroutine fail(message, code)
+    character(len=*), intent(in) :: message
+    integer, intent(in) :: code
+    write(error_unit, '(a)') "demstep: "//message
+    select case (code)
+    case (1)
+      stop 1, quiet=.true.
+    case default
+      stop 2, quiet=.true.
+    end select
+  end subroutine fail
+
+  subroutine usage_error(message)
+    character(len=*), intent(in) :: message
+    call fail(message//" (usage: demstep [options] FILE.nml; see demstep --help)", 2)
+  end subroutine usage_error
+
+  subroutine argument(i, value)
+    integer, intent(in) :: i
+    character(len=:), allocatable, intent(out) :: value
+    integer :: length
+    call get_command_argument(i, length=length)
+    allocate(character(len=length) :: value)
+    if (length > 0) call get_command_argument(i, value)
+  end subroutine argument
+
+  !> Copy a buffered scratch unit, from its start, to another unit.
+  subroutine copy_unit(from, to, ios)
+    integer, intent(in) :: from, to
+    integer, intent(out) :: ios
+    character(len=4096) :: chunk
+    character(len=:), allocatable :: line
+    integer :: got
+    rewind(from)
+    do
+      line = ""
+      do
+        read(from, '(a)', advance="no", iostat=ios, size=got) chunk
+        line = line//chunk(1:got)
+        if (ios /= 0) exit
+      end do
+      if (is_iostat_end(ios)) exit
+      write(to, '(a)', iostat=ios) line
+      if (ios /= 0) return
+    end do
+    ios = 0
+  end subroutine copy_unit
+
+  subroutine print_help()
+    write(output_unit, '(a)') &
+      "usage: demstep [options] FILE.nml", &
+      "", &
+      "Reads the namelist groups demstep knows from FILE.nml (other groups, such as a", &
+      "DEM solver's own, are skipped and listed), prints a report, and optionally", &
+      "writes a result namelist (&<group>_result) that Fortran can read back.", &
+      "", &
+      "options:", &
+      "  -o FILE, --output FILE   write the result namelist to FILE (atomically)", &
+      "  --namelist               print the result namelist instead of the report", &
+      "  --template               print a commented input with every group", &
+      "  -V, --version            print the version", &
+      "  -h, --help               print this help", &
+      "", &
+      "groups: &system", &
+      "exit status: 0 ok, 2 bad input or usage, 1 output not written"
+  end subroutine print_help
+
+  subroutine print_template()
+    write(output_unit, '(a)') "! demstep input template: every group demstep knows.", &
+      "! Values shown are examples; give only the variables you need.", ""
+    call write_template(output_unit, "system", system_doc, system_specs())
+  end subroutine print_template
+
+end program demstep_main

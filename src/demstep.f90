@@ -1,0 +1,18 @@
+!> demstep: time step and contact stiffness for Discrete Element Method codes.
+!>
+!> The facade: `use demstep` gives the whole public API.
+module demstep
+  use demstep_kinds, only: dp, i8, pi
+  use demstep_version, only: demstep_version_string
+  use demstep_status, only: demstep_status_type, demstep_stat_codes, demstep_stat, &
+    set_status, is_ok
+  use demstep_spring, only: spring_type, spring_state_type, discrete_contact_type, &
+    dashpot_lagged, dashpot_centred, new_spring, spring_step, spring_run, &
+    spring_omega, spring_period, spring_damping_ratio, critical_time_step, &
+    numerical_phase, numerical_period, growth_factor, exact_discrete_state, &
+    paper_closed_form_velocity, discrete_contact, simulate_contact
+  use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, &
+    scan_namelist, lowercase, replace_file, process_id
+  implicit none
+  public
+end module demstep

@@ -1,0 +1,457 @@
+!> Namelist input decks as text: read a file, find its groups and their assignments.
+!>
+!> A legacy DEM deck holds the solver's own groups beside demstep's. This module
+!> splits a deck into groups (`&name ... /`, also `&name ... &end` and `$name ... $end`)
+!> and each group into assignments `designator = values`, honouring quotes and `!`
+!> comments, so that a reader can process only the groups it knows and report an
+!> error against the exact variable. Values are left as text for the Fortran
+!> runtime to convert (`read(text, nml=...)`). Also: atomic file replacement.
+module demstep_namelist
+  use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  implicit none
+  private
+
+  public :: read_text_file, scan_namelist, lowercase, replace_file, process_id
+
+  !> One assignment `designator = values` of a group.
+  type, public :: nml_item_type
+    !> Designator as written, lower case (`lambda(2)`, `mass`).
+    character(len=:), allocatable :: designator
+    !> Variable name: the designator without subscript or component.
+    character(len=:), allocatable :: name
+    !> The value text, as written.
+    character(len=:), allocatable :: value
+    !> Line of the designator in the file.
+    integer :: line = 0
+  end type nml_item_type
+
+  !> One namelist group of a deck.
+  type, public :: nml_group_type
+    !> Group name, lower case, without `&`.
+    character(len=:), allocatable :: name
+    !> Line of the `&name` in the file.
+    integer :: line = 0
+    !> The assignments, in order.
+    type(nml_item_type), allocatable :: items(:)
+  end type nml_group_type
+
+  interface
+    function c_rename(old, new) result(rc) bind(c, name="rename")
+      import :: c_char, c_int
+      character(kind=c_char), intent(in) :: old(*), new(*)
+      integer(c_int) :: rc
+    end function c_rename
+    function c_getpid() result(pid) bind(c, name="getpid")
+      import :: c_int
+      integer(c_int) :: pid
+    end function c_getpid
+  end interface
+
+  character(len=*), parameter :: lf = achar(10), cr = achar(13), tab = achar(9)
+
+contains
+
+  !> Read a whole file into a string.
+  subroutine read_text_file(path, text, status)
+    !> File name.
+    character(len=*), intent(in) :: path
+    !> Its contents.
+    character(len=:), allocatable, intent(out) :: text
+    !> `io_error` when the file is missing or unreadable.
+    type(demstep_status_type), intent(out) :: status
+    integer :: unit, ios, length
+    logical :: exists
+    character(len=256) :: msg
+    inquire(file=path, exist=exists)
+    if (.not. exists) then
+      call set_status(status, demstep_stat%io_error, "no such file")
+      return
+    end if
+    open(newunit=unit, file=path, access="stream", form="unformatted", action="read", &
+      status="old", iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call set_status(status, demstep_stat%io_error, "cannot open: "//trim(msg))
+      return
+    end if
+    inquire(unit=unit, size=length)
+    if (length < 0) then
+      close(unit)
+      call set_status(status, demstep_stat%io_error, "cannot determine the size (not a regular file?)")
+      return
+    end if
+    allocate(character(len=length) :: text)
+    if (length > 0) read(unit, iostat=ios, iomsg=msg) text
+    close(unit)
+    if (ios /= 0) then
+      call set_status(status, demstep_stat%io_error, "cannot read: "//trim(msg))
+      return
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine read_text_file
+
+  !> Split a namelist deck into groups and assignments.
+  !> Status `invalid_input` for an unterminated group or string, or text that is
+  !> not an assignment; the message starts with the group (`&name: `) where known.
+  pure subroutine scan_namelist(text, groups, status)
+    !> The deck.
+    character(len=*), intent(in) :: text
+    !> Its groups in file order.
+    type(nml_group_type), allocatable, intent(out) :: groups(:)
+    type(demstep_status_type), intent(out) :: status
+    type(nml_group_type) :: group
+    integer :: i, n, line, start, body_start, body_end, body_line
+    n = len(text)
+    allocate(groups(0))
+    i = 1
+    line = 1
+    do while (i <= n)
+      select case (text(i:i))
+      case (lf)
+        line = line + 1
+        i = i + 1
+      case ("!")
+        call skip_comment(text, i)
+      case ("&", "$")
+        start = i + 1
+        i = start
+        do while (i <= n)
+          if (.not. is_name_char(text(i:i))) exit
+          i = i + 1
+        end do
+        if (i == start) then
+          call set_status(status, demstep_stat%invalid_input, &
+            "line "//itoa(line)//": '"//text(start-1:start-1)//"' not followed by a group name")
+          return
+        end if
+        group%name = lowercase(text(start:i-1))
+        group%line = line
+        body_start = i
+        body_line = line
+        call find_group_end(text, i, line, body_end, status)
+        if (status%stat /= demstep_stat%ok) then
+          status%message = "&"//group%name//": "//status%message
+          return
+        end if
+        call split_items(text(body_start:body_end), body_line, group%items, status)
+        if (status%stat /= demstep_stat%ok) then
+          status%message = "&"//group%name//": "//status%message
+          return
+        end if
+        groups = [groups, group]
+      case default
+        i = i + 1
+      end select
+    end do
+    status%stat = demstep_stat%ok
+  end subroutine scan_namelist
+
+  !> From just after a group name, find the group's terminator; `i` moves past it.
+  pure subroutine find_group_end(text, i, line, body_end, status)
+    character(len=*), intent(in) :: text
+    integer, intent(inout) :: i, line
+    integer, intent(out) :: body_end
+    type(demstep_status_type), intent(out) :: status
+    integer :: n, first_line
+    n = len(text)
+    first_line = line
+    do while (i <= n)
+      select case (text(i:i))
+      case (lf)
+        line = line + 1
+      case ("'", '"')
+        call skip_string(text, i, line, status)
+        if (status%stat /= demstep_stat%ok) return
+        cycle
+      case ("!")
+        call skip_comment(text, i)
+        cycle
+      case ("/")
+        body_end = i - 1
+        i = i + 1
+        status%stat = demstep_stat%ok
+        return
+      case ("&", "$")
+        ! &end, $end or a lone $ close a group in older decks
+        body_end = i - 1
+        if (i + 3 <= n) then
+          if (lowercase(text(i+1:i+3)) == "end") then
+            i = i + 4
+            status%stat = demstep_stat%ok
+            return
+          end if
+        end if
+        if (text(i:i) == "$") then
+          i = i + 1
+          status%stat = demstep_stat%ok
+          return
+        end if
+        call set_status(status, demstep_stat%invalid_input, &
+          "line "//itoa(line)//": a new group starts before this one ends with '/'")
+        return
+      end select
+      i = i + 1
+    end do
+    call set_status(status, demstep_stat%invalid_input, &
+      "line "//itoa(first_line)//": group has no closing '/'")
+  end subroutine find_group_end
+
+  !> Split a group body into assignments: each '=' outside strings and parentheses
+  !> ends a designator; the values run up to the next designator.
+  pure subroutine split_items(body, first_line, items, status)
+    character(len=*), intent(in) :: body
+    integer, intent(in) :: first_line
+    type(nml_item_type), allocatable, intent(out) :: items(:)
+    type(demstep_status_type), intent(out) :: status
+    type(nml_item_type) :: item
+    integer :: i, n, line, depth, name_start, value_start, k
+    n = len(body)
+    allocate(items(0))
+    line = first_line
+    depth = 0
+    value_start = 0
+    i = 1
+    do while (i <= n)
+      select case (body(i:i))
+      case (lf)
+        line = line + 1
+      case ("'", '"')
+        call skip_string(body, i, line, status)
+        if (status%stat /= demstep_stat%ok) return
+        cycle
+      case ("!")
+        call skip_comment(body, i)
+        cycle
+      case ("(")
+        depth = depth + 1
+      case (")")
+        depth = depth - 1
+      case ("=")
+        if (depth == 0) then
+          call designator_before(body, i, name_start)
+          if (name_start == 0) then
+            call set_status(status, demstep_stat%invalid_input, &
+              "line "//itoa(line)//": '=' without a variable name before it")
+            return
+          end if
+          if (value_start == 0) then
+            if (len_trim(strip_separators(body(1:name_start-1))) > 0) then
+              call set_status(status, demstep_stat%invalid_input, "line "//itoa(line)// &
+                ": text before the first assignment: '"// &
+                trim(strip_separators(body(1:name_start-1)))//"'")
+              return
+            end if
+          else
+            items(size(items))%value = strip_separators(body(value_start:name_start-1))
+          end if
+          item%designator = lowercase(compact(body(name_start:i-1)))
+          k = scan(item%designator, "(%")
+          if (k == 0) k = len(item%designator) + 1
+          item%name = item%designator(1:k-1)
+          item%line = line
+          item%value = ""
+          items = [items, item]
+          value_start = i + 1
+        end if
+      end select
+      i = i + 1
+    end do
+    if (value_start == 0) then
+      if (len_trim(strip_separators(body)) > 0) then
+        call set_status(status, demstep_stat%invalid_input, &
+          "line "//itoa(first_line)//": no assignment in '"//trim(strip_separators(body))//"'")
+        return
+      end if
+    else
+      items(size(items))%value = strip_separators(body(value_start:n))
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine split_items
+
+  !> Start of the designator (name, optional subscript and components) ending
+  !> just before position `eq`; 0 if there is none.
+  pure subroutine designator_before(body, eq, start)
+    character(len=*), intent(in) :: body
+    integer, intent(in) :: eq
+    integer, intent(out) :: start
+    integer :: j, depth
+    start = 0
+    j = eq - 1
+    do while (j >= 1)
+      if (.not. is_blank(body(j:j))) exit
+      j = j - 1
+    end do
+    do while (j >= 1)
+      if (body(j:j) == ")") then
+        depth = 0
+        do while (j >= 1)
+          if (body(j:j) == ")") depth = depth + 1
+          if (body(j:j) == "(") depth = depth - 1
+          j = j - 1
+          if (depth == 0) exit
+        end do
+        do while (j >= 1)
+          if (.not. is_blank(body(j:j))) exit
+          j = j - 1
+        end do
+      end if
+      if (j < 1) return
+      if (.not. (is_name_char(body(j:j)) .or. body(j:j) == "%")) exit
+      do while (j >= 1)
+        if (.not. (is_name_char(body(j:j)) .or. body(j:j) == "%")) exit
+        start = j
+        j = j - 1
+      end do
+      if (j < 1) exit
+      if (body(j:j) /= ")") exit
+    end do
+    if (start > 0) then
+      if (.not. is_letter(body(start:start))) start = 0
+    end if
+  end subroutine designator_before
+
+  !> Move `i` past a quoted string starting at `i` (doubled quotes escape).
+  pure subroutine skip_string(text, i, line, status)
+    character(len=*), intent(in) :: text
+    integer, intent(inout) :: i, line
+    type(demstep_status_type), intent(out) :: status
+    character :: quote
+    integer :: first_line
+    quote = text(i:i)
+    first_line = line
+    i = i + 1
+    do while (i <= len(text))
+      if (text(i:i) == lf) line = line + 1
+      if (text(i:i) == quote) then
+        if (i < len(text)) then
+          if (text(i+1:i+1) == quote) then
+            i = i + 2
+            cycle
+          end if
+        end if
+        i = i + 1
+        status%stat = demstep_stat%ok
+        return
+      end if
+      i = i + 1
+    end do
+    call set_status(status, demstep_stat%invalid_input, &
+      "line "//itoa(first_line)//": unterminated string")
+  end subroutine skip_string
+
+  !> Move `i` to the end of the line (onto the line feed, if any).
+  pure subroutine skip_comment(text, i)
+    character(len=*), intent(in) :: text
+    integer, intent(inout) :: i
+    integer :: k
+    k = index(text(i:), lf)
+    if (k == 0) then
+      i = len(text) + 1
+    else
+      i = i + k - 1
+    end if
+  end subroutine skip_comment
+
+  !> Value text without comments, with blanks for line breaks, trimmed of
+  !> blanks and separating commas at both ends.
+  pure function strip_separators(text) result(out)
+    character(len=*), intent(in) :: text
+    character(len=:), allocatable :: out
+    integer :: i, j, line, first, last
+    type(demstep_status_type) :: status
+    out = ""
+    line = 1
+    i = 1
+    do while (i <= len(text))
+      select case (text(i:i))
+      case ("'", '"')
+        j = i
+        call skip_string(text, i, line, status)
+        out = out//text(j:min(i-1, len(text)))
+      case ("!")
+        call skip_comment(text, i)
+      case (lf, cr, tab)
+        out = out//" "
+        i = i + 1
+      case default
+        out = out//text(i:i)
+        i = i + 1
+      end select
+    end do
+    first = verify(out, " ,")
+    if (first == 0) then
+      out = ""
+      return
+    end if
+    last = verify(out, " ,", back=.true.)
+    out = out(first:last)
+  end function strip_separators
+
+  !> Remove all blanks from a designator.
+  pure function compact(text) result(out)
+    character(len=*), intent(in) :: text
+    character(len=:), allocatable :: out
+    integer :: i
+    out = ""
+    do i = 1, len(text)
+      if (.not. is_blank(text(i:i))) out = out//text(i:i)
+    end do
+  end function compact
+
+  !> ASCII lower case.
+  pure function lowercase(text) result(out)
+    !> Text to convert.
+    character(len=*), intent(in) :: text
+    character(len=len(text)) :: out
+    integer :: i, c
+    out = text
+    do i = 1, len(text)
+      c = iachar(text(i:i))
+      if (c >= iachar("A") .and. c <= iachar("Z")) out(i:i) = achar(c + 32)
+    end do
+  end function lowercase
+
+  !> Atomically replace `target` by `source` (POSIX rename).
+  subroutine replace_file(source, target, status)
+    !> Existing file, typically a temporary in the target's directory.
+    character(len=*), intent(in) :: source
+    !> Final name.
+    character(len=*), intent(in) :: target
+    type(demstep_status_type), intent(out) :: status
+    if (c_rename(source//c_null_char, target//c_null_char) /= 0) then
+      call set_status(status, demstep_stat%io_error, "cannot rename "//source//" to "//target)
+    else
+      status%stat = demstep_stat%ok
+    end if
+  end subroutine replace_file
+
+  !> Process id, for unique temporary file names.
+  function process_id() result(pid)
+    integer :: pid
+    pid = int(c_getpid())
+  end function process_id
+
+  elemental logical function is_blank(c)
+    character, intent(in) :: c
+    is_blank = c == " " .or. c == tab .or. c == lf .or. c == cr
+  end function is_blank
+
+  elemental logical function is_letter(c)
+    character, intent(in) :: c
+    is_letter = (c >= "a" .and. c <= "z") .or. (c >= "A" .and. c <= "Z")
+  end function is_letter
+
+  elemental logical function is_name_char(c)
+    character, intent(in) :: c
+    is_name_char = is_letter(c) .or. (c >= "0" .and. c <= "9") .or. c == "_"
+  end function is_name_char
+
+  pure function itoa(i) result(text)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: text
+    character(len=16) :: buf
+    write(buf, '(i0)') i
+    text = trim(buf)
+  end function itoa
+
+end module demstep_namelist

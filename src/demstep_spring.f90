@@ -1,0 +1,401 @@
+!> The seed's model: one mass on a linear spring, integrated by central differences.
+!>
+!> Recurrence (paper eq. 1, leapfrog form), from a state (x_{n-1}, v_{n-1}):
+!>
+!>     x_n = x_{n-1} + v_{n-1} dt
+!>     v_n = v_{n-1} + (F(x_n, v) / M) dt,   F = -K x_n - c v
+!>
+!> `x` is the overlap (positive in compression) at whole steps and `v` the velocity
+!> over the half step that follows. A compression-only spring (a DEM contact) acts
+!> only while `x > 0`; a bilateral spring (a bond) always acts. The dashpot uses the
+!> lagged velocity v_{n-1} (what leapfrog and velocity-Verlet DEM codes do) or the
+!> centred average (v_{n-1} + v_n)/2.
+!>
+!> The undamped scheme is exact in closed form with `theta = 2 asin(omega dt / 2)`;
+!> it is stable for `omega dt < 2`, i.e. `dt < 2 sqrt(M/K)` (paper eq. 6).
+module demstep_spring
+  use demstep_kinds, only: dp, i8, pi
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  implicit none
+  private
+
+  public :: new_spring, spring_step, spring_run
+  public :: spring_omega, spring_period, spring_damping_ratio, critical_time_step
+  public :: numerical_phase, numerical_period, growth_factor
+  public :: exact_discrete_state, paper_closed_form_velocity
+  public :: discrete_contact, simulate_contact
+
+  !> Dashpot uses the velocity of the previous half step (explicit, DEM default).
+  integer, parameter, public :: dashpot_lagged = 1
+  !> Dashpot uses the average of the half-step velocities around the force evaluation.
+  integer, parameter, public :: dashpot_centred = 2
+
+  !> A mass on a linear spring with an optional viscous dashpot.
+  type, public :: spring_type
+    !> Mass M (> 0).
+    real(dp) :: mass = 1.0_dp
+    !> Stiffness K (> 0).
+    real(dp) :: stiffness = 1.0_dp
+    !> Viscous coefficient c = 2 zeta sqrt(K M) (>= 0).
+    real(dp) :: damping = 0.0_dp
+    !> Force only while the overlap is positive (a contact), else a bond.
+    logical :: compression_only = .true.
+    !> [[dashpot_lagged]] or [[dashpot_centred]].
+    integer :: dashpot = dashpot_lagged
+  end type spring_type
+
+  !> State of the stepper after `step` steps.
+  type, public :: spring_state_type
+    !> Overlap x_n (positive in compression).
+    real(dp) :: x = 0.0_dp
+    !> Velocity v_n over the half step after x_n (positive towards compression).
+    real(dp) :: v = 0.0_dp
+    !> Number of steps taken.
+    integer(i8) :: step = 0_i8
+  end type spring_state_type
+
+  !> The discrete contact of an undamped spring hit at speed v0, onset at a step.
+  type, public :: discrete_contact_type
+    !> Force evaluations that see a positive overlap.
+    integer(i8) :: steps = 0_i8
+    !> Rebound speed over impact speed, -v_out/v0 (1 for the exact contact).
+    real(dp) :: restitution = 1.0_dp
+    !> Largest overlap at a force evaluation, in units of v0/omega (exact: 1).
+    real(dp) :: max_overlap = 1.0_dp
+    !> Force evaluations times dt, in units of the exact contact time T/2 = pi/omega.
+    real(dp) :: contact_time = 1.0_dp
+  end type discrete_contact_type
+
+contains
+
+  !> Build a validated spring from mass, stiffness and damping ratio.
+  pure subroutine new_spring(spring, mass, stiffness, status, damping_ratio, &
+      compression_only, dashpot)
+    !> The spring built.
+    type(spring_type), intent(out) :: spring
+    !> Mass M and stiffness K, finite and > 0.
+    real(dp), intent(in) :: mass, stiffness
+    !> Status: invalid_input names the offending argument.
+    type(demstep_status_type), intent(out) :: status
+    !> Damping ratio zeta >= 0 (default 0).
+    real(dp), intent(in), optional :: damping_ratio
+    !> Contact spring (default) or bond.
+    logical, intent(in), optional :: compression_only
+    !> [[dashpot_lagged]] (default) or [[dashpot_centred]].
+    integer, intent(in), optional :: dashpot
+    real(dp) :: zeta
+    zeta = 0.0_dp
+    if (present(damping_ratio)) zeta = damping_ratio
+    if (.not. positive_finite(mass)) then
+      call set_status(status, demstep_stat%invalid_input, "mass must be finite and > 0")
+      return
+    end if
+    if (.not. positive_finite(stiffness)) then
+      call set_status(status, demstep_stat%invalid_input, "stiffness must be finite and > 0")
+      return
+    end if
+    if (.not. (ieee_is_finite(zeta) .and. zeta >= 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "damping ratio must be finite and >= 0")
+      return
+    end if
+    spring%mass = mass
+    spring%stiffness = stiffness
+    spring%damping = 2.0_dp*zeta*sqrt(stiffness*mass)
+    if (present(compression_only)) spring%compression_only = compression_only
+    if (present(dashpot)) then
+      if (dashpot /= dashpot_lagged .and. dashpot /= dashpot_centred) then
+        call set_status(status, demstep_stat%invalid_input, "dashpot must be lagged or centred")
+        return
+      end if
+      spring%dashpot = dashpot
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine new_spring
+
+  !> One central-difference step: (x_{n-1}, v_{n-1}) -> (x_n, v_n).
+  elemental subroutine spring_step(spring, dt, state)
+    !> The spring.
+    type(spring_type), intent(in) :: spring
+    !> Time step.
+    real(dp), intent(in) :: dt
+    !> State, advanced by one step.
+    type(spring_state_type), intent(inout) :: state
+    real(dp) :: a
+    state%x = state%x + state%v*dt
+    state%step = state%step + 1_i8
+    if (spring%compression_only .and. .not. state%x > 0.0_dp) return
+    if (.not. spring%damping > 0.0_dp) then
+      state%v = state%v - (spring%stiffness/spring%mass)*state%x*dt
+    else if (spring%dashpot == dashpot_lagged) then
+      state%v = state%v - (spring%stiffness*state%x + spring%damping*state%v)/spring%mass*dt
+    else
+      a = 0.5_dp*spring%damping/spring%mass*dt
+      state%v = ((1.0_dp - a)*state%v - (spring%stiffness/spring%mass)*state%x*dt)/(1.0_dp + a)
+    end if
+  end subroutine spring_step
+
+  !> `nsteps` central-difference steps.
+  pure subroutine spring_run(spring, dt, state, nsteps)
+    !> The spring.
+    type(spring_type), intent(in) :: spring
+    !> Time step.
+    real(dp), intent(in) :: dt
+    !> State, advanced by `nsteps` steps.
+    type(spring_state_type), intent(inout) :: state
+    !> Number of steps.
+    integer(i8), intent(in) :: nsteps
+    integer(i8) :: i
+    do i = 1_i8, nsteps
+      call spring_step(spring, dt, state)
+    end do
+  end subroutine spring_run
+
+  !> Natural angular frequency omega = sqrt(K/M).
+  elemental function spring_omega(spring) result(omega)
+    type(spring_type), intent(in) :: spring
+    real(dp) :: omega
+    omega = sqrt(spring%stiffness/spring%mass)
+  end function spring_omega
+
+  !> Natural period T = 2 pi sqrt(M/K) (undamped).
+  elemental function spring_period(spring) result(period)
+    type(spring_type), intent(in) :: spring
+    real(dp) :: period
+    period = 2.0_dp*pi*sqrt(spring%mass/spring%stiffness)
+  end function spring_period
+
+  !> Damping ratio zeta = c / (2 sqrt(K M)).
+  elemental function spring_damping_ratio(spring) result(zeta)
+    type(spring_type), intent(in) :: spring
+    real(dp) :: zeta
+    zeta = spring%damping/(2.0_dp*sqrt(spring%stiffness*spring%mass))
+  end function spring_damping_ratio
+
+  !> Largest stable time step. Undamped or centred dashpot: 2/omega (paper eq. 6);
+  !> lagged dashpot: (2/omega)(sqrt(1 + zeta^2) - zeta).
+  elemental function critical_time_step(spring) result(dt_critical)
+    type(spring_type), intent(in) :: spring
+    real(dp) :: dt_critical, zeta
+    dt_critical = 2.0_dp/spring_omega(spring)
+    if (spring%dashpot == dashpot_lagged) then
+      zeta = spring_damping_ratio(spring)
+      ! sqrt(1 + z^2) - z written without cancellation for large z
+      dt_critical = dt_critical/(sqrt(1.0_dp + zeta**2) + zeta)
+    end if
+  end function critical_time_step
+
+  !> Phase advance per step of the undamped scheme, theta = 2 asin(omega dt / 2).
+  !> Status `unstable` when omega dt >= 2 (theta is then not real).
+  pure subroutine numerical_phase(omega_dt, theta, status)
+    !> omega * dt, finite and > 0.
+    real(dp), intent(in) :: omega_dt
+    !> Phase per step in (0, pi); 0 when not ok.
+    real(dp), intent(out) :: theta
+    type(demstep_status_type), intent(out) :: status
+    theta = 0.0_dp
+    if (.not. positive_finite(omega_dt)) then
+      call set_status(status, demstep_stat%invalid_input, "omega*dt must be finite and > 0")
+    else if (omega_dt >= 2.0_dp) then
+      call set_status(status, demstep_stat%unstable, &
+        "omega*dt >= 2: the time step is at or beyond the stability limit 2 sqrt(M/K)")
+    else
+      theta = 2.0_dp*asin(0.5_dp*omega_dt)
+      status%stat = demstep_stat%ok
+    end if
+  end subroutine numerical_phase
+
+  !> Period of the undamped discrete solution, 2 pi dt / theta, in units of the
+  !> natural period T (so 1 + (omega dt)^2/24 + ...). Status as [[numerical_phase]].
+  pure subroutine numerical_period(omega_dt, period_ratio, status)
+    real(dp), intent(in) :: omega_dt
+    !> Numerical period over T; 0 when not ok.
+    real(dp), intent(out) :: period_ratio
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: theta
+    period_ratio = 0.0_dp
+    call numerical_phase(omega_dt, theta, status)
+    if (status%stat == demstep_stat%ok) period_ratio = omega_dt/theta
+  end subroutine numerical_period
+
+  !> Spectral radius of the one-step map of a spring's scheme (acting spring):
+  !> 1 for the undamped scheme below the limit, < 1 when damped and stable,
+  !> > 1 beyond the limit (amplitude growth per step). With h = omega dt,
+  !> a = zeta h, the characteristic polynomial is r^2 - b r + c with
+  !> lagged dashpot b = 2 - 2a - h^2, c = 1 - 2a; centred b = (2 - h^2)/(1 + a),
+  !> c = (1 - a)/(1 + a).
+  elemental function growth_factor(spring, dt) result(rho)
+    type(spring_type), intent(in) :: spring
+    !> Time step.
+    real(dp), intent(in) :: dt
+    real(dp) :: rho, h, a, b, c, disc
+    h = spring_omega(spring)*dt
+    a = spring_damping_ratio(spring)*h
+    if (spring%dashpot == dashpot_lagged) then
+      b = 2.0_dp - 2.0_dp*a - h**2
+      c = 1.0_dp - 2.0_dp*a
+    else
+      b = (2.0_dp - h**2)/(1.0_dp + a)
+      c = (1.0_dp - a)/(1.0_dp + a)
+    end if
+    disc = b**2 - 4.0_dp*c
+    if (disc < 0.0_dp) then
+      rho = sqrt(c)
+    else
+      rho = 0.5_dp*(abs(b) + sqrt(disc))
+    end if
+  end function growth_factor
+
+  !> Exact state of the undamped bilateral scheme after n steps from (x0, v0):
+  !>
+  !>     x_n = x0 cos(n theta) + (x0 h^2/2 + v0 dt) sin(n theta)/sin(theta)
+  !>     v_n = -x0 omega sin((n+1/2) theta) + (v0 + x0 omega h/2) cos((n+1/2) theta)/cos(theta/2)
+  !>
+  !> with h = omega dt; for x0 = 0 these are METHOD.md section 1.
+  pure subroutine exact_discrete_state(omega, dt, x0, v0, n, state, status)
+    !> Natural angular frequency and time step.
+    real(dp), intent(in) :: omega, dt
+    !> Initial overlap and half-step velocity.
+    real(dp), intent(in) :: x0, v0
+    !> Number of steps (>= 0).
+    integer(i8), intent(in) :: n
+    !> State after n steps.
+    type(spring_state_type), intent(out) :: state
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: h, theta, phase, half
+    if (.not. (positive_finite(omega) .and. positive_finite(dt))) then
+      call set_status(status, demstep_stat%invalid_input, "omega and dt must be finite and > 0")
+      return
+    end if
+    if (n < 0_i8 .or. .not. (ieee_is_finite(x0) .and. ieee_is_finite(v0))) then
+      call set_status(status, demstep_stat%invalid_input, "n must be >= 0 and x0, v0 finite")
+      return
+    end if
+    h = omega*dt
+    call numerical_phase(h, theta, status)
+    if (status%stat /= demstep_stat%ok) return
+    phase = real(n, dp)*theta
+    half = phase + 0.5_dp*theta
+    state%x = x0*cos(phase) + (0.5_dp*x0*h**2 + v0*dt)*sin(phase)/sin(theta)
+    state%v = -x0*omega*sin(half) + (v0 + 0.5_dp*x0*omega*h)*cos(half)/cos(0.5_dp*theta)
+    state%step = n
+  end subroutine exact_discrete_state
+
+  !> The paper's closed form (eq. 2, with eq. 4 its complex form) of v_n/v0 for
+  !> x0 = 0, from A = -A_r, A_r = (K/M) dt^2:
+  !>
+  !>     v_n/v0 = [(1 + A/D) ((A+2+D)/2)^n + (1 - A/D) ((A+2-D)/2)^n] / 2,  D = sqrt(A^2 + 4A)
+  !>
+  !> evaluated in complex arithmetic, so it also shows the growth for A_r > 4.
+  !> Status `pole` at A_r = 4 exactly (double root, D = 0).
+  pure subroutine paper_closed_form_velocity(a_r, n, ratio, status)
+    !> A_r = (omega dt)^2, finite and > 0.
+    real(dp), intent(in) :: a_r
+    !> Step number (>= 0).
+    integer, intent(in) :: n
+    !> v_n / v0.
+    real(dp), intent(out) :: ratio
+    type(demstep_status_type), intent(out) :: status
+    complex(dp) :: d, r1, r2
+    real(dp) :: a
+    ratio = 0.0_dp
+    if (.not. positive_finite(a_r) .or. n < 0) then
+      call set_status(status, demstep_stat%invalid_input, "A_r must be finite and > 0, n >= 0")
+      return
+    end if
+    if (a_r == 4.0_dp) then
+      call set_status(status, demstep_stat%pole, "A_r = 4: double root, eq. (2) is singular")
+      return
+    end if
+    a = -a_r
+    d = sqrt(cmplx(a*a + 4.0_dp*a, 0.0_dp, kind=dp))
+    r1 = 0.5_dp*(a + 2.0_dp + d)
+    r2 = 0.5_dp*(a + 2.0_dp - d)
+    ratio = real(0.5_dp*((1.0_dp + a/d)*r1**n + (1.0_dp - a/d)*r2**n), dp)
+    status%stat = demstep_stat%ok
+  end subroutine paper_closed_form_velocity
+
+  !> Exact discrete contact of the undamped compression-only spring, contact
+  !> starting exactly at a step (METHOD.md section 1): with theta the numerical
+  !> phase and n_c = ceil(pi/theta), the force acts at steps 1 .. n_c - 1,
+  !> the rebound velocity is v0 cos((n_c - 1/2) theta)/cos(theta/2), so the
+  !> restitution lies in [1, 1/cos(theta/2)]. Status `unstable` for omega dt >= 2.
+  pure subroutine discrete_contact(omega_dt, contact, status)
+    !> omega * dt.
+    real(dp), intent(in) :: omega_dt
+    type(discrete_contact_type), intent(out) :: contact
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: theta, q
+    integer(i8) :: nc, lo, hi, k
+    call numerical_phase(omega_dt, theta, status)
+    if (status%stat /= demstep_stat%ok) return
+    q = pi/theta
+    nc = ceiling(q, i8)
+    contact%steps = nc - 1_i8
+    contact%restitution = -cos((real(nc, dp) - 0.5_dp)*theta)/cos(0.5_dp*theta)
+    ! the overlap h sin(n theta)/sin(theta) peaks at the step nearest to q/2
+    lo = max(1_i8, floor(0.5_dp*q, i8))
+    hi = min(nc - 1_i8, lo + 1_i8)
+    contact%max_overlap = 0.0_dp
+    do k = lo, hi
+      contact%max_overlap = max(contact%max_overlap, omega_dt*sin(real(k, dp)*theta)/sin(theta))
+    end do
+    contact%contact_time = real(contact%steps, dp)*omega_dt/pi
+  end subroutine discrete_contact
+
+  !> Discrete contact of any spring (damped or not) by stepping: the mass arrives
+  !> at speed v0 with zero overlap at step 0 and is stepped until the overlap is
+  !> no longer positive. Units as in [[discrete_contact_type]].
+  !> Status `unstable` beyond the stability limit, `not_converged` past `max_steps`.
+  pure subroutine simulate_contact(spring, dt, contact, status, max_steps)
+    type(spring_type), intent(in) :: spring
+    !> Time step, finite and > 0.
+    real(dp), intent(in) :: dt
+    type(discrete_contact_type), intent(out) :: contact
+    type(demstep_status_type), intent(out) :: status
+    !> Give up after this many steps (default 10**8).
+    integer(i8), intent(in), optional :: max_steps
+    type(spring_state_type) :: state
+    type(spring_type) :: contact_spring
+    integer(i8) :: limit
+    real(dp) :: omega, xmax, v_last
+    limit = 100000000_i8
+    if (present(max_steps)) limit = max_steps
+    if (.not. positive_finite(dt)) then
+      call set_status(status, demstep_stat%invalid_input, "dt must be finite and > 0")
+      return
+    end if
+    if (dt >= critical_time_step(spring)) then
+      call set_status(status, demstep_stat%unstable, "dt is at or beyond the stability limit")
+      return
+    end if
+    contact_spring = spring
+    contact_spring%compression_only = .true.
+    omega = spring_omega(spring)
+    state = spring_state_type(x=0.0_dp, v=1.0_dp, step=0_i8)
+    xmax = 0.0_dp
+    v_last = 1.0_dp
+    do
+      call spring_step(contact_spring, dt, state)
+      if (.not. state%x > 0.0_dp) exit
+      contact%steps = contact%steps + 1_i8
+      xmax = max(xmax, state%x)
+      v_last = state%v
+      if (contact%steps >= limit) then
+        call set_status(status, demstep_stat%not_converged, "contact lasted more than max_steps steps")
+        return
+      end if
+    end do
+    contact%restitution = -v_last
+    contact%max_overlap = xmax*omega
+    contact%contact_time = real(contact%steps, dp)*dt*omega/pi
+    status%stat = demstep_stat%ok
+  end subroutine simulate_contact
+
+  elemental function positive_finite(x) result(ok)
+    real(dp), intent(in) :: x
+    logical :: ok
+    ok = ieee_is_finite(x) .and. x > 0.0_dp
+  end function positive_finite
+
+end module demstep_spring

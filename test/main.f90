@@ -1,0 +1,54 @@
+!> Runs every suite (or one suite, or one test: `fpm test -- SUITE [TEST]`) and ends
+!> with the line `N passed, N failed`.
+program tester
+  use, intrinsic :: iso_fortran_env, only: output_unit
+  use testdrive, only: run_testsuite, new_testsuite, testsuite_type, select_suite, &
+    run_selected, get_argument, unittest_type
+  use test_spring, only: collect_spring
+  use test_namelist, only: collect_namelist
+  use test_app, only: collect_app
+  implicit none
+  integer :: stat, is, total
+  character(len=:), allocatable :: suite_name, test_name
+  type(testsuite_type), allocatable :: testsuites(:)
+  type(unittest_type), allocatable :: tests(:)
+
+  testsuites = [ &
+    new_testsuite("spring", collect_spring), &
+    new_testsuite("namelist", collect_namelist), &
+    new_testsuite("app", collect_app) &
+    ]
+  stat = 0
+  total = 0
+  call get_argument(1, suite_name)
+  call get_argument(2, test_name)
+  if (allocated(suite_name)) then
+    is = select_suite(testsuites, suite_name)
+    if (is < 1 .or. is > size(testsuites)) then
+      write(output_unit, '(a)') "no suite '"//suite_name//"'; available:"
+      do is = 1, size(testsuites)
+        write(output_unit, '(2x, a)') testsuites(is)%name
+      end do
+      stop 1, quiet=.true.
+    end if
+    write(output_unit, '(a)') "# suite "//testsuites(is)%name
+    if (allocated(test_name)) then
+      call run_selected(testsuites(is)%collect, test_name, output_unit, stat)
+      if (stat < 0) stop 1, quiet=.true.
+      total = 1
+    else
+      call run_testsuite(testsuites(is)%collect, output_unit, stat)
+      call testsuites(is)%collect(tests)
+      total = size(tests)
+    end if
+  else
+    do is = 1, size(testsuites)
+      write(output_unit, '(a)') "# suite "//testsuites(is)%name
+      call run_testsuite(testsuites(is)%collect, output_unit, stat)
+      call testsuites(is)%collect(tests)
+      total = total + size(tests)
+    end do
+  end if
+  write(output_unit, '(i0, a, i0, a)') total - stat, " passed, ", stat, " failed"
+  if (stat > 0) stop 1, quiet=.true.
+end program tester

@@ -1,0 +1,265 @@
+!> End-to-end tests of the demstep executable, run through execute_command_line.
+module test_app
+  use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
+  use demstep
+  use test_support, only: run_app, write_file, read_file, file_exists, work_dir
+  implicit none
+  private
+  public :: collect_app
+
+  character(len=*), parameter :: deck = work_dir//"/deck.nml"
+  character(len=*), parameter :: out = work_dir//"/out.nml"
+
+contains
+
+  subroutine collect_app(testsuite)
+    type(unittest_type), allocatable, intent(out) :: testsuite(:)
+    testsuite = [ &
+      new_unittest("paper example: report and result namelist", test_paper_example), &
+      new_unittest("result namelist reads back into Fortran", test_read_back), &
+      new_unittest("beyond the limit is reported, not an error", test_unstable), &
+      new_unittest("--namelist, --template, --help, --version", test_options), &
+      new_unittest("missing or unreadable file", test_bad_file), &
+      new_unittest("unknown variable, wrong type, no value", test_bad_variables), &
+      new_unittest("no known group; unterminated group", test_bad_groups), &
+      new_unittest("out-of-domain values", test_bad_values), &
+      new_unittest("bad command lines", test_bad_usage) &
+      ]
+  end subroutine collect_app
+
+  subroutine test_paper_example(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer :: rc
+    character(len=:), allocatable :: stdout, stderr
+    call remove(out)
+    call run_app("example/paper.nml -o "//out, rc, stdout, stderr)
+    call check(error, rc, 0, message="exit status; stderr: "//stderr)
+    if (allocated(error)) return
+    call check(error, len(stderr), 0, message="nothing on stderr")
+    if (allocated(error)) return
+    call check(error, index(stdout, "restitution") > 0 .and. index(stdout, "&solver") > 0, &
+      "report shows the contact and the skipped solver group")
+    if (allocated(error)) return
+    call check(error, file_exists(out), "output file written")
+  end subroutine test_paper_example
+
+  subroutine test_read_back(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer :: rc, unit, ios
+    character(len=:), allocatable :: stdout, stderr
+    real(dp) :: period, omega, dt_critical, dt, n_per_period, growth_factor, theta, &
+      period_numerical, contact_time, restitution, max_overlap
+    integer(i8) :: contact_steps
+    logical :: stable
+    namelist /system_result/ period, omega, dt_critical, dt, n_per_period, stable, &
+      growth_factor, theta, period_numerical, contact_steps, contact_time, restitution, &
+      max_overlap
+    type(discrete_contact_type) :: contact
+    type(demstep_status_type) :: status
+    call write_file(deck, [character(len=80) :: "&other x = 1 /", &
+      "&system mass = 2.0, stiffness = 50.0, velocity = 3.0, dt = 0.1 /"])
+    call remove(out)
+    call run_app(deck//" --output "//out, rc, stdout, stderr)
+    call check(error, rc, 0, message="exit status; stderr: "//stderr)
+    if (allocated(error)) return
+    open(newunit=unit, file=out, status="old", action="read")
+    read(unit, nml=system_result, iostat=ios)
+    close(unit)
+    call check(error, ios, 0, message="read(nml=system_result)")
+    if (allocated(error)) return
+    ! omega = 5; values must round-trip to the last bit the runtime writes
+    call check(error, period, 2.0_dp*pi/5.0_dp, thr=2*epsilon(1.0_dp), rel=.true., message="period")
+    if (allocated(error)) return
+    call check(error, dt_critical, 0.4_dp, thr=2*epsilon(1.0_dp), rel=.true., message="dt_critical")
+    if (allocated(error)) return
+    call check(error, n_per_period, 4.0_dp*pi, thr=4*epsilon(1.0_dp), rel=.true., message="N")
+    if (allocated(error)) return
+    call check(error, stable, .true.)
+    if (allocated(error)) return
+    call check(error, theta, 2.0_dp*asin(0.25_dp), thr=2*epsilon(1.0_dp), rel=.true., message="theta")
+    if (allocated(error)) return
+    call discrete_contact(0.5_dp, contact, status)
+    call check(error, contact_steps, contact%steps, message="contact steps")
+    if (allocated(error)) return
+    call check(error, restitution, contact%restitution, thr=0.0_dp, message="restitution")
+    if (allocated(error)) return
+    call check(error, max_overlap, contact%max_overlap*3.0_dp/5.0_dp, thr=2*epsilon(1.0_dp), &
+      rel=.true., message="max overlap scaled by v0/omega")
+  end subroutine test_read_back
+
+  subroutine test_unstable(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer :: rc, unit, ios
+    character(len=:), allocatable :: stdout, stderr
+    real(dp) :: period, omega, dt_critical, dt, n_per_period, growth_factor
+    logical :: stable
+    namelist /system_result/ period, omega, dt_critical, dt, n_per_period, stable, growth_factor
+    call write_file(deck, [character(len=60) :: "&system mass=1, stiffness=1, n_per_period=3 /"])
+    call remove(out)
+    call run_app(deck//" -o "//out, rc, stdout, stderr)
+    call check(error, rc, 0, message="exit status; stderr: "//stderr)
+    if (allocated(error)) return
+    open(newunit=unit, file=out, status="old", action="read")
+    read(unit, nml=system_result, iostat=ios)
+    close(unit)
+    call check(error, ios, 0, message="read back")
+    if (allocated(error)) return
+    call check(error, stable, .false.)
+    if (allocated(error)) return
+    call check(error, growth_factor > 1.0_dp, "growth factor above 1")
+    if (allocated(error)) return
+    call check(error, index(stdout, "NO") > 0, "report says unstable")
+  end subroutine test_unstable
+
+  subroutine test_options(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer :: rc, unit, ios
+    character(len=:), allocatable :: stdout, stderr
+    real(dp) :: period, omega, dt_critical
+    namelist /system_result/ period, omega, dt_critical
+    call write_file(deck, [character(len=60) :: "&system mass=4, stiffness=1 /"])
+    call run_app(deck//" --namelist", rc, stdout, stderr)
+    call check(error, rc, 0, message="--namelist")
+    if (allocated(error)) return
+    read(stdout, nml=system_result, iostat=ios)
+    call check(error, ios, 0, message="stdout of --namelist reads as a namelist")
+    if (allocated(error)) return
+    call check(error, dt_critical, 4.0_dp, thr=2*epsilon(1.0_dp), rel=.true., message="2 sqrt(M/K)")
+    if (allocated(error)) return
+    ! the template is itself a valid input
+    call run_app("--template", rc, stdout, stderr)
+    call check(error, rc, 0, message="--template")
+    if (allocated(error)) return
+    open(newunit=unit, file=deck, status="replace", action="write")
+    write(unit, '(a)') stdout
+    close(unit)
+    call run_app(deck, rc, stdout, stderr)
+    call check(error, rc, 0, message="running the template: "//stderr)
+    if (allocated(error)) return
+    call run_app("--help", rc, stdout, stderr)
+    call check(error, rc == 0 .and. index(stdout, "usage") > 0, "--help")
+    if (allocated(error)) return
+    call run_app("--version", rc, stdout, stderr)
+    call check(error, rc == 0 .and. index(stdout, demstep_version_string) > 0, "--version")
+  end subroutine test_options
+
+  subroutine test_bad_file(error)
+    type(error_type), allocatable, intent(out) :: error
+    call expect_failure(error, work_dir//"/no-such-file.nml", &
+      "demstep: "//work_dir//"/no-such-file.nml: no such file")
+    if (allocated(error)) return
+    ! a directory exists but cannot be read as a deck
+    call expect_failure(error, work_dir, "demstep: "//work_dir//": ")
+  end subroutine test_bad_file
+
+  subroutine test_bad_variables(error)
+    type(error_type), allocatable, intent(out) :: error
+    call expect_bad(error, "&system mass = 1, stifness = 2 /", "&system: stifness: unknown variable")
+    if (allocated(error)) return
+    call expect_bad(error, "&system mass = abc, stiffness = 2 /", &
+      "&system: mass: cannot read 'abc' as a real number")
+    if (allocated(error)) return
+    call expect_bad(error, "&system mass = 1 2, stiffness = 2 /", "&system: mass: cannot read")
+    if (allocated(error)) return
+    call expect_bad(error, "&system mass = .true., stiffness = 2 /", "&system: mass: cannot read")
+    if (allocated(error)) return
+    call expect_bad(error, "&system mass = , stiffness = 2 /", "&system: mass: no value given")
+    if (allocated(error)) return
+    call expect_bad(error, "&system stiffness = 2 /", "&system: mass: required")
+    if (allocated(error)) return
+    call expect_bad(error, "&system mass = 1, stiffness = 2, dashpot = 'sideways' /", &
+      "&system: dashpot: must be 'lagged' or 'centred'")
+  end subroutine test_bad_variables
+
+  subroutine test_bad_groups(error)
+    type(error_type), allocatable, intent(out) :: error
+    call expect_bad(error, "&solver n = 1 /", "no demstep group in the file")
+    if (allocated(error)) return
+    call expect_bad(error, "&system mass = 1, stiffness = 2", "&system: line 1: group has no closing")
+  end subroutine test_bad_groups
+
+  subroutine test_bad_values(error)
+    type(error_type), allocatable, intent(out) :: error
+    call expect_bad(error, "&system mass = 0, stiffness = 2 /", "&system: mass: must be > 0")
+    if (allocated(error)) return
+    call expect_bad(error, "&system mass = -1, stiffness = 2 /", "&system: mass: must be > 0")
+    if (allocated(error)) return
+    call expect_bad(error, "&system mass = 1, stiffness = 0 /", "&system: stiffness: must be > 0")
+    if (allocated(error)) return
+    call expect_bad(error, "&system mass = NaN, stiffness = 2 /", &
+      "&system: mass: must be a finite number, not NaN")
+    if (allocated(error)) return
+    call expect_bad(error, "&system mass = 1, stiffness = Inf /", &
+      "&system: stiffness: must be a finite number")
+    if (allocated(error)) return
+    call expect_bad(error, "&system mass = 1, stiffness = 2, damping_ratio = -0.1 /", &
+      "&system: damping_ratio: must be >= 0")
+    if (allocated(error)) return
+    call expect_bad(error, "&system mass = 1, stiffness = 2, dt = 0 /", "&system: dt: must be > 0")
+    if (allocated(error)) return
+    call expect_bad(error, "&system mass = 1, stiffness = 2, dt = -1e-3 /", "&system: dt: must be > 0")
+    if (allocated(error)) return
+    call expect_bad(error, "&system mass = 1, stiffness = 2, n_per_period = 0 /", &
+      "&system: n_per_period: must be > 0")
+    if (allocated(error)) return
+    call expect_bad(error, "&system mass = 1, stiffness = 2, dt = 1, n_per_period = 9 /", &
+      "&system: dt: give either dt or n_per_period")
+  end subroutine test_bad_values
+
+  subroutine test_bad_usage(error)
+    type(error_type), allocatable, intent(out) :: error
+    call expect_failure(error, "", "demstep: no input file")
+    if (allocated(error)) return
+    call expect_failure(error, "--frobnicate x.nml", "demstep: unknown option '--frobnicate'")
+    if (allocated(error)) return
+    call expect_failure(error, "example/paper.nml -o", "demstep: option -o needs a file name")
+  end subroutine test_bad_usage
+
+  !> Run on a one-line deck with -o; expect exit 2, one stderr line
+  !> "demstep: DECK: <expected>...", no output file and no temporary left.
+  subroutine expect_bad(error, line, expected)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), intent(in) :: line, expected
+    call write_file(deck, [line])
+    call expect_failure(error, deck//" -o "//out, "demstep: "//deck//": "//expected)
+  end subroutine expect_bad
+
+  subroutine expect_failure(error, args, expected)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), intent(in) :: args, expected
+    integer :: rc
+    character(len=:), allocatable :: stdout, stderr, listing
+    call remove(out)
+    call run_app(args, rc, stdout, stderr)
+    call check(error, rc, 2, message="exit status for '"//args//"'")
+    if (allocated(error)) return
+    if (index(stderr, expected) /= 1) then
+      call test_failed(error, "stderr '"//stderr//"' does not start with '"//expected//"'")
+      return
+    end if
+    call check(error, count_lines(stderr), 1, message="one line on stderr: "//stderr)
+    if (allocated(error)) return
+    call check(error, .not. file_exists(out), "no output file left behind")
+    if (allocated(error)) return
+    call execute_command_line("ls "//work_dir//" > "//work_dir//"/listing", wait=.true.)
+    call read_file(work_dir//"/listing", listing)
+    call check(error, index(listing, ".tmp") == 0, "no temporary file left behind")
+  end subroutine expect_failure
+
+  pure integer function count_lines(text)
+    character(len=*), intent(in) :: text
+    integer :: i
+    count_lines = 0
+    do i = 1, len(text)
+      if (text(i:i) == new_line("a")) count_lines = count_lines + 1
+    end do
+  end function count_lines
+
+  subroutine remove(path)
+    character(len=*), intent(in) :: path
+    integer :: unit, ios
+    open(newunit=unit, file=path, status="old", iostat=ios)
+    if (ios == 0) close(unit, status="delete")
+  end subroutine remove
+
+end module test_app
