@@ -11,6 +11,9 @@ module demstep
     spring_omega, spring_period, spring_damping_ratio, critical_time_step, &
     numerical_phase, numerical_period, growth_factor, exact_discrete_state, &
     paper_closed_form_velocity, discrete_contact, simulate_contact
+  use demstep_harmonic, only: step_policy_type, steps_fixed, steps_fraction, &
+    harmonic_n_max, new_step_policy, policy_steps, harmonic_sum, harmonic_error, &
+    harmonic_error_steps
   use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, &
     scan_namelist, lowercase, replace_file, process_id
   implicit none

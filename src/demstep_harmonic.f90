@@ -1,0 +1,343 @@
+!> The paper's harmonic sums and its relative velocity error (eqs. 15, 20, 23).
+!>
+!>     S(phi, n)    = sum_{k=1..n} sin(k phi) = sin(n phi/2) sin((n+1) phi/2) / sin(phi/2)
+!>     E(N, lambda, n) = 1 - S(2 pi/N, n) / (lambda S(2 pi lambda/N, n))
+!>
+!> Real `n` uses the closed form (Lagrange's identity), which continues the sum
+!> smoothly in `n`; for integer `n` it is the sum itself.
+!>
+!> Accuracy at the exact binary inputs, for every `n` up to 1e12:
+!> - every phase `pi m c / den` (m = n or n+1, c = 1, lambda, 1-lambda or 1+lambda,
+!>   den = N or 2N) is reduced exactly: `m c` is formed as an unevaluated sum of two
+!>   doubles (Dekker's product), its remainder modulo `den` is taken exactly, and
+!>   only the reduced phase in [-1/2, 1/2] is rounded; so each sine is correct to a
+!>   few ulps relative to itself, even next to its zeros;
+!> - near `lambda = 1`, where E cancels, E is assembled from the differences
+!>   `sin x - sin y = 2 cos((x+y)/2) sin((x-y)/2)` with `1 - lambda` and
+!>   `1 + lambda` carried exactly, so E is accurate relative to `|E| + (1 - lambda)`.
+!> Cost is O(1) in `n`.
+module demstep_harmonic
+  use demstep_kinds, only: dp, pi
+  use demstep_status, only: demstep_stat
+  use demstep_double_double, only: dd_type, dd, two_sum, two_prod, dd_add, dd_mul, &
+    dd_div, dd_div_d, dd_neg, dd_sinpi, dd_cospi
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  implicit none
+  private
+
+  public :: harmonic_sum, harmonic_error, harmonic_error_steps, policy_steps
+  public :: new_step_policy
+
+  !> Step policy: a fixed number of steps `n`.
+  integer, parameter, public :: steps_fixed = 1
+  !> Step policy: a fraction `f` of the simulated period, `n = f N`.
+  integer, parameter, public :: steps_fraction = 2
+  !> Largest supported number of steps.
+  real(dp), parameter, public :: harmonic_n_max = 1.0e12_dp
+
+  !> How many steps `n` the error E compares, as a function of N = T/dt.
+  !>
+  !> - `steps_fixed`, `value = n`: the same `n` for every N. E is smooth in N
+  !>   (between its poles).
+  !> - `steps_fraction`, `value = f`: `n = f N` (real), by default `f = 1/2`: half a
+  !>   simulated period, the duration of a compression-only contact. E is smooth in N
+  !>   because the closed form is smooth in real `n`.
+  !>
+  !> A DEM run takes whole steps; rounding `n` to an integer makes E jump wherever
+  !> `f N` crosses an integer. Callers that want that round `n` themselves and use
+  !> [[harmonic_error]] with a fixed `n`.
+  type, public :: step_policy_type
+    !> [[steps_fixed]] or [[steps_fraction]].
+    integer :: kind = steps_fraction
+    !> `n` (fixed) or `f` (fraction).
+    real(dp) :: value = 0.5_dp
+  end type step_policy_type
+
+  !> The fast double-precision difference form is kept when its rounding-error
+  !> bound is below this fraction of the guaranteed accuracy 1e-12 (|E| + |1 - lambda|);
+  !> otherwise E is re-evaluated in double-double.
+  real(dp), parameter :: fast_path_share = 0.5_dp
+  !> 1.5 2^52: adding and subtracting it rounds a double to the nearest integer.
+  real(dp), parameter :: round_shift = 6755399441055744.0_dp
+  !> Guaranteed accuracy, relative to |E| + |1 - lambda|.
+  real(dp), parameter :: target_accuracy = 1.0e-12_dp
+  !> Relative rounding error of one difference term d_k of the fast path, in ulps
+  !> (reduction 1, pi t 1, sin 1, cos 1, two products and a quotient 3, margin).
+  real(dp), parameter :: term_ulps = 16.0_dp
+  !> Below this `1 - lambda` E is assembled from differences (it cancels there);
+  !> above it the plain quotient is accurate to the required `|E| + (1 - lambda)`.
+  real(dp), parameter :: difference_form_below = 0.0625_dp
+
+  !> A phase `pi ((r + lo)/den + q)` with |r| <~ den/2 and `odd` = q odd;
+  !> `pi_den` = pi/den, rounded.
+  type :: phase_type
+    real(dp) :: r = 0.0_dp, lo = 0.0_dp, den = 1.0_dp, pi_den = pi
+    logical :: odd = .false.
+    !> |m c|: the unreduced numerator, for the pole test.
+    real(dp) :: size = 0.0_dp
+  end type phase_type
+
+contains
+
+  !> Build a validated step policy.
+  pure subroutine new_step_policy(policy, kind, value, stat)
+    type(step_policy_type), intent(out) :: policy
+    !> [[steps_fixed]] or [[steps_fraction]].
+    integer, intent(in) :: kind
+    !> `n` in [1, 1e12] (fixed) or `f` > 0 (fraction).
+    real(dp), intent(in) :: value
+    !> `demstep_stat%ok` or `demstep_stat%invalid_input`.
+    integer, intent(out) :: stat
+    stat = demstep_stat%invalid_input
+    if (.not. ieee_is_finite(value)) return
+    select case (kind)
+    case (steps_fixed)
+      if (value < 1.0_dp .or. value > harmonic_n_max) return
+    case (steps_fraction)
+      if (.not. value > 0.0_dp) return
+    case default
+      return
+    end select
+    policy%kind = kind
+    policy%value = value
+    stat = demstep_stat%ok
+  end subroutine new_step_policy
+
+  !> The number of steps `n` a policy gives at N steps per period.
+  elemental function policy_steps(policy, n_per_period) result(n)
+    type(step_policy_type), intent(in) :: policy
+    real(dp), intent(in) :: n_per_period
+    real(dp) :: n
+    if (policy%kind == steps_fixed) then
+      n = policy%value
+    else
+      n = policy%value*n_per_period
+    end if
+  end function policy_steps
+
+  !> S(2 pi c/N, n) = sum_{k=1..n} sin(2 pi k c/N) for real n >= 0 (closed form).
+  !> `stat`: ok, or invalid_input (N <= 0, n < 0, n > 1e12, c not finite).
+  elemental subroutine harmonic_sum(cycles, n_per_period, n, s, stat)
+    !> c: the sum's phase per step is 2 pi c / N (c = 1 or lambda in the paper).
+    real(dp), intent(in) :: cycles
+    !> N = T/dt, finite and > 0.
+    real(dp), intent(in) :: n_per_period
+    !> Number of terms, 0 <= n <= 1e12 (real: the analytic continuation).
+    real(dp), intent(in) :: n
+    !> The sum; 0 when not ok.
+    real(dp), intent(out) :: s
+    integer, intent(out) :: stat
+    type(phase_type) :: a, b, c
+    real(dp) :: n1, n1_lo, inv_n
+    s = 0.0_dp
+    stat = demstep_stat%invalid_input
+    if (.not. (ieee_is_finite(cycles) .and. ieee_is_finite(n_per_period) .and. ieee_is_finite(n))) return
+    if (.not. n_per_period > 0.0_dp .or. n < 0.0_dp .or. n > harmonic_n_max) return
+    stat = demstep_stat%ok
+    if (n == 0.0_dp .or. cycles == 0.0_dp) return
+    call two_sum(n, 1.0_dp, n1, n1_lo)
+    inv_n = 1.0_dp/n_per_period
+    a = reduce(n, 0.0_dp, cycles, 0.0_dp, n_per_period, inv_n)
+    b = reduce(n1, n1_lo, cycles, 0.0_dp, n_per_period, inv_n)
+    c = reduce(1.0_dp, 0.0_dp, cycles, 0.0_dp, n_per_period, inv_n)
+    if (is_zero(c)) then
+      ! c/N an integer: every term sin(2 pi k c/N) is zero
+      return
+    end if
+    s = sin_phase(a)*sin_phase(b)/sin_phase(c)
+  end subroutine harmonic_sum
+
+  !> The paper's relative error E(N, lambda, n) = 1 - S(2pi/N, n)/(lambda S(2pi lambda/N, n)).
+  !>
+  !> `stat`: ok; pole when S(2 pi lambda/N, n) vanishes to working precision (its
+  !> zero lies within 4 ulps of the phase n lambda/N; `e` is then huge(1.0_dp));
+  !> invalid_input for N <= 0, lambda <= 0, n < 1, n > 1e12 or non-finite input
+  !> (`e` = 0). lambda = 1 gives exactly 0; S(2 pi/N, n) = 0 gives exactly 1.
+  elemental subroutine harmonic_error(n_per_period, lambda, n, e, stat)
+    !> N = T/dt, finite and > 0 (the method uses N > pi).
+    real(dp), intent(in) :: n_per_period
+    !> lambda = sqrt(K'/K), finite and > 0 (the method uses 0 < lambda <= 1).
+    real(dp), intent(in) :: lambda
+    !> Steps compared, 1 <= n <= 1e12; real n continues the sum smoothly.
+    real(dp), intent(in) :: n
+    !> E.
+    real(dp), intent(out) :: e
+    integer, intent(out) :: stat
+    type(phase_type) :: yn, yn1, xn, xn1, x1, y1, ph(9)
+    real(dp) :: big_n, inv_n, two_n, inv_two_n, n1, n1_lo, mu, mu_lo, sg, sg_lo, d(4), acc, bound
+    integer :: k
+    e = 0.0_dp
+    stat = demstep_stat%invalid_input
+    if (.not. (ieee_is_finite(n_per_period) .and. ieee_is_finite(lambda) .and. ieee_is_finite(n))) return
+    if (.not. (n_per_period > 0.0_dp .and. lambda > 0.0_dp)) return
+    if (n < 1.0_dp .or. n > harmonic_n_max) return
+    big_n = n_per_period
+    inv_n = 1.0_dp/big_n
+    two_n = 2.0_dp*big_n
+    inv_two_n = 0.5_dp*inv_n
+    call two_sum(n, 1.0_dp, n1, n1_lo)
+
+    ! the denominator S(2 pi lambda/N, n) and its zeros
+    yn = reduce(n, 0.0_dp, lambda, 0.0_dp, big_n, inv_n)
+    yn1 = reduce(n1, n1_lo, lambda, 0.0_dp, big_n, inv_n)
+    y1 = reduce(1.0_dp, 0.0_dp, lambda, 0.0_dp, big_n, inv_n)
+    if (near_zero(yn) .or. near_zero(yn1) .or. is_zero(y1)) then
+      e = huge(1.0_dp)
+      stat = demstep_stat%pole
+      return
+    end if
+    stat = demstep_stat%ok
+    if (lambda == 1.0_dp) return
+    ! the numerator S(2 pi/N, n): exactly zero when n/N, (n+1)/N or 1/N is an integer
+    xn = reduce(n, 0.0_dp, 1.0_dp, 0.0_dp, big_n, inv_n)
+    xn1 = reduce(n1, n1_lo, 1.0_dp, 0.0_dp, big_n, inv_n)
+    x1 = reduce(1.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, big_n, inv_n)
+    if (is_zero(xn) .or. is_zero(xn1) .or. is_zero(x1)) then
+      e = 1.0_dp
+      return
+    end if
+
+    call two_sum(1.0_dp, -lambda, mu, mu_lo)
+    if (abs(mu) >= difference_form_below) then
+      e = 1.0_dp - (sin_phase(xn)/sin_phase(yn))*(sin_phase(xn1)/sin_phase(yn1)) &
+        *(sin_phase(y1)/sin_phase(x1))/lambda
+      return
+    end if
+
+    ! E = 1 - (1+d1)(1+d2)(1+d3)(1+d4) with each d_i = (ratio - 1) formed without
+    ! cancellation:  sin x/sin y - 1 = 2 cos((x+y)/2) sin((x-y)/2) / sin y
+    call two_sum(1.0_dp, lambda, sg, sg_lo)
+    ph(1) = reduce(1.0_dp, 0.0_dp, sg, sg_lo, two_n, inv_two_n)
+    ph(2) = reduce(1.0_dp, 0.0_dp, mu, mu_lo, two_n, inv_two_n)
+    ph(3) = x1
+    ph(4) = reduce(n, 0.0_dp, sg, sg_lo, two_n, inv_two_n)
+    ph(5) = reduce(n, 0.0_dp, mu, mu_lo, two_n, inv_two_n)
+    ph(6) = yn
+    ph(7) = reduce(n1, n1_lo, sg, sg_lo, two_n, inv_two_n)
+    ph(8) = reduce(n1, n1_lo, mu, mu_lo, two_n, inv_two_n)
+    ph(9) = yn1
+    d(1) = (mu + mu_lo)/lambda
+    d(2) = -2.0_dp*cos_phase(ph(1))*sin_phase(ph(2))/sin_phase(ph(3))
+    d(3) = 2.0_dp*cos_phase(ph(4))*sin_phase(ph(5))/sin_phase(ph(6))
+    d(4) = 2.0_dp*cos_phase(ph(7))*sin_phase(ph(8))/sin_phase(ph(9))
+    acc = 0.0_dp
+    bound = 0.0_dp
+    do k = 1, 4
+      bound = bound*abs(1.0_dp + d(k)) + term_ulps*epsilon(1.0_dp)*abs(d(k))*abs(1.0_dp + acc)
+      acc = acc + d(k) + acc*d(k)
+      bound = bound + 2.0_dp*epsilon(1.0_dp)*abs(acc)
+    end do
+    e = -acc
+    ! near a root of E with many steps the terms are large and cancel: use double-double
+    if (bound > fast_path_share*target_accuracy*(abs(e) + abs(mu))) &
+      e = error_double_double(lambda, mu, mu_lo, ph)
+  end subroutine harmonic_error
+
+  !> E(N, lambda, n) with n from a step policy (see [[step_policy_type]]).
+  elemental subroutine harmonic_error_steps(n_per_period, lambda, policy, e, stat)
+    real(dp), intent(in) :: n_per_period, lambda
+    type(step_policy_type), intent(in) :: policy
+    real(dp), intent(out) :: e
+    integer, intent(out) :: stat
+    call harmonic_error(n_per_period, lambda, policy_steps(policy, n_per_period), e, stat)
+  end subroutine harmonic_error_steps
+
+  !> The difference form of E in double-double, from the same exact phases.
+  pure function error_double_double(lambda, mu, mu_lo, ph) result(e)
+    real(dp), intent(in) :: lambda, mu, mu_lo
+    type(phase_type), intent(in) :: ph(9)
+    real(dp) :: e
+    type(dd_type) :: d(4), acc, two
+    integer :: k
+    two = dd_type(2.0_dp, 0.0_dp)
+    d(1) = dd_div_d(dd(mu, mu_lo), lambda)
+    d(2) = dd_neg(dd_div(dd_mul(dd_mul(two, dd_cos_phase(ph(1))), dd_sin_phase(ph(2))), &
+      dd_sin_phase(ph(3))))
+    d(3) = dd_div(dd_mul(dd_mul(two, dd_cos_phase(ph(4))), dd_sin_phase(ph(5))), dd_sin_phase(ph(6)))
+    d(4) = dd_div(dd_mul(dd_mul(two, dd_cos_phase(ph(7))), dd_sin_phase(ph(8))), dd_sin_phase(ph(9)))
+    acc = dd_type(0.0_dp, 0.0_dp)
+    do k = 1, 4
+      acc = dd_add(dd_add(acc, d(k)), dd_mul(acc, d(k)))
+    end do
+    e = -(acc%hi + acc%lo)
+  end function error_double_double
+
+  !> The reduced phase t = (r + lo)/den in double-double.
+  elemental function dd_turns(phase) result(t)
+    type(phase_type), intent(in) :: phase
+    type(dd_type) :: t
+    t = dd_div_d(dd(phase%r, phase%lo), phase%den)
+  end function dd_turns
+
+  elemental function dd_sin_phase(phase) result(s)
+    type(phase_type), intent(in) :: phase
+    type(dd_type) :: s
+    s = dd_sinpi(dd_turns(phase))
+    if (phase%odd) s = dd_neg(s)
+  end function dd_sin_phase
+
+  elemental function dd_cos_phase(phase) result(c)
+    type(phase_type), intent(in) :: phase
+    type(dd_type) :: c
+    c = dd_cospi(dd_turns(phase))
+    if (phase%odd) c = dd_neg(c)
+  end function dd_cos_phase
+
+  !> Reduce the phase pi (m_hi + m_lo)(c_hi + c_lo)/den exactly to pi((r + lo)/den + q).
+  !> `inv` is 1/den, rounded: it only chooses the multiple q, so |r| may exceed
+  !> den/2 by a rounding, which sin and cos do not mind.
+  elemental function reduce(m_hi, m_lo, c_hi, c_lo, den, inv) result(phase)
+    real(dp), intent(in) :: m_hi, m_lo, c_hi, c_lo, den, inv
+    type(phase_type) :: phase
+    real(dp) :: p, e, q, h, l
+    call two_prod(m_hi, c_hi, p, e)
+    e = e + (m_hi*c_lo + m_lo*c_hi)
+    phase%size = abs(p)
+    phase%den = den
+    phase%pi_den = pi*inv
+    ! round to the nearest integer by the 1.5 2^52 shift: exact for |p/den| < 2^51
+    q = (p*inv + round_shift) - round_shift
+    if (q /= 0.0_dp) then
+      ! p - q den is a double and (p - h) is exact (Sterbenz), so r is exact
+      call two_prod(q, den, h, l)
+      p = (p - h) - l
+      phase%odd = aint(0.5_dp*q) /= 0.5_dp*q
+    end if
+    phase%r = p
+    phase%lo = e
+  end function reduce
+
+  !> sin of a reduced phase, accurate relative to itself.
+  elemental function sin_phase(phase) result(s)
+    type(phase_type), intent(in) :: phase
+    real(dp) :: s
+    s = sin(phase%pi_den*(phase%r + phase%lo))
+    if (phase%odd) s = -s
+  end function sin_phase
+
+  !> cos of a reduced phase, accurate relative to itself: near its zeros it is
+  !> sin(pi (den/2 - |r + lo|)/den), and den/2 - |r| is exact there (Sterbenz).
+  elemental function cos_phase(phase) result(c)
+    type(phase_type), intent(in) :: phase
+    real(dp) :: c, ar
+    ar = abs(phase%r)
+    if (ar <= 0.25_dp*phase%den) then
+      c = cos(phase%pi_den*(phase%r + phase%lo))
+    else
+      c = sin(phase%pi_den*((0.5_dp*phase%den - ar) - sign(1.0_dp, phase%r)*phase%lo))
+    end if
+    if (phase%odd) c = -c
+  end function cos_phase
+
+  elemental logical function is_zero(phase)
+    type(phase_type), intent(in) :: phase
+    is_zero = phase%r + phase%lo == 0.0_dp
+  end function is_zero
+
+  !> The phase lies within 4 ulps of a multiple of pi: a zero to working precision.
+  elemental logical function near_zero(phase)
+    type(phase_type), intent(in) :: phase
+    near_zero = abs(phase%r + phase%lo) <= 4.0_dp*epsilon(1.0_dp)*phase%size
+  end function near_zero
+
+end module demstep_harmonic
