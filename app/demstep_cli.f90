@@ -10,7 +10,13 @@ module demstep_cli
   private
 
   public :: var, check_names, given, item_text, read_failed, check_positive, &
-    check_nonnegative, fmt_real, fmt_int, write_template, cli_context
+    check_nonnegative, fmt_real, fmt_int, write_template, cli_context, &
+    new_array, array_length, broadcast, common_length
+
+  !> Most values one array variable of a group may hold.
+  integer, parameter, public :: max_values = 100000
+  !> Marks array elements the input did not set.
+  real(dp), parameter, public :: unset = -huge(1.0_dp)
 
   !> Where a group handler writes: the human report and the result namelist.
   type :: cli_context
@@ -193,6 +199,74 @@ contains
     end do
     write(unit, '(a)') "/"
   end subroutine write_template
+
+  !> An input array of max_values elements, all unset.
+  pure function new_array() result(x)
+    real(dp), allocatable :: x(:)
+    allocate(x(max_values))
+    x = unset
+  end function new_array
+
+  !> Number of values given for an array (0 if none): the last set element;
+  !> an unset element before it is an error naming the index.
+  pure subroutine array_length(group, name, x, length, status)
+    character(len=*), intent(in) :: group, name
+    real(dp), intent(in) :: x(:)
+    integer, intent(out) :: length
+    type(demstep_status_type), intent(inout) :: status
+    integer :: i
+    length = 0
+    if (status%stat /= demstep_stat%ok) return
+    do i = size(x), 1, -1
+      if (x(i) /= unset) then
+        length = i
+        exit
+      end if
+    end do
+    do i = 1, length
+      if (x(i) == unset) then
+        call set_status(status, demstep_stat%invalid_input, "&"//group//": "//name//"(" &
+          //fmt_int(int(i, 8))//"): no value (values must be given without gaps)")
+        return
+      end if
+    end do
+  end subroutine array_length
+
+  !> The common length of arrays that broadcast: each has 1 value or the
+  !> same number; lengths of 0 (absent) are ignored.
+  pure subroutine common_length(group, names, lengths, length, status)
+    character(len=*), intent(in) :: group
+    character(len=*), intent(in) :: names(:)
+    integer, intent(in) :: lengths(:)
+    integer, intent(out) :: length
+    type(demstep_status_type), intent(inout) :: status
+    integer :: i, bad
+    character(len=:), allocatable :: listing
+    length = maxval(lengths)
+    if (status%stat /= demstep_stat%ok) return
+    if (all(lengths == 0 .or. lengths == 1 .or. lengths == length)) return
+    bad = findloc(lengths == 0 .or. lengths == 1 .or. lengths == length, .false., dim=1)
+    listing = ""
+    do i = 1, size(names)
+      if (lengths(i) == 0) cycle
+      if (len(listing) > 0) listing = listing//", "
+      listing = listing//trim(names(i))//": "//fmt_int(int(lengths(i), 8))
+    end do
+    call set_status(status, demstep_stat%invalid_input, "&"//group//": "//trim(names(bad))// &
+      ": arrays of different lengths ("//listing//"); give 1 value or the same number")
+  end subroutine common_length
+
+  !> The first `length` values of an array, a single value repeated.
+  pure function broadcast(x, given_length, length) result(y)
+    real(dp), intent(in) :: x(:)
+    integer, intent(in) :: given_length, length
+    real(dp) :: y(length)
+    if (given_length == 1) then
+      y = x(1)
+    else
+      y = x(1:length)
+    end if
+  end function broadcast
 
   pure integer function find(specs, name)
     type(var_spec), intent(in) :: specs(:)

@@ -8,6 +8,7 @@ program demstep_main
     nml_group_type, read_text_file, scan_namelist, replace_file, process_id
   use demstep_cli, only: cli_context, write_template, fmt_int
   use demstep_cli_system, only: handle_system, system_specs, system_doc
+  use demstep_cli_harmonic, only: handle_harmonic_error, harmonic_specs, harmonic_doc
   implicit none
 
   character(len=:), allocatable :: input, output, arg, text, skipped, tmp
@@ -17,6 +18,7 @@ program demstep_main
   type(cli_context) :: ctx
   integer :: i, nargs, known, ios, unit
   character(len=256) :: msg
+  character(len=*), parameter :: known_groups = "&system, &harmonic_error"
 
   namelist_only = .false.
   nargs = command_argument_count()
@@ -72,6 +74,8 @@ program demstep_main
     select case (groups(i)%name)
     case ("system")
       call handle_system(ctx, groups(i), status)
+    case ("harmonic_error")
+      call handle_harmonic_error(ctx, groups(i), status)
     case default
       skipped = skipped//" &"//groups(i)%name//" (line "//fmt_int(int(groups(i)%line, 8))//")"
       cycle
@@ -79,7 +83,7 @@ program demstep_main
     if (status%stat /= demstep_stat%ok) call fail(input//": "//status%message, 2)
     known = known + 1
   end do
-  if (known == 0) call fail(input//": no demstep group in the file (known: &system; see " &
+  if (known == 0) call fail(input//": no demstep group in the file (known: "//known_groups//"; see " &
     //"demstep --template)", 2)
   if (len(skipped) > 0) write(ctx%report, '(a)') "skipped groups (not demstep's):"//skipped
 
@@ -176,7 +180,7 @@ contains
       "  -V, --version            print the version", &
       "  -h, --help               print this help", &
       "", &
-      "groups: &system", &
+      "groups: "//known_groups, &
       "exit status: 0 ok, 2 bad input or usage, 1 output not written"
   end subroutine print_help
 
@@ -184,6 +188,8 @@ contains
     write(output_unit, '(a)') "! demstep input template: every group demstep knows.", &
       "! Values shown are examples; give only the variables you need.", ""
     call write_template(output_unit, "system", system_doc, system_specs())
+    write(output_unit, '(a)') ""
+    call write_template(output_unit, "harmonic_error", harmonic_doc, harmonic_specs())
   end subroutine print_template
 
 end program demstep_main

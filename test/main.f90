@@ -6,6 +6,7 @@ program tester
     run_selected, get_argument, unittest_type
   use test_spring, only: collect_spring
   use test_namelist, only: collect_namelist
+  use test_harmonic, only: collect_harmonic
   use test_app, only: collect_app
   implicit none
   integer :: stat, is, total
@@ -16,6 +17,7 @@ program tester
   testsuites = [ &
     new_testsuite("spring", collect_spring), &
     new_testsuite("namelist", collect_namelist), &
+    new_testsuite("harmonic", collect_harmonic), &
     new_testsuite("app", collect_app) &
     ]
   stat = 0

@@ -23,7 +23,9 @@ contains
       new_unittest("unknown variable, wrong type, no value", test_bad_variables), &
       new_unittest("no known group; unterminated group", test_bad_groups), &
       new_unittest("out-of-domain values", test_bad_values), &
-      new_unittest("bad command lines", test_bad_usage) &
+      new_unittest("bad command lines", test_bad_usage), &
+      new_unittest("&harmonic_error: results read back, broadcast", test_harmonic_group), &
+      new_unittest("&harmonic_error: each bad input", test_harmonic_bad) &
       ]
   end subroutine collect_app
 
@@ -214,6 +216,83 @@ contains
     if (allocated(error)) return
     call expect_failure(error, "example/paper.nml -o", "demstep: option -o needs a file name")
   end subroutine test_bad_usage
+
+  subroutine test_harmonic_group(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer :: rc, unit, ios, i, stat_lib
+    character(len=:), allocatable :: stdout, stderr
+    real(dp) :: n_per_period(3), lambda(3), n_steps(3), e(3), e_lib
+    integer :: status(3)
+    namelist /harmonic_error_result/ n_per_period, lambda, n_steps, e, status
+    call write_file(deck, [character(len=80) :: "&solver dt = 1e-5 /", &
+      "&harmonic_error n_per_period = 10.0, 20.0, 1000.0,", &
+      "  lambda = 0.9, steps_fraction = 0.5 /"])
+    call remove(out)
+    call run_app(deck//" -o "//out, rc, stdout, stderr)
+    call check(error, rc, 0, message="exit status; stderr: "//stderr)
+    if (allocated(error)) return
+    open(newunit=unit, file=out, status="old", action="read")
+    read(unit, nml=harmonic_error_result, iostat=ios)
+    close(unit)
+    call check(error, ios, 0, message="read(nml=harmonic_error_result)")
+    if (allocated(error)) return
+    do i = 1, 3
+      call harmonic_error(n_per_period(i), 0.9_dp, 0.5_dp*n_per_period(i), e_lib, stat_lib)
+      call check(error, lambda(i), 0.9_dp, thr=0.0_dp, message="lambda broadcast")
+      if (allocated(error)) return
+      call check(error, n_steps(i), 0.5_dp*n_per_period(i), thr=0.0_dp, message="n = N/2")
+      if (allocated(error)) return
+      call check(error, e(i), e_lib, thr=2*epsilon(1.0_dp), rel=.true., message="E as the library")
+      if (allocated(error)) return
+      call check(error, status(i), stat_lib, message="status")
+      if (allocated(error)) return
+    end do
+    ! a pole is reported with its status, not as an error
+    call write_file(deck, [character(len=80) :: &
+      "&harmonic_error n_per_period = 10, lambda = 0.5, n_steps = 20 /"])
+    call run_app(deck//" --namelist", rc, stdout, stderr)
+    call check(error, rc == 0 .and. index(stdout, "STATUS=3") + index(stdout, "STATUS= 3") > 0, &
+      "pole status in the result: "//stdout)
+  end subroutine test_harmonic_group
+
+  subroutine test_harmonic_bad(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), parameter :: g = "&harmonic_error "
+    call expect_bad(error, g//"n_per_period = 10, lambda = 0.0, steps_fraction = 0.5 /", &
+      "&harmonic_error: lambda: element 1 is 0; must be finite and > 0")
+    if (allocated(error)) return
+    call expect_bad(error, g//"n_per_period = 10, 20, lambda = 0.9, -0.9, n_steps = 5 /", &
+      "&harmonic_error: lambda: element 2 is -0.9")
+    if (allocated(error)) return
+    call expect_bad(error, g//"n_per_period = 0, lambda = 0.9, steps_fraction = 0.5 /", &
+      "&harmonic_error: n_per_period: element 1 is 0")
+    if (allocated(error)) return
+    call expect_bad(error, g//"n_per_period = 10, lambda = 0.9, n_steps = 0.5 /", &
+      "&harmonic_error: n_steps: element 1 is 0.5")
+    if (allocated(error)) return
+    call expect_bad(error, g//"n_per_period = 10, 20, 30, lambda = 0.9, 0.8, n_steps = 5 /", &
+      "&harmonic_error: lambda: arrays of different lengths (n_per_period: 3, lambda: 2")
+    if (allocated(error)) return
+    call expect_bad(error, g//"n_per_period = 10, lambda = 0.9, n_steps = 5, steps_fraction = 0.5 /", &
+      "&harmonic_error: n_steps: give either n_steps or steps_fraction")
+    if (allocated(error)) return
+    call expect_bad(error, g//"n_per_period = 10, lambda = 0.9 /", &
+      "&harmonic_error: n_steps: give either n_steps or steps_fraction")
+    if (allocated(error)) return
+    call expect_bad(error, g//"n_per_period = 10, lambda(2) = 0.9, n_steps = 5 /", &
+      "&harmonic_error: lambda(1): no value")
+    if (allocated(error)) return
+    call expect_bad(error, g//"lambda = 0.9, n_steps = 5 /", "&harmonic_error: n_per_period: required")
+    if (allocated(error)) return
+    call expect_bad(error, g//"n_per_period = 10, lambda = 0.9, steps_fraction = 0.01 /", &
+      "&harmonic_error: steps_fraction: gives n = 0.1 steps")
+    if (allocated(error)) return
+    call expect_bad(error, g//"n_per_period = 10, lambda = NaN, steps_fraction = 0.5 /", &
+      "&harmonic_error: lambda: element 1 is NaN")
+    if (allocated(error)) return
+    call expect_bad(error, g//"n_per_period = 10, lambda = abc, steps_fraction = 0.5 /", &
+      "&harmonic_error: lambda: cannot read 'abc' as a list of real numbers")
+  end subroutine test_harmonic_bad
 
   !> Run on a one-line deck with -o; expect exit 2, one stderr line
   !> "demstep: DECK: <expected>...", no output file and no temporary left.

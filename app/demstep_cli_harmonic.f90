@@ -1,0 +1,162 @@
+!> Group `&harmonic_error`: the paper's error E(N, lambda, n) for arrays of inputs.
+module demstep_cli_harmonic
+  use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, set_status, &
+    evaluate_error => harmonic_error, harmonic_n_max
+  use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
+    fmt_real, fmt_int, cli_context, new_array, array_length, broadcast, common_length, unset
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  implicit none
+  private
+
+  public :: harmonic_specs, harmonic_doc, handle_harmonic_error
+
+  character(len=*), parameter :: harmonic_doc = &
+    "The paper's relative velocity error E(N, lambda, n) (eq. 23); arrays broadcast " &
+    //"(one value, or the same number of values each)."
+
+contains
+
+  !> The variables of `&harmonic_error`.
+  function harmonic_specs() result(specs)
+    type(var_spec), allocatable :: specs(:)
+    specs = [ &
+      var("n_per_period", "a list of real numbers", "N = T/dt (> 0), one or more", "10.0, 20.0, 40.0"), &
+      var("lambda", "a list of real numbers", "lambda = sqrt(K'/K*) (> 0), one or more", "0.9"), &
+      var("steps_fraction", "a list of real numbers", &
+        "n = f N steps (f > 0; 0.5 = half a period), or give n_steps", "0.5"), &
+      var("n_steps", "a list of real numbers", "n steps, 1 <= n <= 1e12, or give steps_fraction", &
+        "!100.0") ]
+  end function harmonic_specs
+
+  !> Read, check and evaluate one `&harmonic_error` group.
+  subroutine handle_harmonic_error(ctx, group, status)
+    type(cli_context), intent(in) :: ctx
+    type(nml_group_type), intent(in) :: group
+    type(demstep_status_type), intent(out) :: status
+    real(dp), allocatable :: n_per_period(:), lambda(:), steps_fraction(:), n_steps(:)
+    namelist /harmonic_error/ n_per_period, lambda, steps_fraction, n_steps
+    real(dp), allocatable :: big_n(:), lam(:), n(:), e(:)
+    integer, allocatable :: stat(:)
+    type(var_spec), allocatable :: specs(:)
+    character(len=:), allocatable :: text
+    character(len=*), parameter :: g = "harmonic_error"
+    integer :: i, ios, lengths(3), length
+    logical :: fraction
+
+    specs = harmonic_specs()
+    call check_names(group, specs, status)
+    if (status%stat /= demstep_stat%ok) return
+    n_per_period = new_array()
+    lambda = new_array()
+    steps_fraction = new_array()
+    n_steps = new_array()
+    do i = 1, size(group%items)
+      text = item_text(group, group%items(i))
+      read(text, nml=harmonic_error, iostat=ios)
+      if (ios /= 0) then
+        call read_failed(group, group%items(i), specs, status)
+        return
+      end if
+    end do
+    if (given(group, "n_steps") .eqv. given(group, "steps_fraction")) then
+      call set_status(status, demstep_stat%invalid_input, "&"//g//": n_steps: give either " &
+        //"n_steps or steps_fraction (exactly one of them)")
+      return
+    end if
+    fraction = given(group, "steps_fraction")
+    call array_length(g, "n_per_period", n_per_period, lengths(1), status)
+    call array_length(g, "lambda", lambda, lengths(2), status)
+    if (fraction) then
+      call array_length(g, "steps_fraction", steps_fraction, lengths(3), status)
+    else
+      call array_length(g, "n_steps", n_steps, lengths(3), status)
+    end if
+    if (status%stat /= demstep_stat%ok) return
+    if (lengths(1) == 0) call set_status(status, demstep_stat%invalid_input, "&"//g// &
+      ": n_per_period: required")
+    if (lengths(2) == 0 .and. status%stat == demstep_stat%ok) call set_status(status, &
+      demstep_stat%invalid_input, "&"//g//": lambda: required")
+    if (status%stat /= demstep_stat%ok) return
+    call common_length(g, [character(len=16) :: "n_per_period", "lambda", &
+      merge("steps_fraction", "n_steps       ", fraction)], lengths, length, status)
+    if (status%stat /= demstep_stat%ok) return
+
+    big_n = broadcast(n_per_period, lengths(1), length)
+    lam = broadcast(lambda, lengths(2), length)
+    if (fraction) then
+      n = broadcast(steps_fraction, lengths(3), length)
+    else
+      n = broadcast(n_steps, lengths(3), length)
+    end if
+    do i = 1, length
+      call check_element(g, "n_per_period", i, big_n(i), 0.0_dp, status)
+      call check_element(g, "lambda", i, lam(i), 0.0_dp, status)
+      if (fraction) then
+        call check_element(g, "steps_fraction", i, n(i), 0.0_dp, status)
+        if (status%stat /= demstep_stat%ok) return
+        n(i) = n(i)*big_n(i)
+        if (n(i) < 1.0_dp .or. n(i) > harmonic_n_max) then
+          call set_status(status, demstep_stat%invalid_input, "&"//g//": steps_fraction: gives " &
+            //"n = "//fmt_real(n(i))//" steps at element "//fmt_int(int(i, i8))// &
+            " (n must be in [1, 1e12])")
+          return
+        end if
+      else if (status%stat == demstep_stat%ok) then
+        if (.not. (ieee_is_finite(n(i)) .and. n(i) >= 1.0_dp .and. n(i) <= harmonic_n_max)) then
+          call set_status(status, demstep_stat%invalid_input, "&"//g//": n_steps: element " &
+            //fmt_int(int(i, i8))//" is "//fmt_real(n(i))//"; n must be in [1, 1e12]")
+          return
+        end if
+      end if
+      if (status%stat /= demstep_stat%ok) return
+    end do
+
+    allocate(e(length), stat(length))
+    call evaluate_error(big_n, lam, n, e, stat)
+    call report(ctx%report, group, big_n, lam, n, e, stat)
+    call write_result(ctx%results, big_n, lam, n, e, stat)
+  end subroutine handle_harmonic_error
+
+  !> Element i must be finite and above `lower`.
+  pure subroutine check_element(g, name, i, x, lower, status)
+    character(len=*), intent(in) :: g, name
+    integer, intent(in) :: i
+    real(dp), intent(in) :: x, lower
+    type(demstep_status_type), intent(inout) :: status
+    if (status%stat /= demstep_stat%ok) return
+    if (.not. (ieee_is_finite(x) .and. x > lower)) call set_status(status, &
+      demstep_stat%invalid_input, "&"//g//": "//name//": element "//fmt_int(int(i, i8))// &
+      " is "//fmt_real(x)//"; must be finite and > "//fmt_real(lower))
+  end subroutine check_element
+
+  subroutine report(u, group, big_n, lam, n, e, stat)
+    integer, intent(in) :: u
+    type(nml_group_type), intent(in) :: group
+    real(dp), intent(in) :: big_n(:), lam(:), n(:), e(:)
+    integer, intent(in) :: stat(:)
+    integer :: i
+    character(len=24) :: value
+    write(u, '(a)') "&harmonic_error (line "//fmt_int(int(group%line, i8))//")"
+    write(u, '(2x, a16, a16, a16, a24, 2x, a)') "N = T/dt", "lambda", "n steps", "E", "status"
+    do i = 1, size(e)
+      if (stat(i) == demstep_stat%pole) then
+        value = "pole"
+      else
+        value = fmt_real(e(i))
+      end if
+      write(u, '(2x, a16, a16, a16, a24, 2x, i0)') fmt_real(big_n(i)), fmt_real(lam(i)), &
+        fmt_real(n(i)), adjustr(value), stat(i)
+    end do
+    write(u, '(2x, a)') "status: 0 ok, 3 pole (S(2 pi lambda/N, n) = 0; e = huge)"
+    write(u, '(a)') ""
+  end subroutine report
+
+  subroutine write_result(unit, n_per_period, lambda, n_steps, e, status)
+    integer, intent(in) :: unit
+    real(dp), intent(in) :: n_per_period(:), lambda(:), n_steps(:), e(:)
+    integer, intent(in) :: status(:)
+    namelist /harmonic_error_result/ n_per_period, lambda, n_steps, e, status
+    write(unit, nml=harmonic_error_result)
+  end subroutine write_result
+
+end module demstep_cli_harmonic
