@@ -9,8 +9,7 @@ module demstep_cli
   implicit none
   private
 
-  public :: var, check_names, given, item_text, read_failed, check_positive, &
-    check_nonnegative, fmt_real, fmt_int, write_template, cli_context, &
+  public :: var, check_names, given, item_text, read_failed, check_real, fmt_real, fmt_int, write_template, cli_context, &
     new_array, array_length, broadcast, common_length
 
   !> Most values one array variable of a group may hold.
@@ -99,35 +98,37 @@ contains
       ": cannot read '"//item%value//"' as "//specs(max(j, 1))%what)
   end subroutine read_failed
 
-  !> Status `invalid_input` unless x is finite and > 0.
-  pure subroutine check_positive(group, name, x, status)
+  !> Status `invalid_input` unless x is finite and > `lower` (>= with `inclusive`);
+  !> `element` names the array element checked. Does nothing after an error.
+  pure subroutine check_real(group, name, x, status, lower, inclusive, element)
     character(len=*), intent(in) :: group, name
     real(dp), intent(in) :: x
     type(demstep_status_type), intent(inout) :: status
+    !> Lower bound (default 0).
+    real(dp), intent(in), optional :: lower
+    logical, intent(in), optional :: inclusive
+    integer, intent(in), optional :: element
+    real(dp) :: bound
+    logical :: closed
+    character(len=:), allocatable :: what
     if (status%stat /= demstep_stat%ok) return
+    bound = 0.0_dp
+    if (present(lower)) bound = lower
+    closed = .false.
+    if (present(inclusive)) closed = inclusive
+    what = "&"//group//": "//name//": "
+    if (present(element)) what = what//"element "//fmt_int(int(element, 8))//" is "//fmt_real(x)//"; "
     if (.not. ieee_is_finite(x)) then
-      call set_status(status, demstep_stat%invalid_input, "&"//group//": "//name// &
-        ": must be a finite number, not "//fmt_real(x))
-    else if (.not. x > 0.0_dp) then
-      call set_status(status, demstep_stat%invalid_input, "&"//group//": "//name// &
-        ": must be > 0, got "//fmt_real(x))
+      call set_status(status, demstep_stat%invalid_input, what//"must be a finite number, not " &
+        //fmt_real(x))
+    else if (closed .and. x < bound) then
+      call set_status(status, demstep_stat%invalid_input, what//"must be >= "//fmt_real(bound)// &
+        ", got "//fmt_real(x))
+    else if (.not. closed .and. .not. x > bound) then
+      call set_status(status, demstep_stat%invalid_input, what//"must be > "//fmt_real(bound)// &
+        ", got "//fmt_real(x))
     end if
-  end subroutine check_positive
-
-  !> Status `invalid_input` unless x is finite and >= 0.
-  pure subroutine check_nonnegative(group, name, x, status)
-    character(len=*), intent(in) :: group, name
-    real(dp), intent(in) :: x
-    type(demstep_status_type), intent(inout) :: status
-    if (status%stat /= demstep_stat%ok) return
-    if (.not. ieee_is_finite(x)) then
-      call set_status(status, demstep_stat%invalid_input, "&"//group//": "//name// &
-        ": must be a finite number, not "//fmt_real(x))
-    else if (x < 0.0_dp) then
-      call set_status(status, demstep_stat%invalid_input, "&"//group//": "//name// &
-        ": must be >= 0, got "//fmt_real(x))
-    end if
-  end subroutine check_nonnegative
+  end subroutine check_real
 
   !> A real with 10 significant digits, trailing zeros dropped: fixed notation for
   !> magnitudes 1e-3 .. 1e7, else `1.25e-8`.

@@ -3,7 +3,8 @@ module demstep_cli_harmonic
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, set_status, &
     evaluate_error => harmonic_error, harmonic_n_max
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
-    fmt_real, fmt_int, cli_context, new_array, array_length, broadcast, common_length, unset
+    fmt_real, fmt_int, cli_context, check_real, new_array, array_length, broadcast, &
+    common_length
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -89,10 +90,10 @@ contains
       n = broadcast(n_steps, lengths(3), length)
     end if
     do i = 1, length
-      call check_element(g, "n_per_period", i, big_n(i), 0.0_dp, status)
-      call check_element(g, "lambda", i, lam(i), 0.0_dp, status)
+      call check_real(g, "n_per_period", big_n(i), status, element=i)
+      call check_real(g, "lambda", lam(i), status, element=i)
       if (fraction) then
-        call check_element(g, "steps_fraction", i, n(i), 0.0_dp, status)
+        call check_real(g, "steps_fraction", n(i), status, element=i)
         if (status%stat /= demstep_stat%ok) return
         n(i) = n(i)*big_n(i)
         if (n(i) < 1.0_dp .or. n(i) > harmonic_n_max) then
@@ -116,18 +117,6 @@ contains
     call report(ctx%report, group, big_n, lam, n, e, stat)
     call write_result(ctx%results, big_n, lam, n, e, stat)
   end subroutine handle_harmonic_error
-
-  !> Element i must be finite and above `lower`.
-  pure subroutine check_element(g, name, i, x, lower, status)
-    character(len=*), intent(in) :: g, name
-    integer, intent(in) :: i
-    real(dp), intent(in) :: x, lower
-    type(demstep_status_type), intent(inout) :: status
-    if (status%stat /= demstep_stat%ok) return
-    if (.not. (ieee_is_finite(x) .and. x > lower)) call set_status(status, &
-      demstep_stat%invalid_input, "&"//g//": "//name//": element "//fmt_int(int(i, i8))// &
-      " is "//fmt_real(x)//"; must be finite and > "//fmt_real(lower))
-  end subroutine check_element
 
   subroutine report(u, group, big_n, lam, n, e, stat)
     integer, intent(in) :: u

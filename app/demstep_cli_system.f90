@@ -5,7 +5,7 @@ module demstep_cli_system
     growth_factor, discrete_contact_type, discrete_contact, simulate_contact, &
     dashpot_lagged, dashpot_centred, lowercase, nml_group_type, set_status
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
-    check_positive, check_nonnegative, fmt_real, fmt_int, cli_context
+    check_real, fmt_real, fmt_int, cli_context
   implicit none
   private
 
@@ -82,12 +82,12 @@ contains
         "&system: dt: give either dt or n_per_period, not both")
       return
     end if
-    call check_positive(g, "mass", mass, status)
-    call check_positive(g, "stiffness", stiffness, status)
-    call check_nonnegative(g, "damping_ratio", damping_ratio, status)
-    call check_positive(g, "velocity", velocity, status)
-    if (given(group, "dt")) call check_positive(g, "dt", dt, status)
-    if (given(group, "n_per_period")) call check_positive(g, "n_per_period", n_per_period, status)
+    call check_real(g, "mass", mass, status)
+    call check_real(g, "stiffness", stiffness, status)
+    call check_real(g, "damping_ratio", damping_ratio, status, inclusive=.true.)
+    call check_real(g, "velocity", velocity, status)
+    if (given(group, "dt")) call check_real(g, "dt", dt, status)
+    if (given(group, "n_per_period")) call check_real(g, "n_per_period", n_per_period, status)
     if (status%stat /= demstep_stat%ok) return
     select case (lowercase(trim(adjustl(dashpot))))
     case ("lagged")
