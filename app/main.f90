@@ -9,6 +9,7 @@ program demstep_main
   use demstep_cli, only: cli_context, write_template, fmt_int
   use demstep_cli_system, only: handle_system, system_specs, system_doc
   use demstep_cli_harmonic, only: handle_harmonic_error, harmonic_specs, harmonic_doc
+  use demstep_cli_stiffness, only: handle_simulated_stiffness, stiffness_specs, stiffness_doc
   implicit none
 
   character(len=:), allocatable :: input, output, arg, text, skipped, tmp
@@ -18,7 +19,8 @@ program demstep_main
   type(cli_context) :: ctx
   integer :: i, nargs, known, ios, unit
   character(len=256) :: msg
-  character(len=*), parameter :: known_groups = "&system, &harmonic_error"
+  character(len=*), parameter :: known_groups = &
+    "&system, &harmonic_error, &simulated_stiffness"
 
   namelist_only = .false.
   nargs = command_argument_count()
@@ -76,6 +78,8 @@ program demstep_main
       call handle_system(ctx, groups(i), status)
     case ("harmonic_error")
       call handle_harmonic_error(ctx, groups(i), status)
+    case ("simulated_stiffness")
+      call handle_simulated_stiffness(ctx, groups(i), status)
     case default
       skipped = skipped//" &"//groups(i)%name//" (line "//fmt_int(int(groups(i)%line, 8))//")"
       cycle
@@ -190,6 +194,8 @@ contains
     call write_template(output_unit, "system", system_doc, system_specs())
     write(output_unit, '(a)') ""
     call write_template(output_unit, "harmonic_error", harmonic_doc, harmonic_specs())
+    write(output_unit, '(a)') ""
+    call write_template(output_unit, "simulated_stiffness", stiffness_doc, stiffness_specs())
   end subroutine print_template
 
 end program demstep_main

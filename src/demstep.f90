@@ -11,9 +11,16 @@ module demstep
     spring_omega, spring_period, spring_damping_ratio, critical_time_step, &
     numerical_phase, numerical_period, growth_factor, exact_discrete_state, &
     paper_closed_form_velocity, discrete_contact, simulate_contact
-  use demstep_harmonic, only: step_policy_type, steps_fixed, steps_fraction, &
+  use demstep_harmonic, only: step_policy_type, steps_fixed, steps_fraction, steps_rounded, &
     harmonic_n_max, new_step_policy, policy_steps, harmonic_sum, harmonic_error, &
     harmonic_error_steps
+  use demstep_roots, only: root_context_type, root_function, find_root, scan_roots, &
+    geometric_grid, sort_ascending
+  use demstep_stiffness, only: nroots_options_type, nroots_type, stiffness_input_type, &
+    stiffness_result_type, n_roots, aggregate_picks, simulated_stiffness, error_limit, &
+    pick_largest_step, pick_zero, aggregate_mean, aggregate_weighted, aggregate_median, &
+    aggregate_min, aggregate_max, interval_bounded, interval_unbounded, interval_truncated, &
+    n_scan_start, default_n_max, default_resolution
   use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, &
     scan_namelist, lowercase, replace_file, process_id
   implicit none

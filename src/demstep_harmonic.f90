@@ -32,6 +32,9 @@ module demstep_harmonic
   integer, parameter, public :: steps_fixed = 1
   !> Step policy: a fraction `f` of the simulated period, `n = f N`.
   integer, parameter, public :: steps_fraction = 2
+  !> Step policy: whole steps, `n = max(1, nint(f N))`: E jumps where f N crosses
+  !> a half-integer.
+  integer, parameter, public :: steps_rounded = 3
   !> Largest supported number of steps.
   real(dp), parameter, public :: harmonic_n_max = 1.0e12_dp
 
@@ -43,13 +46,13 @@ module demstep_harmonic
   !>   simulated period, the duration of a compression-only contact. E is smooth in N
   !>   because the closed form is smooth in real `n`.
   !>
-  !> A DEM run takes whole steps; rounding `n` to an integer makes E jump wherever
-  !> `f N` crosses an integer. Callers that want that round `n` themselves and use
-  !> [[harmonic_error]] with a fixed `n`.
+  !> - `steps_rounded`, `value = f`: `n = max(1, nint(f N))`, the whole steps a DEM
+  !>   run takes. E then jumps wherever `f N` crosses a half-integer; root finders
+  !>   must not take those jumps for roots.
   type, public :: step_policy_type
-    !> [[steps_fixed]] or [[steps_fraction]].
+    !> [[steps_fixed]], [[steps_fraction]] or [[steps_rounded]].
     integer :: kind = steps_fraction
-    !> `n` (fixed) or `f` (fraction).
+    !> `n` (fixed) or `f` (fraction, rounded).
     real(dp) :: value = 0.5_dp
   end type step_policy_type
 
@@ -82,9 +85,9 @@ contains
   !> Build a validated step policy.
   pure subroutine new_step_policy(policy, kind, value, stat)
     type(step_policy_type), intent(out) :: policy
-    !> [[steps_fixed]] or [[steps_fraction]].
+    !> [[steps_fixed]], [[steps_fraction]] or [[steps_rounded]].
     integer, intent(in) :: kind
-    !> `n` in [1, 1e12] (fixed) or `f` > 0 (fraction).
+    !> `n` in [1, 1e12] (fixed) or `f` > 0 (fraction, rounded).
     real(dp), intent(in) :: value
     !> `demstep_stat%ok` or `demstep_stat%invalid_input`.
     integer, intent(out) :: stat
@@ -93,7 +96,7 @@ contains
     select case (kind)
     case (steps_fixed)
       if (value < 1.0_dp .or. value > harmonic_n_max) return
-    case (steps_fraction)
+    case (steps_fraction, steps_rounded)
       if (.not. value > 0.0_dp) return
     case default
       return
@@ -108,11 +111,14 @@ contains
     type(step_policy_type), intent(in) :: policy
     real(dp), intent(in) :: n_per_period
     real(dp) :: n
-    if (policy%kind == steps_fixed) then
+    select case (policy%kind)
+    case (steps_fixed)
       n = policy%value
-    else
+    case (steps_rounded)
+      n = max(1.0_dp, anint(policy%value*n_per_period))
+    case default
       n = policy%value*n_per_period
-    end if
+    end select
   end function policy_steps
 
   !> S(2 pi c/N, n) = sum_{k=1..n} sin(2 pi k c/N) for real n >= 0 (closed form).

@@ -1,0 +1,344 @@
+!> Group `&simulated_stiffness`: the whole simulated-stiffness procedure
+!> (paper eqs. 25-29): dt = T*/N* and K' = lambda*^2 K*.
+module demstep_cli_stiffness
+  use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, set_status, &
+    lowercase, stiffness_input_type, stiffness_result_type, run_procedure => simulated_stiffness, &
+    steps_fixed, policy_fraction => steps_fraction, steps_rounded, new_step_policy, pick_largest_step, pick_zero, &
+    aggregate_mean, aggregate_weighted, aggregate_median, aggregate_min, aggregate_max, &
+    interval_bounded, interval_unbounded, default_n_max, default_resolution, n_scan_start
+  use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
+    fmt_real, fmt_int, cli_context, check_real, new_array, array_length
+  implicit none
+  private
+
+  public :: stiffness_specs, stiffness_doc, handle_simulated_stiffness
+
+  character(len=*), parameter :: stiffness_doc = &
+    "The simulated-stiffness procedure: for each lambda the N meeting |E| <= tolerance, " &
+    //"combined into N*; dt = T*/N*, K' = lambda*^2 K*."
+
+contains
+
+  !> The variables of `&simulated_stiffness`.
+  function stiffness_specs() result(specs)
+    type(var_spec), allocatable :: specs(:)
+    specs = [ &
+      var("mass", "a real number", "mass M (> 0)", "0.01"), &
+      var("stiffness", "a real number", "ideal (simulated) stiffness K* (> 0)", "1.0e5"), &
+      var("tolerance", "a real number", "tolerance E0 on |E|, in (0, 1)", "1.0e-3"), &
+      var("lambda", "a list of real numbers", "lambda set, increasing, in (0, 1); or the three below", &
+        "!0.9, 0.95, 0.99"), &
+      var("lambda_min", "a real number", "smallest lambda of an even set", "0.9"), &
+      var("lambda_max", "a real number", "largest lambda of an even set", "0.99"), &
+      var("lambda_count", "an integer", "number of lambdas in the even set (>= 1)", "10"), &
+      var("steps", "a quoted word", "'half_period' (default), 'fraction', 'rounded' " &
+        //"(nint(f N) steps) or 'fixed'", "'half_period'"), &
+      var("steps_fraction", "a real number", "f for steps = 'fraction' or 'rounded' (> 0)", "!0.5"), &
+      var("n_steps", "a real number", "n for steps = 'fixed' (>= 1)", "!100.0"), &
+      var("pick", "a quoted word", "'largest_step' (default: smallest N with |E| <= E0) or 'zero'", &
+        "'largest_step'"), &
+      var("aggregate", "a quoted word", "'mean' (default), 'weighted', 'median', 'min' or 'max'", &
+        "'mean'"), &
+      var("weights", "a list of real numbers", "one weight >= 0 per lambda, for 'weighted'", &
+        "!1.0, 2.0, 1.0"), &
+      var("n_max", "a real number", "largest N scanned (default 1e8)", "1.0e8"), &
+      var("resolution", "a real number", "scan step relative to N, in (0, 1] (default 0.25)", "0.25") ]
+  end function stiffness_specs
+
+  !> Read, check and run one `&simulated_stiffness` group.
+  subroutine handle_simulated_stiffness(ctx, group, status)
+    type(cli_context), intent(in) :: ctx
+    type(nml_group_type), intent(in) :: group
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: mass, stiffness, tolerance, lambda_min, lambda_max, steps_fraction, n_steps, &
+      n_max, resolution
+    real(dp), allocatable :: lambda(:), weights(:)
+    integer :: lambda_count
+    character(len=32) :: steps, pick, aggregate
+    namelist /simulated_stiffness/ mass, stiffness, tolerance, lambda, lambda_min, lambda_max, &
+      lambda_count, steps, steps_fraction, n_steps, pick, aggregate, weights, n_max, resolution
+    type(var_spec), allocatable :: specs(:)
+    type(stiffness_input_type) :: input
+    type(stiffness_result_type) :: result
+    character(len=:), allocatable :: text
+    character(len=*), parameter :: g = "simulated_stiffness"
+    character(len=*), parameter :: required(3) = [character(len=9) :: "mass", "stiffness", "tolerance"]
+    integer :: i, ios, n_lambda, n_weights, kind, stat
+
+    specs = stiffness_specs()
+    call check_names(group, specs, status)
+    if (status%stat /= demstep_stat%ok) return
+    mass = 0.0_dp
+    stiffness = 0.0_dp
+    tolerance = 0.0_dp
+    lambda = new_array()
+    weights = new_array()
+    lambda_min = 0.0_dp
+    lambda_max = 0.0_dp
+    lambda_count = 0
+    steps = "half_period"
+    steps_fraction = 0.5_dp
+    n_steps = 0.0_dp
+    pick = "largest_step"
+    aggregate = "mean"
+    n_max = default_n_max
+    resolution = default_resolution
+    do i = 1, size(group%items)
+      text = item_text(group, group%items(i))
+      read(text, nml=simulated_stiffness, iostat=ios)
+      if (ios /= 0) then
+        call read_failed(group, group%items(i), specs, status)
+        return
+      end if
+    end do
+
+    do i = 1, size(required)
+      if (.not. given(group, trim(required(i)))) then
+        call set_status(status, demstep_stat%invalid_input, "&"//g//": "//trim(required(i))// &
+          ": required")
+        return
+      end if
+    end do
+    call check_real(g, "mass", mass, status)
+    call check_real(g, "stiffness", stiffness, status)
+    call check_real(g, "tolerance", tolerance, status)
+    if (status%stat == demstep_stat%ok .and. .not. tolerance < 1.0_dp) call set_status(status, &
+      demstep_stat%invalid_input, "&"//g//": tolerance: must be in (0, 1), got "//fmt_real(tolerance))
+    call check_real(g, "n_max", n_max, status, lower=2.0_dp*n_scan_start)
+    call check_real(g, "resolution", resolution, status)
+    if (status%stat == demstep_stat%ok .and. resolution > 1.0_dp) call set_status(status, &
+      demstep_stat%invalid_input, "&"//g//": resolution: must be in (0, 1], got "//fmt_real(resolution))
+    if (status%stat /= demstep_stat%ok) return
+
+    ! the lambda set: a list, or an even set from min, max and count
+    call array_length(g, "lambda", lambda, n_lambda, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (given(group, "lambda")) then
+      if (given(group, "lambda_min") .or. given(group, "lambda_max") .or. given(group, "lambda_count")) then
+        call set_status(status, demstep_stat%invalid_input, "&"//g//": lambda: give either the " &
+          //"list lambda or lambda_min, lambda_max and lambda_count, not both")
+        return
+      end if
+      input%lambdas = lambda(:n_lambda)
+    else
+      if (.not. (given(group, "lambda_min") .and. given(group, "lambda_max") .and. &
+          given(group, "lambda_count"))) then
+        call set_status(status, demstep_stat%invalid_input, "&"//g//": lambda: the lambda set is " &
+          //"empty: give lambda, or lambda_min, lambda_max and lambda_count")
+        return
+      end if
+      if (lambda_count < 1) then
+        call set_status(status, demstep_stat%invalid_input, "&"//g//": lambda_count: must be >= 1, got " &
+          //fmt_int(int(lambda_count, i8)))
+        return
+      end if
+      if (lambda_count > 1 .and. .not. lambda_max > lambda_min) then
+        call set_status(status, demstep_stat%invalid_input, "&"//g//": lambda_max: must be > lambda_min")
+        return
+      end if
+      if (lambda_count == 1) then
+        input%lambdas = [lambda_min]
+      else
+        input%lambdas = [(lambda_min + (lambda_max - lambda_min)*real(i - 1, dp)/real(lambda_count - 1, dp), &
+          i = 1, lambda_count)]
+      end if
+    end if
+    do i = 1, size(input%lambdas)
+      call check_real(g, "lambda", input%lambdas(i), status, element=i)
+      if (status%stat == demstep_stat%ok .and. .not. input%lambdas(i) < 1.0_dp) call set_status(status, &
+        demstep_stat%invalid_input, "&"//g//": lambda: element "//fmt_int(int(i, i8))//" is "// &
+        fmt_real(input%lambdas(i))//"; must be in (0, 1)")
+      if (status%stat /= demstep_stat%ok) return
+      if (i > 1) then
+        if (.not. input%lambdas(i) > input%lambdas(i-1)) then
+          call set_status(status, demstep_stat%invalid_input, "&"//g//": lambda: the set must " &
+            //"increase (element "//fmt_int(int(i, i8))//" is "//fmt_real(input%lambdas(i))//")")
+          return
+        end if
+      end if
+    end do
+
+    ! step policy, pick and aggregation
+    select case (lowercase(trim(adjustl(steps))))
+    case ("half_period")
+      call new_step_policy(input%options%policy, policy_fraction, 0.5_dp, stat)
+    case ("fraction", "rounded")
+      kind = merge(policy_fraction, steps_rounded, lowercase(trim(adjustl(steps))) == "fraction")
+      call check_real(g, "steps_fraction", steps_fraction, status)
+      if (status%stat /= demstep_stat%ok) return
+      call new_step_policy(input%options%policy, kind, steps_fraction, stat)
+    case ("fixed")
+      if (.not. given(group, "n_steps")) then
+        call set_status(status, demstep_stat%invalid_input, "&"//g//": n_steps: required with steps = 'fixed'")
+        return
+      end if
+      call new_step_policy(input%options%policy, steps_fixed, n_steps, stat)
+      if (stat /= demstep_stat%ok) then
+        call set_status(status, demstep_stat%invalid_input, "&"//g//": n_steps: must be in [1, 1e12], got " &
+          //fmt_real(n_steps))
+        return
+      end if
+    case default
+      call set_status(status, demstep_stat%invalid_input, "&"//g//": steps: unknown word '"// &
+        trim(steps)//"' (half_period, fraction, rounded, fixed)")
+      return
+    end select
+    select case (lowercase(trim(adjustl(pick))))
+    case ("largest_step")
+      input%options%pick = pick_largest_step
+    case ("zero")
+      input%options%pick = pick_zero
+    case default
+      call set_status(status, demstep_stat%invalid_input, "&"//g//": pick: unknown word '"// &
+        trim(pick)//"' (largest_step, zero)")
+      return
+    end select
+    select case (lowercase(trim(adjustl(aggregate))))
+    case ("mean")
+      input%aggregate = aggregate_mean
+    case ("weighted")
+      input%aggregate = aggregate_weighted
+    case ("median")
+      input%aggregate = aggregate_median
+    case ("min")
+      input%aggregate = aggregate_min
+    case ("max")
+      input%aggregate = aggregate_max
+    case default
+      call set_status(status, demstep_stat%invalid_input, "&"//g//": aggregate: unknown word '"// &
+        trim(aggregate)//"' (mean, weighted, median, min, max)")
+      return
+    end select
+    call array_length(g, "weights", weights, n_weights, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (input%aggregate == aggregate_weighted) then
+      if (n_weights /= size(input%lambdas)) then
+        call set_status(status, demstep_stat%invalid_input, "&"//g//": weights: "// &
+          fmt_int(int(n_weights, i8))//" given for "//fmt_int(int(size(input%lambdas), i8))//" lambdas")
+        return
+      end if
+      do i = 1, n_weights
+        call check_real(g, "weights", weights(i), status, inclusive=.true., element=i)
+      end do
+      if (status%stat /= demstep_stat%ok) return
+      input%weights = weights(:n_weights)
+    else if (n_weights > 0) then
+      call set_status(status, demstep_stat%invalid_input, "&"//g//": weights: only used with " &
+        //"aggregate = 'weighted'")
+      return
+    end if
+    input%mass = mass
+    input%stiffness = stiffness
+    input%options%tolerance = tolerance
+    input%options%n_max = n_max
+    input%options%resolution = resolution
+
+    call run_procedure(input, result, status)
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "&"//g//": "//status%message
+      return
+    end if
+    call report(ctx%report, group, input, result)
+    call write_result(ctx%results, result)
+  end subroutine handle_simulated_stiffness
+
+  subroutine report(u, group, input, result)
+    integer, intent(in) :: u
+    type(nml_group_type), intent(in) :: group
+    type(stiffness_input_type), intent(in) :: input
+    type(stiffness_result_type), intent(in) :: result
+    integer :: i
+    character(len=20) :: zero, lower, upper, pick
+    write(u, '(a)') "&simulated_stiffness (line "//fmt_int(int(group%line, i8))//")"
+    write(u, '(2x, a)') "tolerance |E| <= "//fmt_real(input%options%tolerance)//", N scanned on (pi, " &
+      //fmt_real(input%options%n_max)//"]"
+    write(u, '(2x, a14, 4a20, 2x, a)') "lambda", "root of E", "N lower", "N upper", "N pick", "status"
+    do i = 1, size(result%rows)
+      associate(r => result%rows(i))
+        zero = "-"
+        lower = "-"
+        upper = "-"
+        pick = "-"
+        if (size(r%roots) > 0) zero = fmt_real(r%roots(1))
+        if (size(r%lower) > 0) then
+          lower = fmt_real(r%lower(1))
+          upper = fmt_real(r%upper(1))
+          if (size(r%lower) == 1 .and. r%last_interval == interval_unbounded) upper = "unbounded"
+          if (size(r%lower) == 1 .and. r%last_interval /= interval_bounded .and. &
+            r%last_interval /= interval_unbounded) upper = ">"//fmt_real(r%upper(1))
+        end if
+        if (r%stat /= demstep_stat%not_found) pick = fmt_real(r%n_pick)
+        write(u, '(2x, a14, 4a20, 2x, a)') fmt_real(r%lambda), adjustr(zero), adjustr(lower), &
+          adjustr(upper), adjustr(pick), status_word(r%stat)
+      end associate
+    end do
+    if (result%excluded > 0) write(u, '(2x, a)') fmt_int(int(result%excluded, i8))// &
+      " lambda(s) without an admissible N up to n_max: left out of N*"
+    write(u, '(2x, a, t30, a)') "N*", fmt_real(result%n_star)
+    write(u, '(2x, a, t30, a)') "lambda*", fmt_real(result%lambda_star)//"  ("// &
+      status_word(result%lambda_star_stat)//")"
+    write(u, '(2x, a, t30, a)') "T* = 2 pi sqrt(M/K*)", fmt_real(result%period)
+    write(u, '(2x, a, t30, a)') "dt = T*/N*", fmt_real(result%dt)
+    write(u, '(2x, a, t30, a)') "K' = lambda*^2 K*", fmt_real(result%stiffness_actual)
+    write(u, '(2x, a)') "(E evaluated "//fmt_int(int(result%evaluations, i8))//" times)"
+    write(u, '(a)') ""
+  end subroutine report
+
+  !> The report's word for a status code.
+  pure function status_word(stat) result(word)
+    integer, intent(in) :: stat
+    character(len=:), allocatable :: word
+    select case (stat)
+    case (0)
+      word = "ok"
+    case (2)
+      word = "holds at the stability limit"
+    case (3)
+      word = "pick jumps here"
+    case (5)
+      word = "none up to n_max"
+    case default
+      word = "status "//fmt_int(int(stat, i8))
+    end select
+  end function status_word
+
+  subroutine write_result(unit, result)
+    integer, intent(in) :: unit
+    type(stiffness_result_type), intent(in) :: result
+    real(dp), allocatable :: lambda(:), n_zero(:), n_lower(:), n_upper(:), n_pick(:)
+    logical, allocatable :: bounded(:)
+    integer, allocatable :: status(:)
+    real(dp) :: n_star, lambda_star, period, dt, stiffness_actual
+    integer :: lambda_star_status, excluded, i, n
+    namelist /simulated_stiffness_result/ lambda, n_zero, n_lower, n_upper, bounded, n_pick, &
+      status, n_star, lambda_star, lambda_star_status, period, dt, stiffness_actual, excluded
+    n = size(result%rows)
+    allocate(lambda(n), n_zero(n), n_lower(n), n_upper(n), n_pick(n), bounded(n), status(n))
+    do i = 1, n
+      associate(r => result%rows(i))
+        lambda(i) = r%lambda
+        n_zero(i) = 0.0_dp
+        if (size(r%roots) > 0) n_zero(i) = r%roots(1)
+        n_lower(i) = 0.0_dp
+        n_upper(i) = 0.0_dp
+        bounded(i) = .false.
+        if (size(r%lower) > 0) then
+          n_lower(i) = r%lower(1)
+          n_upper(i) = r%upper(1)
+          bounded(i) = size(r%lower) > 1 .or. r%last_interval == interval_bounded
+        end if
+        n_pick(i) = r%n_pick
+        status(i) = r%stat
+      end associate
+    end do
+    n_star = result%n_star
+    lambda_star = result%lambda_star
+    lambda_star_status = result%lambda_star_stat
+    period = result%period
+    dt = result%dt
+    stiffness_actual = result%stiffness_actual
+    excluded = result%excluded
+    write(unit, nml=simulated_stiffness_result)
+  end subroutine write_result
+
+end module demstep_cli_stiffness
