@@ -7,6 +7,8 @@ program tester
   use test_spring, only: collect_spring
   use test_namelist, only: collect_namelist
   use test_harmonic, only: collect_harmonic
+  use test_roots, only: collect_roots
+  use test_stiffness, only: collect_stiffness
   use test_app, only: collect_app
   implicit none
   integer :: stat, is, total
@@ -18,6 +20,8 @@ program tester
     new_testsuite("spring", collect_spring), &
     new_testsuite("namelist", collect_namelist), &
     new_testsuite("harmonic", collect_harmonic), &
+    new_testsuite("roots", collect_roots), &
+    new_testsuite("stiffness", collect_stiffness), &
     new_testsuite("app", collect_app) &
     ]
   stat = 0

@@ -25,7 +25,9 @@ contains
       new_unittest("out-of-domain values", test_bad_values), &
       new_unittest("bad command lines", test_bad_usage), &
       new_unittest("&harmonic_error: results read back, broadcast", test_harmonic_group), &
-      new_unittest("&harmonic_error: each bad input", test_harmonic_bad) &
+      new_unittest("&harmonic_error: each bad input", test_harmonic_bad), &
+      new_unittest("&simulated_stiffness: the seed's setting read back", test_stiffness_group), &
+      new_unittest("&simulated_stiffness: each bad input", test_stiffness_bad) &
       ]
   end subroutine collect_app
 
@@ -293,6 +295,94 @@ contains
     call expect_bad(error, g//"n_per_period = 10, lambda = abc, steps_fraction = 0.5 /", &
       "&harmonic_error: lambda: cannot read 'abc' as a list of real numbers")
   end subroutine test_harmonic_bad
+
+  subroutine test_stiffness_group(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer :: rc, unit, ios
+    character(len=:), allocatable :: stdout, stderr
+    real(dp) :: lambda(10), n_zero(10), n_lower(10), n_upper(10), n_pick(10)
+    logical :: bounded(10)
+    integer :: status(10), lambda_star_status, excluded
+    real(dp) :: n_star, lambda_star, period, dt, stiffness_actual
+    namelist /simulated_stiffness_result/ lambda, n_zero, n_lower, n_upper, bounded, n_pick, &
+      status, n_star, lambda_star, lambda_star_status, period, dt, stiffness_actual, excluded
+    type(stiffness_input_type) :: input
+    type(stiffness_result_type) :: result
+    type(demstep_status_type) :: st
+    integer :: i
+    call remove(out)
+    call run_app("example/stiffness.nml -o "//out, rc, stdout, stderr)
+    call check(error, rc, 0, message="exit status; stderr: "//stderr)
+    if (allocated(error)) return
+    call check(error, index(stdout, "dt = T*/N*") > 0 .and. index(stdout, "K' = lambda*^2 K*") > 0, &
+      "the report gives dt and K'")
+    if (allocated(error)) return
+    open(newunit=unit, file=out, status="old", action="read")
+    read(unit, nml=simulated_stiffness_result, iostat=ios)
+    close(unit)
+    call check(error, ios, 0, message="read(nml=simulated_stiffness_result)")
+    if (allocated(error)) return
+    ! the same procedure through the library
+    input%mass = 0.01_dp
+    input%stiffness = 1.0e5_dp
+    input%options%tolerance = 1.0e-3_dp
+    input%lambdas = [(0.9_dp + 0.09_dp*real(i, dp)/9.0_dp, i = 0, 9)]
+    call simulated_stiffness(input, result, st)
+    call check(error, n_star, result%n_star, thr=2*epsilon(1.0_dp), rel=.true., message="N*")
+    if (allocated(error)) return
+    call check(error, dt, result%dt, thr=2*epsilon(1.0_dp), rel=.true., message="dt")
+    if (allocated(error)) return
+    call check(error, stiffness_actual, result%stiffness_actual, thr=2*epsilon(1.0_dp), rel=.true., &
+      message="K'")
+    if (allocated(error)) return
+    call check(error, all(status == 0) .and. lambda_star_status == 0 .and. excluded == 0, "statuses")
+    if (allocated(error)) return
+    call check(error, count(bounded), 8, message="lambda 0.98, 0.99: unbounded intervals")
+  end subroutine test_stiffness_group
+
+  subroutine test_stiffness_bad(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), parameter :: g = "&simulated_stiffness mass = 0.01, stiffness = 1e5, "
+    call expect_bad(error, g//"tolerance = 1.5, lambda = 0.9 /", &
+      "&simulated_stiffness: tolerance: must be in (0, 1)")
+    if (allocated(error)) return
+    call expect_bad(error, g//"tolerance = 0, lambda = 0.9 /", "&simulated_stiffness: tolerance: must be > 0")
+    if (allocated(error)) return
+    call expect_bad(error, g//"tolerance = 1e-3, lambda = 0.9, 1.0 /", &
+      "&simulated_stiffness: lambda: element 2 is 1; must be in (0, 1)")
+    if (allocated(error)) return
+    call expect_bad(error, g//"tolerance = 1e-3, lambda = 0.95, 0.9 /", &
+      "&simulated_stiffness: lambda: the set must increase")
+    if (allocated(error)) return
+    call expect_bad(error, g//"tolerance = 1e-3 /", "&simulated_stiffness: lambda: the lambda set is empty")
+    if (allocated(error)) return
+    call expect_bad(error, g//"tolerance = 1e-3, lambda = 0.9, lambda_min = 0.8 /", &
+      "&simulated_stiffness: lambda: give either")
+    if (allocated(error)) return
+    call expect_bad(error, g//"tolerance = 1e-3, lambda_min = 0.9, lambda_max = 0.8, lambda_count = 3 /", &
+      "&simulated_stiffness: lambda_max: must be > lambda_min")
+    if (allocated(error)) return
+    call expect_bad(error, g//"tolerance = 1e-3, lambda = 0.9, 0.95, aggregate = 'weighted', weights = 1 /", &
+      "&simulated_stiffness: weights: 1 given for 2 lambdas")
+    if (allocated(error)) return
+    call expect_bad(error, g//"tolerance = 1e-3, lambda = 0.9, 0.95, aggregate = 'weighted', weights = 1, -1 /", &
+      "&simulated_stiffness: weights: element 2 is -1; must be >= 0")
+    if (allocated(error)) return
+    call expect_bad(error, g//"tolerance = 1e-3, lambda = 0.9, steps = 'quarter' /", &
+      "&simulated_stiffness: steps: unknown word 'quarter'")
+    if (allocated(error)) return
+    call expect_bad(error, g//"tolerance = 1e-3, lambda = 0.9, pick = 'best' /", &
+      "&simulated_stiffness: pick: unknown word 'best'")
+    if (allocated(error)) return
+    call expect_bad(error, g//"tolerance = 1e-3, lambda = 0.9, aggregate = 'mode' /", &
+      "&simulated_stiffness: aggregate: unknown word 'mode'")
+    if (allocated(error)) return
+    call expect_bad(error, g//"tolerance = 1e-3, lambda = 0.9, steps = 'fixed' /", &
+      "&simulated_stiffness: n_steps: required with steps = 'fixed'")
+    if (allocated(error)) return
+    call expect_bad(error, "&simulated_stiffness stiffness = 1e5, tolerance = 1e-3, lambda = 0.9 /", &
+      "&simulated_stiffness: mass: required")
+  end subroutine test_stiffness_bad
 
   !> Run on a one-line deck with -o; expect exit 2, one stderr line
   !> "demstep: DECK: <expected>...", no output file and no temporary left.

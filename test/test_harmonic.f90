@@ -5,12 +5,11 @@ module test_harmonic
   use, intrinsic :: iso_fortran_env, only: qp => real128
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
-  use test_support, only: ieee_nan, real_str
+  use test_support, only: ieee_nan, real_str, sinpi_q, reference
   implicit none
   private
   public :: collect_harmonic
 
-  real(qp), parameter :: pi_q = 3.14159265358979323846264338327950288_qp
   !> The guaranteed accuracy: |E - E_true| <= 1e-12 (|E_true| + |1 - lambda|).
   real(dp), parameter :: accuracy = 1.0e-12_dp
   !> Points within this relative distance of a pole are exempt (issue statement).
@@ -34,31 +33,6 @@ contains
       new_unittest("invalid input gives a status, no NaN", test_invalid) &
       ]
   end subroutine collect_harmonic
-
-  !> sin(pi x) with x reduced modulo 2 in quad.
-  elemental real(qp) function sinpi_q(x)
-    real(qp), intent(in) :: x
-    sinpi_q = sin(pi_q*(x - 2.0_qp*anint(0.5_qp*x)))
-  end function sinpi_q
-
-  !> Quad reference of E by the closed form. The phases n c/N are formed in quad:
-  !> n (<= 2^53) times c (53 bits) is exact in 113 bits; the division rounds at
-  !> 1e-34 relative. `pole` is the relative distance of n lambda/N or
-  !> (n+1) lambda/N to the nearest integer.
-  subroutine reference(big_n, lambda, n, e, pole)
-    real(dp), intent(in) :: big_n, lambda, n
-    real(qp), intent(out) :: e, pole
-    real(qp) :: nq, lq, bq, s1, s2, t1, t2
-    nq = n
-    lq = lambda
-    bq = big_n
-    t1 = nq*lq/bq
-    t2 = (nq + 1.0_qp)*lq/bq
-    pole = min(abs(t1 - anint(t1))/t1, abs(t2 - anint(t2))/t2)
-    s1 = sinpi_q(nq/bq)*sinpi_q((nq + 1.0_qp)/bq)/sinpi_q(1.0_qp/bq)
-    s2 = sinpi_q(t1)*sinpi_q(t2)/sinpi_q(lq/bq)
-    e = 1.0_qp - s1/(lq*s2)
-  end subroutine reference
 
   !> Compare with the reference at one point; silently accept points within the
   !> pole margin. `worst` tracks the largest error over the allowed error.

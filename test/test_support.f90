@@ -1,15 +1,58 @@
 !> Helpers shared by the test suites: formatting, NaN, and running the app.
 module test_support
   use demstep, only: dp, i8
+  use, intrinsic :: iso_fortran_env, only: qp => real128
   implicit none
   private
+  public :: sinpi_q, reference, reference_steps
   public :: ieee_nan, real_str, int_str, app_path, run_app, write_file, read_file, &
     file_exists, work_dir
+
+  real(qp), parameter :: pi_q = 3.14159265358979323846264338327950288_qp
 
   !> Scratch directory of the app tests, relative to the project root.
   character(len=*), parameter :: work_dir = "build/demstep-test-files"
 
 contains
+
+  !> sin(pi x) with x reduced modulo 2 in quad.
+  elemental real(qp) function sinpi_q(x)
+    real(qp), intent(in) :: x
+    sinpi_q = sin(pi_q*(x - 2.0_qp*anint(0.5_qp*x)))
+  end function sinpi_q
+
+  !> Quad reference of E by the closed form. The phases n c/N are formed in quad:
+  !> n (<= 2^53) times c (53 bits) is exact in 113 bits; the division rounds at
+  !> 1e-34 relative. `pole` is the relative distance of n lambda/N or
+  !> (n+1) lambda/N to the nearest integer.
+  pure subroutine reference(big_n, lambda, n, e, pole)
+    real(dp), intent(in) :: big_n, lambda, n
+    real(qp), intent(out) :: e, pole
+    real(qp) :: nq, lq, bq, s1, s2, t1, t2
+    nq = n
+    lq = lambda
+    bq = big_n
+    t1 = nq*lq/bq
+    t2 = (nq + 1.0_qp)*lq/bq
+    pole = min(abs(t1 - anint(t1))/t1, abs(t2 - anint(t2))/t2)
+    s1 = sinpi_q(nq/bq)*sinpi_q((nq + 1.0_qp)/bq)/sinpi_q(1.0_qp/bq)
+    s2 = sinpi_q(t1)*sinpi_q(t2)/sinpi_q(lq/bq)
+    e = 1.0_qp - s1/(lq*s2)
+  end subroutine reference
+
+  !> Quad reference of E with n = f N (fraction) or a fixed n, N in quad:
+  !> for root bisection in quad, where N itself carries more than 53 bits.
+  pure real(qp) function reference_steps(big_n, lambda, fixed, value) result(e)
+    real(qp), intent(in) :: big_n
+    real(dp), intent(in) :: lambda, value
+    logical, intent(in) :: fixed
+    real(qp) :: nq, lq
+    nq = merge(real(value, qp), real(value, qp)*big_n, fixed)
+    lq = lambda
+    e = 1.0_qp - (sinpi_q(nq/big_n)*sinpi_q((nq + 1.0_qp)/big_n)/sinpi_q(1.0_qp/big_n)) &
+      /(lq*sinpi_q(nq*lq/big_n)*sinpi_q((nq + 1.0_qp)*lq/big_n)/sinpi_q(lq/big_n))
+  end function reference_steps
+
 
   !> A quiet NaN.
   function ieee_nan() result(x)
