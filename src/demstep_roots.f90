@@ -43,7 +43,7 @@ module demstep_roots
 
   !> Default relative tolerance in x.
   real(dp), parameter, public :: root_x_rel_default = 1.0e-13_dp
-  !> The continuity probe looks this many final bracket widths away.
+  !> The continuity probe first looks this many final bracket widths away.
   real(dp), parameter :: probe_factor = 128.0_dp
   !> At a root |f| at the final bracket must be below this share of |f| at the probes.
   real(dp), parameter :: probe_ratio = 0.25_dp
@@ -57,7 +57,7 @@ contains
   !> bracket; `root` is then where it is); `invalid_input` for a bad interval or
   !> tolerance; `pole` when f cannot be evaluated inside the bracket.
   pure subroutine find_root(f, context, a, b, root, status, x_rel, x_abs, f_tol, fa, fb, &
-      discontinuity)
+      discontinuity, check_continuity)
     procedure(root_function) :: f
     class(root_context_type), intent(inout) :: context
     !> The bracket.
@@ -71,7 +71,10 @@ contains
     real(dp), intent(in), optional :: fa, fb
     !> Set when the bracket closed onto a discontinuity rather than a root.
     logical, intent(out), optional :: discontinuity
-    real(dp) :: lo, hi, flo, fhi, rel, abst, ftol, y, x, width0, tol, fl, fr
+    !> Probe continuity after convergence (default true; 2 evaluations). Turn it
+    !> off where a sign change at a jump is an answer too.
+    logical, intent(in), optional :: check_continuity
+    real(dp) :: lo, hi, flo, fhi, rel, abst, ftol, y, x, width0, tol, fl, fr, h
     integer :: stat
     logical :: jump
     rel = root_x_rel_default
@@ -133,17 +136,25 @@ contains
     end if
     root = x
     if (y == 0.0_dp .or. abs(y) <= ftol) return
-    ! continuity probe: at a root |f| shrinks with the bracket, at a pole or jump it does not
-    tol = max(hi - lo, tiny(1.0_dp))
-    jump = .false.
-    call evaluate(f, context, max(a, root - probe_factor*tol), fl, stat)
-    if (stat /= 0) jump = .true.
-    if (.not. jump) then
-      call evaluate(f, context, min(b, root + probe_factor*tol), fr, stat)
-      if (stat /= 0) jump = .true.
+    if (present(check_continuity)) then
+      if (.not. check_continuity) return
     end if
-    if (.not. jump) jump = max(abs(flo), abs(fhi)) > probe_ratio*min(abs(fl), abs(fr))
-    if (jump .and. width0 > 2.0_dp*probe_factor*tol) then
+    ! continuity probe: at a root |f| grows away from the final bracket, at a pole
+    ! or a jump it does not. Where rounding noise hides a shallow root the probe
+    ! widens (x16) until |f| rises clear of the bracket's values.
+    tol = max(hi - lo, tiny(1.0_dp))
+    h = probe_factor*tol
+    jump = width0 > 2.0_dp*h
+    do while (jump)
+      call evaluate(f, context, max(a, root - h), fl, stat)
+      if (stat /= 0) exit
+      call evaluate(f, context, min(b, root + h), fr, stat)
+      if (stat /= 0) exit
+      if (max(abs(flo), abs(fhi)) <= probe_ratio*min(abs(fl), abs(fr))) jump = .false.
+      if (h >= 0.25_dp*width0) exit
+      h = 16.0_dp*h
+    end do
+    if (jump) then
       if (present(discontinuity)) discontinuity = .true.
       call set_status(status, demstep_stat%not_found, &
         "find_root: the bracket closed onto a discontinuity (pole or jump), not a root")

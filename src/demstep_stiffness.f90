@@ -48,8 +48,9 @@ module demstep_stiffness
   real(dp), parameter, public :: n_scan_start = pi*(1.0_dp + 1.0e-9_dp)
   !> Default largest N scanned.
   real(dp), parameter, public :: default_n_max = 1.0e8_dp
-  !> Default grid step, relative to N.
-  real(dp), parameter, public :: default_resolution = 0.25_dp
+  !> Default grid step, relative to N: E(N) varies slowly in log N under the
+  !> fraction policies; fixed n adds the N^2/(4n) limit.
+  real(dp), parameter, public :: default_resolution = 0.5_dp
   !> Relative tolerance of roots and interval ends in N.
   real(dp), parameter, public :: n_root_x_rel = 1.0e-13_dp
 
@@ -240,7 +241,8 @@ contains
     real(dp), intent(in) :: x_in, x_out
     real(dp), intent(out) :: b
     type(demstep_status_type) :: bst
-    call find_root(e_function, ctx, min(x_in, x_out), max(x_in, x_out), b, bst, x_rel=n_root_x_rel)
+    call find_root(e_function, ctx, min(x_in, x_out), max(x_in, x_out), b, bst, x_rel=n_root_x_rel, &
+      check_continuity=.false.)
   end subroutine boundary
 
   !> The first of `roots` in (a, b), or 0.

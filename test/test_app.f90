@@ -326,7 +326,7 @@ contains
     input%mass = 0.01_dp
     input%stiffness = 1.0e5_dp
     input%options%tolerance = 1.0e-3_dp
-    input%lambdas = [(0.9_dp + 0.09_dp*real(i, dp)/9.0_dp, i = 0, 9)]
+    input%lambdas = [(0.9_dp + (0.99_dp - 0.9_dp)*real(i, dp)/9.0_dp, i = 0, 9)]
     call simulated_stiffness(input, result, st)
     call check(error, n_star, result%n_star, thr=2*epsilon(1.0_dp), rel=.true., message="N*")
     if (allocated(error)) return
