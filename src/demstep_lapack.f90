@@ -1,0 +1,93 @@
+!> LAPACK through explicit interfaces, in one place, with `info` turned into a
+!> message. Only what demstep needs: the largest eigenpair of a symmetric matrix.
+module demstep_lapack
+  use demstep_kinds, only: dp
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  implicit none
+  private
+
+  public :: largest_eigenpair
+
+  interface
+    !> LAPACK dsyevr: selected eigenvalues (and vectors) of a real symmetric matrix
+    !> by the MRRR algorithm.
+    pure subroutine dsyevr(jobz, range, uplo, n, a, lda, vl, vu, il, iu, abstol, m, w, z, ldz, &
+        isuppz, work, lwork, iwork, liwork, info)
+      import :: dp
+      character(len=1), intent(in) :: jobz, range, uplo
+      integer, intent(in) :: n, lda, il, iu, ldz, lwork, liwork
+      real(dp), intent(inout) :: a(lda, *)
+      real(dp), intent(in) :: vl, vu, abstol
+      integer, intent(out) :: m, info
+      real(dp), intent(out) :: w(*), z(ldz, *)
+      integer, intent(out) :: isuppz(*)
+      real(dp), intent(inout) :: work(*)
+      integer, intent(inout) :: iwork(*)
+    end subroutine dsyevr
+  end interface
+
+contains
+
+  !> The largest eigenvalue of the symmetric matrix `a` (its lower triangle is
+  !> used and overwritten) and a unit eigenvector, by dsyevr with an index range.
+  !> Status `lapack_failure` with LAPACK's info explained.
+  subroutine largest_eigenpair(a, eigenvalue, eigenvector, status)
+    !> n-by-n symmetric matrix; destroyed.
+    real(dp), intent(inout) :: a(:, :)
+    real(dp), intent(out) :: eigenvalue
+    !> Unit eigenvector (size n).
+    real(dp), intent(out) :: eigenvector(:)
+    type(demstep_status_type), intent(out) :: status
+    integer :: n, m, info, lwork, liwork, iwork_query(1)
+    real(dp) :: work_query(1), w(1)
+    real(dp), allocatable :: work(:), z(:, :)
+    integer, allocatable :: iwork(:)
+    integer :: isuppz(2)
+    n = size(a, 1)
+    eigenvalue = 0.0_dp
+    eigenvector = 0.0_dp
+    if (n < 1 .or. size(a, 2) /= n .or. size(eigenvector) /= n) then
+      call set_status(status, demstep_stat%invalid_input, "largest_eigenpair: need an n-by-n " &
+        //"matrix, n >= 1, and an eigenvector of size n")
+      return
+    end if
+    allocate(z(n, 1))
+    ! workspace query
+    call dsyevr("V", "I", "L", n, a, n, 0.0_dp, 0.0_dp, n, n, 0.0_dp, m, w, z, n, isuppz, &
+      work_query, -1, iwork_query, -1, info)
+    if (info /= 0) then
+      call set_status(status, demstep_stat%lapack_failure, info_message(info))
+      return
+    end if
+    lwork = max(1, int(work_query(1)))
+    liwork = max(1, iwork_query(1))
+    allocate(work(lwork), iwork(liwork))
+    call dsyevr("V", "I", "L", n, a, n, 0.0_dp, 0.0_dp, n, n, 0.0_dp, m, w, z, n, isuppz, &
+      work, lwork, iwork, liwork, info)
+    if (info /= 0) then
+      call set_status(status, demstep_stat%lapack_failure, info_message(info))
+      return
+    end if
+    if (m /= 1) then
+      call set_status(status, demstep_stat%lapack_failure, "dsyevr returned no eigenvalue")
+      return
+    end if
+    eigenvalue = w(1)
+    eigenvector = z(:, 1)
+    status%stat = demstep_stat%ok
+  end subroutine largest_eigenpair
+
+  !> dsyevr's info as words.
+  pure function info_message(info) result(message)
+    integer, intent(in) :: info
+    character(len=:), allocatable :: message
+    character(len=16) :: buf
+    write(buf, '(i0)') abs(info)
+    if (info < 0) then
+      message = "dsyevr: argument "//trim(buf)//" had an illegal value"
+    else
+      message = "dsyevr: internal error "//trim(buf)//" (the eigenvalue computation did not converge)"
+    end if
+  end function info_message
+
+end module demstep_lapack

@@ -1,0 +1,828 @@
+!> Particle scenes: spheres in 1, 2 or 3 dimensions with compression-only normal
+!> contacts (with each other and with planar walls) and bonds, stepped with the
+!> central-difference (leapfrog / velocity-Verlet) scheme.
+!>
+!> Physics on demand: the effects a scene switches on (`contacts`, `gravity`,
+!> viscous `damping`, `local_damping`, `walls`) each become one force term of the
+!> stepper, assembled once by [[scene_run]]; nothing in the step loop tests which
+!> effects are on. Bonds are always on (a scene without bonds has none).
+!>
+!> Conventions:
+!> - leapfrog: x_{n} = x_{n-1} + v_{n-1/2} dt, forces at x_n, v_{n+1/2} = v_{n-1/2} + F/m dt;
+!> - contacts: overlap d = r_i + r_j - |x_i - x_j| > 0; linear law F = k d, Hertz
+!>   F = (4/3) E* sqrt(R*) d^(3/2) with R* = r_i r_j/(r_i + r_j) (a wall: R* = r);
+!> - bonds: linear about the initial configuration (small strain), normal stiffness
+!>   k_n along the initial direction and optional tangential stiffness k_t;
+!> - viscous damping: a dashpot c = 2 zeta sqrt(m* k) on every contact, wall contact
+!>   and bond (normal direction), k the tangent stiffness, acting on the relative
+!>   normal velocity of the previous half step v_{n-1/2} (the only one available
+!>   in an explicit step: this lags the force and lowers the stability limit to
+!>   (2/omega)(sqrt(1 + zeta^2) - zeta));
+!> - local (Cundall) damping: F <- F - alpha |F| sign(v_{n-1/2}) per component.
+module demstep_scene
+  use demstep_kinds, only: dp, i8, pi
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  implicit none
+  private
+
+  public :: new_scene, scene_add_bonds, scene_add_walls, scene_run, contact_list, &
+    effect_index, restitution_to_damping_ratio
+
+  !> Contact laws.
+  integer, parameter, public :: law_linear = 1, law_hertz = 2
+  !> Effects, by index into [[scene_type]]%effects.
+  integer, parameter, public :: effect_contacts = 1, effect_gravity = 2, effect_damping = 3, &
+    effect_local_damping = 4, effect_walls = 5, n_effects = 5
+  !> Their names, as the namelist input spells them.
+  character(len=*), parameter, public :: effect_names(n_effects) = [character(len=13) :: &
+    "contacts", "gravity", "damping", "local_damping", "walls"]
+
+  !> A scene: particles, contact law, bonds, walls and effects.
+  type, public :: scene_type
+    !> Dimension, 1 to 3.
+    integer :: dim = 3
+    !> Number of particles.
+    integer :: n = 0
+    !> Positions and velocities (dim, n); velocities are half-step velocities.
+    real(dp), allocatable :: x(:, :), v(:, :)
+    !> Masses and radii (> 0).
+    real(dp), allocatable :: mass(:), radius(:)
+    !> Fixed particles neither move nor count as degrees of freedom.
+    logical, allocatable :: fixed(:)
+    !> [[law_linear]] (stiffness k_normal) or [[law_hertz]] (modulus e_star).
+    integer :: law = law_linear
+    real(dp) :: k_normal = 0.0_dp, e_star = 0.0_dp
+    !> Bonds (2, nb): particle pairs; rest(dim, nb) = initial x_j - x_i and its
+    !> unit vector bond_normal(dim, nb).
+    integer, allocatable :: bonds(:, :)
+    real(dp), allocatable :: bond_rest(:, :), bond_normal(:, :)
+    !> Bond stiffness, normal and tangential.
+    real(dp) :: k_bond = 0.0_dp, k_bond_tangential = 0.0_dp
+    !> Walls: a point and the unit normal pointing into the domain (dim, nw).
+    real(dp), allocatable :: wall_point(:, :), wall_normal(:, :)
+    !> Effects switched on (indexed by effect_*).
+    logical :: effects(n_effects) = [.true., .false., .false., .false., .false.]
+    !> Gravity vector (first dim components used).
+    real(dp) :: gravity(3) = [0.0_dp, 0.0_dp, 0.0_dp]
+    !> Viscous damping ratio zeta and local damping coefficient alpha.
+    real(dp) :: damping_ratio = 0.0_dp, local_damping = 0.0_dp
+  end type scene_type
+
+  !> What a run reports.
+  type, public :: scene_summary_type
+    integer(i8) :: steps = 0_i8
+    !> Total energy (kinetic + elastic + gravitational) at the start and the end.
+    real(dp) :: energy_initial = 0.0_dp, energy_final = 0.0_dp
+    !> Largest |E(t) - E(0)| over the samples, relative to the largest energy scale.
+    real(dp) :: energy_drift = 0.0_dp
+    !> Largest overlap of any contact (particle or wall) seen.
+    real(dp) :: max_overlap = 0.0_dp
+    !> Largest number of contacts at one step.
+    integer :: max_contacts = 0
+    !> The run stopped because the state became non-finite or the energy grew
+    !> by more than 1e6 of its scale.
+    logical :: blew_up = .false.
+    !> Energy samples: time and total energy.
+    real(dp), allocatable :: sample_time(:), sample_energy(:)
+  end type scene_summary_type
+
+  !> Scratch of a run: forces, inverse masses, contact lists, cell list.
+  type :: work_type
+    real(dp), allocatable :: f(:, :), inv_mass(:), v_old(:, :)
+    integer :: n_pairs = 0, n_walls = 0
+    integer, allocatable :: pair_i(:), pair_j(:), wall_i(:), wall_k(:)
+    real(dp), allocatable :: pair_n(:, :), pair_d(:), wall_d(:)
+    integer, allocatable :: cell_start(:), cell_particle(:), cell_of(:)
+    real(dp) :: max_overlap = 0.0_dp
+    integer :: max_contacts = 0
+  end type work_type
+
+  abstract interface
+    !> One force term: adds its forces to work%f.
+    subroutine force_term(scene, work)
+      import :: scene_type, work_type
+      type(scene_type), intent(in) :: scene
+      type(work_type), intent(inout) :: work
+    end subroutine force_term
+  end interface
+
+  type :: term_type
+    procedure(force_term), pointer, nopass :: add => null()
+  end type term_type
+
+  !> Energy growth that counts as blowing up.
+  real(dp), parameter :: blow_up_factor = 1.0e6_dp
+
+contains
+
+  !> Build a scene from particle arrays. Status `invalid_input` names the first
+  !> bad value (non-positive mass or radius, wrong sizes, non-finite values,
+  !> overlapping fixed particles).
+  subroutine new_scene(scene, dim, x, mass, radius, status, v, fixed)
+    type(scene_type), intent(out) :: scene
+    integer, intent(in) :: dim
+    !> Positions (dim, n).
+    real(dp), intent(in) :: x(:, :)
+    real(dp), intent(in) :: mass(:), radius(:)
+    type(demstep_status_type), intent(out) :: status
+    !> Velocities (dim, n), default 0.
+    real(dp), intent(in), optional :: v(:, :)
+    !> Fixed flags, default none.
+    logical, intent(in), optional :: fixed(:)
+    integer :: n, i
+    type(work_type) :: work
+    if (dim < 1 .or. dim > 3) then
+      call set_status(status, demstep_stat%invalid_input, "dim must be 1, 2 or 3")
+      return
+    end if
+    n = size(mass)
+    if (size(x, 1) /= dim .or. size(x, 2) /= n .or. size(radius) /= n) then
+      call set_status(status, demstep_stat%invalid_input, "positions, masses and radii must " &
+        //"describe the same particles")
+      return
+    end if
+    do i = 1, n
+      if (.not. (ieee_is_finite(mass(i)) .and. mass(i) > 0.0_dp)) then
+        call set_status(status, demstep_stat%invalid_input, "mass of particle "//itoa(i)//" must be > 0")
+        return
+      end if
+      if (.not. (ieee_is_finite(radius(i)) .and. radius(i) > 0.0_dp)) then
+        call set_status(status, demstep_stat%invalid_input, "radius of particle "//itoa(i)//" must be > 0")
+        return
+      end if
+      if (.not. all(ieee_is_finite(x(:, i)))) then
+        call set_status(status, demstep_stat%invalid_input, "position of particle "//itoa(i)//" is not finite")
+        return
+      end if
+    end do
+    scene%dim = dim
+    scene%n = n
+    scene%x = x
+    scene%mass = mass
+    scene%radius = radius
+    allocate(scene%v(dim, n), source=0.0_dp)
+    if (present(v)) then
+      if (size(v, 1) /= dim .or. size(v, 2) /= n .or. .not. all(ieee_is_finite(v))) then
+        call set_status(status, demstep_stat%invalid_input, "velocities must be finite, one per particle")
+        return
+      end if
+      scene%v = v
+    end if
+    allocate(scene%fixed(n), source=.false.)
+    if (present(fixed)) then
+      if (size(fixed) /= n) then
+        call set_status(status, demstep_stat%invalid_input, "one fixed flag per particle")
+        return
+      end if
+      scene%fixed = fixed
+    end if
+    where (scene%fixed) scene%v(1, :) = 0.0_dp
+    if (dim > 1) then
+      do i = 2, dim
+        where (scene%fixed) scene%v(i, :) = 0.0_dp
+      end do
+    end if
+    allocate(scene%bonds(2, 0), scene%bond_rest(dim, 0), scene%bond_normal(dim, 0), &
+      scene%wall_point(dim, 0), scene%wall_normal(dim, 0))
+    ! two fixed particles may not overlap: their contact could never resolve
+    call prepare(scene, work)
+    call find_contacts(scene, work)
+    do i = 1, work%n_pairs
+      if (scene%fixed(work%pair_i(i)) .and. scene%fixed(work%pair_j(i))) then
+        call set_status(status, demstep_stat%invalid_input, "fixed particles "// &
+          itoa(work%pair_i(i))//" and "//itoa(work%pair_j(i))//" overlap")
+        return
+      end if
+    end do
+    status%stat = demstep_stat%ok
+  end subroutine new_scene
+
+  !> The overlapping particle pairs of the current configuration: particles
+  !> i(k) < j(k), unit normal n(:, k) from i to j, overlap d(k).
+  subroutine contact_list(scene, i, j, n, d)
+    type(scene_type), intent(in) :: scene
+    integer, allocatable, intent(out) :: i(:), j(:)
+    real(dp), allocatable, intent(out) :: n(:, :), d(:)
+    type(work_type) :: work
+    call prepare(scene, work)
+    call find_contacts(scene, work)
+    i = work%pair_i(:work%n_pairs)
+    j = work%pair_j(:work%n_pairs)
+    n = work%pair_n(:, :work%n_pairs)
+    d = work%pair_d(:work%n_pairs)
+  end subroutine contact_list
+
+  !> Add bonds between particle pairs (2, nb); rest vectors from the current positions.
+  subroutine scene_add_bonds(scene, pairs, status)
+    type(scene_type), intent(inout) :: scene
+    integer, intent(in) :: pairs(:, :)
+    type(demstep_status_type), intent(out) :: status
+    integer :: k
+    real(dp), allocatable :: rest(:, :)
+    if (size(pairs, 1) /= 2) then
+      call set_status(status, demstep_stat%invalid_input, "bonds are pairs of particle numbers")
+      return
+    end if
+    do k = 1, size(pairs, 2)
+      if (any(pairs(:, k) < 1) .or. any(pairs(:, k) > scene%n)) then
+        call set_status(status, demstep_stat%invalid_input, "bond "//itoa(k)//" names a missing " &
+          //"particle ("//itoa(pairs(1, k))//", "//itoa(pairs(2, k))//")")
+        return
+      end if
+      if (pairs(1, k) == pairs(2, k)) then
+        call set_status(status, demstep_stat%invalid_input, "bond "//itoa(k)//" joins particle " &
+          //itoa(pairs(1, k))//" to itself")
+        return
+      end if
+    end do
+    rest = scene%x(:, pairs(2, :)) - scene%x(:, pairs(1, :))
+    do k = 1, size(pairs, 2)
+      if (.not. norm2(rest(:, k)) > 0.0_dp) then
+        call set_status(status, demstep_stat%invalid_input, "bond "//itoa(k)//" joins particles " &
+          //"at the same position")
+        return
+      end if
+    end do
+    scene%bonds = reshape([scene%bonds, pairs], [2, size(scene%bonds, 2) + size(pairs, 2)])
+    scene%bond_rest = reshape([scene%bond_rest, rest], [scene%dim, size(scene%bonds, 2)])
+    scene%bond_normal = reshape([scene%bond_normal, rest/spread(norm2(rest, dim=1), 1, scene%dim)], &
+      [scene%dim, size(scene%bonds, 2)])
+    status%stat = demstep_stat%ok
+  end subroutine scene_add_bonds
+
+  !> Add walls: points (dim, nw) and normals (dim, nw) pointing into the domain.
+  subroutine scene_add_walls(scene, points, normals, status)
+    type(scene_type), intent(inout) :: scene
+    real(dp), intent(in) :: points(:, :), normals(:, :)
+    type(demstep_status_type), intent(out) :: status
+    real(dp), allocatable :: unit(:, :)
+    integer :: k
+    if (size(points, 1) /= scene%dim .or. any(shape(normals) /= shape(points))) then
+      call set_status(status, demstep_stat%invalid_input, "a wall is a point and a normal of dim values each")
+      return
+    end if
+    unit = normals
+    do k = 1, size(normals, 2)
+      if (.not. (all(ieee_is_finite(points(:, k))) .and. norm2(normals(:, k)) > 0.0_dp)) then
+        call set_status(status, demstep_stat%invalid_input, "wall "//itoa(k)//" needs a finite " &
+          //"point and a non-zero normal")
+        return
+      end if
+      unit(:, k) = normals(:, k)/norm2(normals(:, k))
+    end do
+    scene%wall_point = reshape([scene%wall_point, points], [scene%dim, size(scene%wall_point, 2) + size(points, 2)])
+    scene%wall_normal = reshape([scene%wall_normal, unit], [scene%dim, size(scene%wall_normal, 2) + size(unit, 2)])
+    status%stat = demstep_stat%ok
+  end subroutine scene_add_walls
+
+  !> Index of an effect by name, 0 if unknown.
+  pure integer function effect_index(name)
+    character(len=*), intent(in) :: name
+    do effect_index = 1, n_effects
+      if (trim(effect_names(effect_index)) == name) return
+    end do
+    effect_index = 0
+  end function effect_index
+
+  !> Damping ratio of a linear spring-dashpot whose restitution coefficient is e:
+  !> zeta = -ln e / sqrt(pi^2 + ln^2 e).
+  elemental real(dp) function restitution_to_damping_ratio(e) result(zeta)
+    real(dp), intent(in) :: e
+    zeta = -log(e)/sqrt(pi**2 + log(e)**2)
+  end function restitution_to_damping_ratio
+
+  !> Step a scene `steps` times with time step dt, recording energy every
+  !> `sample_every` steps (default: about 1000 samples). Status `blow_up` when the
+  !> state became non-finite or the energy grew 1e6-fold (the summary says when).
+  subroutine scene_run(scene, dt, steps, summary, status, sample_every)
+    type(scene_type), intent(inout) :: scene
+    real(dp), intent(in) :: dt
+    integer(i8), intent(in) :: steps
+    type(scene_summary_type), intent(out) :: summary
+    type(demstep_status_type), intent(out) :: status
+    integer(i8), intent(in), optional :: sample_every
+    type(term_type), allocatable :: terms(:)
+    type(work_type) :: work
+    integer(i8) :: step, every
+    integer :: t, ns, i
+    real(dp) :: e, scale
+    if (.not. (ieee_is_finite(dt) .and. dt > 0.0_dp) .or. steps < 0_i8) then
+      call set_status(status, demstep_stat%invalid_input, "dt must be > 0 and steps >= 0")
+      return
+    end if
+    every = max(1_i8, steps/1000_i8)
+    if (present(sample_every)) every = max(1_i8, sample_every)
+    call prepare(scene, work)
+    terms = assemble(scene)
+    allocate(summary%sample_time(steps/every + 2), summary%sample_energy(steps/every + 2))
+    ! energy at the start: forces at x_0 give the first half-step pair v_{-1/2}, v_{1/2}
+    summary%energy_initial = scene_energy(scene, work, terms, dt, advance=.false.)
+    ns = 1
+    summary%sample_time(1) = 0.0_dp
+    summary%sample_energy(1) = summary%energy_initial
+    scale = max(abs(summary%energy_initial), tiny(1.0_dp))
+    status%stat = demstep_stat%ok
+    do step = 1_i8, steps
+      scene%x = scene%x + scene%v*dt
+      work%f = 0.0_dp
+      if (mod(step, every) == 0_i8 .or. step == steps) then
+        ! a sample: E = kinetic (v_{n-1/2} . v_{n+1/2}) + potential at x_n
+        e = scene_energy(scene, work, terms, dt, advance=.true.)
+        ns = ns + 1
+        summary%sample_time(ns) = real(step, dp)*dt
+        summary%sample_energy(ns) = e
+        summary%energy_drift = max(summary%energy_drift, abs(e - summary%energy_initial)/scale)
+        summary%steps = step
+        if (.not. (ieee_is_finite(e) .and. all(ieee_is_finite(scene%x))) .or. &
+            abs(e - summary%energy_initial) > blow_up_factor*scale) then
+          summary%blew_up = .true.
+          call set_status(status, demstep_stat%blow_up, "the scene blew up at step "// &
+            itoa8(step))
+          exit
+        end if
+        cycle
+      end if
+      do t = 1, size(terms)
+        call terms(t)%add(scene, work)
+      end do
+      do i = 1, scene%n
+        scene%v(:, i) = scene%v(:, i) + work%f(:, i)*(work%inv_mass(i)*dt)
+      end do
+      summary%steps = step
+    end do
+    summary%energy_final = summary%sample_energy(ns)
+    summary%sample_time = summary%sample_time(:ns)
+    summary%sample_energy = summary%sample_energy(:ns)
+    summary%max_overlap = work%max_overlap
+    summary%max_contacts = work%max_contacts
+  end subroutine scene_run
+
+  !> Total energy at the current positions: elastic + gravitational, and kinetic
+  !> as the product of the half-step velocities around x_n (for the undamped
+  !> linear scheme this energy is exactly conserved). With `advance` the velocity
+  !> step is taken (scene%v holds v_{n-1/2} and becomes v_{n+1/2}); without, scene%v
+  !> is taken as v_{1/2} at the start and v_{-1/2} is reconstructed.
+  function scene_energy(scene, work, terms, dt, advance) result(energy)
+    type(scene_type), intent(inout) :: scene
+    type(work_type), intent(inout) :: work
+    type(term_type), intent(in) :: terms(:)
+    real(dp), intent(in) :: dt
+    logical, intent(in) :: advance
+    real(dp) :: energy, sgn
+    integer :: t, i
+    work%f = 0.0_dp
+    do t = 1, size(terms)
+      call terms(t)%add(scene, work)
+    end do
+    sgn = merge(1.0_dp, -1.0_dp, advance)
+    do i = 1, scene%n
+      work%v_old(:, i) = scene%v(:, i) + sgn*work%f(:, i)*(work%inv_mass(i)*dt)
+    end do
+    energy = 0.0_dp
+    do i = 1, scene%n
+      energy = energy + 0.5_dp*scene%mass(i)*dot_product(scene%v(:, i), work%v_old(:, i))
+    end do
+    energy = energy + potential_energy(scene, work)
+    if (advance) scene%v = work%v_old
+  end function scene_energy
+
+  !> Elastic and gravitational energy at the current positions (contact lists current).
+  function potential_energy(scene, work) result(u)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(in) :: work
+    real(dp) :: u, d(3), rs
+    integer :: k, i, j
+    u = 0.0_dp
+    do k = 1, size(scene%bonds, 2)
+      i = scene%bonds(1, k)
+      j = scene%bonds(2, k)
+      d(:scene%dim) = scene%x(:, j) - scene%x(:, i) - scene%bond_rest(:, k)
+      u = u + 0.5_dp*bond_quadratic(scene, k, d(:scene%dim))
+    end do
+    if (scene%effects(effect_contacts)) then
+      do k = 1, work%n_pairs
+        rs = scene%radius(work%pair_i(k))*scene%radius(work%pair_j(k)) &
+          /(scene%radius(work%pair_i(k)) + scene%radius(work%pair_j(k)))
+        u = u + contact_energy(scene, work%pair_d(k), rs)
+      end do
+    end if
+    if (scene%effects(effect_walls)) then
+      do k = 1, work%n_walls
+        u = u + contact_energy(scene, work%wall_d(k), scene%radius(work%wall_i(k)))
+      end do
+    end if
+    if (scene%effects(effect_gravity)) then
+      do i = 1, scene%n
+        if (.not. scene%fixed(i)) u = u - scene%mass(i)*dot_product(scene%gravity(:scene%dim), scene%x(:, i))
+      end do
+    end if
+  end function potential_energy
+
+  pure real(dp) function contact_energy(scene, d, rs) result(u)
+    type(scene_type), intent(in) :: scene
+    real(dp), intent(in) :: d, rs
+    if (scene%law == law_linear) then
+      u = 0.5_dp*scene%k_normal*d**2
+    else
+      u = (8.0_dp/15.0_dp)*scene%e_star*sqrt(rs)*d**2.5_dp
+    end if
+  end function contact_energy
+
+  !> d^T K_bond d for bond k.
+  pure real(dp) function bond_quadratic(scene, k, d) result(q)
+    type(scene_type), intent(in) :: scene
+    integer, intent(in) :: k
+    real(dp), intent(in) :: d(:)
+    real(dp) :: dn
+    dn = dot_product(scene%bond_normal(:, k), d)
+    q = scene%k_bond*dn**2 + scene%k_bond_tangential*(dot_product(d, d) - dn**2)
+  end function bond_quadratic
+
+  !> The force terms of a scene's effects, in order; local damping last.
+  function assemble(scene) result(terms)
+    type(scene_type), intent(in) :: scene
+    type(term_type), allocatable :: terms(:)
+    allocate(terms(0))
+    if (size(scene%bonds, 2) > 0) then
+      if (scene%k_bond_tangential > 0.0_dp) then
+        call push(terms, bonds_full)
+      else
+        call push(terms, bonds_normal)
+      end if
+      if (scene%effects(effect_damping)) call push(terms, bonds_damping)
+    end if
+    if (scene%effects(effect_contacts)) then
+      call push(terms, detect_contacts)
+      if (scene%law == law_linear) then
+        call push(terms, contacts_linear)
+      else
+        call push(terms, contacts_hertz)
+      end if
+      if (scene%effects(effect_damping)) call push(terms, contacts_damping)
+    end if
+    if (scene%effects(effect_walls)) then
+      call push(terms, detect_walls)
+      if (scene%law == law_linear) then
+        call push(terms, walls_linear)
+      else
+        call push(terms, walls_hertz)
+      end if
+      if (scene%effects(effect_damping)) call push(terms, walls_damping)
+    end if
+    if (scene%effects(effect_gravity)) call push(terms, gravity_term)
+    if (scene%effects(effect_local_damping)) call push(terms, local_damping_term)
+  contains
+    subroutine push(list, term)
+      type(term_type), allocatable, intent(inout) :: list(:)
+      procedure(force_term) :: term
+      type(term_type) :: item
+      item%add => term
+      list = [list, item]
+    end subroutine push
+  end function assemble
+
+  !> Allocate the scratch of a run.
+  subroutine prepare(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(out) :: work
+    allocate(work%f(scene%dim, scene%n), source=0.0_dp)
+    allocate(work%v_old(scene%dim, scene%n), source=0.0_dp)
+    allocate(work%inv_mass(scene%n))
+    work%inv_mass = merge(0.0_dp, 1.0_dp/scene%mass, scene%fixed)
+    allocate(work%pair_i(64), work%pair_j(64), work%pair_n(scene%dim, 64), work%pair_d(64))
+    allocate(work%wall_i(16), work%wall_k(16), work%wall_d(16))
+  end subroutine prepare
+
+  !> The contact list: every pair of overlapping particles, found with a cell list
+  !> (cells at least one particle diameter wide), in time linear in n.
+  subroutine find_contacts(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: dim, n, i, j, c, k, ncell(3), idx(3), lo(3), hi(3), a, b, cc, p
+    integer :: offs(3)
+    real(dp) :: xmin(3), xmax(3), h, d(3), dist, overlap
+    dim = scene%dim
+    n = scene%n
+    work%n_pairs = 0
+    if (n < 2) return
+    xmin = 0.0_dp
+    xmax = 0.0_dp
+    xmin(:dim) = minval(scene%x, dim=2)
+    xmax(:dim) = maxval(scene%x, dim=2)
+    ! a blown-up state has no contacts to find; the run's energy check reports it
+    if (.not. all(ieee_is_finite(xmax(:dim) - xmin(:dim)))) return
+    h = 2.0_dp*maxval(scene%radius)
+    ! no more cells than about 4 per particle: coarser cells only cost more pairs
+    do while (product(max(1.0_dp, (xmax(:dim) - xmin(:dim))/h + 1.0_dp)) > 4.0_dp*n + 64.0_dp)
+      h = 2.0_dp*h
+    end do
+    ncell = 1
+    ncell(:dim) = max(1, int((xmax(:dim) - xmin(:dim))/h) + 1)
+    if (.not. allocated(work%cell_of)) allocate(work%cell_of(n), work%cell_particle(n))
+    if (allocated(work%cell_start)) then
+      if (size(work%cell_start) < product(ncell) + 1) deallocate(work%cell_start)
+    end if
+    if (.not. allocated(work%cell_start)) allocate(work%cell_start(product(ncell) + 1))
+    ! counting sort of the particles by cell
+    work%cell_start(:product(ncell) + 1) = 0
+    do i = 1, n
+      idx = 0
+      idx(:dim) = min(ncell(:dim) - 1, int((scene%x(:, i) - xmin(:dim))/h))
+      c = 1 + idx(1) + ncell(1)*(idx(2) + ncell(2)*idx(3))
+      work%cell_of(i) = c
+      work%cell_start(c + 1) = work%cell_start(c + 1) + 1
+    end do
+    work%cell_start(1) = 1
+    do c = 2, product(ncell) + 1
+      work%cell_start(c) = work%cell_start(c) + work%cell_start(c - 1)
+    end do
+    do i = 1, n
+      c = work%cell_of(i)
+      work%cell_particle(work%cell_start(c)) = i
+      work%cell_start(c) = work%cell_start(c) + 1
+    end do
+    do c = product(ncell), 1, -1
+      work%cell_start(c + 1) = work%cell_start(c)
+    end do
+    work%cell_start(1) = 1
+    ! every particle against the particles of its own and the neighbouring cells
+    do i = 1, n
+      c = work%cell_of(i) - 1
+      idx(1) = mod(c, ncell(1))
+      idx(2) = mod(c/ncell(1), ncell(2))
+      idx(3) = c/(ncell(1)*ncell(2))
+      lo = max(0, idx - 1)
+      hi = min(ncell - 1, idx + 1)
+      do a = lo(3), hi(3)
+        do b = lo(2), hi(2)
+          do cc = lo(1), hi(1)
+            offs = [cc, b, a]
+            k = 1 + offs(1) + ncell(1)*(offs(2) + ncell(2)*offs(3))
+            do p = work%cell_start(k), work%cell_start(k + 1) - 1
+              j = work%cell_particle(p)
+              if (j <= i) cycle
+              d(:dim) = scene%x(:, j) - scene%x(:, i)
+              dist = norm2(d(:dim))
+              overlap = scene%radius(i) + scene%radius(j) - dist
+              if (overlap > 0.0_dp) call add_pair(work, i, j, d(:dim)/max(dist, tiny(1.0_dp)), overlap)
+            end do
+          end do
+        end do
+      end do
+    end do
+    work%max_contacts = max(work%max_contacts, work%n_pairs + work%n_walls)
+  end subroutine find_contacts
+
+  subroutine add_pair(work, i, j, normal, overlap)
+    type(work_type), intent(inout) :: work
+    integer, intent(in) :: i, j
+    real(dp), intent(in) :: normal(:), overlap
+    integer :: m
+    if (work%n_pairs == size(work%pair_i)) then
+      m = 2*size(work%pair_i)
+      work%pair_i = [work%pair_i, spread(0, 1, m/2)]
+      work%pair_j = [work%pair_j, spread(0, 1, m/2)]
+      work%pair_d = [work%pair_d, spread(0.0_dp, 1, m/2)]
+      work%pair_n = reshape([work%pair_n, spread(0.0_dp, 1, size(normal)*m/2)], [size(normal), m])
+    end if
+    work%n_pairs = work%n_pairs + 1
+    work%pair_i(work%n_pairs) = i
+    work%pair_j(work%n_pairs) = j
+    work%pair_n(:, work%n_pairs) = normal
+    work%pair_d(work%n_pairs) = overlap
+    work%max_overlap = max(work%max_overlap, overlap)
+  end subroutine add_pair
+
+  ! ---- force terms ---------------------------------------------------------
+
+  subroutine detect_contacts(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    call find_contacts(scene, work)
+  end subroutine detect_contacts
+
+  !> F = k d along the contact normal, on both particles.
+  subroutine contacts_linear(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i, j
+    real(dp) :: fn(scene%dim)
+    do k = 1, work%n_pairs
+      i = work%pair_i(k)
+      j = work%pair_j(k)
+      fn = scene%k_normal*work%pair_d(k)*work%pair_n(:, k)
+      work%f(:, i) = work%f(:, i) - fn
+      work%f(:, j) = work%f(:, j) + fn
+    end do
+  end subroutine contacts_linear
+
+  !> F = (4/3) E* sqrt(R*) d^(3/2) along the contact normal.
+  subroutine contacts_hertz(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i, j
+    real(dp) :: fn(scene%dim), rs
+    do k = 1, work%n_pairs
+      i = work%pair_i(k)
+      j = work%pair_j(k)
+      rs = scene%radius(i)*scene%radius(j)/(scene%radius(i) + scene%radius(j))
+      fn = (4.0_dp/3.0_dp)*scene%e_star*sqrt(rs)*work%pair_d(k)**1.5_dp*work%pair_n(:, k)
+      work%f(:, i) = work%f(:, i) - fn
+      work%f(:, j) = work%f(:, j) + fn
+    end do
+  end subroutine contacts_hertz
+
+  !> Dashpot on the relative normal velocity of the previous half step.
+  subroutine contacts_damping(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i, j
+    real(dp) :: fd(scene%dim), c, vn
+    do k = 1, work%n_pairs
+      i = work%pair_i(k)
+      j = work%pair_j(k)
+      c = 2.0_dp*scene%damping_ratio*sqrt(effective_mass(scene, i, j)*tangent_stiffness(scene, &
+        work%pair_d(k), scene%radius(i)*scene%radius(j)/(scene%radius(i) + scene%radius(j))))
+      vn = dot_product(scene%v(:, j) - scene%v(:, i), work%pair_n(:, k))
+      fd = c*vn*work%pair_n(:, k)
+      work%f(:, i) = work%f(:, i) + fd
+      work%f(:, j) = work%f(:, j) - fd
+    end do
+  end subroutine contacts_damping
+
+  !> The wall contact list: particles overlapping a wall.
+  subroutine detect_walls(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: i, w
+    real(dp) :: overlap
+    work%n_walls = 0
+    do w = 1, size(scene%wall_normal, 2)
+      do i = 1, scene%n
+        overlap = scene%radius(i) - dot_product(scene%x(:, i) - scene%wall_point(:, w), scene%wall_normal(:, w))
+        ! (a NaN overlap, after a blow-up, is no contact)
+        if (overlap > 0.0_dp) then
+          if (work%n_walls == size(work%wall_i)) then
+            work%wall_i = [work%wall_i, work%wall_i]
+            work%wall_k = [work%wall_k, work%wall_k]
+            work%wall_d = [work%wall_d, work%wall_d]
+          end if
+          work%n_walls = work%n_walls + 1
+          work%wall_i(work%n_walls) = i
+          work%wall_k(work%n_walls) = w
+          work%wall_d(work%n_walls) = overlap
+          work%max_overlap = max(work%max_overlap, overlap)
+        end if
+      end do
+    end do
+    work%max_contacts = max(work%max_contacts, work%n_pairs + work%n_walls)
+  end subroutine detect_walls
+
+  subroutine walls_linear(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i
+    do k = 1, work%n_walls
+      i = work%wall_i(k)
+      work%f(:, i) = work%f(:, i) + scene%k_normal*work%wall_d(k)*scene%wall_normal(:, work%wall_k(k))
+    end do
+  end subroutine walls_linear
+
+  subroutine walls_hertz(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i
+    do k = 1, work%n_walls
+      i = work%wall_i(k)
+      work%f(:, i) = work%f(:, i) + (4.0_dp/3.0_dp)*scene%e_star*sqrt(scene%radius(i)) &
+        *work%wall_d(k)**1.5_dp*scene%wall_normal(:, work%wall_k(k))
+    end do
+  end subroutine walls_hertz
+
+  subroutine walls_damping(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i
+    real(dp) :: c, vn
+    do k = 1, work%n_walls
+      i = work%wall_i(k)
+      c = 2.0_dp*scene%damping_ratio*sqrt(scene%mass(i)*tangent_stiffness(scene, work%wall_d(k), &
+        scene%radius(i)))
+      vn = dot_product(scene%v(:, i), scene%wall_normal(:, work%wall_k(k)))
+      work%f(:, i) = work%f(:, i) - c*vn*scene%wall_normal(:, work%wall_k(k))
+    end do
+  end subroutine walls_damping
+
+  !> Bonds with normal stiffness only: F = k_n n0 (n0 . (d - d0)).
+  subroutine bonds_normal(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i, j
+    real(dp) :: u(scene%dim), n0(scene%dim), fb(scene%dim)
+    do k = 1, size(scene%bonds, 2)
+      i = scene%bonds(1, k)
+      j = scene%bonds(2, k)
+      u = scene%x(:, j) - scene%x(:, i) - scene%bond_rest(:, k)
+      n0 = scene%bond_normal(:, k)
+      fb = scene%k_bond*dot_product(n0, u)*n0
+      work%f(:, i) = work%f(:, i) + fb
+      work%f(:, j) = work%f(:, j) - fb
+    end do
+  end subroutine bonds_normal
+
+  !> Bonds with normal and tangential stiffness.
+  subroutine bonds_full(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i, j
+    real(dp) :: u(scene%dim), n0(scene%dim), fb(scene%dim), un
+    do k = 1, size(scene%bonds, 2)
+      i = scene%bonds(1, k)
+      j = scene%bonds(2, k)
+      u = scene%x(:, j) - scene%x(:, i) - scene%bond_rest(:, k)
+      n0 = scene%bond_normal(:, k)
+      un = dot_product(n0, u)
+      fb = scene%k_bond*un*n0 + scene%k_bond_tangential*(u - un*n0)
+      work%f(:, i) = work%f(:, i) + fb
+      work%f(:, j) = work%f(:, j) - fb
+    end do
+  end subroutine bonds_full
+
+  !> Bond dashpots along the bond's initial direction.
+  subroutine bonds_damping(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i, j
+    real(dp) :: n0(scene%dim), c, vn
+    do k = 1, size(scene%bonds, 2)
+      i = scene%bonds(1, k)
+      j = scene%bonds(2, k)
+      n0 = scene%bond_normal(:, k)
+      c = 2.0_dp*scene%damping_ratio*sqrt(effective_mass(scene, i, j)*scene%k_bond)
+      vn = dot_product(scene%v(:, j) - scene%v(:, i), n0)
+      work%f(:, i) = work%f(:, i) + c*vn*n0
+      work%f(:, j) = work%f(:, j) - c*vn*n0
+    end do
+  end subroutine bonds_damping
+
+  subroutine gravity_term(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: i
+    do i = 1, scene%n
+      work%f(:, i) = work%f(:, i) + scene%mass(i)*scene%gravity(:scene%dim)
+    end do
+  end subroutine gravity_term
+
+  !> Cundall's local damping: each force component reduced by alpha |F| against
+  !> the half-step velocity.
+  subroutine local_damping_term(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    ! sign of v, and 0 for a particle at rest
+    work%f = work%f - scene%local_damping*abs(work%f)*(merge(1.0_dp, 0.0_dp, scene%v > 0.0_dp) &
+      - merge(1.0_dp, 0.0_dp, scene%v < 0.0_dp))
+  end subroutine local_damping_term
+
+  !> m* of a pair; a fixed partner counts as infinitely heavy.
+  pure real(dp) function effective_mass(scene, i, j) result(m)
+    type(scene_type), intent(in) :: scene
+    integer, intent(in) :: i, j
+    if (scene%fixed(j)) then
+      m = scene%mass(i)
+    else if (scene%fixed(i)) then
+      m = scene%mass(j)
+    else
+      m = scene%mass(i)*scene%mass(j)/(scene%mass(i) + scene%mass(j))
+    end if
+  end function effective_mass
+
+  !> dF/dd of the contact law at overlap d: k (linear) or 2 E* sqrt(R* d) (Hertz).
+  pure real(dp) function tangent_stiffness(scene, d, rs) result(k)
+    type(scene_type), intent(in) :: scene
+    real(dp), intent(in) :: d, rs
+    if (scene%law == law_linear) then
+      k = scene%k_normal
+    else
+      k = 2.0_dp*scene%e_star*sqrt(rs*d)
+    end if
+  end function tangent_stiffness
+
+  pure function itoa(i) result(text)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: text
+    character(len=16) :: buf
+    write(buf, '(i0)') i
+    text = trim(buf)
+  end function itoa
+
+  pure function itoa8(i) result(text)
+    integer(i8), intent(in) :: i
+    character(len=:), allocatable :: text
+    character(len=24) :: buf
+    write(buf, '(i0)') i
+    text = trim(buf)
+  end function itoa8
+
+end module demstep_scene
