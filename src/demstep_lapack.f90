@@ -30,6 +30,8 @@ contains
 
   !> The largest eigenvalue of the symmetric matrix `a` (its lower triangle is
   !> used and overwritten) and a unit eigenvector, by dsyevr with an index range.
+  !> The top two are asked for: with only the top index, dsyevr returns nothing
+  !> when the largest eigenvalue is double (a ring of odd length, say).
   !> Status `lapack_failure` with LAPACK's info explained.
   subroutine largest_eigenpair(a, eigenvalue, eigenvector, status)
     !> n-by-n symmetric matrix; destroyed.
@@ -38,11 +40,11 @@ contains
     !> Unit eigenvector (size n).
     real(dp), intent(out) :: eigenvector(:)
     type(demstep_status_type), intent(out) :: status
-    integer :: n, m, info, lwork, liwork, iwork_query(1)
-    real(dp) :: work_query(1), w(1)
+    integer :: n, m, info, lwork, liwork, iwork_query(1), il
+    real(dp) :: work_query(1), w(2)
     real(dp), allocatable :: work(:), z(:, :)
     integer, allocatable :: iwork(:)
-    integer :: isuppz(2)
+    integer :: isuppz(4)
     n = size(a, 1)
     eigenvalue = 0.0_dp
     eigenvector = 0.0_dp
@@ -51,9 +53,10 @@ contains
         //"matrix, n >= 1, and an eigenvector of size n")
       return
     end if
-    allocate(z(n, 1))
+    il = max(1, n - 1)
+    allocate(z(n, 2))
     ! workspace query
-    call dsyevr("V", "I", "L", n, a, n, 0.0_dp, 0.0_dp, n, n, 0.0_dp, m, w, z, n, isuppz, &
+    call dsyevr("V", "I", "L", n, a, n, 0.0_dp, 0.0_dp, il, n, 0.0_dp, m, w, z, n, isuppz, &
       work_query, -1, iwork_query, -1, info)
     if (info /= 0) then
       call set_status(status, demstep_stat%lapack_failure, info_message(info))
@@ -62,18 +65,19 @@ contains
     lwork = max(1, int(work_query(1)))
     liwork = max(1, iwork_query(1))
     allocate(work(lwork), iwork(liwork))
-    call dsyevr("V", "I", "L", n, a, n, 0.0_dp, 0.0_dp, n, n, 0.0_dp, m, w, z, n, isuppz, &
+    call dsyevr("V", "I", "L", n, a, n, 0.0_dp, 0.0_dp, il, n, 0.0_dp, m, w, z, n, isuppz, &
       work, lwork, iwork, liwork, info)
     if (info /= 0) then
       call set_status(status, demstep_stat%lapack_failure, info_message(info))
       return
     end if
-    if (m /= 1) then
-      call set_status(status, demstep_stat%lapack_failure, "dsyevr returned no eigenvalue")
+    if (m /= n - il + 1) then
+      call set_status(status, demstep_stat%lapack_failure, "dsyevr returned too few eigenvalues")
       return
     end if
-    eigenvalue = w(1)
-    eigenvector = z(:, 1)
+    ! ascending order: the largest is the last
+    eigenvalue = w(m)
+    eigenvector = z(:, m)
     status%stat = demstep_stat%ok
   end subroutine largest_eigenpair
 

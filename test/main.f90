@@ -9,6 +9,7 @@ program tester
   use test_harmonic, only: collect_harmonic
   use test_roots, only: collect_roots
   use test_stiffness, only: collect_stiffness
+  use test_scene, only: collect_scene
   use test_app, only: collect_app
   implicit none
   integer :: stat, is, total
@@ -22,6 +23,7 @@ program tester
     new_testsuite("harmonic", collect_harmonic), &
     new_testsuite("roots", collect_roots), &
     new_testsuite("stiffness", collect_stiffness), &
+    new_testsuite("scene", collect_scene), &
     new_testsuite("app", collect_app) &
     ]
   stat = 0

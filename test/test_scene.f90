@@ -1,0 +1,443 @@
+!> Tests of scenes and their critical time steps: LAPACK against closed-form
+!> spectra, the bound against LAPACK, stability by simulation, and each effect
+!> against an analytic or independently computed case.
+module test_scene
+  use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
+  use demstep
+  use test_support, only: real_str
+  implicit none
+  private
+  public :: collect_scene
+
+  logical, parameter :: no_effects(n_effects) = .false.
+
+contains
+
+  subroutine collect_scene(testsuite)
+    type(unittest_type), allocatable, intent(out) :: testsuite(:)
+    testsuite = [ &
+      new_unittest("omega_max of chains and a ring vs closed forms", test_spectra), &
+      new_unittest("the bound is never below the exact omega_max", test_bound_random), &
+      new_unittest("stable at 0.99, blows up at 1.01 of the limit", test_stability), &
+      new_unittest("the per-contact rule is unsafe on a chain", test_contact_rule_unsafe), &
+      new_unittest("gravity: free fall is exact", test_free_fall), &
+      new_unittest("damping: lagged dashpot vs its recurrence and the damped limit", test_damped), &
+      new_unittest("walls: an undamped bounce is the exact discrete contact", test_wall_bounce), &
+      new_unittest("walls + damping: restitution from the damping ratio", test_wall_restitution), &
+      new_unittest("local damping removes energy; off, energy is kept", test_local_damping), &
+      new_unittest("contacts: a Hertz pair conserves energy, max overlap", test_hertz_pair), &
+      new_unittest("bad scenes give a status", test_bad_scenes) &
+      ]
+  end subroutine collect_scene
+
+  !> A 1D chain of n particles 1 apart (mass m, bonds k), optionally fixed ends
+  !> and a closing bond from the last to the first (a ring).
+  subroutine chain(scene, n, m, k, fixed_ends, ring)
+    type(scene_type), intent(out) :: scene
+    integer, intent(in) :: n
+    real(dp), intent(in) :: m, k
+    logical, intent(in) :: fixed_ends, ring
+    real(dp) :: x(1, n), v(1, n)
+    logical :: fixed(n)
+    integer :: i, pairs(2, n)
+    type(demstep_status_type) :: status
+    do i = 1, n
+      x(1, i) = real(i, dp)
+      v(1, i) = 0.01_dp*sin(2.7_dp*i)
+    end do
+    fixed = .false.
+    if (fixed_ends) then
+      fixed(1) = .true.
+      fixed(n) = .true.
+      v(1, 1) = 0.0_dp
+      v(1, n) = 0.0_dp
+    end if
+    call new_scene(scene, 1, x, spread(m, 1, n), spread(0.3_dp, 1, n), status, v=v, fixed=fixed)
+    do i = 1, n - 1
+      pairs(:, i) = [i, i + 1]
+    end do
+    pairs(:, n) = [n, 1]
+    call scene_add_bonds(scene, pairs(:, :merge(n, n - 1, ring)), status)
+    scene%k_bond = k
+    scene%effects = no_effects
+  end subroutine chain
+
+  !> A 2D square lattice (n x n) with nearest and diagonal bonds, normal and
+  !> tangential stiffness, one corner row fixed, random masses.
+  subroutine lattice(scene, n)
+    type(scene_type), intent(out) :: scene
+    integer, intent(in) :: n
+    real(dp) :: x(2, n*n), v(2, n*n), m(n*n), u(2)
+    logical :: fixed(n*n)
+    integer, allocatable :: pairs(:, :)
+    integer :: i, j, p
+    type(demstep_status_type) :: status
+    call seed(5)
+    allocate(pairs(2, 0))
+    do j = 1, n
+      do i = 1, n
+        p = i + (j - 1)*n
+        x(:, p) = [real(i, dp), real(j, dp)]
+        call random_number(u)
+        m(p) = 0.5_dp + u(1)
+        v(:, p) = 0.01_dp*(u - 0.5_dp)
+        if (i < n) pairs = reshape([pairs, p, p + 1], [2, size(pairs, 2) + 1])
+        if (j < n) pairs = reshape([pairs, p, p + n], [2, size(pairs, 2) + 1])
+        if (i < n .and. j < n) pairs = reshape([pairs, p, p + n + 1], [2, size(pairs, 2) + 1])
+      end do
+    end do
+    fixed = .false.
+    fixed(1:n) = .true.
+    where (fixed) v(1, :) = 0.0_dp
+    where (fixed) v(2, :) = 0.0_dp
+    call new_scene(scene, 2, x, m, spread(0.3_dp, 1, n*n), status, v=v, fixed=fixed)
+    call scene_add_bonds(scene, pairs, status)
+    scene%k_bond = 100.0_dp
+    scene%k_bond_tangential = 30.0_dp
+    scene%effects = no_effects
+  end subroutine lattice
+
+  !> A random 3D packing: n particles in a box, bonds between neighbours closer
+  !> than `reach`, random masses and stiffness-free radii (no contacts).
+  subroutine packing(scene, n, reach, with_fixed)
+    type(scene_type), intent(out) :: scene
+    integer, intent(in) :: n
+    real(dp), intent(in) :: reach
+    logical, intent(in) :: with_fixed
+    real(dp) :: x(3, n), v(3, n), m(n), u(3)
+    logical :: fixed(n)
+    integer, allocatable :: pairs(:, :)
+    integer :: i, j
+    type(demstep_status_type) :: status
+    allocate(pairs(2, 0))
+    do i = 1, n
+      call random_number(u)
+      x(:, i) = 4.0_dp*u
+      call random_number(u)
+      v(:, i) = 0.01_dp*(u - 0.5_dp)
+      m(i) = 0.2_dp + 2.0_dp*u(1)
+    end do
+    fixed = .false.
+    if (with_fixed) fixed(1:3) = .true.
+    do i = 1, n
+      if (fixed(i)) v(:, i) = 0.0_dp
+      do j = i + 1, n
+        if (norm2(x(:, i) - x(:, j)) < reach) pairs = reshape([pairs, i, j], [2, size(pairs, 2) + 1])
+      end do
+    end do
+    call new_scene(scene, 3, x, m, spread(1.0e-3_dp, 1, n), status, v=v, fixed=fixed)
+    call scene_add_bonds(scene, pairs, status)
+    scene%k_bond = 10.0_dp
+    scene%k_bond_tangential = 4.0_dp
+    scene%effects = no_effects
+  end subroutine packing
+
+  subroutine test_spectra(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    integer, parameter :: sizes(3) = [5, 24, 61]
+    integer :: i, n
+    do i = 1, size(sizes)
+      n = sizes(i)
+      ! fixed ends: n - 2 free masses, omega_k = 2 sqrt(k/m) sin(k pi/(2(n-1)))
+      call chain(scene, n, 2.0_dp, 50.0_dp, .true., .false.)
+      call critical_time_steps(scene, c, status)
+      call check(error, status%stat, demstep_stat%ok)
+      if (allocated(error)) return
+      call check(error, c%omega_max, 10.0_dp*sin((n - 2)*pi/(2.0_dp*(n - 1))), thr=1.0e-13_dp, &
+        rel=.true., message="fixed chain of "//real_str(real(n, dp)))
+      if (allocated(error)) return
+      ! free ends: omega_k = 2 sqrt(k/m) sin(k pi/(2n)), k = 0..n-1
+      call chain(scene, n, 2.0_dp, 50.0_dp, .false., .false.)
+      call critical_time_steps(scene, c, status)
+      call check(error, c%omega_max, 10.0_dp*sin((n - 1)*pi/(2.0_dp*n)), thr=1.0e-13_dp, &
+        rel=.true., message="free chain of "//real_str(real(n, dp)))
+      if (allocated(error)) return
+      ! ring: omega_k = 2 sqrt(k/m) |sin(pi k/n)|
+      call chain(scene, n, 2.0_dp, 50.0_dp, .false., .true.)
+      call critical_time_steps(scene, c, status)
+      call check(error, c%omega_max, 10.0_dp*sin(pi*(n/2)/real(n, dp)), thr=1.0e-13_dp, &
+        rel=.true., message="ring of "//real_str(real(n, dp)))
+      if (allocated(error)) return
+    end do
+  end subroutine test_spectra
+
+  subroutine test_bound_random(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    integer :: trial
+    call seed(9)
+    do trial = 1, 40
+      call packing(scene, 10 + trial, 1.2_dp + 0.02_dp*trial, mod(trial, 2) == 0)
+      if (size(scene%bonds, 2) == 0) cycle
+      call critical_time_steps(scene, c, status)
+      if (status%stat /= demstep_stat%ok) cycle
+      ! LAPACK's eigenvalue is accurate to a few ulps of the matrix norm
+      call check(error, c%omega_bound >= c%omega_max*(1.0_dp - 1.0e-13_dp), "bound "// &
+        real_str(c%omega_bound)//" below exact "//real_str(c%omega_max))
+      if (allocated(error)) return
+      call check(error, c%dt_critical_bound <= c%dt_critical_eigen*(1.0_dp + 1.0e-13_dp), "dt bound safe")
+      if (allocated(error)) return
+    end do
+  end subroutine test_bound_random
+
+  subroutine test_stability(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene, start
+    type(critical_step_type) :: c
+    type(scene_summary_type) :: summary
+    type(demstep_status_type) :: status
+    integer :: which
+    call seed(21)
+    do which = 1, 3
+      select case (which)
+      case (1)
+        call chain(start, 30, 1.0_dp, 1.0_dp, .true., .false.)
+      case (2)
+        call lattice(start, 5)
+      case (3)
+        call packing(start, 25, 1.5_dp, .true.)
+      end select
+      call critical_time_steps(start, c, status)
+      call check(error, status%stat, demstep_stat%ok)
+      if (allocated(error)) return
+      scene = start
+      call scene_run(scene, 0.99_dp*c%dt_critical_eigen, 100000_i8, summary, status)
+      ! the leapfrog energy of an undamped linear system is conserved to rounding
+      call check(error, .not. summary%blew_up .and. summary%energy_drift < 1.0e-6_dp, &
+        "bounded at 0.99 (scene "//real_str(real(which, dp))//"), drift "//real_str(summary%energy_drift))
+      if (allocated(error)) return
+      scene = start
+      call scene_run(scene, 1.01_dp*c%dt_critical_eigen, 100000_i8, summary, status)
+      call check(error, summary%blew_up .and. status%stat == demstep_stat%blow_up, &
+        "grows at 1.01 (scene "//real_str(real(which, dp))//")")
+      if (allocated(error)) return
+    end do
+  end subroutine test_stability
+
+  subroutine test_contact_rule_unsafe(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(scene_summary_type) :: summary
+    type(demstep_status_type) :: status
+    call chain(scene, 30, 1.0_dp, 1.0_dp, .true., .false.)
+    call critical_time_steps(scene, c, status)
+    ! 2 sqrt(m*/k) with m* = m/2 is sqrt(2) while the chain's limit tends to 1
+    call check(error, c%dt_contact_rule, sqrt(2.0_dp), thr=1.0e-14_dp, rel=.true., message="rule")
+    if (allocated(error)) return
+    call check(error, c%dt_contact_rule > c%dt_critical_eigen, "the rule exceeds the true limit")
+    if (allocated(error)) return
+    call scene_run(scene, c%dt_contact_rule, 100000_i8, summary, status)
+    call check(error, summary%blew_up, "a run at the per-contact rule blows up")
+  end subroutine test_contact_rule_unsafe
+
+  subroutine test_free_fall(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(scene_summary_type) :: summary
+    type(demstep_status_type) :: status
+    real(dp) :: dt, t, g(3), x0(3), v0(3)
+    dt = 1.0e-3_dp
+    g = [0.5_dp, 0.0_dp, -9.81_dp]
+    x0 = [1.0_dp, 2.0_dp, 30.0_dp]
+    v0 = [0.3_dp, -0.2_dp, 1.0_dp]
+    ! the half-step velocity v(dt/2) makes leapfrog exact for a constant force
+    call new_scene(scene, 3, reshape(x0, [3, 1]), [2.0_dp], [0.1_dp], status, &
+      v=reshape(v0 + 0.5_dp*g*dt, [3, 1]))
+    scene%effects = no_effects
+    scene%effects(effect_gravity) = .true.
+    scene%gravity = g
+    call scene_run(scene, dt, 2000_i8, summary, status)
+    t = 2000*dt
+    call check(error, norm2(scene%x(:, 1) - (x0 + v0*t + 0.5_dp*g*t**2)) < 1.0e-11_dp*norm2(x0), &
+      "position after 2 s of free fall")
+    if (allocated(error)) return
+    ! gravitational + kinetic energy is kept
+    call check(error, summary%energy_drift < 1.0e-12_dp, "energy drift "//real_str(summary%energy_drift))
+  end subroutine test_free_fall
+
+  subroutine test_damped(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(scene_summary_type) :: summary
+    type(demstep_status_type) :: status
+    real(dp) :: dt, h, zeta, xm, x, xp, omega
+    integer :: n
+    ! one particle (m = 1) on a bond (k = 4) to a fixed particle, zeta = 0.1
+    call new_scene(scene, 1, reshape([0.0_dp, 1.0_dp], [1, 2]), [1.0_dp, 1.0_dp], [0.1_dp, 0.1_dp], &
+      status, v=reshape([0.0_dp, 0.5_dp], [1, 2]), fixed=[.true., .false.])
+    call scene_add_bonds(scene, reshape([1, 2], [2, 1]), status)
+    scene%k_bond = 4.0_dp
+    scene%effects = no_effects
+    scene%effects(effect_damping) = .true.
+    zeta = 0.1_dp
+    scene%damping_ratio = zeta
+    omega = 2.0_dp
+    dt = 0.05_dp
+    call scene_run(scene, dt, 400_i8, summary, status)
+    ! independent reference: the lagged-dashpot recurrence of the displacement
+    ! x_{n+1} - x_n = (1 - 2 zeta h)(x_n - x_{n-1}) - h^2 x_n, h = omega dt
+    h = omega*dt
+    xm = 0.0_dp
+    x = 0.5_dp*dt
+    do n = 1, 399
+      xp = x + (1.0_dp - 2.0_dp*zeta*h)*(x - xm) - h**2*x
+      xm = x
+      x = xp
+    end do
+    call check(error, scene%x(1, 2) - 1.0_dp, x, thr=1.0e-12_dp, message="displacement after 400 steps")
+    if (allocated(error)) return
+    ! the damped limit of this single mode: (2/omega)(sqrt(1 + zeta^2) - zeta)
+    call critical_time_steps(scene, c, status)
+    call check(error, c%damping_ratio_top, zeta, thr=1.0e-13_dp, rel=.true., message="modal zeta")
+    if (allocated(error)) return
+    call check(error, c%dt_critical_damped, (sqrt(1.0_dp + zeta**2) - zeta), thr=1.0e-13_dp, &
+      rel=.true., message="damped limit")
+  end subroutine test_damped
+
+  subroutine test_wall_bounce(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(scene_summary_type) :: summary
+    type(discrete_contact_type) :: exact
+    type(demstep_status_type) :: status
+    real(dp) :: dt, omega
+    integer :: i
+    real(dp), parameter :: ns(4) = [4.0_dp, 7.3_dp, 20.0_dp, 333.0_dp]
+    do i = 1, size(ns)
+      ! a sphere (r = 0.5) touching the wall x = 0 at step 0, moving in at 1
+      call new_scene(scene, 1, reshape([0.5_dp], [1, 1]), [2.0_dp], [0.5_dp], status, &
+        v=reshape([-1.0_dp], [1, 1]))
+      call scene_add_walls(scene, reshape([0.0_dp], [1, 1]), reshape([1.0_dp], [1, 1]), status)
+      scene%effects = no_effects
+      scene%effects(effect_walls) = .true.
+      scene%k_normal = 800.0_dp
+      omega = 20.0_dp
+      dt = 2.0_dp*pi/(omega*ns(i))
+      call scene_run(scene, dt, int(ns(i), i8) + 2_i8, summary, status)
+      call discrete_contact(omega*dt, exact, status)
+      call check(error, scene%v(1, 1), exact%restitution, thr=1.0e-12_dp, rel=.true., &
+        message="rebound at N = "//real_str(ns(i)))
+      if (allocated(error)) return
+      call check(error, summary%max_overlap, exact%max_overlap/omega, thr=1.0e-12_dp, rel=.true., &
+        message="max overlap at N = "//real_str(ns(i)))
+      if (allocated(error)) return
+    end do
+  end subroutine test_wall_bounce
+
+  subroutine test_wall_restitution(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(scene_summary_type) :: summary
+    type(demstep_status_type) :: status
+    real(dp) :: e_target, dt
+    e_target = 0.5_dp
+    call new_scene(scene, 2, reshape([0.0_dp, 0.5_dp], [2, 1]), [2.0_dp], [0.5_dp], status, &
+      v=reshape([0.0_dp, -1.0_dp], [2, 1]))
+    call scene_add_walls(scene, reshape([0.0_dp, 0.0_dp], [2, 1]), reshape([0.0_dp, 2.0_dp], [2, 1]), status)
+    scene%effects = no_effects
+    scene%effects(effect_walls) = .true.
+    scene%effects(effect_damping) = .true.
+    scene%k_normal = 800.0_dp
+    scene%damping_ratio = restitution_to_damping_ratio(e_target)
+    ! 1000 steps per period: the continuous restitution to about 1 %
+    dt = 2.0_dp*pi/(20.0_dp*1000.0_dp)
+    call scene_run(scene, dt, 1000_i8, summary, status)
+    call check(error, scene%v(2, 1), e_target, thr=1.0e-2_dp, rel=.true., message="restitution")
+  end subroutine test_wall_restitution
+
+  subroutine test_local_damping(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene, start
+    type(scene_summary_type) :: summary
+    type(demstep_status_type) :: status
+    integer :: k
+    call chain(start, 8, 1.0_dp, 1.0_dp, .true., .false.)
+    scene = start
+    call scene_run(scene, 0.1_dp, 5000_i8, summary, status, sample_every=100_i8)
+    ! rounding only: about n eps over n = 5000 steps
+    call check(error, summary%energy_drift < 1.0e-10_dp, "undamped chain keeps its energy")
+    if (allocated(error)) return
+    scene = start
+    scene%effects(effect_local_damping) = .true.
+    scene%local_damping = 0.1_dp
+    call scene_run(scene, 0.1_dp, 5000_i8, summary, status, sample_every=100_i8)
+    do k = 2, size(summary%sample_energy)
+      ! never grows, but for rounding relative to the initial energy
+      call check(error, summary%sample_energy(k) <= summary%sample_energy(k - 1) &
+        + 1.0e-12_dp*summary%energy_initial, "energy never grows under local damping")
+      if (allocated(error)) return
+    end do
+    call check(error, summary%energy_final < 0.1_dp*summary%energy_initial, "most energy removed")
+  end subroutine test_local_damping
+
+  subroutine test_hertz_pair(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(scene_summary_type) :: summary
+    type(demstep_status_type) :: status
+    real(dp) :: m_eff, rs, v, d_max
+    ! two equal spheres approaching head-on, Hertz law
+    call new_scene(scene, 3, reshape([0.0_dp, 0.0_dp, 0.0_dp, 2.0e-3_dp, 0.0_dp, 0.0_dp], [3, 2]), &
+      [1.0e-3_dp, 1.0e-3_dp], [1.0e-3_dp, 1.0e-3_dp], status, &
+      v=reshape([0.5_dp, 0.0_dp, 0.0_dp, -0.5_dp, 0.0_dp, 0.0_dp], [3, 2]))
+    scene%law = law_hertz
+    scene%e_star = 1.0e8_dp
+    scene%effects = no_effects
+    scene%effects(effect_contacts) = .true.
+    call scene_run(scene, 1.0e-8_dp, 20000_i8, summary, status, sample_every=10_i8)
+    ! energy is kept to O(dt^2) and the largest overlap is Hertz's
+    ! d = (15 m* v^2/(16 E* sqrt(R*)))^(2/5), v the approach speed
+    m_eff = 0.5e-3_dp
+    rs = 0.5e-3_dp
+    v = 1.0_dp
+    d_max = (15.0_dp*m_eff*v**2/(16.0_dp*scene%e_star*sqrt(rs)))**0.4_dp
+    call check(error, summary%energy_drift < 1.0e-4_dp, "energy drift "//real_str(summary%energy_drift))
+    if (allocated(error)) return
+    call check(error, summary%max_overlap, d_max, thr=1.0e-3_dp, rel=.true., message="max overlap")
+    if (allocated(error)) return
+    call check(error, scene%v(1, 1) < 0.0_dp .and. scene%v(1, 2) > 0.0_dp, "the spheres rebound")
+  end subroutine test_hertz_pair
+
+  subroutine test_bad_scenes(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    call new_scene(scene, 1, reshape([0.0_dp, 1.0_dp], [1, 2]), [1.0_dp, -1.0_dp], [0.1_dp, 0.1_dp], status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, "mass") > 0, &
+      "negative mass")
+    if (allocated(error)) return
+    call new_scene(scene, 1, reshape([0.0_dp, 1.0_dp], [1, 2]), [1.0_dp, 1.0_dp], [0.1_dp, -0.1_dp], status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, "radius") > 0, &
+      "negative radius")
+    if (allocated(error)) return
+    call new_scene(scene, 1, reshape([0.0_dp, 0.5_dp], [1, 2]), [1.0_dp, 1.0_dp], [0.3_dp, 0.3_dp], status, &
+      fixed=[.true., .true.])
+    call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, "overlap") > 0, &
+      "overlapping fixed particles")
+    if (allocated(error)) return
+    call new_scene(scene, 1, reshape([0.0_dp, 1.0_dp], [1, 2]), [1.0_dp, 1.0_dp], [0.1_dp, 0.1_dp], status)
+    call scene_add_bonds(scene, reshape([1, 3], [2, 1]), status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, "missing") > 0, &
+      "a bond to a missing particle")
+    if (allocated(error)) return
+    scene%effects = no_effects
+    call critical_time_steps(scene, c, status)
+    call check(error, status%stat, demstep_stat%invalid_input, message="no stiffness")
+  end subroutine test_bad_scenes
+
+  subroutine seed(k)
+    integer, intent(in) :: k
+    integer :: n, i
+    call random_seed(size=n)
+    call random_seed(put=[(1000*k + 31*i, i = 1, n)])
+  end subroutine seed
+
+end module test_scene
