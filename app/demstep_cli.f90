@@ -10,12 +10,14 @@ module demstep_cli
   private
 
   public :: var, check_names, given, item_text, read_failed, check_real, fmt_real, fmt_int, write_template, cli_context, &
-    new_array, array_length, broadcast, common_length
+    new_array, array_length, broadcast, common_length, new_int_array, int_array_length
 
   !> Most values one array variable of a group may hold.
   integer, parameter, public :: max_values = 100000
   !> Marks array elements the input did not set.
   real(dp), parameter, public :: unset = -huge(1.0_dp)
+  !> Marks integer array elements the input did not set.
+  integer, parameter, public :: unset_int = -huge(1)
 
   !> Where a group handler writes: the human report and the result namelist.
   type :: cli_context
@@ -186,27 +188,49 @@ contains
     character(len=*), intent(in) :: group, doc
     type(var_spec), intent(in) :: specs(:)
     integer :: i
+    character(len=:), allocatable :: line
     write(unit, '(a)') "! "//doc
     write(unit, '(a)') "&"//group
     do i = 1, size(specs)
       if (specs(i)%example(1:1) == "!") then
         ! an alternative to another variable: shown commented out
-        write(unit, '(2x, a, t40, a)') "! "//specs(i)%name//" = "//specs(i)%example(2:)//",", &
-          "! "//specs(i)%doc
+        line = "  ! "//specs(i)%name//" = "//specs(i)%example(2:)//","
       else
-        write(unit, '(2x, a, t40, a)') specs(i)%name//" = "//specs(i)%example//",", &
-          "! "//specs(i)%doc
+        line = "  "//specs(i)%name//" = "//specs(i)%example//","
       end if
+      write(unit, '(a)') line//repeat(" ", max(1, 40 - len(line)))//"! "//specs(i)%doc
     end do
     write(unit, '(a)') "/"
   end subroutine write_template
 
-  !> An input array of max_values elements, all unset.
-  pure function new_array() result(x)
+  !> An input array of max_values elements (or `capacity`), all unset.
+  pure function new_array(capacity) result(x)
+    integer, intent(in), optional :: capacity
     real(dp), allocatable :: x(:)
-    allocate(x(max_values))
+    if (present(capacity)) then
+      allocate(x(capacity))
+    else
+      allocate(x(max_values))
+    end if
     x = unset
   end function new_array
+
+  !> An integer input array of `capacity` elements, all unset.
+  pure function new_int_array(capacity) result(x)
+    integer, intent(in) :: capacity
+    integer, allocatable :: x(:)
+    allocate(x(capacity))
+    x = unset_int
+  end function new_int_array
+
+  !> Number of values given for an integer array, as [[array_length]].
+  pure subroutine int_array_length(group, name, x, length, status)
+    character(len=*), intent(in) :: group, name
+    integer, intent(in) :: x(:)
+    integer, intent(out) :: length
+    type(demstep_status_type), intent(inout) :: status
+    call array_length(group, name, merge(0.0_dp, unset, x /= unset_int), length, status)
+  end subroutine int_array_length
 
   !> Number of values given for an array (0 if none): the last set element;
   !> an unset element before it is an error naming the index.

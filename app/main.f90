@@ -10,6 +10,7 @@ program demstep_main
   use demstep_cli_system, only: handle_system, system_specs, system_doc
   use demstep_cli_harmonic, only: handle_harmonic_error, harmonic_specs, harmonic_doc
   use demstep_cli_stiffness, only: handle_simulated_stiffness, stiffness_specs, stiffness_doc
+  use demstep_cli_scene, only: handle_scene, scene_specs, scene_doc
   implicit none
 
   character(len=:), allocatable :: input, output, arg, text, skipped, tmp
@@ -20,7 +21,7 @@ program demstep_main
   integer :: i, nargs, known, ios, unit
   character(len=256) :: msg
   character(len=*), parameter :: known_groups = &
-    "&system, &harmonic_error, &simulated_stiffness"
+    "&system, &harmonic_error, &simulated_stiffness, &scene"
 
   namelist_only = .false.
   nargs = command_argument_count()
@@ -80,6 +81,8 @@ program demstep_main
       call handle_harmonic_error(ctx, groups(i), status)
     case ("simulated_stiffness")
       call handle_simulated_stiffness(ctx, groups(i), status)
+    case ("scene")
+      call handle_scene(ctx, groups(i), input, status)
     case default
       skipped = skipped//" &"//groups(i)%name//" (line "//fmt_int(int(groups(i)%line, 8))//")"
       cycle
@@ -196,6 +199,8 @@ contains
     call write_template(output_unit, "harmonic_error", harmonic_doc, harmonic_specs())
     write(output_unit, '(a)') ""
     call write_template(output_unit, "simulated_stiffness", stiffness_doc, stiffness_specs())
+    write(output_unit, '(a)') ""
+    call write_template(output_unit, "scene", scene_doc, scene_specs())
   end subroutine print_template
 
 end program demstep_main

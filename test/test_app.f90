@@ -27,7 +27,9 @@ contains
       new_unittest("&harmonic_error: results read back, broadcast", test_harmonic_group), &
       new_unittest("&harmonic_error: each bad input", test_harmonic_bad), &
       new_unittest("&simulated_stiffness: the seed's setting read back", test_stiffness_group), &
-      new_unittest("&simulated_stiffness: each bad input", test_stiffness_bad) &
+      new_unittest("&simulated_stiffness: each bad input", test_stiffness_bad), &
+      new_unittest("&scene: the chain example read back", test_scene_group), &
+      new_unittest("&scene: tables, and each bad input", test_scene_bad) &
       ]
   end subroutine collect_app
 
@@ -383,6 +385,94 @@ contains
     call expect_bad(error, "&simulated_stiffness stiffness = 1e5, tolerance = 1e-3, lambda = 0.9 /", &
       "&simulated_stiffness: mass: required")
   end subroutine test_stiffness_bad
+
+  subroutine test_scene_group(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer :: rc, unit, ios
+    character(len=:), allocatable :: stdout, stderr
+    integer :: n_particles, n_dof, n_springs, max_contacts
+    real(dp) :: omega_max, dt_critical_eigen, dt_critical_bound, dt_contact_rule, &
+      dt_critical_damped, damping_ratio_top, dt_used, energy_drift, max_overlap
+    integer(i8) :: steps
+    logical :: eigen_computed, blew_up
+    namelist /scene_result/ n_particles, n_dof, n_springs, omega_max, eigen_computed, &
+      dt_critical_eigen, dt_critical_bound, dt_contact_rule, dt_critical_damped, &
+      damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, blew_up
+    call remove(out)
+    call run_app("example/chain.nml -o "//out, rc, stdout, stderr)
+    call check(error, rc, 0, message="exit status; stderr: "//stderr)
+    if (allocated(error)) return
+    open(newunit=unit, file=out, status="old", action="read")
+    read(unit, nml=scene_result, iostat=ios)
+    close(unit)
+    call check(error, ios, 0, message="read(nml=scene_result)")
+    if (allocated(error)) return
+    ! 10 free unit masses, k = 100, fixed ends: omega_max = 20 sin(10 pi/22)
+    call check(error, omega_max, 20.0_dp*sin(10.0_dp*pi/22.0_dp), thr=1.0e-13_dp, rel=.true., &
+      message="omega_max")
+    if (allocated(error)) return
+    call check(error, dt_critical_bound <= dt_critical_eigen .and. dt_contact_rule > dt_critical_eigen, &
+      "bound below, contact rule above the exact limit")
+    if (allocated(error)) return
+    call check(error, dt_used, 2.0_dp*pi/omega_max/10.0_dp, thr=1.0e-14_dp, rel=.true., message="dt = T/10")
+    if (allocated(error)) return
+    call check(error, .not. blew_up .and. energy_drift < 1.0e-9_dp, "a stable, conservative run")
+    if (allocated(error)) return
+    call check(error, n_dof == 10 .and. n_springs == 11 .and. steps > 0, "sizes")
+    if (allocated(error)) return
+    call run_app("example/lattice.nml", rc, stdout, stderr)
+    call check(error, rc, 0, message="lattice from table files: "//stderr)
+    if (allocated(error)) return
+    call run_app("example/packing.nml", rc, stdout, stderr)
+    call check(error, rc, 0, message="packing: "//stderr)
+  end subroutine test_scene_group
+
+  subroutine test_scene_bad(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), parameter :: g = "&scene dim = 1, position = 0.0, 1.0, radius = 0.3, "
+    call expect_bad(error, g//"mass = 1.0, bonds = 1, 2, k_bond = 1, effects = 'gravity', 'magnetism' /", &
+      "&scene: effects: unknown effect 'magnetism'")
+    if (allocated(error)) return
+    call expect_bad(error, g//"mass = 1.0, -2.0, bonds = 1, 2, k_bond = 1 /", &
+      "&scene: mass: element 2 is -2; must be > 0")
+    if (allocated(error)) return
+    call expect_bad(error, "&scene dim = 1, position = 0.0, 1.0, radius = -0.3, mass = 1 /", &
+      "&scene: radius: element 1 is -0.3; must be > 0")
+    if (allocated(error)) return
+    call expect_bad(error, g//"mass = 1.0, bonds = 1, 3, k_bond = 1 /", &
+      "&scene: bonds: bond 1 names a missing particle")
+    if (allocated(error)) return
+    call expect_bad(error, "&scene dim = 1, position = 0.0, 0.5, radius = 0.3, mass = 1, fixed = 1, 2 /", &
+      "&scene: position: fixed particles 1 and 2 overlap")
+    if (allocated(error)) return
+    call expect_bad(error, g//"mass = 1.0, effects = 'none' /", "&scene: the scene has no stiffness")
+    if (allocated(error)) return
+    call expect_bad(error, g//"mass = 1.0, bonds = 1, 2, k_bond = 1, effects = 'damping' /", &
+      "&scene: damping_ratio: the 'damping' effect needs damping_ratio or restitution")
+    if (allocated(error)) return
+    call expect_bad(error, g//"mass = 1.0, bonds = 1, 2, k_bond = 1, effects = 'none', duration = 1 /", &
+      "&scene: dt: a run (duration > 0) needs dt or n_per_period")
+    if (allocated(error)) return
+    call expect_bad(error, "&scene dim = 4, position = 0.0 /", "&scene: dim: must be 1, 2 or 3")
+    if (allocated(error)) return
+    ! table files: a malformed row is reported with its line number
+    call write_file(work_dir//"/p.txt", [character(len=40) :: "# x vx m r fixed", "0.0 0.0 1.0 0.3 0", &
+      "", "1.0 0.0 1.0 0.3", "2.0 0.0 1.0 0.3 0"])
+    call expect_bad(error, "&scene dim = 1, particles_file = 'p.txt', bonds = 1, 2, k_bond = 1 /", &
+      "&scene: particles_file: "//work_dir//"/p.txt: line 4: expected 5 numbers, found 4")
+    if (allocated(error)) return
+    call write_file(work_dir//"/p.txt", [character(len=40) :: "0.0 0.0 1.0 0.3 0", "1.0 0.0 one 0.3 0"])
+    call expect_bad(error, "&scene dim = 1, particles_file = 'p.txt', bonds = 1, 2, k_bond = 1 /", &
+      "&scene: particles_file: "//work_dir//"/p.txt: line 2: cannot read")
+    if (allocated(error)) return
+    call write_file(work_dir//"/p.txt", [character(len=40) :: "0.0 0.0 1.0 0.3 0", "1.0 0.0 1.0 0.3 0"])
+    call write_file(work_dir//"/b.txt", [character(len=40) :: "1 2", "2 7"])
+    call expect_bad(error, "&scene dim = 1, particles_file = 'p.txt', bonds_file = 'b.txt', k_bond = 1 /", &
+      "&scene: bonds: bond 2 names a missing particle")
+    if (allocated(error)) return
+    call expect_bad(error, "&scene dim = 1, particles_file = 'nothere.txt' /", &
+      "&scene: particles_file: "//work_dir//"/nothere.txt: no such file")
+  end subroutine test_scene_bad
 
   !> Run on a one-line deck with -o; expect exit 2, one stderr line
   !> "demstep: DECK: <expected>...", no output file and no temporary left.

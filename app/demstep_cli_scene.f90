@@ -1,0 +1,606 @@
+!> Group `&scene`: a particle assembly, its critical time steps by four methods,
+!> and optionally a run that simulates only the effects it switches on.
+module demstep_cli_scene
+  use demstep, only: dp, i8, pi, demstep_status_type, demstep_stat, nml_group_type, set_status, &
+    lowercase, scene_type, scene_summary_type, new_scene, scene_add_bonds, scene_add_walls, &
+    scene_run, effect_index, restitution_to_damping_ratio, law_linear, law_hertz, &
+    effect_contacts, effect_gravity, effect_damping, effect_local_damping, effect_walls, &
+    n_effects, effect_names, critical_step_type, critical_time_steps, hertz_at_current, &
+    hertz_at_impact, default_max_eigen_dof
+  use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, fmt_real, &
+    fmt_int, cli_context, check_real, new_array, array_length, new_int_array, int_array_length, &
+    max_values
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  implicit none
+  private
+
+  public :: scene_specs, scene_doc, handle_scene
+
+  character(len=*), parameter :: scene_doc = &
+    "A particle assembly: its critical time step by the per-contact rule, a rigorous bound, " &
+    //"LAPACK and the damped limit; and a run with only the effects switched on."
+
+  !> Most effects one group may list.
+  integer, parameter :: max_effects = 16
+
+contains
+
+  !> The variables of `&scene`.
+  function scene_specs() result(specs)
+    type(var_spec), allocatable :: specs(:)
+    specs = [ &
+      var("dim", "an integer", "dimension: 1, 2 or 3 (required)", "2"), &
+      var("position", "a list of real numbers", "dim coordinates per particle", &
+        "0.0, 0.0,  1.0, 0.0,  2.0, 0.0"), &
+      var("velocity", "a list of real numbers", "dim components per particle (default 0)", &
+        "0.0, 0.0,  0.0, 0.0,  0.0, 0.1"), &
+      var("mass", "a list of real numbers", "one per particle, or one for all (> 0)", "1.0"), &
+      var("radius", "a list of real numbers", "one per particle, or one for all (> 0)", "0.4"), &
+      var("fixed", "a list of integers", "numbers of the fixed particles", "1"), &
+      var("bonds", "a list of integers", "pairs of particle numbers joined by bonds", "1, 2,  2, 3"), &
+      var("particles_file", "a quoted file name", "table instead of the arrays: per row dim " &
+        //"positions, dim velocities, mass, radius, fixed (0/1); # comments", "!'particles.txt'"), &
+      var("bonds_file", "a quoted file name", "table of bonds: per row two particle numbers", &
+        "!'bonds.txt'"), &
+      var("law", "a quoted word", "contact law: 'linear' (default, k_normal) or 'hertz' (e_star)", &
+        "'linear'"), &
+      var("k_normal", "a real number", "linear contact stiffness (> 0)", "1.0e4"), &
+      var("e_star", "a real number", "Hertz effective modulus E* (> 0)", "!1.0e8"), &
+      var("k_bond", "a real number", "bond normal stiffness (> 0 when there are bonds)", "100.0"), &
+      var("k_bond_tangential", "a real number", "bond tangential stiffness (>= 0, default 0)", "0.0"), &
+      var("walls", "a list of real numbers", "per wall: dim coordinates of a point, dim of the " &
+        //"normal pointing into the domain", "!0.0, -0.5,  0.0, 1.0"), &
+      var("effects", "a list of quoted words", "'contacts' (default), 'gravity', 'damping', " &
+        //"'local_damping', 'walls'; 'none' for bonds only", "'contacts'"), &
+      var("gravity", "a list of real numbers", "dim components (default -9.81 along the last axis)", &
+        "!0.0, -9.81"), &
+      var("damping_ratio", "a real number", "viscous damping ratio (>= 0) for 'damping'", "!0.1"), &
+      var("restitution", "a real number", "or the restitution coefficient in (0, 1] it gives", "!0.8"), &
+      var("local_damping", "a real number", "Cundall's alpha in [0, 1) for 'local_damping'", "!0.7"), &
+      var("hertz_linearization", "a quoted word", "'current' overlap (default) or 'impact' " &
+        //"(with impact_velocity)", "!'current'"), &
+      var("impact_velocity", "a real number", "impact speed for the 'impact' linearization (> 0)", &
+        "!1.0"), &
+      var("duration", "a real number", "simulated time (>= 0, default 0: no run)", "10.0"), &
+      var("dt", "a real number", "time step of the run (> 0), or give n_per_period", "!0.01"), &
+      var("n_per_period", "a real number", "steps per smallest period 2 pi/omega_max (> pi " &
+        //"to be stable)", "20.0"), &
+      var("max_eigen_dof", "an integer", "largest problem for the dense eigensolver " &
+        //"(default 4000)", "!4000") ]
+  end function scene_specs
+
+  !> Read, check and evaluate one `&scene` group.
+  subroutine handle_scene(ctx, group, file, status)
+    type(cli_context), intent(in) :: ctx
+    type(nml_group_type), intent(in) :: group
+    !> The input deck's name: relative table file names are relative to its directory.
+    character(len=*), intent(in) :: file
+    type(demstep_status_type), intent(out) :: status
+    integer :: dim, max_eigen_dof
+    real(dp), allocatable :: position(:), velocity(:), mass(:), radius(:), walls(:), gravity(:)
+    integer, allocatable :: fixed(:), bonds(:)
+    character(len=512) :: particles_file, bonds_file
+    character(len=32) :: law, hertz_linearization
+    character(len=32) :: effects(max_effects)
+    real(dp) :: k_normal, e_star, k_bond, k_bond_tangential, damping_ratio, restitution, &
+      local_damping, impact_velocity, duration, dt, n_per_period
+    namelist /scene/ dim, position, velocity, mass, radius, fixed, bonds, particles_file, &
+      bonds_file, law, k_normal, e_star, k_bond, k_bond_tangential, walls, effects, gravity, &
+      damping_ratio, restitution, local_damping, hertz_linearization, impact_velocity, duration, &
+      dt, n_per_period, max_eigen_dof
+    type(var_spec), allocatable :: specs(:)
+    character(len=:), allocatable :: text
+    character(len=*), parameter :: g = "scene"
+    type(scene_type) :: sc
+    type(critical_step_type) :: crit
+    type(scene_summary_type) :: summary
+    real(dp), allocatable :: x(:, :), v(:, :), m(:), r(:)
+    logical, allocatable :: is_fixed(:)
+    integer, allocatable :: pairs(:, :)
+    integer :: i, ios, n, np, nv, nm, nr, nf, nb, nw, mode
+    real(dp) :: dt_used
+    integer(i8) :: steps
+
+    specs = scene_specs()
+    call check_names(group, specs, status)
+    if (status%stat /= demstep_stat%ok) return
+    dim = 0
+    position = new_array(3*max_values)
+    velocity = new_array(3*max_values)
+    mass = new_array()
+    radius = new_array()
+    walls = new_array(64)
+    gravity = new_array(3)
+    fixed = new_int_array(max_values)
+    bonds = new_int_array(2*max_values)
+    particles_file = ""
+    bonds_file = ""
+    law = "linear"
+    hertz_linearization = "current"
+    effects = ""
+    k_normal = 0.0_dp
+    e_star = 0.0_dp
+    k_bond = 0.0_dp
+    k_bond_tangential = 0.0_dp
+    damping_ratio = 0.0_dp
+    restitution = 1.0_dp
+    local_damping = 0.0_dp
+    impact_velocity = 0.0_dp
+    duration = 0.0_dp
+    dt = 0.0_dp
+    n_per_period = 0.0_dp
+    max_eigen_dof = default_max_eigen_dof
+    do i = 1, size(group%items)
+      text = item_text(group, group%items(i))
+      read(text, nml=scene, iostat=ios)
+      if (ios /= 0) then
+        call read_failed(group, group%items(i), specs, status)
+        return
+      end if
+    end do
+
+    if (.not. given(group, "dim")) then
+      call fail("dim", "required")
+      return
+    end if
+    if (dim < 1 .or. dim > 3) then
+      call fail("dim", "must be 1, 2 or 3, got "//fmt_int(int(dim, i8)))
+      return
+    end if
+
+    ! particles: a table file or the arrays
+    if (given(group, "particles_file")) then
+      if (given(group, "position") .or. given(group, "velocity") .or. given(group, "mass") .or. &
+          given(group, "radius") .or. given(group, "fixed")) then
+        call fail("particles_file", "give either particles_file or the particle arrays, not both")
+        return
+      end if
+      call read_particles(beside(file, trim(particles_file)), dim, x, v, m, r, is_fixed, status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": particles_file: "//status%message
+        return
+      end if
+      n = size(m)
+    else
+      call array_length(g, "position", position, np, status)
+      call array_length(g, "velocity", velocity, nv, status)
+      call array_length(g, "mass", mass, nm, status)
+      call array_length(g, "radius", radius, nr, status)
+      call int_array_length(g, "fixed", fixed, nf, status)
+      if (status%stat /= demstep_stat%ok) return
+      if (np == 0) then
+        call fail("position", "required (or give particles_file)")
+        return
+      end if
+      if (mod(np, dim) /= 0) then
+        call fail("position", fmt_int(int(np, i8))//" values are not "//fmt_int(int(dim, i8))// &
+          " per particle")
+        return
+      end if
+      n = np/dim
+      if (nv /= 0 .and. nv /= np) then
+        call fail("velocity", "needs "//fmt_int(int(np, i8))//" values, got "//fmt_int(int(nv, i8)))
+        return
+      end if
+      if (nm /= 1 .and. nm /= n) then
+        call fail("mass", "needs 1 or "//fmt_int(int(n, i8))//" values, got "//fmt_int(int(nm, i8)))
+        return
+      end if
+      if (nr /= 1 .and. nr /= n) then
+        call fail("radius", "needs 1 or "//fmt_int(int(n, i8))//" values, got "//fmt_int(int(nr, i8)))
+        return
+      end if
+      x = reshape(position(:np), [dim, n])
+      allocate(v(dim, n), source=0.0_dp)
+      if (nv > 0) v = reshape(velocity(:np), [dim, n])
+      m = merge(spread(mass(1), 1, n), mass(:n), nm == 1)
+      r = merge(spread(radius(1), 1, n), radius(:n), nr == 1)
+      allocate(is_fixed(n), source=.false.)
+      do i = 1, nf
+        if (fixed(i) < 1 .or. fixed(i) > n) then
+          call fail("fixed", "particle "//fmt_int(int(fixed(i), i8))//" does not exist (1 to "// &
+            fmt_int(int(n, i8))//")")
+          return
+        end if
+        is_fixed(fixed(i)) = .true.
+      end do
+    end if
+    do i = 1, n
+      call check_real(g, "mass", m(i), status, element=i)
+      call check_real(g, "radius", r(i), status, element=i)
+    end do
+    if (status%stat /= demstep_stat%ok) return
+    call new_scene(sc, dim, x, m, r, status, v=v, fixed=is_fixed)
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "&"//g//": position: "//status%message
+      return
+    end if
+
+    ! bonds: a table file or the array
+    if (given(group, "bonds_file")) then
+      if (given(group, "bonds")) then
+        call fail("bonds_file", "give either bonds_file or bonds, not both")
+        return
+      end if
+      call read_bonds(beside(file, trim(bonds_file)), pairs, status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": bonds_file: "//status%message
+        return
+      end if
+    else
+      call int_array_length(g, "bonds", bonds, nb, status)
+      if (status%stat /= demstep_stat%ok) return
+      if (mod(nb, 2) /= 0) then
+        call fail("bonds", "pairs of particle numbers: got an odd count "//fmt_int(int(nb, i8)))
+        return
+      end if
+      pairs = reshape(bonds(:nb), [2, nb/2])
+    end if
+    if (size(pairs, 2) > 0) then
+      call scene_add_bonds(sc, pairs, status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": bonds: "//status%message
+        return
+      end if
+      call check_real(g, "k_bond", k_bond, status)
+      call check_real(g, "k_bond_tangential", k_bond_tangential, status, inclusive=.true.)
+      if (status%stat /= demstep_stat%ok) return
+      sc%k_bond = k_bond
+      sc%k_bond_tangential = k_bond_tangential
+    end if
+
+    ! effects
+    if (given(group, "effects")) then
+      sc%effects = .false.
+      do i = 1, max_effects
+        if (len_trim(effects(i)) == 0) cycle
+        if (lowercase(trim(effects(i))) == "none") cycle
+        if (effect_index(lowercase(trim(effects(i)))) == 0) then
+          call fail("effects", "unknown effect '"//trim(effects(i))//"' ("//effect_list()//", none)")
+          return
+        end if
+        sc%effects(effect_index(lowercase(trim(effects(i))))) = .true.
+      end do
+    end if
+    select case (lowercase(trim(law)))
+    case ("linear")
+      sc%law = law_linear
+      if (sc%effects(effect_contacts) .or. sc%effects(effect_walls)) call check_real(g, "k_normal", k_normal, status)
+      sc%k_normal = k_normal
+    case ("hertz")
+      sc%law = law_hertz
+      if (sc%effects(effect_contacts) .or. sc%effects(effect_walls)) call check_real(g, "e_star", e_star, status)
+      sc%e_star = e_star
+    case default
+      call fail("law", "unknown word '"//trim(law)//"' (linear, hertz)")
+      return
+    end select
+    if (status%stat /= demstep_stat%ok) return
+    call array_length(g, "walls", walls, nw, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (sc%effects(effect_walls) .neqv. nw > 0) then
+      call fail("walls", "the 'walls' effect and the walls array go together")
+      return
+    end if
+    if (nw > 0) then
+      if (mod(nw, 2*dim) /= 0) then
+        call fail("walls", "each wall is "//fmt_int(int(2*dim, i8))//" values (a point, a normal)")
+        return
+      end if
+      call scene_add_walls(sc, reshape([(walls(2*dim*(i-1)+1:2*dim*(i-1)+dim), i = 1, nw/(2*dim))], &
+        [dim, nw/(2*dim)]), reshape([(walls(2*dim*(i-1)+dim+1:2*dim*i), i = 1, nw/(2*dim))], &
+        [dim, nw/(2*dim)]), status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": walls: "//status%message
+        return
+      end if
+    end if
+    if (sc%effects(effect_gravity)) then
+      call array_length(g, "gravity", gravity, nv, status)
+      if (status%stat /= demstep_stat%ok) return
+      sc%gravity = 0.0_dp
+      if (nv == 0) then
+        sc%gravity(dim) = -9.81_dp
+      else if (nv /= dim) then
+        call fail("gravity", "needs "//fmt_int(int(dim, i8))//" components")
+        return
+      else
+        sc%gravity(:dim) = gravity(:dim)
+        if (.not. all(ieee_is_finite(gravity(:dim)))) then
+          call fail("gravity", "must be finite")
+          return
+        end if
+      end if
+    end if
+    if (sc%effects(effect_damping)) then
+      if (given(group, "damping_ratio") .eqv. given(group, "restitution")) then
+        call fail("damping_ratio", "the 'damping' effect needs damping_ratio or restitution (one)")
+        return
+      end if
+      if (given(group, "restitution")) then
+        call check_real(g, "restitution", restitution, status)
+        if (status%stat == demstep_stat%ok .and. restitution > 1.0_dp) call fail("restitution", &
+          "must be in (0, 1], got "//fmt_real(restitution))
+        if (status%stat /= demstep_stat%ok) return
+        damping_ratio = restitution_to_damping_ratio(restitution)
+      end if
+      call check_real(g, "damping_ratio", damping_ratio, status, inclusive=.true.)
+      if (status%stat /= demstep_stat%ok) return
+      sc%damping_ratio = damping_ratio
+    end if
+    if (sc%effects(effect_local_damping)) then
+      call check_real(g, "local_damping", local_damping, status, inclusive=.true.)
+      if (status%stat == demstep_stat%ok .and. .not. local_damping < 1.0_dp) call fail("local_damping", &
+        "must be in [0, 1), got "//fmt_real(local_damping))
+      if (status%stat /= demstep_stat%ok) return
+      sc%local_damping = local_damping
+    end if
+    select case (lowercase(trim(hertz_linearization)))
+    case ("current")
+      mode = hertz_at_current
+    case ("impact")
+      mode = hertz_at_impact
+      call check_real(g, "impact_velocity", impact_velocity, status)
+      if (status%stat /= demstep_stat%ok) return
+    case default
+      call fail("hertz_linearization", "unknown word '"//trim(hertz_linearization)//"' (current, impact)")
+      return
+    end select
+    call check_real(g, "duration", duration, status, inclusive=.true.)
+    if (given(group, "dt") .and. given(group, "n_per_period")) call fail("dt", &
+      "give either dt or n_per_period, not both")
+    if (given(group, "dt")) call check_real(g, "dt", dt, status)
+    if (given(group, "n_per_period")) call check_real(g, "n_per_period", n_per_period, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (duration > 0.0_dp .and. .not. (given(group, "dt") .or. given(group, "n_per_period"))) then
+      call fail("dt", "a run (duration > 0) needs dt or n_per_period")
+      return
+    end if
+
+    call critical_time_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
+      max_eigen_dof=max_eigen_dof)
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "&"//g//": "//status%message
+      return
+    end if
+    dt_used = 0.0_dp
+    steps = 0_i8
+    if (duration > 0.0_dp) then
+      if (given(group, "dt")) then
+        dt_used = dt
+      else if (crit%eigen_computed) then
+        dt_used = 2.0_dp*pi/crit%omega_max/n_per_period
+      else
+        dt_used = 2.0_dp*pi/crit%omega_bound/n_per_period
+      end if
+      steps = max(1_i8, nint(duration/dt_used, i8))
+      call scene_run(sc, dt_used, steps, summary, status)
+      ! a blow-up is a result to report, not an input error
+      if (status%stat == demstep_stat%blow_up) status%stat = demstep_stat%ok
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": "//status%message
+        return
+      end if
+    end if
+    call report(ctx%report, group, sc, crit, duration > 0.0_dp, dt_used, steps, summary)
+    call write_result(ctx%results, sc, crit, dt_used, summary)
+
+  contains
+
+    subroutine fail(name, what)
+      character(len=*), intent(in) :: name, what
+      call set_status(status, demstep_stat%invalid_input, "&"//g//": "//name//": "//what)
+    end subroutine fail
+
+  end subroutine handle_scene
+
+  !> `name` relative to the directory of `deck` (unless absolute).
+  pure function beside(deck, name) result(path)
+    character(len=*), intent(in) :: deck, name
+    character(len=:), allocatable :: path
+    integer :: k
+    k = index(deck, "/", back=.true.)
+    if (k == 0 .or. name(1:min(1, len(name))) == "/") then
+      path = name
+    else
+      path = deck(:k)//name
+    end if
+  end function beside
+
+  pure function effect_list() result(text)
+    character(len=:), allocatable :: text
+    integer :: i
+    text = ""
+    do i = 1, n_effects
+      if (i > 1) text = text//", "
+      text = text//trim(effect_names(i))
+    end do
+  end function effect_list
+
+  !> A particles table: per row dim positions, dim velocities, mass, radius and
+  !> fixed (0 or 1); '#' starts a comment, blank lines are skipped.
+  subroutine read_particles(path, dim, x, v, m, r, fixed, status)
+    character(len=*), intent(in) :: path
+    integer, intent(in) :: dim
+    real(dp), allocatable, intent(out) :: x(:, :), v(:, :), m(:), r(:)
+    logical, allocatable, intent(out) :: fixed(:)
+    type(demstep_status_type), intent(out) :: status
+    real(dp), allocatable :: rows(:, :)
+    integer :: ncol
+    ncol = 2*dim + 3
+    call read_table(path, ncol, rows, status)
+    if (status%stat /= demstep_stat%ok) return
+    x = rows(1:dim, :)
+    v = rows(dim+1:2*dim, :)
+    m = rows(2*dim+1, :)
+    r = rows(2*dim+2, :)
+    fixed = rows(2*dim+3, :) /= 0.0_dp
+    if (any(rows(2*dim+3, :) /= 0.0_dp .and. rows(2*dim+3, :) /= 1.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, path//": the fixed column must be 0 or 1")
+      return
+    end if
+    if (size(m) == 0) call set_status(status, demstep_stat%invalid_input, path//": no particles")
+  end subroutine read_particles
+
+  !> A bonds table: two particle numbers per row.
+  subroutine read_bonds(path, pairs, status)
+    character(len=*), intent(in) :: path
+    integer, allocatable, intent(out) :: pairs(:, :)
+    type(demstep_status_type), intent(out) :: status
+    real(dp), allocatable :: rows(:, :)
+    call read_table(path, 2, rows, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (any(rows /= anint(rows))) then
+      call set_status(status, demstep_stat%invalid_input, path//": particle numbers must be integers")
+      return
+    end if
+    pairs = nint(rows)
+  end subroutine read_bonds
+
+  !> A whitespace table of `ncol` numbers per row; the status names the line of
+  !> a malformed row.
+  subroutine read_table(path, ncol, rows, status)
+    character(len=*), intent(in) :: path
+    integer, intent(in) :: ncol
+    real(dp), allocatable, intent(out) :: rows(:, :)
+    type(demstep_status_type), intent(out) :: status
+    integer :: unit, ios, line, n, k, count
+    character(len=4096) :: buf
+    real(dp) :: values(ncol)
+    logical :: exists
+    inquire(file=path, exist=exists)
+    if (.not. exists) then
+      call set_status(status, demstep_stat%io_error, path//": no such file")
+      return
+    end if
+    open(newunit=unit, file=path, status="old", action="read", iostat=ios)
+    if (ios /= 0) then
+      call set_status(status, demstep_stat%io_error, path//": cannot open")
+      return
+    end if
+    allocate(rows(ncol, 64))
+    n = 0
+    line = 0
+    do
+      read(unit, '(a)', iostat=ios) buf
+      if (ios /= 0) exit
+      line = line + 1
+      k = index(buf, "#")
+      if (k > 0) buf(k:) = ""
+      if (len_trim(buf) == 0) cycle
+      count = count_tokens(buf)
+      if (count /= ncol) then
+        call set_status(status, demstep_stat%invalid_input, path//": line "//fmt_int(int(line, i8))// &
+          ": expected "//fmt_int(int(ncol, i8))//" numbers, found "//fmt_int(int(count, i8)))
+        close(unit)
+        return
+      end if
+      read(buf, *, iostat=ios) values
+      if (ios /= 0 .or. .not. all(ieee_is_finite(values))) then
+        call set_status(status, demstep_stat%invalid_input, path//": line "//fmt_int(int(line, i8))// &
+          ": cannot read '"//trim(adjustl(buf))//"' as finite numbers")
+        close(unit)
+        return
+      end if
+      if (n == size(rows, 2)) rows = reshape([rows, 0.0_dp*rows], [ncol, 2*n])
+      n = n + 1
+      rows(:, n) = values
+    end do
+    close(unit)
+    rows = rows(:, :n)
+    status%stat = demstep_stat%ok
+  end subroutine read_table
+
+  !> Whitespace- or comma-separated tokens on a line.
+  pure integer function count_tokens(line)
+    character(len=*), intent(in) :: line
+    integer :: i
+    logical :: inside, sep
+    count_tokens = 0
+    inside = .false.
+    do i = 1, len_trim(line)
+      sep = line(i:i) == " " .or. line(i:i) == "," .or. line(i:i) == achar(9)
+      if (.not. sep .and. .not. inside) count_tokens = count_tokens + 1
+      inside = .not. sep
+    end do
+  end function count_tokens
+
+  subroutine report(u, group, sc, crit, ran, dt_used, steps, summary)
+    integer, intent(in) :: u
+    type(nml_group_type), intent(in) :: group
+    type(scene_type), intent(in) :: sc
+    type(critical_step_type), intent(in) :: crit
+    logical, intent(in) :: ran
+    real(dp), intent(in) :: dt_used
+    integer(i8), intent(in) :: steps
+    type(scene_summary_type), intent(in) :: summary
+    integer :: i
+    character(len=:), allocatable :: on
+    on = ""
+    do i = 1, n_effects
+      if (sc%effects(i)) on = on//" "//trim(effect_names(i))
+    end do
+    if (len(on) == 0) on = " none (bonds only)"
+    write(u, '(a)') "&scene (line "//fmt_int(int(group%line, i8))//")"
+    write(u, '(2x, a)') fmt_int(int(sc%n, i8))//" particles in "//fmt_int(int(sc%dim, i8))//"D, "// &
+      fmt_int(int(crit%n_dof, i8))//" degrees of freedom, "//fmt_int(int(crit%n_springs, i8))// &
+      " springs (bonds and contacts); effects:"//on
+    write(u, '(2x, a)') "critical time step (undamped central differences, 2/omega):"
+    write(u, '(4x, a, t40, a)') "per-contact rule 2 sqrt(m*/k)", fmt_real(crit%dt_contact_rule)// &
+      "  (not safe in an assembly)"
+    write(u, '(4x, a, t40, a)') "Gershgorin bound (safe)", fmt_real(crit%dt_critical_bound)
+    if (crit%eigen_computed) then
+      write(u, '(4x, a, t40, a)') "exact, LAPACK dsyevr", fmt_real(crit%dt_critical_eigen)// &
+        "  (omega_max = "//fmt_real(crit%omega_max)//")"
+    else
+      write(u, '(4x, a, t40, a)') "exact, LAPACK dsyevr", "not computed (more than max_eigen_dof)"
+    end if
+    write(u, '(4x, a, t40, a)') "damped (lagged dashpot)", fmt_real(crit%dt_critical_damped)// &
+      "  (modal damping ratio "//fmt_real(crit%damping_ratio_top)//")"
+    if (ran) then
+      write(u, '(2x, a)') "run: "//fmt_int(steps)//" steps of "//fmt_real(dt_used)//":"
+      write(u, '(4x, a, t40, a)') "energy drift (relative)", fmt_real(summary%energy_drift)
+      write(u, '(4x, a, t40, a)') "largest overlap", fmt_real(summary%max_overlap)
+      write(u, '(4x, a, t40, a)') "most contacts at once", fmt_int(int(summary%max_contacts, i8))
+      if (summary%blew_up) then
+        write(u, '(4x, a, t40, a)') "blew up", "YES, stopped after "//fmt_int(summary%steps)//" steps"
+      else
+        write(u, '(4x, a, t40, a)') "blew up", "no"
+      end if
+    end if
+    write(u, '(a)') ""
+  end subroutine report
+
+  subroutine write_result(unit, sc, crit, dt_used, summary)
+    integer, intent(in) :: unit
+    type(scene_type), intent(in) :: sc
+    type(critical_step_type), intent(in) :: crit
+    real(dp), intent(in) :: dt_used
+    type(scene_summary_type), intent(in) :: summary
+    integer :: n_particles, n_dof, n_springs, max_contacts
+    real(dp) :: omega_max, dt_critical_eigen, dt_critical_bound, dt_contact_rule, &
+      dt_critical_damped, damping_ratio_top, energy_drift, max_overlap
+    integer(i8) :: steps
+    logical :: eigen_computed, blew_up
+    namelist /scene_result/ n_particles, n_dof, n_springs, omega_max, eigen_computed, &
+      dt_critical_eigen, dt_critical_bound, dt_contact_rule, dt_critical_damped, &
+      damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, blew_up
+    n_particles = sc%n
+    n_dof = crit%n_dof
+    n_springs = crit%n_springs
+    omega_max = crit%omega_max
+    eigen_computed = crit%eigen_computed
+    dt_critical_eigen = crit%dt_critical_eigen
+    dt_critical_bound = crit%dt_critical_bound
+    dt_contact_rule = crit%dt_contact_rule
+    dt_critical_damped = crit%dt_critical_damped
+    damping_ratio_top = crit%damping_ratio_top
+    steps = summary%steps
+    energy_drift = summary%energy_drift
+    max_overlap = summary%max_overlap
+    max_contacts = summary%max_contacts
+    blew_up = summary%blew_up
+    write(unit, nml=scene_result)
+  end subroutine write_result
+
+end module demstep_cli_scene
