@@ -166,7 +166,7 @@ contains
       springs(k)%j = scene%bonds(2, k)
       springs(k)%k_n = scene%k_bond
       springs(k)%k_t = scene%k_bond_tangential
-      springs(k)%n(:d) = scene%bond_normal(:, k)
+      springs(k)%n = scene%bond_normal(:, k)
       springs(k)%c = 2.0_dp*zeta*sqrt(pair_mass(scene, springs(k)%i, springs(k)%j)*scene%k_bond)
     end do
     if (scene%effects(effect_contacts)) then

@@ -19,6 +19,9 @@
 !>   in an explicit step: this lags the force and lowers the stability limit to
 !>   (2/omega)(sqrt(1 + zeta^2) - zeta));
 !> - local (Cundall) damping: F <- F - alpha |F| sign(v_{n-1/2}) per component.
+!>
+!> Storage is 3D whatever `dim` is: the coordinates beyond `dim` are zero and stay
+!> zero, so every kernel works on fixed-size vectors.
 module demstep_scene
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
@@ -44,7 +47,8 @@ module demstep_scene
     integer :: dim = 3
     !> Number of particles.
     integer :: n = 0
-    !> Positions and velocities (dim, n); velocities are half-step velocities.
+    !> Positions and velocities (3, n), zero beyond dim; velocities are half-step
+    !> velocities.
     real(dp), allocatable :: x(:, :), v(:, :)
     !> Masses and radii (> 0).
     real(dp), allocatable :: mass(:), radius(:)
@@ -53,17 +57,17 @@ module demstep_scene
     !> [[law_linear]] (stiffness k_normal) or [[law_hertz]] (modulus e_star).
     integer :: law = law_linear
     real(dp) :: k_normal = 0.0_dp, e_star = 0.0_dp
-    !> Bonds (2, nb): particle pairs; rest(dim, nb) = initial x_j - x_i and its
-    !> unit vector bond_normal(dim, nb).
+    !> Bonds (2, nb): particle pairs; rest(3, nb) = initial x_j - x_i and its
+    !> unit vector bond_normal(3, nb).
     integer, allocatable :: bonds(:, :)
     real(dp), allocatable :: bond_rest(:, :), bond_normal(:, :)
     !> Bond stiffness, normal and tangential.
     real(dp) :: k_bond = 0.0_dp, k_bond_tangential = 0.0_dp
-    !> Walls: a point and the unit normal pointing into the domain (dim, nw).
+    !> Walls: a point and the unit normal pointing into the domain (3, nw).
     real(dp), allocatable :: wall_point(:, :), wall_normal(:, :)
     !> Effects switched on (indexed by effect_*).
     logical :: effects(n_effects) = [.true., .false., .false., .false., .false.]
-    !> Gravity vector (first dim components used).
+    !> Gravity vector; components beyond dim must be zero.
     real(dp) :: gravity(3) = [0.0_dp, 0.0_dp, 0.0_dp]
     !> Viscous damping ratio zeta and local damping coefficient alpha.
     real(dp) :: damping_ratio = 0.0_dp, local_damping = 0.0_dp
@@ -132,6 +136,7 @@ contains
     logical, intent(in), optional :: fixed(:)
     integer :: n, i
     type(work_type) :: work
+    scene%gravity = 0.0_dp
     if (dim < 1 .or. dim > 3) then
       call set_status(status, demstep_stat%invalid_input, "dim must be 1, 2 or 3")
       return
@@ -158,16 +163,17 @@ contains
     end do
     scene%dim = dim
     scene%n = n
-    scene%x = x
+    allocate(scene%x(3, n), source=0.0_dp)
+    scene%x(:dim, :) = x
     scene%mass = mass
     scene%radius = radius
-    allocate(scene%v(dim, n), source=0.0_dp)
+    allocate(scene%v(3, n), source=0.0_dp)
     if (present(v)) then
       if (size(v, 1) /= dim .or. size(v, 2) /= n .or. .not. all(ieee_is_finite(v))) then
         call set_status(status, demstep_stat%invalid_input, "velocities must be finite, one per particle")
         return
       end if
-      scene%v = v
+      scene%v(:dim, :) = v
     end if
     allocate(scene%fixed(n), source=.false.)
     if (present(fixed)) then
@@ -177,14 +183,11 @@ contains
       end if
       scene%fixed = fixed
     end if
-    where (scene%fixed) scene%v(1, :) = 0.0_dp
-    if (dim > 1) then
-      do i = 2, dim
-        where (scene%fixed) scene%v(i, :) = 0.0_dp
-      end do
-    end if
-    allocate(scene%bonds(2, 0), scene%bond_rest(dim, 0), scene%bond_normal(dim, 0), &
-      scene%wall_point(dim, 0), scene%wall_normal(dim, 0))
+    do i = 1, 3
+      where (scene%fixed) scene%v(i, :) = 0.0_dp
+    end do
+    allocate(scene%bonds(2, 0), scene%bond_rest(3, 0), scene%bond_normal(3, 0), &
+      scene%wall_point(3, 0), scene%wall_normal(3, 0))
     ! two fixed particles may not overlap: their contact could never resolve
     call prepare(scene, work)
     call find_contacts(scene, work)
@@ -245,9 +248,9 @@ contains
       end if
     end do
     scene%bonds = reshape([scene%bonds, pairs], [2, size(scene%bonds, 2) + size(pairs, 2)])
-    scene%bond_rest = reshape([scene%bond_rest, rest], [scene%dim, size(scene%bonds, 2)])
-    scene%bond_normal = reshape([scene%bond_normal, rest/spread(norm2(rest, dim=1), 1, scene%dim)], &
-      [scene%dim, size(scene%bonds, 2)])
+    scene%bond_rest = reshape([scene%bond_rest, rest], [3, size(scene%bonds, 2)])
+    scene%bond_normal = reshape([scene%bond_normal, rest/spread(norm2(rest, dim=1), 1, 3)], &
+      [3, size(scene%bonds, 2)])
     status%stat = demstep_stat%ok
   end subroutine scene_add_bonds
 
@@ -256,23 +259,24 @@ contains
     type(scene_type), intent(inout) :: scene
     real(dp), intent(in) :: points(:, :), normals(:, :)
     type(demstep_status_type), intent(out) :: status
-    real(dp), allocatable :: unit(:, :)
+    real(dp), allocatable :: unit(:, :), point(:, :)
     integer :: k
     if (size(points, 1) /= scene%dim .or. any(shape(normals) /= shape(points))) then
       call set_status(status, demstep_stat%invalid_input, "a wall is a point and a normal of dim values each")
       return
     end if
-    unit = normals
+    allocate(unit(3, size(normals, 2)), point(3, size(points, 2)), source=0.0_dp)
+    point(:scene%dim, :) = points
     do k = 1, size(normals, 2)
       if (.not. (all(ieee_is_finite(points(:, k))) .and. norm2(normals(:, k)) > 0.0_dp)) then
         call set_status(status, demstep_stat%invalid_input, "wall "//itoa(k)//" needs a finite " &
           //"point and a non-zero normal")
         return
       end if
-      unit(:, k) = normals(:, k)/norm2(normals(:, k))
+      unit(:scene%dim, k) = normals(:, k)/norm2(normals(:, k))
     end do
-    scene%wall_point = reshape([scene%wall_point, points], [scene%dim, size(scene%wall_point, 2) + size(points, 2)])
-    scene%wall_normal = reshape([scene%wall_normal, unit], [scene%dim, size(scene%wall_normal, 2) + size(unit, 2)])
+    scene%wall_point = reshape([scene%wall_point, point], [3, size(scene%wall_point, 2) + size(point, 2)])
+    scene%wall_normal = reshape([scene%wall_normal, unit], [3, size(scene%wall_normal, 2) + size(unit, 2)])
     status%stat = demstep_stat%ok
   end subroutine scene_add_walls
 
@@ -397,8 +401,8 @@ contains
     do k = 1, size(scene%bonds, 2)
       i = scene%bonds(1, k)
       j = scene%bonds(2, k)
-      d(:scene%dim) = scene%x(:, j) - scene%x(:, i) - scene%bond_rest(:, k)
-      u = u + 0.5_dp*bond_quadratic(scene, k, d(:scene%dim))
+      d = scene%x(:, j) - scene%x(:, i) - scene%bond_rest(:, k)
+      u = u + 0.5_dp*bond_quadratic(scene, k, d)
     end do
     if (scene%effects(effect_contacts)) then
       do k = 1, work%n_pairs
@@ -414,7 +418,7 @@ contains
     end if
     if (scene%effects(effect_gravity)) then
       do i = 1, scene%n
-        if (.not. scene%fixed(i)) u = u - scene%mass(i)*dot_product(scene%gravity(:scene%dim), scene%x(:, i))
+        if (.not. scene%fixed(i)) u = u - scene%mass(i)*dot_product(scene%gravity, scene%x(:, i))
       end do
     end if
   end function potential_energy
@@ -486,11 +490,11 @@ contains
   subroutine prepare(scene, work)
     type(scene_type), intent(in) :: scene
     type(work_type), intent(out) :: work
-    allocate(work%f(scene%dim, scene%n), source=0.0_dp)
-    allocate(work%v_old(scene%dim, scene%n), source=0.0_dp)
+    allocate(work%f(3, scene%n), source=0.0_dp)
+    allocate(work%v_old(3, scene%n), source=0.0_dp)
     allocate(work%inv_mass(scene%n))
     work%inv_mass = merge(0.0_dp, 1.0_dp/scene%mass, scene%fixed)
-    allocate(work%pair_i(64), work%pair_j(64), work%pair_n(scene%dim, 64), work%pair_d(64))
+    allocate(work%pair_i(64), work%pair_j(64), work%pair_n(3, 64), work%pair_d(64))
     allocate(work%wall_i(16), work%wall_k(16), work%wall_d(16))
   end subroutine prepare
 
@@ -501,15 +505,15 @@ contains
     type(work_type), intent(inout) :: work
     integer :: dim, n, i, j, c, k, ncell(3), idx(3), lo(3), hi(3), a, b, cc, p
     integer :: offs(3)
-    real(dp) :: xmin(3), xmax(3), h, d(3), dist, overlap
+    real(dp) :: xmin(3), xmax(3), h, d(3), dist, overlap, reach
     dim = scene%dim
     n = scene%n
     work%n_pairs = 0
     if (n < 2) return
     xmin = 0.0_dp
     xmax = 0.0_dp
-    xmin(:dim) = minval(scene%x, dim=2)
-    xmax(:dim) = maxval(scene%x, dim=2)
+    xmin(:dim) = minval(scene%x(:dim, :), dim=2)
+    xmax(:dim) = maxval(scene%x(:dim, :), dim=2)
     ! a blown-up state has no contacts to find; the run's energy check reports it
     if (.not. all(ieee_is_finite(xmax(:dim) - xmin(:dim)))) return
     h = 2.0_dp*maxval(scene%radius)
@@ -528,7 +532,7 @@ contains
     work%cell_start(:product(ncell) + 1) = 0
     do i = 1, n
       idx = 0
-      idx(:dim) = min(ncell(:dim) - 1, int((scene%x(:, i) - xmin(:dim))/h))
+      idx(:dim) = min(ncell(:dim) - 1, int((scene%x(:dim, i) - xmin(:dim))/h))
       c = 1 + idx(1) + ncell(1)*(idx(2) + ncell(2)*idx(3))
       work%cell_of(i) = c
       work%cell_start(c + 1) = work%cell_start(c + 1) + 1
@@ -562,10 +566,12 @@ contains
             do p = work%cell_start(k), work%cell_start(k + 1) - 1
               j = work%cell_particle(p)
               if (j <= i) cycle
-              d(:dim) = scene%x(:, j) - scene%x(:, i)
-              dist = norm2(d(:dim))
-              overlap = scene%radius(i) + scene%radius(j) - dist
-              if (overlap > 0.0_dp) call add_pair(work, i, j, d(:dim)/max(dist, tiny(1.0_dp)), overlap)
+              d = scene%x(:, j) - scene%x(:, i)
+              reach = scene%radius(i) + scene%radius(j)
+              if (d(1)**2 + d(2)**2 + d(3)**2 >= reach**2) cycle
+              dist = norm2(d)
+              overlap = reach - dist
+              if (overlap > 0.0_dp) call add_pair(work, i, j, d/max(dist, tiny(1.0_dp)), overlap)
             end do
           end do
         end do
@@ -607,7 +613,7 @@ contains
     type(scene_type), intent(in) :: scene
     type(work_type), intent(inout) :: work
     integer :: k, i, j
-    real(dp) :: fn(scene%dim)
+    real(dp) :: fn(3)
     do k = 1, work%n_pairs
       i = work%pair_i(k)
       j = work%pair_j(k)
@@ -622,7 +628,7 @@ contains
     type(scene_type), intent(in) :: scene
     type(work_type), intent(inout) :: work
     integer :: k, i, j
-    real(dp) :: fn(scene%dim), rs
+    real(dp) :: fn(3), rs
     do k = 1, work%n_pairs
       i = work%pair_i(k)
       j = work%pair_j(k)
@@ -638,7 +644,7 @@ contains
     type(scene_type), intent(in) :: scene
     type(work_type), intent(inout) :: work
     integer :: k, i, j
-    real(dp) :: fd(scene%dim), c, vn
+    real(dp) :: fd(3), c, vn
     do k = 1, work%n_pairs
       i = work%pair_i(k)
       j = work%pair_j(k)
@@ -718,25 +724,33 @@ contains
   subroutine bonds_normal(scene, work)
     type(scene_type), intent(in) :: scene
     type(work_type), intent(inout) :: work
-    integer :: k, i, j
-    real(dp) :: u(scene%dim), n0(scene%dim), fb(scene%dim)
-    do k = 1, size(scene%bonds, 2)
-      i = scene%bonds(1, k)
-      j = scene%bonds(2, k)
-      u = scene%x(:, j) - scene%x(:, i) - scene%bond_rest(:, k)
-      n0 = scene%bond_normal(:, k)
-      fb = scene%k_bond*dot_product(n0, u)*n0
-      work%f(:, i) = work%f(:, i) + fb
-      work%f(:, j) = work%f(:, j) - fb
-    end do
+    call bond_normal_forces(size(scene%bonds, 2), scene%n, scene%bonds, scene%x, scene%bond_rest, &
+      scene%bond_normal, scene%k_bond, work%f)
   end subroutine bonds_normal
+
+  !> The kernel of [[bonds_normal]] on plain contiguous arrays.
+  pure subroutine bond_normal_forces(nb, n, bonds, x, rest, normal, k, f)
+    integer, intent(in) :: nb, n, bonds(2, nb)
+    real(dp), intent(in) :: x(3, n), rest(3, nb), normal(3, nb), k
+    real(dp), intent(inout) :: f(3, n)
+    integer :: b, i, j
+    real(dp) :: u(3), fb(3)
+    do b = 1, nb
+      i = bonds(1, b)
+      j = bonds(2, b)
+      u = x(:, j) - x(:, i) - rest(:, b)
+      fb = k*dot_product(normal(:, b), u)*normal(:, b)
+      f(:, i) = f(:, i) + fb
+      f(:, j) = f(:, j) - fb
+    end do
+  end subroutine bond_normal_forces
 
   !> Bonds with normal and tangential stiffness.
   subroutine bonds_full(scene, work)
     type(scene_type), intent(in) :: scene
     type(work_type), intent(inout) :: work
     integer :: k, i, j
-    real(dp) :: u(scene%dim), n0(scene%dim), fb(scene%dim), un
+    real(dp) :: u(3), n0(3), fb(3), un
     do k = 1, size(scene%bonds, 2)
       i = scene%bonds(1, k)
       j = scene%bonds(2, k)
@@ -754,7 +768,7 @@ contains
     type(scene_type), intent(in) :: scene
     type(work_type), intent(inout) :: work
     integer :: k, i, j
-    real(dp) :: n0(scene%dim), c, vn
+    real(dp) :: n0(3), c, vn
     do k = 1, size(scene%bonds, 2)
       i = scene%bonds(1, k)
       j = scene%bonds(2, k)
@@ -771,7 +785,7 @@ contains
     type(work_type), intent(inout) :: work
     integer :: i
     do i = 1, scene%n
-      work%f(:, i) = work%f(:, i) + scene%mass(i)*scene%gravity(:scene%dim)
+      work%f(:, i) = work%f(:, i) + scene%mass(i)*scene%gravity
     end do
   end subroutine gravity_term
 
