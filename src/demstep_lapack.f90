@@ -41,8 +41,9 @@ contains
     real(dp), intent(out) :: eigenvector(:)
     type(demstep_status_type), intent(out) :: status
     integer :: n, m, info, lwork, liwork, iwork_query(1), il
-    real(dp) :: work_query(1), w(2)
-    real(dp), allocatable :: work(:), z(:, :)
+    real(dp) :: work_query(1)
+    ! dsyevr uses all n entries of w, whatever the range asked for
+    real(dp), allocatable :: work(:), z(:, :), w(:)
     integer, allocatable :: iwork(:)
     integer :: isuppz(4)
     n = size(a, 1)
@@ -54,7 +55,7 @@ contains
       return
     end if
     il = max(1, n - 1)
-    allocate(z(n, 2))
+    allocate(z(n, 2), w(n))
     ! workspace query
     call dsyevr("V", "I", "L", n, a, n, 0.0_dp, 0.0_dp, il, n, 0.0_dp, m, w, z, n, isuppz, &
       work_query, -1, iwork_query, -1, info)
