@@ -27,6 +27,12 @@ module demstep
     effect_local_damping, effect_walls, n_effects, effect_names
   use demstep_assembly, only: critical_step_type, critical_time_steps, hertz_at_current, &
     hertz_at_impact, default_max_eigen_dof
+  use demstep_contact, only: onset_contact_type, contact_with_onset, contact_worst_case, &
+    exact_contact, contact_error_of, period_error, quantity_restitution, &
+    quantity_contact_time, quantity_overlap, quantity_period, n_quantities, quantity_names, &
+    worst_case_samples
+  use demstep_cost, only: worst_error, n_for_tolerance, measure_step_cost, default_cost_n_max, &
+    tolerance_grid_ratio
   use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, &
     scan_namelist, lowercase, replace_file, process_id
   implicit none

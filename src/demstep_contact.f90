@@ -1,0 +1,336 @@
+!> Exact discrete contact errors of the central-difference scheme for a linear
+!> compression-only spring, with an optional lagged viscous dashpot, as functions
+!> of N = T/dt and the onset s.
+!>
+!> The onset s in (0, 1] is the overlap at the first force evaluation in contact,
+!> as a fraction of v0 dt: the step before sits at overlap (s - 1) v0 dt (no force),
+!> the first in contact at s v0 dt. s = 1: contact begins exactly at a step.
+!> Units: overlaps in v0/omega, times in the exact contact time of the undamped
+!> spring T/2 = pi/omega, velocities in v0.
+!>
+!> While in contact the scheme is the linear recurrence
+!> x_{n+1} = (2 - 2 zeta h - h^2) x_n - (1 - 2 zeta h) x_{n-1}, h = omega dt,
+!> whose solution through x_0 = (s - 1) h, x_1 = s h (units v0/omega) is
+!> x_n = R rho^n sin(n theta + phi), rho^2 = 1 - 2 zeta h,
+!> cos theta = (2 - 2 zeta h - h^2)/(2 rho). Contact ends at the first n >= 1 with
+!> n theta + phi >= pi: n_c = ceil((pi - phi)/theta); the force acts at steps
+!> 1 .. n_c - 1 and the rebound velocity is v_{n_c - 1} = (x_{n_c} - x_{n_c - 1})/h.
+!> These closed forms are used whenever the roots are complex (every stable
+!> undamped step; damped steps with 2 zeta h < 1 below the limit); otherwise
+!> (beyond the limit, or an overdamped discrete contact) the recurrence is
+!> stepped exactly.
+module demstep_contact
+  use demstep_kinds, only: dp, i8, pi
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  implicit none
+  private
+
+  public :: contact_with_onset, contact_worst_case, exact_contact, contact_error_of, &
+    period_error
+
+  !> Quantities whose error can be asked for.
+  integer, parameter, public :: quantity_restitution = 1, quantity_contact_time = 2, &
+    quantity_overlap = 3, quantity_period = 4, n_quantities = 4
+  character(len=*), parameter, public :: quantity_names(n_quantities) = [character(len=12) :: &
+    "restitution", "contact_time", "overlap", "period"]
+
+  !> Onsets sampled for a worst case; the best is then refined by golden section.
+  integer, parameter, public :: worst_case_samples = 256
+  !> Steps a contact may take when stepped (beyond the closed forms).
+  integer(i8), parameter :: max_contact_steps = 100000000_i8
+
+  !> One discrete contact.
+  type, public :: onset_contact_type
+    !> Onset s in (0, 1].
+    real(dp) :: onset = 1.0_dp
+    !> Force evaluations with a positive overlap.
+    integer(i8) :: steps = 0_i8
+    !> Force evaluations times dt, in units of T/2.
+    real(dp) :: contact_time = 0.0_dp
+    !> -v_out/v0.
+    real(dp) :: restitution = 0.0_dp
+    !> Largest overlap at a force evaluation, in units of v0/omega.
+    real(dp) :: max_overlap = 0.0_dp
+    !> dt below the scheme's stability limit.
+    logical :: stable = .true.
+  end type onset_contact_type
+
+contains
+
+  !> The discrete contact at N steps per period and onset s, with damping ratio
+  !> zeta (lagged dashpot, default 0). Status invalid_input for N <= 0, s outside
+  !> (0, 1], zeta < 0; not_converged if a stepped contact exceeds 1e8 steps.
+  !> N <= pi (or beyond the damped limit) is computed by stepping and flagged
+  !> `stable = .false.`.
+  pure subroutine contact_with_onset(n_per_period, onset, contact, status, damping_ratio)
+    real(dp), intent(in) :: n_per_period, onset
+    type(onset_contact_type), intent(out) :: contact
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: damping_ratio
+    real(dp) :: h, zeta, gam, rho, theta, a, b, r, phi, q, x, xm, best, sin2, angle
+    integer(i8) :: nc, k, lo, hi
+    zeta = 0.0_dp
+    if (present(damping_ratio)) zeta = damping_ratio
+    if (.not. (ieee_is_finite(n_per_period) .and. n_per_period > 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "n_per_period must be finite and > 0")
+      return
+    end if
+    if (.not. (onset > 0.0_dp .and. onset <= 1.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "onset must be in (0, 1]")
+      return
+    end if
+    if (.not. (ieee_is_finite(zeta) .and. zeta >= 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "damping ratio must be finite and >= 0")
+      return
+    end if
+    status%stat = demstep_stat%ok
+    contact%onset = onset
+    h = 2.0_dp*pi/n_per_period
+    ! the stability limit of the lagged dashpot: h < 2 (sqrt(1 + zeta^2) - zeta)
+    contact%stable = h < 2.0_dp/(sqrt(1.0_dp + zeta**2) + zeta)
+    gam = 1.0_dp - 2.0_dp*zeta*h
+    a = (onset - 1.0_dp)*h
+    b = onset*h
+    ! complex roots rho e^(+-i theta): sin^2(theta/2) = (h^2/(4 rho)) (1 - (2 zeta/(1 + rho))^2),
+    ! a form without the cancellation of acos near 1 (it is 2 asin(h/2) undamped)
+    sin2 = -1.0_dp
+    if (gam > 0.0_dp) then
+      rho = sqrt(gam)
+      sin2 = 0.25_dp*h**2/rho*(1.0_dp - (2.0_dp*zeta/(1.0_dp + rho))**2)
+    end if
+    if (.not. (contact%stable .and. sin2 > 0.0_dp .and. sin2 < 1.0_dp)) then
+      call step_contact(h, zeta, onset, contact, status)
+      return
+    end if
+    theta = 2.0_dp*asin(sqrt(sin2))
+    ! x_0 = R sin(phi) = a, x_1 = R rho sin(theta + phi) = b
+    phi = atan2(a, (b/rho - a*cos(theta))/sin(theta))
+    r = hypot(a, (b/rho - a*cos(theta))/sin(theta))
+    q = (pi - phi)/theta
+    nc = ceiling(q, i8)
+    contact%steps = nc - 1_i8
+    contact%contact_time = real(contact%steps, dp)*h/pi
+    ! v_n = (x_{n+1} - x_n)/h = R rho^n (rho sin(theta) cos(A) - (zeta h + h^2/2) sin(A))/h,
+    ! A = n theta + phi, rho cos(theta) - 1 = -(zeta h + h^2/2) exactly
+    angle = real(nc - 1_i8, dp)*theta + phi
+    contact%restitution = -r*rho**real(nc - 1_i8, dp)*(rho*sin(theta)*cos(angle) &
+      - (zeta*h + 0.5_dp*h**2)*sin(angle))/h
+    ! the largest overlap: the continuous peak of rho^t sin(t theta + phi) is at
+    ! t theta + phi = atan2(theta, -log rho); check the steps on either side
+    best = (atan2(theta, -log(rho)) - phi)/theta
+    lo = min(max(1_i8, floor(best, i8)), nc - 1_i8)
+    hi = min(nc - 1_i8, lo + 1_i8)
+    xm = 0.0_dp
+    do k = lo, hi
+      x = x_at(k)
+      xm = max(xm, x)
+    end do
+    contact%max_overlap = xm
+  contains
+    pure real(dp) function x_at(n)
+      integer(i8), intent(in) :: n
+      x_at = r*rho**real(n, dp)*sin(real(n, dp)*theta + phi)
+    end function x_at
+  end subroutine contact_with_onset
+
+  !> The contact by exact stepping of the recurrence (beyond the closed forms).
+  pure subroutine step_contact(h, zeta, onset, contact, status)
+    real(dp), intent(in) :: h, zeta, onset
+    type(onset_contact_type), intent(inout) :: contact
+    type(demstep_status_type), intent(inout) :: status
+    real(dp) :: x, v, xm
+    x = (onset - 1.0_dp)*h
+    v = 1.0_dp
+    xm = 0.0_dp
+    do
+      x = x + v*h
+      if (.not. x > 0.0_dp) exit
+      v = v - h*(x + 2.0_dp*zeta*v)
+      contact%steps = contact%steps + 1_i8
+      xm = max(xm, x)
+      if (contact%steps > max_contact_steps .or. .not. ieee_is_finite(v)) then
+        call set_status(status, demstep_stat%not_converged, "the stepped contact did not end")
+        return
+      end if
+    end do
+    contact%contact_time = real(contact%steps, dp)*h/pi
+    contact%restitution = -v
+    contact%max_overlap = xm
+  end subroutine step_contact
+
+  !> The continuous (exact) contact of the linear spring-dashpot, in the same
+  !> units: restitution exp(-zeta pi/sqrt(1 - zeta^2)), contact time
+  !> 1/sqrt(1 - zeta^2), largest overlap exp(-zeta t*) sin(w t*)/w at
+  !> tan(w t*) = w/zeta, w = sqrt(1 - zeta^2). For zeta >= 1 (no rebound) the
+  !> restitution and time are 0.
+  elemental function exact_contact(damping_ratio) result(contact)
+    real(dp), intent(in) :: damping_ratio
+    type(onset_contact_type) :: contact
+    real(dp) :: w, t
+    contact%onset = 1.0_dp
+    if (damping_ratio >= 1.0_dp) then
+      contact%restitution = 0.0_dp
+      contact%contact_time = 0.0_dp
+      contact%max_overlap = 0.0_dp
+      return
+    end if
+    w = sqrt(1.0_dp - damping_ratio**2)
+    contact%restitution = exp(-damping_ratio*pi/w)
+    contact%contact_time = 1.0_dp/w
+    t = atan2(w, damping_ratio)/w
+    contact%max_overlap = exp(-damping_ratio*t)*sin(w*t)/w
+  end function exact_contact
+
+  !> Relative error of one quantity of a discrete contact against the exact one.
+  elemental real(dp) function contact_error_of(quantity, contact, exact) result(err)
+    integer, intent(in) :: quantity
+    type(onset_contact_type), intent(in) :: contact, exact
+    select case (quantity)
+    case (quantity_restitution)
+      err = abs(contact%restitution - exact%restitution)/max(exact%restitution, tiny(1.0_dp))
+    case (quantity_contact_time)
+      err = abs(contact%contact_time - exact%contact_time)/max(exact%contact_time, tiny(1.0_dp))
+    case (quantity_overlap)
+      err = abs(contact%max_overlap - exact%max_overlap)/max(exact%max_overlap, tiny(1.0_dp))
+    case default
+      err = 0.0_dp
+    end select
+  end function contact_error_of
+
+  !> Relative period error of the undamped scheme, 1 - omega dt/theta (> 0:
+  !> the numerical period is shorter); huge beyond the stability limit.
+  elemental real(dp) function period_error(n_per_period) result(err)
+    real(dp), intent(in) :: n_per_period
+    real(dp) :: h
+    h = 2.0_dp*pi/n_per_period
+    if (h >= 2.0_dp) then
+      err = huge(1.0_dp)
+    else
+      err = 1.0_dp - h/(2.0_dp*asin(0.5_dp*h))
+    end if
+  end function period_error
+
+  !> The onset in (0, 1] at which a quantity's error is largest, and the contact
+  !> there: 256 evenly spaced onsets, the best refined by 40 golden-section steps
+  !> in its neighbourhood (the error is piecewise smooth in s, with jumps where
+  !> the number of steps in contact changes).
+  pure subroutine contact_worst_case(n_per_period, quantity, worst, error, status, damping_ratio)
+    real(dp), intent(in) :: n_per_period
+    integer, intent(in) :: quantity
+    type(onset_contact_type), intent(out) :: worst
+    real(dp), intent(out) :: error
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: damping_ratio
+    type(onset_contact_type) :: c, c1, c2, exact
+    real(dp) :: zeta, s, e, a, b, x1, x2, e1, e2
+    integer :: k, kbest, it
+    real(dp), parameter :: golden = 0.6180339887498949_dp
+    zeta = 0.0_dp
+    if (present(damping_ratio)) zeta = damping_ratio
+    exact = exact_contact(zeta)
+    error = -1.0_dp
+    if (quantity == quantity_contact_time) then
+      call worst_contact_time(n_per_period, zeta, exact, worst, error, status)
+      if (status%stat == demstep_stat%ok) return
+    end if
+    kbest = worst_case_samples
+    do k = 1, worst_case_samples
+      s = real(k, dp)/real(worst_case_samples, dp)
+      call contact_with_onset(n_per_period, s, c, status, zeta)
+      if (status%stat /= demstep_stat%ok) return
+      e = contact_error_of(quantity, c, exact)
+      if (e > error) then
+        error = e
+        worst = c
+        kbest = k
+      end if
+    end do
+    ! golden-section search on the neighbourhood of the best sample
+    a = real(kbest - 1, dp)/real(worst_case_samples, dp)
+    b = min(1.0_dp, real(kbest + 1, dp)/real(worst_case_samples, dp))
+    x1 = b - golden*(b - a)
+    x2 = a + golden*(b - a)
+    call onset_error(n_per_period, quantity, zeta, exact, x1, c1, e1)
+    call onset_error(n_per_period, quantity, zeta, exact, x2, c2, e2)
+    do it = 1, 40
+      if (e1 > error) then
+        error = e1
+        worst = c1
+      end if
+      if (e2 > error) then
+        error = e2
+        worst = c2
+      end if
+      if (e1 > e2) then
+        b = x2
+        x2 = x1
+        e2 = e1
+        c2 = c1
+        x1 = b - golden*(b - a)
+        call onset_error(n_per_period, quantity, zeta, exact, x1, c1, e1)
+      else
+        a = x1
+        x1 = x2
+        e1 = e2
+        c1 = c2
+        x2 = a + golden*(b - a)
+        call onset_error(n_per_period, quantity, zeta, exact, x2, c2, e2)
+      end if
+    end do
+    status%stat = demstep_stat%ok
+  end subroutine contact_worst_case
+
+  !> The contact time's worst case in closed form: as s sweeps (0, 1], (pi - phi)/theta
+  !> sweeps [pi/theta, pi/theta + 1), so the contact lasts ceil(pi/theta) - 1 or
+  !> ceil(pi/theta) steps (the latter as s -> 0+ when pi/theta is not an integer).
+  !> Status not_converged outside the closed forms' range (the caller samples).
+  pure subroutine worst_contact_time(n_per_period, zeta, exact, worst, error, status)
+    real(dp), intent(in) :: n_per_period, zeta
+    type(onset_contact_type), intent(in) :: exact
+    type(onset_contact_type), intent(out) :: worst
+    real(dp), intent(out) :: error
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: h, gam, rho, sin2, q, e1, e2
+    integer(i8) :: m
+    h = 2.0_dp*pi/n_per_period
+    gam = 1.0_dp - 2.0_dp*zeta*h
+    error = -1.0_dp
+    call set_status(status, demstep_stat%not_converged, "outside the closed forms")
+    if (.not. (gam > 0.0_dp .and. h < 2.0_dp/(sqrt(1.0_dp + zeta**2) + zeta))) return
+    rho = sqrt(gam)
+    sin2 = 0.25_dp*h**2/rho*(1.0_dp - (2.0_dp*zeta/(1.0_dp + rho))**2)
+    if (.not. (sin2 > 0.0_dp .and. sin2 < 1.0_dp)) return
+    q = pi/(2.0_dp*asin(sqrt(sin2)))
+    m = ceiling(q, i8)
+    e1 = abs(real(m - 1_i8, dp)*h/pi - exact%contact_time)/exact%contact_time
+    e2 = abs(real(m, dp)*h/pi - exact%contact_time)/exact%contact_time
+    if (real(m, dp) == q) e2 = -1.0_dp
+    worst%stable = .true.
+    if (e1 >= e2) then
+      call contact_with_onset(n_per_period, 1.0_dp, worst, status, zeta)
+      error = e1
+    else
+      ! approached as the onset tends to 0
+      call contact_with_onset(n_per_period, 1.0_dp/real(worst_case_samples, dp)**2, worst, status, zeta)
+      worst%steps = m
+      worst%contact_time = real(m, dp)*h/pi
+      error = e2
+    end if
+  end subroutine worst_contact_time
+
+  !> A quantity's error at one onset (-1 where the contact cannot be computed).
+  pure subroutine onset_error(n_per_period, quantity, zeta, exact, onset, contact, error)
+    real(dp), intent(in) :: n_per_period, zeta, onset
+    integer, intent(in) :: quantity
+    type(onset_contact_type), intent(in) :: exact
+    type(onset_contact_type), intent(out) :: contact
+    real(dp), intent(out) :: error
+    type(demstep_status_type) :: st
+    error = -1.0_dp
+    if (.not. (onset > 0.0_dp .and. onset <= 1.0_dp)) return
+    call contact_with_onset(n_per_period, onset, contact, st, zeta)
+    if (st%stat == demstep_stat%ok) error = contact_error_of(quantity, contact, exact)
+  end subroutine onset_error
+
+end module demstep_contact

@@ -1,0 +1,200 @@
+!> What accuracy costs: the smallest N = T/dt that meets a tolerance on a contact
+!> quantity in the worst case over the onset, and the run time that N implies.
+module demstep_cost
+  use demstep_kinds, only: dp, i8, pi
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_contact, only: onset_contact_type, contact_worst_case, period_error, &
+    quantity_period, n_quantities
+  use demstep_scene, only: scene_type, scene_summary_type, new_scene, scene_add_bonds, scene_run, &
+    effect_contacts
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  implicit none
+  private
+
+  public :: worst_error, n_for_tolerance, measure_step_cost
+
+  !> Largest N searched by default.
+  real(dp), parameter, public :: default_cost_n_max = 1.0e7_dp
+  !> Ratio of the grid on which "for every larger N" is checked.
+  real(dp), parameter, public :: tolerance_grid_ratio = 1.02_dp
+
+contains
+
+  !> The worst error over the onset of a quantity at N steps per period (the
+  !> period error does not depend on the onset).
+  pure subroutine worst_error(n_per_period, quantity, error, status, damping_ratio, onset)
+    real(dp), intent(in) :: n_per_period
+    integer, intent(in) :: quantity
+    real(dp), intent(out) :: error
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: damping_ratio
+    !> The onset attaining it.
+    real(dp), intent(out), optional :: onset
+    type(onset_contact_type) :: worst
+    if (quantity < 1 .or. quantity > n_quantities) then
+      call set_status(status, demstep_stat%invalid_input, "unknown quantity")
+      error = 0.0_dp
+      return
+    end if
+    if (quantity == quantity_period) then
+      error = period_error(n_per_period)
+      if (present(onset)) onset = 1.0_dp
+      status%stat = demstep_stat%ok
+      return
+    end if
+    call contact_worst_case(n_per_period, quantity, worst, error, status, damping_ratio)
+    if (present(onset)) onset = worst%onset
+  end subroutine worst_error
+
+  !> The smallest N such that the worst error is at most `tolerance` at N and at
+  !> every larger N checked: a geometric grid of ratio 1.02 from n_max down, then
+  !> of ratio 1.002 from 1.25 times that answer down (the errors jump where the
+  !> number of steps in contact changes), and bisection to 1e-6 relative in the
+  !> last cell. Between grid points an error can exceed the tolerance by its
+  !> variation within one cell. Status not_found when the tolerance is not met at
+  !> n_max; `at_limit` is set when it holds down to the stability limit (N is
+  !> then that limit).
+  pure subroutine n_for_tolerance(quantity, tolerance, n, status, damping_ratio, n_max, at_limit)
+    integer, intent(in) :: quantity
+    real(dp), intent(in) :: tolerance
+    real(dp), intent(out) :: n
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: damping_ratio, n_max
+    logical, intent(out), optional :: at_limit
+    real(dp) :: zeta, hi, lo, mid, e, limit, top
+    integer :: it, pass
+    logical :: reached_limit
+    zeta = 0.0_dp
+    if (present(damping_ratio)) zeta = damping_ratio
+    top = default_cost_n_max
+    if (present(n_max)) top = n_max
+    if (present(at_limit)) at_limit = .false.
+    n = 0.0_dp
+    if (.not. (ieee_is_finite(tolerance) .and. tolerance > 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "tolerance must be > 0")
+      return
+    end if
+    ! just above the (damped) stability limit 2 pi/h_crit
+    limit = pi*(sqrt(1.0_dp + zeta**2) + zeta)*(1.0_dp + 1.0e-9_dp)
+    call worst_error(top, quantity, e, status, zeta)
+    if (status%stat /= demstep_stat%ok) return
+    if (e > tolerance) then
+      call set_status(status, demstep_stat%not_found, "the tolerance is not met up to n_max")
+      return
+    end if
+    hi = top
+    do pass = 1, 2
+      if (pass == 2) hi = min(top, 1.25_dp*hi)
+      call sweep_down(merge(tolerance_grid_ratio, 1.002_dp, pass == 1), hi, lo, reached_limit)
+      if (status%stat /= demstep_stat%ok) return
+      if (reached_limit) then
+        n = limit
+        if (present(at_limit)) at_limit = .true.
+        return
+      end if
+    end do
+    do it = 1, 60
+      if (hi - lo <= 1.0e-6_dp*hi) exit
+      mid = 0.5_dp*(lo + hi)
+      call worst_error(mid, quantity, e, status, zeta)
+      if (status%stat /= demstep_stat%ok) return
+      if (e > tolerance) then
+        lo = mid
+      else
+        hi = mid
+      end if
+    end do
+    n = hi
+    status%stat = demstep_stat%ok
+  contains
+    !> From `pass_at` down by `ratio` until the error exceeds the tolerance:
+    !> `pass_at` ends at the last point that passes, `fail` at the first that fails.
+    pure subroutine sweep_down(ratio, pass_at, fail, hit_limit)
+      real(dp), intent(in) :: ratio
+      real(dp), intent(inout) :: pass_at
+      real(dp), intent(out) :: fail
+      logical, intent(out) :: hit_limit
+      real(dp) :: x, ex
+      type(demstep_status_type) :: sx
+      hit_limit = .false.
+      x = pass_at
+      do
+        fail = max(limit, x/ratio)
+        call worst_error(fail, quantity, ex, sx, zeta)
+        if (sx%stat /= demstep_stat%ok .or. ex > tolerance) exit
+        x = fail
+        if (fail <= limit) then
+          hit_limit = .true.
+          exit
+        end if
+      end do
+      pass_at = x
+    end subroutine sweep_down
+  end subroutine n_for_tolerance
+
+  !> Measure the stepper's cost on the spot: a 3D cubic lattice of about 8000
+  !> particles, bonds and contacts on (a typical DEM load), stepped for about
+  !> `seconds` (default 0.2) three times; the median, in seconds per
+  !> particle-step.
+  subroutine measure_step_cost(cost, status, seconds)
+    real(dp), intent(out) :: cost
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: seconds
+    type(scene_type) :: start, scene
+    type(scene_summary_type) :: summary
+    integer, parameter :: m = 20
+    real(dp) :: x(3, m**3), v(3, m**3), budget, times(3), t
+    integer :: pairs(2, 3*m**3), i, j, k, p, nb, r
+    integer(8) :: c0, c1, rate, steps
+    budget = 0.2_dp
+    if (present(seconds)) budget = seconds
+    cost = 0.0_dp
+    call random_number(v)
+    v = 1.0e-3_dp*(v - 0.5_dp)
+    nb = 0
+    do k = 1, m
+      do j = 1, m
+        do i = 1, m
+          p = i + m*(j - 1 + m*(k - 1))
+          x(:, p) = [real(i, dp), real(j, dp), real(k, dp)]
+          if (i < m) then
+            nb = nb + 1
+            pairs(:, nb) = [p, p + 1]
+          end if
+          if (j < m) then
+            nb = nb + 1
+            pairs(:, nb) = [p, p + m]
+          end if
+          if (k < m) then
+            nb = nb + 1
+            pairs(:, nb) = [p, p + m*m]
+          end if
+        end do
+      end do
+    end do
+    call new_scene(start, 3, x, spread(1.0_dp, 1, m**3), spread(0.5_dp, 1, m**3), status, v=v)
+    if (status%stat /= demstep_stat%ok) return
+    call scene_add_bonds(start, pairs(:, :nb), status)
+    start%k_bond = 100.0_dp
+    start%k_normal = 100.0_dp
+    start%effects = .false.
+    start%effects(effect_contacts) = .true.
+    ! a first short run sizes the measured ones
+    steps = 5_8
+    do r = 0, 3
+      scene = start
+      call system_clock(c0, rate)
+      call scene_run(scene, 0.01_dp, steps, summary, status, sample_every=steps)
+      call system_clock(c1)
+      t = real(c1 - c0, dp)/real(rate, dp)
+      if (r == 0) then
+        steps = max(5_8, int(steps*budget/max(t, 1.0e-6_dp)/3.0_dp, 8))
+      else
+        times(r) = t/real(steps*start%n, dp)
+      end if
+    end do
+    cost = times(1) + times(2) + times(3) - maxval(times) - minval(times)
+    status%stat = demstep_stat%ok
+  end subroutine measure_step_cost
+
+end module demstep_cost

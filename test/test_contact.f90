@@ -1,0 +1,211 @@
+!> Tests of the exact discrete contact with onset and damping, its worst cases,
+!> convergence rates and tolerance -> N.
+module test_contact
+  use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
+  use demstep
+  use test_support, only: real_str
+  implicit none
+  private
+  public :: collect_contact
+
+contains
+
+  subroutine collect_contact(testsuite)
+    type(unittest_type), allocatable, intent(out) :: testsuite(:)
+    testsuite = [ &
+      new_unittest("closed forms equal brute-force stepping, N 3.2 .. 1e4", test_vs_stepping), &
+      new_unittest("onset 1: restitution in [1, 1/cos(theta/2)], as discrete_contact", test_onset_one), &
+      new_unittest("errors vanish at the stated rates", test_rates), &
+      new_unittest("damped contact tends to the continuous one", test_damped_limit), &
+      new_unittest("tolerance -> N inverts the error curves", test_tolerance), &
+      new_unittest("beyond the limit: computed, flagged; bad input", test_flags) &
+      ]
+  end subroutine collect_contact
+
+  !> Independent brute force: the leapfrog contact written out.
+  subroutine brute(n, s, zeta, steps, restitution, max_overlap)
+    real(dp), intent(in) :: n, s, zeta
+    integer(i8), intent(out) :: steps
+    real(dp), intent(out) :: restitution, max_overlap
+    real(dp) :: h, x, v
+    h = 2.0_dp*pi/n
+    x = (s - 1.0_dp)*h
+    v = 1.0_dp
+    steps = 0_i8
+    max_overlap = 0.0_dp
+    do
+      x = x + v*h
+      if (x <= 0.0_dp) exit
+      v = v - h*(x + 2.0_dp*zeta*v)
+      steps = steps + 1_i8
+      max_overlap = max(max_overlap, x)
+    end do
+    restitution = -v
+  end subroutine brute
+
+  subroutine test_vs_stepping(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), parameter :: zetas(3) = [0.0_dp, 0.1_dp, 0.3_dp]
+    type(onset_contact_type) :: c
+    type(demstep_status_type) :: status
+    real(dp) :: n, s, e, xm, tol
+    integer(i8) :: steps
+    integer :: i, j, k
+    do k = 1, size(zetas)
+      do i = 0, 120
+        n = 3.2_dp*3125.0_dp**(real(i, dp)/120.0_dp)
+        do j = 1, 23
+          s = real(j, dp)/23.0_dp
+          call contact_with_onset(n, s, c, status, zetas(k))
+          call check(error, status%stat, demstep_stat%ok)
+          if (allocated(error)) return
+          call brute(n, s, zetas(k), steps, e, xm)
+          call check(error, c%steps, steps, message="steps at N = "//real_str(n)//", s = "//real_str(s))
+          if (allocated(error)) return
+          ! both sides round about eps per step: 1e-12 (1 + steps/100) of the scale 1
+          tol = 1.0e-12_dp*(1.0_dp + real(steps, dp)/100.0_dp)
+          call check(error, c%restitution, e, thr=tol, message="restitution at N = "//real_str(n)// &
+            ", s = "//real_str(s)//", zeta = "//real_str(zetas(k)))
+          if (allocated(error)) return
+          call check(error, c%max_overlap, xm, thr=tol, message="overlap at N = "//real_str(n))
+          if (allocated(error)) return
+          call check(error, c%contact_time, real(steps, dp)*2.0_dp/n, thr=1.0e-14_dp, rel=.true., &
+            message="contact time")
+          if (allocated(error)) return
+        end do
+      end do
+    end do
+  end subroutine test_vs_stepping
+
+  subroutine test_onset_one(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(onset_contact_type) :: c
+    type(discrete_contact_type) :: d
+    type(demstep_status_type) :: status
+    real(dp) :: n, theta
+    integer :: i
+    do i = 0, 400
+      n = 3.2_dp*3125.0_dp**(real(i, dp)/400.0_dp)
+      call contact_with_onset(n, 1.0_dp, c, status)
+      call numerical_phase(2.0_dp*pi/n, theta, status)
+      call check(error, c%restitution >= 1.0_dp - 1.0e-13_dp .and. &
+        c%restitution <= (1.0_dp + 1.0e-13_dp)/cos(0.5_dp*theta), "restitution bounds at N = "//real_str(n))
+      if (allocated(error)) return
+      call discrete_contact(2.0_dp*pi/n, d, status)
+      call check(error, c%steps, d%steps, message="steps as discrete_contact")
+      if (allocated(error)) return
+      call check(error, c%restitution, d%restitution, thr=1.0e-12_dp, rel=.true., &
+        message="restitution as discrete_contact")
+      if (allocated(error)) return
+    end do
+  end subroutine test_onset_one
+
+  !> Worst errors over the onset against N: O(1/N^2) for restitution, overlap and
+  !> period, O(1/N) for the contact time (the force count can be one step off).
+  !> The errors oscillate with N (period about 2: they follow the fraction of a
+  !> step at which the contact ends), so the rate is read from the envelope: the
+  !> largest error over N = 100..110 and over N = 1000..1010, in steps of 0.05.
+  subroutine test_rates(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer, parameter :: quantities(4) = [quantity_restitution, quantity_contact_time, &
+      quantity_overlap, quantity_period]
+    real(dp), parameter :: rates(4) = [-2.0_dp, -1.0_dp, -2.0_dp, -2.0_dp]
+    type(demstep_status_type) :: status
+    real(dp) :: e, top(2), slope
+    integer :: q, i, band
+    do q = 1, size(quantities)
+      do band = 1, 2
+        top(band) = 0.0_dp
+        do i = 0, 200
+          call worst_error(100.0_dp*10.0_dp**(band - 1) + 0.05_dp*real(i, dp), quantities(q), e, status)
+          top(band) = max(top(band), e)
+        end do
+      end do
+      slope = log10(top(2)/top(1))
+      call check(error, slope, rates(q), thr=0.15_dp, message="rate of "//trim(quantity_names(quantities(q))))
+      if (allocated(error)) return
+    end do
+  end subroutine test_rates
+
+  subroutine test_damped_limit(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(onset_contact_type) :: c, exact
+    type(demstep_status_type) :: status
+    exact = exact_contact(0.2_dp)
+    call contact_with_onset(2.0e4_dp, 0.5_dp, c, status, 0.2_dp)
+    ! at 2e4 steps per period the discrete contact is within O(1/N) of the continuous one
+    call check(error, c%restitution, exact%restitution, thr=1.0e-3_dp, rel=.true., message="restitution")
+    if (allocated(error)) return
+    call check(error, c%max_overlap, exact%max_overlap, thr=1.0e-3_dp, rel=.true., message="overlap")
+    if (allocated(error)) return
+    call check(error, c%contact_time, exact%contact_time, thr=1.0e-3_dp, rel=.true., message="time")
+    if (allocated(error)) return
+    ! the closed forms: restitution exp(-zeta pi/sqrt(1 - zeta^2))
+    call check(error, exact%restitution, exp(-0.2_dp*pi/sqrt(0.96_dp)), thr=1.0e-15_dp, rel=.true.)
+  end subroutine test_damped_limit
+
+  subroutine test_tolerance(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(demstep_status_type) :: status
+    real(dp) :: n, e, probe
+    integer :: q, k, j
+    logical :: failed_below
+    do q = 1, n_quantities
+      do k = 1, 3
+        call n_for_tolerance(q, 10.0_dp**(-k), n, status)
+        call check(error, status%stat, demstep_stat%ok)
+        if (allocated(error)) return
+        ! the tolerance holds at N, and above it (probed on another grid) to within
+        ! the error's variation over one cell of the search grid (2 %)
+        call worst_error(n, q, e, status)
+        call check(error, e <= 10.0_dp**(-k), trim(quantity_names(q))//": error above the tolerance at N")
+        if (allocated(error)) return
+        do j = 1, 200
+          call worst_error(n*1.0013_dp**j, q, e, status)
+          call check(error, e <= 1.02_dp*10.0_dp**(-k), trim(quantity_names(q))//": error "// &
+            real_str(e)//" above the tolerance at N = "//real_str(n*1.0013_dp**j))
+          if (allocated(error)) return
+        end do
+        ! ... and fails just below it (within the bisection's 1e-6)
+        failed_below = .false.
+        do j = 1, 20
+          probe = n*(1.0_dp - 1.0e-6_dp*real(j, dp)/20.0_dp)
+          call worst_error(probe, q, e, status)
+          if (e > 10.0_dp**(-k)) failed_below = .true.
+        end do
+        call check(error, failed_below, trim(quantity_names(q))//": not the smallest N")
+        if (allocated(error)) return
+      end do
+    end do
+  end subroutine test_tolerance
+
+  subroutine test_flags(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(onset_contact_type) :: c
+    type(demstep_status_type) :: status
+    real(dp) :: n
+    integer(i8) :: steps
+    real(dp) :: e, xm
+    call contact_with_onset(3.0_dp, 0.7_dp, c, status)
+    call check(error, status%stat == demstep_stat%ok .and. .not. c%stable, "N = 3 computed, flagged")
+    if (allocated(error)) return
+    call brute(3.0_dp, 0.7_dp, 0.0_dp, steps, e, xm)
+    call check(error, c%steps == steps .and. abs(c%restitution - e) < 1.0e-14_dp, "stepped exactly")
+    if (allocated(error)) return
+    call contact_with_onset(10.0_dp, 0.0_dp, c, status)
+    call check(error, status%stat, demstep_stat%invalid_input, message="onset 0")
+    if (allocated(error)) return
+    call contact_with_onset(10.0_dp, 1.5_dp, c, status)
+    call check(error, status%stat, demstep_stat%invalid_input, message="onset 1.5")
+    if (allocated(error)) return
+    call contact_with_onset(-1.0_dp, 0.5_dp, c, status)
+    call check(error, status%stat, demstep_stat%invalid_input, message="N < 0")
+    if (allocated(error)) return
+    call n_for_tolerance(quantity_restitution, 0.0_dp, n, status)
+    call check(error, status%stat, demstep_stat%invalid_input, message="tolerance 0")
+    if (allocated(error)) return
+    call n_for_tolerance(quantity_contact_time, 1.0e-9_dp, n, status)
+    call check(error, status%stat, demstep_stat%not_found, message="1e-9 needs more than n_max")
+  end subroutine test_flags
+
+end module test_contact
