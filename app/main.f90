@@ -11,6 +11,8 @@ program demstep_main
   use demstep_cli_harmonic, only: handle_harmonic_error, harmonic_specs, harmonic_doc
   use demstep_cli_stiffness, only: handle_simulated_stiffness, stiffness_specs, stiffness_doc
   use demstep_cli_scene, only: handle_scene, scene_specs, scene_doc
+  use demstep_cli_accuracy, only: handle_contact_error, contact_error_specs, contact_error_doc, &
+    handle_accuracy_cost, accuracy_cost_specs, accuracy_cost_doc
   implicit none
 
   character(len=:), allocatable :: input, output, arg, text, skipped, tmp
@@ -21,7 +23,7 @@ program demstep_main
   integer :: i, nargs, known, ios, unit
   character(len=256) :: msg
   character(len=*), parameter :: known_groups = &
-    "&system, &harmonic_error, &simulated_stiffness, &scene"
+    "&system, &harmonic_error, &simulated_stiffness, &scene, &contact_error, &accuracy_cost"
 
   namelist_only = .false.
   nargs = command_argument_count()
@@ -83,6 +85,10 @@ program demstep_main
       call handle_simulated_stiffness(ctx, groups(i), status)
     case ("scene")
       call handle_scene(ctx, groups(i), input, status)
+    case ("contact_error")
+      call handle_contact_error(ctx, groups(i), status)
+    case ("accuracy_cost")
+      call handle_accuracy_cost(ctx, groups(i), status)
     case default
       skipped = skipped//" &"//groups(i)%name//" (line "//fmt_int(int(groups(i)%line, 8))//")"
       cycle
@@ -201,6 +207,10 @@ contains
     call write_template(output_unit, "simulated_stiffness", stiffness_doc, stiffness_specs())
     write(output_unit, '(a)') ""
     call write_template(output_unit, "scene", scene_doc, scene_specs())
+    write(output_unit, '(a)') ""
+    call write_template(output_unit, "contact_error", contact_error_doc, contact_error_specs())
+    write(output_unit, '(a)') ""
+    call write_template(output_unit, "accuracy_cost", accuracy_cost_doc, accuracy_cost_specs())
   end subroutine print_template
 
 end program demstep_main

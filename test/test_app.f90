@@ -29,7 +29,11 @@ contains
       new_unittest("&simulated_stiffness: the seed's setting read back", test_stiffness_group), &
       new_unittest("&simulated_stiffness: each bad input", test_stiffness_bad), &
       new_unittest("&scene: the chain example read back", test_scene_group), &
-      new_unittest("&scene: tables, and each bad input", test_scene_bad) &
+      new_unittest("&scene: tables, and each bad input", test_scene_bad), &
+      new_unittest("&contact_error: worst case and given onsets read back", test_contact_group), &
+      new_unittest("&accuracy_cost: table, result, CSV and figure", test_cost_group), &
+      new_unittest("&accuracy_cost without gnuplot: CSV and a note", test_cost_no_gnuplot), &
+      new_unittest("&contact_error, &accuracy_cost: each bad input", test_accuracy_bad) &
       ]
   end subroutine collect_app
 
@@ -473,6 +477,149 @@ contains
     call expect_bad(error, "&scene dim = 1, particles_file = 'nothere.txt' /", &
       "&scene: particles_file: "//work_dir//"/nothere.txt: no such file")
   end subroutine test_scene_bad
+
+  subroutine test_contact_group(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer :: rc, unit, ios, i
+    character(len=:), allocatable :: stdout, stderr
+    real(dp) :: n_per_period(3), onset(3), contact_time(3), restitution(3), max_overlap(3)
+    real(dp) :: onset_contact_time(3), onset_restitution(3), onset_overlap(3)
+    integer(i8) :: steps_in_contact(3)
+    logical :: stable(3)
+    namelist /contact_error_result/ n_per_period, onset, steps_in_contact, contact_time, &
+      restitution, max_overlap, onset_contact_time, onset_restitution, onset_overlap, stable
+    type(onset_contact_type) :: c
+    type(demstep_status_type) :: st
+    real(dp) :: e
+    ! given onsets, one N beyond the stability limit: computed and flagged
+    call write_file(deck, [character(len=80) :: "&contact_error n_per_period = 3.0, 10.0, 50.0,", &
+      "  onset = 0.5 /"])
+    call remove(out)
+    call run_app(deck//" -o "//out, rc, stdout, stderr)
+    call check(error, rc, 0, message="exit status; stderr: "//stderr)
+    if (allocated(error)) return
+    open(newunit=unit, file=out, status="old", action="read")
+    read(unit, nml=contact_error_result, iostat=ios)
+    close(unit)
+    call check(error, ios, 0, message="read back")
+    if (allocated(error)) return
+    call check(error, .not. stable(1) .and. stable(2) .and. stable(3), "N = 3 flagged unstable")
+    if (allocated(error)) return
+    do i = 1, 3
+      call contact_with_onset(n_per_period(i), 0.5_dp, c, st)
+      call check(error, steps_in_contact(i) == c%steps .and. restitution(i) == c%restitution .and. &
+        max_overlap(i) == c%max_overlap .and. contact_time(i) == c%contact_time, "as the library")
+      if (allocated(error)) return
+    end do
+    call check(error, index(stdout, "beyond the stability limit") > 0, "the report flags it")
+    if (allocated(error)) return
+    ! worst case: reported with the onset attaining it
+    call write_file(deck, [character(len=80) :: "&contact_error n_per_period = 20.0 /"])
+    call run_app(deck//" --namelist", rc, stdout, stderr)
+    read(stdout, nml=contact_error_result, iostat=ios)
+    call check(error, ios, 0, message="read --namelist")
+    if (allocated(error)) return
+    call contact_worst_case(20.0_dp, quantity_restitution, c, e, st)
+    call check(error, restitution(1), c%restitution, thr=0.0_dp, message="worst restitution")
+    if (allocated(error)) return
+    call check(error, onset_restitution(1), c%onset, thr=0.0_dp, message="its onset")
+  end subroutine test_contact_group
+
+  subroutine test_cost_group(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer :: rc, unit, ios, i, st_gp
+    character(len=:), allocatable :: stdout, stderr, csv
+    real(dp) :: tolerances(2), n_per_period(2), dt(2), predicted_seconds(2), cost_per_particle_step, period
+    integer(i8) :: steps(2)
+    integer :: status(2)
+    namelist /accuracy_cost_result/ tolerances, n_per_period, dt, steps, predicted_seconds, status, &
+      cost_per_particle_step, period
+    real(dp) :: n
+    type(demstep_status_type) :: st
+    call remove(work_dir//"/ac.csv")
+    call remove(work_dir//"/ac.png")
+    call remove(work_dir//"/ac.svg")
+    call write_file(deck, [character(len=160) :: "&accuracy_cost quantity = 'overlap',", &
+      "  tolerances = 1e-2, 1e-3, duration = 2.0, n_particles = 1000,", &
+      "  mass = 0.01, stiffness = 1e5, cost_per_particle_step = 1e-7,", &
+      "  csv = '"//work_dir//"/ac.csv', figure = '"//work_dir//"/ac' /"])
+    call remove(out)
+    call run_app(deck//" -o "//out, rc, stdout, stderr)
+    call check(error, rc, 0, message="exit status; stderr: "//stderr)
+    if (allocated(error)) return
+    open(newunit=unit, file=out, status="old", action="read")
+    read(unit, nml=accuracy_cost_result, iostat=ios)
+    close(unit)
+    call check(error, ios, 0, message="read back")
+    if (allocated(error)) return
+    do i = 1, 2
+      call n_for_tolerance(quantity_overlap, tolerances(i), n, st)
+      call check(error, n_per_period(i), n, thr=0.0_dp, message="N as n_for_tolerance")
+      if (allocated(error)) return
+      call check(error, dt(i), period/n, thr=0.0_dp, message="dt = T/N")
+      if (allocated(error)) return
+      call check(error, steps(i), ceiling(2.0_dp/dt(i), i8), message="steps for the duration")
+      if (allocated(error)) return
+      call check(error, predicted_seconds(i), real(steps(i), dp)*1000.0_dp*1.0e-7_dp, thr=1.0e-15_dp, &
+        rel=.true., message="predicted time")
+      if (allocated(error)) return
+    end do
+    call check(error, index(stdout, "predicted time") > 0, "a table on stdout")
+    if (allocated(error)) return
+    call read_file(work_dir//"/ac.csv", csv)
+    call check(error, index(csv, "n_per_period,steps_per_contact") == 1 .and. len(csv) > 1000, &
+      "the CSV has its header and rows")
+    if (allocated(error)) return
+    call execute_command_line("command -v gnuplot > /dev/null 2>&1", exitstat=st_gp)
+    if (st_gp == 0) then
+      call check(error, file_exists(work_dir//"/ac.png") .and. file_exists(work_dir//"/ac.svg"), &
+        "PNG and SVG figures (gnuplot is installed)")
+      if (allocated(error)) return
+      call check(error, .not. file_exists(work_dir//"/ac.png.tmp"), "no temporary left")
+    end if
+  end subroutine test_cost_group
+
+  subroutine test_cost_no_gnuplot(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer :: rc
+    character(len=:), allocatable :: stdout, stderr
+    call remove(work_dir//"/ng.csv")
+    call remove(work_dir//"/ng.png")
+    call write_file(deck, [character(len=160) :: "&accuracy_cost quantity = 'period',", &
+      "  tolerances = 1e-3, duration = 1.0, n_particles = 10,", &
+      "  mass = 1, stiffness = 1, cost_per_particle_step = 1e-7,", &
+      "  csv = '"//work_dir//"/ng.csv', figure = '"//work_dir//"/ng' /"])
+    call run_app(deck, rc, stdout, stderr, env="PATH=/nonexistent")
+    call check(error, rc, 0, message="exit status; stderr: "//stderr)
+    if (allocated(error)) return
+    call check(error, index(stdout, "gnuplot not found") > 0, "says so in one line")
+    if (allocated(error)) return
+    call check(error, file_exists(work_dir//"/ng.csv") .and. .not. file_exists(work_dir//"/ng.png"), &
+      "CSV written, no figure")
+  end subroutine test_cost_no_gnuplot
+
+  subroutine test_accuracy_bad(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), parameter :: g = "&accuracy_cost duration = 1, n_particles = 10, mass = 1, " &
+      //"stiffness = 1, cost_per_particle_step = 1e-7, "
+    call expect_bad(error, "&contact_error n_per_period = 10, onset = 1.5 /", &
+      "&contact_error: onset: element 1 is 1.5; must be in (0, 1]")
+    if (allocated(error)) return
+    call expect_bad(error, "&contact_error n_per_period = 10, onset = 0 /", &
+      "&contact_error: onset: element 1 is 0; must be in (0, 1]")
+    if (allocated(error)) return
+    call expect_bad(error, "&contact_error n_per_period = 0 /", &
+      "&contact_error: n_per_period: element 1 is 0; must be > 0")
+    if (allocated(error)) return
+    call expect_bad(error, g//"quantity = 'speed', tolerances = 1e-3 /", &
+      "&accuracy_cost: quantity: unknown word 'speed'")
+    if (allocated(error)) return
+    call expect_bad(error, g//"quantity = 'period', tolerances = 1e-3, 0 /", &
+      "&accuracy_cost: tolerances: element 2 is 0; must be > 0")
+    if (allocated(error)) return
+    call expect_bad(error, g//"quantity = 'period', tolerances = -1e-3 /", &
+      "&accuracy_cost: tolerances: element 1 is -0.001; must be > 0")
+  end subroutine test_accuracy_bad
 
   !> Run on a one-line deck with -o; expect exit 2, one stderr line
   !> "demstep: DECK: <expected>...", no output file and no temporary left.

@@ -93,13 +93,18 @@ contains
   end function app_path
 
   !> Run the app with `args` (a shell word list); capture stdout and stderr.
-  subroutine run_app(args, exitstat, stdout, stderr)
+  !> `env` (say "PATH=/nonexistent") is put before the command.
+  subroutine run_app(args, exitstat, stdout, stderr, env)
     character(len=*), intent(in) :: args
     integer, intent(out) :: exitstat
     character(len=:), allocatable, intent(out) :: stdout, stderr
+    character(len=*), intent(in), optional :: env
     integer :: cmdstat
+    character(len=:), allocatable :: prefix
+    prefix = ""
+    if (present(env)) prefix = env//" "
     call execute_command_line("mkdir -p "//work_dir, wait=.true.)
-    call execute_command_line(app_path()//" "//args//" >"//work_dir//"/stdout 2>" &
+    call execute_command_line(prefix//app_path()//" "//args//" >"//work_dir//"/stdout 2>" &
       //work_dir//"/stderr", wait=.true., exitstat=exitstat, cmdstat=cmdstat)
     if (cmdstat /= 0) exitstat = -1000
     call read_file(work_dir//"/stdout", stdout)

@@ -1,0 +1,555 @@
+!> Groups `&contact_error` and `&accuracy_cost`: exact discrete contact errors,
+!> and what a tolerance costs in steps and run time (table, CSV, figure).
+module demstep_cli_accuracy
+  use demstep, only: dp, i8, pi, demstep_status_type, demstep_stat, nml_group_type, set_status, &
+    lowercase, onset_contact_type, contact_with_onset, contact_worst_case, quantity_restitution, &
+    quantity_contact_time, quantity_overlap, quantity_period, n_quantities, quantity_names, &
+    worst_error, n_for_tolerance, measure_step_cost, default_cost_n_max, nroots_options_type, &
+    nroots_type, n_roots, harmonic_error, replace_file, process_id
+  use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, fmt_real, &
+    fmt_int, cli_context, check_real, new_array, array_length, broadcast, common_length
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  implicit none
+  private
+
+  public :: contact_error_specs, contact_error_doc, handle_contact_error
+  public :: accuracy_cost_specs, accuracy_cost_doc, handle_accuracy_cost
+
+  character(len=*), parameter :: contact_error_doc = &
+    "Exact discrete contact of the central-difference scheme: steps in contact, contact time, " &
+    //"restitution, largest overlap at N = T/dt and an onset (omitted: the worst onset)."
+  character(len=*), parameter :: accuracy_cost_doc = &
+    "What accuracy costs: for each tolerance the smallest N meeting it (worst onset), dt, steps " &
+    //"for the duration and the predicted run time; a CSV file and a figure."
+
+  !> The quantity 'harmonic': the paper's E (half-period steps) at a given lambda.
+  integer, parameter :: quantity_harmonic = n_quantities + 1
+
+contains
+
+  function contact_error_specs() result(specs)
+    type(var_spec), allocatable :: specs(:)
+    specs = [ &
+      var("n_per_period", "a list of real numbers", "N = T/dt (> 0; <= pi is flagged unstable)", &
+        "10.0, 20.0, 50.0"), &
+      var("onset", "a list of real numbers", "overlap at the first force evaluation over v0 dt, " &
+        //"in (0, 1]; omit for the worst case", "!1.0"), &
+      var("damping_ratio", "a real number", "viscous damping ratio (>= 0) of a lagged dashpot", "0.0") ]
+  end function contact_error_specs
+
+  function accuracy_cost_specs() result(specs)
+    type(var_spec), allocatable :: specs(:)
+    specs = [ &
+      var("quantity", "a quoted word", "'restitution', 'contact_time', 'overlap', 'period' or " &
+        //"'harmonic' (the paper's E at lambda)", "'restitution'"), &
+      var("tolerances", "a list of real numbers", "relative errors to meet (> 0)", "1e-2, 1e-3, 1e-4"), &
+      var("duration", "a real number", "simulated time (> 0)", "1.0"), &
+      var("n_particles", "a real number", "particles in the simulation (>= 1)", "1.0e5"), &
+      var("mass", "a real number", "particle mass of the stiffest contact (> 0)", "0.01"), &
+      var("stiffness", "a real number", "its contact stiffness (> 0)", "1.0e5"), &
+      var("damping_ratio", "a real number", "viscous damping ratio (>= 0)", "0.0"), &
+      var("lambda", "a real number", "for 'harmonic': sqrt(K'/K*) in (0, 1)", "!0.95"), &
+      var("cost_per_particle_step", "a real number", "seconds per particle-step (> 0); omit to " &
+        //"measure the stepper on the spot", "!1.5e-7"), &
+      var("n_max", "a real number", "largest N searched (default 1e7)", "!1.0e7"), &
+      var("csv", "a quoted file name", "curve data (default 'accuracy_cost.csv')", "'accuracy_cost.csv'"), &
+      var("figure", "a quoted file name", "figure base name, .png and .svg added (default " &
+        //"'accuracy_cost'; 'none' for no figure)", "'accuracy_cost'") ]
+  end function accuracy_cost_specs
+
+  !> Read, check and evaluate one `&contact_error` group.
+  subroutine handle_contact_error(ctx, group, status)
+    type(cli_context), intent(in) :: ctx
+    type(nml_group_type), intent(in) :: group
+    type(demstep_status_type), intent(out) :: status
+    real(dp), allocatable :: n_per_period(:), onset(:)
+    real(dp) :: damping_ratio
+    namelist /contact_error/ n_per_period, onset, damping_ratio
+    type(var_spec), allocatable :: specs(:)
+    character(len=:), allocatable :: text
+    character(len=*), parameter :: g = "contact_error"
+    real(dp), allocatable :: big_n(:), s(:), onset_q(:, :), value(:, :)
+    integer(i8), allocatable :: steps(:)
+    logical, allocatable :: stable(:)
+    integer :: i, ios, lengths(2), length, q
+    logical :: worst
+    type(onset_contact_type) :: c
+    real(dp) :: e
+    integer, parameter :: columns(3) = [quantity_contact_time, quantity_restitution, quantity_overlap]
+
+    specs = contact_error_specs()
+    call check_names(group, specs, status)
+    if (status%stat /= demstep_stat%ok) return
+    n_per_period = new_array()
+    onset = new_array()
+    damping_ratio = 0.0_dp
+    do i = 1, size(group%items)
+      text = item_text(group, group%items(i))
+      read(text, nml=contact_error, iostat=ios)
+      if (ios /= 0) then
+        call read_failed(group, group%items(i), specs, status)
+        return
+      end if
+    end do
+    call array_length(g, "n_per_period", n_per_period, lengths(1), status)
+    call array_length(g, "onset", onset, lengths(2), status)
+    if (status%stat /= demstep_stat%ok) return
+    if (lengths(1) == 0) then
+      call set_status(status, demstep_stat%invalid_input, "&"//g//": n_per_period: required")
+      return
+    end if
+    call common_length(g, [character(len=12) :: "n_per_period", "onset"], lengths, length, status)
+    call check_real(g, "damping_ratio", damping_ratio, status, inclusive=.true.)
+    if (status%stat /= demstep_stat%ok) return
+    worst = lengths(2) == 0
+    big_n = broadcast(n_per_period, lengths(1), length)
+    if (.not. worst) s = broadcast(onset, lengths(2), length)
+    do i = 1, length
+      call check_real(g, "n_per_period", big_n(i), status, element=i)
+      if (.not. worst .and. status%stat == demstep_stat%ok) then
+        if (.not. (s(i) > 0.0_dp .and. s(i) <= 1.0_dp)) call set_status(status, &
+          demstep_stat%invalid_input, "&"//g//": onset: element "//fmt_int(int(i, i8))//" is "// &
+          fmt_real(s(i))//"; must be in (0, 1]")
+      end if
+      if (status%stat /= demstep_stat%ok) return
+    end do
+
+    ! value(:, q): steps-in-contact time, restitution, overlap; onset_q: where
+    allocate(value(length, 3), onset_q(length, 3), steps(length), stable(length))
+    do i = 1, length
+      if (worst) then
+        do q = 1, 3
+          call contact_worst_case(big_n(i), columns(q), c, e, status, damping_ratio)
+          if (status%stat /= demstep_stat%ok) then
+            status%message = "&"//g//": n_per_period: "//status%message
+            return
+          end if
+          select case (q)
+          case (1)
+            value(i, q) = c%contact_time
+          case (2)
+            value(i, q) = c%restitution
+          case (3)
+            value(i, q) = c%max_overlap
+          end select
+          onset_q(i, q) = c%onset
+          if (q == 1) steps(i) = c%steps
+          stable(i) = c%stable
+        end do
+      else
+        call contact_with_onset(big_n(i), s(i), c, status, damping_ratio)
+        if (status%stat /= demstep_stat%ok) then
+          status%message = "&"//g//": n_per_period: "//status%message
+          return
+        end if
+        value(i, :) = [c%contact_time, c%restitution, c%max_overlap]
+        onset_q(i, :) = s(i)
+        steps(i) = c%steps
+        stable(i) = c%stable
+      end if
+    end do
+    call report_contact(ctx%report, group, worst, damping_ratio, big_n, steps, value, onset_q, stable)
+    if (worst) then
+      call write_worst(ctx%results, big_n, steps, value, onset_q, stable)
+    else
+      call write_onset(ctx%results, big_n, s, steps, value, stable)
+    end if
+  end subroutine handle_contact_error
+
+  subroutine report_contact(u, group, worst, zeta, big_n, steps, value, onset_q, stable)
+    integer, intent(in) :: u
+    type(nml_group_type), intent(in) :: group
+    logical, intent(in) :: worst
+    real(dp), intent(in) :: zeta, big_n(:), value(:, :), onset_q(:, :)
+    integer(i8), intent(in) :: steps(:)
+    logical, intent(in) :: stable(:)
+    integer :: i
+    write(u, '(a)') "&contact_error (line "//fmt_int(int(group%line, i8))//")"
+    if (worst) then
+      write(u, '(2x, a)') "worst case over the onset (the onset attaining it in brackets)"
+    end if
+    if (zeta > 0.0_dp) write(u, '(2x, a)') "lagged dashpot, damping ratio "//fmt_real(zeta)
+    write(u, '(2x, a)') "contact time in T/2, overlap in v0/omega; exact undamped values are 1"
+    write(u, '(2x, a12, a8, 3a26, 2x, a)') "N = T/dt", "steps", "contact time", "restitution", &
+      "max overlap", ""
+    do i = 1, size(big_n)
+      write(u, '(2x, a12, i8, 3a26, 2x, a)') fmt_real(big_n(i)), steps(i), &
+        cell(value(i, 1), onset_q(i, 1)), cell(value(i, 2), onset_q(i, 2)), &
+        cell(value(i, 3), onset_q(i, 3)), merge("beyond the stability limit", "                          ", &
+        .not. stable(i))
+    end do
+    write(u, '(a)') ""
+  contains
+    function cell(x, s) result(text)
+      real(dp), intent(in) :: x, s
+      character(len=26) :: text
+      text = fmt_real(x)//" ["//fmt_real(s)//"]"
+      text = adjustr(text)
+    end function cell
+  end subroutine report_contact
+
+  subroutine write_worst(unit, n_per_period, steps_in_contact, value, onset_q, stable)
+    integer, intent(in) :: unit
+    real(dp), intent(in) :: n_per_period(:), value(:, :), onset_q(:, :)
+    integer(i8), intent(in) :: steps_in_contact(:)
+    logical, intent(in) :: stable(:)
+    real(dp), allocatable :: contact_time(:), restitution(:), max_overlap(:), onset_contact_time(:), &
+      onset_restitution(:), onset_overlap(:)
+    namelist /contact_error_result/ n_per_period, steps_in_contact, contact_time, restitution, &
+      max_overlap, onset_contact_time, onset_restitution, onset_overlap, stable
+    contact_time = value(:, 1)
+    restitution = value(:, 2)
+    max_overlap = value(:, 3)
+    onset_contact_time = onset_q(:, 1)
+    onset_restitution = onset_q(:, 2)
+    onset_overlap = onset_q(:, 3)
+    write(unit, nml=contact_error_result)
+  end subroutine write_worst
+
+  subroutine write_onset(unit, n_per_period, onset, steps_in_contact, value, stable)
+    integer, intent(in) :: unit
+    real(dp), intent(in) :: n_per_period(:), onset(:), value(:, :)
+    integer(i8), intent(in) :: steps_in_contact(:)
+    logical, intent(in) :: stable(:)
+    real(dp), allocatable :: contact_time(:), restitution(:), max_overlap(:)
+    namelist /contact_error_result/ n_per_period, onset, steps_in_contact, contact_time, &
+      restitution, max_overlap, stable
+    contact_time = value(:, 1)
+    restitution = value(:, 2)
+    max_overlap = value(:, 3)
+    write(unit, nml=contact_error_result)
+  end subroutine write_onset
+
+  !> Read, check and evaluate one `&accuracy_cost` group.
+  subroutine handle_accuracy_cost(ctx, group, status)
+    type(cli_context), intent(in) :: ctx
+    type(nml_group_type), intent(in) :: group
+    type(demstep_status_type), intent(out) :: status
+    character(len=32) :: quantity
+    real(dp), allocatable :: tolerances(:)
+    real(dp) :: duration, n_particles, mass, stiffness, damping_ratio, lambda, &
+      cost_per_particle_step, n_max
+    character(len=512) :: csv, figure
+    namelist /accuracy_cost/ quantity, tolerances, duration, n_particles, mass, stiffness, &
+      damping_ratio, lambda, cost_per_particle_step, n_max, csv, figure
+    type(var_spec), allocatable :: specs(:)
+    character(len=:), allocatable :: text
+    character(len=*), parameter :: g = "accuracy_cost"
+    integer :: i, ios, nt, q
+    real(dp) :: period, cost
+    real(dp), allocatable :: n(:), dt(:), predicted_seconds(:)
+    integer(i8), allocatable :: steps(:)
+    integer, allocatable :: stat(:)
+    logical :: measured
+
+    specs = accuracy_cost_specs()
+    call check_names(group, specs, status)
+    if (status%stat /= demstep_stat%ok) return
+    quantity = ""
+    tolerances = new_array()
+    duration = 0.0_dp
+    n_particles = 0.0_dp
+    mass = 0.0_dp
+    stiffness = 0.0_dp
+    damping_ratio = 0.0_dp
+    lambda = 0.0_dp
+    cost_per_particle_step = 0.0_dp
+    n_max = default_cost_n_max
+    csv = "accuracy_cost.csv"
+    figure = "accuracy_cost"
+    do i = 1, size(group%items)
+      text = item_text(group, group%items(i))
+      read(text, nml=accuracy_cost, iostat=ios)
+      if (ios /= 0) then
+        call read_failed(group, group%items(i), specs, status)
+        return
+      end if
+    end do
+    q = 0
+    do i = 1, n_quantities
+      if (lowercase(trim(quantity)) == trim(quantity_names(i))) q = i
+    end do
+    select case (lowercase(trim(quantity)))
+    case ("restitution", "contact_time", "overlap", "period")
+    case ("harmonic")
+      q = quantity_harmonic
+    case default
+      call set_status(status, demstep_stat%invalid_input, "&"//g//": quantity: unknown word '"// &
+        trim(quantity)//"' (restitution, contact_time, overlap, period, harmonic)")
+      return
+    end select
+    call array_length(g, "tolerances", tolerances, nt, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (nt == 0) then
+      call set_status(status, demstep_stat%invalid_input, "&"//g//": tolerances: required")
+      return
+    end if
+    do i = 1, nt
+      call check_real(g, "tolerances", tolerances(i), status, element=i)
+    end do
+    call check_real(g, "duration", duration, status)
+    call check_real(g, "n_particles", n_particles, status, lower=1.0_dp, inclusive=.true.)
+    call check_real(g, "mass", mass, status)
+    call check_real(g, "stiffness", stiffness, status)
+    call check_real(g, "damping_ratio", damping_ratio, status, inclusive=.true.)
+    call check_real(g, "n_max", n_max, status, lower=10.0_dp)
+    if (given(group, "cost_per_particle_step")) call check_real(g, "cost_per_particle_step", &
+      cost_per_particle_step, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (q == quantity_harmonic) then
+      call check_real(g, "lambda", lambda, status)
+      if (status%stat == demstep_stat%ok .and. .not. lambda < 1.0_dp) call set_status(status, &
+        demstep_stat%invalid_input, "&"//g//": lambda: must be in (0, 1) for 'harmonic'")
+      if (status%stat == demstep_stat%ok .and. any(tolerances(:nt) >= 1.0_dp)) call set_status(status, &
+        demstep_stat%invalid_input, "&"//g//": tolerances: must be < 1 for 'harmonic'")
+      if (status%stat /= demstep_stat%ok) return
+    end if
+
+    period = 2.0_dp*pi*sqrt(mass/stiffness)
+    measured = .not. given(group, "cost_per_particle_step")
+    if (measured) then
+      call measure_step_cost(cost, status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": cost_per_particle_step: "//status%message
+        return
+      end if
+    else
+      cost = cost_per_particle_step
+    end if
+
+    allocate(n(nt), dt(nt), steps(nt), predicted_seconds(nt), stat(nt))
+    do i = 1, nt
+      call n_needed(q, tolerances(i), damping_ratio, lambda, n_max, n(i), stat(i))
+      if (stat(i) == demstep_stat%ok) then
+        dt(i) = period/n(i)
+        steps(i) = ceiling(duration/dt(i), i8)
+        predicted_seconds(i) = real(steps(i), dp)*n_particles*cost
+      else
+        dt(i) = 0.0_dp
+        steps(i) = 0_i8
+        predicted_seconds(i) = 0.0_dp
+      end if
+    end do
+    call report_cost(ctx%report, group, q, tolerances(:nt), n, dt, steps, predicted_seconds, stat, &
+      cost, measured, duration, n_particles, period)
+    call write_cost(ctx%results, tolerances(:nt), n, dt, steps, predicted_seconds, stat, cost, period)
+    call write_curves(ctx%report, q, damping_ratio, lambda, period, duration, n_particles, cost, &
+      maxval(n, mask=stat == demstep_stat%ok .and. n < 1.0e6_dp), trim(csv), trim(figure), status)
+    if (status%stat /= demstep_stat%ok) status%message = "&"//g//": csv: "//status%message
+  end subroutine handle_accuracy_cost
+
+  !> N for one tolerance: the contact quantities through n_for_tolerance, the
+  !> paper's E through the simulated-stiffness root finding (smallest N with
+  !> |E| <= tolerance, half-period steps).
+  subroutine n_needed(q, tolerance, zeta, lambda, n_max, n, stat)
+    integer, intent(in) :: q
+    real(dp), intent(in) :: tolerance, zeta, lambda, n_max
+    real(dp), intent(out) :: n
+    integer, intent(out) :: stat
+    type(demstep_status_type) :: st
+    type(nroots_options_type) :: options
+    type(nroots_type) :: r
+    if (q == quantity_harmonic) then
+      options%tolerance = tolerance
+      options%n_max = n_max
+      call n_roots(lambda, options, r, st)
+      n = r%n_pick
+      stat = st%stat
+      if (stat == demstep_stat%ok) stat = r%stat
+      if (stat == demstep_stat%unstable) stat = demstep_stat%ok
+    else
+      call n_for_tolerance(q, tolerance, n, st, damping_ratio=zeta, n_max=n_max)
+      stat = st%stat
+    end if
+  end subroutine n_needed
+
+  subroutine report_cost(u, group, q, tolerances, n, dt, steps, seconds, stat, cost, measured, &
+      duration, n_particles, period)
+    integer, intent(in) :: u, q
+    type(nml_group_type), intent(in) :: group
+    real(dp), intent(in) :: tolerances(:), n(:), dt(:), seconds(:), cost, duration, n_particles, period
+    integer(i8), intent(in) :: steps(:)
+    integer, intent(in) :: stat(:)
+    logical, intent(in) :: measured
+    integer :: i
+    character(len=:), allocatable :: name
+    if (q == quantity_harmonic) then
+      name = "harmonic"
+    else
+      name = trim(quantity_names(q))
+    end if
+    write(u, '(a)') "&accuracy_cost (line "//fmt_int(int(group%line, i8))//")"
+    write(u, '(2x, a)') "quantity: "//name//" (worst case over the onset); T = "//fmt_real(period)// &
+      ", duration "//fmt_real(duration)//", "//fmt_real(n_particles)//" particles"
+    if (measured) then
+      write(u, '(2x, a)') "cost per particle-step: "//fmt_real(cost)//" s (measured now: this build's " &
+        //"stepper on 8000 particles with bonds and contacts)"
+    else
+      write(u, '(2x, a)') "cost per particle-step: "//fmt_real(cost)//" s (given)"
+    end if
+    write(u, '(2x, a12, a14, a14, a16, a16, a18)') "tolerance", "N = T/dt", "per contact", "dt", "steps", &
+      "predicted time"
+    do i = 1, size(tolerances)
+      if (stat(i) /= demstep_stat%ok) then
+        write(u, '(2x, a12, 2x, a)') fmt_real(tolerances(i)), "not met up to n_max"
+      else
+        write(u, '(2x, a12, a14, a14, a16, a16, a18)') fmt_real(tolerances(i)), fmt_real(n(i)), &
+          fmt_real(0.5_dp*n(i)), fmt_real(dt(i)), fmt_int(steps(i)), human_time(seconds(i))
+      end if
+    end do
+  end subroutine report_cost
+
+  !> Seconds as a readable duration.
+  pure function human_time(t) result(text)
+    real(dp), intent(in) :: t
+    character(len=:), allocatable :: text
+    if (t < 120.0_dp) then
+      text = fmt_real(t)//" s"
+    else if (t < 7200.0_dp) then
+      text = fmt_real(t/60.0_dp)//" min"
+    else if (t < 172800.0_dp) then
+      text = fmt_real(t/3600.0_dp)//" h"
+    else
+      text = fmt_real(t/86400.0_dp)//" d"
+    end if
+  end function human_time
+
+  subroutine write_cost(unit, tolerances, n_per_period, dt, steps, predicted_seconds, status, &
+      cost_per_particle_step, period)
+    integer, intent(in) :: unit
+    real(dp), intent(in) :: tolerances(:), n_per_period(:), dt(:), predicted_seconds(:), &
+      cost_per_particle_step, period
+    integer(i8), intent(in) :: steps(:)
+    integer, intent(in) :: status(:)
+    namelist /accuracy_cost_result/ tolerances, n_per_period, dt, steps, predicted_seconds, status, &
+      cost_per_particle_step, period
+    write(unit, nml=accuracy_cost_result)
+  end subroutine write_cost
+
+  !> The curves: worst errors of every quantity against N (and steps per contact
+  !> N/2), with dt, steps and predicted time, as CSV; and a figure by gnuplot.
+  subroutine write_curves(u, q, zeta, lambda, period, duration, n_particles, cost, n_top, csv, figure, status)
+    integer, intent(in) :: u, q
+    real(dp), intent(in) :: zeta, lambda, period, duration, n_particles, cost, n_top
+    character(len=*), intent(in) :: csv, figure
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: big_n, e(n_quantities + 1), top, dt
+    real(dp), allocatable :: rows(:, :)
+    integer :: unit, ios, k, j, m, rc, cs
+    integer(i8) :: steps
+    character(len=:), allocatable :: tmp, script, fig
+    type(demstep_status_type) :: st
+    top = max(1.0e3_dp, 4.0_dp*n_top)
+    m = 120
+    tmp = csv//".tmp"//fmt_int(int(process_id(), i8))
+    open(newunit=unit, file=tmp, status="replace", action="write", iostat=ios)
+    if (ios /= 0) then
+      call set_status(status, demstep_stat%io_error, csv//": cannot write")
+      return
+    end if
+    write(unit, '(a)') "n_per_period,steps_per_contact,restitution_error,contact_time_error," &
+      //"overlap_error,period_error,harmonic_error,dt,steps,predicted_seconds,guaranteed_error"
+    allocate(rows(11, 0:m))
+    do k = 0, m
+      big_n = 4.0_dp*(top/4.0_dp)**(real(k, dp)/real(m, dp))
+      do j = 1, n_quantities
+        call worst_error(big_n, j, e(j), st, damping_ratio=zeta)
+      end do
+      e(n_quantities + 1) = 0.0_dp
+      if (q == quantity_harmonic) then
+        call harmonic_error(big_n, lambda, 0.5_dp*big_n, e(n_quantities + 1), j)
+        e(n_quantities + 1) = abs(e(n_quantities + 1))
+      end if
+      dt = period/big_n
+      steps = ceiling(duration/dt, i8)
+      rows(:10, k) = [big_n, 0.5_dp*big_n, e, dt, real(steps, dp), real(steps, dp)*n_particles*cost]
+    end do
+    ! the guaranteed error at N: the chosen quantity's largest error at N or above
+    rows(11, m) = rows(2 + min(q, n_quantities + 1), m)
+    do k = m - 1, 0, -1
+      rows(11, k) = max(rows(11, k + 1), rows(2 + min(q, n_quantities + 1), k))
+    end do
+    do k = 0, m
+      write(unit, '(es16.8, *(",", es16.8))') rows(:, k)
+    end do
+    close(unit)
+    call replace_file(tmp, csv, status)
+    if (status%stat /= demstep_stat%ok) return
+    write(u, '(2x, a)') "curves written to "//csv
+    if (figure == "none" .or. len(figure) == 0) then
+      write(u, '(a)') ""
+      return
+    end if
+    ! (cmdstat: without a usable shell the runtime would stop the program)
+    call execute_command_line("command -v gnuplot > /dev/null 2>&1", exitstat=rc, cmdstat=cs)
+    if (rc /= 0 .or. cs /= 0) then
+      write(u, '(2x, a)') "gnuplot not found: no figure (install gnuplot-nox); the CSV is written"
+      write(u, '(a)') ""
+      return
+    end if
+    fig = figure
+    script = fig//".gp.tmp"//fmt_int(int(process_id(), i8))
+    open(newunit=unit, file=script, status="replace", action="write", iostat=ios)
+    if (ios /= 0) then
+      write(u, '(2x, a)') "cannot write the gnuplot script: no figure"
+      return
+    end if
+    call gnuplot_script(unit, csv, fig, q)
+    close(unit)
+    call execute_command_line("gnuplot "//script//" > /dev/null 2>&1", exitstat=rc, cmdstat=cs)
+    call delete_file(script)
+    if (rc /= 0 .or. cs /= 0) then
+      call delete_file(fig//".png.tmp")
+      call delete_file(fig//".svg.tmp")
+      write(u, '(2x, a)') "gnuplot failed: no figure"
+    else
+      call replace_file(fig//".png.tmp", fig//".png", st)
+      if (st%stat == demstep_stat%ok) call replace_file(fig//".svg.tmp", fig//".svg", st)
+      if (st%stat == demstep_stat%ok) write(u, '(2x, a)') "figure written to "//fig//".png and "//fig//".svg"
+    end if
+    write(u, '(a)') ""
+  end subroutine write_curves
+
+  subroutine delete_file(path)
+    character(len=*), intent(in) :: path
+    integer :: unit, ios
+    open(newunit=unit, file=path, status="old", iostat=ios)
+    if (ios == 0) close(unit, status="delete")
+  end subroutine delete_file
+
+  !> Two panels: worst error against steps per contact (log-log), and predicted
+  !> run time against the chosen quantity's error.
+  subroutine gnuplot_script(unit, csv, fig, q)
+    integer, intent(in) :: unit, q
+    character(len=*), intent(in) :: csv, fig
+    integer :: t
+    character(len=*), parameter :: terms(2) = [character(len=64) :: &
+      "pngcairo size 1200,520 font 'sans,10'", "svg size 1200,520 font 'sans,10'"]
+    character(len=*), parameter :: ext(2) = [".png.tmp", ".svg.tmp"]
+    write(unit, '(a)') "set datafile separator ','"
+    do t = 1, 2
+      write(unit, '(a)') "set terminal "//trim(terms(t))
+      write(unit, '(a)') "set output '"//fig//trim(ext(t))//"'"
+      write(unit, '(a)') "set multiplot layout 1,2"
+      write(unit, '(a)') "set logscale xy", "set grid", "set key top right"
+      write(unit, '(a)') "set format x '10^{%L}'", "set format y '10^{%L}'"
+      write(unit, '(a)') "set xlabel 'steps per contact (N/2)'", "set ylabel 'relative error, worst onset'"
+      write(unit, '(a)') "set title 'Central-difference contact: error against resolution'"
+      write(unit, '(a)') "plot '"//csv//"' every ::1 using 2:3 with lines lw 2 title 'restitution', \"
+      write(unit, '(a)') "     '' every ::1 using 2:4 with lines lw 2 title 'contact time', \"
+      write(unit, '(a)') "     '' every ::1 using 2:5 with lines lw 2 title 'max overlap', \"
+      if (q == quantity_harmonic) then
+        write(unit, '(a)') "     '' every ::1 using 2:6 with lines lw 2 title 'period', \"
+        write(unit, '(a)') "     '' every ::1 using 2:7 with lines lw 2 title '|E| (paper)'"
+      else
+        write(unit, '(a)') "     '' every ::1 using 2:6 with lines lw 2 title 'period'"
+      end if
+      write(unit, '(a)') "set xlabel 'guaranteed relative error (at this N and above)'", &
+        "set ylabel 'predicted run time (s)'"
+      write(unit, '(a)') "set title 'What accuracy costs'", "set key off"
+      write(unit, '(a)') "plot '"//csv//"' every ::1 using 11:10 with steps lw 2"
+      write(unit, '(a)') "unset multiplot", "set output"
+    end do
+  end subroutine gnuplot_script
+
+end module demstep_cli_accuracy
