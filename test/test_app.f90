@@ -143,7 +143,8 @@ contains
     open(newunit=unit, file=deck, status="replace", action="write")
     write(unit, '(a)') stdout
     close(unit)
-    call run_app(deck, rc, stdout, stderr)
+    ! in the scratch directory: the template's &accuracy_cost writes files there
+    call run_app("deck.nml", rc, stdout, stderr, in_work_dir=.true.)
     call check(error, rc, 0, message="running the template: "//stderr)
     if (allocated(error)) return
     call run_app("--help", rc, stdout, stderr)

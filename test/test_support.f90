@@ -93,19 +93,27 @@ contains
   end function app_path
 
   !> Run the app with `args` (a shell word list); capture stdout and stderr.
-  !> `env` (say "PATH=/nonexistent") is put before the command.
-  subroutine run_app(args, exitstat, stdout, stderr, env)
+  !> `env` (say "PATH=/nonexistent") is put before the command; with `in_work_dir`
+  !> the app runs in the scratch directory (file arguments then relative to it).
+  subroutine run_app(args, exitstat, stdout, stderr, env, in_work_dir)
     character(len=*), intent(in) :: args
     integer, intent(out) :: exitstat
     character(len=:), allocatable, intent(out) :: stdout, stderr
     character(len=*), intent(in), optional :: env
-    integer :: cmdstat
-    character(len=:), allocatable :: prefix
+    logical, intent(in), optional :: in_work_dir
+    integer :: cmdstat, length
+    character(len=:), allocatable :: prefix, root
+    character(len=4096) :: pwd
     prefix = ""
     if (present(env)) prefix = env//" "
+    call get_environment_variable("PWD", pwd, length)
+    root = trim(pwd)//"/"
+    if (present(in_work_dir)) then
+      if (in_work_dir) prefix = "cd "//work_dir//" && "//prefix
+    end if
     call execute_command_line("mkdir -p "//work_dir, wait=.true.)
-    call execute_command_line(prefix//app_path()//" "//args//" >"//work_dir//"/stdout 2>" &
-      //work_dir//"/stderr", wait=.true., exitstat=exitstat, cmdstat=cmdstat)
+    call execute_command_line(prefix//root//app_path()//" "//args//" >"//root//work_dir// &
+      "/stdout 2>"//root//work_dir//"/stderr", wait=.true., exitstat=exitstat, cmdstat=cmdstat)
     if (cmdstat /= 0) exitstat = -1000
     call read_file(work_dir//"/stdout", stdout)
     call read_file(work_dir//"/stderr", stderr)
