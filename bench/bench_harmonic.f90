@@ -2,7 +2,7 @@
 !> evaluator, of the naive double-precision closed form, and of a direct sum, for
 !> n = 10 .. 1e9. Run: fpm run --profile release --example bench_harmonic
 program bench_harmonic
-  use demstep, only: dp, pi, harmonic_error
+  use demstep, only: dp, pi, harmonic_error, sort_ascending
   implicit none
   integer, parameter :: batch = 20000, repeats = 11
   real(dp), parameter :: ns(5) = [10.0_dp, 1.0e3_dp, 1.0e5_dp, 1.0e7_dp, 1.0e9_dp]
@@ -101,19 +101,9 @@ contains
 
   real(dp) function median(x)
     real(dp), intent(in) :: x(:)
-    real(dp) :: y(size(x)), v
-    integer :: i, j
+    real(dp) :: y(size(x))
     y = x
-    do i = 2, size(y)
-      v = y(i)
-      j = i - 1
-      do while (j >= 1)
-        if (y(j) <= v) exit
-        y(j + 1) = y(j)
-        j = j - 1
-      end do
-      y(j + 1) = v
-    end do
+    call sort_ascending(y)
     median = y((size(y) + 1)/2)
   end function median
 

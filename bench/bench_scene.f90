@@ -33,44 +33,13 @@ program bench_scene
 
 contains
 
-  !> A cubic lattice of about n particles 1 apart, bonds to the +x, +y, +z
-  !> neighbours, small random velocities, radius 0.45 (no contacts at rest).
+  !> A cubic lattice of about n particles, radius 0.45 (no contacts at rest),
+  !> every effect off.
   subroutine lattice(n, scene)
     integer, intent(in) :: n
     type(scene_type), intent(out) :: scene
-    integer :: m, i, j, k, p, nb
-    real(dp), allocatable :: x(:, :), v(:, :)
-    integer, allocatable :: pairs(:, :)
     type(demstep_status_type) :: status
-    m = max(2, nint(real(n, dp)**(1.0_dp/3.0_dp)))
-    allocate(x(3, m**3), v(3, m**3), pairs(2, 3*m**3))
-    call random_number(v)
-    v = 1.0e-3_dp*(v - 0.5_dp)
-    nb = 0
-    do k = 1, m
-      do j = 1, m
-        do i = 1, m
-          p = i + m*(j - 1 + m*(k - 1))
-          x(:, p) = [real(i, dp), real(j, dp), real(k, dp)]
-          if (i < m) then
-            nb = nb + 1
-            pairs(:, nb) = [p, p + 1]
-          end if
-          if (j < m) then
-            nb = nb + 1
-            pairs(:, nb) = [p, p + m]
-          end if
-          if (k < m) then
-            nb = nb + 1
-            pairs(:, nb) = [p, p + m*m]
-          end if
-        end do
-      end do
-    end do
-    call new_scene(scene, 3, x, spread(1.0_dp, 1, m**3), spread(0.45_dp, 1, m**3), status, v=v)
-    call scene_add_bonds(scene, pairs(:, :nb), status)
-    scene%k_bond = 100.0_dp
-    scene%k_normal = 100.0_dp
+    call cubic_lattice(scene, max(2, nint(real(n, dp)**(1.0_dp/3.0_dp))), 0.45_dp, 100.0_dp, status)
     scene%effects = .false.
   end subroutine lattice
 

@@ -21,7 +21,7 @@ module demstep
     pick_largest_step, pick_zero, aggregate_mean, aggregate_weighted, aggregate_median, &
     aggregate_min, aggregate_max, interval_bounded, interval_unbounded, interval_truncated, &
     n_scan_start, default_n_max, default_resolution
-  use demstep_scene, only: scene_type, scene_summary_type, new_scene, scene_add_bonds, &
+  use demstep_scene, only: scene_type, scene_summary_type, cubic_lattice, new_scene, scene_add_bonds, &
     scene_add_walls, scene_run, contact_list, effect_index, restitution_to_damping_ratio, &
     law_linear, law_hertz, effect_contacts, effect_gravity, effect_damping, &
     effect_local_damping, effect_walls, n_effects, effect_names

@@ -5,8 +5,7 @@ module demstep_cost
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_contact, only: onset_contact_type, contact_worst_case, period_error, &
     quantity_period, n_quantities
-  use demstep_scene, only: scene_type, scene_summary_type, new_scene, scene_add_bonds, scene_run, &
-    effect_contacts
+  use demstep_scene, only: scene_type, scene_summary_type, cubic_lattice, scene_run
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -143,42 +142,14 @@ contains
     type(scene_type) :: start, scene
     type(scene_summary_type) :: summary
     integer, parameter :: m = 20
-    real(dp) :: x(3, m**3), v(3, m**3), budget, times(3), t
-    integer :: pairs(2, 3*m**3), i, j, k, p, nb, r
+    real(dp) :: budget, times(3), t
+    integer :: r
     integer(8) :: c0, c1, rate, steps
     budget = 0.2_dp
     if (present(seconds)) budget = seconds
     cost = 0.0_dp
-    call random_number(v)
-    v = 1.0e-3_dp*(v - 0.5_dp)
-    nb = 0
-    do k = 1, m
-      do j = 1, m
-        do i = 1, m
-          p = i + m*(j - 1 + m*(k - 1))
-          x(:, p) = [real(i, dp), real(j, dp), real(k, dp)]
-          if (i < m) then
-            nb = nb + 1
-            pairs(:, nb) = [p, p + 1]
-          end if
-          if (j < m) then
-            nb = nb + 1
-            pairs(:, nb) = [p, p + m]
-          end if
-          if (k < m) then
-            nb = nb + 1
-            pairs(:, nb) = [p, p + m*m]
-          end if
-        end do
-      end do
-    end do
-    call new_scene(start, 3, x, spread(1.0_dp, 1, m**3), spread(0.5_dp, 1, m**3), status, v=v)
+    call cubic_lattice(start, m, 0.5_dp, 100.0_dp, status)
     if (status%stat /= demstep_stat%ok) return
-    call scene_add_bonds(start, pairs(:, :nb), status)
-    start%k_bond = 100.0_dp
-    start%k_normal = 100.0_dp
-    start%effects = .false.
-    start%effects(effect_contacts) = .true.
     ! a first short run sizes the measured ones
     steps = 5_8
     do r = 0, 3

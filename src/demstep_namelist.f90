@@ -9,6 +9,7 @@
 module demstep_namelist
   use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_text, only: int_text
   implicit none
   private
 
@@ -121,7 +122,7 @@ contains
         end do
         if (i == start) then
           call set_status(status, demstep_stat%invalid_input, &
-            "line "//itoa(line)//": '"//text(start-1:start-1)//"' not followed by a group name")
+            "line "//int_text(line)//": '"//text(start-1:start-1)//"' not followed by a group name")
           return
         end if
         group%name = lowercase(text(start:i-1))
@@ -187,13 +188,13 @@ contains
           return
         end if
         call set_status(status, demstep_stat%invalid_input, &
-          "line "//itoa(line)//": a new group starts before this one ends with '/'")
+          "line "//int_text(line)//": a new group starts before this one ends with '/'")
         return
       end select
       i = i + 1
     end do
     call set_status(status, demstep_stat%invalid_input, &
-      "line "//itoa(first_line)//": group has no closing '/'")
+      "line "//int_text(first_line)//": group has no closing '/'")
   end subroutine find_group_end
 
   !> Split a group body into assignments: each '=' outside strings and parentheses
@@ -231,12 +232,12 @@ contains
           call designator_before(body, i, name_start)
           if (name_start == 0) then
             call set_status(status, demstep_stat%invalid_input, &
-              "line "//itoa(line)//": '=' without a variable name before it")
+              "line "//int_text(line)//": '=' without a variable name before it")
             return
           end if
           if (value_start == 0) then
             if (len_trim(strip_separators(body(1:name_start-1))) > 0) then
-              call set_status(status, demstep_stat%invalid_input, "line "//itoa(line)// &
+              call set_status(status, demstep_stat%invalid_input, "line "//int_text(line)// &
                 ": text before the first assignment: '"// &
                 trim(strip_separators(body(1:name_start-1)))//"'")
               return
@@ -259,7 +260,7 @@ contains
     if (value_start == 0) then
       if (len_trim(strip_separators(body)) > 0) then
         call set_status(status, demstep_stat%invalid_input, &
-          "line "//itoa(first_line)//": no assignment in '"//trim(strip_separators(body))//"'")
+          "line "//int_text(first_line)//": no assignment in '"//trim(strip_separators(body))//"'")
         return
       end if
     else
@@ -336,7 +337,7 @@ contains
       i = i + 1
     end do
     call set_status(status, demstep_stat%invalid_input, &
-      "line "//itoa(first_line)//": unterminated string")
+      "line "//int_text(first_line)//": unterminated string")
   end subroutine skip_string
 
   !> Move `i` to the end of the line (onto the line feed, if any).
@@ -445,13 +446,5 @@ contains
     character, intent(in) :: c
     is_name_char = is_letter(c) .or. (c >= "0" .and. c <= "9") .or. c == "_"
   end function is_name_char
-
-  pure function itoa(i) result(text)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: text
-    character(len=16) :: buf
-    write(buf, '(i0)') i
-    text = trim(buf)
-  end function itoa
 
 end module demstep_namelist

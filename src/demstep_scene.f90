@@ -25,11 +25,12 @@
 module demstep_scene
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_text, only: int_text
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
-  public :: new_scene, scene_add_bonds, scene_add_walls, scene_run, contact_list, &
+  public :: cubic_lattice, new_scene, scene_add_bonds, scene_add_walls, scene_run, contact_list, &
     effect_index, restitution_to_damping_ratio
 
   !> Contact laws.
@@ -149,15 +150,15 @@ contains
     end if
     do i = 1, n
       if (.not. (ieee_is_finite(mass(i)) .and. mass(i) > 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "mass of particle "//itoa(i)//" must be > 0")
+        call set_status(status, demstep_stat%invalid_input, "mass of particle "//int_text(i)//" must be > 0")
         return
       end if
       if (.not. (ieee_is_finite(radius(i)) .and. radius(i) > 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "radius of particle "//itoa(i)//" must be > 0")
+        call set_status(status, demstep_stat%invalid_input, "radius of particle "//int_text(i)//" must be > 0")
         return
       end if
       if (.not. all(ieee_is_finite(x(:, i)))) then
-        call set_status(status, demstep_stat%invalid_input, "position of particle "//itoa(i)//" is not finite")
+        call set_status(status, demstep_stat%invalid_input, "position of particle "//int_text(i)//" is not finite")
         return
       end if
     end do
@@ -194,7 +195,7 @@ contains
     do i = 1, work%n_pairs
       if (scene%fixed(work%pair_i(i)) .and. scene%fixed(work%pair_j(i))) then
         call set_status(status, demstep_stat%invalid_input, "fixed particles "// &
-          itoa(work%pair_i(i))//" and "//itoa(work%pair_j(i))//" overlap")
+          int_text(work%pair_i(i))//" and "//int_text(work%pair_j(i))//" overlap")
         return
       end if
     end do
@@ -216,6 +217,59 @@ contains
     d = work%pair_d(:work%n_pairs)
   end subroutine contact_list
 
+  !> A cubic lattice of m^3 particles 1 apart (unit masses, radius r) with bonds of
+  !> stiffness k_bond to the +x, +y, +z neighbours, and random velocities of size
+  !> `speed` (default 1e-3); linear contacts of stiffness k_bond, only the
+  !> `contacts` effect on. A ready test and benchmark load.
+  subroutine cubic_lattice(scene, m, radius, k_bond, status, speed)
+    type(scene_type), intent(out) :: scene
+    integer, intent(in) :: m
+    real(dp), intent(in) :: radius, k_bond
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: speed
+    real(dp), allocatable :: x(:, :), v(:, :)
+    integer, allocatable :: pairs(:, :)
+    integer :: i, j, k, p, nb
+    real(dp) :: size_v
+    if (m < 2) then
+      call set_status(status, demstep_stat%invalid_input, "a lattice needs m >= 2")
+      return
+    end if
+    size_v = 1.0e-3_dp
+    if (present(speed)) size_v = speed
+    allocate(x(3, m**3), v(3, m**3), pairs(2, 3*m**3))
+    call random_number(v)
+    v = size_v*(v - 0.5_dp)
+    nb = 0
+    do k = 1, m
+      do j = 1, m
+        do i = 1, m
+          p = i + m*(j - 1 + m*(k - 1))
+          x(:, p) = [real(i, dp), real(j, dp), real(k, dp)]
+          if (i < m) then
+            nb = nb + 1
+            pairs(:, nb) = [p, p + 1]
+          end if
+          if (j < m) then
+            nb = nb + 1
+            pairs(:, nb) = [p, p + m]
+          end if
+          if (k < m) then
+            nb = nb + 1
+            pairs(:, nb) = [p, p + m*m]
+          end if
+        end do
+      end do
+    end do
+    call new_scene(scene, 3, x, spread(1.0_dp, 1, m**3), spread(radius, 1, m**3), status, v=v)
+    if (status%stat /= demstep_stat%ok) return
+    call scene_add_bonds(scene, pairs(:, :nb), status)
+    scene%k_bond = k_bond
+    scene%k_normal = k_bond
+    scene%effects = .false.
+    scene%effects(effect_contacts) = .true.
+  end subroutine cubic_lattice
+
   !> Add bonds between particle pairs (2, nb); rest vectors from the current positions.
   subroutine scene_add_bonds(scene, pairs, status)
     type(scene_type), intent(inout) :: scene
@@ -229,20 +283,20 @@ contains
     end if
     do k = 1, size(pairs, 2)
       if (any(pairs(:, k) < 1) .or. any(pairs(:, k) > scene%n)) then
-        call set_status(status, demstep_stat%invalid_input, "bond "//itoa(k)//" names a missing " &
-          //"particle ("//itoa(pairs(1, k))//", "//itoa(pairs(2, k))//")")
+        call set_status(status, demstep_stat%invalid_input, "bond "//int_text(k)//" names a missing " &
+          //"particle ("//int_text(pairs(1, k))//", "//int_text(pairs(2, k))//")")
         return
       end if
       if (pairs(1, k) == pairs(2, k)) then
-        call set_status(status, demstep_stat%invalid_input, "bond "//itoa(k)//" joins particle " &
-          //itoa(pairs(1, k))//" to itself")
+        call set_status(status, demstep_stat%invalid_input, "bond "//int_text(k)//" joins particle " &
+          //int_text(pairs(1, k))//" to itself")
         return
       end if
     end do
     rest = scene%x(:, pairs(2, :)) - scene%x(:, pairs(1, :))
     do k = 1, size(pairs, 2)
       if (.not. norm2(rest(:, k)) > 0.0_dp) then
-        call set_status(status, demstep_stat%invalid_input, "bond "//itoa(k)//" joins particles " &
+        call set_status(status, demstep_stat%invalid_input, "bond "//int_text(k)//" joins particles " &
           //"at the same position")
         return
       end if
@@ -269,7 +323,7 @@ contains
     point(:scene%dim, :) = points
     do k = 1, size(normals, 2)
       if (.not. (all(ieee_is_finite(points(:, k))) .and. norm2(normals(:, k)) > 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "wall "//itoa(k)//" needs a finite " &
+        call set_status(status, demstep_stat%invalid_input, "wall "//int_text(k)//" needs a finite " &
           //"point and a non-zero normal")
         return
       end if
@@ -342,7 +396,7 @@ contains
             abs(e - summary%energy_initial) > blow_up_factor*scale) then
           summary%blew_up = .true.
           call set_status(status, demstep_stat%blow_up, "the scene blew up at step "// &
-            itoa8(step))
+            int_text(step))
           exit
         end if
         cycle
@@ -822,21 +876,5 @@ contains
       k = 2.0_dp*scene%e_star*sqrt(rs*d)
     end if
   end function tangent_stiffness
-
-  pure function itoa(i) result(text)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: text
-    character(len=16) :: buf
-    write(buf, '(i0)') i
-    text = trim(buf)
-  end function itoa
-
-  pure function itoa8(i) result(text)
-    integer(i8), intent(in) :: i
-    character(len=:), allocatable :: text
-    character(len=24) :: buf
-    write(buf, '(i0)') i
-    text = trim(buf)
-  end function itoa8
 
 end module demstep_scene
