@@ -1,4 +1,4 @@
-!> demstep: time step and contact stiffness for Discrete Element Method codes.
+!> The demstep library: time step and contact stiffness for Discrete Element Method codes.
 !>
 !> The facade: `use demstep` gives the whole public API.
 module demstep
@@ -33,6 +33,8 @@ module demstep
     worst_case_samples
   use demstep_cost, only: worst_error, n_for_tolerance, measure_step_cost, default_cost_n_max, &
     tolerance_grid_ratio
+  ! the C API lives in the same library (its names are bind(C), not re-exported)
+  use demstep_capi, only: capi_message_length
   use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, &
     scan_namelist, lowercase, replace_file, process_id
   implicit none

@@ -63,7 +63,7 @@ contains
     type(scene_type), intent(in) :: scene
     type(critical_step_type), intent(out) :: result
     type(demstep_status_type), intent(out) :: status
-    !> [[hertz_at_current]] (default) or [[hertz_at_impact]] with impact_velocity > 0.
+    !> `hertz_at_current` (default) or `hertz_at_impact` with impact_velocity > 0.
     integer, intent(in), optional :: hertz_mode
     real(dp), intent(in), optional :: impact_velocity
     !> Above this many degrees of freedom the eigensolver is skipped (default 4000).

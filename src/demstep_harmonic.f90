@@ -50,7 +50,7 @@ module demstep_harmonic
   !>   run takes. E then jumps wherever `f N` crosses a half-integer; root finders
   !>   must not take those jumps for roots.
   type, public :: step_policy_type
-    !> [[steps_fixed]], [[steps_fraction]] or [[steps_rounded]].
+    !> `steps_fixed`, `steps_fraction` or `steps_rounded`.
     integer :: kind = steps_fraction
     !> `n` (fixed) or `f` (fraction, rounded).
     real(dp) :: value = 0.5_dp
@@ -85,7 +85,7 @@ contains
   !> Build a validated step policy.
   pure subroutine new_step_policy(policy, kind, value, stat)
     type(step_policy_type), intent(out) :: policy
-    !> [[steps_fixed]], [[steps_fraction]] or [[steps_rounded]].
+    !> `steps_fixed`, `steps_fraction` or `steps_rounded`.
     integer, intent(in) :: kind
     !> `n` in [1, 1e12] (fixed) or `f` > 0 (fraction, rounded).
     real(dp), intent(in) :: value
@@ -239,7 +239,7 @@ contains
       e = error_double_double(lambda, mu, mu_lo, ph)
   end subroutine harmonic_error
 
-  !> E(N, lambda, n) with n from a step policy (see [[step_policy_type]]).
+  !> E(N, lambda, n) with n from a step policy (see `step_policy_type`).
   elemental subroutine harmonic_error_steps(n_per_period, lambda, policy, e, stat)
     real(dp), intent(in) :: n_per_period, lambda
     type(step_policy_type), intent(in) :: policy

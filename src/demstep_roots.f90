@@ -1,14 +1,14 @@
 !> Root finding for any real function of one variable.
 !>
-!> User functions come through the abstract interface [[root_function]] with a
-!> context: extend [[root_context_type]] with the data the function needs and
+!> User functions come through the abstract interface `root_function` with a
+!> context: extend `root_context_type` with the data the function needs and
 !> recover it with `select type`. The context also counts evaluations.
 !>
-!> - [[find_root]]: ITP (interpolate, truncate, project; Oliveira & Takahashi,
+!> - `find_root`: ITP (interpolate, truncate, project; Oliveira & Takahashi,
 !>   ACM TOMS 47(1), 2020) on a sign-change bracket. It never needs more
 !>   evaluations than bisection plus one, and converges superlinearly on smooth
 !>   functions. After convergence a continuity probe rejects poles and jumps.
-!> - [[scan_roots]]: every sign change of f on a grid, each refined by find_root;
+!> - `scan_roots`: every sign change of f on a grid, each refined by find_root;
 !>   poles and jumps are returned apart from the roots.
 !>
 !> Tolerances: the bracket is shrunk until its width is at most
@@ -240,7 +240,7 @@ contains
     real(dp), intent(in) :: grid(:)
     real(dp), allocatable, intent(out) :: roots(:), discontinuities(:)
     type(demstep_status_type), intent(out) :: status
-    !> Tolerances in x, as for [[find_root]].
+    !> Tolerances in x, as for `find_root`.
     real(dp), intent(in), optional :: x_rel, x_abs
     real(dp), allocatable :: fx(:)
     logical, allocatable :: ok(:)

@@ -4,7 +4,7 @@
 !>
 !> Physics on demand: the effects a scene switches on (`contacts`, `gravity`,
 !> viscous `damping`, `local_damping`, `walls`) each become one force term of the
-!> stepper, assembled once by [[scene_run]]; nothing in the step loop tests which
+!> stepper, assembled once by `scene_run`; nothing in the step loop tests which
 !> effects are on. Bonds are always on (a scene without bonds has none).
 !>
 !> Conventions:
@@ -35,7 +35,7 @@ module demstep_scene
 
   !> Contact laws.
   integer, parameter, public :: law_linear = 1, law_hertz = 2
-  !> Effects, by index into [[scene_type]]%effects.
+  !> Effects, by index into `scene_type`%effects.
   integer, parameter, public :: effect_contacts = 1, effect_gravity = 2, effect_damping = 3, &
     effect_local_damping = 4, effect_walls = 5, n_effects = 5
   !> Their names, as the namelist input spells them.
@@ -55,7 +55,7 @@ module demstep_scene
     real(dp), allocatable :: mass(:), radius(:)
     !> Fixed particles neither move nor count as degrees of freedom.
     logical, allocatable :: fixed(:)
-    !> [[law_linear]] (stiffness k_normal) or [[law_hertz]] (modulus e_star).
+    !> `law_linear` (stiffness k_normal) or `law_hertz` (modulus e_star).
     integer :: law = law_linear
     real(dp) :: k_normal = 0.0_dp, e_star = 0.0_dp
     !> Bonds (2, nb): particle pairs; rest(3, nb) = initial x_j - x_i and its
@@ -782,7 +782,7 @@ contains
       scene%bond_normal, scene%k_bond, work%f)
   end subroutine bonds_normal
 
-  !> The kernel of [[bonds_normal]] on plain contiguous arrays.
+  !> The kernel of `bonds_normal` on plain contiguous arrays.
   pure subroutine bond_normal_forces(nb, n, bonds, x, rest, normal, k, f)
     integer, intent(in) :: nb, n, bonds(2, nb)
     real(dp), intent(in) :: x(3, n), rest(3, nb), normal(3, nb), k

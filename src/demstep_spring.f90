@@ -41,7 +41,7 @@ module demstep_spring
     real(dp) :: damping = 0.0_dp
     !> Force only while the overlap is positive (a contact), else a bond.
     logical :: compression_only = .true.
-    !> [[dashpot_lagged]] or [[dashpot_centred]].
+    !> `dashpot_lagged` or `dashpot_centred`.
     integer :: dashpot = dashpot_lagged
   end type spring_type
 
@@ -82,7 +82,7 @@ contains
     real(dp), intent(in), optional :: damping_ratio
     !> Contact spring (default) or bond.
     logical, intent(in), optional :: compression_only
-    !> [[dashpot_lagged]] (default) or [[dashpot_centred]].
+    !> `dashpot_lagged` (default) or `dashpot_centred`.
     integer, intent(in), optional :: dashpot
     real(dp) :: zeta
     zeta = 0.0_dp
@@ -206,7 +206,7 @@ contains
   end subroutine numerical_phase
 
   !> Period of the undamped discrete solution, 2 pi dt / theta, in units of the
-  !> natural period T (so 1 + (omega dt)^2/24 + ...). Status as [[numerical_phase]].
+  !> natural period T (so 1 + (omega dt)^2/24 + ...). Status as `numerical_phase`.
   pure subroutine numerical_period(omega_dt, period_ratio, status)
     real(dp), intent(in) :: omega_dt
     !> Numerical period over T; 0 when not ok.
@@ -345,7 +345,7 @@ contains
 
   !> Discrete contact of any spring (damped or not) by stepping: the mass arrives
   !> at speed v0 with zero overlap at step 0 and is stepped until the overlap is
-  !> no longer positive. Units as in [[discrete_contact_type]].
+  !> no longer positive. Units as in `discrete_contact_type`.
   !> Status `unstable` beyond the stability limit, `not_converged` past `max_steps`.
   pure subroutine simulate_contact(spring, dt, contact, status, max_steps)
     type(spring_type), intent(in) :: spring

@@ -1,7 +1,7 @@
 !> Status reporting: a code from a named set plus a message.
 !>
 !> Every library call that can fail takes an `intent(out)` argument of
-!> [[demstep_status_type]]; the library never stops the program.
+!> `demstep_status_type`; the library never stops the program.
 module demstep_status
   implicit none
   private
@@ -33,7 +33,7 @@ module demstep_status
 
   !> Status of a library call: `stat == demstep_stat%ok` on success, else a message.
   type, public :: demstep_status_type
-    !> One of the codes of [[demstep_stat]].
+    !> One of the codes of `demstep_stat`.
     integer :: stat = 0
     !> What went wrong; unallocated on success.
     character(len=:), allocatable :: message
@@ -47,7 +47,7 @@ contains
   pure subroutine set_status(status, stat, message)
     !> Status to set.
     type(demstep_status_type), intent(out) :: status
-    !> Code from [[demstep_stat]].
+    !> Code from `demstep_stat`.
     integer, intent(in) :: stat
     !> Explanation, naming the offending argument.
     character(len=*), intent(in) :: message

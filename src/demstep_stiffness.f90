@@ -2,8 +2,8 @@
 !> on the error E(N, lambda) to the time step dt = T*/N* and the real stiffness
 !> K' = lambda*^2 K*.
 !>
-!> For one lambda ([[n_roots]]): E is sampled on a grid of N from just above the
-!> stability limit pi to `n_max`, and refined with [[find_root]]:
+!> For one lambda (`n_roots`): E is sampled on a grid of N from just above the
+!> stability limit pi to `n_max`, and refined with `find_root`:
 !> - the roots of E = 0 (sign changes through a pole or a jump are rejected);
 !> - the admissible intervals of N where |E| <= E0, their ends being where |E|
 !>   crosses E0 (an end may sit on a jump of a rounded step policy: |E| <= E0
@@ -64,7 +64,7 @@ module demstep_stiffness
     real(dp) :: n_max = default_n_max
     !> Grid step relative to N.
     real(dp) :: resolution = default_resolution
-    !> [[pick_largest_step]] or [[pick_zero]].
+    !> `pick_largest_step` or `pick_zero`.
     integer :: pick = pick_largest_step
   end type nroots_options_type
 

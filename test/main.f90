@@ -11,6 +11,7 @@ program tester
   use test_stiffness, only: collect_stiffness
   use test_scene, only: collect_scene
   use test_contact, only: collect_contact
+  use test_capi, only: collect_capi
   use test_app, only: collect_app
   implicit none
   integer :: stat, is, total
@@ -26,6 +27,7 @@ program tester
     new_testsuite("stiffness", collect_stiffness), &
     new_testsuite("scene", collect_scene), &
     new_testsuite("contact", collect_contact), &
+    new_testsuite("capi", collect_capi), &
     new_testsuite("app", collect_app) &
     ]
   stat = 0

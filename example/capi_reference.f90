@@ -1,0 +1,60 @@
+!> The Fortran side of the C/C++ comparison: the numbers example/c and
+!> example/cpp print, computed with the Fortran API, in the same form.
+program capi_reference
+  use demstep
+  implicit none
+  type(spring_type) :: spring
+  type(spring_state_type) :: state
+  type(demstep_status_type) :: status
+  type(nroots_options_type) :: options
+  type(nroots_type) :: r
+  type(stiffness_input_type) :: input
+  type(stiffness_result_type) :: res
+  type(scene_type) :: scene
+  type(critical_step_type) :: c
+  real(dp) :: dt_crit, e, x(1, 12)
+  integer :: i, stat, pairs(2, 11)
+  call new_spring(spring, 0.01_dp, 1.0e5_dp, status)
+  dt_crit = critical_time_step(spring)
+  call put("dt_critical", dt_crit)
+  state = spring_state_type(x=0.0_dp, v=1.0_dp)
+  do i = 1, 1000
+    call spring_step(spring, 0.1_dp*dt_crit, state)
+  end do
+  call put("x_1000", state%x)
+  call put("v_1000", state%v)
+  call harmonic_error(19.316_dp, 0.9_dp, 9.658_dp, e, stat)
+  call put("e_half_period", e)
+  call harmonic_error(1000.0_dp, 1.0_dp - 1.0e-9_dp, 1.0e7_dp + 1.0_dp, e, stat)
+  call put("e_hard", e)
+  options%tolerance = 1.0e-3_dp
+  call n_roots(0.9_dp, options, r, status)
+  call put("n_pick", r%n_pick)
+  call put("n_zero", r%roots(1))
+  input%mass = 0.01_dp
+  input%stiffness = 1.0e5_dp
+  input%options%tolerance = 1.0e-3_dp
+  input%lambdas = [(0.9_dp + (0.99_dp - 0.9_dp)*real(i, dp)/9.0_dp, i = 0, 9)]
+  call simulated_stiffness(input, res, status)
+  call put("n_star", res%n_star)
+  call put("lambda_star", res%lambda_star)
+  call put("dt", res%dt)
+  call put("stiffness_actual", res%stiffness_actual)
+  x(1, :) = [(real(i, dp), i = 1, 12)]
+  call new_scene(scene, 1, x, spread(1.0_dp, 1, 12), spread(0.3_dp, 1, 12), status, &
+    fixed=[.true., (.false., i = 2, 11), .true.])
+  pairs = reshape([(i, i + 1, i = 1, 11)], [2, 11])
+  call scene_add_bonds(scene, pairs, status)
+  scene%k_bond = 100.0_dp
+  scene%effects = .false.
+  call critical_time_steps(scene, c, status)
+  call put("omega_max", c%omega_max)
+  call put("dt_critical_bound", c%dt_critical_bound)
+  call put("dt_contact_rule", c%dt_contact_rule)
+contains
+  subroutine put(name, value)
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: value
+    write(*, '(a, 1x, es24.16e3)') name, value
+  end subroutine put
+end program capi_reference

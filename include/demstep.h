@@ -1,0 +1,131 @@
+/* demstep: time step and contact stiffness for Discrete Element Method codes.
+ *
+ * C API of the Fortran library (module demstep_capi). Every function returns a
+ * status: DEMSTEP_OK (0) on success, one of the codes below otherwise. When the
+ * last argument `err` is not NULL it receives the code and a message naming what
+ * is wrong. Outputs must not be NULL; arrays come with their lengths; particle
+ * and bond numbers are 0-based. Link with -ldemstep -lgfortran -llapack -lblas -lm
+ * (pkg-config --libs demstep, or CMake target demstep::demstep).
+ */
+#ifndef DEMSTEP_H
+#define DEMSTEP_H
+
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Status codes (demstep_stat in Fortran). */
+enum {
+  DEMSTEP_OK = 0,             /* success */
+  DEMSTEP_INVALID_INPUT = 1,  /* an argument is out of its domain, NULL, NaN */
+  DEMSTEP_UNSTABLE = 2,       /* dt at or beyond the stability limit */
+  DEMSTEP_POLE = 3,           /* a denominator vanished (pole of E) */
+  DEMSTEP_NOT_CONVERGED = 4,  /* an iteration did not reach its tolerance */
+  DEMSTEP_NOT_FOUND = 5,      /* nothing satisfies the request */
+  DEMSTEP_LAPACK_FAILURE = 6, /* LAPACK reported failure */
+  DEMSTEP_IO_ERROR = 7,       /* reading or writing a file failed */
+  DEMSTEP_BLOW_UP = 8         /* a simulated value grew without bound */
+};
+
+/* Dashpots, step policies, picks, aggregation rules, contact laws, effects. */
+enum { DEMSTEP_DASHPOT_LAGGED = 1, DEMSTEP_DASHPOT_CENTRED = 2 };
+enum { DEMSTEP_STEPS_FIXED = 1, DEMSTEP_STEPS_FRACTION = 2, DEMSTEP_STEPS_ROUNDED = 3 };
+enum { DEMSTEP_PICK_LARGEST_STEP = 1, DEMSTEP_PICK_ZERO = 2 };
+enum {
+  DEMSTEP_AGGREGATE_MEAN = 1, DEMSTEP_AGGREGATE_WEIGHTED = 2, DEMSTEP_AGGREGATE_MEDIAN = 3,
+  DEMSTEP_AGGREGATE_MIN = 4, DEMSTEP_AGGREGATE_MAX = 5
+};
+enum { DEMSTEP_LAW_LINEAR = 1, DEMSTEP_LAW_HERTZ = 2 };
+enum {
+  DEMSTEP_EFFECT_CONTACTS = 1, DEMSTEP_EFFECT_GRAVITY = 2, DEMSTEP_EFFECT_DAMPING = 4,
+  DEMSTEP_EFFECT_LOCAL_DAMPING = 8, DEMSTEP_EFFECT_WALLS = 16
+};
+
+/* A status and its message (NUL-terminated). */
+typedef struct {
+  int stat;
+  char message[256];
+} demstep_error;
+
+/* A mass on a linear spring with a viscous dashpot c = 2 zeta sqrt(K M). */
+typedef struct {
+  double mass, stiffness, damping;
+  int compression_only; /* 1: a contact (force only while x > 0); 0: a bond */
+  int dashpot;          /* DEMSTEP_DASHPOT_LAGGED or DEMSTEP_DASHPOT_CENTRED */
+} demstep_spring;
+
+/* Overlap x_n (positive in compression), half-step velocity v_n, steps taken. */
+typedef struct {
+  double x, v;
+  int64_t step;
+} demstep_spring_state;
+
+/* One lambda's scan: pick, smallest root of E, first interval |E| <= E0. */
+typedef struct {
+  double n_pick, n_zero, n_lower, n_upper; /* 0 where there is none */
+  int interval;    /* kind of the last interval: 0 bounded, 1 unbounded, 2 truncated */
+  int stat;        /* 0 ok, 2 tolerance met at the stability limit, 5 none */
+  int evaluations; /* evaluations of E */
+} demstep_nroots;
+
+/* The simulated-stiffness procedure's answer: dt = T* / N*, K' = lambda*^2 K*. */
+typedef struct {
+  double n_star, lambda_star, period, dt, stiffness_actual;
+  int lambda_star_stat; /* 0 ok, 3 the pick jumps at lambda*, 5 outside the set */
+  int excluded;         /* lambdas without an admissible N */
+} demstep_stiffness_result;
+
+/* Critical time steps of a scene (undamped central differences: 2/omega). */
+typedef struct {
+  double omega_max, dt_critical_eigen;  /* exact (LAPACK) */
+  double omega_bound, dt_critical_bound; /* Gershgorin bound: dt_bound <= exact */
+  double dt_contact_rule;               /* min 2 sqrt(m* / k): not safe */
+  double damping_ratio_top, dt_critical_damped;
+  int n_dof, n_springs, eigen_computed;
+} demstep_critical_step;
+
+/* Build a validated spring (mass, stiffness > 0; damping_ratio >= 0). */
+int demstep_spring_new(double mass, double stiffness, double damping_ratio, int compression_only,
+                       int dashpot, demstep_spring *spring, demstep_error *err);
+
+/* One central-difference step: x += v dt, then v += F/M dt. */
+int demstep_spring_step(const demstep_spring *spring, double dt, demstep_spring_state *state,
+                        demstep_error *err);
+
+/* The largest stable step: 2 sqrt(M/K), times sqrt(1 + z^2) - z with a lagged dashpot. */
+int demstep_critical_time_step(const demstep_spring *spring, double *dt_critical,
+                               demstep_error *err);
+
+/* The paper's error E(N, lambda, n); DEMSTEP_POLE where S(2 pi lambda/N, n) = 0. */
+int demstep_harmonic_error(double n_per_period, double lambda, double n_steps, double *e,
+                           demstep_error *err);
+
+/* Roots and admissible N of E for one lambda. n_max, resolution <= 0: defaults. */
+int demstep_n_roots(double lambda, double tolerance, int steps_kind, double steps_value, int pick,
+                    double n_max, double resolution, demstep_nroots *result, demstep_error *err);
+
+/* The whole procedure for n_lambdas increasing lambdas in (0, 1); weights may be NULL
+   (unless DEMSTEP_AGGREGATE_WEIGHTED); n_pick and row_status (n_lambdas each) may be NULL. */
+int demstep_simulated_stiffness(double mass, double stiffness, double tolerance,
+                                const double *lambdas, int n_lambdas, int steps_kind,
+                                double steps_value, int pick, int aggregate,
+                                const double *weights, double *n_pick, int *row_status,
+                                demstep_stiffness_result *result, demstep_error *err);
+
+/* Critical steps of a scene: x holds dim coordinates per particle (n particles);
+   fixed (n flags) may be NULL; bonds holds 2 particle numbers per bond (0-based);
+   effects is a sum of DEMSTEP_EFFECT_* flags. */
+int demstep_scene_critical_step(int dim, int n, const double *x, const double *mass,
+                                const double *radius, const int *fixed, int n_bonds,
+                                const int *bonds, double k_bond, double k_bond_tangential,
+                                int law, double k_normal, double e_star, int effects,
+                                double damping_ratio, demstep_critical_step *result,
+                                demstep_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DEMSTEP_H */

@@ -1,0 +1,82 @@
+/* A C program using demstep: a contact spring stepped in a loop, the paper's
+ * error E, the simulated-stiffness procedure and a chain's critical step; then
+ * bad input, which returns a status and a message. Each result is printed as
+ * "name value" with 17 significant digits, for comparison with Fortran. */
+#include <math.h>
+#include <stdio.h>
+#include "demstep.h"
+
+static void put(const char *name, double value) { printf("%s %.16e\n", name, value); }
+
+int main(void) {
+  demstep_error err;
+  demstep_spring spring;
+  demstep_spring_state state = {0.0, 1.0, 0};
+  double dt_crit, e;
+  int i;
+
+  if (demstep_spring_new(0.01, 1.0e5, 0.0, 1, DEMSTEP_DASHPOT_LAGGED, &spring, &err) != DEMSTEP_OK) {
+    fprintf(stderr, "spring: %s\n", err.message);
+    return 1;
+  }
+  demstep_critical_time_step(&spring, &dt_crit, &err);
+  put("dt_critical", dt_crit);
+  for (i = 0; i < 1000; ++i) demstep_spring_step(&spring, 0.1 * dt_crit, &state, &err);
+  put("x_1000", state.x);
+  put("v_1000", state.v);
+
+  demstep_harmonic_error(19.316, 0.9, 9.658, &e, &err);
+  put("e_half_period", e);
+  demstep_harmonic_error(1000.0, 1.0 - 1.0e-9, 1.0e7 + 1.0, &e, &err);
+  put("e_hard", e);
+
+  {
+    demstep_nroots r;
+    demstep_n_roots(0.9, 1.0e-3, DEMSTEP_STEPS_FRACTION, 0.5, DEMSTEP_PICK_LARGEST_STEP, 0.0, 0.0, &r,
+                    &err);
+    put("n_pick", r.n_pick);
+    put("n_zero", r.n_zero);
+  }
+
+  {
+    double lambdas[10], picks[10];
+    int row[10];
+    demstep_stiffness_result res;
+    for (i = 0; i < 10; ++i) lambdas[i] = 0.9 + (0.99 - 0.9) * i / 9.0;
+    demstep_simulated_stiffness(0.01, 1.0e5, 1.0e-3, lambdas, 10, DEMSTEP_STEPS_FRACTION, 0.5,
+                                DEMSTEP_PICK_LARGEST_STEP, DEMSTEP_AGGREGATE_MEAN, NULL, picks, row,
+                                &res, &err);
+    put("n_star", res.n_star);
+    put("lambda_star", res.lambda_star);
+    put("dt", res.dt);
+    put("stiffness_actual", res.stiffness_actual);
+  }
+
+  {
+    /* a 1D chain of 12 unit masses, ends fixed, bonds k = 100 */
+    double x[12], m[12], r[12];
+    int fixed[12] = {0}, bonds[22];
+    demstep_critical_step c;
+    for (i = 0; i < 12; ++i) { x[i] = i + 1.0; m[i] = 1.0; r[i] = 0.3; }
+    fixed[0] = fixed[11] = 1;
+    for (i = 0; i < 11; ++i) { bonds[2 * i] = i; bonds[2 * i + 1] = i + 1; }
+    demstep_scene_critical_step(1, 12, x, m, r, fixed, 11, bonds, 100.0, 0.0, DEMSTEP_LAW_LINEAR,
+                                0.0, 0.0, 0, 0.0, &c, &err);
+    put("omega_max", c.omega_max);
+    put("dt_critical_bound", c.dt_critical_bound);
+    put("dt_contact_rule", c.dt_contact_rule);
+  }
+
+  /* bad input: statuses and messages, never a crash */
+  printf("bad_null %d %s\n", demstep_critical_time_step(&spring, NULL, &err), err.message);
+  printf("bad_nan %d %s\n", demstep_harmonic_error(NAN, 0.9, 5.0, &e, &err), err.message);
+  printf("bad_empty %d %s\n",
+         demstep_simulated_stiffness(0.01, 1.0e5, 1.0e-3, NULL, 0, DEMSTEP_STEPS_FRACTION, 0.5,
+                                     DEMSTEP_PICK_LARGEST_STEP, DEMSTEP_AGGREGATE_MEAN, NULL, NULL,
+                                     NULL, NULL, &err),
+         err.message);
+  printf("bad_mass %d %s\n",
+         demstep_spring_new(-1.0, 1.0, 0.0, 1, DEMSTEP_DASHPOT_LAGGED, &spring, &err), err.message);
+  printf("bad_noerr %d\n", demstep_harmonic_error(10.0, 0.5, 20.0, &e, NULL));
+  return 0;
+}

@@ -1,0 +1,140 @@
+!> Tests of the C API through its bind(C) entry points: the same numbers as the
+!> Fortran API, and bad input (NULL pointers, empty arrays, NaN) as statuses with
+!> messages, never a crash.
+module test_capi
+  use, intrinsic :: iso_c_binding, only: c_int, c_double, c_loc, c_null_ptr, c_null_char, c_ptr
+  use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
+  use demstep
+  use demstep_capi, only: demstep_error_c, demstep_spring_c, demstep_spring_state_c, &
+    demstep_nroots_c, demstep_stiffness_result_c, demstep_critical_step_c, c_spring_new, &
+    c_spring_step, c_critical_time_step, c_harmonic_error, c_n_roots, c_simulated_stiffness, &
+    c_scene_critical_step
+  use test_support, only: ieee_nan
+  implicit none
+  private
+  public :: collect_capi
+
+contains
+
+  subroutine collect_capi(testsuite)
+    type(unittest_type), allocatable, intent(out) :: testsuite(:)
+    testsuite = [ &
+      new_unittest("C API gives the Fortran numbers bit for bit", test_same_numbers), &
+      new_unittest("NULL pointers, empty arrays, NaN: statuses and messages", test_bad_input) &
+      ]
+  end subroutine collect_capi
+
+  !> The message of a C error struct as a Fortran string.
+  function message_of(e) result(text)
+    type(demstep_error_c), intent(in) :: e
+    character(len=:), allocatable :: text
+    integer :: i
+    text = ""
+    do i = 1, size(e%message)
+      if (e%message(i) == c_null_char) exit
+      text = text//e%message(i)
+    end do
+  end function message_of
+
+  subroutine test_same_numbers(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(demstep_error_c), target :: e
+    type(demstep_spring_c), target :: cs
+    type(demstep_spring_state_c), target :: cst
+    type(demstep_nroots_c), target :: cr
+    real(c_double), target :: dt, value
+    type(spring_type) :: fs
+    type(spring_state_type) :: fst
+    type(demstep_status_type) :: status
+    type(nroots_options_type) :: options
+    type(nroots_type) :: r
+    real(dp) :: ev
+    integer :: i, stat
+    call check(error, int(c_spring_new(0.01_dp, 1.0e5_dp, 0.1_dp, 1, 1, c_loc(cs), c_loc(e))), 0)
+    if (allocated(error)) return
+    call new_spring(fs, 0.01_dp, 1.0e5_dp, status, damping_ratio=0.1_dp)
+    call check(error, int(c_critical_time_step(c_loc(cs), c_loc(dt), c_loc(e))), 0)
+    if (allocated(error)) return
+    call check(error, dt, critical_time_step(fs), thr=0.0_dp, message="critical step")
+    if (allocated(error)) return
+    cst = demstep_spring_state_c(0.0_dp, 1.0_dp, 0_8)
+    fst = spring_state_type(x=0.0_dp, v=1.0_dp)
+    do i = 1, 500
+      call check(error, int(c_spring_step(c_loc(cs), 0.3_dp*dt, c_loc(cst), c_loc(e))), 0)
+      if (allocated(error)) return
+      call spring_step(fs, 0.3_dp*dt, fst)
+    end do
+    call check(error, cst%x == fst%x .and. cst%v == fst%v .and. cst%step == fst%step, "500 steps")
+    if (allocated(error)) return
+    call check(error, int(c_harmonic_error(1000.0_dp, 0.97_dp, 1.0e7_dp + 1.0_dp, c_loc(value), c_loc(e))), 0)
+    if (allocated(error)) return
+    call harmonic_error(1000.0_dp, 0.97_dp, 1.0e7_dp + 1.0_dp, ev, stat)
+    call check(error, value, ev, thr=0.0_dp, message="E")
+    if (allocated(error)) return
+    call check(error, int(c_n_roots(0.9_dp, 1.0e-3_dp, 2, 0.5_dp, 1, 0.0_dp, 0.0_dp, c_loc(cr), &
+      c_loc(e))), 0)
+    if (allocated(error)) return
+    options%tolerance = 1.0e-3_dp
+    call n_roots(0.9_dp, options, r, status)
+    call check(error, cr%n_pick == r%n_pick .and. cr%n_zero == r%roots(1) .and. cr%n_lower == r%lower(1), &
+      "n_roots")
+  end subroutine test_same_numbers
+
+  subroutine test_bad_input(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(demstep_error_c), target :: e
+    type(demstep_spring_c), target :: cs
+    type(demstep_stiffness_result_c), target :: res
+    type(demstep_critical_step_c), target :: crit
+    real(c_double), target :: value, lambdas(2), x(2), m(2), rad(2)
+    integer(c_int), target :: bonds(2)
+    integer :: code
+    code = c_spring_new(1.0_dp, 1.0_dp, 0.0_dp, 1, 1, c_null_ptr, c_loc(e))
+    call check(error, code == 1 .and. e%stat == 1 .and. index(message_of(e), "NULL") > 0, &
+      "NULL spring: "//message_of(e))
+    if (allocated(error)) return
+    code = c_spring_new(ieee_nan(), 1.0_dp, 0.0_dp, 1, 1, c_loc(cs), c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "mass") > 0, "NaN mass: "//message_of(e))
+    if (allocated(error)) return
+    code = c_critical_time_step(c_null_ptr, c_loc(value), c_loc(e))
+    call check(error, code, 1, message="NULL spring to critical_time_step")
+    if (allocated(error)) return
+    code = c_harmonic_error(10.0_dp, ieee_nan(), 5.0_dp, c_loc(value), c_loc(e))
+    call check(error, code == 1 .and. len(message_of(e)) > 0, "NaN lambda")
+    if (allocated(error)) return
+    code = c_harmonic_error(10.0_dp, 0.5_dp, 20.0_dp, c_loc(value), c_null_ptr)
+    call check(error, code, 3, message="a pole, no error struct")
+    if (allocated(error)) return
+    lambdas = [0.9_dp, 0.95_dp]
+    code = c_simulated_stiffness(0.01_dp, 1.0e5_dp, 1.0e-3_dp, c_loc(lambdas), 0, 2, 0.5_dp, 1, 1, &
+      c_null_ptr, c_null_ptr, c_null_ptr, c_loc(res), c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "n_lambdas") > 0, "empty lambda set")
+    if (allocated(error)) return
+    code = c_simulated_stiffness(0.01_dp, 1.0e5_dp, 1.0e-3_dp, c_null_ptr, 2, 2, 0.5_dp, 1, 1, &
+      c_null_ptr, c_null_ptr, c_null_ptr, c_loc(res), c_loc(e))
+    call check(error, code, 1, message="NULL lambdas")
+    if (allocated(error)) return
+    lambdas = [0.9_dp, ieee_nan()]
+    code = c_simulated_stiffness(0.01_dp, 1.0e5_dp, 1.0e-3_dp, c_loc(lambdas), 2, 2, 0.5_dp, 1, 1, &
+      c_null_ptr, c_null_ptr, c_null_ptr, c_loc(res), c_loc(e))
+    call check(error, code, 1, message="NaN lambda in the set")
+    if (allocated(error)) return
+    x = [0.0_dp, 1.0_dp]
+    m = [1.0_dp, 1.0_dp]
+    rad = [0.3_dp, 0.3_dp]
+    bonds = [0, 5]
+    code = c_scene_critical_step(1, 2, c_loc(x), c_loc(m), c_loc(rad), c_null_ptr, 1, c_loc(bonds), &
+      1.0_dp, 0.0_dp, 1, 0.0_dp, 0.0_dp, 0, 0.0_dp, c_loc(crit), c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "missing") > 0, "bond to a missing particle: " &
+      //message_of(e))
+    if (allocated(error)) return
+    code = c_scene_critical_step(1, 0, c_loc(x), c_loc(m), c_loc(rad), c_null_ptr, 0, c_null_ptr, &
+      1.0_dp, 0.0_dp, 1, 0.0_dp, 0.0_dp, 0, 0.0_dp, c_loc(crit), c_loc(e))
+    call check(error, code, 1, message="no particles")
+    if (allocated(error)) return
+    code = c_scene_critical_step(1, 2, c_null_ptr, c_loc(m), c_loc(rad), c_null_ptr, 0, c_null_ptr, &
+      1.0_dp, 0.0_dp, 1, 0.0_dp, 0.0_dp, 0, 0.0_dp, c_loc(crit), c_loc(e))
+    call check(error, code, 1, message="NULL positions")
+  end subroutine test_bad_input
+
+end module test_capi
