@@ -12,6 +12,7 @@ program capi_reference
   type(stiffness_result_type) :: res
   type(scene_type) :: scene
   type(critical_step_type) :: c
+  type(onset_contact_type) :: contact
   real(dp) :: dt_crit, e, x(1, 12)
   integer :: i, stat, pairs(2, 11)
   call new_spring(spring, 0.01_dp, 1.0e5_dp, status)
@@ -51,6 +52,10 @@ program capi_reference
   call put("omega_max", c%omega_max)
   call put("dt_critical_bound", c%dt_critical_bound)
   call put("dt_contact_rule", c%dt_contact_rule)
+  call contact_with_onset(20.0_dp, 0.5_dp, contact, status, 0.1_dp)
+  call put("contact_restitution", contact%restitution)
+  call n_for_tolerance(quantity_restitution, 1.0e-3_dp, e, status)
+  call put("n_for_tolerance", e)
 contains
   subroutine put(name, value)
     character(len=*), intent(in) :: name

@@ -86,6 +86,20 @@ typedef struct {
   int n_dof, n_springs, eigen_computed;
 } demstep_critical_step;
 
+/* The exact discrete contact at N = T/dt and onset s in (0, 1] (lagged dashpot with
+   damping_ratio); contact time in T/2, overlap in v0/omega, restitution -v_out/v0. */
+typedef struct {
+  double onset, contact_time, restitution, max_overlap;
+  int64_t steps; /* force evaluations with a positive overlap */
+  int stable;    /* 0 beyond the stability limit (computed by exact stepping) */
+} demstep_contact;
+
+/* Quantities for demstep_n_for_tolerance. */
+enum {
+  DEMSTEP_QUANTITY_RESTITUTION = 1, DEMSTEP_QUANTITY_CONTACT_TIME = 2,
+  DEMSTEP_QUANTITY_OVERLAP = 3, DEMSTEP_QUANTITY_PERIOD = 4
+};
+
 /* Build a validated spring (mass, stiffness > 0; damping_ratio >= 0). */
 int demstep_spring_new(double mass, double stiffness, double damping_ratio, int compression_only,
                        int dashpot, demstep_spring *spring, demstep_error *err);
@@ -123,6 +137,15 @@ int demstep_scene_critical_step(int dim, int n, const double *x, const double *m
                                 int law, double k_normal, double e_star, int effects,
                                 double damping_ratio, demstep_critical_step *result,
                                 demstep_error *err);
+
+/* The discrete contact at one onset. */
+int demstep_contact_with_onset(double n_per_period, double onset, double damping_ratio,
+                               demstep_contact *contact, demstep_error *err);
+
+/* The smallest N = T/dt whose worst-case (over the onset) error of a quantity stays
+   within tolerance at N and above; n_max <= 0 means 1e7. DEMSTEP_NOT_FOUND if not met. */
+int demstep_n_for_tolerance(int quantity, double tolerance, double damping_ratio, double n_max,
+                            double *n, demstep_error *err);
 
 #ifdef __cplusplus
 }

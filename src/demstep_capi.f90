@@ -17,6 +17,8 @@ module demstep_capi
     stiffness_result_type, simulated_stiffness
   use demstep_scene, only: scene_type, new_scene, scene_add_bonds, n_effects
   use demstep_assembly, only: critical_step_type, critical_time_steps
+  use demstep_contact, only: onset_contact_type, contact_with_onset
+  use demstep_cost, only: n_for_tolerance
   implicit none
   private
 
@@ -60,6 +62,14 @@ module demstep_capi
     integer(c_int) :: n_dof, n_springs, eigen_computed
   end type demstep_critical_step_c
 
+  !> struct demstep_contact.
+  type, bind(C), public :: demstep_contact_c
+    real(c_double) :: onset, contact_time, restitution, max_overlap
+    integer(c_int64_t) :: steps
+    integer(c_int) :: stable
+  end type demstep_contact_c
+
+  public :: c_contact_with_onset, c_n_for_tolerance
   public :: c_spring_new, c_spring_step, c_critical_time_step, c_harmonic_error, c_n_roots, &
     c_simulated_stiffness, c_scene_critical_step
 
@@ -392,5 +402,55 @@ contains
       c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped, c%n_dof, c%n_springs, &
       merge(1, 0, c%eigen_computed))
   end function c_scene_critical_step
+
+  !> int demstep_contact_with_onset(double n_per_period, double onset, double damping_ratio,
+  !>   demstep_contact *contact, demstep_error *err)
+  function c_contact_with_onset(n_per_period, onset, damping_ratio, contact, err) result(code) &
+      bind(C, name="demstep_contact_with_onset")
+    real(c_double), value :: n_per_period, onset, damping_ratio
+    type(c_ptr), value :: contact, err
+    integer(c_int) :: code
+    type(onset_contact_type) :: c
+    type(demstep_status_type) :: status
+    type(demstep_contact_c), pointer :: out
+    if (.not. c_associated(contact)) then
+      code = invalid(err, "demstep_contact_with_onset: contact is NULL")
+      return
+    end if
+    call contact_with_onset(n_per_period, onset, c, status, damping_ratio)
+    code = report(err, status)
+    if (code /= 0) return
+    call c_f_pointer(contact, out)
+    out = demstep_contact_c(c%onset, c%contact_time, c%restitution, c%max_overlap, &
+      int(c%steps, c_int64_t), merge(1, 0, c%stable))
+  end function c_contact_with_onset
+
+  !> int demstep_n_for_tolerance(int quantity, double tolerance, double damping_ratio,
+  !>   double n_max, double *n, demstep_error *err)
+  function c_n_for_tolerance(quantity, tolerance, damping_ratio, n_max, n, err) result(code) &
+      bind(C, name="demstep_n_for_tolerance")
+    integer(c_int), value :: quantity
+    real(c_double), value :: tolerance, damping_ratio, n_max
+    type(c_ptr), value :: n, err
+    integer(c_int) :: code
+    type(demstep_status_type) :: status
+    real(c_double), pointer :: out
+    real(dp) :: value, top
+    if (.not. c_associated(n)) then
+      code = invalid(err, "demstep_n_for_tolerance: n is NULL")
+      return
+    end if
+    if (.not. (ieee_is_finite(damping_ratio) .and. damping_ratio >= 0.0_dp)) then
+      code = invalid(err, "demstep_n_for_tolerance: damping_ratio must be finite and >= 0")
+      return
+    end if
+    top = 1.0e7_dp
+    if (n_max > 0.0_dp) top = n_max
+    call n_for_tolerance(int(quantity), tolerance, value, status, damping_ratio=damping_ratio, n_max=top)
+    code = report(err, status)
+    if (code /= 0) return
+    call c_f_pointer(n, out)
+    out = value
+  end function c_n_for_tolerance
 
 end module demstep_capi

@@ -8,7 +8,7 @@ module test_capi
   use demstep_capi, only: demstep_error_c, demstep_spring_c, demstep_spring_state_c, &
     demstep_nroots_c, demstep_stiffness_result_c, demstep_critical_step_c, c_spring_new, &
     c_spring_step, c_critical_time_step, c_harmonic_error, c_n_roots, c_simulated_stiffness, &
-    c_scene_critical_step
+    c_scene_critical_step, demstep_contact_c, c_contact_with_onset, c_n_for_tolerance
   use test_support, only: ieee_nan
   implicit none
   private
@@ -86,6 +86,7 @@ contains
     type(demstep_spring_c), target :: cs
     type(demstep_stiffness_result_c), target :: res
     type(demstep_critical_step_c), target :: crit
+    type(demstep_contact_c), target :: contact
     real(c_double), target :: value, lambdas(2), x(2), m(2), rad(2)
     integer(c_int), target :: bonds(2)
     integer :: code
@@ -135,6 +136,21 @@ contains
     code = c_scene_critical_step(1, 2, c_null_ptr, c_loc(m), c_loc(rad), c_null_ptr, 0, c_null_ptr, &
       1.0_dp, 0.0_dp, 1, 0.0_dp, 0.0_dp, 0, 0.0_dp, c_loc(crit), c_loc(e))
     call check(error, code, 1, message="NULL positions")
+    if (allocated(error)) return
+    code = c_contact_with_onset(20.0_dp, 1.5_dp, 0.0_dp, c_loc(contact), c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "onset") > 0, "onset 1.5: "//message_of(e))
+    if (allocated(error)) return
+    code = c_contact_with_onset(20.0_dp, 0.5_dp, ieee_nan(), c_loc(contact), c_loc(e))
+    call check(error, code, 1, message="NaN damping")
+    if (allocated(error)) return
+    code = c_contact_with_onset(20.0_dp, 0.5_dp, 0.0_dp, c_null_ptr, c_loc(e))
+    call check(error, code, 1, message="NULL contact")
+    if (allocated(error)) return
+    code = c_n_for_tolerance(1, ieee_nan(), 0.0_dp, 0.0_dp, c_loc(value), c_loc(e))
+    call check(error, code, 1, message="NaN tolerance")
+    if (allocated(error)) return
+    code = c_n_for_tolerance(9, 1.0e-3_dp, 0.0_dp, 0.0_dp, c_loc(value), c_loc(e))
+    call check(error, code, 1, message="unknown quantity")
   end subroutine test_bad_input
 
 end module test_capi

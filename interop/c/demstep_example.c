@@ -67,6 +67,15 @@ int main(void) {
     put("dt_contact_rule", c.dt_contact_rule);
   }
 
+  {
+    demstep_contact c;
+    double n;
+    demstep_contact_with_onset(20.0, 0.5, 0.1, &c, &err);
+    put("contact_restitution", c.restitution);
+    demstep_n_for_tolerance(DEMSTEP_QUANTITY_RESTITUTION, 1.0e-3, 0.0, 0.0, &n, &err);
+    put("n_for_tolerance", n);
+  }
+
   /* bad input: statuses and messages, never a crash */
   printf("bad_null %d %s\n", demstep_critical_time_step(&spring, NULL, &err), err.message);
   printf("bad_nan %d %s\n", demstep_harmonic_error(NAN, 0.9, 5.0, &e, &err), err.message);
@@ -78,5 +87,9 @@ int main(void) {
   printf("bad_mass %d %s\n",
          demstep_spring_new(-1.0, 1.0, 0.0, 1, DEMSTEP_DASHPOT_LAGGED, &spring, &err), err.message);
   printf("bad_noerr %d\n", demstep_harmonic_error(10.0, 0.5, 20.0, &e, NULL));
+  {
+    demstep_contact c;
+    printf("bad_onset %d %s\n", demstep_contact_with_onset(20.0, 1.5, 0.0, &c, &err), err.message);
+  }
   return 0;
 }
