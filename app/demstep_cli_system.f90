@@ -1,7 +1,7 @@
 !> Group `&system`: one mass on a contact spring (the seed's model).
 module demstep_cli_system
   use demstep, only: dp, i8, pi, demstep_status_type, demstep_stat, spring_type, &
-    new_spring, spring_omega, spring_period, critical_time_step, numerical_phase, &
+    new_spring, spring_omega, spring_period, spring_damping_ratio, critical_time_step, numerical_phase, &
     growth_factor, discrete_contact_type, discrete_contact, simulate_contact, &
     dashpot_lagged, dashpot_centred, lowercase, nml_group_type, set_status
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
@@ -129,7 +129,7 @@ contains
     period = spring_period(spring)
     omega = spring_omega(spring)
     dt_critical = critical_time_step(spring)
-    zeta = spring%damping/(2.0_dp*sqrt(spring%stiffness*spring%mass))
+    zeta = spring_damping_ratio(spring)
     write(u, '(a)') "&system (line "//fmt_int(int(group%line, i8))//")"
     call row(u, "mass M", fmt_real(spring%mass))
     call row(u, "stiffness K", fmt_real(spring%stiffness))

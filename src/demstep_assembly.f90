@@ -21,7 +21,7 @@ module demstep_assembly
   use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_scene, only: scene_type, contact_list, law_linear, effect_contacts, &
-    effect_walls, effect_damping
+    effect_walls, effect_damping, effective_mass, tangent_stiffness
   use demstep_lapack, only: largest_eigenpair
   implicit none
   private
@@ -108,7 +108,7 @@ contains
     do i = 1, size(springs)
       associate(s => springs(i))
         result%dt_contact_rule = min(result%dt_contact_rule, &
-          2.0_dp*sqrt(pair_mass(scene, s%i, s%j)/max(s%k_n, s%k_t)))
+          2.0_dp*sqrt(effective_mass(scene, s%i, s%j)/max(s%k_n, s%k_t)))
         call add_row_sums(scene, dof, s, rows)
       end associate
     end do
@@ -167,7 +167,7 @@ contains
       springs(k)%k_n = scene%k_bond
       springs(k)%k_t = scene%k_bond_tangential
       springs(k)%n = scene%bond_normal(:, k)
-      springs(k)%c = 2.0_dp*zeta*sqrt(pair_mass(scene, springs(k)%i, springs(k)%j)*scene%k_bond)
+      springs(k)%c = 2.0_dp*zeta*sqrt(effective_mass(scene, springs(k)%i, springs(k)%j)*scene%k_bond)
     end do
     if (scene%effects(effect_contacts)) then
         call contact_list(scene, pi, pj, pn, pd)
@@ -176,9 +176,9 @@ contains
           j = pj(k)
           if (scene%fixed(i) .and. scene%fixed(j)) cycle
           rs = scene%radius(i)*scene%radius(j)/(scene%radius(i) + scene%radius(j))
-          kk = contact_stiffness(scene, pd(k), rs, pair_mass(scene, i, j), mode, v_impact)
+          kk = contact_stiffness(scene, pd(k), rs, effective_mass(scene, i, j), mode, v_impact)
           springs = [springs, spring_block_type(i=i, j=j, k_n=kk, k_t=0.0_dp, &
-            c=2.0_dp*zeta*sqrt(pair_mass(scene, i, j)*kk), n=pad(pn(:, k)))]
+            c=2.0_dp*zeta*sqrt(effective_mass(scene, i, j)*kk), n=pad(pn(:, k)))]
         end do
     end if
     if (scene%effects(effect_walls)) then
@@ -202,36 +202,18 @@ contains
     end function pad
   end function linearise
 
-  !> Tangent stiffness of a contact: k (linear), or 2 E* sqrt(R* d) at the
-  !> current overlap or at the largest overlap of an impact at v_impact.
+  !> Tangent stiffness of a contact at the current overlap, or (Hertz) at the
+  !> largest overlap of an impact at v_impact.
   pure real(dp) function contact_stiffness(scene, overlap, rs, m_eff, mode, v_impact) result(k)
     type(scene_type), intent(in) :: scene
     real(dp), intent(in) :: overlap, rs, m_eff, v_impact
     integer, intent(in) :: mode
     real(dp) :: d
-    if (scene%law == law_linear) then
-      k = scene%k_normal
-      return
-    end if
     d = overlap
-    if (mode == hertz_at_impact) d = (15.0_dp*m_eff*v_impact**2/(16.0_dp*scene%e_star*sqrt(rs)))**0.4_dp
-    k = 2.0_dp*scene%e_star*sqrt(rs*d)
+    if (scene%law /= law_linear .and. mode == hertz_at_impact) &
+      d = (15.0_dp*m_eff*v_impact**2/(16.0_dp*scene%e_star*sqrt(rs)))**0.4_dp
+    k = tangent_stiffness(scene, d, rs)
   end function contact_stiffness
-
-  !> m* of a spring's ends; the ground and fixed particles are infinitely heavy.
-  pure real(dp) function pair_mass(scene, i, j) result(m)
-    type(scene_type), intent(in) :: scene
-    integer, intent(in) :: i, j
-    if (j == 0) then
-      m = scene%mass(i)
-    else if (scene%fixed(j)) then
-      m = scene%mass(i)
-    else if (scene%fixed(i)) then
-      m = scene%mass(j)
-    else
-      m = scene%mass(i)*scene%mass(j)/(scene%mass(i) + scene%mass(j))
-    end if
-  end function pair_mass
 
   !> The spring's 3x3 block k_n n n^T + k_t (I - n n^T).
   pure function block_of(s) result(b)

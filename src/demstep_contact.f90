@@ -68,7 +68,8 @@ contains
     type(onset_contact_type), intent(out) :: contact
     type(demstep_status_type), intent(out) :: status
     real(dp), intent(in), optional :: damping_ratio
-    real(dp) :: h, zeta, gam, rho, theta, a, b, r, phi, q, x, xm, best, sin2, angle
+    real(dp) :: h, zeta, rho, theta, a, b, r, phi, q, x, xm, best, angle
+    logical :: closed
     integer(i8) :: nc, k, lo, hi
     zeta = 0.0_dp
     if (present(damping_ratio)) zeta = damping_ratio
@@ -89,21 +90,13 @@ contains
     h = 2.0_dp*pi/n_per_period
     ! the stability limit of the lagged dashpot: h < 2 (sqrt(1 + zeta^2) - zeta)
     contact%stable = h < 2.0_dp/(sqrt(1.0_dp + zeta**2) + zeta)
-    gam = 1.0_dp - 2.0_dp*zeta*h
     a = (onset - 1.0_dp)*h
     b = onset*h
-    ! complex roots rho e^(+-i theta): sin^2(theta/2) = (h^2/(4 rho)) (1 - (2 zeta/(1 + rho))^2),
-    ! a form without the cancellation of acos near 1 (it is 2 asin(h/2) undamped)
-    sin2 = -1.0_dp
-    if (gam > 0.0_dp) then
-      rho = sqrt(gam)
-      sin2 = 0.25_dp*h**2/rho*(1.0_dp - (2.0_dp*zeta/(1.0_dp + rho))**2)
-    end if
-    if (.not. (contact%stable .and. sin2 > 0.0_dp .and. sin2 < 1.0_dp)) then
+    call discrete_phase(h, zeta, rho, theta, closed)
+    if (.not. closed) then
       call step_contact(h, zeta, onset, contact, status)
       return
     end if
-    theta = 2.0_dp*asin(sqrt(sin2))
     ! x_0 = R sin(phi) = a, x_1 = R rho sin(theta + phi) = b
     phi = atan2(a, (b/rho - a*cos(theta))/sin(theta))
     r = hypot(a, (b/rho - a*cos(theta))/sin(theta))
@@ -133,6 +126,26 @@ contains
       x_at = r*rho**real(n, dp)*sin(real(n, dp)*theta + phi)
     end function x_at
   end subroutine contact_with_onset
+
+  !> The roots rho e^(+-i theta) of the contact recurrence at h = omega dt, with
+  !> sin^2(theta/2) = (h^2/(4 rho)) (1 - (2 zeta/(1 + rho))^2): a form without the
+  !> cancellation of acos near 1 (it is 2 asin(h/2) undamped). `closed` is false
+  !> beyond the stability limit or where the roots are real: step there instead.
+  elemental subroutine discrete_phase(h, zeta, rho, theta, closed)
+    real(dp), intent(in) :: h, zeta
+    real(dp), intent(out) :: rho, theta
+    logical, intent(out) :: closed
+    real(dp) :: gam, sin2
+    rho = 0.0_dp
+    theta = 0.0_dp
+    gam = 1.0_dp - 2.0_dp*zeta*h
+    closed = gam > 0.0_dp .and. h < 2.0_dp/(sqrt(1.0_dp + zeta**2) + zeta)
+    if (.not. closed) return
+    rho = sqrt(gam)
+    sin2 = 0.25_dp*h**2/rho*(1.0_dp - (2.0_dp*zeta/(1.0_dp + rho))**2)
+    closed = sin2 > 0.0_dp .and. sin2 < 1.0_dp
+    if (closed) theta = 2.0_dp*asin(sqrt(sin2))
+  end subroutine discrete_phase
 
   !> The contact by exact stepping of the recurrence (beyond the closed forms).
   pure subroutine step_contact(h, zeta, onset, contact, status)
@@ -291,17 +304,15 @@ contains
     type(onset_contact_type), intent(out) :: worst
     real(dp), intent(out) :: error
     type(demstep_status_type), intent(out) :: status
-    real(dp) :: h, gam, rho, sin2, q, e1, e2
+    real(dp) :: h, rho, theta, q, e1, e2
     integer(i8) :: m
+    logical :: closed
     h = 2.0_dp*pi/n_per_period
-    gam = 1.0_dp - 2.0_dp*zeta*h
     error = -1.0_dp
     call set_status(status, demstep_stat%not_converged, "outside the closed forms")
-    if (.not. (gam > 0.0_dp .and. h < 2.0_dp/(sqrt(1.0_dp + zeta**2) + zeta))) return
-    rho = sqrt(gam)
-    sin2 = 0.25_dp*h**2/rho*(1.0_dp - (2.0_dp*zeta/(1.0_dp + rho))**2)
-    if (.not. (sin2 > 0.0_dp .and. sin2 < 1.0_dp)) return
-    q = pi/(2.0_dp*asin(sqrt(sin2)))
+    call discrete_phase(h, zeta, rho, theta, closed)
+    if (.not. closed) return
+    q = pi/theta
     m = ceiling(q, i8)
     e1 = abs(real(m - 1_i8, dp)*h/pi - exact%contact_time)/exact%contact_time
     e2 = abs(real(m, dp)*h/pi - exact%contact_time)/exact%contact_time

@@ -30,6 +30,7 @@ module demstep_scene
   implicit none
   private
 
+  public :: effective_mass, tangent_stiffness
   public :: cubic_lattice, new_scene, scene_add_bonds, scene_add_walls, scene_run, contact_list, &
     effect_index, restitution_to_damping_ratio
 
@@ -853,11 +854,14 @@ contains
       - merge(1.0_dp, 0.0_dp, scene%v < 0.0_dp))
   end subroutine local_damping_term
 
-  !> m* of a pair; a fixed partner counts as infinitely heavy.
+  !> m* of a pair (i, j); j = 0 (the ground, a wall) and fixed partners count as
+  !> infinitely heavy.
   pure real(dp) function effective_mass(scene, i, j) result(m)
     type(scene_type), intent(in) :: scene
     integer, intent(in) :: i, j
-    if (scene%fixed(j)) then
+    if (j == 0) then
+      m = scene%mass(i)
+    else if (scene%fixed(j)) then
       m = scene%mass(i)
     else if (scene%fixed(i)) then
       m = scene%mass(j)
