@@ -25,6 +25,8 @@ module demstep_cli
     integer :: report = -1
     !> Unit of the result namelist (buffered; file or stdout at the end).
     integer :: results = -1
+    !> No progress or up-front estimates on stderr (`--quiet`).
+    logical :: quiet = .false.
   end type cli_context
 
   !> One input variable of a group: name, what its value must be, documentation,

@@ -43,6 +43,8 @@ program demstep_main
       stop
     case ("--namelist")
       namelist_only = .true.
+    case ("-q", "--quiet")
+      ctx%quiet = .true.
     case ("-o", "--output")
       if (i == nargs) call usage_error("option "//arg//" needs a file name")
       i = i + 1
@@ -189,6 +191,7 @@ contains
       "options:", &
       "  -o FILE, --output FILE   write the result namelist to FILE (atomically)", &
       "  --namelist               print the result namelist instead of the report", &
+      "  -q, --quiet              no up-front estimates or progress on stderr", &
       "  --template               print a commented input with every group", &
       "  -V, --version            print the version", &
       "  -h, --help               print this help", &

@@ -35,6 +35,7 @@ module demstep
     tolerance_grid_ratio
   ! the C API lives in the same library (its names are bind(C), not re-exported)
   use demstep_capi, only: capi_message_length
+  use demstep_progress, only: progress_type, text_progress_type
   use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, &
     scan_namelist, lowercase, replace_file, process_id
   implicit none

@@ -13,6 +13,7 @@ program tester
   use test_contact, only: collect_contact
   use test_capi, only: collect_capi
   use test_app, only: collect_app
+  use test_progress, only: collect_progress
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -28,6 +29,7 @@ program tester
     new_testsuite("scene", collect_scene), &
     new_testsuite("contact", collect_contact), &
     new_testsuite("capi", collect_capi), &
+    new_testsuite("progress", collect_progress), &
     new_testsuite("app", collect_app) &
     ]
   stat = 0
