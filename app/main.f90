@@ -5,8 +5,10 @@
 program demstep_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use demstep, only: demstep_version_string, demstep_status_type, demstep_stat, &
-    nml_group_type, read_text_file, scan_namelist, replace_file, process_id
+    nml_group_type, read_text_file, scan_namelist
   use demstep_cli, only: cli_context, write_template, fmt_int
+  use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &
+    same_file
   use demstep_cli_system, only: handle_system, system_specs, system_doc
   use demstep_cli_harmonic, only: handle_harmonic_error, harmonic_specs, harmonic_doc
   use demstep_cli_stiffness, only: handle_simulated_stiffness, stiffness_specs, stiffness_doc
@@ -15,13 +17,13 @@ program demstep_main
     handle_accuracy_cost, accuracy_cost_specs, accuracy_cost_doc
   implicit none
 
-  character(len=:), allocatable :: input, output, arg, text, skipped, tmp
+  character(len=:), allocatable :: input, output, arg, text, skipped
+  type(output_file_type) :: out_file
   logical :: namelist_only
   type(nml_group_type), allocatable :: groups(:)
   type(demstep_status_type) :: status
   type(cli_context) :: ctx
-  integer :: i, nargs, known, ios, unit
-  character(len=256) :: msg
+  integer :: i, nargs, known, ios
   character(len=*), parameter :: known_groups = &
     "&system, &harmonic_error, &simulated_stiffness, &scene, &contact_error, &accuracy_cost"
 
@@ -64,6 +66,9 @@ program demstep_main
   if (.not. allocated(input)) call usage_error("no input file")
   if (allocated(output)) then
     if (len(output) == 0) call usage_error("empty output file name")
+    ! the results would replace the deck they came from
+    if (same_file(input, output)) call fail(output//": is the input deck; the results " &
+      //"would replace it (choose another -o file)", 2)
   end if
 
   call read_text_file(input, text, status)
@@ -103,22 +108,15 @@ program demstep_main
   if (len(skipped) > 0) write(ctx%report, '(a)') "skipped groups (not demstep's):"//skipped
 
   if (allocated(output)) then
-    tmp = output//".tmp"//fmt_int(int(process_id(), 8))
-    open(newunit=unit, file=tmp, status="replace", action="write", form="formatted", &
-      iostat=ios, iomsg=msg)
-    if (ios /= 0) call fail(output//": cannot write: "//trim(msg), 1)
-    call copy_unit(ctx%results, unit, ios)
+    call open_output(output, out_file, status)
+    if (status%stat /= demstep_stat%ok) call fail(output//": "//status%message, 1)
+    call copy_unit(ctx%results, out_file%unit, ios)
     if (ios /= 0) then
-      close(unit, status="delete")
+      call discard_output(out_file)
       call fail(output//": cannot write the results", 1)
     end if
-    close(unit)
-    call replace_file(tmp, output, status)
-    if (status%stat /= demstep_stat%ok) then
-      open(newunit=unit, file=tmp, status="old", iostat=ios)
-      if (ios == 0) close(unit, status="delete")
-      call fail(output//": "//status%message, 1)
-    end if
+    call commit_output(out_file, status)
+    if (status%stat /= demstep_stat%ok) call fail(output//": "//status%message, 1)
     write(ctx%report, '(a)') "results written to "//output
   end if
   if (namelist_only) then

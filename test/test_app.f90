@@ -24,6 +24,7 @@ contains
       new_unittest("no known group; unterminated group", test_bad_groups), &
       new_unittest("out-of-domain values", test_bad_values), &
       new_unittest("bad command lines", test_bad_usage), &
+      new_unittest("-o: never the deck, links kept, long names, directories", test_output_files), &
       new_unittest("&harmonic_error: results read back, broadcast", test_harmonic_group), &
       new_unittest("&harmonic_error: each bad input", test_harmonic_bad), &
       new_unittest("&simulated_stiffness: the seed's setting read back", test_stiffness_group), &
@@ -225,6 +226,58 @@ contains
     if (allocated(error)) return
     call expect_failure(error, "example/paper.nml -o", "demstep: option -o needs a file name")
   end subroutine test_bad_usage
+
+  subroutine test_output_files(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer :: rc, cs, es
+    character(len=:), allocatable :: stdout, stderr, before, after, long, listing
+    character(len=*), parameter :: paper = "example/paper.nml"
+    ! -o naming the input deck, directly or through a link, is refused; the deck stays
+    call write_file(deck, [character(len=80) :: "&system mass = 0.01, stiffness = 1e5 /"])
+    call read_file(deck, before)
+    call run_app(deck//" -o "//deck, rc, stdout, stderr)
+    call check(error, rc, 2, message="-o equal to the input: exit status")
+    if (allocated(error)) return
+    call check(error, index(stderr, "demstep: "//deck//": is the input deck") == 1, &
+      "one line naming the file: "//stderr)
+    if (allocated(error)) return
+    call execute_command_line("cd "//work_dir//" && rm -f deck_link.nml && ln -s deck.nml deck_link.nml", &
+      exitstat=es, cmdstat=cs)
+    call check(error, cs == 0 .and. es == 0, "ln -s")
+    if (allocated(error)) return
+    call run_app(deck//" -o "//work_dir//"/deck_link.nml", rc, stdout, stderr)
+    call read_file(deck, after)
+    call check(error, rc == 2 .and. after == before, "a link to the input is refused, the deck kept")
+    if (allocated(error)) return
+    ! an existing link as output: the file it points to gets the results, the link stays
+    call execute_command_line("cd "//work_dir//" && rm -rf linked && mkdir linked && " &
+      //"touch linked/r.nml && rm -f r_link.nml && ln -s linked/r.nml r_link.nml", exitstat=es, cmdstat=cs)
+    call run_app(paper//" -o "//work_dir//"/r_link.nml", rc, stdout, stderr)
+    call check(error, rc, 0, message="-o a link: exit status; stderr: "//stderr)
+    if (allocated(error)) return
+    call read_file(work_dir//"/linked/r.nml", after)
+    call check(error, index(after, "&SYSTEM_RESULT") == 1, "the link's target holds the results")
+    if (allocated(error)) return
+    call execute_command_line("test -L "//work_dir//"/r_link.nml", exitstat=es, cmdstat=cs)
+    call check(error, cs == 0 .and. es == 0, "the link is still a link")
+    if (allocated(error)) return
+    ! a name of the longest length a directory entry may have (255) is written
+    long = repeat("r", 251)//".nml"
+    call run_app(paper//" -o "//work_dir//"/"//long, rc, stdout, stderr)
+    call check(error, rc == 0 .and. file_exists(work_dir//"/"//long), &
+      "a 255-character name is written; stderr: "//stderr)
+    if (allocated(error)) return
+    call execute_command_line("rm -f "//work_dir//"/"//long, exitstat=es, cmdstat=cs)
+    ! a directory as output: exit 1, one line, nothing left behind
+    call run_app(paper//" -o "//work_dir//"/linked", rc, stdout, stderr)
+    call check(error, rc == 1 .and. index(stderr, "is a directory") > 0, &
+      "a directory is not an output file: "//stderr)
+    if (allocated(error)) return
+    call execute_command_line("ls -a "//work_dir//" "//work_dir//"/linked > "//work_dir//"/listing", &
+      exitstat=es, cmdstat=cs)
+    call read_file(work_dir//"/listing", listing)
+    call check(error, index(listing, ".tmp") == 0, "no temporary left: "//listing)
+  end subroutine test_output_files
 
   subroutine test_harmonic_group(error)
     type(error_type), allocatable, intent(out) :: error
