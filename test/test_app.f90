@@ -125,7 +125,7 @@ contains
   subroutine test_options(error)
     type(error_type), allocatable, intent(out) :: error
     integer :: rc, unit, ios
-    character(len=:), allocatable :: stdout, stderr
+    character(len=:), allocatable :: stdout, stderr, manifest
     real(dp) :: period, omega, dt_critical
     namelist /system_result/ period, omega, dt_critical
     call write_file(deck, [character(len=60) :: "&system mass=4, stiffness=1 /"])
@@ -153,6 +153,11 @@ contains
     if (allocated(error)) return
     call run_app("--version", rc, stdout, stderr)
     call check(error, rc == 0 .and. index(stdout, demstep_version_string) > 0, "--version")
+    if (allocated(error)) return
+    ! the version lives in fpm.toml; the Fortran constant must say the same
+    call read_file("fpm.toml", manifest)
+    call check(error, index(manifest, new_line("a")//'version = "'//demstep_version_string//'"') > 0, &
+      "demstep_version_string equals fpm.toml's version")
   end subroutine test_options
 
   subroutine test_bad_file(error)
