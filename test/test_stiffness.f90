@@ -161,6 +161,7 @@ contains
     type(nroots_type) :: r, rf
     type(demstep_status_type) :: status
     real(dp) :: pole, e_lo, e_hi, h
+    real(qp) :: ref
     integer :: i, k, s1, s2
     options%tolerance = 1.0e-3_dp
     options%policy = step_policy_type(steps_fixed, 100.0_dp)
@@ -169,12 +170,17 @@ contains
     call check(error, size(r%roots) > 30, "many roots: "//real_str(real(size(r%roots), dp)))
     if (allocated(error)) return
     do i = 1, size(r%roots)
-      ! a genuine root: E small and changing sign within 1e-10 relative
+      ! a genuine root: E changing sign within 1e-10 relative, and equal to the quad
+      ! bisection's root (the scan now also finds roots within 1e-4 of a pole, where
+      ! N dE/dN ~ 1e5 makes |E| at 1e-10 relative reach 1e-5)
       h = 1.0e-10_dp*r%roots(i)
       call harmonic_error_steps(r%roots(i) - h, 0.9_dp, options%policy, e_lo, s1)
       call harmonic_error_steps(r%roots(i) + h, 0.9_dp, options%policy, e_hi, s2)
-      call check(error, e_lo*e_hi <= 0.0_dp .and. max(abs(e_lo), abs(e_hi)) < 1.0e-6_dp, &
-        "not a root at N = "//real_str(r%roots(i)))
+      call check(error, e_lo*e_hi <= 0.0_dp, "not a root at N = "//real_str(r%roots(i)))
+      if (allocated(error)) return
+      ref = quad_bisect(r%roots(i) - h, r%roots(i) + h, 0.9_dp, .true., 100.0_dp, 0.0_dp, .false.)
+      call check(error, r%roots(i), real(ref, dp), thr=root_tol, rel=.true., message="quad root near N = " &
+        //real_str(r%roots(i)))
       if (allocated(error)) return
       ! poles at n lambda/N = k and (n + 1) lambda/N = k: never reported
       do k = 1, 40
