@@ -677,9 +677,26 @@ contains
   pure function real_text(x) result(text)
     real(dp), intent(in) :: x
     character(len=:), allocatable :: text
-    character(len=32) :: buf
-    write(buf, '(es11.3e3)') x
-    text = trim(adjustl(buf))
+    character(len=40) :: buf
+    real(dp) :: m
+    integer :: e
+    if (.not. ieee_is_finite(x)) then
+      text = "more than 1e308"
+      if (x /= x) text = "NaN"
+      return
+    end if
+    if (x == 0.0_dp) then
+      text = "0"
+      return
+    end if
+    e = floor(log10(abs(x)))
+    m = x/10.0_dp**e
+    if (abs(m) >= 9.9995_dp) then
+      e = e + 1
+      m = m/10.0_dp
+    end if
+    write(buf, '(f0.3, "e", i0)') m, e
+    text = trim(buf)
   end function real_text
 
   pure logical function valid_policy(policy)
