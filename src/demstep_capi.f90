@@ -350,8 +350,8 @@ contains
     call simulated_stiffness(input, r, status)
     if (status%stat /= demstep_stat%ok) status%message = "demstep_simulated_stiffness: "//status%message
     code = report(err, status)
-    call guard_finite([r%n_star, r%lambda_star, r%period, r%dt, r%stiffness_actual, r%rows%n_pick], &
-      "demstep_simulated_stiffness", err, code)
+    if (code == 0) call guard_finite([r%n_star, r%lambda_star, r%period, r%dt, r%stiffness_actual, &
+      r%rows%n_pick], "demstep_simulated_stiffness", err, code)
     if (code /= 0) return
     call c_f_pointer(result, out)
     out = demstep_stiffness_result_c(r%n_star, r%lambda_star, r%period, r%dt, r%stiffness_actual, &
