@@ -619,7 +619,7 @@ contains
     if (.not. (ieee_is_finite(lambda) .and. lambda > 0.0_dp .and. lambda <= 1.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, "lambda: must be in (0, 1], got "//real_text(lambda))
     else if (.not. (options%tolerance >= min_tolerance .and. options%tolerance < 1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "tolerance: must be in [1e-10, 1) (E is " &
+      call set_status(status, demstep_stat%invalid_input, "tolerance: must be in (0, 1) and at least 1e-10 (E is " &
         //"computed to 1e-12), got "//real_text(options%tolerance))
     else if (options%pick /= pick_largest_step .and. options%pick /= pick_zero) then
       call set_status(status, demstep_stat%invalid_input, "pick: unknown pick")
