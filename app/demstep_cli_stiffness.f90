@@ -5,7 +5,10 @@ module demstep_cli_stiffness
     lowercase, stiffness_input_type, stiffness_result_type, run_procedure => simulated_stiffness, &
     steps_fixed, policy_fraction => steps_fraction, steps_rounded, new_step_policy, pick_largest_step, pick_zero, &
     aggregate_mean, aggregate_weighted, aggregate_median, aggregate_min, aggregate_max, &
-    interval_bounded, interval_unbounded, default_n_max, default_resolution, n_scan_start
+    interval_bounded, interval_unbounded, default_n_max, default_resolution, n_scan_start, &
+    text_progress_type
+  use demstep_stiffness, only: procedure_cost, seconds_per_evaluation, max_procedure_evaluations
+  use, intrinsic :: iso_fortran_env, only: error_unit
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
     fmt_real, fmt_int, cli_context, check_real, new_array, array_length
   implicit none
@@ -41,8 +44,10 @@ contains
         "'mean'"), &
       var("weights", "a list of real numbers", "one weight >= 0 per lambda, for 'weighted'", &
         "!1.0, 2.0, 1.0"), &
-      var("n_max", "a real number", "largest N scanned (default 1e8)", "1.0e8"), &
-      var("resolution", "a real number", "scan step relative to N, in (0, 1] (default 0.25)", "0.25") ]
+      var("n_max", "a real number", "largest N scanned (default "//fmt_real(default_n_max)//")", &
+        fmt_real(default_n_max)), &
+      var("resolution", "a real number", "scan step relative to N, in (0, 1] (default "// &
+        fmt_real(default_resolution)//")", fmt_real(default_resolution)) ]
   end function stiffness_specs
 
   !> Read, check and run one `&simulated_stiffness` group.
@@ -62,6 +67,10 @@ contains
     type(stiffness_result_type) :: result
     character(len=:), allocatable :: text
     character(len=*), parameter :: g = "simulated_stiffness"
+    !> Estimated run times above this many seconds are announced on stderr.
+    real(dp), parameter :: announce_seconds = 2.0_dp
+    type(text_progress_type) :: progress
+    real(dp) :: cost
     character(len=*), parameter :: required(3) = [character(len=9) :: "mass", "stiffness", "tolerance"]
     integer :: i, ios, n_lambda, n_weights, kind, stat
 
@@ -102,12 +111,8 @@ contains
     call check_real(g, "mass", mass, status)
     call check_real(g, "stiffness", stiffness, status)
     call check_real(g, "tolerance", tolerance, status)
-    if (status%stat == demstep_stat%ok .and. .not. tolerance < 1.0_dp) call set_status(status, &
-      demstep_stat%invalid_input, "&"//g//": tolerance: must be in (0, 1), got "//fmt_real(tolerance))
     call check_real(g, "n_max", n_max, status, lower=2.0_dp*n_scan_start)
     call check_real(g, "resolution", resolution, status)
-    if (status%stat == demstep_stat%ok .and. resolution > 1.0_dp) call set_status(status, &
-      demstep_stat%invalid_input, "&"//g//": resolution: must be in (0, 1], got "//fmt_real(resolution))
     if (status%stat /= demstep_stat%ok) return
 
     ! the lambda set: a list, or an even set from min, max and count
@@ -172,6 +177,8 @@ contains
         call set_status(status, demstep_stat%invalid_input, "&"//g//": n_steps: required with steps = 'fixed'")
         return
       end if
+      call check_real(g, "n_steps", n_steps, status)
+      if (status%stat /= demstep_stat%ok) return
       call new_step_policy(input%options%policy, steps_fixed, n_steps, stat)
       if (stat /= demstep_stat%ok) then
         call set_status(status, demstep_stat%invalid_input, "&"//g//": n_steps: must be in [1, 1e12], got " &
@@ -232,8 +239,21 @@ contains
     input%options%tolerance = tolerance
     input%options%n_max = n_max
     input%options%resolution = resolution
+    ! the report shows the first root and the first interval: the scan stops there
+    input%options%first_only = .true.
 
-    call run_procedure(input, result, status)
+    if (ctx%quiet) then
+      call run_procedure(input, result, status)
+    else
+      cost = procedure_cost(input)
+      if (cost*seconds_per_evaluation > announce_seconds .and. cost <= max_procedure_evaluations) &
+        write(error_unit, '(a)') "demstep: &"//g//": up to about "//fmt_real(cost)//" evaluations of E ("// &
+        fmt_int(int(size(input%lambdas), i8))//" lambdas, resolution "//fmt_real(resolution)// &
+        ", n_max "//fmt_real(n_max)//"), up to roughly "// &
+        fmt_real(real(nint(cost*seconds_per_evaluation), dp))//" s"
+      progress = text_progress_type(unit=error_unit, label="demstep: &"//g)
+      call run_procedure(input, result, status, progress)
+    end if
     if (status%stat /= demstep_stat%ok) then
       status%message = "&"//g//": "//status%message
       return

@@ -3,7 +3,9 @@
  * C API of the Fortran library (module demstep_capi). Every function returns a
  * status: DEMSTEP_OK (0) on success, one of the codes below otherwise. When the
  * last argument `err` is not NULL it receives the code and a message naming what
- * is wrong. Outputs must not be NULL; arrays come with their lengths; particle
+ * is wrong. Every input is validated as the namelist app validates it, and no
+ * function returns DEMSTEP_OK with a NaN or infinite output: such a result is
+ * reported as DEMSTEP_INVALID_INPUT instead. Outputs must not be NULL; arrays come with their lengths; particle
  * and bond numbers are 0-based. Link with -ldemstep -lgfortran -llapack -lblas -lm
  * (pkg-config --libs demstep, or CMake target demstep::demstep).
  */
@@ -65,7 +67,9 @@ typedef struct {
 /* One lambda's scan: pick, smallest root of E, first interval |E| <= E0. */
 typedef struct {
   double n_pick, n_zero, n_lower, n_upper; /* 0 where there is none */
-  int interval;    /* kind of the last interval: 0 bounded, 1 unbounded, 2 truncated */
+  int interval;    /* kind of the first interval [n_lower, n_upper]: 0 bounded (closed
+                      below n_max), 1 unbounded (|E| <= E0 for every larger N), 2 truncated
+                      (cut at n_max, ends beyond it) */
   int stat;        /* 0 ok, 2 tolerance met at the stability limit, 5 none */
   int evaluations; /* evaluations of E */
 } demstep_nroots;
@@ -116,7 +120,10 @@ int demstep_critical_time_step(const demstep_spring *spring, double *dt_critical
 int demstep_harmonic_error(double n_per_period, double lambda, double n_steps, double *e,
                            demstep_error *err);
 
-/* Roots and admissible N of E for one lambda. n_max, resolution <= 0: defaults. */
+/* Roots and admissible N of E for one lambda: the scan splits at E's poles and stops at
+   the first root and the first interval. n_max, resolution <= 0: defaults (1e8, 0.5);
+   NaN, tolerance outside [1e-10, 1), n_max beyond what the step policy can evaluate
+   (n = f N <= 1e12) and a scan over 2e7 evaluations of E: DEMSTEP_INVALID_INPUT. */
 int demstep_n_roots(double lambda, double tolerance, int steps_kind, double steps_value, int pick,
                     double n_max, double resolution, demstep_nroots *result, demstep_error *err);
 

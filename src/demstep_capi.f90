@@ -7,7 +7,7 @@
 module demstep_capi
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_int64_t, c_char, c_ptr, c_null_char, &
     c_associated, c_f_pointer
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_spring, only: spring_type, spring_state_type, new_spring, spring_step, &
@@ -103,6 +103,19 @@ contains
     code = report(err, status)
   end function invalid
 
+  !> The backstop of every entry point: DEMSTEP_OK only with finite outputs.
+  !> `code` is kept when an error is already reported; a non-finite value turns it
+  !> into DEMSTEP_INVALID_INPUT with a message naming the function.
+  subroutine guard_finite(values, name, err, code)
+    real(dp), intent(in) :: values(:)
+    character(len=*), intent(in) :: name
+    type(c_ptr), intent(in) :: err
+    integer(c_int), intent(inout) :: code
+    if (code /= 0) return
+    if (all(ieee_is_finite(values))) return
+    code = invalid(err, name//": the result is not finite (an input is beyond the computable range)")
+  end subroutine guard_finite
+
   function ok(err) result(code)
     type(c_ptr), intent(in) :: err
     integer(c_int) :: code
@@ -129,6 +142,7 @@ contains
     call new_spring(f, mass, stiffness, status, damping_ratio=damping_ratio, &
       compression_only=compression_only /= 0, dashpot=int(dashpot))
     code = report(err, status)
+    call guard_finite([f%mass, f%stiffness, f%damping], "demstep_spring_new", err, code)
     if (code /= 0) return
     call c_f_pointer(spring, s)
     s = demstep_spring_c(f%mass, f%stiffness, f%damping, merge(1, 0, f%compression_only), f%dashpot)
@@ -155,8 +169,10 @@ contains
     call c_f_pointer(state, cs)
     st = spring_state_type(x=cs%x, v=cs%v, step=int(cs%step, i8))
     call spring_step(f, dt, st)
-    cs = demstep_spring_state_c(st%x, st%v, int(st%step, c_int64_t))
     code = ok(err)
+    call guard_finite([st%x, st%v], "demstep_spring_step", err, code)
+    if (code /= 0) return
+    cs = demstep_spring_state_c(st%x, st%v, int(st%step, c_int64_t))
   end function c_spring_step
 
   !> int demstep_critical_time_step(const demstep_spring *spring, double *dt_critical,
@@ -167,14 +183,18 @@ contains
     integer(c_int) :: code
     type(spring_type) :: f
     real(c_double), pointer :: out
+    real(dp) :: value
     if (.not. (c_associated(spring) .and. c_associated(dt_critical))) then
       code = invalid(err, "demstep_critical_time_step: spring or dt_critical is NULL")
       return
     end if
     if (.not. from_c_spring(spring, f, err, code)) return
-    call c_f_pointer(dt_critical, out)
-    out = critical_time_step(f)
+    value = critical_time_step(f)
     code = ok(err)
+    call guard_finite([value], "demstep_critical_time_step", err, code)
+    if (code /= 0) return
+    call c_f_pointer(dt_critical, out)
+    out = value
   end function c_critical_time_step
 
   !> A validated Fortran spring from a C one.
@@ -218,6 +238,7 @@ contains
     select case (stat)
     case (0)
       code = ok(err)
+      call guard_finite([value], "demstep_harmonic_error", err, code)
     case (3)
       call set_status(status, stat, "demstep_harmonic_error: a pole, S(2 pi lambda/N, n) = 0")
       code = report(err, status)
@@ -241,13 +262,17 @@ contains
     nroots_options = .false.
     call new_step_policy(options%policy, int(steps_kind), steps_value, stat)
     if (stat /= 0) then
-      code = invalid(err, "step policy: kind 1 (fixed n >= 1), 2 (fraction f > 0) or 3 (rounded)")
+      code = invalid(err, "steps_value: step policy kind 1 (fixed, 1 <= n <= 1e12), 2 (fraction " &
+        //"f > 0) or 3 (rounded f > 0)")
       return
     end if
     options%tolerance = tolerance
     options%pick = int(pick)
-    if (n_max > 0.0_dp) options%n_max = n_max
-    if (resolution > 0.0_dp) options%resolution = resolution
+    ! only n_max, resolution <= 0 mean the defaults; NaN and the rest go to the library's checks
+    if (.not. n_max <= 0.0_dp) options%n_max = n_max
+    if (.not. resolution <= 0.0_dp) options%resolution = resolution
+    ! the C API reports the first root and the first interval: the scan stops there
+    options%first_only = .true.
     nroots_options = .true.
   end function nroots_options
 
@@ -263,6 +288,7 @@ contains
     type(nroots_type) :: r
     type(demstep_status_type) :: status
     type(demstep_nroots_c), pointer :: out
+    type(demstep_nroots_c) :: row
     if (.not. c_associated(result)) then
       code = invalid(err, "demstep_n_roots: result is NULL")
       return
@@ -270,15 +296,19 @@ contains
     if (.not. nroots_options(tolerance, steps_kind, steps_value, pick, n_max, resolution, options, &
       err, code)) return
     call n_roots(lambda, options, r, status)
+    if (status%stat /= demstep_stat%ok) status%message = "demstep_n_roots: "//status%message
     code = report(err, status)
     if (code /= 0) return
-    call c_f_pointer(result, out)
-    out = demstep_nroots_c(r%n_pick, 0.0_dp, 0.0_dp, 0.0_dp, r%last_interval, r%stat, r%evaluations)
-    if (size(r%roots) > 0) out%n_zero = r%roots(1)
+    row = demstep_nroots_c(r%n_pick, 0.0_dp, 0.0_dp, 0.0_dp, r%last_interval, r%stat, r%evaluations)
+    if (size(r%roots) > 0) row%n_zero = r%roots(1)
     if (size(r%lower) > 0) then
-      out%n_lower = r%lower(1)
-      out%n_upper = r%upper(1)
+      row%n_lower = r%lower(1)
+      row%n_upper = r%upper(1)
     end if
+    call guard_finite([row%n_pick, row%n_zero, row%n_lower, row%n_upper], "demstep_n_roots", err, code)
+    if (code /= 0) return
+    call c_f_pointer(result, out)
+    out = row
   end function c_n_roots
 
   !> int demstep_simulated_stiffness(double mass, double stiffness, double tolerance,
@@ -318,7 +348,10 @@ contains
       input%weights = w
     end if
     call simulated_stiffness(input, r, status)
+    if (status%stat /= demstep_stat%ok) status%message = "demstep_simulated_stiffness: "//status%message
     code = report(err, status)
+    if (code == 0) call guard_finite([r%n_star, r%lambda_star, r%period, r%dt, r%stiffness_actual, &
+      r%rows%n_pick], "demstep_simulated_stiffness", err, code)
     if (code /= 0) return
     call c_f_pointer(result, out)
     out = demstep_stiffness_result_c(r%n_star, r%lambda_star, r%period, r%dt, r%stiffness_actual, &
@@ -396,6 +429,8 @@ contains
     end do
     call critical_time_steps(scene, c, status)
     code = report(err, status)
+    call guard_finite([c%omega_max, c%dt_critical_eigen, c%omega_bound, c%dt_critical_bound, &
+      c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped], "demstep_scene_critical_step", err, code)
     if (code /= 0) return
     call c_f_pointer(result, out)
     out = demstep_critical_step_c(c%omega_max, c%dt_critical_eigen, c%omega_bound, c%dt_critical_bound, &
@@ -419,6 +454,8 @@ contains
     end if
     call contact_with_onset(n_per_period, onset, c, status, damping_ratio)
     code = report(err, status)
+    call guard_finite([c%onset, c%contact_time, c%restitution, c%max_overlap], &
+      "demstep_contact_with_onset", err, code)
     if (code /= 0) return
     call c_f_pointer(contact, out)
     out = demstep_contact_c(c%onset, c%contact_time, c%restitution, c%max_overlap, &
@@ -445,9 +482,10 @@ contains
       return
     end if
     top = 1.0e7_dp
-    if (n_max > 0.0_dp) top = n_max
+    if (.not. n_max <= 0.0_dp) top = n_max
     call n_for_tolerance(int(quantity), tolerance, value, status, damping_ratio=damping_ratio, n_max=top)
     code = report(err, status)
+    call guard_finite([value], "demstep_n_for_tolerance", err, code)
     if (code /= 0) return
     call c_f_pointer(n, out)
     out = value

@@ -2,8 +2,9 @@
 !> on the error E(N, lambda) to the time step dt = T*/N* and the real stiffness
 !> K' = lambda*^2 K*.
 !>
-!> For one lambda (`n_roots`): E is sampled on a grid of N from just above the
-!> stability limit pi to `n_max`, and refined with `find_root`:
+!> For one lambda (`n_roots`): E is sampled from just above the stability limit pi
+!> to `n_max` in smooth pieces split at every pole of E and every jump of a rounded
+!> step policy (both known in closed form), and refined with `find_root`:
 !> - the roots of E = 0 (sign changes through a pole or a jump are rejected);
 !> - the admissible intervals of N where |E| <= E0, their ends being where |E|
 !>   crosses E0 (an end may sit on a jump of a rounded step policy: |E| <= E0
@@ -12,19 +13,23 @@
 !>   tolerance, and `interval_truncated` otherwise;
 !> - the pick N_i: the smallest admissible N (largest step meeting the tolerance,
 !>   default) or the smallest root of E.
-!> The grid steps by `resolution` N, and for a fixed step count n by at most
-!> N^2/(4n), a quarter of the spacing of E's oscillations in N there.
+!> Inside a piece the grid steps by `resolution` N, and for a fixed step count n by
+!> at most N^2/(4n), a quarter of the spacing of E's oscillations in N there.
+!> A scan whose estimated cost exceeds `max_scan_evaluations` is refused.
 module demstep_stiffness
   use demstep_kinds, only: dp, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_harmonic, only: step_policy_type, steps_fixed, steps_fraction, steps_rounded, &
-    harmonic_error_steps
+    harmonic_error_steps, harmonic_error, harmonic_n_max
   use demstep_roots, only: root_context_type, find_root, sort_ascending
+  use demstep_progress, only: progress_type
+  use demstep_kinds, only: i8
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
-  public :: n_roots, aggregate_picks, simulated_stiffness, error_limit
+  public :: n_roots, aggregate_picks, simulated_stiffness, error_limit, scan_cost, procedure_cost, &
+    n_max_limit
 
   !> Pick: the smallest N with |E| <= E0 (the largest step meeting the tolerance).
   integer, parameter, public :: pick_largest_step = 1
@@ -53,6 +58,31 @@ module demstep_stiffness
   real(dp), parameter, public :: default_resolution = 0.5_dp
   !> Relative tolerance of roots and interval ends in N.
   real(dp), parameter, public :: n_root_x_rel = 1.0e-13_dp
+  !> Smallest tolerance E0: E is computed to 1e-12 (|E| + (1 - lambda)) <= 1e-12, so
+  !> at E0 = 1e-10 |E| <= E0 holds to within 1 % of E0.
+  real(dp), parameter, public :: min_tolerance = 1.0e-10_dp
+  !> Largest estimated cost of one lambda's scan, in evaluations of E (about 3 s
+  !> at the 0.15 us an evaluation takes, see bench_stiffness).
+  real(dp), parameter, public :: max_scan_evaluations = 2.0e7_dp
+  !> Largest estimated cost of the whole procedure (a few minutes): a fine scan
+  !> the user asks for; the app says so up front and shows progress.
+  real(dp), parameter, public :: max_procedure_evaluations = 1.0e9_dp
+  !> Measured time of one evaluation of E in the scan, seconds (bench_stiffness,
+  !> release build): for the app's up-front estimates only.
+  real(dp), parameter, public :: seconds_per_evaluation = 1.5e-7_dp
+  !> Scans of the search for lambda* (ITP along lambda to 1e-13 and its probes).
+  integer, parameter, public :: lambda_star_scans = 50
+  !> A rounded policy's jumps are breakpoints up to this many steps n (N = 1e5/f);
+  !> beyond, E's jumps are O(1/N) and the scan samples n = nint(f N) on the grid.
+  real(dp), parameter, public :: rounded_exact_steps = 1.0e5_dp
+  !> Largest n_max for a fixed n: E's closed form is evaluated in double to here.
+  real(dp), parameter :: fixed_n_max_limit = 1.0e300_dp
+
+  !> Kinds of scan breakpoints.
+  integer, parameter :: break_start = 0, break_pole = 1, break_jump = 2, break_end = 3
+  !> One-sided samples sit this far (relative) from a pole: beyond the evaluator's
+  !> 4-ulp pole test, far below the 1e-13 to which roots are located.
+  real(dp), parameter :: pole_offset = 32.0_dp*epsilon(1.0_dp)
 
   !> How to scan and pick for one lambda.
   type, public :: nroots_options_type
@@ -66,6 +96,9 @@ module demstep_stiffness
     real(dp) :: resolution = default_resolution
     !> `pick_largest_step` or `pick_zero`.
     integer :: pick = pick_largest_step
+    !> Stop the scan once the first root and the first admissible interval are
+    !> known (all the pick needs); `roots`, `lower`, `upper` then hold only those.
+    logical :: first_only = .false.
   end type nroots_options_type
 
   !> What the scan found for one lambda.
@@ -121,6 +154,8 @@ module demstep_stiffness
   type, extends(root_context_type) :: e_context_type
     real(dp) :: lambda = 1.0_dp
     type(step_policy_type) :: policy
+    !> The piece's step count, or 0 where n follows the policy.
+    real(dp) :: n = 0.0_dp
     !> Find roots of |E| - shift when `absolute`, else of E.
     logical :: absolute = .false.
     real(dp) :: shift = 0.0_dp
@@ -133,79 +168,106 @@ module demstep_stiffness
     integer :: e_evaluations = 0
   end type pick_context_type
 
+  !> One sample of the scan.
+  type :: sample_type
+    real(dp) :: x = 0.0_dp, e = 0.0_dp
+    logical :: ok = .false., inside = .false.
+  end type sample_type
+
+  !> What a scan has found so far.
+  type :: scan_state_type
+    type(e_context_type) :: ctx
+    real(dp) :: tolerance = 0.0_dp
+    real(dp), allocatable :: roots(:), lower(:), upper(:)
+    integer :: n_roots = 0, n_lower = 0, n_upper = 0
+    type(sample_type) :: prev
+    logical :: have_prev = .false., inside_at_start = .false.
+  end type scan_state_type
+
 contains
 
   !> Roots, admissible intervals and pick of E(N, lambda) for one lambda.
+  !>
+  !> The scan runs from the start (pi, or 1/f where n = f N reaches 1) to `n_max`
+  !> in smooth pieces: every pole of E (a zero of S(2 pi lambda/N, n)) and every
+  !> jump of a rounded step policy is a breakpoint, sampled one-sidedly on both
+  !> sides, so a root or an interval end next to a pole is bracketed however close
+  !> it lies. Inside a piece the grid steps by `resolution` N (and by N^2/(4n)
+  !> with a fixed n). Cost: one evaluation per grid point and per piece end, about
+  !> 30 per root or interval end; with `first_only` the scan stops once the first
+  !> root and the first interval are known.
   pure subroutine n_roots(lambda, options, result, status)
     !> lambda in (0, 1].
     real(dp), intent(in) :: lambda
     type(nroots_options_type), intent(in) :: options
     type(nroots_type), intent(out) :: result
     type(demstep_status_type), intent(out) :: status
-    type(e_context_type) :: ctx
-    real(dp), allocatable :: grid(:), e(:), lower(:), upper(:)
-    logical, allocatable :: ok(:), inside(:)
-    real(dp) :: x, b1, b2, limit
-    integer :: i, m, stat
-    logical :: jump, open_interval
-    type(demstep_status_type) :: st
+    type(scan_state_type) :: s
+    type(sample_type) :: cur
+    real(dp) :: a, b, x, xb, n_piece, n_next, limit, budget
+    integer :: a_kind, b_kind
+    logical :: first_in_piece, done
 
     call check_options(lambda, options, status)
     if (status%stat /= demstep_stat%ok) return
     result%lambda = lambda
-    allocate(result%roots(0), lower(0), upper(0))
-    ctx%lambda = lambda
-    ctx%policy = options%policy
-    grid = scan_grid(options)
-    m = size(grid)
-    allocate(e(m), ok(m), inside(m))
-    do i = 1, m
-      call e_function(grid(i), ctx, e(i), stat)
-      ctx%evaluations = ctx%evaluations + 1
-      ok(i) = stat == 0
-      inside(i) = ok(i) .and. abs(e(i)) <= options%tolerance
-      if (ok(i) .and. e(i) == 0.0_dp) result%roots = [result%roots, grid(i)]
-    end do
-
-    ! roots of E: sign changes between evaluable neighbours, jumps and poles rejected
-    ctx%absolute = .false.
-    do i = 1, m - 1
-      if (.not. (ok(i) .and. ok(i+1))) cycle
-      if (e(i) == 0.0_dp .or. e(i+1) == 0.0_dp) cycle
-      if ((e(i) > 0.0_dp) .eqv. (e(i+1) > 0.0_dp)) cycle
-      call find_root(e_function, ctx, grid(i), grid(i+1), x, st, x_rel=n_root_x_rel, &
-        fa=e(i), fb=e(i+1), discontinuity=jump)
-      if (st%stat == demstep_stat%ok) result%roots = [result%roots, x]
-    end do
-    call sort_ascending(result%roots)
-
-    ! admissible intervals: where |E| - E0 changes sign, and around each root
-    ctx%absolute = .true.
-    ctx%shift = options%tolerance
-    open_interval = inside(1)
-    if (open_interval) lower = [grid(1)]
-    do i = 1, m - 1
-      if (inside(i) .and. .not. inside(i+1)) then
-        call boundary(ctx, grid(i), grid(i+1), b1)
-        upper = [upper, b1]
-        open_interval = .false.
-      else if (.not. inside(i) .and. inside(i+1)) then
-        call boundary(ctx, grid(i+1), grid(i), b1)
-        lower = [lower, b1]
-        open_interval = .true.
-      else if (.not. (inside(i) .or. inside(i+1))) then
-        ! a root between two outside points carries a narrow interval around it
-        x = root_between(result%roots, grid(i), grid(i+1))
-        if (x > 0.0_dp) then
-          call boundary(ctx, x, grid(i), b1)
-          call boundary(ctx, x, grid(i+1), b2)
-          lower = [lower, b1]
-          upper = [upper, b2]
+    s%ctx%lambda = lambda
+    s%ctx%policy = options%policy
+    s%tolerance = options%tolerance
+    allocate(s%roots(8), s%lower(8), s%upper(8))
+    ! a hard stop, should the estimate checked above be far off
+    budget = 4.0_dp*max_scan_evaluations
+    a = scan_start(options%policy)
+    a_kind = break_start
+    n_piece = piece_steps(options%policy, a)
+    done = .false.
+    do while (a < options%n_max .and. .not. done)
+      call next_break(lambda, options%policy, a, n_piece, options%n_max, b, b_kind, n_next)
+      x = a
+      if (a_kind == break_pole) x = a*(1.0_dp + pole_offset)
+      xb = b
+      if (b_kind == break_pole) xb = b*(1.0_dp - pole_offset)
+      first_in_piece = .true.
+      do while (x <= xb)
+        s%ctx%n = n_piece
+        call take_sample(s, x, cur)
+        if (.not. s%have_prev) then
+          if (cur%inside) call push(s%lower, s%n_lower, x)
+          s%inside_at_start = cur%inside
+          if (cur%ok .and. cur%e == 0.0_dp) call push(s%roots, s%n_roots, x)
+        else if (first_in_piece) then
+          call across(s, cur, a, a)
+        else
+          call within(s, cur)
         end if
-      end if
+        s%prev = cur
+        s%have_prev = .true.
+        first_in_piece = .false.
+        if (options%first_only .and. s%n_roots > 0 .and. s%n_upper > 0) done = .true.
+        if (real(s%ctx%evaluations, dp) > budget) then
+          if (options%policy%kind == steps_fixed) then
+            call set_status(status, demstep_stat%invalid_input, "n_steps: the scan of E for lambda = " &
+              //real_text(lambda)//" took more than "//real_text(budget)//" evaluations; " &
+              //"use fewer steps, a coarser resolution or a smaller n_max")
+          else
+            call set_status(status, demstep_stat%invalid_input, "resolution: the scan of E for lambda = " &
+              //real_text(lambda)//" took more than "//real_text(budget)//" evaluations; " &
+              //"use a coarser resolution or a smaller n_max")
+          end if
+          return
+        end if
+        if (done .or. x >= xb) exit
+        x = min(xb, x + grid_step(options, n_piece, x))
+      end do
+      a = b
+      a_kind = b_kind
+      n_piece = n_next
     end do
-    if (open_interval) then
-      upper = [upper, grid(m)]
+
+    result%last_interval = interval_bounded
+    if (s%n_lower > s%n_upper) then
+      ! the last interval reaches n_max: unbounded when E's limit lies inside
+      call push(s%upper, s%n_upper, options%n_max)
       limit = error_limit(lambda, options%policy)
       if (abs(limit) < options%tolerance) then
         result%last_interval = interval_unbounded
@@ -213,9 +275,17 @@ contains
         result%last_interval = interval_truncated
       end if
     end if
-    result%lower = lower
-    result%upper = upper
-    result%evaluations = ctx%evaluations
+    if (options%first_only) then
+      s%n_roots = min(s%n_roots, 1)
+      if (s%n_lower > 1) result%last_interval = interval_bounded
+      s%n_lower = min(s%n_lower, 1)
+      s%n_upper = s%n_lower
+    end if
+    result%roots = s%roots(:s%n_roots)
+    call sort_ascending(result%roots)
+    result%lower = s%lower(:s%n_lower)
+    result%upper = s%upper(:s%n_upper)
+    result%evaluations = s%ctx%evaluations
 
     result%stat = demstep_stat%ok
     if (options%pick == pick_zero) then
@@ -224,39 +294,281 @@ contains
       else
         result%stat = demstep_stat%not_found
       end if
-    else if (size(lower) > 0) then
-      result%n_pick = lower(1)
-      if (inside(1)) result%stat = demstep_stat%unstable
+    else if (size(result%lower) > 0) then
+      result%n_pick = result%lower(1)
+      if (s%inside_at_start .and. result%lower(1) == n_scan_start) result%stat = demstep_stat%unstable
     else
       result%stat = demstep_stat%not_found
     end if
     status%stat = demstep_stat%ok
-
   end subroutine n_roots
 
-  !> Where |E| crosses E0 between an inside point and an outside point. A jump of
-  !> a rounded policy may be that end: find_root then stops on it.
-  pure subroutine boundary(ctx, x_in, x_out, b)
-    type(e_context_type), intent(inout) :: ctx
+  !> One sample of the scan: E at x, evaluable or not, |E| <= E0 or not.
+  pure subroutine take_sample(s, x, cur)
+    type(scan_state_type), intent(inout) :: s
+    real(dp), intent(in) :: x
+    type(sample_type), intent(out) :: cur
+    integer :: stat
+    s%ctx%absolute = .false.
+    call e_function(x, s%ctx, cur%e, stat)
+    s%ctx%evaluations = s%ctx%evaluations + 1
+    cur%x = x
+    cur%ok = stat == demstep_stat%ok .and. ieee_is_finite(cur%e)
+    cur%inside = cur%ok .and. abs(cur%e) <= s%tolerance
+  end subroutine take_sample
+
+  !> The first sample of a new piece: admissibility may change at the breakpoint
+  !> `at` itself (a jump; or a removable pole); no root is sought across it.
+  pure subroutine across(s, cur, at_upper, at_lower)
+    type(scan_state_type), intent(inout) :: s
+    type(sample_type), intent(in) :: cur
+    real(dp), intent(in) :: at_upper, at_lower
+    if (s%prev%inside .and. .not. cur%inside) then
+      call push(s%upper, s%n_upper, at_upper)
+    else if (.not. s%prev%inside .and. cur%inside) then
+      call push(s%lower, s%n_lower, at_lower)
+    end if
+    if (cur%ok .and. cur%e == 0.0_dp) call push(s%roots, s%n_roots, cur%x)
+  end subroutine across
+
+  !> A cell inside a smooth piece: its root (sign change of E) and the interval
+  !> ends in it (where |E| crosses E0, or around a root between outside points).
+  pure subroutine within(s, cur)
+    type(scan_state_type), intent(inout) :: s
+    type(sample_type), intent(in) :: cur
+    type(sample_type) :: prev
+    type(demstep_status_type) :: st
+    real(dp) :: r, b
+    logical :: found
+    prev = s%prev
+    if (.not. (prev%ok .and. cur%ok)) then
+      call across(s, cur, prev%x, cur%x)
+      return
+    end if
+    found = .false.
+    if (cur%e == 0.0_dp) then
+      call push(s%roots, s%n_roots, cur%x)
+    else if (prev%e /= 0.0_dp .and. ((prev%e > 0.0_dp) .neqv. (cur%e > 0.0_dp))) then
+      s%ctx%absolute = .false.
+      call find_root(e_function, s%ctx, prev%x, cur%x, r, st, x_rel=n_root_x_rel, fa=prev%e, fb=cur%e)
+      if (st%stat == demstep_stat%ok) then
+        call push(s%roots, s%n_roots, r)
+        found = .true.
+      end if
+    end if
+    if (prev%inside .and. .not. cur%inside) then
+      call boundary(s, prev%x, cur%x, b)
+      call push(s%upper, s%n_upper, b)
+    else if (.not. prev%inside .and. cur%inside) then
+      call boundary(s, cur%x, prev%x, b)
+      call push(s%lower, s%n_lower, b)
+    else if (.not. (prev%inside .or. cur%inside) .and. found) then
+      ! a root between two outside points carries a narrow interval around it
+      call boundary(s, r, prev%x, b)
+      call push(s%lower, s%n_lower, b)
+      call boundary(s, r, cur%x, b)
+      call push(s%upper, s%n_upper, b)
+    end if
+  end subroutine within
+
+  !> Where |E| crosses E0 between an admissible x_in and an inadmissible x_out;
+  !> the end returned is admissible (|E| <= E0 there) and within 2 n_root_x_rel
+  !> (relative) of the crossing. A jump of a rounded policy may be that end.
+  pure subroutine boundary(s, x_in, x_out, b)
+    type(scan_state_type), intent(inout) :: s
     real(dp), intent(in) :: x_in, x_out
     real(dp), intent(out) :: b
-    type(demstep_status_type) :: bst
-    call find_root(e_function, ctx, min(x_in, x_out), max(x_in, x_out), b, bst, x_rel=n_root_x_rel, &
+    type(demstep_status_type) :: st
+    real(dp) :: g, d
+    integer :: k, stat
+    s%ctx%absolute = .true.
+    s%ctx%shift = s%tolerance
+    call find_root(e_function, s%ctx, min(x_in, x_out), max(x_in, x_out), b, st, x_rel=n_root_x_rel, &
       check_continuity=.false.)
+    ! the bracket's estimate may sit just outside: step back towards x_in
+    d = 0.25_dp*n_root_x_rel*abs(b)
+    do k = 1, 64
+      call e_function(b, s%ctx, g, stat)
+      s%ctx%evaluations = s%ctx%evaluations + 1
+      if (stat == demstep_stat%ok .and. g <= 0.0_dp) exit
+      if (abs(x_in - b) <= d) then
+        b = x_in
+        exit
+      end if
+      b = b + sign(d, x_in - b)
+      d = 2.0_dp*d
+    end do
+    s%ctx%absolute = .false.
   end subroutine boundary
 
-  !> The first of `roots` in (a, b), or 0.
-  pure real(dp) function root_between(roots, a, b) result(r)
-    real(dp), intent(in) :: roots(:), a, b
-    integer :: k
-    r = 0.0_dp
-    do k = 1, size(roots)
-      if (roots(k) > a .and. roots(k) < b) then
-        r = roots(k)
-        return
+  !> Append to a buffer, doubling its size when full.
+  pure subroutine push(buffer, n, x)
+    real(dp), allocatable, intent(inout) :: buffer(:)
+    integer, intent(inout) :: n
+    real(dp), intent(in) :: x
+    real(dp), allocatable :: grown(:)
+    if (n == size(buffer)) then
+      allocate(grown(max(8, 2*n)))
+      grown(:n) = buffer(:n)
+      call move_alloc(grown, buffer)
+    end if
+    n = n + 1
+    buffer(n) = x
+  end subroutine push
+
+  !> Where the scan starts: just above the stability limit pi, and where n = f N
+  !> reaches one step (N = 1/f) for the fraction policy.
+  pure real(dp) function scan_start(policy) result(x)
+    type(step_policy_type), intent(in) :: policy
+    x = n_scan_start
+    if (policy%kind == steps_fraction) x = max(x, (1.0_dp/policy%value)*(1.0_dp + 4.0_dp*epsilon(1.0_dp)))
+  end function scan_start
+
+  !> The fixed step count of the piece starting at x, or 0 where n follows the policy.
+  pure real(dp) function piece_steps(policy, x) result(n)
+    type(step_policy_type), intent(in) :: policy
+    real(dp), intent(in) :: x
+    n = 0.0_dp
+    select case (policy%kind)
+    case (steps_fixed)
+      n = policy%value
+    case (steps_rounded)
+      n = max(1.0_dp, anint(policy%value*x))
+      if (n > rounded_exact_steps) n = 0.0_dp
+    end select
+  end function piece_steps
+
+  !> The grid step at x inside a piece with n steps (0: n = f N).
+  pure real(dp) function grid_step(options, n, x) result(h)
+    type(nroots_options_type), intent(in) :: options
+    real(dp), intent(in) :: n, x
+    h = options%resolution*x
+    if (n > 0.0_dp) h = min(h, x*(x/(4.0_dp*n)))
+    h = max(h, 4.0_dp*spacing(x))
+  end function grid_step
+
+  !> The smallest pole c/k > a (k = 1, 2, ...) of a family c = m lambda; huge if none.
+  pure real(dp) function next_pole(c, a) result(p)
+    real(dp), intent(in) :: c, a
+    real(dp) :: k
+    p = huge(1.0_dp)
+    if (.not. c > a) return
+    ! the largest k with c/k > a
+    k = aint(c/a)
+    if (k >= 1.0_dp) then
+      if (.not. c/k > a) k = k - 1.0_dp
+    end if
+    if (c/(k + 1.0_dp) > a) k = k + 1.0_dp
+    if (k >= 1.0_dp) p = c/k
+  end function next_pole
+
+  !> The next breakpoint b > a of the scan (a pole of E, a jump of the rounded
+  !> policy, or n_max), its kind, and the step count n of the piece after it.
+  pure subroutine next_break(lambda, policy, a, n_piece, n_max, b, kind, n_next)
+    real(dp), intent(in) :: lambda, a, n_piece, n_max
+    type(step_policy_type), intent(in) :: policy
+    real(dp), intent(out) :: b, n_next
+    integer, intent(out) :: kind
+    real(dp) :: p, jump, f, k
+    b = n_max
+    kind = break_end
+    n_next = n_piece
+    p = huge(1.0_dp)
+    if (n_piece > 0.0_dp) then
+      ! S(2 pi lambda/N, n) = 0 where n lambda/N or (n + 1) lambda/N is an integer
+      p = min(next_pole(n_piece*lambda, a), next_pole((n_piece + 1.0_dp)*lambda, a))
+      if (policy%kind == steps_rounded) then
+        jump = (n_piece + 0.5_dp)/policy%value
+        if (jump < b .and. jump <= p) then
+          b = jump
+          kind = break_jump
+          n_next = n_piece + 1.0_dp
+          if (n_next > rounded_exact_steps) n_next = 0.0_dp
+        end if
       end if
-    end do
-  end function root_between
+    else if (policy%kind == steps_fraction) then
+      ! n = f N: only (n + 1) lambda/N = f lambda + lambda/N can be an integer k,
+      ! at N = lambda/(k - f lambda), k the first integer above f lambda
+      f = policy%value
+      k = aint(f*lambda) + 1.0_dp
+      if (k - f*lambda > 0.0_dp) then
+        p = lambda/(k - f*lambda)
+        if (.not. p > a) p = huge(1.0_dp)
+      end if
+    end if
+    if (p < b) then
+      b = p
+      kind = break_pole
+      n_next = n_piece
+    end if
+  end subroutine next_break
+
+  !> Estimated evaluations of E for one lambda's scan: the grid (log(n_max/start)
+  !> / log(1 + resolution)), with a fixed n also the N^2/(4n) grid and two samples
+  !> per pole below n lambda (about 4n/pi and 4n/pi); with a rounded policy two
+  !> samples per exact segment. Roots and interval ends add about 30 each. With
+  !> `first_only` a fixed n's dense part is counted only to its first root, which
+  !> lies within a few poles (an allowance of 4096 samples).
+  pure real(dp) function scan_cost(options) result(cost)
+    type(nroots_options_type), intent(in) :: options
+    real(dp) :: start, top, n, dense, segments
+    start = scan_start(options%policy)
+    top = max(options%n_max, start)
+    cost = log(top/start)/ln_1p(options%resolution) + 2.0_dp
+    select case (options%policy%kind)
+    case (steps_fixed)
+      n = options%policy%value
+      dense = min(top, 4.0_dp*n*options%resolution)
+      if (options%first_only) then
+        cost = cost + 4096.0_dp
+      else
+        if (dense > start) cost = cost + 4.0_dp*n*(1.0_dp/start - 1.0_dp/dense)
+        if (min(top, n + 1.0_dp) > start) cost = cost + 4.0_dp*(n + 1.0_dp)*(1.0_dp/start - 1.0_dp/min(top, n + 1.0_dp))
+      end if
+    case (steps_rounded)
+      segments = max(0.0_dp, min(options%policy%value*top, rounded_exact_steps) - options%policy%value*start)
+      cost = cost + 3.0_dp*segments
+    end select
+  end function scan_cost
+
+  !> Estimated evaluations of E for the whole procedure: every lambda's scan and
+  !> the scans of the search for lambda* (about `lambda_star_scans`).
+  pure real(dp) function procedure_cost(input) result(cost)
+    type(stiffness_input_type), intent(in) :: input
+    cost = 0.0_dp
+    if (.not. allocated(input%lambdas)) return
+    cost = scan_cost(input%options)*real(size(input%lambdas) + lambda_star_scans, dp)
+  end function procedure_cost
+
+  !> The finest resolution whose grid keeps one lambda's scan within `limit` samples.
+  pure real(dp) function finest_resolution(options, limit) result(r)
+    type(nroots_options_type), intent(in) :: options
+    real(dp), intent(in) :: limit
+    real(dp) :: y
+    y = log(max(options%n_max, 2.0_dp*scan_start(options%policy))/scan_start(options%policy)) &
+      /max(limit - 8192.0_dp, 1.0_dp)
+    ! exp(y) - 1, rounded up to two digits
+    r = y*(1.0_dp + 0.5_dp*y + y*y/6.0_dp)
+    r = round_up_2(r)
+  end function finest_resolution
+
+  !> log(1 + r) for 0 < r <= 1, accurate for small r too.
+  pure real(dp) function ln_1p(r) result(y)
+    real(dp), intent(in) :: r
+    if (r < 1.0e-4_dp) then
+      y = r*(1.0_dp - r*(0.5_dp - r/3.0_dp))
+    else
+      y = log(1.0_dp + r)
+    end if
+  end function ln_1p
+
+  !> x > 0 rounded up to two significant digits (for messages).
+  pure real(dp) function round_up_2(x) result(r)
+    real(dp), intent(in) :: x
+    real(dp) :: scale
+    scale = 10.0_dp**(floor(log10(x)) - 1)
+    r = ceiling(x/scale*(1.0_dp - 1.0e-12_dp))*scale
+  end function round_up_2
 
   !> The limit of E(N, lambda, n) as N grows: 1 - 1/lambda^2 for a fixed n, and
   !> 1 - sin^2(pi f)/sin^2(pi f lambda) for n = f N.
@@ -272,27 +584,6 @@ contains
     end if
   end function error_limit
 
-  !> The sample points of N for a scan.
-  pure function scan_grid(options) result(grid)
-    type(nroots_options_type), intent(in) :: options
-    real(dp), allocatable :: grid(:)
-    real(dp) :: x, h
-    integer :: n, k
-    do k = 1, 2
-      x = n_scan_start
-      n = 1
-      if (k == 2) grid(1) = x
-      do while (x < options%n_max)
-        h = options%resolution*x
-        if (options%policy%kind == steps_fixed) h = min(h, x*x/(4.0_dp*options%policy%value))
-        x = min(options%n_max, x + h)
-        n = n + 1
-        if (k == 2) grid(n) = x
-      end do
-      if (k == 1) allocate(grid(n))
-    end do
-  end function scan_grid
-
   !> E(N) or |E(N)| - E0 for the root finder; a pole is not evaluable.
   pure subroutine e_function(x, context, fx, stat)
     real(dp), intent(in) :: x
@@ -303,7 +594,11 @@ contains
     stat = demstep_stat%invalid_input
     select type (context)
     type is (e_context_type)
-      call harmonic_error_steps(x, context%lambda, context%policy, fx, stat)
+      if (context%n > 0.0_dp) then
+        call harmonic_error(x, context%lambda, context%n, fx, stat)
+      else
+        call harmonic_error_steps(x, context%lambda, context%policy, fx, stat)
+      end if
       if (stat == demstep_stat%pole .and. context%absolute) then
         ! |E| is infinite at a pole: outside any tolerance
         fx = huge(1.0_dp)
@@ -314,32 +609,101 @@ contains
     end select
   end subroutine e_function
 
+  !> Validate the options of a scan for one lambda; messages name the option.
   pure subroutine check_options(lambda, options, status)
     real(dp), intent(in) :: lambda
     type(nroots_options_type), intent(in) :: options
     type(demstep_status_type), intent(out) :: status
+    real(dp) :: top, cost, r
+    status%stat = demstep_stat%ok
     if (.not. (ieee_is_finite(lambda) .and. lambda > 0.0_dp .and. lambda <= 1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "lambda must be in (0, 1]")
-    else if (.not. (options%tolerance > 0.0_dp .and. options%tolerance < 1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "tolerance must be in (0, 1)")
-    else if (.not. (ieee_is_finite(options%n_max) .and. options%n_max > 2.0_dp*n_scan_start)) then
-      call set_status(status, demstep_stat%invalid_input, "n_max must be finite and > 2 pi")
-    else if (.not. (options%resolution > 0.0_dp .and. options%resolution <= 1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "resolution must be in (0, 1]")
+      call set_status(status, demstep_stat%invalid_input, "lambda: must be in (0, 1], got "//real_text(lambda))
+    else if (.not. (options%tolerance >= min_tolerance .and. options%tolerance < 1.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "tolerance: must be in (0, 1) and at least 1e-10 (E is " &
+        //"computed to 1e-12), got "//real_text(options%tolerance))
     else if (options%pick /= pick_largest_step .and. options%pick /= pick_zero) then
-      call set_status(status, demstep_stat%invalid_input, "unknown pick")
+      call set_status(status, demstep_stat%invalid_input, "pick: unknown pick")
     else if (.not. valid_policy(options%policy)) then
-      call set_status(status, demstep_stat%invalid_input, "invalid step policy")
-    else
-      status%stat = demstep_stat%ok
+      call set_status(status, demstep_stat%invalid_input, "steps: invalid step policy (n_steps in " &
+        //"[1, 1e12], or steps_fraction > 0)")
+    else if (.not. (options%resolution > 0.0_dp .and. options%resolution <= 1.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "resolution: must be in (0, 1], got " &
+        //real_text(options%resolution))
+    end if
+    if (status%stat /= demstep_stat%ok) return
+    top = n_max_limit(options%policy)
+    if (.not. (ieee_is_finite(options%n_max) .and. options%n_max > 2.0_dp*scan_start(options%policy) &
+        .and. options%n_max <= top)) then
+      call set_status(status, demstep_stat%invalid_input, "n_max: must be in ("// &
+        real_text(2.0_dp*scan_start(options%policy))//", "//real_text(top)//"] for this step policy " &
+        //"(n <= 1e12 steps), got "//real_text(options%n_max))
+      return
+    end if
+    if (options%policy%kind == steps_fraction) then
+      if (aint(options%policy%value*lambda) == options%policy%value*lambda) then
+        call set_status(status, demstep_stat%invalid_input, "steps_fraction: f lambda = "// &
+          real_text(options%policy%value*lambda)//" is an integer: E has a pole at every N")
+        return
+      end if
+    end if
+    cost = scan_cost(options)
+    if (.not. cost <= max_scan_evaluations) then
+      r = finest_resolution(options, max_scan_evaluations)
+      if (options%policy%kind == steps_fixed .and. .not. options%first_only .and. r <= 1.0_dp .and. &
+          options%resolution >= r) then
+        call set_status(status, demstep_stat%invalid_input, "n_steps: a scan for every root with n = " &
+          //real_text(options%policy%value)//" needs about "//real_text(cost)//" evaluations of E " &
+          //"(at most "//real_text(max_scan_evaluations)//"); scan for the first root only, or " &
+          //"use n_steps <= "//real_text(0.1_dp*max_scan_evaluations))
+      else
+        call set_status(status, demstep_stat%invalid_input, "resolution: the scan up to n_max = "// &
+          real_text(options%n_max)//" would need about "//real_text(cost)//" evaluations of E per " &
+          //"lambda (at most "//real_text(max_scan_evaluations)//"); use resolution >= "//real_text(r))
+      end if
     end if
   end subroutine check_options
+
+  !> The largest n_max a step policy can be evaluated at: n = f N <= 1e12 steps
+  !> (fraction, rounded); for a fixed n the double range of the closed form.
+  pure real(dp) function n_max_limit(policy) result(top)
+    type(step_policy_type), intent(in) :: policy
+    top = fixed_n_max_limit
+    if (policy%kind == steps_fraction .or. policy%kind == steps_rounded) then
+      if (policy%value > 0.0_dp) top = min(top, harmonic_n_max/policy%value)
+    end if
+  end function n_max_limit
+
+  !> A number for a message.
+  pure function real_text(x) result(text)
+    real(dp), intent(in) :: x
+    character(len=:), allocatable :: text
+    character(len=40) :: buf
+    real(dp) :: m
+    integer :: e
+    if (.not. ieee_is_finite(x)) then
+      text = "more than 1e308"
+      if (x /= x) text = "NaN"
+      return
+    end if
+    if (x == 0.0_dp) then
+      text = "0"
+      return
+    end if
+    e = floor(log10(abs(x)))
+    m = x/10.0_dp**e
+    if (abs(m) >= 9.9995_dp) then
+      e = e + 1
+      m = m/10.0_dp
+    end if
+    write(buf, '(f0.3, "e", i0)') m, e
+    text = trim(buf)
+  end function real_text
 
   pure logical function valid_policy(policy)
     type(step_policy_type), intent(in) :: policy
     select case (policy%kind)
     case (steps_fixed)
-      valid_policy = policy%value >= 1.0_dp .and. ieee_is_finite(policy%value)
+      valid_policy = policy%value >= 1.0_dp .and. policy%value <= harmonic_n_max
     case (steps_fraction, steps_rounded)
       valid_policy = policy%value > 0.0_dp .and. ieee_is_finite(policy%value)
     case default
@@ -363,7 +727,7 @@ contains
     x = pack(picks, use)
     n = size(x)
     if (n == 0) then
-      call set_status(status, demstep_stat%not_found, "no lambda has an admissible N")
+      call set_status(status, demstep_stat%not_found, "lambda: no lambda has a usable pick")
       return
     end if
     status%stat = demstep_stat%ok
@@ -372,10 +736,13 @@ contains
       n_star = sum(x)/n
     case (aggregate_weighted)
       w = pack(weights, use)
-      if (.not. sum(w) > 0.0_dp) then
-        call set_status(status, demstep_stat%invalid_input, "the weights of the usable lambdas add up to 0")
+      if (.not. (all(w >= 0.0_dp) .and. all(ieee_is_finite(w)) .and. any(w > 0.0_dp))) then
+        call set_status(status, demstep_stat%invalid_input, "weights: the weights of the usable " &
+          //"lambdas must be finite, >= 0 and not all 0")
         return
       end if
+      ! scaled by the largest weight: no overflow for weights up to huge
+      w = w/maxval(w)
       n_star = sum(w*x)/sum(w)
     case (aggregate_median)
       call sort_ascending(x)
@@ -389,15 +756,18 @@ contains
     case (aggregate_max)
       n_star = maxval(x)
     case default
-      call set_status(status, demstep_stat%invalid_input, "unknown aggregation rule")
+      call set_status(status, demstep_stat%invalid_input, "aggregate: unknown aggregation rule")
     end select
   end subroutine aggregate_picks
 
   !> The whole procedure: picks for every lambda, N*, lambda*, T*, dt, K'.
-  pure subroutine simulated_stiffness(input, result, status)
+  !> `progress` (optional) hears of every lambda's scan (`procedure_cost` gives
+  !> the estimated evaluations of E up front).
+  subroutine simulated_stiffness(input, result, status, progress)
     type(stiffness_input_type), intent(in) :: input
     type(stiffness_result_type), intent(out) :: result
     type(demstep_status_type), intent(out) :: status
+    class(progress_type), intent(inout), optional :: progress
     type(pick_context_type) :: ctx
     real(dp), allocatable :: picks(:), weights(:)
     logical, allocatable :: use(:)
@@ -410,11 +780,17 @@ contains
     if (status%stat /= demstep_stat%ok) return
     n = size(input%lambdas)
     allocate(result%rows(n))
+    if (present(progress)) call progress%start("lambdas scanned", int(n, i8))
     do i = 1, n
       call n_roots(input%lambdas(i), input%options, result%rows(i), status)
-      if (status%stat /= demstep_stat%ok) return
+      if (status%stat /= demstep_stat%ok) then
+        if (present(progress)) call progress%finish()
+        return
+      end if
       result%evaluations = result%evaluations + result%rows(i)%evaluations
+      if (present(progress)) call progress%update(int(i, i8))
     end do
+    if (present(progress)) call progress%finish()
     picks = result%rows%n_pick
     use = result%rows%stat /= demstep_stat%not_found
     result%excluded = count(.not. use)
@@ -424,6 +800,15 @@ contains
       allocate(weights(n), source=1.0_dp)
     end if
     call aggregate_picks(picks, use, input%aggregate, weights, result%n_star, status)
+    if (status%stat == demstep_stat%not_found) then
+      if (input%options%pick == pick_zero) then
+        call set_status(status, demstep_stat%not_found, "n_max: no lambda has a root of E up to n_max = " &
+          //real_text(input%options%n_max)//"; raise n_max or pick the largest step")
+      else
+        call set_status(status, demstep_stat%not_found, "tolerance: no lambda has an admissible N up to " &
+          //"n_max = "//real_text(input%options%n_max)//"; raise tolerance or n_max")
+      end if
+    end if
     if (status%stat /= demstep_stat%ok) return
 
     ! lambda*: the lambda whose pick is N*, between neighbours whose picks bracket N*
@@ -484,35 +869,54 @@ contains
   pure subroutine check_input(input, status)
     type(stiffness_input_type), intent(in) :: input
     type(demstep_status_type), intent(out) :: status
-    integer :: n
+    real(dp) :: cost, r
+    integer :: n, i
     status%stat = demstep_stat%ok
     if (.not. (ieee_is_finite(input%mass) .and. input%mass > 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "mass must be finite and > 0")
+      call set_status(status, demstep_stat%invalid_input, "mass: must be finite and > 0")
     else if (.not. (ieee_is_finite(input%stiffness) .and. input%stiffness > 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "stiffness must be finite and > 0")
+      call set_status(status, demstep_stat%invalid_input, "stiffness: must be finite and > 0")
     else if (.not. allocated(input%lambdas)) then
-      call set_status(status, demstep_stat%invalid_input, "the lambda set is empty")
+      call set_status(status, demstep_stat%invalid_input, "lambda: the lambda set is empty; give " &
+        //"at least one lambda in (0, 1)")
     else if (size(input%lambdas) == 0) then
-      call set_status(status, demstep_stat%invalid_input, "the lambda set is empty")
+      call set_status(status, demstep_stat%invalid_input, "lambda: the lambda set is empty; give " &
+        //"at least one lambda in (0, 1)")
     else if (any(.not. (input%lambdas > 0.0_dp .and. input%lambdas < 1.0_dp))) then
-      call set_status(status, demstep_stat%invalid_input, "every lambda must be in (0, 1)")
+      call set_status(status, demstep_stat%invalid_input, "lambda: every lambda must be in (0, 1)")
     end if
     if (status%stat /= demstep_stat%ok) return
     n = size(input%lambdas)
     if (n > 1) then
       if (any(input%lambdas(2:) <= input%lambdas(:n-1))) then
-        call set_status(status, demstep_stat%invalid_input, "the lambda set must increase")
+        call set_status(status, demstep_stat%invalid_input, "lambda: the lambda set must increase")
         return
       end if
     end if
     if (input%aggregate == aggregate_weighted) then
       if (.not. allocated(input%weights)) then
-        call set_status(status, demstep_stat%invalid_input, "weighted aggregation needs weights")
+        call set_status(status, demstep_stat%invalid_input, "weights: weighted aggregation needs weights")
       else if (size(input%weights) /= n) then
-        call set_status(status, demstep_stat%invalid_input, "one weight per lambda is needed")
+        call set_status(status, demstep_stat%invalid_input, "weights: one weight per lambda is needed")
       else if (any(.not. (input%weights >= 0.0_dp)) .or. .not. all(ieee_is_finite(input%weights))) then
-        call set_status(status, demstep_stat%invalid_input, "weights must be finite and >= 0")
+        call set_status(status, demstep_stat%invalid_input, "weights: must be finite and >= 0")
+      else if (.not. any(input%weights > 0.0_dp)) then
+        call set_status(status, demstep_stat%invalid_input, "weights: must not all be 0")
       end if
+    else if (input%aggregate < aggregate_mean .or. input%aggregate > aggregate_max) then
+      call set_status(status, demstep_stat%invalid_input, "aggregate: unknown aggregation rule")
+    end if
+    if (status%stat /= demstep_stat%ok) return
+    do i = 1, n
+      call check_options(input%lambdas(i), input%options, status)
+      if (status%stat /= demstep_stat%ok) return
+    end do
+    cost = procedure_cost(input)
+    if (.not. cost <= max_procedure_evaluations) then
+      r = finest_resolution(input%options, max_procedure_evaluations/real(n + lambda_star_scans, dp))
+      call set_status(status, demstep_stat%invalid_input, "resolution: the procedure would need about " &
+        //real_text(cost)//" evaluations of E (at most "//real_text(max_procedure_evaluations)// &
+        "); use resolution >= "//real_text(r)//" or fewer lambdas")
     end if
   end subroutine check_input
 

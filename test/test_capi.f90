@@ -20,7 +20,9 @@ contains
     type(unittest_type), allocatable, intent(out) :: testsuite(:)
     testsuite = [ &
       new_unittest("C API gives the Fortran numbers bit for bit", test_same_numbers), &
-      new_unittest("NULL pointers, empty arrays, NaN: statuses and messages", test_bad_input) &
+      new_unittest("NULL pointers, empty arrays, NaN: statuses and messages", test_bad_input), &
+      new_unittest("n_roots and the procedure: NaN options, extreme weights and n, fine scans", &
+        test_stiffness_limits) &
       ]
   end subroutine collect_capi
 
@@ -152,5 +154,45 @@ contains
     code = c_n_for_tolerance(9, 1.0e-3_dp, 0.0_dp, 0.0_dp, c_loc(value), c_loc(e))
     call check(error, code, 1, message="unknown quantity")
   end subroutine test_bad_input
+
+  subroutine test_stiffness_limits(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(demstep_error_c), target :: e
+    type(demstep_nroots_c), target :: cr
+    type(demstep_stiffness_result_c), target :: res
+    type(demstep_spring_c), target :: cs
+    type(demstep_spring_state_c), target :: cst
+    real(c_double), target :: lambdas(2), weights(2)
+    integer :: code
+    code = c_n_roots(0.9_dp, 1.0e-3_dp, 2, 0.5_dp, 1, ieee_nan(), 0.0_dp, c_loc(cr), c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "n_max") > 0, "n_max NaN: "//message_of(e))
+    if (allocated(error)) return
+    code = c_n_roots(0.9_dp, 1.0e-3_dp, 2, 0.5_dp, 1, 0.0_dp, ieee_nan(), c_loc(cr), c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "resolution") > 0, "resolution NaN: "//message_of(e))
+    if (allocated(error)) return
+    code = c_n_roots(0.9_dp, 1.0e-3_dp, 1, 1.0e9_dp, 1, 0.0_dp, 1.0e-9_dp, c_loc(cr), c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "resolution") > 0, "resolution 1e-9: "//message_of(e))
+    if (allocated(error)) return
+    ! n = 1e9 and 1e12 fixed steps: the scan stops at the first root, next to pi
+    code = c_n_roots(0.9_dp, 1.0e-3_dp, 1, 1.0e9_dp, 1, 0.0_dp, 0.0_dp, c_loc(cr), c_loc(e))
+    call check(error, code == 0 .and. cr%n_zero > pi .and. cr%n_zero < pi*(1.0_dp + 1.0e-6_dp), "n = 1e9")
+    if (allocated(error)) return
+    code = c_n_roots(0.9_dp, 1.0e-3_dp, 1, 1.0e12_dp, 1, 0.0_dp, 0.0_dp, c_loc(cr), c_loc(e))
+    call check(error, code == 0 .and. cr%n_zero > pi .and. cr%n_zero < pi*(1.0_dp + 1.0e-6_dp), "n = 1e12")
+    if (allocated(error)) return
+    lambdas = [0.9_dp, 0.95_dp]
+    weights = [1.0e308_dp, 1.0_dp]
+    code = c_simulated_stiffness(1.0_dp, 1.0_dp, 1.0e-3_dp, c_loc(lambdas), 2, 2, 0.5_dp, 1, 2, &
+      c_loc(weights), c_null_ptr, c_null_ptr, c_loc(res), c_loc(e))
+    call check(error, code == 0 .and. res%n_star > 18.0_dp .and. res%n_star < 19.0_dp, &
+      "weights 1e308, 1: N* finite")
+    if (allocated(error)) return
+    ! the finite-output guard: a step that overflows is an error, not Infinity
+    code = c_spring_new(1.0_dp, 1.0_dp, 0.0_dp, 0, 1, c_loc(cs), c_loc(e))
+    cst = demstep_spring_state_c(1.0e300_dp, 1.0e300_dp, 0_8)
+    code = c_spring_step(c_loc(cs), 1.0e300_dp, c_loc(cst), c_loc(e))
+    call check(error, code == 1 .and. cst%x == 1.0e300_dp .and. index(message_of(e), "not finite") > 0, &
+      "overflowing step: "//message_of(e))
+  end subroutine test_stiffness_limits
 
 end module test_capi

@@ -21,6 +21,9 @@ contains
       new_unittest("interval ends for tolerances 1e-1 .. 1e-10, vs quad", test_interval_ends), &
       new_unittest("unbounded and truncated last intervals", test_unbounded), &
       new_unittest("fixed n: poles between roots are never roots", test_fixed_n_poles), &
+      new_unittest("fixed n = 10, 1000: smallest root next to a pole, vs quad from the poles", &
+        test_fixed_roots_by_poles), &
+      new_unittest("extreme weights, first-only scans, n_max and tolerance limits", test_limits), &
       new_unittest("rounded steps: jumps are never roots", test_rounded_jumps), &
       new_unittest("root near 2/(1 - lambda) - 2/3", test_asymptote), &
       new_unittest("aggregation rules", test_aggregate), &
@@ -161,6 +164,7 @@ contains
     type(nroots_type) :: r, rf
     type(demstep_status_type) :: status
     real(dp) :: pole, e_lo, e_hi, h
+    real(qp) :: ref
     integer :: i, k, s1, s2
     options%tolerance = 1.0e-3_dp
     options%policy = step_policy_type(steps_fixed, 100.0_dp)
@@ -169,12 +173,17 @@ contains
     call check(error, size(r%roots) > 30, "many roots: "//real_str(real(size(r%roots), dp)))
     if (allocated(error)) return
     do i = 1, size(r%roots)
-      ! a genuine root: E small and changing sign within 1e-10 relative
+      ! a genuine root: E changing sign within 1e-10 relative, and equal to the quad
+      ! bisection's root (the scan now also finds roots within 1e-4 of a pole, where
+      ! N dE/dN ~ 1e5 makes |E| at 1e-10 relative reach 1e-5)
       h = 1.0e-10_dp*r%roots(i)
       call harmonic_error_steps(r%roots(i) - h, 0.9_dp, options%policy, e_lo, s1)
       call harmonic_error_steps(r%roots(i) + h, 0.9_dp, options%policy, e_hi, s2)
-      call check(error, e_lo*e_hi <= 0.0_dp .and. max(abs(e_lo), abs(e_hi)) < 1.0e-6_dp, &
-        "not a root at N = "//real_str(r%roots(i)))
+      call check(error, e_lo*e_hi <= 0.0_dp, "not a root at N = "//real_str(r%roots(i)))
+      if (allocated(error)) return
+      ref = quad_bisect(r%roots(i) - h, r%roots(i) + h, 0.9_dp, .true., 100.0_dp, 0.0_dp, .false.)
+      call check(error, r%roots(i), real(ref, dp), thr=root_tol, rel=.true., message="quad root near N = " &
+        //real_str(r%roots(i)))
       if (allocated(error)) return
       ! poles at n lambda/N = k and (n + 1) lambda/N = k: never reported
       do k = 1, 40
@@ -196,6 +205,195 @@ contains
     if (allocated(error)) return
     call check(error, maxval(abs(rf%roots - r%roots)/r%roots) < root_tol, "same roots")
   end subroutine test_fixed_n_poles
+
+  !> The smallest root of E in quad: the poles n lambda/k and (n + 1) lambda/k split
+  !> (pi, top] into pieces; each piece is sampled at 256 points from 1e-25 (relative)
+  !> inside its poles, and the first sign change is bisected in quad.
+  function quad_first_root(n, lambda, top) result(root)
+    real(dp), intent(in) :: n, lambda, top
+    real(qp) :: root
+    real(qp), allocatable :: poles(:)
+    real(qp) :: a, b, x, e, e_prev, x_prev, start
+    integer :: k, kmax, m, i, j, count
+    start = 3.14159265358979323846264338327950288_qp*(1.0_qp + 1.0e-9_qp)
+    kmax = ceiling((n + 1.0_dp)*lambda/3.0_dp)
+    allocate(poles(2*kmax + 2))
+    count = 0
+    do k = 1, kmax
+      do m = 0, 1
+        x = (real(n, qp) + m)*real(lambda, qp)/k
+        if (x > start .and. x < real(top, qp)) then
+          count = count + 1
+          poles(count) = x
+        end if
+      end do
+    end do
+    count = count + 1
+    poles(count) = real(top, qp)
+    poles(:count) = sorted(poles(:count))
+    root = -1.0_qp
+    a = start
+    do i = 1, count
+      b = poles(i)
+      do j = 0, 256
+        x = a + (b - a)*(1.0e-25_qp + (1.0_qp - 2.0e-25_qp)*j/256.0_qp)
+        e = reference_steps(x, lambda, .true., n)
+        if (j > 0 .and. (e > 0.0_qp .neqv. e_prev > 0.0_qp)) then
+          root = bisect_q(x_prev, x)
+          return
+        end if
+        e_prev = e
+        x_prev = x
+      end do
+      a = b
+    end do
+  contains
+    pure function sorted(v) result(w)
+      real(qp), intent(in) :: v(:)
+      real(qp) :: w(size(v)), s
+      integer :: p, q
+      w = v
+      do p = 2, size(w)
+        s = w(p)
+        q = p - 1
+        do while (q >= 1)
+          if (w(q) <= s) exit
+          w(q + 1) = w(q)
+          q = q - 1
+        end do
+        w(q + 1) = s
+      end do
+    end function sorted
+    function bisect_q(lo0, hi0) result(xm)
+      real(qp), intent(in) :: lo0, hi0
+      real(qp) :: xm, lo, hi, glo
+      integer :: it
+      lo = lo0
+      hi = hi0
+      glo = reference_steps(lo, lambda, .true., n)
+      do it = 1, 300
+        xm = 0.5_qp*(lo + hi)
+        if (hi - lo <= 1.0e-30_qp*xm) exit
+        if ((reference_steps(xm, lambda, .true., n) > 0.0_qp) .eqv. (glo > 0.0_qp)) then
+          lo = xm
+        else
+          hi = xm
+        end if
+      end do
+    end function bisect_q
+  end function quad_first_root
+
+  subroutine test_fixed_roots_by_poles(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), parameter :: lambdas(5) = [0.9_dp, 0.95_dp, 0.99_dp, 0.999_dp, 0.9999_dp]
+    real(dp), parameter :: steps(2) = [10.0_dp, 1000.0_dp]
+    type(nroots_options_type) :: options, first
+    type(nroots_type) :: r, rf
+    type(demstep_status_type) :: status
+    real(qp) :: ref
+    integer :: i, j
+    options%tolerance = 1.0e-3_dp
+    do j = 1, size(steps)
+      options%policy = step_policy_type(steps_fixed, steps(j))
+      options%n_max = 1.0e4_dp
+      first = options
+      first%first_only = .true.
+      do i = 1, size(lambdas)
+        call n_roots(lambdas(i), options, r, status)
+        call check(error, status%stat == demstep_stat%ok .and. size(r%roots) > 0, "n = " &
+          //real_str(steps(j))//", lambda = "//real_str(lambdas(i))//": a root")
+        if (allocated(error)) return
+        ref = quad_first_root(steps(j), lambdas(i), 2.0_dp*r%roots(1))
+        call check(error, r%roots(1), real(ref, dp), thr=root_tol, rel=.true., message="smallest root, n = " &
+          //real_str(steps(j))//", lambda = "//real_str(lambdas(i)))
+        if (allocated(error)) return
+        ! the first-only scan stops there with the same root, interval and pick
+        call n_roots(lambdas(i), first, rf, status)
+        call check(error, rf%roots(1) == r%roots(1) .and. rf%lower(1) == r%lower(1) .and. &
+          rf%upper(1) == r%upper(1) .and. rf%n_pick == r%n_pick, "first-only scan agrees")
+        if (allocated(error)) return
+        call check(error, rf%evaluations < r%evaluations, "first-only scan is cheaper")
+        if (allocated(error)) return
+      end do
+    end do
+    ! the issue's values (8 digits): a root 0.53 % from the pole 9.9/3
+    options%policy = step_policy_type(steps_fixed, 10.0_dp)
+    call n_roots(0.9_dp, options, r, status)
+    call check(error, r%roots(1), 3.3174587_dp, thr=1.0e-7_dp, rel=.true., message="n = 10, lambda = 0.9")
+    if (allocated(error)) return
+    options%policy = step_policy_type(steps_fixed, 1000.0_dp)
+    call n_roots(0.999_dp, options, r, status)
+    call check(error, r%roots(1), 3.14465252_dp, thr=1.0e-8_dp, rel=.true., message="n = 1000, lambda = 0.999")
+  end subroutine test_fixed_roots_by_poles
+
+  subroutine test_limits(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(stiffness_input_type) :: input
+    type(stiffness_result_type) :: result
+    type(nroots_options_type) :: options
+    type(nroots_type) :: r
+    type(demstep_status_type) :: status
+    real(dp) :: e
+    integer :: stat
+    input%mass = 1.0_dp
+    input%stiffness = 1.0_dp
+    input%options%tolerance = 1.0e-3_dp
+    input%lambdas = [0.9_dp, 0.95_dp]
+    input%aggregate = aggregate_weighted
+    input%weights = [1.0e308_dp, 1.0_dp]
+    call simulated_stiffness(input, result, status)
+    call check(error, status%stat, demstep_stat%ok, message="weights 1e308, 1")
+    if (allocated(error)) return
+    ! N* = (1e308 p1 + p2)/(1e308 + 1) = p1 to rounding
+    call check(error, result%n_star, result%rows(1)%n_pick, thr=4.0_dp*epsilon(1.0_dp), rel=.true., &
+      message="N* with weights 1e308, 1")
+    if (allocated(error)) return
+    ! n = 1e12 steps: the first-only scan stops at the first root next to pi
+    options%tolerance = 1.0e-3_dp
+    options%first_only = .true.
+    options%policy = step_policy_type(steps_fixed, 1.0e12_dp)
+    call n_roots(0.9_dp, options, r, status)
+    call check(error, status%stat == demstep_stat%ok .and. size(r%roots) == 1, "n = 1e12")
+    if (allocated(error)) return
+    call check(error, abs(r%n_pick - pi) < 1.0e-8_dp*pi, "n = 1e12: the pick lies next to pi")
+    if (allocated(error)) return
+    ! every scan for every root with n = 1e12 is refused, naming n_steps
+    options%first_only = .false.
+    call n_roots(0.9_dp, options, r, status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, "n_steps") == 1, &
+      "full scan at n = 1e12")
+    if (allocated(error)) return
+    ! half-period steps evaluate up to N = 2e12; the interval to there is unbounded
+    options = nroots_options_type()
+    options%tolerance = 0.1_dp
+    options%n_max = 2.0e12_dp
+    call n_roots(0.9_dp, options, r, status)
+    call check(error, status%stat == demstep_stat%ok .and. r%last_interval == interval_unbounded, &
+      "lambda 0.9, E0 0.1 up to 2e12: unbounded")
+    if (allocated(error)) return
+    options%n_max = 2.5e12_dp
+    call n_roots(0.9_dp, options, r, status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, "n_max") == 1, &
+      "n_max beyond n = 1e12")
+    if (allocated(error)) return
+    options%n_max = default_n_max
+    options%resolution = 1.0e-308_dp
+    call n_roots(0.9_dp, options, r, status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, "resolution") == 1, &
+      "resolution 1e-308")
+    if (allocated(error)) return
+    options%resolution = default_resolution
+    options%tolerance = 1.0e-308_dp
+    call n_roots(0.9_dp, options, r, status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, "tolerance") == 1, &
+      "tolerance 1e-308")
+    if (allocated(error)) return
+    ! the smallest tolerance: the pick meets it
+    options%tolerance = 1.0e-10_dp
+    call n_roots(0.9_dp, options, r, status)
+    call harmonic_error(r%n_pick, 0.9_dp, 0.5_dp*r%n_pick, e, stat)
+    call check(error, abs(e) <= options%tolerance, "|E(pick)| <= 1e-10: "//real_str(e))
+  end subroutine test_limits
 
   subroutine test_rounded_jumps(error)
     type(error_type), allocatable, intent(out) :: error
