@@ -4,7 +4,7 @@
 module demstep_cli
   use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_namelist, only: nml_group_type, nml_item_type
+  use demstep_namelist, only: nml_group_type, nml_item_type, excerpt
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
   implicit none
   private
@@ -99,7 +99,7 @@ contains
     integer :: j
     j = find(specs, item%name)
     call set_status(status, demstep_stat%invalid_input, "&"//group%name//": "//item%name// &
-      ": cannot read '"//item%value//"' as "//specs(max(j, 1))%what)
+      ": cannot read '"//excerpt(item%value)//"' as "//specs(max(j, 1))%what)
   end subroutine read_failed
 
   !> Status `invalid_input` unless x is finite and > `lower` (>= with `inclusive`);
@@ -120,6 +120,11 @@ contains
     if (present(lower)) bound = lower
     closed = .false.
     if (present(inclusive)) closed = inclusive
+    if (ieee_is_finite(x)) then
+      if (closed .and. .not. x < bound) return
+      if (.not. closed .and. x > bound) return
+    end if
+    ! the message is built only for a value that fails (this runs once per array element)
     what = "&"//group//": "//name//": "
     if (present(element)) what = what//"element "//fmt_int(int(element, 8))//" is "//fmt_real(x)//"; "
     if (.not. ieee_is_finite(x)) then
@@ -140,8 +145,9 @@ contains
     real(dp), intent(in) :: x
     character(len=:), allocatable :: text
     character(len=40) :: buf
-    character(len=16) :: form
-    integer :: e, k
+    character(len=10) :: digits
+    character :: sign
+    integer :: e, k, m
     if (ieee_is_nan(x)) then
       text = "NaN"
       return
@@ -152,17 +158,37 @@ contains
       text = "0"
       return
     end if
+    ! one formatted write gives the 10 rounded significant digits and the exponent
+    ! of the rounded value; the fixed notation places the decimal point in those
+    ! same digits (rounding at 10 digits lands on the same decimal place there)
     write(buf, '(es24.9e3)') x
     k = index(buf, "E")
-    read(buf(k+1:), *) e
+    e = exponent_value(buf(k+1:))
     if (e >= -3 .and. e <= 6) then
-      write(form, '(a, i0, a)') "(f40.", 9 - e, ")"
-      write(buf, form) x
-      text = drop_zeros(trim(adjustl(buf)))
+      m = verify(buf, " ")
+      sign = merge("-", " ", buf(m:m) == "-")
+      if (sign == "-") m = m + 1
+      digits = buf(m:m)//buf(m+2:k-1)
+      if (e >= 0) then
+        text = drop_zeros(trim(sign)//digits(1:e+1)//"."//digits(e+2:))
+      else
+        text = drop_zeros(trim(sign)//"0."//repeat("0", -e-1)//digits)
+      end if
     else
       text = drop_zeros(trim(adjustl(buf(1:k-1))))//"e"//fmt_int(int(e, 8))
     end if
   end function fmt_real
+
+  !> The exponent field of an `es` edit (`+005`, `-012`) as an integer.
+  pure integer function exponent_value(field) result(e)
+    character(len=*), intent(in) :: field
+    integer :: i
+    e = 0
+    do i = 2, len_trim(field)
+      e = 10*e + (iachar(field(i:i)) - iachar("0"))
+    end do
+    if (field(1:1) == "-") e = -e
+  end function exponent_value
 
   pure function drop_zeros(number) result(text)
     character(len=*), intent(in) :: number
