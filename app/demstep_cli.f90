@@ -10,6 +10,7 @@ module demstep_cli
   private
 
   public :: var, check_names, given, item_text, read_failed, check_real, fmt_real, fmt_int, write_template, cli_context, &
+    fmt_real_column, &
     new_array, array_length, broadcast, common_length, new_int_array, int_array_length
 
   !> Most values one array variable of a group may hold.
@@ -144,7 +145,33 @@ contains
   pure function fmt_real(x) result(text)
     real(dp), intent(in) :: x
     character(len=:), allocatable :: text
-    character(len=40) :: buf
+    character(len=24) :: cell
+    cell = ""
+    if (ieee_is_finite(x) .and. x /= 0.0_dp) write(cell, '(es24.9e3)') x
+    text = real_text(x, cell)
+  end function fmt_real
+
+  !> [[fmt_real]] of each element, left-adjusted in cells of 24 characters, with one
+  !> formatted write for the whole array (long tables: the per-statement cost of
+  !> formatted output would dominate).
+  pure function fmt_real_column(x) result(cells)
+    real(dp), intent(in) :: x(:)
+    character(len=24), allocatable :: cells(:)
+    character(len=24), allocatable :: es(:)
+    integer :: i
+    allocate(es(size(x)), cells(size(x)))
+    if (size(x) > 0) write(es, '(es24.9e3)') x
+    do i = 1, size(x)
+      cells(i) = real_text(x(i), es(i))
+    end do
+  end function fmt_real_column
+
+  !> The text of [[fmt_real]] from x and its `es24.9e3` edit (used when x is
+  !> finite and nonzero).
+  pure function real_text(x, cell) result(text)
+    real(dp), intent(in) :: x
+    character(len=24), intent(in) :: cell
+    character(len=:), allocatable :: text
     character(len=10) :: digits
     character :: sign
     integer :: e, k, m
@@ -158,26 +185,25 @@ contains
       text = "0"
       return
     end if
-    ! one formatted write gives the 10 rounded significant digits and the exponent
-    ! of the rounded value; the fixed notation places the decimal point in those
-    ! same digits (rounding at 10 digits lands on the same decimal place there)
-    write(buf, '(es24.9e3)') x
-    k = index(buf, "E")
-    e = exponent_value(buf(k+1:))
+    ! the es edit gives the 10 rounded significant digits and the exponent of the
+    ! rounded value; the fixed notation places the decimal point in those same
+    ! digits (rounding at 10 digits lands on the same decimal place there)
+    k = index(cell, "E")
+    e = exponent_value(cell(k+1:))
     if (e >= -3 .and. e <= 6) then
-      m = verify(buf, " ")
-      sign = merge("-", " ", buf(m:m) == "-")
+      m = verify(cell, " ")
+      sign = merge("-", " ", cell(m:m) == "-")
       if (sign == "-") m = m + 1
-      digits = buf(m:m)//buf(m+2:k-1)
+      digits = cell(m:m)//cell(m+2:k-1)
       if (e >= 0) then
         text = drop_zeros(trim(sign)//digits(1:e+1)//"."//digits(e+2:))
       else
         text = drop_zeros(trim(sign)//"0."//repeat("0", -e-1)//digits)
       end if
     else
-      text = drop_zeros(trim(adjustl(buf(1:k-1))))//"e"//fmt_int(int(e, 8))
+      text = drop_zeros(trim(adjustl(cell(1:k-1))))//"e"//fmt_int(int(e, 8))
     end if
-  end function fmt_real
+  end function real_text
 
   !> The exponent field of an `es` edit (`+005`, `-012`) as an integer.
   pure integer function exponent_value(field) result(e)
