@@ -1,13 +1,30 @@
 !> Benchmark of reading large decks: the library's scan_namelist on the deck text in
 !> memory, and the demstep app end to end (process start, read, check, compute,
 !> report; output to /dev/null), for decks of size n = 1e3, 1e4, 1e5.
-!> Median of several runs, in milliseconds.
+!> Median of several runs, in milliseconds: wall time, and for the app also the CPU
+!> time (user + system) of the child processes from getrusage (POSIX), which a
+!> busy machine does not inflate.
 !> Run: fpm run --profile release --example bench_deck
 !> (the app must be built with the same profile: fpm build --profile release).
 program bench_deck
-  use demstep, only: dp, i8, nml_group_type, scan_namelist, demstep_status_type, demstep_stat, &
+  use, intrinsic :: iso_c_binding, only: c_int, c_long
+  use demstep, only: dp, i8, nml_group_type, scan_namelist, demstep_status_type, &
     sort_ascending
   implicit none
+  !> struct rusage of Linux/glibc: two timevals, then 14 longs.
+  type, bind(c) :: rusage_type
+    integer(c_long) :: utime_sec, utime_usec, stime_sec, stime_usec
+    integer(c_long) :: rest(14)
+  end type rusage_type
+  interface
+    function c_getrusage(who, usage) result(rc) bind(c, name="getrusage")
+      import :: c_int, rusage_type
+      integer(c_int), value :: who
+      type(rusage_type), intent(out) :: usage
+      integer(c_int) :: rc
+    end function c_getrusage
+  end interface
+  integer(c_int), parameter :: rusage_children = -1
   integer, parameter :: n_cases = 9, scan_repeats = 5, app_repeats = 3
   integer, parameter :: sizes(3) = [1000, 10000, 100000]
   character(len=*), parameter :: nl = new_line("a")
@@ -23,7 +40,7 @@ program bench_deck
     "n groups of another code (skipped)"]
   integer, parameter :: expected_exit(n_cases) = [0, 0, 0, 0, 0, 0, 0, 2, 0]
   character(len=:), allocatable :: text, app, deck
-  real(dp) :: t_scan(size(sizes)), t_app(size(sizes))
+  real(dp) :: t_scan(size(sizes)), t_app(size(sizes)), cpu_app(size(sizes))
   integer :: c, s, cmdstat, exitstat
   logical :: all_ok
 
@@ -31,18 +48,21 @@ program bench_deck
   call execute_command_line("mkdir -p "//dir, wait=.true., exitstat=exitstat, cmdstat=cmdstat)
   if (cmdstat /= 0 .or. exitstat /= 0) error stop "cannot create "//dir
   all_ok = .true.
-  write(*, '(a)') "median ms: library scan_namelist on the text in memory; app end to end ("//app//")"
-  write(*, '(a)') "| case | n = | scan 1e3 | scan 1e4 | scan 1e5 | app 1e3 | app 1e4 | app 1e5 |"
-  write(*, '(a)') "|---|---|---:|---:|---:|---:|---:|---:|"
+  write(*, '(a)') "median ms: library scan_namelist on the text in memory; app end to end ("//app// &
+    "), wall and CPU"
+  write(*, '(a)') "| case | n = | scan 1e3 | scan 1e4 | scan 1e5 | app 1e3 | app 1e4 | app 1e5 " &
+    //"| app CPU 1e3 | app CPU 1e4 | app CPU 1e5 |"
+  write(*, '(a)') "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
   do c = 1, n_cases
     do s = 1, size(sizes)
       text = make_deck(c, sizes(s))
       t_scan(s) = scan_time(text)
       deck = dir//"/"//trim(names(c))//".nml"
       call write_text(deck, text)
-      t_app(s) = app_time(deck, expected_exit(c))
+      call app_time(deck, expected_exit(c), t_app(s), cpu_app(s))
     end do
-    write(*, '("| ", a, " | ", a, 6(" | ", f8.1), " |")') trim(names(c)), trim(what(c)), t_scan, t_app
+    write(*, '("| ", a, " | ", a, 9(" | ", f8.1), " |")') trim(names(c)), trim(what(c)), t_scan, &
+      t_app, cpu_app
   end do
   if (.not. all_ok) write(*, '(a)') "SOME RUNS ENDED WITH AN UNEXPECTED EXIT STATUS (see above)"
 
@@ -104,26 +124,40 @@ contains
     t = median(times)
   end function scan_time
 
-  !> Median wall time of the app on `path`, ms; flags an unexpected exit status.
-  real(dp) function app_time(path, expected) result(t)
+  !> Median wall and CPU time of the app on `path`, ms; flags an unexpected exit status.
+  subroutine app_time(path, expected, wall, cpu)
     character(len=*), intent(in) :: path
     integer, intent(in) :: expected
-    real(dp) :: times(app_repeats)
+    real(dp), intent(out) :: wall, cpu
+    real(dp) :: times(app_repeats), cpus(app_repeats)
     integer(i8) :: c0, c1, rate
     integer :: r, exitstat, cmdstat
+    real(dp) :: cpu0
     do r = 1, app_repeats
+      cpu0 = children_cpu()
       call system_clock(c0, rate)
       call execute_command_line(app//" -q "//path//" >/dev/null 2>&1", wait=.true., &
         exitstat=exitstat, cmdstat=cmdstat)
       call system_clock(c1)
       times(r) = real(c1 - c0, dp)/real(rate, dp)*1.0e3_dp
+      cpus(r) = (children_cpu() - cpu0)*1.0e3_dp
       if (cmdstat /= 0 .or. exitstat /= expected) then
         write(*, '(a, i0, a, i0)') "unexpected: "//path//" exit ", exitstat, " cmdstat ", cmdstat
         all_ok = .false.
       end if
     end do
-    t = median(times)
-  end function app_time
+    wall = median(times)
+    cpu = median(cpus)
+  end subroutine app_time
+
+  !> CPU seconds (user + system) of the waited-for child processes so far.
+  real(dp) function children_cpu() result(t)
+    type(rusage_type) :: usage
+    t = 0.0_dp
+    if (c_getrusage(rusage_children, usage) /= 0) return
+    t = real(usage%utime_sec + usage%stime_sec, dp) + &
+      real(usage%utime_usec + usage%stime_usec, dp)*1.0e-6_dp
+  end function children_cpu
 
   real(dp) function median(x)
     real(dp), intent(in) :: x(:)
