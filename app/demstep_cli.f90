@@ -2,7 +2,7 @@
 !> reading a group's assignments into a namelist one at a time (so that an error
 !> names the variable), number formatting and checks.
 module demstep_cli
-  use demstep_kinds, only: dp
+  use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_namelist, only: nml_group_type, nml_item_type, excerpt
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
@@ -201,7 +201,7 @@ contains
         text = drop_zeros(trim(sign)//"0."//repeat("0", -e-1)//digits)
       end if
     else
-      text = drop_zeros(trim(adjustl(cell(1:k-1))))//"e"//fmt_int(int(e, 8))
+      text = drop_zeros(trim(adjustl(cell(1:k-1))))//"e"//fmt_int(int(e, i8))
     end if
   end function real_text
 

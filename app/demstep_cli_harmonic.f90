@@ -3,8 +3,8 @@ module demstep_cli_harmonic
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, set_status, &
     evaluate_error => harmonic_error, harmonic_n_max
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
-    fmt_real, fmt_real_column, fmt_int, cli_context, check_real, new_array, array_length, broadcast, &
-    common_length
+    fmt_real, fmt_real_column, fmt_int, cli_context, check_real, new_array, array_length, &
+    broadcast, common_length
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
