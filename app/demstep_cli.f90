@@ -2,14 +2,15 @@
 !> reading a group's assignments into a namelist one at a time (so that an error
 !> names the variable), number formatting and checks.
 module demstep_cli
-  use demstep_kinds, only: dp
+  use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_namelist, only: nml_group_type, nml_item_type
+  use demstep_namelist, only: nml_group_type, nml_item_type, excerpt
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
   implicit none
   private
 
   public :: var, check_names, given, item_text, read_failed, check_real, fmt_real, fmt_int, write_template, cli_context, &
+    fmt_real_column, &
     new_array, array_length, broadcast, common_length, new_int_array, int_array_length
 
   !> Most values one array variable of a group may hold.
@@ -99,7 +100,7 @@ contains
     integer :: j
     j = find(specs, item%name)
     call set_status(status, demstep_stat%invalid_input, "&"//group%name//": "//item%name// &
-      ": cannot read '"//item%value//"' as "//specs(max(j, 1))%what)
+      ": cannot read '"//excerpt(item%value)//"' as "//specs(max(j, 1))%what)
   end subroutine read_failed
 
   !> Status `invalid_input` unless x is finite and > `lower` (>= with `inclusive`);
@@ -120,6 +121,11 @@ contains
     if (present(lower)) bound = lower
     closed = .false.
     if (present(inclusive)) closed = inclusive
+    if (ieee_is_finite(x)) then
+      if (closed .and. .not. x < bound) return
+      if (.not. closed .and. x > bound) return
+    end if
+    ! the message is built only for a value that fails (this runs once per array element)
     what = "&"//group//": "//name//": "
     if (present(element)) what = what//"element "//fmt_int(int(element, 8))//" is "//fmt_real(x)//"; "
     if (.not. ieee_is_finite(x)) then
@@ -139,9 +145,36 @@ contains
   pure function fmt_real(x) result(text)
     real(dp), intent(in) :: x
     character(len=:), allocatable :: text
-    character(len=40) :: buf
-    character(len=16) :: form
-    integer :: e, k
+    character(len=24) :: cell
+    cell = ""
+    if (ieee_is_finite(x) .and. x /= 0.0_dp) write(cell, '(es24.9e3)') x
+    text = real_text(x, cell)
+  end function fmt_real
+
+  !> [[fmt_real]] of each element, left-adjusted in cells of 24 characters, with one
+  !> formatted write for the whole array (long tables: the per-statement cost of
+  !> formatted output would dominate).
+  pure function fmt_real_column(x) result(cells)
+    real(dp), intent(in) :: x(:)
+    character(len=24), allocatable :: cells(:)
+    character(len=24), allocatable :: es(:)
+    integer :: i
+    allocate(es(size(x)), cells(size(x)))
+    if (size(x) > 0) write(es, '(es24.9e3)') x
+    do i = 1, size(x)
+      cells(i) = real_text(x(i), es(i))
+    end do
+  end function fmt_real_column
+
+  !> The text of [[fmt_real]] from x and its `es24.9e3` edit (used when x is
+  !> finite and nonzero).
+  pure function real_text(x, cell) result(text)
+    real(dp), intent(in) :: x
+    character(len=24), intent(in) :: cell
+    character(len=:), allocatable :: text
+    character(len=10) :: digits
+    character :: sign
+    integer :: e, k, m
     if (ieee_is_nan(x)) then
       text = "NaN"
       return
@@ -152,17 +185,36 @@ contains
       text = "0"
       return
     end if
-    write(buf, '(es24.9e3)') x
-    k = index(buf, "E")
-    read(buf(k+1:), *) e
+    ! the es edit gives the 10 rounded significant digits and the exponent of the
+    ! rounded value; the fixed notation places the decimal point in those same
+    ! digits (rounding at 10 digits lands on the same decimal place there)
+    k = index(cell, "E")
+    e = exponent_value(cell(k+1:))
     if (e >= -3 .and. e <= 6) then
-      write(form, '(a, i0, a)') "(f40.", 9 - e, ")"
-      write(buf, form) x
-      text = drop_zeros(trim(adjustl(buf)))
+      m = verify(cell, " ")
+      sign = merge("-", " ", cell(m:m) == "-")
+      if (sign == "-") m = m + 1
+      digits = cell(m:m)//cell(m+2:k-1)
+      if (e >= 0) then
+        text = drop_zeros(trim(sign)//digits(1:e+1)//"."//digits(e+2:))
+      else
+        text = drop_zeros(trim(sign)//"0."//repeat("0", -e-1)//digits)
+      end if
     else
-      text = drop_zeros(trim(adjustl(buf(1:k-1))))//"e"//fmt_int(int(e, 8))
+      text = drop_zeros(trim(adjustl(cell(1:k-1))))//"e"//fmt_int(int(e, i8))
     end if
-  end function fmt_real
+  end function real_text
+
+  !> The exponent field of an `es` edit (`+005`, `-012`) as an integer.
+  pure integer function exponent_value(field) result(e)
+    character(len=*), intent(in) :: field
+    integer :: i
+    e = 0
+    do i = 2, len_trim(field)
+      e = 10*e + (iachar(field(i:i)) - iachar("0"))
+    end do
+    if (field(1:1) == "-") e = -e
+  end function exponent_value
 
   pure function drop_zeros(number) result(text)
     character(len=*), intent(in) :: number

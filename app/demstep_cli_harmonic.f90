@@ -3,8 +3,8 @@ module demstep_cli_harmonic
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, set_status, &
     evaluate_error => harmonic_error, harmonic_n_max
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
-    fmt_real, fmt_int, cli_context, check_real, new_array, array_length, broadcast, &
-    common_length
+    fmt_real, fmt_real_column, fmt_int, cli_context, check_real, new_array, array_length, &
+    broadcast, common_length
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -125,16 +125,22 @@ contains
     integer, intent(in) :: stat(:)
     integer :: i
     character(len=24) :: value
+    character(len=24), allocatable :: n_text(:), lam_text(:), steps_text(:), e_text(:)
     write(u, '(a)') "&harmonic_error (line "//fmt_int(int(group%line, i8))//")"
     write(u, '(2x, a16, a16, a16, a24, 2x, a)') "N = T/dt", "lambda", "n steps", "E", "status"
+    ! whole columns at once: up to 1e5 rows
+    n_text = fmt_real_column(big_n)
+    lam_text = fmt_real_column(lam)
+    steps_text = fmt_real_column(n)
+    e_text = fmt_real_column(e)
     do i = 1, size(e)
       if (stat(i) == demstep_stat%pole) then
         value = "pole"
       else
-        value = fmt_real(e(i))
+        value = e_text(i)
       end if
-      write(u, '(2x, a16, a16, a16, a24, 2x, i0)') fmt_real(big_n(i)), fmt_real(lam(i)), &
-        fmt_real(n(i)), adjustr(value), stat(i)
+      write(u, '(2x, a16, a16, a16, a24, 2x, i0)') trim(n_text(i)), trim(lam_text(i)), &
+        trim(steps_text(i)), adjustr(value), stat(i)
     end do
     write(u, '(2x, a)') "status: 0 ok, 3 pole (S(2 pi lambda/N, n) = 0; e = huge)"
     write(u, '(a)') ""

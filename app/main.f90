@@ -4,7 +4,7 @@
 !> Exit status: 0 success, 2 bad input or usage, 1 failure to write the output.
 program demstep_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
-  use demstep, only: demstep_version_string, demstep_status_type, demstep_stat, &
+  use demstep, only: i8, demstep_version_string, demstep_status_type, demstep_stat, &
     nml_group_type, read_text_file, scan_namelist
   use demstep_cli, only: cli_context, write_template, fmt_int
   use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &
@@ -23,7 +23,9 @@ program demstep_main
   type(nml_group_type), allocatable :: groups(:)
   type(demstep_status_type) :: status
   type(cli_context) :: ctx
-  integer :: i, nargs, known, ios
+  integer :: i, nargs, known, ios, n_skipped
+  !> Skipped groups listed by name in the report; the rest are counted.
+  integer, parameter :: max_listed = 20
   character(len=*), parameter :: known_groups = &
     "&system, &harmonic_error, &simulated_stiffness, &scene, &contact_error, &accuracy_cost"
 
@@ -81,6 +83,7 @@ program demstep_main
   write(ctx%report, '(a)') "demstep "//demstep_version_string//": "//input
   write(ctx%report, '(a)') ""
   known = 0
+  n_skipped = 0
   skipped = ""
   do i = 1, size(groups)
     select case (groups(i)%name)
@@ -97,7 +100,10 @@ program demstep_main
     case ("accuracy_cost")
       call handle_accuracy_cost(ctx, groups(i), status)
     case default
-      skipped = skipped//" &"//groups(i)%name//" (line "//fmt_int(int(groups(i)%line, 8))//")"
+      ! list the first few by name, count the rest: linear in the number of groups
+      n_skipped = n_skipped + 1
+      if (n_skipped <= max_listed) skipped = skipped//" &"//groups(i)%name//" (line " &
+        //fmt_int(int(groups(i)%line, i8))//")"
       cycle
     end select
     if (status%stat /= demstep_stat%ok) call fail(input//": "//status%message, 2)
@@ -105,7 +111,9 @@ program demstep_main
   end do
   if (known == 0) call fail(input//": no demstep group in the file (known: "//known_groups//"; see " &
     //"demstep --template)", 2)
-  if (len(skipped) > 0) write(ctx%report, '(a)') "skipped groups (not demstep's):"//skipped
+  if (n_skipped > max_listed) skipped = skipped//" and "//fmt_int(int(n_skipped - max_listed, i8)) &
+    //" more"
+  if (n_skipped > 0) write(ctx%report, '(a)') "skipped groups (not demstep's):"//skipped
 
   if (allocated(output)) then
     call open_output(output, out_file, status)

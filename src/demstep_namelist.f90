@@ -13,7 +13,7 @@ module demstep_namelist
   implicit none
   private
 
-  public :: read_text_file, scan_namelist, lowercase, replace_file, process_id
+  public :: read_text_file, scan_namelist, lowercase, replace_file, process_id, excerpt
 
   !> One assignment `designator = values` of a group.
   type, public :: nml_item_type
@@ -50,6 +50,8 @@ module demstep_namelist
   end interface
 
   character(len=*), parameter :: lf = achar(10), cr = achar(13), tab = achar(9)
+  !> Longest group or variable name Fortran allows.
+  integer, parameter :: max_name_length = 63
 
 contains
 
@@ -91,19 +93,23 @@ contains
     status%stat = demstep_stat%ok
   end subroutine read_text_file
 
-  !> Split a namelist deck into groups and assignments.
-  !> Status `invalid_input` for an unterminated group or string, or text that is
-  !> not an assignment; the message starts with the group (`&name: `) where known.
+  !> Split a namelist deck into groups and assignments, in time linear in the
+  !> deck's length (groups and items grow by doubling, text is copied once).
+  !> Status `invalid_input` for an unterminated group or string, text that is
+  !> not an assignment, or a group or variable name longer than Fortran allows
+  !> (63 characters); the message starts with the group (`&name: `) where known
+  !> and quotes at most [[excerpt]] of the offending text.
   pure subroutine scan_namelist(text, groups, status)
     !> The deck.
     character(len=*), intent(in) :: text
     !> Its groups in file order.
     type(nml_group_type), allocatable, intent(out) :: groups(:)
     type(demstep_status_type), intent(out) :: status
-    type(nml_group_type) :: group
-    integer :: i, n, line, start, body_start, body_end, body_line
+    type(nml_group_type), allocatable :: found(:)
+    integer :: i, n, line, start, body_start, body_end, body_line, count
     n = len(text)
-    allocate(groups(0))
+    allocate(found(8))
+    count = 0
     i = 1
     line = 1
     do while (i <= n)
@@ -125,27 +131,82 @@ contains
             "line "//int_text(line)//": '"//text(start-1:start-1)//"' not followed by a group name")
           return
         end if
-        group%name = lowercase(text(start:i-1))
-        group%line = line
-        body_start = i
-        body_line = line
-        call find_group_end(text, i, line, body_end, status)
-        if (status%stat /= demstep_stat%ok) then
-          status%message = "&"//group%name//": "//status%message
+        if (i - start > max_name_length) then
+          call set_status(status, demstep_stat%invalid_input, "line "//int_text(line)// &
+            ": group name '"//excerpt(text(start:i-1))//"' has "//int_text(i - start)// &
+            " characters (at most "//int_text(max_name_length)//")")
           return
         end if
-        call split_items(text(body_start:body_end), body_line, group%items, status)
-        if (status%stat /= demstep_stat%ok) then
-          status%message = "&"//group%name//": "//status%message
-          return
-        end if
-        groups = [groups, group]
+        if (count == size(found)) call grow_groups(found, 2*count)
+        count = count + 1
+        associate(group => found(count))
+          group%name = lowercase(text(start:i-1))
+          group%line = line
+          body_start = i
+          body_line = line
+          call find_group_end(text, i, line, body_end, status)
+          if (status%stat /= demstep_stat%ok) then
+            status%message = "&"//group%name//": "//status%message
+            return
+          end if
+          call split_items(text(body_start:body_end), body_line, group%items, status)
+          if (status%stat /= demstep_stat%ok) then
+            status%message = "&"//group%name//": "//status%message
+            return
+          end if
+        end associate
       case default
         i = i + 1
       end select
     end do
+    call grow_groups(found, count)
+    call move_alloc(found, groups)
     status%stat = demstep_stat%ok
   end subroutine scan_namelist
+
+  !> Resize a group list to `capacity` (>= the groups kept), moving components.
+  pure subroutine grow_groups(list, capacity)
+    type(nml_group_type), allocatable, intent(inout) :: list(:)
+    integer, intent(in) :: capacity
+    type(nml_group_type), allocatable :: moved(:)
+    integer :: k
+    allocate(moved(capacity))
+    do k = 1, min(size(list), capacity)
+      if (allocated(list(k)%name)) call move_alloc(list(k)%name, moved(k)%name)
+      if (allocated(list(k)%items)) call move_alloc(list(k)%items, moved(k)%items)
+      moved(k)%line = list(k)%line
+    end do
+    call move_alloc(moved, list)
+  end subroutine grow_groups
+
+  !> Resize an item list to `capacity` (>= the items kept), moving components.
+  pure subroutine grow_items(list, capacity)
+    type(nml_item_type), allocatable, intent(inout) :: list(:)
+    integer, intent(in) :: capacity
+    type(nml_item_type), allocatable :: moved(:)
+    integer :: k
+    allocate(moved(capacity))
+    do k = 1, min(size(list), capacity)
+      if (allocated(list(k)%designator)) call move_alloc(list(k)%designator, moved(k)%designator)
+      if (allocated(list(k)%name)) call move_alloc(list(k)%name, moved(k)%name)
+      if (allocated(list(k)%value)) call move_alloc(list(k)%value, moved(k)%value)
+      moved(k)%line = list(k)%line
+    end do
+    call move_alloc(moved, list)
+  end subroutine grow_items
+
+  !> Text quoted in a message: at most 60 characters, then "...".
+  pure function excerpt(text) result(out)
+    !> The text to quote.
+    character(len=*), intent(in) :: text
+    character(len=:), allocatable :: out
+    integer, parameter :: max_shown = 60
+    if (len(text) <= max_shown) then
+      out = text
+    else
+      out = text(1:max_shown)//"..."
+    end if
+  end function excerpt
 
   !> From just after a group name, find the group's terminator; `i` moves past it.
   pure subroutine find_group_end(text, i, line, body_end, status)
@@ -204,10 +265,10 @@ contains
     integer, intent(in) :: first_line
     type(nml_item_type), allocatable, intent(out) :: items(:)
     type(demstep_status_type), intent(out) :: status
-    type(nml_item_type) :: item
-    integer :: i, n, line, depth, name_start, value_start, k
+    integer :: i, n, line, depth, name_start, value_start, k, count
     n = len(body)
-    allocate(items(0))
+    allocate(items(8))
+    count = 0
     line = first_line
     depth = 0
     value_start = 0
@@ -229,7 +290,9 @@ contains
         depth = depth - 1
       case ("=")
         if (depth == 0) then
-          call designator_before(body, i, name_start)
+          ! the designator lies after the previous '=': the backward scans cover
+          ! disjoint stretches of the body
+          call designator_before(body, max(value_start, 1), i, name_start)
           if (name_start == 0) then
             call set_status(status, demstep_stat%invalid_input, &
               "line "//int_text(line)//": '=' without a variable name before it")
@@ -239,19 +302,29 @@ contains
             if (len_trim(strip_separators(body(1:name_start-1))) > 0) then
               call set_status(status, demstep_stat%invalid_input, "line "//int_text(line)// &
                 ": text before the first assignment: '"// &
-                trim(strip_separators(body(1:name_start-1)))//"'")
+                excerpt(trim(strip_separators(body(1:name_start-1))))//"'")
               return
             end if
           else
-            items(size(items))%value = strip_separators(body(value_start:name_start-1))
+            items(count)%value = strip_separators(body(value_start:name_start-1))
           end if
-          item%designator = lowercase(compact(body(name_start:i-1)))
-          k = scan(item%designator, "(%")
-          if (k == 0) k = len(item%designator) + 1
-          item%name = item%designator(1:k-1)
-          item%line = line
-          item%value = ""
-          items = [items, item]
+          if (count == size(items)) call grow_items(items, 2*count)
+          count = count + 1
+          associate(item => items(count))
+            item%designator = compact(body(name_start:i-1))
+            k = scan(item%designator, "(%")
+            if (k == 0) k = len(item%designator) + 1
+            if (k - 1 > max_name_length) then
+              call set_status(status, demstep_stat%invalid_input, "line "//int_text(line)// &
+                ": variable name '"//excerpt(item%designator(1:k-1))//"' has "// &
+                int_text(k - 1)//" characters (at most "//int_text(max_name_length)//")")
+              return
+            end if
+            item%designator = lowercase(item%designator)
+            item%name = item%designator(1:k-1)
+            item%line = line
+            item%value = ""
+          end associate
           value_start = i + 1
         end if
       end select
@@ -260,50 +333,51 @@ contains
     if (value_start == 0) then
       if (len_trim(strip_separators(body)) > 0) then
         call set_status(status, demstep_stat%invalid_input, &
-          "line "//int_text(first_line)//": no assignment in '"//trim(strip_separators(body))//"'")
+          "line "//int_text(first_line)//": no assignment in '"//excerpt(trim(strip_separators(body)))//"'")
         return
       end if
     else
-      items(size(items))%value = strip_separators(body(value_start:n))
+      items(count)%value = strip_separators(body(value_start:n))
     end if
+    call grow_items(items, count)
     status%stat = demstep_stat%ok
   end subroutine split_items
 
   !> Start of the designator (name, optional subscript and components) ending
-  !> just before position `eq`; 0 if there is none.
-  pure subroutine designator_before(body, eq, start)
+  !> just before position `eq`, looking no further back than `lo`; 0 if there is none.
+  pure subroutine designator_before(body, lo, eq, start)
     character(len=*), intent(in) :: body
-    integer, intent(in) :: eq
+    integer, intent(in) :: lo, eq
     integer, intent(out) :: start
     integer :: j, depth
     start = 0
     j = eq - 1
-    do while (j >= 1)
+    do while (j >= lo)
       if (.not. is_blank(body(j:j))) exit
       j = j - 1
     end do
-    do while (j >= 1)
+    do while (j >= lo)
       if (body(j:j) == ")") then
         depth = 0
-        do while (j >= 1)
+        do while (j >= lo)
           if (body(j:j) == ")") depth = depth + 1
           if (body(j:j) == "(") depth = depth - 1
           j = j - 1
           if (depth == 0) exit
         end do
-        do while (j >= 1)
+        do while (j >= lo)
           if (.not. is_blank(body(j:j))) exit
           j = j - 1
         end do
       end if
-      if (j < 1) return
+      if (j < lo) return
       if (.not. (is_name_char(body(j:j)) .or. body(j:j) == "%")) exit
-      do while (j >= 1)
+      do while (j >= lo)
         if (.not. (is_name_char(body(j:j)) .or. body(j:j) == "%")) exit
         start = j
         j = j - 1
       end do
-      if (j < 1) exit
+      if (j < lo) exit
       if (body(j:j) /= ")") exit
     end do
     if (start > 0) then
@@ -354,13 +428,15 @@ contains
   end subroutine skip_comment
 
   !> Value text without comments, with blanks for line breaks, trimmed of
-  !> blanks and separating commas at both ends.
+  !> blanks and separating commas at both ends. One pass into one buffer.
   pure function strip_separators(text) result(out)
     character(len=*), intent(in) :: text
     character(len=:), allocatable :: out
-    integer :: i, j, line, first, last
+    character(len=:), allocatable :: buffer
+    integer :: i, j, m, line, first, last
     type(demstep_status_type) :: status
-    out = ""
+    allocate(character(len=len(text)) :: buffer)
+    m = 0
     line = 1
     i = 1
     do while (i <= len(text))
@@ -368,35 +444,45 @@ contains
       case ("'", '"')
         j = i
         call skip_string(text, i, line, status)
-        out = out//text(j:min(i-1, len(text)))
+        i = min(i, len(text) + 1)
+        buffer(m+1:m+i-j) = text(j:i-1)
+        m = m + i - j
       case ("!")
         call skip_comment(text, i)
       case (lf, cr, tab)
-        out = out//" "
+        m = m + 1
+        buffer(m:m) = " "
         i = i + 1
       case default
-        out = out//text(i:i)
+        m = m + 1
+        buffer(m:m) = text(i:i)
         i = i + 1
       end select
     end do
-    first = verify(out, " ,")
+    first = verify(buffer(1:m), " ,")
     if (first == 0) then
       out = ""
       return
     end if
-    last = verify(out, " ,", back=.true.)
-    out = out(first:last)
+    last = verify(buffer(1:m), " ,", back=.true.)
+    out = buffer(first:last)
   end function strip_separators
 
   !> Remove all blanks from a designator.
   pure function compact(text) result(out)
     character(len=*), intent(in) :: text
     character(len=:), allocatable :: out
-    integer :: i
-    out = ""
+    character(len=:), allocatable :: buffer
+    integer :: i, m
+    allocate(character(len=len(text)) :: buffer)
+    m = 0
     do i = 1, len(text)
-      if (.not. is_blank(text(i:i))) out = out//text(i:i)
+      if (.not. is_blank(text(i:i))) then
+        m = m + 1
+        buffer(m:m) = text(i:i)
+      end if
     end do
+    out = buffer(1:m)
   end function compact
 
   !> ASCII lower case.
