@@ -117,6 +117,9 @@ module demstep_stiffness
     integer :: stat = 0
     !> Evaluations of E made.
     integer :: evaluations = 0
+    !> Roots of E whose admissible interval holds no double N (|E| changes by
+    !> more than E0 between neighbouring doubles there): left out of lower/upper.
+    integer :: unresolved = 0
   end type nroots_type
 
   !> The whole procedure's input.
@@ -182,6 +185,14 @@ module demstep_stiffness
     integer :: n_roots = 0, n_lower = 0, n_upper = 0
     type(sample_type) :: prev
     logical :: have_prev = .false., inside_at_start = .false.
+    !> Roots whose admissible interval holds no double N (narrower than the
+    !> spacing of doubles there): left out of the intervals.
+    integer :: unresolved = 0
+    !> Set when the first such root comes before any admissible interval: the
+    !> smallest admissible N cannot be represented. `blocked_root` is that root,
+    !> `blocked_e` the smallest |E| at a double next to it.
+    logical :: blocked = .false.
+    real(dp) :: blocked_root = 0.0_dp, blocked_e = 0.0_dp
   end type scan_state_type
 
 contains
@@ -236,7 +247,12 @@ contains
           s%inside_at_start = cur%inside
           if (cur%ok .and. cur%e == 0.0_dp) call push(s%roots, s%n_roots, x)
         else if (first_in_piece) then
-          call across(s, cur, a, a)
+          if (a_kind == break_pole) then
+            ! E is not evaluable at a pole: the samples either side are the ends
+            call across(s, cur, s%prev%x, cur%x)
+          else
+            call across(s, cur, a, a)
+          end if
         else
           call within(s, cur)
         end if
@@ -244,6 +260,10 @@ contains
         s%have_prev = .true.
         first_in_piece = .false.
         if (options%first_only .and. s%n_roots > 0 .and. s%n_upper > 0) done = .true.
+        if (s%blocked .and. options%pick == pick_largest_step) then
+          call unresolvable(lambda, options, s%blocked_root, s%blocked_e, status)
+          return
+        end if
         if (real(s%ctx%evaluations, dp) > budget) then
           if (options%policy%kind == steps_fixed) then
             call set_status(status, demstep_stat%invalid_input, "n_steps: the scan of E for lambda = " &
@@ -285,7 +305,7 @@ contains
     call sort_ascending(result%roots)
     result%lower = s%lower(:s%n_lower)
     result%upper = s%upper(:s%n_upper)
-    result%evaluations = s%ctx%evaluations
+    result%unresolved = s%unresolved
 
     result%stat = demstep_stat%ok
     if (options%pick == pick_zero) then
@@ -295,13 +315,61 @@ contains
         result%stat = demstep_stat%not_found
       end if
     else if (size(result%lower) > 0) then
+      call check_pick(s, options, result, status)
+      if (status%stat /= demstep_stat%ok) return
       result%n_pick = result%lower(1)
       if (s%inside_at_start .and. result%lower(1) == n_scan_start) result%stat = demstep_stat%unstable
     else
       result%stat = demstep_stat%not_found
     end if
+    result%evaluations = s%ctx%evaluations
     status%stat = demstep_stat%ok
   end subroutine n_roots
+
+  !> The pick must meet the tolerance as the public evaluator (`harmonic_error_steps`)
+  !> computes it: the scan evaluates E piece by piece with the piece's step count,
+  !> which can differ from the policy's exactly at a jump. When it does not, the
+  !> next doubles up inside the interval are tried; else the scan is refused.
+  pure subroutine check_pick(s, options, result, status)
+    type(scan_state_type), intent(inout) :: s
+    type(nroots_options_type), intent(in) :: options
+    type(nroots_type), intent(inout) :: result
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: x, e, e_min
+    integer :: k, stat
+    status%stat = demstep_stat%ok
+    x = result%lower(1)
+    e_min = huge(1.0_dp)
+    do k = 1, 16
+      call harmonic_error_steps(x, s%ctx%lambda, options%policy, e, stat)
+      s%ctx%evaluations = s%ctx%evaluations + 1
+      if (stat == demstep_stat%ok .and. ieee_is_finite(e)) then
+        if (abs(e) <= options%tolerance) then
+          result%lower(1) = x
+          return
+        end if
+        e_min = min(e_min, abs(e))
+      end if
+      x = nearest(x, 1.0_dp)
+      if (x > result%upper(1)) exit
+    end do
+    call unresolvable(s%ctx%lambda, options, result%lower(1), e_min, status)
+  end subroutine check_pick
+
+  !> The status of a scan whose smallest admissible N lies in an interval holding
+  !> no double (E changes by more than E0 between neighbouring doubles there).
+  pure subroutine unresolvable(lambda, options, x, e_min, status)
+    real(dp), intent(in) :: lambda, x, e_min
+    type(nroots_options_type), intent(in) :: options
+    type(demstep_status_type), intent(out) :: status
+    character(len=:), allocatable :: advice
+    advice = "use tolerance >= "//real_text(round_up_2(max(e_min, min_tolerance)))
+    if (options%policy%kind == steps_fixed) advice = advice//" or fewer n_steps"
+    call set_status(status, demstep_stat%invalid_input, "tolerance: for lambda = "//real_text(lambda) &
+      //" the smallest N with |E| <= "//real_text(options%tolerance)//" lies next to N = " &
+      //real_text(x, 15)//" in an interval narrower than the spacing of doubles: |E| >= " &
+      //real_text(e_min)//" at every double N there; "//advice)
+  end subroutine unresolvable
 
   !> One sample of the scan: E at x, evaluable or not, |E| <= E0 or not.
   pure subroutine take_sample(s, x, cur)
@@ -338,8 +406,8 @@ contains
     type(sample_type), intent(in) :: cur
     type(sample_type) :: prev
     type(demstep_status_type) :: st
-    real(dp) :: r, b
-    logical :: found
+    real(dp) :: r, b, r_lo, r_hi, x_in, e_min
+    logical :: found, resolved
     prev = s%prev
     if (.not. (prev%ok .and. cur%ok)) then
       call across(s, cur, prev%x, cur%x)
@@ -350,7 +418,8 @@ contains
       call push(s%roots, s%n_roots, cur%x)
     else if (prev%e /= 0.0_dp .and. ((prev%e > 0.0_dp) .neqv. (cur%e > 0.0_dp))) then
       s%ctx%absolute = .false.
-      call find_root(e_function, s%ctx, prev%x, cur%x, r, st, x_rel=n_root_x_rel, fa=prev%e, fb=cur%e)
+      call find_root(e_function, s%ctx, prev%x, cur%x, r, st, x_rel=n_root_x_rel, fa=prev%e, fb=cur%e, &
+        bracket_lo=r_lo, bracket_hi=r_hi)
       if (st%stat == demstep_stat%ok) then
         call push(s%roots, s%n_roots, r)
         found = .true.
@@ -363,41 +432,83 @@ contains
       call boundary(s, cur%x, prev%x, b)
       call push(s%lower, s%n_lower, b)
     else if (.not. (prev%inside .or. cur%inside) .and. found) then
-      ! a root between two outside points carries a narrow interval around it
-      call boundary(s, r, prev%x, b)
-      call push(s%lower, s%n_lower, b)
-      call boundary(s, r, cur%x, b)
-      call push(s%upper, s%n_upper, b)
+      ! a root between two outside points carries a narrow interval around it,
+      ! found from an admissible double next to the root
+      call admissible_near_root(s, r, r_lo, r_hi, x_in, resolved, e_min)
+      if (resolved) then
+        call boundary(s, x_in, prev%x, b)
+        call push(s%lower, s%n_lower, b)
+        call boundary(s, x_in, cur%x, b)
+        call push(s%upper, s%n_upper, b)
+      else
+        s%unresolved = s%unresolved + 1
+        if (s%n_lower == 0 .and. .not. s%blocked) then
+          s%blocked = .true.
+          s%blocked_root = r
+          s%blocked_e = e_min
+        end if
+      end if
     end if
   end subroutine within
 
-  !> Where |E| crosses E0 between an admissible x_in and an inadmissible x_out;
-  !> the end returned is admissible (|E| <= E0 there) and within 2 n_root_x_rel
-  !> (relative) of the crossing. A jump of a rounded policy may be that end.
+  !> An admissible double next to a root r of E (bracket [lo, hi] from find_root):
+  !> r itself when |E(r)| <= E0; else every double of the bracket shrunk to a few
+  !> ulps is tried (E is monotone there, so none further away can do better).
+  !> `found` is false when none meets the tolerance; `e_min` is the smallest |E| seen.
+  pure subroutine admissible_near_root(s, r, lo, hi, x, found, e_min)
+    type(scan_state_type), intent(inout) :: s
+    real(dp), intent(in) :: r, lo, hi
+    real(dp), intent(out) :: x, e_min
+    logical, intent(out) :: found
+    type(demstep_status_type) :: st
+    real(dp) :: e, y, lo2, hi2, r2
+    integer :: stat, k
+    s%ctx%absolute = .false.
+    x = r
+    e_min = huge(1.0_dp)
+    found = .false.
+    call e_function(r, s%ctx, e, stat)
+    s%ctx%evaluations = s%ctx%evaluations + 1
+    if (stat == demstep_stat%ok) then
+      e_min = abs(e)
+      found = e_min <= s%tolerance
+      if (found) return
+    end if
+    ! a bracket of at most 8 ulps (find_root's floor on its tolerance)
+    call find_root(e_function, s%ctx, lo, hi, r2, st, x_rel=0.0_dp, x_abs=tiny(1.0_dp), &
+      check_continuity=.false., bracket_lo=lo2, bracket_hi=hi2)
+    if (st%stat /= demstep_stat%ok) return
+    y = lo2
+    do k = 1, 16
+      call e_function(y, s%ctx, e, stat)
+      s%ctx%evaluations = s%ctx%evaluations + 1
+      if (stat == demstep_stat%ok .and. abs(e) < e_min) then
+        e_min = abs(e)
+        x = y
+      end if
+      if (y >= hi2) exit
+      y = nearest(y, 1.0_dp)
+    end do
+    found = e_min <= s%tolerance
+  end subroutine admissible_near_root
+
+  !> Where |E| crosses E0 between an admissible x_in and an inadmissible x_out:
+  !> the end of find_root's final bracket on x_in's side, so admissible as
+  !> evaluated (|E| <= E0 there) however narrow the interval, and within
+  !> 2 n_root_x_rel (relative) of the crossing. A jump of a rounded policy may be
+  !> that end. All evaluations go through find_root and are counted.
   pure subroutine boundary(s, x_in, x_out, b)
     type(scan_state_type), intent(inout) :: s
     real(dp), intent(in) :: x_in, x_out
     real(dp), intent(out) :: b
     type(demstep_status_type) :: st
-    real(dp) :: g, d
-    integer :: k, stat
+    real(dp) :: r, lo, hi
     s%ctx%absolute = .true.
     s%ctx%shift = s%tolerance
-    call find_root(e_function, s%ctx, min(x_in, x_out), max(x_in, x_out), b, st, x_rel=n_root_x_rel, &
-      check_continuity=.false.)
-    ! the bracket's estimate may sit just outside: step back towards x_in
-    d = 0.25_dp*n_root_x_rel*abs(b)
-    do k = 1, 64
-      call e_function(b, s%ctx, g, stat)
-      s%ctx%evaluations = s%ctx%evaluations + 1
-      if (stat == demstep_stat%ok .and. g <= 0.0_dp) exit
-      if (abs(x_in - b) <= d) then
-        b = x_in
-        exit
-      end if
-      b = b + sign(d, x_in - b)
-      d = 2.0_dp*d
-    end do
+    call find_root(e_function, s%ctx, min(x_in, x_out), max(x_in, x_out), r, st, x_rel=n_root_x_rel, &
+      check_continuity=.false., bracket_lo=lo, bracket_hi=hi)
+    b = x_in
+    if (st%stat == demstep_stat%ok) b = merge(lo, hi, x_in < x_out)
     s%ctx%absolute = .false.
   end subroutine boundary
 
@@ -673,13 +784,15 @@ contains
     end if
   end function n_max_limit
 
-  !> A number for a message.
-  pure function real_text(x) result(text)
+  !> A number for a message: 4 significant digits, or `digits` (at most 17).
+  pure function real_text(x, digits) result(text)
     real(dp), intent(in) :: x
+    integer, intent(in), optional :: digits
     character(len=:), allocatable :: text
     character(len=40) :: buf
+    character(len=24) :: form
     real(dp) :: m
-    integer :: e
+    integer :: e, d
     if (.not. ieee_is_finite(x)) then
       text = "more than 1e308"
       if (x /= x) text = "NaN"
@@ -689,13 +802,21 @@ contains
       text = "0"
       return
     end if
+    d = 4
+    if (present(digits)) d = max(1, min(17, digits))
     e = floor(log10(abs(x)))
-    m = x/10.0_dp**e
-    if (abs(m) >= 9.9995_dp) then
+    if (e < -290) then
+      ! 10^e would be subnormal or 0
+      m = (x*1.0e30_dp)/10.0_dp**(e + 30)
+    else
+      m = x/10.0_dp**e
+    end if
+    if (abs(m) >= 10.0_dp - 0.5_dp*10.0_dp**(1 - d)) then
       e = e + 1
       m = m/10.0_dp
     end if
-    write(buf, '(f0.3, "e", i0)') m, e
+    write(form, '(a, i0, a)') '(f0.', d - 1, ', "e", i0)'
+    write(buf, form) m, e
     text = trim(buf)
   end function real_text
 
