@@ -29,7 +29,7 @@ module demstep_stiffness
   private
 
   public :: n_roots, aggregate_picks, simulated_stiffness, error_limit, scan_cost, procedure_cost, &
-    n_max_limit
+    n_max_limit, measure_evaluation_cost
 
   !> Pick: the smallest N with |E| <= E0 (the largest step meeting the tolerance).
   integer, parameter, public :: pick_largest_step = 1
@@ -61,15 +61,12 @@ module demstep_stiffness
   !> Smallest tolerance E0: E is computed to 1e-12 (|E| + (1 - lambda)) <= 1e-12, so
   !> at E0 = 1e-10 |E| <= E0 holds to within 1 % of E0.
   real(dp), parameter, public :: min_tolerance = 1.0e-10_dp
-  !> Largest estimated cost of one lambda's scan, in evaluations of E (about 3 s
-  !> at the 0.15 us an evaluation takes, see bench_stiffness).
+  !> Largest estimated cost of one lambda's scan, in evaluations of E (seconds:
+  !> `measure_evaluation_cost` and bench_stiffness measure the cost of one).
   real(dp), parameter, public :: max_scan_evaluations = 2.0e7_dp
   !> Largest estimated cost of the whole procedure (a few minutes): a fine scan
   !> the user asks for; the app says so up front and shows progress.
   real(dp), parameter, public :: max_procedure_evaluations = 1.0e9_dp
-  !> Measured time of one evaluation of E in the scan, seconds (bench_stiffness,
-  !> release build): for the app's up-front estimates only.
-  real(dp), parameter, public :: seconds_per_evaluation = 1.5e-7_dp
   !> Scans of the search for lambda* (ITP along lambda to 1e-13 and its probes).
   integer, parameter, public :: lambda_star_scans = 50
   !> A rounded policy's jumps are breakpoints up to this many steps n (N = 1e5/f);
@@ -650,6 +647,47 @@ contains
     if (.not. allocated(input%lambdas)) return
     cost = scan_cost(input%options)*real(size(input%lambdas) + lambda_star_scans, dp)
   end function procedure_cost
+
+  !> Measure on the spot the time of one evaluation of E as the procedure makes
+  !> them: E at the input's lambdas and step policy, N spread geometrically over
+  !> the scanned range; rounds of 1024 evaluations until 1 ms has passed, three
+  !> times, the median, in seconds per evaluation (a few ms in all). For up-front
+  !> estimates of a long procedure.
+  subroutine measure_evaluation_cost(input, seconds)
+    type(stiffness_input_type), intent(in) :: input
+    real(dp), intent(out) :: seconds
+    integer, parameter :: batch = 1024
+    real(dp), volatile :: sink
+    real(dp) :: x(batch), lam(batch), times(3), start, top, e
+    integer(i8) :: c0, c1, rate, count
+    integer :: i, r, stat, n_lambda
+    seconds = 0.0_dp
+    start = scan_start(input%options%policy)
+    top = max(min(input%options%n_max, n_max_limit(input%options%policy)), 2.0_dp*start)
+    n_lambda = 0
+    if (allocated(input%lambdas)) n_lambda = size(input%lambdas)
+    do i = 1, batch
+      x(i) = start*(top/start)**(real(i - 1, dp)/real(batch - 1, dp))
+      lam(i) = 0.9_dp
+      if (n_lambda > 0) lam(i) = input%lambdas(1 + mod(i - 1, n_lambda))
+    end do
+    sink = 0.0_dp
+    do r = 1, 3
+      count = 0
+      call system_clock(c0, rate)
+      do
+        do i = 1, batch
+          call harmonic_error_steps(x(i), lam(i), input%options%policy, e, stat)
+          if (stat == demstep_stat%ok) sink = e
+        end do
+        count = count + batch
+        call system_clock(c1)
+        if (real(c1 - c0, dp) >= 1.0e-3_dp*real(rate, dp) .or. count >= 64*batch) exit
+      end do
+      times(r) = real(c1 - c0, dp)/real(rate, dp)/real(count, dp)
+    end do
+    seconds = times(1) + times(2) + times(3) - maxval(times) - minval(times)
+  end subroutine measure_evaluation_cost
 
   !> The finest resolution whose grid keeps one lambda's scan within `limit` samples.
   pure real(dp) function finest_resolution(options, limit) result(r)
