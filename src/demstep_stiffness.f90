@@ -13,6 +13,10 @@
 !>   tolerance, and `interval_truncated` otherwise;
 !> - the pick N_i: the smallest admissible N (largest step meeting the tolerance,
 !>   default) or the smallest root of E.
+!> Interval ends and the pick meet |E| <= E0 as E is evaluated. With a huge fixed
+!> n, E can change by more than E0 between neighbouring doubles next to a root:
+!> such an interval holds no double and is left out (`unresolved`); when it
+!> would hold the pick, the scan is refused naming the tolerance that works.
 !> Inside a piece the grid steps by `resolution` N, and for a fixed step count n by
 !> at most N^2/(4n), a quarter of the spacing of E's oscillations in N there.
 !> A scan whose estimated cost exceeds `max_scan_evaluations` is refused.
@@ -801,12 +805,12 @@ contains
       if (options%policy%kind == steps_fixed .and. .not. options%first_only .and. r <= 1.0_dp .and. &
           options%resolution >= r) then
         call set_status(status, demstep_stat%invalid_input, "n_steps: a scan for every root with n = " &
-          //real_text(options%policy%value)//" needs about "//real_text(cost)//" evaluations of E " &
+          //real_text(options%policy%value)//" needs "//count_text(cost)//" evaluations of E " &
           //"(at most "//real_text(max_scan_evaluations)//"); scan for the first root only, or " &
           //"use n_steps <= "//real_text(0.1_dp*max_scan_evaluations))
       else
         call set_status(status, demstep_stat%invalid_input, "resolution: the scan up to n_max = "// &
-          real_text(options%n_max)//" would need about "//real_text(cost)//" evaluations of E per " &
+          real_text(options%n_max)//" would need "//count_text(cost)//" evaluations of E per " &
           //"lambda (at most "//real_text(max_scan_evaluations)//"); use resolution >= "//real_text(r))
       end if
     end if
@@ -821,6 +825,17 @@ contains
       if (policy%value > 0.0_dp) top = min(top, harmonic_n_max/policy%value)
     end if
   end function n_max_limit
+
+  !> An estimated count for a message: "about X", or "more than 1e308".
+  pure function count_text(x) result(text)
+    real(dp), intent(in) :: x
+    character(len=:), allocatable :: text
+    if (ieee_is_finite(x)) then
+      text = "about "//real_text(x)
+    else
+      text = real_text(x)
+    end if
+  end function count_text
 
   !> A number for a message: 4 significant digits, or `digits` (at most 17).
   pure function real_text(x, digits) result(text)
@@ -1073,8 +1088,8 @@ contains
     cost = procedure_cost(input)
     if (.not. cost <= max_procedure_evaluations) then
       r = finest_resolution(input%options, max_procedure_evaluations/real(n + lambda_star_scans, dp))
-      call set_status(status, demstep_stat%invalid_input, "resolution: the procedure would need about " &
-        //real_text(cost)//" evaluations of E (at most "//real_text(max_procedure_evaluations)// &
+      call set_status(status, demstep_stat%invalid_input, "resolution: the procedure would need " &
+        //count_text(cost)//" evaluations of E (at most "//real_text(max_procedure_evaluations)// &
         "); use resolution >= "//real_text(r)//" or fewer lambdas")
     end if
   end subroutine check_input
