@@ -427,19 +427,19 @@ contains
       end if
     end if
     if (prev%inside .and. .not. cur%inside) then
-      call boundary(s, prev%x, cur%x, b)
+      call boundary(s, prev%x, cur%x, abs(prev%e), abs(cur%e), b)
       call push(s%upper, s%n_upper, b)
     else if (.not. prev%inside .and. cur%inside) then
-      call boundary(s, cur%x, prev%x, b)
+      call boundary(s, cur%x, prev%x, abs(cur%e), abs(prev%e), b)
       call push(s%lower, s%n_lower, b)
     else if (.not. (prev%inside .or. cur%inside) .and. found) then
       ! a root between two outside points carries a narrow interval around it,
       ! found from an admissible double next to the root
       call admissible_near_root(s, r, r_lo, r_hi, x_in, resolved, e_min)
       if (resolved) then
-        call boundary(s, x_in, prev%x, b)
+        call boundary(s, x_in, prev%x, e_min, abs(prev%e), b)
         call push(s%lower, s%n_lower, b)
-        call boundary(s, x_in, cur%x, b)
+        call boundary(s, x_in, cur%x, e_min, abs(cur%e), b)
         call push(s%upper, s%n_upper, b)
       else
         s%unresolved = s%unresolved + 1
@@ -455,7 +455,8 @@ contains
   !> An admissible double next to a root r of E (bracket [lo, hi] from find_root):
   !> r itself when |E(r)| <= E0; else every double of the bracket shrunk to a few
   !> ulps is tried (E is monotone there, so none further away can do better).
-  !> `found` is false when none meets the tolerance; `e_min` is the smallest |E| seen.
+  !> `found` is false when none meets the tolerance; `e_min` is the smallest |E| seen
+  !> (|E(x)|).
   pure subroutine admissible_near_root(s, r, lo, hi, x, found, e_min)
     type(scan_state_type), intent(inout) :: s
     real(dp), intent(in) :: r, lo, hi
@@ -497,17 +498,25 @@ contains
   !> the end of find_root's final bracket on x_in's side, so admissible as
   !> evaluated (|E| <= E0 there) however narrow the interval, and within
   !> 2 n_root_x_rel (relative) of the crossing. A jump of a rounded policy may be
-  !> that end. All evaluations go through find_root and are counted.
-  pure subroutine boundary(s, x_in, x_out, b)
+  !> that end. `e_in`, `e_out` are |E| at x_in, x_out (known from the scan). All
+  !> evaluations go through find_root and are counted.
+  pure subroutine boundary(s, x_in, x_out, e_in, e_out, b)
     type(scan_state_type), intent(inout) :: s
-    real(dp), intent(in) :: x_in, x_out
+    real(dp), intent(in) :: x_in, x_out, e_in, e_out
     real(dp), intent(out) :: b
     type(demstep_status_type) :: st
-    real(dp) :: r, lo, hi
+    real(dp) :: r, lo, hi, g_in, g_out
     s%ctx%absolute = .true.
     s%ctx%shift = s%tolerance
-    call find_root(e_function, s%ctx, min(x_in, x_out), max(x_in, x_out), r, st, x_rel=n_root_x_rel, &
-      check_continuity=.false., bracket_lo=lo, bracket_hi=hi)
+    g_in = e_in - s%tolerance
+    g_out = e_out - s%tolerance
+    if (x_in < x_out) then
+      call find_root(e_function, s%ctx, x_in, x_out, r, st, x_rel=n_root_x_rel, fa=g_in, fb=g_out, &
+        check_continuity=.false., bracket_lo=lo, bracket_hi=hi)
+    else
+      call find_root(e_function, s%ctx, x_out, x_in, r, st, x_rel=n_root_x_rel, fa=g_out, fb=g_in, &
+        check_continuity=.false., bracket_lo=lo, bracket_hi=hi)
+    end if
     b = x_in
     if (st%stat == demstep_stat%ok) b = merge(lo, hi, x_in < x_out)
     s%ctx%absolute = .false.
@@ -649,7 +658,9 @@ contains
     type(stiffness_input_type), intent(in) :: input
     cost = 0.0_dp
     if (.not. allocated(input%lambdas)) return
-    cost = scan_cost(input%options)*real(size(input%lambdas) + lambda_star_scans, dp)
+    ! one lambda needs no search for lambda*
+    cost = scan_cost(input%options)*real(size(input%lambdas) + &
+      merge(lambda_star_scans, 0, size(input%lambdas) > 1), dp)
   end function procedure_cost
 
   !> Measure on the spot the time of one evaluation of E as the procedure makes
