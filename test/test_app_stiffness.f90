@@ -168,8 +168,9 @@ contains
 
   subroutine test_unresolvable_tolerance(error)
     type(error_type), allocatable, intent(out) :: error
-    ! next to the first root (N just above pi) |E| changes by about 1e-4 between
-    ! neighbouring doubles when n = 1e12: no double meets 1e-5
+    ! next to the first root (N just above pi) E changes by about 8e-4 between
+    ! neighbouring doubles when n = 1e12: no double meets 1e-5 (the smallest |E|
+    ! there is 8.9e-5)
     call run_bad(error, g//"tolerance = 1e-5, lambda = 0.9, steps = 'fixed', n_steps = 1e12 /", &
       "tolerance: ", "use tolerance >= ")
   end subroutine test_unresolvable_tolerance

@@ -401,7 +401,7 @@ contains
   !> few doubles wide or hold none: every pick and interval end must meet the
   !> tolerance as the public evaluator computes it, or the scan is refused naming
   !> the tolerance. n = 1e12, lambda = 0.9, E0 = 1e-3 gave a pick with |E| = 6.5e-3
-  !> before; there the interval is one double wide.
+  !> before; there three doubles meet the tolerance.
   subroutine test_narrow_intervals(error)
     type(error_type), allocatable, intent(out) :: error
     real(dp), parameter :: ns(3) = [1.0e9_dp, 2147483648.0_dp, 1.0e12_dp]
