@@ -5,6 +5,8 @@ module test_stiffness
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
   use test_support, only: real_str, reference_steps
+  use demstep_stiffness, only: measure_evaluation_cost
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
   public :: collect_stiffness
@@ -30,7 +32,8 @@ contains
       new_unittest("root near 2/(1 - lambda) - 2/3", test_asymptote), &
       new_unittest("aggregation rules", test_aggregate), &
       new_unittest("procedure end to end: dt = T*/N*, K' = lambda*^2 K*", test_procedure), &
-      new_unittest("invalid input gives a status", test_invalid) &
+      new_unittest("invalid input gives a status", test_invalid), &
+      new_unittest("the measured cost of an evaluation is a time", test_measure_cost) &
       ]
   end subroutine collect_stiffness
 
@@ -614,5 +617,20 @@ contains
     call simulated_stiffness(input, result, status)
     call check(error, status%stat, demstep_stat%invalid_input, message="empty set")
   end subroutine test_invalid
+
+  !> Only that a positive finite time comes back (timings belong to benchmarks).
+  subroutine test_measure_cost(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(stiffness_input_type) :: input
+    real(dp) :: seconds
+    input%lambdas = [0.9_dp, 0.99_dp]
+    call measure_evaluation_cost(input, seconds)
+    call check(error, seconds > 0.0_dp .and. ieee_is_finite(seconds), "seconds = "//real_str(seconds))
+    if (allocated(error)) return
+    input%options%policy = step_policy_type(steps_fixed, 1.0e12_dp)
+    input%options%n_max = 1.0e300_dp
+    call measure_evaluation_cost(input, seconds)
+    call check(error, seconds > 0.0_dp .and. ieee_is_finite(seconds), "fixed n: seconds = "//real_str(seconds))
+  end subroutine test_measure_cost
 
 end module test_stiffness
