@@ -7,7 +7,7 @@ module demstep_cli_stiffness
     aggregate_mean, aggregate_weighted, aggregate_median, aggregate_min, aggregate_max, &
     interval_bounded, interval_unbounded, default_n_max, default_resolution, n_scan_start, &
     text_progress_type
-  use demstep_stiffness, only: procedure_cost, seconds_per_evaluation, max_procedure_evaluations
+  use demstep_stiffness, only: procedure_cost, measure_evaluation_cost, max_procedure_evaluations
   use, intrinsic :: iso_fortran_env, only: error_unit
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
     fmt_real, fmt_int, cli_context, check_real, new_array, array_length
@@ -69,8 +69,10 @@ contains
     character(len=*), parameter :: g = "simulated_stiffness"
     !> Estimated run times above this many seconds are announced on stderr.
     real(dp), parameter :: announce_seconds = 2.0_dp
+    !> Below this many evaluations of E the run is not worth timing up front.
+    real(dp), parameter :: measure_above = 1.0e5_dp
     type(text_progress_type) :: progress
-    real(dp) :: cost
+    real(dp) :: cost, seconds
     character(len=*), parameter :: required(3) = [character(len=9) :: "mass", "stiffness", "tolerance"]
     integer :: i, ios, n_lambda, n_weights, kind, stat
 
@@ -246,11 +248,15 @@ contains
       call run_procedure(input, result, status)
     else
       cost = procedure_cost(input)
-      if (cost*seconds_per_evaluation > announce_seconds .and. cost <= max_procedure_evaluations) &
-        write(error_unit, '(a)') "demstep: &"//g//": up to about "//fmt_real(cost)//" evaluations of E ("// &
-        fmt_int(int(size(input%lambdas), i8))//" lambdas, resolution "//fmt_real(resolution)// &
-        ", n_max "//fmt_real(n_max)//"), up to roughly "// &
-        fmt_real(real(nint(cost*seconds_per_evaluation), dp))//" s"
+      if (cost > measure_above .and. cost <= max_procedure_evaluations) then
+        ! the time of one evaluation, measured here and now (a few ms)
+        call measure_evaluation_cost(input, seconds)
+        if (cost*seconds > announce_seconds) write(error_unit, '(a)') "demstep: &"//g// &
+          ": up to about "//fmt_real(cost)//" evaluations of E ("// &
+          fmt_int(int(size(input%lambdas), i8))//" lambdas, resolution "//fmt_real(resolution)// &
+          ", n_max "//fmt_real(n_max)//"), up to roughly "//fmt_real(real(nint(cost*seconds), dp))// &
+          " s at the "//fmt_real(real(nint(1.0e9_dp*seconds), dp))//" ns an evaluation takes here"
+      end if
       progress = text_progress_type(unit=error_unit, label="demstep: &"//g)
       call run_procedure(input, result, status, progress)
     end if

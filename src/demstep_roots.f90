@@ -57,7 +57,7 @@ contains
   !> bracket; `root` is then where it is); `invalid_input` for a bad interval or
   !> tolerance; `pole` when f cannot be evaluated inside the bracket.
   pure subroutine find_root(f, context, a, b, root, status, x_rel, x_abs, f_tol, fa, fb, &
-      discontinuity, check_continuity)
+      discontinuity, check_continuity, bracket_lo, bracket_hi)
     procedure(root_function) :: f
     class(root_context_type), intent(inout) :: context
     !> The bracket.
@@ -74,6 +74,10 @@ contains
     !> Probe continuity after convergence (default true; 2 evaluations). Turn it
     !> off where a sign change at a jump is an answer too.
     logical, intent(in), optional :: check_continuity
+    !> The final bracket: f(bracket_lo) has the sign of f(a), f(bracket_hi) that of
+    !> f(b) (both are `root` where f(root) = 0 was hit). A caller that needs a point
+    !> on a given side of the sign change takes that end.
+    real(dp), intent(out), optional :: bracket_lo, bracket_hi
     real(dp) :: lo, hi, flo, fhi, rel, abst, ftol, y, x, width0, tol, fl, fr, h
     integer :: stat
     logical :: jump
@@ -85,6 +89,8 @@ contains
     if (present(f_tol)) ftol = f_tol
     if (present(discontinuity)) discontinuity = .false.
     root = 0.5_dp*(a + b)
+    if (present(bracket_lo)) bracket_lo = a
+    if (present(bracket_hi)) bracket_hi = b
     if (.not. (ieee_is_finite(a) .and. ieee_is_finite(b) .and. a < b)) then
       call set_status(status, demstep_stat%invalid_input, "find_root: need finite a < b")
       return
@@ -117,10 +123,14 @@ contains
     status%stat = demstep_stat%ok
     if (flo == 0.0_dp .or. abs(flo) <= ftol) then
       root = lo
+      if (present(bracket_lo)) bracket_lo = root
+      if (present(bracket_hi)) bracket_hi = root
       return
     end if
     if (fhi == 0.0_dp .or. abs(fhi) <= ftol) then
       root = hi
+      if (present(bracket_lo)) bracket_lo = root
+      if (present(bracket_hi)) bracket_hi = root
       return
     end if
     if ((flo > 0.0_dp) .eqv. (fhi > 0.0_dp)) then
@@ -129,6 +139,8 @@ contains
     end if
     width0 = hi - lo
     call itp(f, context, lo, hi, flo, fhi, rel, abst, ftol, x, y, stat)
+    if (present(bracket_lo)) bracket_lo = lo
+    if (present(bracket_hi)) bracket_hi = hi
     if (stat /= 0) then
       root = x
       call set_status(status, demstep_stat%pole, "find_root: f cannot be evaluated inside the bracket")

@@ -13,6 +13,10 @@
 !>   tolerance, and `interval_truncated` otherwise;
 !> - the pick N_i: the smallest admissible N (largest step meeting the tolerance,
 !>   default) or the smallest root of E.
+!> Interval ends and the pick meet |E| <= E0 as E is evaluated. With a huge fixed
+!> n, E can change by more than E0 between neighbouring doubles next to a root:
+!> such an interval holds no double and is left out (`unresolved`); when it
+!> would hold the pick, the scan is refused naming the tolerance that works.
 !> Inside a piece the grid steps by `resolution` N, and for a fixed step count n by
 !> at most N^2/(4n), a quarter of the spacing of E's oscillations in N there.
 !> A scan whose estimated cost exceeds `max_scan_evaluations` is refused.
@@ -29,7 +33,7 @@ module demstep_stiffness
   private
 
   public :: n_roots, aggregate_picks, simulated_stiffness, error_limit, scan_cost, procedure_cost, &
-    n_max_limit
+    n_max_limit, measure_evaluation_cost
 
   !> Pick: the smallest N with |E| <= E0 (the largest step meeting the tolerance).
   integer, parameter, public :: pick_largest_step = 1
@@ -61,15 +65,12 @@ module demstep_stiffness
   !> Smallest tolerance E0: E is computed to 1e-12 (|E| + (1 - lambda)) <= 1e-12, so
   !> at E0 = 1e-10 |E| <= E0 holds to within 1 % of E0.
   real(dp), parameter, public :: min_tolerance = 1.0e-10_dp
-  !> Largest estimated cost of one lambda's scan, in evaluations of E (about 3 s
-  !> at the 0.15 us an evaluation takes, see bench_stiffness).
+  !> Largest estimated cost of one lambda's scan, in evaluations of E (seconds:
+  !> `measure_evaluation_cost` and bench_stiffness measure the cost of one).
   real(dp), parameter, public :: max_scan_evaluations = 2.0e7_dp
   !> Largest estimated cost of the whole procedure (a few minutes): a fine scan
   !> the user asks for; the app says so up front and shows progress.
   real(dp), parameter, public :: max_procedure_evaluations = 1.0e9_dp
-  !> Measured time of one evaluation of E in the scan, seconds (bench_stiffness,
-  !> release build): for the app's up-front estimates only.
-  real(dp), parameter, public :: seconds_per_evaluation = 1.5e-7_dp
   !> Scans of the search for lambda* (ITP along lambda to 1e-13 and its probes).
   integer, parameter, public :: lambda_star_scans = 50
   !> A rounded policy's jumps are breakpoints up to this many steps n (N = 1e5/f);
@@ -117,6 +118,9 @@ module demstep_stiffness
     integer :: stat = 0
     !> Evaluations of E made.
     integer :: evaluations = 0
+    !> Roots of E whose admissible interval holds no double N (|E| changes by
+    !> more than E0 between neighbouring doubles there): left out of lower/upper.
+    integer :: unresolved = 0
   end type nroots_type
 
   !> The whole procedure's input.
@@ -182,6 +186,14 @@ module demstep_stiffness
     integer :: n_roots = 0, n_lower = 0, n_upper = 0
     type(sample_type) :: prev
     logical :: have_prev = .false., inside_at_start = .false.
+    !> Roots whose admissible interval holds no double N (narrower than the
+    !> spacing of doubles there): left out of the intervals.
+    integer :: unresolved = 0
+    !> Set when the first such root comes before any admissible interval: the
+    !> smallest admissible N cannot be represented. `blocked_root` is that root,
+    !> `blocked_e` the smallest |E| at a double next to it.
+    logical :: blocked = .false.
+    real(dp) :: blocked_root = 0.0_dp, blocked_e = 0.0_dp
   end type scan_state_type
 
 contains
@@ -236,7 +248,12 @@ contains
           s%inside_at_start = cur%inside
           if (cur%ok .and. cur%e == 0.0_dp) call push(s%roots, s%n_roots, x)
         else if (first_in_piece) then
-          call across(s, cur, a, a)
+          if (a_kind == break_pole) then
+            ! E is not evaluable at a pole: the samples either side are the ends
+            call across(s, cur, s%prev%x, cur%x)
+          else
+            call across(s, cur, a, a)
+          end if
         else
           call within(s, cur)
         end if
@@ -244,6 +261,10 @@ contains
         s%have_prev = .true.
         first_in_piece = .false.
         if (options%first_only .and. s%n_roots > 0 .and. s%n_upper > 0) done = .true.
+        if (s%blocked .and. options%pick == pick_largest_step) then
+          call unresolvable(lambda, options, s%blocked_root, s%blocked_e, status)
+          return
+        end if
         if (real(s%ctx%evaluations, dp) > budget) then
           if (options%policy%kind == steps_fixed) then
             call set_status(status, demstep_stat%invalid_input, "n_steps: the scan of E for lambda = " &
@@ -285,7 +306,7 @@ contains
     call sort_ascending(result%roots)
     result%lower = s%lower(:s%n_lower)
     result%upper = s%upper(:s%n_upper)
-    result%evaluations = s%ctx%evaluations
+    result%unresolved = s%unresolved
 
     result%stat = demstep_stat%ok
     if (options%pick == pick_zero) then
@@ -295,13 +316,61 @@ contains
         result%stat = demstep_stat%not_found
       end if
     else if (size(result%lower) > 0) then
+      call check_pick(s, options, result, status)
+      if (status%stat /= demstep_stat%ok) return
       result%n_pick = result%lower(1)
       if (s%inside_at_start .and. result%lower(1) == n_scan_start) result%stat = demstep_stat%unstable
     else
       result%stat = demstep_stat%not_found
     end if
+    result%evaluations = s%ctx%evaluations
     status%stat = demstep_stat%ok
   end subroutine n_roots
+
+  !> The pick must meet the tolerance as the public evaluator (`harmonic_error_steps`)
+  !> computes it: the scan evaluates E piece by piece with the piece's step count,
+  !> which can differ from the policy's exactly at a jump. When it does not, the
+  !> next doubles up inside the interval are tried; else the scan is refused.
+  pure subroutine check_pick(s, options, result, status)
+    type(scan_state_type), intent(inout) :: s
+    type(nroots_options_type), intent(in) :: options
+    type(nroots_type), intent(inout) :: result
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: x, e, e_min
+    integer :: k, stat
+    status%stat = demstep_stat%ok
+    x = result%lower(1)
+    e_min = huge(1.0_dp)
+    do k = 1, 16
+      call harmonic_error_steps(x, s%ctx%lambda, options%policy, e, stat)
+      s%ctx%evaluations = s%ctx%evaluations + 1
+      if (stat == demstep_stat%ok .and. ieee_is_finite(e)) then
+        if (abs(e) <= options%tolerance) then
+          result%lower(1) = x
+          return
+        end if
+        e_min = min(e_min, abs(e))
+      end if
+      x = nearest(x, 1.0_dp)
+      if (x > result%upper(1)) exit
+    end do
+    call unresolvable(s%ctx%lambda, options, result%lower(1), e_min, status)
+  end subroutine check_pick
+
+  !> The status of a scan whose smallest admissible N lies in an interval holding
+  !> no double (E changes by more than E0 between neighbouring doubles there).
+  pure subroutine unresolvable(lambda, options, x, e_min, status)
+    real(dp), intent(in) :: lambda, x, e_min
+    type(nroots_options_type), intent(in) :: options
+    type(demstep_status_type), intent(out) :: status
+    character(len=:), allocatable :: advice
+    advice = "use tolerance >= "//real_text(round_up_2(max(e_min, min_tolerance)))
+    if (options%policy%kind == steps_fixed) advice = advice//" or fewer n_steps"
+    call set_status(status, demstep_stat%invalid_input, "tolerance: for lambda = "//real_text(lambda) &
+      //" the smallest N with |E| <= "//real_text(options%tolerance)//" lies next to N = " &
+      //real_text(x, 15)//" in an interval narrower than the spacing of doubles: |E| >= " &
+      //real_text(e_min)//" at every double N there; "//advice)
+  end subroutine unresolvable
 
   !> One sample of the scan: E at x, evaluable or not, |E| <= E0 or not.
   pure subroutine take_sample(s, x, cur)
@@ -338,8 +407,8 @@ contains
     type(sample_type), intent(in) :: cur
     type(sample_type) :: prev
     type(demstep_status_type) :: st
-    real(dp) :: r, b
-    logical :: found
+    real(dp) :: r, b, r_lo, r_hi, x_in, e_min
+    logical :: found, resolved
     prev = s%prev
     if (.not. (prev%ok .and. cur%ok)) then
       call across(s, cur, prev%x, cur%x)
@@ -350,54 +419,106 @@ contains
       call push(s%roots, s%n_roots, cur%x)
     else if (prev%e /= 0.0_dp .and. ((prev%e > 0.0_dp) .neqv. (cur%e > 0.0_dp))) then
       s%ctx%absolute = .false.
-      call find_root(e_function, s%ctx, prev%x, cur%x, r, st, x_rel=n_root_x_rel, fa=prev%e, fb=cur%e)
+      call find_root(e_function, s%ctx, prev%x, cur%x, r, st, x_rel=n_root_x_rel, fa=prev%e, fb=cur%e, &
+        bracket_lo=r_lo, bracket_hi=r_hi)
       if (st%stat == demstep_stat%ok) then
         call push(s%roots, s%n_roots, r)
         found = .true.
       end if
     end if
     if (prev%inside .and. .not. cur%inside) then
-      call boundary(s, prev%x, cur%x, b)
+      call boundary(s, prev%x, cur%x, abs(prev%e), abs(cur%e), b)
       call push(s%upper, s%n_upper, b)
     else if (.not. prev%inside .and. cur%inside) then
-      call boundary(s, cur%x, prev%x, b)
+      call boundary(s, cur%x, prev%x, abs(cur%e), abs(prev%e), b)
       call push(s%lower, s%n_lower, b)
     else if (.not. (prev%inside .or. cur%inside) .and. found) then
-      ! a root between two outside points carries a narrow interval around it
-      call boundary(s, r, prev%x, b)
-      call push(s%lower, s%n_lower, b)
-      call boundary(s, r, cur%x, b)
-      call push(s%upper, s%n_upper, b)
+      ! a root between two outside points carries a narrow interval around it,
+      ! found from an admissible double next to the root
+      call admissible_near_root(s, r, r_lo, r_hi, x_in, resolved, e_min)
+      if (resolved) then
+        call boundary(s, x_in, prev%x, e_min, abs(prev%e), b)
+        call push(s%lower, s%n_lower, b)
+        call boundary(s, x_in, cur%x, e_min, abs(cur%e), b)
+        call push(s%upper, s%n_upper, b)
+      else
+        s%unresolved = s%unresolved + 1
+        if (s%n_lower == 0 .and. .not. s%blocked) then
+          s%blocked = .true.
+          s%blocked_root = r
+          s%blocked_e = e_min
+        end if
+      end if
     end if
   end subroutine within
 
-  !> Where |E| crosses E0 between an admissible x_in and an inadmissible x_out;
-  !> the end returned is admissible (|E| <= E0 there) and within 2 n_root_x_rel
-  !> (relative) of the crossing. A jump of a rounded policy may be that end.
-  pure subroutine boundary(s, x_in, x_out, b)
+  !> An admissible double next to a root r of E (bracket [lo, hi] from find_root):
+  !> r itself when |E(r)| <= E0; else every double of the bracket shrunk to a few
+  !> ulps is tried (E is monotone there, so none further away can do better).
+  !> `found` is false when none meets the tolerance; `e_min` is the smallest |E| seen
+  !> (|E(x)|).
+  pure subroutine admissible_near_root(s, r, lo, hi, x, found, e_min)
     type(scan_state_type), intent(inout) :: s
-    real(dp), intent(in) :: x_in, x_out
+    real(dp), intent(in) :: r, lo, hi
+    real(dp), intent(out) :: x, e_min
+    logical, intent(out) :: found
+    type(demstep_status_type) :: st
+    real(dp) :: e, y, lo2, hi2, r2
+    integer :: stat, k
+    s%ctx%absolute = .false.
+    x = r
+    e_min = huge(1.0_dp)
+    found = .false.
+    call e_function(r, s%ctx, e, stat)
+    s%ctx%evaluations = s%ctx%evaluations + 1
+    if (stat == demstep_stat%ok) then
+      e_min = abs(e)
+      found = e_min <= s%tolerance
+      if (found) return
+    end if
+    ! a bracket of at most 8 ulps (find_root's floor on its tolerance)
+    call find_root(e_function, s%ctx, lo, hi, r2, st, x_rel=0.0_dp, x_abs=tiny(1.0_dp), &
+      check_continuity=.false., bracket_lo=lo2, bracket_hi=hi2)
+    if (st%stat /= demstep_stat%ok) return
+    y = lo2
+    do k = 1, 16
+      call e_function(y, s%ctx, e, stat)
+      s%ctx%evaluations = s%ctx%evaluations + 1
+      if (stat == demstep_stat%ok .and. abs(e) < e_min) then
+        e_min = abs(e)
+        x = y
+      end if
+      if (y >= hi2) exit
+      y = nearest(y, 1.0_dp)
+    end do
+    found = e_min <= s%tolerance
+  end subroutine admissible_near_root
+
+  !> Where |E| crosses E0 between an admissible x_in and an inadmissible x_out:
+  !> the end of find_root's final bracket on x_in's side, so admissible as
+  !> evaluated (|E| <= E0 there) however narrow the interval, and within
+  !> 2 n_root_x_rel (relative) of the crossing. A jump of a rounded policy may be
+  !> that end. `e_in`, `e_out` are |E| at x_in, x_out (known from the scan). All
+  !> evaluations go through find_root and are counted.
+  pure subroutine boundary(s, x_in, x_out, e_in, e_out, b)
+    type(scan_state_type), intent(inout) :: s
+    real(dp), intent(in) :: x_in, x_out, e_in, e_out
     real(dp), intent(out) :: b
     type(demstep_status_type) :: st
-    real(dp) :: g, d
-    integer :: k, stat
+    real(dp) :: r, lo, hi, g_in, g_out
     s%ctx%absolute = .true.
     s%ctx%shift = s%tolerance
-    call find_root(e_function, s%ctx, min(x_in, x_out), max(x_in, x_out), b, st, x_rel=n_root_x_rel, &
-      check_continuity=.false.)
-    ! the bracket's estimate may sit just outside: step back towards x_in
-    d = 0.25_dp*n_root_x_rel*abs(b)
-    do k = 1, 64
-      call e_function(b, s%ctx, g, stat)
-      s%ctx%evaluations = s%ctx%evaluations + 1
-      if (stat == demstep_stat%ok .and. g <= 0.0_dp) exit
-      if (abs(x_in - b) <= d) then
-        b = x_in
-        exit
-      end if
-      b = b + sign(d, x_in - b)
-      d = 2.0_dp*d
-    end do
+    g_in = e_in - s%tolerance
+    g_out = e_out - s%tolerance
+    if (x_in < x_out) then
+      call find_root(e_function, s%ctx, x_in, x_out, r, st, x_rel=n_root_x_rel, fa=g_in, fb=g_out, &
+        check_continuity=.false., bracket_lo=lo, bracket_hi=hi)
+    else
+      call find_root(e_function, s%ctx, x_out, x_in, r, st, x_rel=n_root_x_rel, fa=g_out, fb=g_in, &
+        check_continuity=.false., bracket_lo=lo, bracket_hi=hi)
+    end if
+    b = x_in
+    if (st%stat == demstep_stat%ok) b = merge(lo, hi, x_in < x_out)
     s%ctx%absolute = .false.
   end subroutine boundary
 
@@ -537,8 +658,51 @@ contains
     type(stiffness_input_type), intent(in) :: input
     cost = 0.0_dp
     if (.not. allocated(input%lambdas)) return
-    cost = scan_cost(input%options)*real(size(input%lambdas) + lambda_star_scans, dp)
+    ! one lambda needs no search for lambda*
+    cost = scan_cost(input%options)*real(size(input%lambdas) + &
+      merge(lambda_star_scans, 0, size(input%lambdas) > 1), dp)
   end function procedure_cost
+
+  !> Measure on the spot the time of one evaluation of E as the procedure makes
+  !> them: E at the input's lambdas and step policy, N spread geometrically over
+  !> the scanned range; rounds of 1024 evaluations until 1 ms has passed, three
+  !> times, the median, in seconds per evaluation (a few ms in all). For up-front
+  !> estimates of a long procedure.
+  subroutine measure_evaluation_cost(input, seconds)
+    type(stiffness_input_type), intent(in) :: input
+    real(dp), intent(out) :: seconds
+    integer, parameter :: batch = 1024
+    real(dp), volatile :: sink
+    real(dp) :: x(batch), lam(batch), times(3), start, top, e
+    integer(i8) :: c0, c1, rate, count
+    integer :: i, r, stat, n_lambda
+    seconds = 0.0_dp
+    start = scan_start(input%options%policy)
+    top = max(min(input%options%n_max, n_max_limit(input%options%policy)), 2.0_dp*start)
+    n_lambda = 0
+    if (allocated(input%lambdas)) n_lambda = size(input%lambdas)
+    do i = 1, batch
+      x(i) = start*(top/start)**(real(i - 1, dp)/real(batch - 1, dp))
+      lam(i) = 0.9_dp
+      if (n_lambda > 0) lam(i) = input%lambdas(1 + mod(i - 1, n_lambda))
+    end do
+    sink = 0.0_dp
+    do r = 1, 3
+      count = 0
+      call system_clock(c0, rate)
+      do
+        do i = 1, batch
+          call harmonic_error_steps(x(i), lam(i), input%options%policy, e, stat)
+          if (stat == demstep_stat%ok) sink = e
+        end do
+        count = count + batch
+        call system_clock(c1)
+        if (real(c1 - c0, dp) >= 1.0e-3_dp*real(rate, dp) .or. count >= 64*batch) exit
+      end do
+      times(r) = real(c1 - c0, dp)/real(rate, dp)/real(count, dp)
+    end do
+    seconds = times(1) + times(2) + times(3) - maxval(times) - minval(times)
+  end subroutine measure_evaluation_cost
 
   !> The finest resolution whose grid keeps one lambda's scan within `limit` samples.
   pure real(dp) function finest_resolution(options, limit) result(r)
@@ -652,12 +816,12 @@ contains
       if (options%policy%kind == steps_fixed .and. .not. options%first_only .and. r <= 1.0_dp .and. &
           options%resolution >= r) then
         call set_status(status, demstep_stat%invalid_input, "n_steps: a scan for every root with n = " &
-          //real_text(options%policy%value)//" needs about "//real_text(cost)//" evaluations of E " &
+          //real_text(options%policy%value)//" needs "//count_text(cost)//" evaluations of E " &
           //"(at most "//real_text(max_scan_evaluations)//"); scan for the first root only, or " &
           //"use n_steps <= "//real_text(0.1_dp*max_scan_evaluations))
       else
         call set_status(status, demstep_stat%invalid_input, "resolution: the scan up to n_max = "// &
-          real_text(options%n_max)//" would need about "//real_text(cost)//" evaluations of E per " &
+          real_text(options%n_max)//" would need "//count_text(cost)//" evaluations of E per " &
           //"lambda (at most "//real_text(max_scan_evaluations)//"); use resolution >= "//real_text(r))
       end if
     end if
@@ -673,13 +837,26 @@ contains
     end if
   end function n_max_limit
 
-  !> A number for a message.
-  pure function real_text(x) result(text)
+  !> An estimated count for a message: "about X", or "more than 1e308".
+  pure function count_text(x) result(text)
     real(dp), intent(in) :: x
     character(len=:), allocatable :: text
+    if (ieee_is_finite(x)) then
+      text = "about "//real_text(x)
+    else
+      text = real_text(x)
+    end if
+  end function count_text
+
+  !> A number for a message: 4 significant digits, or `digits` (at most 17).
+  pure function real_text(x, digits) result(text)
+    real(dp), intent(in) :: x
+    integer, intent(in), optional :: digits
+    character(len=:), allocatable :: text
     character(len=40) :: buf
+    character(len=24) :: form
     real(dp) :: m
-    integer :: e
+    integer :: e, d
     if (.not. ieee_is_finite(x)) then
       text = "more than 1e308"
       if (x /= x) text = "NaN"
@@ -689,13 +866,21 @@ contains
       text = "0"
       return
     end if
+    d = 4
+    if (present(digits)) d = max(1, min(17, digits))
     e = floor(log10(abs(x)))
-    m = x/10.0_dp**e
-    if (abs(m) >= 9.9995_dp) then
+    if (e < -290) then
+      ! 10^e would be subnormal or 0
+      m = (x*1.0e30_dp)/10.0_dp**(e + 30)
+    else
+      m = x/10.0_dp**e
+    end if
+    if (abs(m) >= 10.0_dp - 0.5_dp*10.0_dp**(1 - d)) then
       e = e + 1
       m = m/10.0_dp
     end if
-    write(buf, '(f0.3, "e", i0)') m, e
+    write(form, '(a, i0, a)') '(f0.', d - 1, ', "e", i0)'
+    write(buf, form) m, e
     text = trim(buf)
   end function real_text
 
@@ -914,8 +1099,8 @@ contains
     cost = procedure_cost(input)
     if (.not. cost <= max_procedure_evaluations) then
       r = finest_resolution(input%options, max_procedure_evaluations/real(n + lambda_star_scans, dp))
-      call set_status(status, demstep_stat%invalid_input, "resolution: the procedure would need about " &
-        //real_text(cost)//" evaluations of E (at most "//real_text(max_procedure_evaluations)// &
+      call set_status(status, demstep_stat%invalid_input, "resolution: the procedure would need " &
+        //count_text(cost)//" evaluations of E (at most "//real_text(max_procedure_evaluations)// &
         "); use resolution >= "//real_text(r)//" or fewer lambdas")
     end if
   end subroutine check_input

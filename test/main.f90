@@ -13,6 +13,7 @@ program tester
   use test_contact, only: collect_contact
   use test_capi, only: collect_capi
   use test_app, only: collect_app
+  use test_app_stiffness, only: collect_app_stiffness
   use test_progress, only: collect_progress
   use test_deck, only: collect_deck
   implicit none
@@ -32,7 +33,8 @@ program tester
     new_testsuite("capi", collect_capi), &
     new_testsuite("progress", collect_progress), &
     new_testsuite("deck", collect_deck), &
-    new_testsuite("app", collect_app) &
+    new_testsuite("app", collect_app), &
+    new_testsuite("app_stiffness", collect_app_stiffness) &
     ]
   stat = 0
   total = 0

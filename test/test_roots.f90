@@ -24,7 +24,8 @@ contains
       new_unittest("a jump in the bracket is not a root", test_jump), &
       new_unittest("scan: 50 close roots of sin(50 pi x)", test_many_roots), &
       new_unittest("scan: roots of tan(20 pi x), poles apart", test_tan), &
-      new_unittest("f tolerance and bad brackets", test_statuses) &
+      new_unittest("f tolerance and bad brackets", test_statuses), &
+      new_unittest("final bracket: each end keeps its side's sign", test_bracket) &
       ]
   end subroutine collect_roots
 
@@ -173,5 +174,39 @@ contains
     call check(error, status%stat == demstep_stat%ok .and. abs(cos(x) - x) <= 1.0e-3_dp, &
       "stops once |f| <= f_tol")
   end subroutine test_statuses
+
+  !> The final bracket holds the sign change, each end on its own side, and is
+  !> as narrow as asked, down to find_root's floor of a few ulps.
+  subroutine test_bracket(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(test_context_type) :: ctx
+    type(demstep_status_type) :: status
+    real(dp) :: x, lo, hi, flo, fhi
+    integer :: stat, k
+    real(dp), parameter :: rel(3) = [1.0e-6_dp, 1.0e-13_dp, 0.0_dp]
+    ctx%which = 2
+    ctx%p = 2.0_dp
+    do k = 1, size(rel)
+      ! x^3 - 2 on [2, 1]: negative at a = 1, positive at b = 2
+      call find_root(f, ctx, 1.0_dp, 2.0_dp, x, status, x_rel=rel(k), x_abs=tiny(1.0_dp), &
+        check_continuity=.false., bracket_lo=lo, bracket_hi=hi)
+      call check(error, status%stat, demstep_stat%ok)
+      if (allocated(error)) return
+      call f(lo, ctx, flo, stat)
+      call f(hi, ctx, fhi, stat)
+      ! (both ends are the root where f(root) = 0 was hit)
+      call check(error, flo <= 0.0_dp .and. fhi >= 0.0_dp, "f(lo) <= 0 <= f(hi) at x_rel "//real_str(rel(k)))
+      if (allocated(error)) return
+      call check(error, lo <= x .and. x <= hi, "the root lies in its bracket")
+      if (allocated(error)) return
+      ! width at most 2 max(x_rel |x|, 4 ulp(x))
+      call check(error, hi - lo <= 2.0_dp*max(rel(k)*lo, 4.0_dp*spacing(hi)), &
+        "bracket width "//real_str(hi - lo)//" at x_rel "//real_str(rel(k)))
+      if (allocated(error)) return
+    end do
+    ! f(a) = 0: the bracket is that point
+    call find_root(f, ctx, 2.0_dp**(1.0_dp/3.0_dp), 2.0_dp, x, status, fa=0.0_dp, bracket_lo=lo, bracket_hi=hi)
+    call check(error, lo == x .and. hi == x, "f(a) = 0: bracket [a, a]")
+  end subroutine test_bracket
 
 end module test_roots

@@ -5,6 +5,8 @@ module test_stiffness
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
   use test_support, only: real_str, reference_steps
+  use demstep_stiffness, only: measure_evaluation_cost
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
   public :: collect_stiffness
@@ -25,10 +27,13 @@ contains
         test_fixed_roots_by_poles), &
       new_unittest("extreme weights, first-only scans, n_max and tolerance limits", test_limits), &
       new_unittest("rounded steps: jumps are never roots", test_rounded_jumps), &
+      new_unittest("huge fixed n: picks meet the tolerance as evaluated, or a status says why", &
+        test_narrow_intervals), &
       new_unittest("root near 2/(1 - lambda) - 2/3", test_asymptote), &
       new_unittest("aggregation rules", test_aggregate), &
       new_unittest("procedure end to end: dt = T*/N*, K' = lambda*^2 K*", test_procedure), &
-      new_unittest("invalid input gives a status", test_invalid) &
+      new_unittest("invalid input gives a status", test_invalid), &
+      new_unittest("the measured cost of an evaluation is a time", test_measure_cost) &
       ]
   end subroutine collect_stiffness
 
@@ -395,6 +400,66 @@ contains
     call check(error, abs(e) <= options%tolerance, "|E(pick)| <= 1e-10: "//real_str(e))
   end subroutine test_limits
 
+  !> With n up to 1e12 the admissible interval next to the first root can be a
+  !> few doubles wide or hold none: every pick and interval end must meet the
+  !> tolerance as the public evaluator computes it, or the scan is refused naming
+  !> the tolerance. n = 1e12, lambda = 0.9, E0 = 1e-3 gave a pick with |E| = 6.5e-3
+  !> before; there three doubles meet the tolerance.
+  subroutine test_narrow_intervals(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), parameter :: ns(3) = [1.0e9_dp, 2147483648.0_dp, 1.0e12_dp]
+    real(dp), parameter :: lambdas(3) = [0.5_dp, 0.9_dp, 0.999_dp]
+    real(dp), parameter :: tols(6) = [0.1_dp, 1.0e-3_dp, 1.0e-4_dp, 1.0e-5_dp, 1.0e-7_dp, 1.0e-10_dp]
+    type(nroots_options_type) :: options
+    type(nroots_type) :: r
+    type(demstep_status_type) :: status
+    real(dp) :: e
+    integer :: i, j, k, stat, refused, picked
+    refused = 0
+    picked = 0
+    do i = 1, size(ns)
+      do j = 1, size(lambdas)
+        do k = 1, size(tols)
+          options%policy = step_policy_type(steps_fixed, ns(i))
+          options%tolerance = tols(k)
+          options%first_only = .true.
+          call n_roots(lambdas(j), options, r, status)
+          if (status%stat /= demstep_stat%ok) then
+            call check(error, status%stat == demstep_stat%invalid_input .and. &
+              index(status%message, "tolerance: ") == 1 .and. index(status%message, "use tolerance >= ") > 0, &
+              "n = "//real_str(ns(i))//", lambda = "//real_str(lambdas(j))//", E0 = "//real_str(tols(k)) &
+              //": refused with "//status%message)
+            if (allocated(error)) return
+            refused = refused + 1
+            cycle
+          end if
+          call check(error, r%stat /= demstep_stat%not_found .and. size(r%lower) == 1, "a pick")
+          if (allocated(error)) return
+          picked = picked + 1
+          call harmonic_error_steps(r%n_pick, lambdas(j), options%policy, e, stat)
+          call check(error, stat == demstep_stat%ok .and. abs(e) <= tols(k), "n = "//real_str(ns(i))// &
+            ", lambda = "//real_str(lambdas(j))//", E0 = "//real_str(tols(k))//": |E(pick)| = "//real_str(e))
+          if (allocated(error)) return
+          call harmonic_error_steps(r%upper(1), lambdas(j), options%policy, e, stat)
+          call check(error, stat == demstep_stat%ok .and. abs(e) <= tols(k) .and. r%upper(1) >= r%n_pick, &
+            "upper end admissible: |E| = "//real_str(e))
+          if (allocated(error)) return
+        end do
+      end do
+    end do
+    ! both outcomes occur over this set (the loop above tests each)
+    call check(error, refused > 0 .and. picked > 0, "some picks and some refusals")
+    if (allocated(error)) return
+    ! the case that failed before
+    options%policy = step_policy_type(steps_fixed, 1.0e12_dp)
+    options%tolerance = 1.0e-3_dp
+    call n_roots(0.9_dp, options, r, status)
+    call check(error, status%stat, demstep_stat%ok, message="n = 1e12, lambda 0.9, E0 = 1e-3")
+    if (allocated(error)) return
+    call harmonic_error(r%n_pick, 0.9_dp, 1.0e12_dp, e, stat)
+    call check(error, abs(e) <= 1.0e-3_dp, "n = 1e12, lambda 0.9: |E(pick)| = "//real_str(e))
+  end subroutine test_narrow_intervals
+
   subroutine test_rounded_jumps(error)
     type(error_type), allocatable, intent(out) :: error
     type(nroots_options_type) :: options
@@ -552,5 +617,20 @@ contains
     call simulated_stiffness(input, result, status)
     call check(error, status%stat, demstep_stat%invalid_input, message="empty set")
   end subroutine test_invalid
+
+  !> Only that a positive finite time comes back (timings belong to benchmarks).
+  subroutine test_measure_cost(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(stiffness_input_type) :: input
+    real(dp) :: seconds
+    input%lambdas = [0.9_dp, 0.99_dp]
+    call measure_evaluation_cost(input, seconds)
+    call check(error, seconds > 0.0_dp .and. ieee_is_finite(seconds), "seconds = "//real_str(seconds))
+    if (allocated(error)) return
+    input%options%policy = step_policy_type(steps_fixed, 1.0e12_dp)
+    input%options%n_max = 1.0e300_dp
+    call measure_evaluation_cost(input, seconds)
+    call check(error, seconds > 0.0_dp .and. ieee_is_finite(seconds), "fixed n: seconds = "//real_str(seconds))
+  end subroutine test_measure_cost
 
 end module test_stiffness
