@@ -30,7 +30,7 @@ program bench_harmonic
     write(*, '("| ", es7.0, " | ", f8.1, " | ", f8.1, " | ", f8.1, " | ", es10.3, " | ", f5.2, " |")') &
       ns(j), t_acc_far, t_acc_near, t_naive, t_direct, max(t_acc_far, t_acc_near)/t_naive
   end do
-  write(*, '(a, es10.3)') "(checksum ", sink
+  write(*, '(a, es10.3, a)') "(checksum ", sink, ")"
 
 contains
 

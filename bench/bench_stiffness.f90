@@ -47,5 +47,5 @@ program bench_stiffness
   tmed = times((repeats + 1)/2)
   write(*, '(a, i0, a, f7.3, a, f7.3, a, i0, a)') "procedure with ", n_big, " lambdas: median ", tmed, &
     " s, min ", tmin, " s (", result%evaluations, " evaluations of E)"
-  write(*, '(a, es12.5, a, f10.6)') "  (N* = ", result%n_star, ", lambda* = ", result%lambda_star
+  write(*, '(a, es12.5, a, f10.6, a)') "  (N* = ", result%n_star, ", lambda* = ", result%lambda_star, ")"
 end program bench_stiffness
