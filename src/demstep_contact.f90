@@ -22,7 +22,7 @@
 module demstep_contact
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_spring, only: saturated_count
+  use demstep_spring, only: saturated_count, ceiling_real
   use demstep_text, only: real_text
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
@@ -148,16 +148,20 @@ contains
     real(dp), intent(in) :: h, zeta
     real(dp), intent(out) :: rho, theta
     logical, intent(out) :: closed
-    real(dp) :: gam, sin2
+    real(dp) :: gam, sin_half
     rho = 0.0_dp
     theta = 0.0_dp
     gam = 1.0_dp - 2.0_dp*zeta*h
     closed = gam > 0.0_dp .and. h < 2.0_dp/(sqrt(1.0_dp + zeta**2) + zeta)
     if (.not. closed) return
     rho = sqrt(gam)
-    sin2 = 0.25_dp*h**2/rho*(1.0_dp - (2.0_dp*zeta/(1.0_dp + rho))**2)
-    closed = sin2 > 0.0_dp .and. sin2 < 1.0_dp
-    if (closed) theta = 2.0_dp*asin(sqrt(sin2))
+    ! sin(theta/2) itself: its square underflows for the finest steps
+    sin_half = 1.0_dp - (2.0_dp*zeta/(1.0_dp + rho))**2
+    closed = sin_half > 0.0_dp
+    if (.not. closed) return
+    sin_half = (0.5_dp*h/sqrt(rho))*sqrt(sin_half)
+    closed = sin_half < 1.0_dp
+    if (closed) theta = 2.0_dp*asin(sin_half)
   end subroutine discrete_phase
 
   !> The contact by exact stepping of the recurrence (beyond the closed forms).
@@ -237,17 +241,6 @@ contains
       log1p = log(u)*(x/(u - 1.0_dp))
     end if
   end function log1p
-
-  !> ceiling(x) as a real, for any finite x (doubles from 2^52 up are integers).
-  elemental real(dp) function ceiling_real(x)
-    real(dp), intent(in) :: x
-    if (abs(x) >= 4503599627370496.0_dp) then
-      ceiling_real = x
-    else
-      ceiling_real = aint(x)
-      if (ceiling_real < x) ceiling_real = ceiling_real + 1.0_dp
-    end if
-  end function ceiling_real
 
   !> Status invalid_input unless 0 <= zeta < 1: the worst-case contact errors are
   !> relative to the continuous contact, which for zeta >= 1 does not rebound (its

@@ -26,7 +26,7 @@ module demstep_spring
   public :: numerical_phase, numerical_period, growth_factor
   public :: exact_discrete_state, paper_closed_form_velocity
   public :: discrete_contact, simulate_contact
-  public :: check_time_step, step_for_n_per_period, saturated_count
+  public :: check_time_step, step_for_n_per_period, saturated_count, ceiling_real
 
   !> Dashpot uses the velocity of the previous half step (explicit, DEM default).
   integer, parameter, public :: dashpot_lagged = 1
@@ -125,7 +125,7 @@ contains
       ! the dashpot c = 2 zeta sqrt(K M) and the critical step must be normal doubles
       bound = min(0.5_dp*(huge(1.0_dp)/root_km), (1.0_dp/omega)/tiny(1.0_dp))
       call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be 0 or in [" &
-        //real_text(max(tiny(1.0_dp)/root_km, tiny(1.0_dp)))//", "//real_text(0.5_dp*bound) &
+        //real_text(max(tiny(1.0_dp)/root_km, tiny(1.0_dp)))//", "//real_text(0.999_dp*bound) &
         //"] with this mass and stiffness (the dashpot 2 damping_ratio sqrt(stiffness mass) " &
         //"and the critical step must stay in the double range)")
       return
@@ -510,11 +510,12 @@ contains
     status%stat = demstep_stat%ok
   end subroutine simulate_contact
 
-  !> ceiling(x) as a real, for any finite x >= 0 (doubles from 2^52 up are integers).
+  !> ceiling(x) as a real, for any finite x (doubles from 2^52 up are integers).
   elemental function ceiling_real(x) result(c)
+    !> Any finite real.
     real(dp), intent(in) :: x
     real(dp) :: c
-    if (x >= 4503599627370496.0_dp) then
+    if (abs(x) >= 4503599627370496.0_dp) then
       c = x
     else
       c = aint(x)
