@@ -176,7 +176,8 @@ contains
     real(dp), intent(in) :: period, n_per_period, duration, n_particles, cost_per_particle_step
     type(run_prediction_type), intent(out) :: prediction
     type(demstep_status_type), intent(out) :: status
-    real(dp) :: x, bound
+    real(dp) :: x, f, log_bound
+    integer :: e
     prediction%dt = period/n_per_period
     if (.not. prediction%dt >= tiny(1.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, "stiffness: the step T/N = " &
@@ -193,20 +194,24 @@ contains
     end if
     prediction%steps_real = max(1.0_dp, ceiling_real(x))
     call saturated_count(prediction%steps_real, prediction%steps, prediction%steps_saturated)
-    prediction%seconds = prediction%steps_real*n_particles*cost_per_particle_step
-    if (.not. prediction%seconds <= huge(1.0_dp)) then
-      bound = (huge(1.0_dp)/prediction%steps_real)/cost_per_particle_step
-      if (bound >= 1.0_dp) then
+    ! the product by fractions and exponents: no intermediate overflow or underflow
+    e = exponent(prediction%steps_real) + exponent(n_particles) + exponent(cost_per_particle_step)
+    f = fraction(prediction%steps_real)*fraction(n_particles)*fraction(cost_per_particle_step)
+    if (e + exponent(f) > maxexponent(1.0_dp)) then
+      ! the largest n_particles (or duration) that keeps the time in range, by logarithms
+      log_bound = log(huge(1.0_dp)) - log(prediction%steps_real) - log(cost_per_particle_step)
+      if (log_bound >= 0.0_dp) then
         call set_status(status, demstep_stat%invalid_input, "n_particles: the predicted run time " &
           //"exceeds the double range at N = "//real_text(n_per_period)//"; n_particles must be <= " &
-          //real_text(0.999_dp*bound))
+          //real_text(0.999_dp*exp(log_bound)))
       else
         call set_status(status, demstep_stat%invalid_input, "duration: the predicted run time " &
           //"exceeds the double range at N = "//real_text(n_per_period)//"; duration must be <= " &
-          //real_text(0.999_dp*duration*bound/n_particles))
+          //real_text(0.999_dp*duration*exp(log_bound - log(n_particles))))
       end if
       return
     end if
+    prediction%seconds = scale(f, e)
     if (.not. prediction%seconds >= tiny(1.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, "cost_per_particle_step: the predicted " &
         //"run time underflows; cost_per_particle_step must be >= " &
