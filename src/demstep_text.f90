@@ -49,7 +49,7 @@ contains
     k = index(buf, "E")
     read(buf(k+1:), *) e
     if (e >= -3 .and. e <= 4) then
-      write(form, '(a, i0, a)') "(f0.", 3 - e, ")"
+      write(form, '(a, i0, a)') "(f0.", max(0, 3 - e), ")"
       write(buf, form) x
       text = trim(adjustl(buf))
       if (text(1:1) == ".") text = "0"//text
