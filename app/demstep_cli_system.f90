@@ -2,7 +2,7 @@
 module demstep_cli_system
   use demstep, only: dp, i8, pi, demstep_status_type, demstep_stat, spring_type, &
     new_spring, spring_omega, spring_period, spring_damping_ratio, critical_time_step, numerical_phase, &
-    growth_factor, discrete_contact_type, discrete_contact, simulate_contact, &
+    growth_factor, discrete_contact_type, discrete_contact, &
     dashpot_lagged, dashpot_centred, lowercase, nml_group_type, set_status, check_time_step, &
     step_for_n_per_period, onset_contact_type, contact_with_onset
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
@@ -16,9 +16,6 @@ module demstep_cli_system
   character(len=*), parameter :: system_doc = &
     "One mass M hitting a contact spring K at speed v0 (the seed's model): period, " &
     //"stability limit and, for a step dt, the discrete contact."
-
-  !> Steps a damped contact may take when simulated.
-  integer(i8), parameter :: max_contact_steps = 100000000_i8
 
 contains
 
@@ -173,23 +170,19 @@ contains
     period_numerical = period*(omega*dt/theta)
     if (.not. spring%damping > 0.0_dp) then
       call discrete_contact(omega*dt, contact, status)
-    else if (spring%dashpot == dashpot_lagged) then
-      ! the lagged dashpot's contact in closed form (onset at a step)
-      call contact_with_onset(n_per_period, 1.0_dp, onset_contact, status, damping_ratio=zeta)
+    else
+      ! the damped contact in closed form (onset at a step), either dashpot
+      call contact_with_onset(n_per_period, 1.0_dp, onset_contact, status, damping_ratio=zeta, &
+        dashpot=spring%dashpot)
       contact = discrete_contact_type(steps=onset_contact%steps, &
         steps_saturated=onset_contact%steps_saturated, restitution=onset_contact%restitution, &
         max_overlap=onset_contact%max_overlap, contact_time=onset_contact%contact_time)
-    else
-      call simulate_contact(spring, dt, contact, status, max_steps=max_contact_steps)
-      if (status%stat == demstep_stat%not_converged) then
-        call set_status(status, demstep_stat%invalid_input, "&system: "//trim(step_name)// &
-          ": a contact with a centred dashpot is simulated step by step and would take more than " &
-          //fmt_int(max_contact_steps)//" steps here (dashpot = 'lagged' has a closed form)")
-        return
-      end if
     end if
     if (status%stat /= demstep_stat%ok) then
-      status%message = "&system: "//status%message
+      ! the library speaks of N; the deck may have given dt
+      if (index(status%message, "n_per_period: ") == 1) status%message = trim(step_name)//": " &
+        //status%message(15:)
+      call set_status(status, demstep_stat%invalid_input, "&system: "//status%message)
       return
     end if
     ! the overlap v0/omega x ratio must be a normal double

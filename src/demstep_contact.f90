@@ -15,6 +15,9 @@
 !> cos theta = (2 - 2 zeta h - h^2)/(2 rho). Contact ends at the first n >= 1 with
 !> n theta + phi >= pi: n_c = ceil((pi - phi)/theta); the force acts at steps
 !> 1 .. n_c - 1 and the rebound velocity is v_{n_c - 1} = (x_{n_c} - x_{n_c - 1})/h.
+!> A centred dashpot (the average of the half-step velocities) gives the same
+!> form with x_{n+1} = ((2 - h^2) x_n - (1 - a) x_{n-1})/(1 + a), a = zeta h,
+!> rho^2 = (1 - a)/(1 + a).
 !> These closed forms are used whenever the roots are complex (every stable
 !> undamped step; damped steps with 2 zeta h < 1 below the limit); otherwise
 !> (beyond the limit, or an overdamped discrete contact) the recurrence is
@@ -22,7 +25,7 @@
 module demstep_contact
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_spring, only: saturated_count, ceiling_real
+  use demstep_spring, only: saturated_count, ceiling_real, dashpot_lagged, dashpot_centred
   use demstep_text, only: real_text
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
@@ -63,21 +66,34 @@ module demstep_contact
 contains
 
   !> The discrete contact at N steps per period and onset s, with damping ratio
-  !> zeta (lagged dashpot, default 0). Status invalid_input for N outside
+  !> zeta (default 0) of a lagged dashpot (default) or a centred one (`dashpot =
+  !> dashpot_centred`). Status invalid_input for N outside
   !> [2 pi (1 + zeta)/1e50, huge], s outside (0, 1], zeta < 0 (messages name
   !> `n_per_period`, `onset`, `damping_ratio`); not_converged when the discrete
   !> contact never ends (an overdamped step: the overlap decays without crossing
   !> zero) or a stepped contact exceeds 1e8 steps. N <= pi (or beyond the damped
   !> limit) is computed by stepping and flagged `stable = .false.`.
-  pure subroutine contact_with_onset(n_per_period, onset, contact, status, damping_ratio)
+  pure subroutine contact_with_onset(n_per_period, onset, contact, status, damping_ratio, dashpot)
+    !> N = T/dt and the onset s.
     real(dp), intent(in) :: n_per_period, onset
     type(onset_contact_type), intent(out) :: contact
     type(demstep_status_type), intent(out) :: status
+    !> zeta >= 0 (default 0).
     real(dp), intent(in), optional :: damping_ratio
-    real(dp) :: h, zeta, rho, theta, a, b, r, phi, q, x, xm, best, nc, f, k, lo, hi, log_rho, n_min
-    logical :: closed
+    !> `dashpot_lagged` (default) or `dashpot_centred`.
+    integer, intent(in), optional :: dashpot
+    real(dp) :: h, zeta, rho, theta, a, b, r, phi, q, x, xm, best, nc, f, k, lo, hi, log_rho, n_min, d
+    logical :: closed, centred
     zeta = 0.0_dp
     if (present(damping_ratio)) zeta = damping_ratio
+    centred = .false.
+    if (present(dashpot)) then
+      if (dashpot /= dashpot_lagged .and. dashpot /= dashpot_centred) then
+        call set_status(status, demstep_stat%invalid_input, "dashpot: must be lagged or centred")
+        return
+      end if
+      centred = dashpot == dashpot_centred
+    end if
     if (.not. (ieee_is_finite(zeta) .and. zeta >= 0.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be finite and >= 0")
       return
@@ -96,13 +112,17 @@ contains
     status%stat = demstep_stat%ok
     contact%onset = onset
     h = 2.0_dp*pi/n_per_period
-    ! the stability limit of the lagged dashpot: h < 2 (sqrt(1 + zeta^2) - zeta)
-    contact%stable = h < 2.0_dp/(sqrt(1.0_dp + zeta**2) + zeta)
+    ! the stability limit: lagged h < 2 (sqrt(1 + zeta^2) - zeta), centred h < 2
+    if (centred) then
+      contact%stable = h < 2.0_dp
+    else
+      contact%stable = h < 2.0_dp/(sqrt(1.0_dp + zeta**2) + zeta)
+    end if
     a = (onset - 1.0_dp)*h
     b = onset*h
-    call discrete_phase(h, zeta, rho, theta, closed)
+    call discrete_phase(h, zeta, centred, rho, theta, closed)
     if (.not. closed) then
-      call step_contact(h, zeta, onset, contact, status)
+      call step_contact(h, zeta, centred, onset, contact, status)
       return
     end if
     ! x_0 = R sin(phi) = a, x_1 = R rho sin(theta + phi) = b
@@ -113,14 +133,20 @@ contains
     nc = ceiling_real(q)
     call saturated_count(nc - 1.0_dp, contact%steps, contact%steps_saturated)
     contact%contact_time = (nc - 1.0_dp)*(h/pi)
-    ! rho^n as exp(n log rho), log rho = log(1 - 2 zeta h)/2 without cancellation
-    log_rho = 0.5_dp*log1p(-2.0_dp*zeta*h)
-    ! v_n = (x_{n+1} - x_n)/h = R rho^n (rho sin(theta) cos(A) - (zeta h + h^2/2) sin(A))/h,
-    ! A = n theta + phi, rho cos(theta) - 1 = -(zeta h + h^2/2) exactly; at n = nc - 1,
-    ! A = pi - (1 - f) theta with f = nc - q in [0, 1)
+    ! rho^n as exp(n log rho), log rho = log(rho^2)/2 without cancellation;
+    ! d = 1 - rho cos(theta) exactly: zeta h + h^2/2, over 1 + zeta h when centred
+    if (centred) then
+      log_rho = 0.5_dp*(log1p(-zeta*h) - log1p(zeta*h))
+      d = (zeta*h + 0.5_dp*h**2)/(1.0_dp + zeta*h)
+    else
+      log_rho = 0.5_dp*log1p(-2.0_dp*zeta*h)
+      d = zeta*h + 0.5_dp*h**2
+    end if
+    ! v_n = (x_{n+1} - x_n)/h = R rho^n (rho sin(theta) cos(A) - d sin(A))/h,
+    ! A = n theta + phi; at n = nc - 1, A = pi - (1 - f) theta with f = nc - q in [0, 1)
     f = nc - q
     contact%restitution = r*exp((nc - 1.0_dp)*log_rho)*(rho*sin(theta)*cos((1.0_dp - f)*theta) &
-      + (zeta*h + 0.5_dp*h**2)*sin((1.0_dp - f)*theta))/h
+      + d*sin((1.0_dp - f)*theta))/h
     ! the largest overlap: the continuous peak of rho^t sin(t theta + phi) is at
     ! t theta + phi = atan2(theta, -log rho); check the steps on either side
     best = (atan2(theta, -log_rho) - phi)/theta
@@ -140,25 +166,39 @@ contains
   end subroutine contact_with_onset
 
   !> The roots rho e^(+-i theta) of the contact recurrence at h = omega dt, with
-  !> sin^2(theta/2) = (h^2/(4 rho)) (1 - (2 zeta/(1 + rho))^2): a form without the
-  !> cancellation of acos near 1 (it is 2 asin(h/2) undamped). `closed` is false
-  !> beyond the stability limit or where the roots are real: step there instead.
-  elemental subroutine discrete_phase(h, zeta, rho, theta, closed)
+  !> sin^2(theta/2) = (h^2/(4 rho)) (1 - (2 zeta/(1 + rho))^2) (lagged) or
+  !> (h^2/(4 rho (1 + a))) (1 - 2 zeta^2/(1 + sqrt(1 - a^2))), a = zeta h (centred):
+  !> forms without the cancellation of acos near 1 (both 2 asin(h/2) undamped).
+  !> `closed` is false beyond the stability limit or where the roots are real:
+  !> step there instead.
+  elemental subroutine discrete_phase(h, zeta, centred, rho, theta, closed)
     real(dp), intent(in) :: h, zeta
+    logical, intent(in) :: centred
     real(dp), intent(out) :: rho, theta
     logical, intent(out) :: closed
-    real(dp) :: gam, sin_half
+    real(dp) :: gam, sin_half, a
     rho = 0.0_dp
     theta = 0.0_dp
-    gam = 1.0_dp - 2.0_dp*zeta*h
-    closed = gam > 0.0_dp .and. h < 2.0_dp/(sqrt(1.0_dp + zeta**2) + zeta)
-    if (.not. closed) return
-    rho = sqrt(gam)
-    ! sin(theta/2) itself: its square underflows for the finest steps
-    sin_half = 1.0_dp - (2.0_dp*zeta/(1.0_dp + rho))**2
-    closed = sin_half > 0.0_dp
-    if (.not. closed) return
-    sin_half = (0.5_dp*h/sqrt(rho))*sqrt(sin_half)
+    a = zeta*h
+    if (centred) then
+      closed = a < 1.0_dp .and. h < 2.0_dp
+      if (.not. closed) return
+      rho = sqrt((1.0_dp - a)/(1.0_dp + a))
+      sin_half = 1.0_dp - 2.0_dp*zeta**2/(1.0_dp + sqrt((1.0_dp - a)*(1.0_dp + a)))
+      closed = sin_half > 0.0_dp
+      if (.not. closed) return
+      ! sin(theta/2) itself: its square underflows for the finest steps
+      sin_half = (0.5_dp*h/sqrt(rho*(1.0_dp + a)))*sqrt(sin_half)
+    else
+      gam = 1.0_dp - 2.0_dp*a
+      closed = gam > 0.0_dp .and. h < 2.0_dp/(sqrt(1.0_dp + zeta**2) + zeta)
+      if (.not. closed) return
+      rho = sqrt(gam)
+      sin_half = 1.0_dp - (2.0_dp*zeta/(1.0_dp + rho))**2
+      closed = sin_half > 0.0_dp
+      if (.not. closed) return
+      sin_half = (0.5_dp*h/sqrt(rho))*sqrt(sin_half)
+    end if
     closed = sin_half < 1.0_dp
     if (closed) theta = 2.0_dp*asin(sin_half)
   end subroutine discrete_phase
@@ -167,8 +207,9 @@ contains
   !> With real roots r1 (dominant) and r2 of r^2 - beta r + gamma, x_n = A r1^n + B r2^n;
   !> when r1 > 0 and, at a step with x_n > 0, |B/A| (|r2|/r1)^n < 1 with A > 0, the
   !> overlap stays positive for ever: status not_converged (the contact never ends).
-  pure subroutine step_contact(h, zeta, onset, contact, status)
+  pure subroutine step_contact(h, zeta, centred, onset, contact, status)
     real(dp), intent(in) :: h, zeta, onset
+    logical, intent(in) :: centred
     type(onset_contact_type), intent(inout) :: contact
     type(demstep_status_type), intent(inout) :: status
     real(dp) :: x, v, xm, beta, gam, disc, r1, r2, x0, ca, cb, ratio, tail
@@ -178,8 +219,13 @@ contains
     v = 1.0_dp
     xm = 0.0_dp
     ! the roots, where real and the positive one dominates
-    beta = 2.0_dp - 2.0_dp*zeta*h - h**2
-    gam = 1.0_dp - 2.0_dp*zeta*h
+    if (centred) then
+      beta = (2.0_dp - h**2)/(1.0_dp + zeta*h)
+      gam = (1.0_dp - zeta*h)/(1.0_dp + zeta*h)
+    else
+      beta = 2.0_dp - 2.0_dp*zeta*h - h**2
+      gam = 1.0_dp - 2.0_dp*zeta*h
+    end if
     disc = 0.25_dp*beta**2 - gam
     watch = .false.
     if (disc >= 0.0_dp .and. beta > 0.0_dp) then
@@ -199,7 +245,11 @@ contains
     do
       x = x + v*h
       if (.not. x > 0.0_dp) exit
-      v = v - h*(x + 2.0_dp*zeta*v)
+      if (centred) then
+        v = ((1.0_dp - zeta*h)*v - h*x)/(1.0_dp + zeta*h)
+      else
+        v = v - h*(x + 2.0_dp*zeta*v)
+      end if
       contact%steps = contact%steps + 1_i8
       xm = max(xm, x)
       if (watch) then
@@ -403,7 +453,7 @@ contains
     h = 2.0_dp*pi/n_per_period
     error = -1.0_dp
     call set_status(status, demstep_stat%not_converged, "outside the closed forms")
-    call discrete_phase(h, zeta, rho, theta, closed)
+    call discrete_phase(h, zeta, .false., rho, theta, closed)
     if (.not. closed) return
     q = pi/theta
     m = ceiling_real(q)
