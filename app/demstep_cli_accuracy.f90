@@ -37,7 +37,8 @@ contains
         "10.0, 20.0, 50.0"), &
       var("onset", "a list of real numbers", "overlap at the first force evaluation over v0 dt, " &
         //"in (0, 1]; omit for the worst case", "!1.0"), &
-      var("damping_ratio", "a real number", "viscous damping ratio (>= 0) of a lagged dashpot", "0.0") ]
+      var("damping_ratio", "a real number", "viscous damping ratio (>= 0; < 1 for the worst case) " &
+        //"of a lagged dashpot", "0.0") ]
   end function contact_error_specs
 
   function accuracy_cost_specs() result(specs)
@@ -50,11 +51,11 @@ contains
       var("n_particles", "a real number", "particles in the simulation (>= 1)", "1.0e5"), &
       var("mass", "a real number", "particle mass of the stiffest contact (> 0)", "0.01"), &
       var("stiffness", "a real number", "its contact stiffness (> 0)", "1.0e5"), &
-      var("damping_ratio", "a real number", "viscous damping ratio (>= 0)", "0.0"), &
+      var("damping_ratio", "a real number", "viscous damping ratio in [0, 1)", "0.0"), &
       var("lambda", "a real number", "for 'harmonic': sqrt(K'/K*) in (0, 1)", "!0.95"), &
       var("cost_per_particle_step", "a real number", "seconds per particle-step (> 0); omit to " &
         //"measure the stepper on the spot", "!1.5e-7"), &
-      var("n_max", "a real number", "largest N searched (default 1e7)", "!1.0e7"), &
+      var("n_max", "a real number", "largest N searched (default 1e7, at most 1e15)", "!1.0e7"), &
       var("csv", "a quoted file name", "curve data (default 'accuracy_cost.csv')", "'accuracy_cost.csv'"), &
       var("figure", "a quoted file name", "figure base name, .png and .svg added (default " &
         //"'accuracy_cost'; 'none' for no figure)", "'accuracy_cost'") ]
