@@ -234,14 +234,14 @@ contains
     integer, parameter :: m = 20
     real(dp) :: budget, times(3), t
     integer :: r
-    integer(8) :: c0, c1, rate, steps
+    integer(i8) :: c0, c1, rate, steps
     budget = 0.2_dp
     if (present(seconds)) budget = seconds
     cost = 0.0_dp
     call cubic_lattice(start, m, 0.5_dp, 100.0_dp, status)
     if (status%stat /= demstep_stat%ok) return
     ! a first short run sizes the measured ones
-    steps = 5_8
+    steps = 5_i8
     do r = 0, 3
       scene = start
       call system_clock(c0, rate)
@@ -249,7 +249,7 @@ contains
       call system_clock(c1)
       t = real(c1 - c0, dp)/real(rate, dp)
       if (r == 0) then
-        steps = max(5_8, int(steps*budget/max(t, 1.0e-6_dp)/3.0_dp, 8))
+        steps = max(5_i8, int(steps*budget/max(t, 1.0e-6_dp)/3.0_dp, i8))
       else
         times(r) = t/real(steps*start%n, dp)
       end if

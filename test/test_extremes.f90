@@ -313,7 +313,8 @@ contains
     character(len=*), parameter :: g = "&accuracy_cost quantity = 'period', tolerances = 1e-2, " &
       //"duration = 1, n_particles = 10, mass = 1, stiffness = 1, cost_per_particle_step = 1e-7, " &
       //"figure = 'none', "
-    call execute_command_line("mkdir -p "//work_dir//"/csvdir", wait=.true.)
+    integer :: rc, cs
+    call execute_command_line("mkdir -p "//work_dir//"/csvdir", wait=.true., exitstat=rc, cmdstat=cs)
     call expect_refusal(error, g//"csv = '"//work_dir//"/csvdir' /", &
       "&accuracy_cost: csv: '"//work_dir//"/csvdir' is a directory; give a file name")
     if (allocated(error)) return
@@ -627,7 +628,7 @@ contains
     type(error_type), allocatable, intent(out) :: error
     character(len=*), intent(in) :: line, group
     character(len=*), intent(in) :: variables(:)
-    integer :: rc, k
+    integer :: rc, k, cs
     character(len=:), allocatable :: stdout, stderr, listing, upper, prefix
     logical :: ok
     call write_file(deck, [character(len=len(line)) :: line])
@@ -649,7 +650,8 @@ contains
       call test_failed(error, "exit status "//num(real(rc, dp))//" for: "//line//new_line("a")//stderr)
     end if
     if (allocated(error)) return
-    call execute_command_line("ls -a "//work_dir//" > "//work_dir//"/listing", wait=.true.)
+    call execute_command_line("ls -a "//work_dir//" > "//work_dir//"/listing", wait=.true., &
+      exitstat=k, cmdstat=cs)
     call read_file(work_dir//"/listing", listing)
     call check(error, index(listing, ".tmp") == 0 .and. index(listing, ".gp") == 0, &
       "no temporary left behind by: "//line)
@@ -679,7 +681,7 @@ contains
   subroutine expect_refusal(error, line, expected)
     type(error_type), allocatable, intent(out) :: error
     character(len=*), intent(in) :: line, expected
-    integer :: rc
+    integer :: rc, cs
     character(len=:), allocatable :: stdout, stderr, listing
     call delete(out)
     call write_file(deck, [character(len=len(line)) :: line])
@@ -695,7 +697,8 @@ contains
     if (allocated(error)) return
     call check(error, .not. file_exists(out), "no output file")
     if (allocated(error)) return
-    call execute_command_line("ls -a "//work_dir//" > "//work_dir//"/listing", wait=.true.)
+    call execute_command_line("ls -a "//work_dir//" > "//work_dir//"/listing", wait=.true., &
+      exitstat=rc, cmdstat=cs)
     call read_file(work_dir//"/listing", listing)
     call check(error, index(listing, ".tmp") == 0, "no temporary file left behind")
   end subroutine expect_refusal
