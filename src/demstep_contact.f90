@@ -165,18 +165,20 @@ contains
     contact%max_overlap = xm
   end subroutine contact_with_onset
 
-  !> The roots rho e^(+-i theta) of the contact recurrence at h = omega dt, with
-  !> sin^2(theta/2) = (h^2/(4 rho)) (1 - (2 zeta/(1 + rho))^2) (lagged) or
-  !> (h^2/(4 rho (1 + a))) (1 - 2 zeta^2/(1 + sqrt(1 - a^2))), a = zeta h (centred):
-  !> forms without the cancellation of acos near 1 (both 2 asin(h/2) undamped).
-  !> `closed` is false beyond the stability limit or where the roots are real:
-  !> step there instead.
+  !> The roots rho e^(+-i theta) of the contact recurrence at h = omega dt,
+  !> x_{n+1} = beta x_n - rho^2 x_{n-1}. With f = 1 - (zeta + h/2)^2 (lagged) or
+  !> 1 - zeta^2 - h^2/4 (centred), the discriminant is beta^2/4 - rho^2 = -h^2 f
+  !> (over (1 + zeta h)^2 when centred), so the roots are complex when f > 0 and
+  !> sin^2(theta/2) = (2 rho - beta)/(4 rho) = h^2 f/(rho (2 rho + beta)) (over
+  !> (1 + zeta h)^2 when centred): no cancellation near critical damping, and
+  !> 2 asin(h/2) undamped. `closed` is false beyond the stability limit or where
+  !> the roots are real: step there instead.
   elemental subroutine discrete_phase(h, zeta, centred, rho, theta, closed)
     real(dp), intent(in) :: h, zeta
     logical, intent(in) :: centred
     real(dp), intent(out) :: rho, theta
     logical, intent(out) :: closed
-    real(dp) :: gam, sin_half, a
+    real(dp) :: f, beta, sin_half, a
     rho = 0.0_dp
     theta = 0.0_dp
     a = zeta*h
@@ -184,41 +186,52 @@ contains
       closed = a < 1.0_dp .and. h < 2.0_dp
       if (.not. closed) return
       rho = sqrt((1.0_dp - a)/(1.0_dp + a))
-      sin_half = 1.0_dp - 2.0_dp*zeta**2/(1.0_dp + sqrt((1.0_dp - a)*(1.0_dp + a)))
-      closed = sin_half > 0.0_dp
-      if (.not. closed) return
-      ! sin(theta/2) itself: its square underflows for the finest steps
-      sin_half = (0.5_dp*h/sqrt(rho*(1.0_dp + a)))*sqrt(sin_half)
+      beta = (2.0_dp - h**2)/(1.0_dp + a)
     else
-      gam = 1.0_dp - 2.0_dp*a
-      closed = gam > 0.0_dp .and. h < 2.0_dp/(sqrt(1.0_dp + zeta**2) + zeta)
+      closed = a < 0.5_dp .and. h < 2.0_dp/(sqrt(1.0_dp + zeta**2) + zeta)
       if (.not. closed) return
-      rho = sqrt(gam)
-      sin_half = 1.0_dp - (2.0_dp*zeta/(1.0_dp + rho))**2
-      closed = sin_half > 0.0_dp
-      if (.not. closed) return
-      sin_half = (0.5_dp*h/sqrt(rho))*sqrt(sin_half)
+      rho = sqrt(1.0_dp - 2.0_dp*a)
+      beta = 2.0_dp - 2.0_dp*a - h**2
     end if
+    f = root_factor(h, zeta, centred)
+    closed = f > 0.0_dp
+    if (.not. closed) return
+    ! sin(theta/2) itself: its square underflows for the finest steps
+    sin_half = h*sqrt(f)/sqrt(rho*(2.0_dp*rho + beta))
+    if (centred) sin_half = sin_half/(1.0_dp + a)
     closed = sin_half < 1.0_dp
     if (closed) theta = 2.0_dp*asin(sin_half)
   end subroutine discrete_phase
 
+  !> f of `discrete_phase`: > 0 for complex roots; 1 - zeta is exact for zeta
+  !> in [1/2, 2], so f keeps its digits next to critical damping.
+  elemental real(dp) function root_factor(h, zeta, centred) result(f)
+    real(dp), intent(in) :: h, zeta
+    logical, intent(in) :: centred
+    if (centred) then
+      f = (1.0_dp - zeta)*(1.0_dp + zeta) - 0.25_dp*h**2
+    else
+      f = ((1.0_dp - zeta) - 0.5_dp*h)*((1.0_dp + zeta) + 0.5_dp*h)
+    end if
+  end function root_factor
+
   !> The contact by exact stepping of the recurrence (beyond the closed forms).
-  !> With real roots r1 (dominant) and r2 of r^2 - beta r + gamma, x_n = A r1^n + B r2^n;
-  !> when r1 > 0 and, at a step with x_n > 0, |B/A| (|r2|/r1)^n < 1 with A > 0, the
-  !> overlap stays positive for ever: status not_converged (the contact never ends).
+  !> With real roots r1 > 0 (dominant) and r2 of r^2 - beta r + gamma,
+  !> x_n = A r1^n + B r2^n: if r2 >= 0 too, x(t) has at most one zero, already
+  !> passed between steps 0 and 1, so the overlap stays positive for ever; if
+  !> r2 < 0 and A > 0, |B r2^n|/(A r1^n) decreases, so a contact that survives
+  !> steps 2 and 3 (both signs of r2^n) never ends. Either: status not_converged.
   pure subroutine step_contact(h, zeta, centred, onset, contact, status)
     real(dp), intent(in) :: h, zeta, onset
     logical, intent(in) :: centred
     type(onset_contact_type), intent(inout) :: contact
     type(demstep_status_type), intent(inout) :: status
-    real(dp) :: x, v, xm, beta, gam, disc, r1, r2, x0, ca, cb, ratio, tail
+    real(dp) :: x, v, xm, beta, gam, disc, r1, r2, x0, ca
     logical :: watch
     x0 = (onset - 1.0_dp)*h
     x = x0
     v = 1.0_dp
     xm = 0.0_dp
-    ! the roots, where real and the positive one dominates
     if (centred) then
       beta = (2.0_dp - h**2)/(1.0_dp + zeta*h)
       gam = (1.0_dp - zeta*h)/(1.0_dp + zeta*h)
@@ -226,21 +239,19 @@ contains
       beta = 2.0_dp - 2.0_dp*zeta*h - h**2
       gam = 1.0_dp - 2.0_dp*zeta*h
     end if
-    disc = 0.25_dp*beta**2 - gam
+    ! beta^2/4 - gamma = -h^2 f (see discrete_phase), its sign kept next to critical damping
+    disc = -h**2*root_factor(h, zeta, centred)
+    if (centred) disc = disc/(1.0_dp + zeta*h)**2
     watch = .false.
     if (disc >= 0.0_dp .and. beta > 0.0_dp) then
-      r1 = 0.5_dp*beta + sqrt(disc)
-      r2 = gam/r1
-      if (r1 == r2) then
-        ! a double positive root: (A + B n) r^n changes sign at most once, before step 1
+      if (gam >= 0.0_dp) then
         call set_status(status, demstep_stat%not_converged, never_ends(h, zeta))
         return
       end if
+      r1 = 0.5_dp*beta + sqrt(disc)
+      r2 = gam/r1
       ca = (onset*h - r2*x0)/(r1 - r2)
-      cb = (r1*x0 - onset*h)/(r1 - r2)
-      watch = ca > 0.0_dp
-      ratio = abs(r2)/r1
-      tail = abs(cb)/ca
+      watch = ca > 0.0_dp .and. r1 > abs(r2)
     end if
     do
       x = x + v*h
@@ -252,12 +263,9 @@ contains
       end if
       contact%steps = contact%steps + 1_i8
       xm = max(xm, x)
-      if (watch) then
-        tail = tail*ratio
-        if (tail < 0.5_dp) then
-          call set_status(status, demstep_stat%not_converged, never_ends(h, zeta))
-          return
-        end if
+      if (watch .and. contact%steps >= 3_i8) then
+        call set_status(status, demstep_stat%not_converged, never_ends(h, zeta))
+        return
       end if
       if (contact%steps > max_contact_steps .or. .not. ieee_is_finite(v)) then
         call set_status(status, demstep_stat%not_converged, "n_per_period: the stepped contact " &
