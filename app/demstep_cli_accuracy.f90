@@ -203,12 +203,12 @@ contains
       //"above 2^63 - 1"
     write(u, '(a)') ""
   contains
-    !> A count right-aligned in 8 columns (wider when it needs more).
+    !> A count right-aligned in 8 columns (wider, after a blank, when it needs more).
     function steps_cell(n) result(text)
       integer(i8), intent(in) :: n
       character(len=:), allocatable :: text
       text = fmt_int(n)
-      if (len(text) < 8) text = repeat(" ", 8 - len(text))//text
+      text = repeat(" ", max(1, 8 - len(text)))//text
     end function steps_cell
     function cell(x, s) result(text)
       real(dp), intent(in) :: x, s
