@@ -5,7 +5,8 @@ module demstep_cli_accuracy
     lowercase, onset_contact_type, contact_with_onset, contact_worst_case, quantity_restitution, &
     quantity_contact_time, quantity_overlap, quantity_period, n_quantities, quantity_names, &
     worst_error, n_for_tolerance, measure_step_cost, default_cost_n_max, nroots_options_type, &
-    nroots_type, n_roots, harmonic_error, replace_file, process_id
+    nroots_type, n_roots, harmonic_error, replace_file, process_id, spring_type, new_spring, &
+    spring_period, check_contact_damping, run_prediction_type, predict_run
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, fmt_real, &
     fmt_int, cli_context, check_real, new_array, array_length, broadcast, common_length
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -24,6 +25,8 @@ module demstep_cli_accuracy
 
   !> The quantity 'harmonic': the paper's E (half-period steps) at a given lambda.
   integer, parameter :: quantity_harmonic = n_quantities + 1
+  !> The curves start at N = 4 (just above the stability limit pi).
+  real(dp), parameter :: curve_n_min = 4.0_dp
 
 contains
 
@@ -34,7 +37,8 @@ contains
         "10.0, 20.0, 50.0"), &
       var("onset", "a list of real numbers", "overlap at the first force evaluation over v0 dt, " &
         //"in (0, 1]; omit for the worst case", "!1.0"), &
-      var("damping_ratio", "a real number", "viscous damping ratio (>= 0) of a lagged dashpot", "0.0") ]
+      var("damping_ratio", "a real number", "viscous damping ratio (>= 0; < 1 for the worst case) " &
+        //"of a lagged dashpot", "0.0") ]
   end function contact_error_specs
 
   function accuracy_cost_specs() result(specs)
@@ -47,11 +51,11 @@ contains
       var("n_particles", "a real number", "particles in the simulation (>= 1)", "1.0e5"), &
       var("mass", "a real number", "particle mass of the stiffest contact (> 0)", "0.01"), &
       var("stiffness", "a real number", "its contact stiffness (> 0)", "1.0e5"), &
-      var("damping_ratio", "a real number", "viscous damping ratio (>= 0)", "0.0"), &
+      var("damping_ratio", "a real number", "viscous damping ratio in [0, 1)", "0.0"), &
       var("lambda", "a real number", "for 'harmonic': sqrt(K'/K*) in (0, 1)", "!0.95"), &
       var("cost_per_particle_step", "a real number", "seconds per particle-step (> 0); omit to " &
         //"measure the stepper on the spot", "!1.5e-7"), &
-      var("n_max", "a real number", "largest N searched (default 1e7)", "!1.0e7"), &
+      var("n_max", "a real number", "largest N searched (default 1e7, at most 1e15)", "!1.0e7"), &
       var("csv", "a quoted file name", "curve data (default 'accuracy_cost.csv')", "'accuracy_cost.csv'"), &
       var("figure", "a quoted file name", "figure base name, .png and .svg added (default " &
         //"'accuracy_cost'; 'none' for no figure)", "'accuracy_cost'") ]
@@ -70,7 +74,7 @@ contains
     character(len=*), parameter :: g = "contact_error"
     real(dp), allocatable :: big_n(:), s(:), onset_q(:, :), value(:, :)
     integer(i8), allocatable :: steps(:)
-    logical, allocatable :: stable(:)
+    logical, allocatable :: stable(:), saturated(:)
     integer :: i, ios, lengths(2), length, q
     logical :: worst
     type(onset_contact_type) :: c
@@ -106,22 +110,17 @@ contains
     if (.not. worst) s = broadcast(onset, lengths(2), length)
     do i = 1, length
       call check_real(g, "n_per_period", big_n(i), status, element=i)
-      if (.not. worst .and. status%stat == demstep_stat%ok) then
-        if (.not. (s(i) > 0.0_dp .and. s(i) <= 1.0_dp)) call set_status(status, &
-          demstep_stat%invalid_input, "&"//g//": onset: element "//fmt_int(int(i, i8))//" is "// &
-          fmt_real(s(i))//"; must be in (0, 1]")
-      end if
       if (status%stat /= demstep_stat%ok) return
     end do
 
     ! value(:, q): steps-in-contact time, restitution, overlap; onset_q: where
-    allocate(value(length, 3), onset_q(length, 3), steps(length), stable(length))
+    allocate(value(length, 3), onset_q(length, 3), steps(length), stable(length), saturated(length))
     do i = 1, length
       if (worst) then
         do q = 1, 3
           call contact_worst_case(big_n(i), columns(q), c, e, status, damping_ratio)
           if (status%stat /= demstep_stat%ok) then
-            status%message = "&"//g//": n_per_period: "//status%message
+            call name_element(status, i, big_n(i), 1.0_dp)
             return
           end if
           select case (q)
@@ -134,35 +133,57 @@ contains
           end select
           onset_q(i, q) = c%onset
           if (q == 1) steps(i) = c%steps
+          if (q == 1) saturated(i) = c%steps_saturated
           stable(i) = c%stable
         end do
       else
         call contact_with_onset(big_n(i), s(i), c, status, damping_ratio)
         if (status%stat /= demstep_stat%ok) then
-          status%message = "&"//g//": n_per_period: "//status%message
+          call name_element(status, i, big_n(i), s(i))
           return
         end if
         value(i, :) = [c%contact_time, c%restitution, c%max_overlap]
         onset_q(i, :) = s(i)
         steps(i) = c%steps
+        saturated(i) = c%steps_saturated
         stable(i) = c%stable
       end if
     end do
-    call report_contact(ctx%report, group, worst, damping_ratio, big_n, steps, value, onset_q, stable)
+    call report_contact(ctx%report, group, worst, damping_ratio, big_n, steps, value, onset_q, stable, &
+      saturated)
     if (worst) then
       call write_worst(ctx%results, big_n, steps, value, onset_q, stable)
     else
       call write_onset(ctx%results, big_n, s, steps, value, stable)
     end if
+  contains
+    !> The library's "variable: what" as "&contact_error: variable: element i is x; what".
+    subroutine name_element(st, element, n_value, onset_value)
+      type(demstep_status_type), intent(inout) :: st
+      integer, intent(in) :: element
+      real(dp), intent(in) :: n_value, onset_value
+      integer :: k
+      character(len=:), allocatable :: name, what
+      k = index(st%message, ": ")
+      name = st%message(1:k-1)
+      what = st%message(k+2:)
+      select case (name)
+      case ("n_per_period")
+        what = "element "//fmt_int(int(element, i8))//" is "//fmt_real(n_value)//"; "//what
+      case ("onset")
+        what = "element "//fmt_int(int(element, i8))//" is "//fmt_real(onset_value)//"; "//what
+      end select
+      call set_status(st, demstep_stat%invalid_input, "&"//g//": "//name//": "//what)
+    end subroutine name_element
   end subroutine handle_contact_error
 
-  subroutine report_contact(u, group, worst, zeta, big_n, steps, value, onset_q, stable)
+  subroutine report_contact(u, group, worst, zeta, big_n, steps, value, onset_q, stable, saturated)
     integer, intent(in) :: u
     type(nml_group_type), intent(in) :: group
     logical, intent(in) :: worst
     real(dp), intent(in) :: zeta, big_n(:), value(:, :), onset_q(:, :)
     integer(i8), intent(in) :: steps(:)
-    logical, intent(in) :: stable(:)
+    logical, intent(in) :: stable(:), saturated(:)
     integer :: i
     write(u, '(a)') "&contact_error (line "//fmt_int(int(group%line, i8))//")"
     if (worst) then
@@ -173,13 +194,22 @@ contains
     write(u, '(2x, a12, a8, 3a26, 2x, a)') "N = T/dt", "steps", "contact time", "restitution", &
       "max overlap", ""
     do i = 1, size(big_n)
-      write(u, '(2x, a12, i8, 3a26, 2x, a)') fmt_real(big_n(i)), steps(i), &
+      write(u, '(2x, a12, a, 3a26, 2x, a)') fmt_real(big_n(i)), steps_cell(steps(i)), &
         cell(value(i, 1), onset_q(i, 1)), cell(value(i, 2), onset_q(i, 2)), &
         cell(value(i, 3), onset_q(i, 3)), merge("beyond the stability limit", "                          ", &
         .not. stable(i))
     end do
+    if (any(saturated)) write(u, '(2x, a)') "steps 9223372036854775807: saturated, the count is " &
+      //"above 2^63 - 1"
     write(u, '(a)') ""
   contains
+    !> A count right-aligned in 8 columns (wider, after a blank, when it needs more).
+    function steps_cell(n) result(text)
+      integer(i8), intent(in) :: n
+      character(len=:), allocatable :: text
+      text = fmt_int(n)
+      text = repeat(" ", max(1, 8 - len(text)))//text
+    end function steps_cell
     function cell(x, s) result(text)
       real(dp), intent(in) :: x, s
       character(len=26) :: text
@@ -236,11 +266,14 @@ contains
     character(len=:), allocatable :: text
     character(len=*), parameter :: g = "accuracy_cost"
     integer :: i, ios, nt, q
-    real(dp) :: period, cost
+    real(dp) :: period, cost, n_top
     real(dp), allocatable :: n(:), dt(:), predicted_seconds(:)
     integer(i8), allocatable :: steps(:)
     integer, allocatable :: stat(:)
+    logical, allocatable :: saturated(:)
     logical :: measured
+    type(spring_type) :: spring
+    type(run_prediction_type) :: prediction
 
     specs = accuracy_cost_specs()
     call check_names(group, specs, status)
@@ -305,7 +338,17 @@ contains
       if (status%stat /= demstep_stat%ok) return
     end if
 
-    period = 2.0_dp*pi*sqrt(mass/stiffness)
+    call check_file_name(g, "csv", trim(csv), .false., status)
+    if (trim(figure) /= "none" .and. len_trim(figure) > 0) call check_file_name(g, "figure", &
+      trim(figure), .true., status)
+    if (status%stat /= demstep_stat%ok) return
+    call new_spring(spring, mass, stiffness, status)
+    if (status%stat == demstep_stat%ok) call check_contact_damping(damping_ratio, status)
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "&"//g//": "//status%message
+      return
+    end if
+    period = spring_period(spring)
     measured = .not. given(group, "cost_per_particle_step")
     if (measured) then
       call measure_step_cost(cost, status)
@@ -317,35 +360,58 @@ contains
       cost = cost_per_particle_step
     end if
 
-    allocate(n(nt), dt(nt), steps(nt), predicted_seconds(nt), stat(nt))
+    allocate(n(nt), dt(nt), steps(nt), predicted_seconds(nt), stat(nt), saturated(nt))
+    saturated = .false.
     do i = 1, nt
-      call n_needed(q, tolerances(i), damping_ratio, lambda, n_max, n(i), stat(i))
+      call n_needed(q, tolerances(i), damping_ratio, lambda, n_max, n(i), stat(i), status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": "//status%message
+        return
+      end if
       if (stat(i) == demstep_stat%ok) then
-        dt(i) = period/n(i)
-        steps(i) = ceiling(duration/dt(i), i8)
-        predicted_seconds(i) = real(steps(i), dp)*n_particles*cost
+        call predict_run(period, n(i), duration, n_particles, cost, prediction, status)
+        if (status%stat /= demstep_stat%ok) then
+          status%message = "&"//g//": "//status%message
+          return
+        end if
+        dt(i) = prediction%dt
+        steps(i) = prediction%steps
+        saturated(i) = prediction%steps_saturated
+        predicted_seconds(i) = prediction%seconds
       else
         dt(i) = 0.0_dp
         steps(i) = 0_i8
         predicted_seconds(i) = 0.0_dp
       end if
     end do
+    ! the curves run from N = 4 to n_top: their predictions must hold as well
+    n_top = max(1.0e3_dp, 4.0_dp*maxval(n, mask=stat == demstep_stat%ok .and. n < 1.0e6_dp))
+    call predict_run(period, curve_n_min, duration, n_particles, cost, prediction, status)
+    if (status%stat == demstep_stat%ok) call predict_run(period, n_top, duration, n_particles, cost, &
+      prediction, status)
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "&"//g//": "//status%message//" (for the curves, N from 4 to " &
+        //fmt_real(n_top)//")"
+      return
+    end if
     call report_cost(ctx%report, group, q, tolerances(:nt), n, dt, steps, predicted_seconds, stat, &
-      cost, measured, duration, n_particles, period)
+      cost, measured, duration, n_particles, period, saturated)
     call write_cost(ctx%results, tolerances(:nt), n, dt, steps, predicted_seconds, stat, cost, period)
     call write_curves(ctx%report, q, damping_ratio, lambda, period, duration, n_particles, cost, &
-      maxval(n, mask=stat == demstep_stat%ok .and. n < 1.0e6_dp), trim(csv), trim(figure), status)
+      n_top, trim(csv), trim(figure), status)
     if (status%stat /= demstep_stat%ok) status%message = "&"//g//": csv: "//status%message
   end subroutine handle_accuracy_cost
 
   !> N for one tolerance: the contact quantities through n_for_tolerance, the
   !> paper's E through the simulated-stiffness root finding (smallest N with
   !> |E| <= tolerance, half-period steps).
-  subroutine n_needed(q, tolerance, zeta, lambda, n_max, n, stat)
+  subroutine n_needed(q, tolerance, zeta, lambda, n_max, n, stat, status)
     integer, intent(in) :: q
     real(dp), intent(in) :: tolerance, zeta, lambda, n_max
     real(dp), intent(out) :: n
     integer, intent(out) :: stat
+    !> Bad input (the message names the variable); ok otherwise.
+    type(demstep_status_type), intent(out) :: status
     type(demstep_status_type) :: st
     type(nroots_options_type) :: options
     type(nroots_type) :: r
@@ -360,17 +426,24 @@ contains
     else
       call n_for_tolerance(q, tolerance, n, st, damping_ratio=zeta, n_max=n_max)
       stat = st%stat
+      if (stat == demstep_stat%invalid_input) then
+        status = st
+        if (index(status%message, "tolerance: ") == 1) status%message = "tolerances: "// &
+          status%message(12:)
+        return
+      end if
     end if
+    status%stat = demstep_stat%ok
   end subroutine n_needed
 
   subroutine report_cost(u, group, q, tolerances, n, dt, steps, seconds, stat, cost, measured, &
-      duration, n_particles, period)
+      duration, n_particles, period, saturated)
     integer, intent(in) :: u, q
     type(nml_group_type), intent(in) :: group
     real(dp), intent(in) :: tolerances(:), n(:), dt(:), seconds(:), cost, duration, n_particles, period
     integer(i8), intent(in) :: steps(:)
     integer, intent(in) :: stat(:)
-    logical, intent(in) :: measured
+    logical, intent(in) :: measured, saturated(:)
     integer :: i
     character(len=:), allocatable :: name
     if (q == quantity_harmonic) then
@@ -397,6 +470,9 @@ contains
           fmt_real(0.5_dp*n(i)), fmt_real(dt(i)), fmt_int(steps(i)), human_time(seconds(i))
       end if
     end do
+    if (any(saturated)) write(u, '(2x, a)') "steps 9223372036854775807: saturated, the count is " &
+      //"above 2^63 - 1 (the predicted time uses the exact count)"
+
   end subroutine report_cost
 
   !> Seconds as a readable duration.
@@ -426,55 +502,102 @@ contains
     write(unit, nml=accuracy_cost_result)
   end subroutine write_cost
 
-  !> The curves: worst errors of every quantity against N (and steps per contact
-  !> N/2), with dt, steps and predicted time, as CSV; and a figure by gnuplot.
-  subroutine write_curves(u, q, zeta, lambda, period, duration, n_particles, cost, n_top, csv, figure, status)
-    integer, intent(in) :: u, q
-    real(dp), intent(in) :: zeta, lambda, period, duration, n_particles, cost, n_top
-    character(len=*), intent(in) :: csv, figure
-    type(demstep_status_type), intent(out) :: status
-    real(dp) :: big_n, e(n_quantities + 1), top, dt
-    real(dp), allocatable :: rows(:, :)
-    integer :: unit, ios, k, j, m, rc, cs
-    integer(i8) :: steps
-    character(len=:), allocatable :: tmp, script, fig
-    type(demstep_status_type) :: st
-    top = max(1.0e3_dp, 4.0_dp*n_top)
-    m = 120
-    tmp = csv//".tmp"//fmt_int(int(process_id(), i8))
-    open(newunit=unit, file=tmp, status="replace", action="write", iostat=ios)
-    if (ios /= 0) then
-      call set_status(status, demstep_stat%io_error, csv//": cannot write")
+  !> A file name from the deck: not empty, no control characters, not a directory
+  !> (for a figure base name: not ending in '/'; '.png' and '.svg' are added).
+  subroutine check_file_name(group, variable, name, base, status)
+    character(len=*), intent(in) :: group, variable, name
+    !> True for a base name to which extensions are added.
+    logical, intent(in) :: base
+    type(demstep_status_type), intent(inout) :: status
+    character(len=:), allocatable :: what
+    integer :: i
+    if (status%stat /= demstep_stat%ok) return
+    what = "&"//group//": "//variable//": "
+    if (len(name) == 0) then
+      call set_status(status, demstep_stat%invalid_input, what//"must name a file, got ''")
       return
     end if
-    write(unit, '(a)') "n_per_period,steps_per_contact,restitution_error,contact_time_error," &
-      //"overlap_error,period_error,harmonic_error,dt,steps,predicted_seconds,guaranteed_error"
+    do i = 1, len(name)
+      if (iachar(name(i:i)) < 32 .or. iachar(name(i:i)) == 127) then
+        call set_status(status, demstep_stat%invalid_input, what//"contains a control character " &
+          //"(code "//fmt_int(int(iachar(name(i:i)), i8))//" at position "//fmt_int(int(i, i8))//")")
+        return
+      end if
+    end do
+    if (name(len(name):len(name)) == "/" .or. name == "." .or. name == ".." .or. &
+        (.not. base .and. is_directory(name))) then
+      call set_status(status, demstep_stat%invalid_input, what//"'"//name//"' is a directory; " &
+        //"give a file name")
+    end if
+  end subroutine check_file_name
+
+  !> True when `path` names a directory (`path/.` then exists).
+  logical function is_directory(path)
+    character(len=*), intent(in) :: path
+    inquire(file=path//"/.", exist=is_directory)
+  end function is_directory
+
+  !> The curves: worst errors of every quantity against N (and steps per contact
+  !> N/2), with dt, steps and predicted time, as CSV; and a figure by gnuplot.
+  !> Errors that cannot be computed (a discrete contact that never ends) are -1.
+  !> No temporary file is left behind on any path.
+  subroutine write_curves(u, q, zeta, lambda, period, duration, n_particles, cost, top, csv, figure, status)
+    integer, intent(in) :: u, q
+    real(dp), intent(in) :: zeta, lambda, period, duration, n_particles, cost, top
+    character(len=*), intent(in) :: csv, figure
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: big_n, e(n_quantities + 1)
+    real(dp), allocatable :: rows(:, :)
+    integer :: unit, ios, k, j, m, rc, cs
+    character(len=:), allocatable :: tmp, script, fig
+    type(demstep_status_type) :: st
+    type(run_prediction_type) :: prediction
+    m = 120
     allocate(rows(11, 0:m))
     do k = 0, m
-      big_n = 4.0_dp*(top/4.0_dp)**(real(k, dp)/real(m, dp))
+      big_n = curve_n_min*(top/curve_n_min)**(real(k, dp)/real(m, dp))
       do j = 1, n_quantities
         call worst_error(big_n, j, e(j), st, damping_ratio=zeta)
+        if (st%stat /= demstep_stat%ok) e(j) = -1.0_dp
       end do
       e(n_quantities + 1) = 0.0_dp
       if (q == quantity_harmonic) then
         call harmonic_error(big_n, lambda, 0.5_dp*big_n, e(n_quantities + 1), j)
         e(n_quantities + 1) = abs(e(n_quantities + 1))
       end if
-      dt = period/big_n
-      steps = ceiling(duration/dt, i8)
-      rows(:10, k) = [big_n, 0.5_dp*big_n, e, dt, real(steps, dp), real(steps, dp)*n_particles*cost]
+      ! checked at both ends of the curve by the caller
+      call predict_run(period, big_n, duration, n_particles, cost, prediction, st)
+      rows(:10, k) = [big_n, 0.5_dp*big_n, e, prediction%dt, prediction%steps_real, prediction%seconds]
     end do
     ! the guaranteed error at N: the chosen quantity's largest error at N or above
     rows(11, m) = rows(2 + min(q, n_quantities + 1), m)
     do k = m - 1, 0, -1
       rows(11, k) = max(rows(11, k + 1), rows(2 + min(q, n_quantities + 1), k))
     end do
+    tmp = csv//".tmp"//fmt_int(int(process_id(), i8))
+    open(newunit=unit, file=tmp, status="replace", action="write", iostat=ios)
+    if (ios /= 0) then
+      call set_status(status, demstep_stat%io_error, "'"//csv//"': cannot write")
+      return
+    end if
+    write(unit, '(a)', iostat=ios) "n_per_period,steps_per_contact,restitution_error," &
+      //"contact_time_error,overlap_error,period_error,harmonic_error,dt,steps,predicted_seconds," &
+      //"guaranteed_error"
     do k = 0, m
-      write(unit, '(es16.8, *(",", es16.8))') rows(:, k)
+      if (ios == 0) write(unit, '(es16.8, *(",", es16.8))', iostat=ios) rows(:, k)
     end do
-    close(unit)
-    call replace_file(tmp, csv, status)
-    if (status%stat /= demstep_stat%ok) return
+    if (ios == 0) then
+      close(unit, iostat=ios)
+    else
+      close(unit, status="delete")
+    end if
+    if (ios == 0) call replace_file(tmp, csv, status)
+    if (ios /= 0 .or. status%stat /= demstep_stat%ok) then
+      call delete_file(tmp)
+      call set_status(status, demstep_stat%io_error, "'"//csv//"': cannot write")
+      return
+    end if
+    status%stat = demstep_stat%ok
     write(u, '(2x, a)') "curves written to "//csv
     if (figure == "none" .or. len(figure) == 0) then
       write(u, '(a)') ""
@@ -488,15 +611,25 @@ contains
       return
     end if
     fig = figure
-    script = fig//".gp.tmp"//fmt_int(int(process_id(), i8))
+    ! the shell sees only this fixed name; the user's names live inside the script,
+    ! quoted by gnuplot's rules
+    script = "demstep-figure-"//fmt_int(int(process_id(), i8))//".gp"
     open(newunit=unit, file=script, status="replace", action="write", iostat=ios)
     if (ios /= 0) then
-      write(u, '(2x, a)') "cannot write the gnuplot script: no figure"
+      write(u, '(2x, a)') "cannot write the gnuplot script in the current directory: no figure"
+      write(u, '(a)') ""
       return
     end if
-    call gnuplot_script(unit, csv, fig, q)
-    close(unit)
-    call execute_command_line("gnuplot "//script//" > /dev/null 2>&1", exitstat=rc, cmdstat=cs)
+    call gnuplot_script(unit, csv, fig, q, ios)
+    if (ios == 0) then
+      close(unit, iostat=ios)
+    else
+      close(unit)
+    end if
+    rc = 1
+    cs = 0
+    if (ios == 0) call execute_command_line("gnuplot "//script//" > /dev/null 2>&1", exitstat=rc, &
+      cmdstat=cs)
     call delete_file(script)
     if (rc /= 0 .or. cs /= 0) then
       call delete_file(fig//".png.tmp")
@@ -505,10 +638,47 @@ contains
     else
       call replace_file(fig//".png.tmp", fig//".png", st)
       if (st%stat == demstep_stat%ok) call replace_file(fig//".svg.tmp", fig//".svg", st)
-      if (st%stat == demstep_stat%ok) write(u, '(2x, a)') "figure written to "//fig//".png and "//fig//".svg"
+      if (st%stat == demstep_stat%ok) then
+        write(u, '(2x, a)') "figure written to "//fig//".png and "//fig//".svg"
+      else
+        call delete_file(fig//".png.tmp")
+        call delete_file(fig//".svg.tmp")
+        write(u, '(2x, a)') "cannot rename the figure files: no figure"
+      end if
     end if
     write(u, '(a)') ""
   end subroutine write_curves
+
+  !> A file name as a gnuplot string literal: single quotes (no escapes, no
+  !> backquote or macro substitution), a quote doubled, and relative names
+  !> prefixed with './' so that a leading '<' or '|' is never a pipe.
+  pure function gnuplot_quoted(name) result(text)
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable :: text
+    integer :: i, n
+    character(len=:), allocatable :: path
+    if (len(name) > 0 .and. name(1:1) == "/") then
+      path = name
+    else
+      path = "./"//name
+    end if
+    n = len(path)
+    do i = 1, len(path)
+      if (path(i:i) == "'") n = n + 1
+    end do
+    allocate(character(len=n + 2) :: text)
+    text(1:1) = "'"
+    n = 1
+    do i = 1, len(path)
+      n = n + 1
+      text(n:n) = path(i:i)
+      if (path(i:i) == "'") then
+        n = n + 1
+        text(n:n) = "'"
+      end if
+    end do
+    text(n+1:n+1) = "'"
+  end function gnuplot_quoted
 
   subroutine delete_file(path)
     character(len=*), intent(in) :: path
@@ -519,36 +689,41 @@ contains
 
   !> Two panels: worst error against steps per contact (log-log), and predicted
   !> run time against the chosen quantity's error.
-  subroutine gnuplot_script(unit, csv, fig, q)
+  subroutine gnuplot_script(unit, csv, fig, q, ios)
     integer, intent(in) :: unit, q
     character(len=*), intent(in) :: csv, fig
+    !> Nonzero when a write failed.
+    integer, intent(out) :: ios
     integer :: t
     character(len=*), parameter :: terms(2) = [character(len=64) :: &
       "pngcairo size 1200,520 font 'sans,10'", "svg size 1200,520 font 'sans,10'"]
     character(len=*), parameter :: ext(2) = [".png.tmp", ".svg.tmp"]
-    write(unit, '(a)') "set datafile separator ','"
+    character(len=:), allocatable :: data
+    data = gnuplot_quoted(csv)
+    write(unit, '(a)', iostat=ios) "set datafile separator ','"
     do t = 1, 2
-      write(unit, '(a)') "set terminal "//trim(terms(t))
-      write(unit, '(a)') "set output '"//fig//trim(ext(t))//"'"
-      write(unit, '(a)') "set multiplot layout 1,2"
-      write(unit, '(a)') "set logscale xy", "set grid", "set key top right"
-      write(unit, '(a)') "set format x '10^{%L}'", "set format y '10^{%L}'"
-      write(unit, '(a)') "set xlabel 'steps per contact (N/2)'", "set ylabel 'relative error, worst onset'"
-      write(unit, '(a)') "set title 'Central-difference contact: error against resolution'"
-      write(unit, '(a)') "plot '"//csv//"' every ::1 using 2:3 with lines lw 2 title 'restitution', \"
-      write(unit, '(a)') "     '' every ::1 using 2:4 with lines lw 2 title 'contact time', \"
-      write(unit, '(a)') "     '' every ::1 using 2:5 with lines lw 2 title 'max overlap', \"
+      if (ios /= 0) return
+      write(unit, '(a)', iostat=ios) "set terminal "//trim(terms(t)), &
+        "set output "//gnuplot_quoted(fig//trim(ext(t))), &
+        "set multiplot layout 1,2", &
+        "set logscale xy", "set grid", "set key top right", &
+        "set format x '10^{%L}'", "set format y '10^{%L}'", &
+        "set xlabel 'steps per contact (N/2)'", "set ylabel 'relative error, worst onset'", &
+        "set title 'Central-difference contact: error against resolution'", &
+        "plot "//data//" every ::1 using 2:3 with lines lw 2 title 'restitution', \", &
+        "     '' every ::1 using 2:4 with lines lw 2 title 'contact time', \", &
+        "     '' every ::1 using 2:5 with lines lw 2 title 'max overlap', \"
+      if (ios /= 0) return
       if (q == quantity_harmonic) then
-        write(unit, '(a)') "     '' every ::1 using 2:6 with lines lw 2 title 'period', \"
-        write(unit, '(a)') "     '' every ::1 using 2:7 with lines lw 2 title '|E| (paper)'"
+        write(unit, '(a)', iostat=ios) "     '' every ::1 using 2:6 with lines lw 2 title 'period', \", &
+          "     '' every ::1 using 2:7 with lines lw 2 title '|E| (paper)'"
       else
-        write(unit, '(a)') "     '' every ::1 using 2:6 with lines lw 2 title 'period'"
+        write(unit, '(a)', iostat=ios) "     '' every ::1 using 2:6 with lines lw 2 title 'period'"
       end if
-      write(unit, '(a)') "set xlabel 'guaranteed relative error (at this N and above)'", &
-        "set ylabel 'predicted run time (s)'"
-      write(unit, '(a)') "set title 'What accuracy costs'", "set key off"
-      write(unit, '(a)') "plot '"//csv//"' every ::1 using 11:10 with steps lw 2"
-      write(unit, '(a)') "unset multiplot", "set output"
+      if (ios /= 0) return
+      write(unit, '(a)', iostat=ios) "set xlabel 'guaranteed relative error (at this N and above)'", &
+        "set ylabel 'predicted run time (s)'", "set title 'What accuracy costs'", "set key off", &
+        "plot "//data//" every ::1 using 11:10 with steps lw 2", "unset multiplot", "set output"
     end do
   end subroutine gnuplot_script
 

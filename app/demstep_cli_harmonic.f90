@@ -1,7 +1,7 @@
 !> Group `&harmonic_error`: the paper's error E(N, lambda, n) for arrays of inputs.
 module demstep_cli_harmonic
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, set_status, &
-    evaluate_error => harmonic_error, harmonic_n_max
+    evaluate_error => harmonic_error, harmonic_n_max, harmonic_error_check
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
     fmt_real, fmt_real_column, fmt_int, cli_context, check_real, new_array, array_length, &
     broadcast, common_length
@@ -41,8 +41,9 @@ contains
     type(var_spec), allocatable :: specs(:)
     character(len=:), allocatable :: text
     character(len=*), parameter :: g = "harmonic_error"
-    integer :: i, ios, lengths(3), length
+    integer :: i, k, ios, lengths(3), length
     logical :: fraction
+    character(len=:), allocatable :: name
 
     specs = harmonic_specs()
     call check_names(group, specs, status)
@@ -114,6 +115,18 @@ contains
 
     allocate(e(length), stat(length))
     call evaluate_error(big_n, lam, n, e, stat)
+    ! outside the evaluator's domain: the library says which variable and its range
+    i = findloc(stat, demstep_stat%invalid_input, dim=1)
+    if (i > 0) then
+      call harmonic_error_check(big_n(i), lam(i), n(i), status)
+      k = index(status%message, ": ")
+      name = status%message(1:k-1)
+      if (name == "n_steps" .and. fraction) name = "steps_fraction"
+      call set_status(status, demstep_stat%invalid_input, "&"//g//": "//name//": element " &
+        //fmt_int(int(i, i8))//" (n_per_period = "//fmt_real(big_n(i))//", lambda = " &
+        //fmt_real(lam(i))//", n = "//fmt_real(n(i))//"): "//status%message(k+2:))
+      return
+    end if
     call report(ctx%report, group, big_n, lam, n, e, stat)
     call write_result(ctx%results, big_n, lam, n, e, stat)
   end subroutine handle_harmonic_error

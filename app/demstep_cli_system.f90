@@ -2,8 +2,9 @@
 module demstep_cli_system
   use demstep, only: dp, i8, pi, demstep_status_type, demstep_stat, spring_type, &
     new_spring, spring_omega, spring_period, spring_damping_ratio, critical_time_step, numerical_phase, &
-    growth_factor, discrete_contact_type, discrete_contact, simulate_contact, &
-    dashpot_lagged, dashpot_centred, lowercase, nml_group_type, set_status
+    growth_factor, discrete_contact_type, discrete_contact, &
+    dashpot_lagged, dashpot_centred, lowercase, nml_group_type, set_status, check_time_step, &
+    step_for_n_per_period, onset_contact_type, contact_with_onset
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
     check_real, fmt_real, fmt_int, cli_context
   implicit none
@@ -15,9 +16,6 @@ module demstep_cli_system
   character(len=*), parameter :: system_doc = &
     "One mass M hitting a contact spring K at speed v0 (the seed's model): period, " &
     //"stability limit and, for a step dt, the discrete contact."
-
-  !> Steps a damped contact may take when simulated.
-  integer(i8), parameter :: max_contact_steps = 100000000_i8
 
 contains
 
@@ -105,22 +103,33 @@ contains
       status%message = "&system: "//status%message
       return
     end if
-    if (given(group, "n_per_period")) dt = spring_period(spring)/n_per_period
+    if (given(group, "n_per_period")) then
+      call step_for_n_per_period(spring, n_per_period, dt, status)
+    else if (given(group, "dt")) then
+      call check_time_step(spring, dt, status)
+    end if
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "&system: "//status%message
+      return
+    end if
     call evaluate(ctx, group, spring, velocity, given(group, "dt") .or. given(group, "n_per_period"), &
-      dt, status)
+      dt, merge("n_per_period", "dt          ", given(group, "n_per_period")), status)
   end subroutine handle_system
 
   !> Compute, report and write the result group.
-  subroutine evaluate(ctx, group, spring, velocity, have_dt, dt, status)
+  subroutine evaluate(ctx, group, spring, velocity, have_dt, dt, step_name, status)
     type(cli_context), intent(in) :: ctx
     type(nml_group_type), intent(in) :: group
     type(spring_type), intent(in) :: spring
     real(dp), intent(in) :: velocity, dt
     logical, intent(in) :: have_dt
+    !> The variable that gave the step: dt or n_per_period.
+    character(len=*), intent(in) :: step_name
     type(demstep_status_type), intent(out) :: status
     real(dp) :: period, omega, dt_critical, n_per_period, theta, period_numerical, rho
-    real(dp) :: zeta
+    real(dp) :: zeta, overlap
     type(discrete_contact_type) :: contact
+    type(onset_contact_type) :: onset_contact
     type(demstep_status_type) :: phase_status
     logical :: stable
     integer :: u
@@ -157,19 +166,33 @@ contains
       return
     end if
     call numerical_phase(omega*dt, theta, phase_status)
-    period_numerical = 2.0_dp*pi*dt/theta
+    ! 2 pi dt/theta, formed as T (omega dt/theta) so that nothing underflows
+    period_numerical = period*(omega*dt/theta)
     if (.not. spring%damping > 0.0_dp) then
       call discrete_contact(omega*dt, contact, status)
     else
-      call simulate_contact(spring, dt, contact, status, max_steps=max_contact_steps)
-      if (status%stat == demstep_stat%not_converged) then
-        call set_status(status, demstep_stat%invalid_input, "&system: dt: a damped contact " &
-          //"would take more than "//fmt_int(max_contact_steps)//" steps to simulate")
-        return
-      end if
+      ! the damped contact in closed form (onset at a step), either dashpot
+      call contact_with_onset(n_per_period, 1.0_dp, onset_contact, status, damping_ratio=zeta, &
+        dashpot=spring%dashpot)
+      contact = discrete_contact_type(steps=onset_contact%steps, &
+        steps_saturated=onset_contact%steps_saturated, restitution=onset_contact%restitution, &
+        max_overlap=onset_contact%max_overlap, contact_time=onset_contact%contact_time)
     end if
     if (status%stat /= demstep_stat%ok) then
-      status%message = "&system: "//status%message
+      ! the library speaks of N; the deck may have given dt
+      if (index(status%message, "n_per_period: ") == 1) status%message = trim(step_name)//": " &
+        //status%message(15:)
+      call set_status(status, demstep_stat%invalid_input, "&system: "//status%message)
+      return
+    end if
+    ! the overlap v0/omega x ratio must be a normal double
+    overlap = (velocity/omega)*contact%max_overlap
+    if (.not. (overlap >= tiny(1.0_dp) .and. overlap <= huge(1.0_dp))) then
+      call set_status(status, demstep_stat%invalid_input, "&system: velocity: must be in [" &
+        //fmt_real(1.001_dp*(tiny(1.0_dp)/contact%max_overlap)*omega)//", " &
+        //fmt_real(min(huge(1.0_dp), 0.999_dp*(huge(1.0_dp)/contact%max_overlap)*omega)) &
+        //"] here (the largest overlap velocity/omega x "//fmt_real(contact%max_overlap) &
+        //" must stay in the double range), got "//fmt_real(velocity))
       return
     end if
     call row(u, "stable", "yes (dt/dt_critical = "//fmt_real(dt/dt_critical)//")")
@@ -177,17 +200,21 @@ contains
     call row(u, "numerical period", fmt_real(period_numerical)//"  (error " &
       //fmt_real(100.0_dp*(period_numerical/period - 1.0_dp))//" %)")
     write(u, '(2x, a)') "discrete contact, onset at a step, impact speed "//fmt_real(velocity)//":"
-    call row(u, "  steps in contact", fmt_int(contact%steps))
-    call row(u, "  contact time", fmt_real(contact%contact_time*pi/omega)//"  (exact T/2 = " &
-      //fmt_real(pi/omega)//")")
+    if (contact%steps_saturated) then
+      call row(u, "  steps in contact", "more than "//fmt_int(contact%steps)//" (saturated at 2^63 - 1)")
+    else
+      call row(u, "  steps in contact", fmt_int(contact%steps))
+    end if
+    call row(u, "  contact time", fmt_real(contact%contact_time*(0.5_dp*period))//"  (exact T/2 = " &
+      //fmt_real(0.5_dp*period)//")")
     call row(u, "  restitution", fmt_real(contact%restitution)//merge(" (gains energy)", &
       "               ", contact%restitution > 1.0_dp))
-    call row(u, "  max overlap", fmt_real(contact%max_overlap*velocity/omega)// &
+    call row(u, "  max overlap", fmt_real(overlap)// &
       "  (exact v0/omega = "//fmt_real(velocity/omega)//")")
     write(u, '(a)') ""
     call write_stable(ctx%results, period, omega, dt_critical, dt, n_per_period, rho, theta, &
-      period_numerical, contact%steps, contact%contact_time*pi/omega, contact%restitution, &
-      contact%max_overlap*velocity/omega)
+      period_numerical, contact%steps, contact%contact_time*(0.5_dp*period), contact%restitution, &
+      overlap)
   end subroutine evaluate
 
   subroutine row(unit, label, value)

@@ -10,10 +10,12 @@ module demstep
     dashpot_lagged, dashpot_centred, new_spring, spring_step, spring_run, &
     spring_omega, spring_period, spring_damping_ratio, critical_time_step, &
     numerical_phase, numerical_period, growth_factor, exact_discrete_state, &
-    paper_closed_form_velocity, discrete_contact, simulate_contact
+    paper_closed_form_velocity, discrete_contact, simulate_contact, check_time_step, &
+    step_for_n_per_period, saturated_count, ceiling_real, spring_omega_min, spring_omega_max, &
+    spring_h_max
   use demstep_harmonic, only: step_policy_type, steps_fixed, steps_fraction, steps_rounded, &
     harmonic_n_max, new_step_policy, policy_steps, harmonic_sum, harmonic_error, &
-    harmonic_error_steps
+    harmonic_error_steps, harmonic_error_check, harmonic_phase_max, harmonic_phase_min
   use demstep_roots, only: root_context_type, root_function, find_root, scan_roots, &
     geometric_grid, sort_ascending
   use demstep_stiffness, only: nroots_options_type, nroots_type, stiffness_input_type, &
@@ -30,9 +32,9 @@ module demstep
   use demstep_contact, only: onset_contact_type, contact_with_onset, contact_worst_case, &
     exact_contact, contact_error_of, period_error, quantity_restitution, &
     quantity_contact_time, quantity_overlap, quantity_period, n_quantities, quantity_names, &
-    worst_case_samples
+    worst_case_samples, check_contact_damping
   use demstep_cost, only: worst_error, n_for_tolerance, measure_step_cost, default_cost_n_max, &
-    tolerance_grid_ratio
+    tolerance_grid_ratio, cost_n_max_limit, run_prediction_type, predict_run
   ! the C API lives in the same library (its names are bind(C), not re-exported)
   use demstep_capi, only: capi_message_length
   use demstep_progress, only: progress_type, text_progress_type

@@ -4,18 +4,37 @@ module demstep_cost
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_contact, only: onset_contact_type, contact_worst_case, period_error, &
-    quantity_period, n_quantities
+    quantity_period, n_quantities, check_contact_damping
+  use demstep_spring, only: saturated_count, ceiling_real
+  use demstep_text, only: real_text
   use demstep_scene, only: scene_type, scene_summary_type, cubic_lattice, scene_run
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
-  public :: worst_error, n_for_tolerance, measure_step_cost
+  public :: worst_error, n_for_tolerance, measure_step_cost, predict_run
 
   !> Largest N searched by default.
   real(dp), parameter, public :: default_cost_n_max = 1.0e7_dp
   !> Ratio of the grid on which "for every larger N" is checked.
   real(dp), parameter, public :: tolerance_grid_ratio = 1.02_dp
+  !> Largest n_max accepted: the sweep from n_max down costs a worst case per
+  !> grid point, about 1750 points from 1e15 (a few seconds at most).
+  real(dp), parameter, public :: cost_n_max_limit = 1.0e15_dp
+
+  !> What a run at N steps per period costs.
+  type, public :: run_prediction_type
+    !> Time step T/N.
+    real(dp) :: dt = 0.0_dp
+    !> Steps for the duration, ceiling(duration/dt), as a real (exact below 2^53).
+    real(dp) :: steps_real = 0.0_dp
+    !> The same as a 64-bit count, saturating at huge(1_i8).
+    integer(i8) :: steps = 0_i8
+    !> True when `steps` saturated.
+    logical :: steps_saturated = .false.
+    !> Predicted run time, steps x particles x cost per particle-step.
+    real(dp) :: seconds = 0.0_dp
+  end type run_prediction_type
 
 contains
 
@@ -31,7 +50,7 @@ contains
     real(dp), intent(out), optional :: onset
     type(onset_contact_type) :: worst
     if (quantity < 1 .or. quantity > n_quantities) then
-      call set_status(status, demstep_stat%invalid_input, "unknown quantity")
+      call set_status(status, demstep_stat%invalid_input, "quantity: unknown quantity")
       error = 0.0_dp
       return
     end if
@@ -52,7 +71,9 @@ contains
   !> last cell. Between grid points an error can exceed the tolerance by its
   !> variation within one cell. Status not_found when the tolerance is not met at
   !> n_max; `at_limit` is set when it holds down to the stability limit (N is
-  !> then that limit).
+  !> then that limit). Status invalid_input (naming `tolerance`, `n_max` or
+  !> `damping_ratio`) for a tolerance not finite and > 0, n_max outside (limit,
+  !> 1e15], or a contact quantity with damping_ratio outside [0, 1).
   pure subroutine n_for_tolerance(quantity, tolerance, n, status, damping_ratio, n_max, at_limit)
     integer, intent(in) :: quantity
     real(dp), intent(in) :: tolerance
@@ -70,11 +91,23 @@ contains
     if (present(at_limit)) at_limit = .false.
     n = 0.0_dp
     if (.not. (ieee_is_finite(tolerance) .and. tolerance > 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "tolerance must be > 0")
+      call set_status(status, demstep_stat%invalid_input, "tolerance: must be finite and > 0")
+      return
+    end if
+    if (quantity /= quantity_period) then
+      call check_contact_damping(zeta, status)
+      if (status%stat /= demstep_stat%ok) return
+    else if (.not. (ieee_is_finite(zeta) .and. zeta >= 0.0_dp .and. zeta <= 1.0e100_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be in [0, 1e100]")
       return
     end if
     ! just above the (damped) stability limit 2 pi/h_crit
-    limit = pi*(sqrt(1.0_dp + zeta**2) + zeta)*(1.0_dp + 1.0e-9_dp)
+    limit = pi*(hypot(1.0_dp, zeta) + zeta)*(1.0_dp + 1.0e-9_dp)
+    if (.not. (ieee_is_finite(top) .and. top > limit .and. top <= cost_n_max_limit)) then
+      call set_status(status, demstep_stat%invalid_input, "n_max: must be in (" &
+        //real_text(limit)//", "//real_text(cost_n_max_limit)//"], got "//real_text(top))
+      return
+    end if
     call worst_error(top, quantity, e, status, zeta)
     if (status%stat /= demstep_stat%ok) return
     if (e > tolerance) then
@@ -96,8 +129,8 @@ contains
       if (hi - lo <= 1.0e-6_dp*hi) exit
       mid = 0.5_dp*(lo + hi)
       call worst_error(mid, quantity, e, status, zeta)
-      if (status%stat /= demstep_stat%ok) return
-      if (e > tolerance) then
+      ! an error that cannot be computed (a contact that never ends) fails
+      if (status%stat /= demstep_stat%ok .or. e > tolerance) then
         lo = mid
       else
         hi = mid
@@ -131,6 +164,63 @@ contains
     end subroutine sweep_down
   end subroutine n_for_tolerance
 
+  !> The time step, steps and predicted run time of a run at N steps per period.
+  !> Status invalid_input, naming the variable to change and the range that works,
+  !> when a result would leave the range of normal doubles: `stiffness` (dt = T/N
+  !> underflows), `duration` (the steps overflow), `n_particles` (the time overflows)
+  !> or `cost_per_particle_step` (the time underflows). Steps saturate at 2^63 - 1.
+  pure subroutine predict_run(period, n_per_period, duration, n_particles, &
+      cost_per_particle_step, prediction, status)
+    !> T, N = T/dt, simulated duration, particles and seconds per particle-step:
+    !> finite and > 0.
+    real(dp), intent(in) :: period, n_per_period, duration, n_particles, cost_per_particle_step
+    type(run_prediction_type), intent(out) :: prediction
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: x, f, log_bound
+    integer :: e
+    prediction%dt = period/n_per_period
+    if (.not. prediction%dt >= tiny(1.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "stiffness: the step T/N = " &
+        //real_text(prediction%dt)//" at N = "//real_text(n_per_period)//" underflows; " &
+        //"sqrt(stiffness/mass) must be <= "//real_text(2.0_dp*pi/(n_per_period*tiny(1.0_dp))))
+      return
+    end if
+    x = duration/prediction%dt
+    if (.not. x <= 0.5_dp*huge(1.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "duration: the steps duration/dt at N = " &
+        //real_text(n_per_period)//" exceed the double range; duration must be <= " &
+        //real_text(0.25_dp*huge(1.0_dp)*prediction%dt))
+      return
+    end if
+    prediction%steps_real = max(1.0_dp, ceiling_real(x))
+    call saturated_count(prediction%steps_real, prediction%steps, prediction%steps_saturated)
+    ! the product by fractions and exponents: no intermediate overflow or underflow
+    e = exponent(prediction%steps_real) + exponent(n_particles) + exponent(cost_per_particle_step)
+    f = fraction(prediction%steps_real)*fraction(n_particles)*fraction(cost_per_particle_step)
+    if (e + exponent(f) > maxexponent(1.0_dp)) then
+      ! the largest n_particles (or duration) that keeps the time in range, by logarithms
+      log_bound = log(huge(1.0_dp)) - log(prediction%steps_real) - log(cost_per_particle_step)
+      if (log_bound >= 0.0_dp) then
+        call set_status(status, demstep_stat%invalid_input, "n_particles: the predicted run time " &
+          //"exceeds the double range at N = "//real_text(n_per_period)//"; n_particles must be <= " &
+          //real_text(0.999_dp*exp(log_bound)))
+      else
+        call set_status(status, demstep_stat%invalid_input, "duration: the predicted run time " &
+          //"exceeds the double range at N = "//real_text(n_per_period)//"; duration must be <= " &
+          //real_text(0.999_dp*duration*exp(log_bound - log(n_particles))))
+      end if
+      return
+    end if
+    prediction%seconds = scale(f, e)
+    if (.not. prediction%seconds >= tiny(1.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "cost_per_particle_step: the predicted " &
+        //"run time underflows; cost_per_particle_step must be >= " &
+        //real_text(1.001_dp*(tiny(1.0_dp)/prediction%steps_real)/n_particles))
+      return
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine predict_run
+
   !> Measure the stepper's cost on the spot: a 3D cubic lattice of about 8000
   !> particles, bonds and contacts on (a typical DEM load), stepped for about
   !> `seconds` (default 0.2) three times; the median, in seconds per
@@ -144,14 +234,14 @@ contains
     integer, parameter :: m = 20
     real(dp) :: budget, times(3), t
     integer :: r
-    integer(8) :: c0, c1, rate, steps
+    integer(i8) :: c0, c1, rate, steps
     budget = 0.2_dp
     if (present(seconds)) budget = seconds
     cost = 0.0_dp
     call cubic_lattice(start, m, 0.5_dp, 100.0_dp, status)
     if (status%stat /= demstep_stat%ok) return
     ! a first short run sizes the measured ones
-    steps = 5_8
+    steps = 5_i8
     do r = 0, 3
       scene = start
       call system_clock(c0, rate)
@@ -159,7 +249,7 @@ contains
       call system_clock(c1)
       t = real(c1 - c0, dp)/real(rate, dp)
       if (r == 0) then
-        steps = max(5_8, int(steps*budget/max(t, 1.0e-6_dp)/3.0_dp, 8))
+        steps = max(5_i8, int(steps*budget/max(t, 1.0e-6_dp)/3.0_dp, i8))
       else
         times(r) = t/real(steps*start%n, dp)
       end if

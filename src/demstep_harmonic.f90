@@ -18,7 +18,8 @@
 !> Cost is O(1) in `n`.
 module demstep_harmonic
   use demstep_kinds, only: dp, pi
-  use demstep_status, only: demstep_stat
+  use demstep_status, only: demstep_stat, demstep_status_type, set_status
+  use demstep_text, only: real_text
   use demstep_double_double, only: dd_type, dd, two_sum, two_prod, dd_add, dd_mul, &
     dd_div, dd_div_d, dd_neg, dd_sinpi, dd_cospi
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -26,7 +27,7 @@ module demstep_harmonic
   private
 
   public :: harmonic_sum, harmonic_error, harmonic_error_steps, policy_steps
-  public :: new_step_policy
+  public :: new_step_policy, harmonic_error_check
 
   !> Step policy: a fixed number of steps `n`.
   integer, parameter, public :: steps_fixed = 1
@@ -37,6 +38,12 @@ module demstep_harmonic
   integer, parameter, public :: steps_rounded = 3
   !> Largest supported number of steps.
   real(dp), parameter, public :: harmonic_n_max = 1.0e12_dp
+  !> Largest phase (n + 1) max(1, lambda)/N in turns: below 2^50 every phase is
+  !> reduced exactly (the multiple is found by the 1.5 2^52 shift).
+  real(dp), parameter, public :: harmonic_phase_max = 1125899906842624.0_dp
+  !> Smallest min(1, lambda)/N: the step phases pi lambda/N and pi/N stay normal
+  !> doubles, far from underflow.
+  real(dp), parameter, public :: harmonic_phase_min = 1.0e-300_dp
 
   !> How many steps `n` the error E compares, as a function of N = T/dt.
   !>
@@ -157,8 +164,10 @@ contains
   !>
   !> `stat`: ok; pole when S(2 pi lambda/N, n) vanishes to working precision (its
   !> zero lies within 4 ulps of the phase n lambda/N; `e` is then huge(1.0_dp));
-  !> invalid_input for N <= 0, lambda <= 0, n < 1, n > 1e12 or non-finite input
-  !> (`e` = 0). lambda = 1 gives exactly 0; S(2 pi/N, n) = 0 gives exactly 1.
+  !> invalid_input for N <= 0, lambda <= 0, n < 1, n > 1e12, non-finite input,
+  !> phases (n + 1) max(1, lambda)/N above 2^50 or min(1, lambda)/N below 1e-300,
+  !> or |E| beyond the double range (`e` = 0; `harmonic_error_check` says which).
+  !> lambda = 1 gives exactly 0; S(2 pi/N, n) = 0 gives exactly 1.
   elemental subroutine harmonic_error(n_per_period, lambda, n, e, stat)
     !> N = T/dt, finite and > 0 (the method uses N > pi).
     real(dp), intent(in) :: n_per_period
@@ -169,14 +178,104 @@ contains
     !> E.
     real(dp), intent(out) :: e
     integer, intent(out) :: stat
+    e = 0.0_dp
+    stat = demstep_stat%invalid_input
+    if (domain_code(n_per_period, lambda, n) /= 0) return
+    call evaluate_e(n_per_period, lambda, n, e, stat)
+    if (stat == demstep_stat%ok .and. .not. abs(e) <= huge(1.0_dp)) then
+      e = 0.0_dp
+      stat = demstep_stat%invalid_input
+    end if
+  end subroutine harmonic_error
+
+  !> Why E(N, lambda, n) is not evaluated: 0 inside the domain, else the first
+  !> failed rule (1 N, 2 lambda, 3 n, 4 phase too large, 5 phase too small).
+  elemental integer function domain_code(n_per_period, lambda, n) result(code)
+    real(dp), intent(in) :: n_per_period, lambda, n
+    code = 1
+    if (.not. (ieee_is_finite(n_per_period) .and. n_per_period > 0.0_dp)) return
+    code = 2
+    if (.not. (ieee_is_finite(lambda) .and. lambda > 0.0_dp)) return
+    code = 3
+    if (.not. (n >= 1.0_dp .and. n <= harmonic_n_max)) return
+    code = 4
+    if (.not. ((n + 1.0_dp)*max(1.0_dp, lambda)/n_per_period <= harmonic_phase_max)) return
+    code = 5
+    if (.not. min(1.0_dp, lambda)/n_per_period >= harmonic_phase_min) return
+    code = 0
+  end function domain_code
+
+  !> The status of E(N, lambda, n) with a message naming the argument to change
+  !> (`n_per_period`, `lambda`, `n_steps`) and the range that works there; ok,
+  !> or pole (as `harmonic_error`).
+  pure subroutine harmonic_error_check(n_per_period, lambda, n, status)
+    !> N = T/dt, lambda and n, as for `harmonic_error`.
+    real(dp), intent(in) :: n_per_period, lambda, n
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: e, bound
+    integer :: stat
+    select case (domain_code(n_per_period, lambda, n))
+    case (1)
+      call set_status(status, demstep_stat%invalid_input, "n_per_period: must be finite and > 0")
+    case (2)
+      call set_status(status, demstep_stat%invalid_input, "lambda: must be finite and > 0")
+    case (3)
+      call set_status(status, demstep_stat%invalid_input, "n_steps: n must be in [1, 1e12], got " &
+        //real_text(n))
+    case (4)
+      bound = (n + 1.0_dp)*max(1.0_dp, lambda)/harmonic_phase_max
+      if (lambda > 1.0_dp) then
+        call set_status(status, demstep_stat%invalid_input, "lambda: must be <= " &
+          //real_text(0.999_dp*harmonic_phase_max*n_per_period/(n + 1.0_dp))//" at this N and n " &
+          //"(phases (n + 1) lambda/N above 2^50 turns keep no digit)")
+      else
+        call set_status(status, demstep_stat%invalid_input, "n_per_period: must be >= " &
+          //real_text(1.001_dp*bound)//" at this n (phases (n + 1)/N above 2^50 turns keep no digit)")
+      end if
+    case (5)
+      if (lambda < 1.0_dp .and. harmonic_phase_min*n_per_period < 1.0_dp) then
+        call set_status(status, demstep_stat%invalid_input, "lambda: must be >= " &
+          //real_text(1.001_dp*max(harmonic_phase_min*n_per_period, lambda_floor(n_per_period, n))) &
+          //" at this N and n (lambda/N must be >= 1e-300 and |E| within the double range)")
+      else
+        call set_status(status, demstep_stat%invalid_input, "n_per_period: must be <= " &
+          //real_text(0.999_dp*min(1.0_dp, lambda)/harmonic_phase_min)//" at this lambda " &
+          //"(the phase min(1, lambda)/N must be >= 1e-300)")
+      end if
+    case default
+      call harmonic_error(n_per_period, lambda, n, e, stat)
+      if (stat == demstep_stat%invalid_input) then
+        call set_status(status, demstep_stat%invalid_input, "lambda: |E| exceeds the double " &
+          //"range at this N and n; lambda must be >= "//real_text(1.001_dp*max(lambda, &
+          lambda_floor(n_per_period, n))))
+      else if (stat == demstep_stat%pole) then
+        call set_status(status, demstep_stat%pole, "lambda: a pole of E, S(2 pi lambda/N, n) = 0")
+      else
+        status%stat = demstep_stat%ok
+      end if
+    end select
+  contains
+    !> For small lambda, E ~ -S(2 pi/N, n) N/(pi lambda^2 n (n + 1)): the lambda
+    !> at which |E| reaches huge/2.
+    pure real(dp) function lambda_floor(big_n, steps)
+      real(dp), intent(in) :: big_n, steps
+      real(dp) :: s1
+      integer :: st
+      call harmonic_sum(1.0_dp, big_n, steps, s1, st)
+      lambda_floor = sqrt(2.0_dp*abs(s1)*(big_n/(pi*steps*(steps + 1.0_dp)))) &
+        *(1.0_dp/sqrt(huge(1.0_dp)))
+    end function lambda_floor
+  end subroutine harmonic_error_check
+
+  !> E inside the domain (see harmonic_error).
+  elemental subroutine evaluate_e(n_per_period, lambda, n, e, stat)
+    real(dp), intent(in) :: n_per_period, lambda, n
+    real(dp), intent(out) :: e
+    integer, intent(out) :: stat
     type(phase_type) :: yn, yn1, xn, xn1, x1, y1, ph(9)
     real(dp) :: big_n, inv_n, two_n, inv_two_n, n1, n1_lo, mu, mu_lo, sg, sg_lo, d(4), acc, bound
     integer :: k
     e = 0.0_dp
-    stat = demstep_stat%invalid_input
-    if (.not. (ieee_is_finite(n_per_period) .and. ieee_is_finite(lambda) .and. ieee_is_finite(n))) return
-    if (.not. (n_per_period > 0.0_dp .and. lambda > 0.0_dp)) return
-    if (n < 1.0_dp .or. n > harmonic_n_max) return
     big_n = n_per_period
     inv_n = 1.0_dp/big_n
     two_n = 2.0_dp*big_n
@@ -237,7 +336,7 @@ contains
     ! near a root of E with many steps the terms are large and cancel: use double-double
     if (bound > fast_path_share*target_accuracy*(abs(e) + abs(mu))) &
       e = error_double_double(lambda, mu, mu_lo, ph)
-  end subroutine harmonic_error
+  end subroutine evaluate_e
 
   !> E(N, lambda, n) with n from a step policy (see `step_policy_type`).
   elemental subroutine harmonic_error_steps(n_per_period, lambda, policy, e, stat)

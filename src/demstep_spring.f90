@@ -16,6 +16,7 @@
 module demstep_spring
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_text, only: real_text
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -25,11 +26,18 @@ module demstep_spring
   public :: numerical_phase, numerical_period, growth_factor
   public :: exact_discrete_state, paper_closed_form_velocity
   public :: discrete_contact, simulate_contact
+  public :: check_time_step, step_for_n_per_period, saturated_count, ceiling_real
 
   !> Dashpot uses the velocity of the previous half step (explicit, DEM default).
   integer, parameter, public :: dashpot_lagged = 1
   !> Dashpot uses the average of the half-step velocities around the force evaluation.
   integer, parameter, public :: dashpot_centred = 2
+  !> Range of omega = sqrt(K/M) a spring may have: its period, critical step and
+  !> the quantities built on them then stay well inside the double range.
+  real(dp), parameter, public :: spring_omega_min = 1.0e-300_dp, spring_omega_max = 1.0e300_dp
+  !> Largest (1 + zeta) omega dt assessed: beyond it the growth factor per step,
+  !> about (omega dt)^2, would leave the double range.
+  real(dp), parameter, public :: spring_h_max = 1.0e100_dp
 
   !> A mass on a linear spring with an optional viscous dashpot.
   type, public :: spring_type
@@ -57,8 +65,10 @@ module demstep_spring
 
   !> The discrete contact of an undamped spring hit at speed v0, onset at a step.
   type, public :: discrete_contact_type
-    !> Force evaluations that see a positive overlap.
+    !> Force evaluations that see a positive overlap (saturates at huge(1_i8)).
     integer(i8) :: steps = 0_i8
+    !> True when `steps` saturated: the count is above huge(1_i8) = 2^63 - 1.
+    logical :: steps_saturated = .false.
     !> Rebound speed over impact speed, -v_out/v0 (1 for the exact contact).
     real(dp) :: restitution = 1.0_dp
     !> Largest overlap at a force evaluation, in units of v0/omega (exact: 1).
@@ -84,28 +94,49 @@ contains
     logical, intent(in), optional :: compression_only
     !> `dashpot_lagged` (default) or `dashpot_centred`.
     integer, intent(in), optional :: dashpot
-    real(dp) :: zeta
+    real(dp) :: zeta, omega, root_km, c, dt_critical, bound
     zeta = 0.0_dp
     if (present(damping_ratio)) zeta = damping_ratio
     if (.not. positive_finite(mass)) then
-      call set_status(status, demstep_stat%invalid_input, "mass must be finite and > 0")
+      call set_status(status, demstep_stat%invalid_input, "mass: must be finite and > 0")
       return
     end if
     if (.not. positive_finite(stiffness)) then
-      call set_status(status, demstep_stat%invalid_input, "stiffness must be finite and > 0")
+      call set_status(status, demstep_stat%invalid_input, "stiffness: must be finite and > 0")
       return
     end if
     if (.not. (ieee_is_finite(zeta) .and. zeta >= 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "damping ratio must be finite and >= 0")
+      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be finite and >= 0")
+      return
+    end if
+    ! scaled: K/M itself may overflow or underflow where its square root does not
+    omega = sqrt(stiffness)/sqrt(mass)
+    if (.not. (omega >= spring_omega_min .and. omega <= spring_omega_max)) then
+      call set_status(status, demstep_stat%invalid_input, "stiffness: stiffness/mass must be in " &
+        //"[1e-600, 1e600] (omega = sqrt(stiffness/mass) in [1e-300, 1e300]), got omega = " &
+        //real_text(omega))
+      return
+    end if
+    root_km = sqrt(stiffness)*sqrt(mass)
+    c = 2.0_dp*zeta*root_km
+    dt_critical = lagged_limit(omega, zeta)
+    if (zeta > 0.0_dp .and. .not. (c <= huge(1.0_dp) .and. c >= tiny(1.0_dp) .and. &
+        dt_critical >= tiny(1.0_dp))) then
+      ! the dashpot c = 2 zeta sqrt(K M) and the critical step must be normal doubles
+      bound = min(0.5_dp*(huge(1.0_dp)/root_km), (1.0_dp/omega)/tiny(1.0_dp))
+      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be 0 or in [" &
+        //real_text(max(tiny(1.0_dp)/root_km, tiny(1.0_dp)))//", "//real_text(0.999_dp*bound) &
+        //"] with this mass and stiffness (the dashpot 2 damping_ratio sqrt(stiffness mass) " &
+        //"and the critical step must stay in the double range)")
       return
     end if
     spring%mass = mass
     spring%stiffness = stiffness
-    spring%damping = 2.0_dp*zeta*sqrt(stiffness*mass)
+    spring%damping = c
     if (present(compression_only)) spring%compression_only = compression_only
     if (present(dashpot)) then
       if (dashpot /= dashpot_lagged .and. dashpot /= dashpot_centred) then
-        call set_status(status, demstep_stat%invalid_input, "dashpot must be lagged or centred")
+        call set_status(status, demstep_stat%invalid_input, "dashpot: must be lagged or centred")
         return
       end if
       spring%dashpot = dashpot
@@ -155,35 +186,113 @@ contains
   elemental function spring_omega(spring) result(omega)
     type(spring_type), intent(in) :: spring
     real(dp) :: omega
-    omega = sqrt(spring%stiffness/spring%mass)
+    ! sqrt(K)/sqrt(M): K/M may overflow where omega does not
+    omega = sqrt(spring%stiffness)/sqrt(spring%mass)
   end function spring_omega
 
   !> Natural period T = 2 pi sqrt(M/K) (undamped).
   elemental function spring_period(spring) result(period)
     type(spring_type), intent(in) :: spring
     real(dp) :: period
-    period = 2.0_dp*pi*sqrt(spring%mass/spring%stiffness)
+    period = 2.0_dp*pi*(sqrt(spring%mass)/sqrt(spring%stiffness))
   end function spring_period
 
   !> Damping ratio zeta = c / (2 sqrt(K M)).
   elemental function spring_damping_ratio(spring) result(zeta)
     type(spring_type), intent(in) :: spring
     real(dp) :: zeta
-    zeta = spring%damping/(2.0_dp*sqrt(spring%stiffness*spring%mass))
+    zeta = ((0.5_dp*spring%damping)/sqrt(spring%stiffness))/sqrt(spring%mass)
   end function spring_damping_ratio
 
   !> Largest stable time step. Undamped or centred dashpot: 2/omega (paper eq. 6);
   !> lagged dashpot: (2/omega)(sqrt(1 + zeta^2) - zeta).
   elemental function critical_time_step(spring) result(dt_critical)
     type(spring_type), intent(in) :: spring
-    real(dp) :: dt_critical, zeta
-    dt_critical = 2.0_dp/spring_omega(spring)
+    real(dp) :: dt_critical
     if (spring%dashpot == dashpot_lagged) then
-      zeta = spring_damping_ratio(spring)
-      ! sqrt(1 + z^2) - z written without cancellation for large z
-      dt_critical = dt_critical/(sqrt(1.0_dp + zeta**2) + zeta)
+      dt_critical = lagged_limit(spring_omega(spring), spring_damping_ratio(spring))
+    else
+      dt_critical = 2.0_dp/spring_omega(spring)
     end if
   end function critical_time_step
+
+  !> (2/omega)(sqrt(1 + zeta^2) - zeta), written without cancellation or overflow
+  !> for large zeta.
+  elemental function lagged_limit(omega, zeta) result(dt_critical)
+    real(dp), intent(in) :: omega, zeta
+    real(dp) :: dt_critical
+    if (zeta <= 1.0_dp) then
+      dt_critical = (2.0_dp/omega)/(sqrt(1.0_dp + zeta**2) + zeta)
+    else
+      dt_critical = ((2.0_dp/omega)/zeta)/(sqrt(1.0_dp + (1.0_dp/zeta)**2) + 1.0_dp)
+    end if
+  end function lagged_limit
+
+  !> Check a time step to assess on a spring: finite, a normal double, and
+  !> (1 + zeta) omega dt <= spring_h_max, so that N = T/dt and the growth factor
+  !> stay in the double range. Messages name `dt`.
+  pure subroutine check_time_step(spring, dt, status)
+    !> The spring (from new_spring).
+    type(spring_type), intent(in) :: spring
+    !> The time step.
+    real(dp), intent(in) :: dt
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: period, dt_max, dt_min
+    period = spring_period(spring)
+    dt_max = min(huge(1.0_dp), (spring_h_max/(1.0_dp + spring_damping_ratio(spring))) &
+      /spring_omega(spring))
+    ! N = T/dt <= huge and dt a normal double
+    dt_min = max(tiny(1.0_dp), period/huge(1.0_dp))
+    if (.not. (ieee_is_finite(dt) .and. dt >= dt_min .and. dt <= dt_max)) then
+      call set_status(status, demstep_stat%invalid_input, "dt: must be in [" &
+        //real_text(dt_min*1.001_dp)//", "//real_text(dt_max*0.999_dp)//"] for this spring, got " &
+        //real_text(dt))
+      return
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine check_time_step
+
+  !> The time step dt = T/N for N steps per period, checked as `check_time_step`;
+  !> messages name `n_per_period`.
+  pure subroutine step_for_n_per_period(spring, n_per_period, dt, status)
+    !> The spring (from new_spring).
+    type(spring_type), intent(in) :: spring
+    !> N = T/dt, finite and > 0.
+    real(dp), intent(in) :: n_per_period
+    !> T/N; 0 when not ok.
+    real(dp), intent(out) :: dt
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: period, n_min, n_max
+    period = spring_period(spring)
+    dt = 0.0_dp
+    n_min = 2.0_dp*pi*(1.0_dp + spring_damping_ratio(spring))/spring_h_max
+    n_max = min(huge(1.0_dp), period/tiny(1.0_dp))
+    if (.not. (ieee_is_finite(n_per_period) .and. n_per_period >= n_min .and. &
+        n_per_period <= n_max)) then
+      call set_status(status, demstep_stat%invalid_input, "n_per_period: must be in [" &
+        //real_text(n_min*1.001_dp)//", "//real_text(n_max*0.999_dp)//"] for this spring, got " &
+        //real_text(n_per_period))
+      return
+    end if
+    dt = period/n_per_period
+    call check_time_step(spring, dt, status)
+    if (status%stat /= demstep_stat%ok) status%message = "n_per_period: gives "//status%message
+  end subroutine step_for_n_per_period
+
+  !> A count held in a real as a 64-bit integer, saturating at huge(1_i8)
+  !> (`saturated` then true). `x` >= 0; its fraction is dropped.
+  elemental subroutine saturated_count(x, count, saturated)
+    real(dp), intent(in) :: x
+    integer(i8), intent(out) :: count
+    logical, intent(out) :: saturated
+    ! 2^63 is a double; every double below it converts exactly after aint
+    saturated = .not. x < 9223372036854775808.0_dp
+    if (saturated) then
+      count = huge(1_i8)
+    else
+      count = int(max(0.0_dp, aint(x)), i8)
+    end if
+  end subroutine saturated_count
 
   !> Phase advance per step of the undamped scheme, theta = 2 asin(omega dt / 2).
   !> Status `unstable` when omega dt >= 2 (theta is then not real).
@@ -194,8 +303,9 @@ contains
     real(dp), intent(out) :: theta
     type(demstep_status_type), intent(out) :: status
     theta = 0.0_dp
-    if (.not. positive_finite(omega_dt)) then
-      call set_status(status, demstep_stat%invalid_input, "omega*dt must be finite and > 0")
+    if (.not. (ieee_is_finite(omega_dt) .and. omega_dt >= tiny(1.0_dp))) then
+      call set_status(status, demstep_stat%invalid_input, "omega*dt must be finite and >= " &
+        //real_text(tiny(1.0_dp)))
     else if (omega_dt >= 2.0_dp) then
       call set_status(status, demstep_stat%unstable, &
         "omega*dt >= 2: the time step is at or beyond the stability limit 2 sqrt(M/K)")
@@ -228,7 +338,7 @@ contains
     type(spring_type), intent(in) :: spring
     !> Time step.
     real(dp), intent(in) :: dt
-    real(dp) :: rho, h, a, b, c, disc
+    real(dp) :: rho, h, a, b, c, t, disc
     h = spring_omega(spring)*dt
     a = spring_damping_ratio(spring)*h
     if (spring%dashpot == dashpot_lagged) then
@@ -238,11 +348,17 @@ contains
       b = (2.0_dp - h**2)/(1.0_dp + a)
       c = (1.0_dp - a)/(1.0_dp + a)
     end if
-    disc = b**2 - 4.0_dp*c
-    if (disc < 0.0_dp) then
-      rho = sqrt(c)
+    ! roots b/2 +- sqrt((b/2)^2 - c), scaled where (b/2)^2 would overflow
+    t = 0.5_dp*abs(b)
+    if (t > 1.0e100_dp) then
+      rho = t + t*sqrt(max(0.0_dp, 1.0_dp - (c/t)/t))
     else
-      rho = 0.5_dp*(abs(b) + sqrt(disc))
+      disc = t**2 - c
+      if (disc < 0.0_dp) then
+        rho = sqrt(c)
+      else
+        rho = t + sqrt(disc)
+      end if
     end if
   end function growth_factor
 
@@ -325,22 +441,24 @@ contains
     real(dp), intent(in) :: omega_dt
     type(discrete_contact_type), intent(out) :: contact
     type(demstep_status_type), intent(out) :: status
-    real(dp) :: theta, q
-    integer(i8) :: nc, lo, hi, k
+    real(dp) :: theta, q, nc, f, half, d, k
     call numerical_phase(omega_dt, theta, status)
     if (status%stat /= demstep_stat%ok) return
+    ! in reals: pi/theta reaches 1e308 for the finest steps
     q = pi/theta
-    nc = ceiling(q, i8)
-    contact%steps = nc - 1_i8
-    contact%restitution = -cos((real(nc, dp) - 0.5_dp)*theta)/cos(0.5_dp*theta)
-    ! the overlap h sin(n theta)/sin(theta) peaks at the step nearest to q/2
-    lo = max(1_i8, floor(0.5_dp*q, i8))
-    hi = min(nc - 1_i8, lo + 1_i8)
-    contact%max_overlap = 0.0_dp
-    do k = lo, hi
-      contact%max_overlap = max(contact%max_overlap, omega_dt*sin(real(k, dp)*theta)/sin(theta))
-    end do
-    contact%contact_time = real(contact%steps, dp)*omega_dt/pi
+    nc = ceiling_real(q)
+    call saturated_count(nc - 1.0_dp, contact%steps, contact%steps_saturated)
+    ! (nc - 1/2) theta = pi + (f - 1/2) theta with f = nc - q in [0, 1)
+    f = nc - q
+    contact%restitution = cos((f - 0.5_dp)*theta)/cos(0.5_dp*theta)
+    ! the overlap h sin(k theta)/sin(theta) = sin(k theta)/cos(theta/2) peaks at the
+    ! step k in [1, nc - 1] nearest to q/2, where sin(k theta) = cos((q/2 - k) theta)
+    half = 0.5_dp*q
+    k = min(max(1.0_dp, anint(half)), max(1.0_dp, nc - 1.0_dp))
+    d = half - k
+    contact%max_overlap = cos(d*theta)/cos(0.5_dp*theta)
+    if (nc < 2.0_dp) contact%max_overlap = 0.0_dp
+    contact%contact_time = (nc - 1.0_dp)*(omega_dt/pi)
   end subroutine discrete_contact
 
   !> Discrete contact of any spring (damped or not) by stepping: the mass arrives
@@ -391,6 +509,19 @@ contains
     contact%contact_time = real(contact%steps, dp)*dt*omega/pi
     status%stat = demstep_stat%ok
   end subroutine simulate_contact
+
+  !> ceiling(x) as a real, for any finite x (doubles from 2^52 up are integers).
+  elemental function ceiling_real(x) result(c)
+    !> Any finite real.
+    real(dp), intent(in) :: x
+    real(dp) :: c
+    if (abs(x) >= 4503599627370496.0_dp) then
+      c = x
+    else
+      c = aint(x)
+      if (c < x) c = c + 1.0_dp
+    end if
+  end function ceiling_real
 
   elemental function positive_finite(x) result(ok)
     real(dp), intent(in) :: x

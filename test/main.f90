@@ -16,6 +16,7 @@ program tester
   use test_app_stiffness, only: collect_app_stiffness
   use test_progress, only: collect_progress
   use test_deck, only: collect_deck
+  use test_extremes, only: collect_extremes
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -33,6 +34,7 @@ program tester
     new_testsuite("capi", collect_capi), &
     new_testsuite("progress", collect_progress), &
     new_testsuite("deck", collect_deck), &
+    new_testsuite("extremes", collect_extremes), &
     new_testsuite("app", collect_app), &
     new_testsuite("app_stiffness", collect_app_stiffness) &
     ]

@@ -4,6 +4,7 @@ module test_contact
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
   use test_support, only: real_str
+  use, intrinsic :: iso_fortran_env, only: qp => real128
   implicit none
   private
   public :: collect_contact
@@ -18,7 +19,10 @@ contains
       new_unittest("errors vanish at the stated rates", test_rates), &
       new_unittest("damped contact tends to the continuous one", test_damped_limit), &
       new_unittest("tolerance -> N inverts the error curves", test_tolerance), &
-      new_unittest("beyond the limit: computed, flagged; bad input", test_flags) &
+      new_unittest("beyond the limit: computed, flagged; bad input", test_flags), &
+      new_unittest("centred dashpot: closed form equals stepping", test_centred), &
+      new_unittest("extreme N: saturated steps, the continuous limit", test_extreme_n), &
+      new_unittest("overdamped steps never end: refused, brute force agrees", test_never_ends) &
       ]
   end subroutine collect_contact
 
@@ -207,5 +211,123 @@ contains
     call n_for_tolerance(quantity_contact_time, 1.0e-9_dp, n, status)
     call check(error, status%stat, demstep_stat%not_found, message="1e-9 needs more than n_max")
   end subroutine test_flags
+
+  !> The centred dashpot's closed form against the spring stepper (simulate_contact,
+  !> an independent implementation of the same scheme), onset at a step. The
+  !> closed form and the stepper both carry a phase error of a few eps per step;
+  !> 1e-12 (1 + steps/100) relative leaves a wide margin up to 1e4 steps.
+  subroutine test_centred(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), parameter :: zetas(4) = [0.05_dp, 0.1_dp, 0.3_dp, 0.7_dp]
+    type(spring_type) :: spring
+    type(discrete_contact_type) :: stepped
+    type(onset_contact_type) :: c
+    type(demstep_status_type) :: status
+    real(dp) :: n, tol
+    integer :: i, k
+    do k = 1, size(zetas)
+      call new_spring(spring, 1.0_dp, 1.0_dp, status, damping_ratio=zetas(k), dashpot=dashpot_centred)
+      do i = 0, 60
+        n = 3.5_dp*(2000.0_dp/3.5_dp)**(real(i, dp)/60.0_dp)
+        call contact_with_onset(n, 1.0_dp, c, status, zetas(k), dashpot=dashpot_centred)
+        call check(error, status%stat, demstep_stat%ok, message="centred at N = "//real_str(n))
+        if (allocated(error)) return
+        call simulate_contact(spring, 2.0_dp*pi/n, stepped, status)
+        call check(error, status%stat, demstep_stat%ok, message="stepped at N = "//real_str(n))
+        if (allocated(error)) return
+        call check(error, c%steps, stepped%steps, message="steps at N = "//real_str(n))
+        if (allocated(error)) return
+        tol = 1.0e-12_dp*(1.0_dp + real(c%steps, dp)/100.0_dp)
+        call check(error, c%restitution, stepped%restitution, thr=tol, rel=.true., &
+          message="restitution at N = "//real_str(n)//", zeta = "//real_str(zetas(k)))
+        if (allocated(error)) return
+        call check(error, c%max_overlap, stepped%max_overlap, thr=tol, rel=.true., &
+          message="overlap at N = "//real_str(n)//", zeta = "//real_str(zetas(k)))
+        if (allocated(error)) return
+      end do
+    end do
+  end subroutine test_centred
+
+  !> N up to 1e308: the steps saturate (their count is above 2^63 - 1) and the
+  !> contact is the continuous one to working precision (its discrete errors are
+  !> O(1/N)); undamped exactly 1, damped (zeta = 0.3) the closed forms of
+  !> exact_contact, checked to 1e-12 (the subnormal zeta h at N = 1e308 keeps
+  !> 50 bits).
+  subroutine test_extreme_n(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), parameter :: ns(3) = [1.0e20_dp, 1.0e200_dp, 1.0e308_dp]
+    type(onset_contact_type) :: c, exact
+    type(demstep_status_type) :: status
+    integer :: i, d
+    real(dp) :: zeta
+    do d = 1, 2
+      do i = 1, size(ns)
+        zeta = merge(0.0_dp, 0.3_dp, i == 1 .and. d == 1)
+        call contact_with_onset(ns(i), 1.0_dp, c, status, zeta, dashpot=merge(dashpot_lagged, &
+          dashpot_centred, d == 1))
+        call check(error, status%stat, demstep_stat%ok, message="N = "//real_str(ns(i)))
+        if (allocated(error)) return
+        call check(error, c%steps, huge(1_i8), message="saturated steps")
+        if (allocated(error)) return
+        call check(error, c%steps_saturated, .true., message="saturation flagged")
+        if (allocated(error)) return
+        exact = exact_contact(zeta)
+        call check(error, c%restitution, exact%restitution, thr=1.0e-12_dp, rel=.true., &
+          message="restitution at N = "//real_str(ns(i)))
+        if (allocated(error)) return
+        call check(error, c%contact_time, exact%contact_time, thr=1.0e-12_dp, rel=.true., &
+          message="contact time at N = "//real_str(ns(i)))
+        if (allocated(error)) return
+        call check(error, c%max_overlap, exact%max_overlap, thr=1.0e-12_dp, rel=.true., &
+          message="overlap at N = "//real_str(ns(i)))
+        if (allocated(error)) return
+      end do
+    end do
+    ! the period error by its series (x = pi/N < 1e-3) against 1 - x/asin(x) in quad,
+    ! where the cancellation costs at most 1e-34/1e-12: 1e-13 relative
+    do i = 4, 6
+      call check(error, period_error(10.0_dp**i), real(period_error_q(10.0_qp**i), dp), &
+        thr=1.0e-13_dp, rel=.true., message="period error at N = 1e"//real_str(real(i, dp)))
+      if (allocated(error)) return
+    end do
+  end subroutine test_extreme_n
+
+  !> 1 - x/asin(x), x = pi/N, in quad.
+  pure real(qp) function period_error_q(n)
+    real(qp), intent(in) :: n
+    real(qp) :: x
+    x = 3.14159265358979323846264338327950288_qp/n
+    period_error_q = 1.0_qp - x/asin(x)
+  end function period_error_q
+
+  !> An overdamped step (real positive roots): the overlap decays without
+  !> crossing zero; the library refuses at once, and brute-force stepping shows
+  !> the overlap still positive after 1e5 steps. zeta >= 1 in a worst case: refused.
+  subroutine test_never_ends(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(onset_contact_type) :: c
+    type(demstep_status_type) :: status
+    real(dp) :: h, x, v, e
+    integer :: k
+    call contact_with_onset(20.0_dp, 0.5_dp, c, status, 0.95_dp)
+    call check(error, status%stat, demstep_stat%not_converged, message="zeta 0.95, N = 20")
+    if (allocated(error)) return
+    call check(error, index(status%message, "n_per_period: ") == 1, "names n_per_period")
+    if (allocated(error)) return
+    h = 2.0_dp*pi/20.0_dp
+    x = -0.5_dp*h
+    v = 1.0_dp
+    do k = 1, 100000
+      x = x + v*h
+      if (.not. x > 0.0_dp) exit
+      v = v - h*(x + 2.0_dp*0.95_dp*v)
+    end do
+    call check(error, k > 100000 .or. x == 0.0_dp, "brute force: positive until it underflows")
+    if (allocated(error)) return
+    call contact_worst_case(10.0_dp, quantity_restitution, c, e, status, 3.14_dp)
+    call check(error, status%stat, demstep_stat%invalid_input, message="zeta 3.14 worst case")
+    if (allocated(error)) return
+    call check(error, index(status%message, "damping_ratio: ") == 1, "names damping_ratio")
+  end subroutine test_never_ends
 
 end module test_contact

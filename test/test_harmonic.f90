@@ -30,7 +30,8 @@ contains
       new_unittest("identities: lambda = 1, symmetry and period of S", test_identities), &
       new_unittest("step policies and continuity in N", test_policies), &
       new_unittest("half-period root near 2/(1 - lambda) - 2/3", test_root_asymptote), &
-      new_unittest("invalid input gives a status, no NaN", test_invalid) &
+      new_unittest("invalid input gives a status, no NaN", test_invalid), &
+      new_unittest("the domain: refusals name the argument and the range", test_domain) &
       ]
   end subroutine collect_harmonic
 
@@ -340,5 +341,46 @@ contains
     call random_seed(size=n)
     call random_seed(put=[(1000*k + 17*i, i = 1, n)])
   end subroutine seed
+
+  !> Outside the evaluator's domain E is 0 with invalid_input, never NaN or
+  !> Infinity, and harmonic_error_check names the argument; inside it, tiny
+  !> lambda gives a huge but finite E, against quad (1e-12 relative).
+  subroutine test_domain(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(demstep_status_type) :: status
+    real(dp) :: e
+    real(qp) :: e_q, pole
+    integer :: stat
+    call harmonic_error(10.0_dp, 1.0e-308_dp, 5.0_dp, e, stat)
+    call check(error, stat == demstep_stat%invalid_input .and. e == 0.0_dp, "lambda = 1e-308")
+    if (allocated(error)) return
+    call harmonic_error_check(10.0_dp, 1.0e-308_dp, 5.0_dp, status)
+    call check(error, index(status%message, "lambda: must be >= 6.03") == 1, status%message)
+    if (allocated(error)) return
+    call harmonic_error(10.0_dp, 1.0e308_dp, 5.0_dp, e, stat)
+    call check(error, stat == demstep_stat%invalid_input .and. e == 0.0_dp, "lambda = 1e308")
+    if (allocated(error)) return
+    call harmonic_error_check(10.0_dp, 1.0e308_dp, 5.0_dp, status)
+    call check(error, index(status%message, "lambda: must be <= ") == 1, status%message)
+    if (allocated(error)) return
+    ! E ~ -1e320 at lambda = 1e-160: out of range, refused naming lambda
+    call harmonic_error(10.0_dp, 1.0e-160_dp, 5.0_dp, e, stat)
+    call check(error, stat == demstep_stat%invalid_input .and. e == 0.0_dp, "lambda = 1e-160")
+    if (allocated(error)) return
+    call harmonic_error_check(10.0_dp, 1.0e-160_dp, 5.0_dp, status)
+    call check(error, index(status%message, "lambda: |E| exceeds the double range") == 1, status%message)
+    if (allocated(error)) return
+    call harmonic_error_check(1.0e-5_dp, 0.9_dp, 1.0e12_dp, status)
+    call check(error, index(status%message, "n_per_period: must be >= ") == 1, status%message)
+    if (allocated(error)) return
+    call harmonic_error_check(1.0e308_dp, 0.9_dp, 1.0_dp, status)
+    call check(error, index(status%message, "n_per_period: must be <= ") == 1, status%message)
+    if (allocated(error)) return
+    call harmonic_error(10.0_dp, 1.0e-150_dp, 5.0_dp, e, stat)
+    call reference(10.0_dp, 1.0e-150_dp, 5.0_dp, e_q, pole)
+    call check(error, stat, demstep_stat%ok, message="lambda = 1e-150")
+    if (allocated(error)) return
+    call check(error, e, real(e_q, dp), thr=1.0e-12_dp, rel=.true., message="E at lambda = 1e-150")
+  end subroutine test_domain
 
 end module test_harmonic

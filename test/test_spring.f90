@@ -4,6 +4,7 @@ module test_spring
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
   use test_support, only: ieee_nan, real_str, int_str
+  use, intrinsic :: iso_fortran_env, only: qp => real128
   implicit none
   private
   public :: collect_spring
@@ -23,7 +24,9 @@ contains
       new_unittest("discrete contact equals brute-force stepping", test_discrete_contact), &
       new_unittest("discrete contact restitution in [1, 1/cos(theta/2)]", test_restitution_bounds), &
       new_unittest("simulated contact equals the closed form", test_simulate_contact), &
-      new_unittest("invalid springs give a status", test_invalid_spring) &
+      new_unittest("invalid springs give a status", test_invalid_spring), &
+      new_unittest("extreme springs: scaled, or refused naming the argument", test_extreme_springs), &
+      new_unittest("growth factor up to omega dt = 1e100; counts saturate", test_extreme_steps) &
       ]
   end subroutine collect_spring
 
@@ -396,5 +399,97 @@ contains
     call new_spring(spring, 1.0_dp, 1.0_dp, status, dashpot=7)
     call check(error, status%stat, demstep_stat%invalid_input, message="unknown dashpot")
   end subroutine test_invalid_spring
+
+  !> K/M overflows or underflows where omega does not: omega, T and the critical
+  !> step against quad precision (a square root and a quotient: 4 eps); refusals
+  !> name the argument and the range.
+  subroutine test_extreme_springs(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), parameter :: masses(4) = [0.01_dp, 1.0e-308_dp, 1.0e300_dp, 1.0e-300_dp]
+    real(dp), parameter :: stiffnesses(4) = [1.0e308_dp, 1.0e5_dp, 1.0e-250_dp, 1.0e-300_dp]
+    type(spring_type) :: spring
+    type(demstep_status_type) :: status
+    real(qp) :: omega_q
+    real(dp) :: dt
+    integer :: i
+    do i = 1, size(masses)
+      call new_spring(spring, masses(i), stiffnesses(i), status, damping_ratio=0.5_dp)
+      call check(error, status%stat, demstep_stat%ok, message="M = "//real_str(masses(i)))
+      if (allocated(error)) return
+      omega_q = sqrt(real(stiffnesses(i), qp)/real(masses(i), qp))
+      call check(error, spring_omega(spring), real(omega_q, dp), thr=4*epsilon(1.0_dp), rel=.true., &
+        message="omega, M = "//real_str(masses(i)))
+      if (allocated(error)) return
+      call check(error, spring_period(spring), real(2*acos(-1.0_qp)/omega_q, dp), thr=4*epsilon(1.0_dp), &
+        rel=.true., message="period, M = "//real_str(masses(i)))
+      if (allocated(error)) return
+      call check(error, spring_damping_ratio(spring), 0.5_dp, thr=4*epsilon(1.0_dp), rel=.true., &
+        message="damping ratio round trip, M = "//real_str(masses(i)))
+      if (allocated(error)) return
+      ! lagged limit (2/omega)(sqrt(1 + 1/4) - 1/2)
+      call check(error, critical_time_step(spring), real(2/omega_q*(sqrt(1.25_qp) - 0.5_qp), dp), &
+        thr=8*epsilon(1.0_dp), rel=.true., message="critical step, M = "//real_str(masses(i)))
+      if (allocated(error)) return
+    end do
+    call new_spring(spring, 1.0e-308_dp, 1.0e308_dp, status)
+    call check(error, index(status%message, "stiffness: stiffness/mass must be in [1e-600, 1e600]") == 1, &
+      "omega beyond 1e300 refused, naming stiffness: "//status%message)
+    if (allocated(error)) return
+    call new_spring(spring, 1.0e308_dp, 1.0e308_dp, status, damping_ratio=1.0_dp)
+    call check(error, index(status%message, "damping_ratio: must be 0 or in [") == 1, &
+      "a dashpot 2 zeta sqrt(K M) beyond the double range refused, naming damping_ratio")
+    if (allocated(error)) return
+    call new_spring(spring, 1.0_dp, 1.0_dp, status)
+    call step_for_n_per_period(spring, 1.0e-308_dp, dt, status)
+    call check(error, index(status%message, "n_per_period: must be in [") == 1, "N = 1e-308 refused")
+    if (allocated(error)) return
+    call step_for_n_per_period(spring, 1.0e308_dp, dt, status)
+    call check(error, status%stat, demstep_stat%ok, message="N = 1e308 gives a normal dt")
+    if (allocated(error)) return
+    call check(error, dt, real(2*acos(-1.0_qp)/1.0e308_qp, dp), thr=2*epsilon(1.0_dp), rel=.true., &
+      message="dt = T/1e308")
+    if (allocated(error)) return
+    call check_time_step(spring, 1.0e-309_dp, status)
+    call check(error, index(status%message, "dt: must be in [") == 1, "a subnormal dt refused")
+  end subroutine test_extreme_springs
+
+  !> The growth factor's roots scaled where (b/2)^2 overflows: at h = omega dt
+  !> = 1e100 the undamped factor is the larger root of r^2 - (2 - h^2) r + 1,
+  !> h^2 - 2 + O(1/h^2), i.e. 1e200 to working precision; at h = 1e6 against
+  !> quad. The discrete contact at omega dt = 1e-300: steps saturate, restitution
+  !> and overlap 1, contact time 1 (units T/2) to a few eps.
+  subroutine test_extreme_steps(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(spring_type) :: spring
+    type(demstep_status_type) :: status
+    type(discrete_contact_type) :: contact
+    real(qp) :: b
+    integer(i8) :: count
+    logical :: saturated
+    call new_spring(spring, 1.0_dp, 1.0_dp, status)
+    call check(error, growth_factor(spring, 1.0e100_dp), 1.0e200_dp, thr=4*epsilon(1.0_dp), rel=.true., &
+      message="growth factor at omega dt = 1e100")
+    if (allocated(error)) return
+    b = 2.0_qp - 1.0e12_qp
+    call check(error, growth_factor(spring, 1.0e6_dp), real(0.5_qp*(abs(b) + sqrt(b**2 - 4)), dp), &
+      thr=4*epsilon(1.0_dp), rel=.true., message="growth factor at omega dt = 1e6")
+    if (allocated(error)) return
+    call discrete_contact(1.0e-300_dp, contact, status)
+    call check(error, status%stat, demstep_stat%ok, message="omega dt = 1e-300")
+    if (allocated(error)) return
+    call check(error, contact%steps == huge(1_i8) .and. contact%steps_saturated, "steps saturate")
+    if (allocated(error)) return
+    call check(error, contact%restitution, 1.0_dp, thr=2*epsilon(1.0_dp), message="restitution")
+    if (allocated(error)) return
+    call check(error, contact%max_overlap, 1.0_dp, thr=2*epsilon(1.0_dp), message="overlap")
+    if (allocated(error)) return
+    call check(error, contact%contact_time, 1.0_dp, thr=4*epsilon(1.0_dp), message="contact time")
+    if (allocated(error)) return
+    call saturated_count(9.2e18_dp, count, saturated)
+    call check(error, count == 9200000000000000000_i8 .and. .not. saturated, "9.2e18 fits")
+    if (allocated(error)) return
+    call saturated_count(9.3e18_dp, count, saturated)
+    call check(error, count == huge(1_i8) .and. saturated, "9.3e18 saturates")
+  end subroutine test_extreme_steps
 
 end module test_spring
