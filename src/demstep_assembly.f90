@@ -188,7 +188,7 @@ contains
       result%damping_ratio_top = zeta
       result%dt_critical_damped = damped_limit(result%dt_critical_bound, zeta)
     end if
-    if (.not. (ieee_is_finite(result%damping_ratio_top) .and. result%dt_critical_damped >= tiny(1.0_dp))) then
+    if (.not. (ieee_is_finite(result%damping_ratio_top) .and. result%dt_critical_damped > 0.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, "damping_ratio: the damped limit " &
         //"dt/(sqrt(1 + z^2) + z) is not representable; use a smaller damping_ratio")
       return

@@ -1038,7 +1038,9 @@ contains
     else if (scene%fixed(i)) then
       m = scene%mass(j)
     else
-      m = scene%mass(i)*scene%mass(j)/(scene%mass(i) + scene%mass(j))
+      ! m_a m_b/(m_a + m_b) as m_a/(1 + m_a/m_b), m_a the lighter: no under- or overflow
+      m = min(scene%mass(i), scene%mass(j))/(1.0_dp + min(scene%mass(i), scene%mass(j)) &
+        /max(scene%mass(i), scene%mass(j)))
     end if
   end function effective_mass
 
