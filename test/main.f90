@@ -14,6 +14,7 @@ program tester
   use test_capi, only: collect_capi
   use test_app, only: collect_app
   use test_progress, only: collect_progress
+  use test_app_scene, only: collect_app_scene
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -30,7 +31,8 @@ program tester
     new_testsuite("contact", collect_contact), &
     new_testsuite("capi", collect_capi), &
     new_testsuite("progress", collect_progress), &
-    new_testsuite("app", collect_app) &
+    new_testsuite("app", collect_app), &
+    new_testsuite("app_scene", collect_app_scene) &
     ]
   stat = 0
   total = 0
