@@ -680,7 +680,7 @@ contains
     type(scene_type), intent(in) :: scene
     type(work_type), intent(inout) :: work
     integer :: dim, n, i, j, c, k, ncell(3), idx(3), lo(3), hi(3), a, b, cc, p, g, n_cells
-    real(dp) :: xmin(3), xmax(3), h
+    real(dp) :: xmin(3), xmax(3), h, d(3)
     dim = scene%dim
     n = scene%n
     work%n_pairs = 0
@@ -746,6 +746,9 @@ contains
             do p = work%cell_start(k), work%cell_start(k + 1) - 1
               j = work%cell_particle(p)
               if (j <= i) cycle
+              ! the distance test inline (the hot loop); try_pair for the hits
+              d = scene%x(:, j) - scene%x(:, i)
+              if (d(1)**2 + d(2)**2 + d(3)**2 >= (scene%radius(i) + scene%radius(j))**2) cycle
               call try_pair(scene, work, i, j)
               if (work%too_many) exit particles
             end do
