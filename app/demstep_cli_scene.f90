@@ -55,7 +55,7 @@ contains
         //"'local_damping', 'walls'; 'none' for bonds only", "'contacts'"), &
       var("gravity", "a list of real numbers", "dim components (default -9.81 along the last axis)", &
         "!0.0, -9.81"), &
-      var("damping_ratio", "a real number", "viscous damping ratio (>= 0) for 'damping'", "!0.1"), &
+      var("damping_ratio", "a real number", "viscous damping ratio (0 to 1e100) for 'damping'", "!0.1"), &
       var("restitution", "a real number", "or the restitution coefficient in (0, 1] it gives", "!0.8"), &
       var("local_damping", "a real number", "Cundall's alpha in [0, 1) for 'local_damping'", "!0.7"), &
       var("hertz_linearization", "a quoted word", "'current' overlap (default) or 'impact' " &

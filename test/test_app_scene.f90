@@ -299,7 +299,7 @@ contains
   end subroutine test_no_stiffness
 
   !> A run of 1e9 steps says up front how much it will do and then shows
-  !> progress (it is stopped after 6 s by `timeout`); with -q it says nothing;
+  !> progress (it is stopped after 8 s by `timeout`); with -q it says nothing;
   !> 1e18 steps are refused with the duration that fits.
   subroutine test_long_runs(error)
     type(error_type), allocatable, intent(out) :: error
@@ -311,7 +311,7 @@ contains
       //"steps of 2 particles")
     if (allocated(error)) return
     call write_file(deck, [g//"duration = 1e7, dt = 1e-2 /"])
-    call run_app(deck, rc, stdout, stderr, env="timeout 6")
+    call run_app(deck, rc, stdout, stderr, env="timeout 8")
     call check(error, rc, 124, message="stopped by timeout; stderr: "//stderr)
     if (allocated(error)) return
     call check(error, index(stderr, "demstep: &scene: 1000000000 steps of 2 particles, about ") == 1 .and. &
