@@ -6,11 +6,12 @@ module demstep_cli_scene
     scene_run, effect_index, restitution_to_damping_ratio, law_linear, law_hertz, &
     effect_contacts, effect_gravity, effect_damping, effect_local_damping, effect_walls, &
     n_effects, effect_names, critical_step_type, critical_time_steps, hertz_at_current, &
-    hertz_at_impact, default_max_eigen_dof
+    hertz_at_impact, default_max_eigen_dof, measure_step_cost, text_progress_type
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, fmt_real, &
     fmt_int, cli_context, check_real, new_array, array_length, new_int_array, int_array_length, &
     max_values
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use, intrinsic :: iso_fortran_env, only: error_unit
   implicit none
   private
 
@@ -54,7 +55,7 @@ contains
         //"'local_damping', 'walls'; 'none' for bonds only", "'contacts'"), &
       var("gravity", "a list of real numbers", "dim components (default -9.81 along the last axis)", &
         "!0.0, -9.81"), &
-      var("damping_ratio", "a real number", "viscous damping ratio (>= 0) for 'damping'", "!0.1"), &
+      var("damping_ratio", "a real number", "viscous damping ratio (0 to 1e100) for 'damping'", "!0.1"), &
       var("restitution", "a real number", "or the restitution coefficient in (0, 1] it gives", "!0.8"), &
       var("local_damping", "a real number", "Cundall's alpha in [0, 1) for 'local_damping'", "!0.7"), &
       var("hertz_linearization", "a quoted word", "'current' overlap (default) or 'impact' " &
@@ -100,6 +101,7 @@ contains
     integer :: i, ios, n, np, nv, nm, nr, nf, nb, nw, mode
     real(dp) :: dt_used
     integer(i8) :: steps
+    type(text_progress_type) :: progress
 
     specs = scene_specs()
     call check_names(group, specs, status)
@@ -205,14 +207,17 @@ contains
         is_fixed(fixed(i)) = .true.
       end do
     end if
+    ! check_real words the message; it is called only on a bad value (it formats
+    ! the value first, which is too slow for every one of 1e5 particles)
     do i = 1, n
-      call check_real(g, "mass", m(i), status, element=i)
-      call check_real(g, "radius", r(i), status, element=i)
+      if (.not. (ieee_is_finite(m(i)) .and. m(i) > 0.0_dp)) call check_real(g, "mass", m(i), status, element=i)
+      if (status%stat /= demstep_stat%ok) return
+      if (.not. (ieee_is_finite(r(i)) .and. r(i) > 0.0_dp)) call check_real(g, "radius", r(i), status, element=i)
+      if (status%stat /= demstep_stat%ok) return
     end do
-    if (status%stat /= demstep_stat%ok) return
     call new_scene(sc, dim, x, m, r, status, v=v, fixed=is_fixed)
     if (status%stat /= demstep_stat%ok) then
-      status%message = "&"//g//": position: "//status%message
+      status%message = "&"//g//": "//status%message
       return
     end if
 
@@ -360,7 +365,13 @@ contains
     call critical_time_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
       max_eigen_dof=max_eigen_dof)
     if (status%stat /= demstep_stat%ok) then
-      status%message = "&"//g//": "//status%message
+      if (index(status%message, "effects:") == 1 .and. given(group, "bonds_file")) then
+        ! the empty table is what left the scene without springs
+        call fail("bonds_file", beside(file, trim(bonds_file))//": holds no bonds, and neither " &
+          //"'contacts' nor 'walls' is in effects: the scene has no stiffness")
+      else
+        status%message = "&"//g//": "//status%message
+      end if
       return
     end if
     dt_used = 0.0_dp
@@ -373,8 +384,19 @@ contains
       else
         dt_used = 2.0_dp*pi/crit%omega_bound/n_per_period
       end if
-      steps = max(1_i8, nint(duration/dt_used, i8))
-      call scene_run(sc, dt_used, steps, summary, status)
+      if (.not. ieee_is_finite(dt_used)) then
+        call fail("n_per_period", "the time step 2 pi/(omega_max n_per_period) overflows: n_per_period " &
+          //"must be above "//fmt_real(2.0_dp*pi/crit%omega_bound/huge(1.0_dp)))
+        return
+      end if
+      call plan_run(ctx, g, sc%n, crit%n_springs, duration, dt_used, steps, status)
+      if (status%stat /= demstep_stat%ok) return
+      if (ctx%quiet) then
+        call scene_run(sc, dt_used, steps, summary, status)
+      else
+        progress = text_progress_type(unit=error_unit, label="demstep: &"//g)
+        call scene_run(sc, dt_used, steps, summary, status, progress=progress)
+      end if
       ! a blow-up is a result to report, not an input error
       if (status%stat == demstep_stat%blow_up) status%stat = demstep_stat%ok
       if (status%stat /= demstep_stat%ok) then
@@ -393,6 +415,57 @@ contains
     end subroutine fail
 
   end subroutine handle_scene
+
+  !> The step count of a run, refused when it is absurd, and announced on stderr
+  !> (unless quiet) when the run is big enough to matter: the cost per
+  !> particle-step is then measured (`measure_step_cost`, about 0.2 s) and the
+  !> work counted as max(particles, springs/3) per step (the measured lattice
+  !> has about 3 springs per particle). Refused: more than `max_run_steps` steps
+  !> or an estimate above `max_run_seconds`, with the duration that fits.
+  subroutine plan_run(ctx, g, n, n_springs, duration, dt, steps, status)
+    type(cli_context), intent(in) :: ctx
+    character(len=*), intent(in) :: g
+    integer, intent(in) :: n, n_springs
+    real(dp), intent(in) :: duration, dt
+    integer(i8), intent(out) :: steps
+    type(demstep_status_type), intent(out) :: status
+    !> Runs of fewer particle-steps take about a second at most: no estimate.
+    real(dp), parameter :: announce_work = 2.0e7_dp
+    !> Most steps (int64 holds 9.2e18) and most estimated seconds (30 days).
+    real(dp), parameter :: max_run_steps = 1.0e18_dp, max_run_seconds = 30.0_dp*86400.0_dp
+    real(dp) :: steps_real, per_step, cost, seconds, longest
+    type(demstep_status_type) :: measured
+    character(len=:), allocatable :: about
+    steps = 0_i8
+    steps_real = duration/dt
+    per_step = max(real(n, dp), real(n_springs, dp)/3.0_dp)
+    cost = 0.0_dp
+    if (steps_real*per_step >= announce_work) then
+      call measure_step_cost(cost, measured, seconds=0.05_dp)
+      if (measured%stat /= demstep_stat%ok) cost = 0.0_dp
+    end if
+    seconds = steps_real*per_step*cost
+    if (.not. (steps_real <= max_run_steps .and. seconds <= max_run_seconds)) then
+      ! the longest duration within both limits
+      longest = max_run_steps*dt
+      if (cost > 0.0_dp) longest = min(longest, max_run_seconds/(per_step*cost)*dt)
+      about = ""
+      if (cost > 0.0_dp .and. ieee_is_finite(seconds)) about = ", about "//fmt_real(seconds)//" s"
+      call set_status(status, demstep_stat%invalid_input, "&"//g//": duration: "// &
+        fmt_real(duration)//" at dt = "//fmt_real(dt)//" is "//fmt_real(steps_real)//" steps of "// &
+        fmt_int(int(n, i8))//" particles"//about//", more than 1e18 steps or 30 days of work: " &
+        //"duration must be at most "//fmt_real(longest))
+      return
+    end if
+    steps = max(1_i8, nint(steps_real, i8))
+    if (cost > 0.0_dp .and. .not. ctx%quiet) then
+      write(error_unit, '(a)') "demstep: &"//g//": "//fmt_int(steps)//" steps of "// &
+        fmt_int(int(n, i8))//" particles, about "//fmt_real(seconds)//" s ("//fmt_real(cost)// &
+        " s per particle-step measured)"
+      flush(error_unit)
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine plan_run
 
   !> `name` relative to the directory of `deck` (unless absolute).
   pure function beside(deck, name) result(path)
@@ -457,15 +530,20 @@ contains
     pairs = nint(rows)
   end subroutine read_bonds
 
-  !> A whitespace table of `ncol` numbers per row; the status names the line of
-  !> a malformed row.
+  !> A table of `ncol` numbers per row (separated by blanks, tabs or commas; '#'
+  !> starts a comment; blank lines are skipped), read in time linear in its
+  !> size: one pass counts the rows and checks the text, the rows are allocated
+  !> once and a second pass fills them. A line longer than 64512 characters
+  !> or a control character (a binary file, /dev/zero) is refused at once; the
+  !> status names the line of a malformed row.
   subroutine read_table(path, ncol, rows, status)
     character(len=*), intent(in) :: path
     integer, intent(in) :: ncol
     real(dp), allocatable, intent(out) :: rows(:, :)
     type(demstep_status_type), intent(out) :: status
-    integer :: unit, ios, line, n, k, count
-    character(len=4096) :: buf
+    integer, parameter :: max_line = 65536, chunk = 1024
+    integer :: unit, ios, line, n, n_rows, got, pass, k, count, n_read
+    character(len=max_line) :: buf
     real(dp) :: values(ncol)
     logical :: exists
     inquire(file=path, exist=exists)
@@ -473,57 +551,150 @@ contains
       call set_status(status, demstep_stat%io_error, path//": no such file")
       return
     end if
-    open(newunit=unit, file=path, status="old", action="read", iostat=ios)
+    open(newunit=unit, file=path, status="old", action="read", form="formatted", &
+      access="sequential", iostat=ios)
     if (ios /= 0) then
       call set_status(status, demstep_stat%io_error, path//": cannot open")
       return
     end if
-    allocate(rows(ncol, 64))
+    n_rows = 0
     n = 0
-    line = 0
-    do
-      read(unit, '(a)', iostat=ios) buf
-      if (ios /= 0) exit
-      line = line + 1
-      k = index(buf, "#")
-      if (k > 0) buf(k:) = ""
-      if (len_trim(buf) == 0) cycle
-      count = count_tokens(buf)
-      if (count /= ncol) then
-        call set_status(status, demstep_stat%invalid_input, path//": line "//fmt_int(int(line, i8))// &
-          ": expected "//fmt_int(int(ncol, i8))//" numbers, found "//fmt_int(int(count, i8)))
-        close(unit)
-        return
+    do pass = 1, 2
+      if (pass == 2) then
+        allocate(rows(ncol, n_rows))
+        rewind(unit, iostat=ios)
+        if (ios /= 0) then
+          call fail_at(demstep_stat%io_error, "cannot read it twice (a regular file is needed)")
+          return
+        end if
       end if
-      read(buf, *, iostat=ios) values
-      if (ios /= 0 .or. .not. all(ieee_is_finite(values))) then
-        call set_status(status, demstep_stat%invalid_input, path//": line "//fmt_int(int(line, i8))// &
-          ": cannot read '"//trim(adjustl(buf))//"' as finite numbers")
-        close(unit)
-        return
-      end if
-      if (n == size(rows, 2)) rows = reshape([rows, 0.0_dp*rows], [ncol, 2*n])
-      n = n + 1
-      rows(:, n) = values
+      n = 0
+      line = 0
+      do
+        ! the line in chunks: each is checked before the next is read, so a
+        ! binary file or an endless line is refused after one chunk
+        got = 0
+        do
+          read(unit, '(a)', advance="no", size=n_read, iostat=ios) buf(got+1:got+chunk)
+          if (is_iostat_end(ios) .and. got == 0) exit
+          k = scan(buf(got+1:got+n_read), control_characters())
+          if (k > 0) then
+            call fail_at(demstep_stat%invalid_input, "line "//fmt_int(int(line + 1, i8))//": not a " &
+              //"text file (byte "//fmt_int(int(iachar(buf(got+k:got+k)), i8))//" in column "// &
+              fmt_int(int(got + k, i8))//")")
+            return
+          end if
+          got = got + n_read
+          if (ios /= 0) exit
+          if (got + chunk > max_line) then
+            call fail_at(demstep_stat%invalid_input, "line "//fmt_int(int(line + 1, i8))//": longer " &
+              //"than "//fmt_int(int(max_line - chunk, i8))//" characters")
+            return
+          end if
+        end do
+        if (is_iostat_end(ios) .and. got == 0) exit
+        line = line + 1
+        if (ios /= 0 .and. .not. (is_iostat_eor(ios) .or. is_iostat_end(ios))) then
+          call fail_at(demstep_stat%io_error, "line "//fmt_int(int(line, i8))//": cannot be read")
+          return
+        end if
+        k = index(buf(:got), "#")
+        if (k > 0) got = k - 1
+        if (len_trim(buf(:got)) == 0) cycle
+        n = n + 1
+        if (pass == 1) cycle
+        if (n > n_rows) then
+          call fail_at(demstep_stat%io_error, "changed while it was read")
+          return
+        end if
+        call parse_row(buf(:got), values, count)
+        if (count >= 0 .and. count /= ncol) then
+          call fail_at(demstep_stat%invalid_input, "line "//fmt_int(int(line, i8))//": expected "// &
+            fmt_int(int(ncol, i8))//" numbers, found "//fmt_int(int(count, i8)))
+          return
+        end if
+        if (count < 0 .or. .not. all(ieee_is_finite(values))) then
+          call fail_at(demstep_stat%invalid_input, "line "//fmt_int(int(line, i8))//": cannot read '"// &
+            shortened(trim(adjustl(buf(:got))))//"' as finite numbers")
+          return
+        end if
+        rows(:, n) = values
+      end do
+      if (pass == 1) n_rows = n
     end do
     close(unit)
-    rows = rows(:, :n)
+    if (n /= n_rows) then
+      call set_status(status, demstep_stat%io_error, path//": changed while it was read")
+      return
+    end if
     status%stat = demstep_stat%ok
+  contains
+    subroutine fail_at(stat, what)
+      integer, intent(in) :: stat
+      character(len=*), intent(in) :: what
+      call set_status(status, stat, path//": "//what)
+      close(unit)
+    end subroutine fail_at
   end subroutine read_table
 
-  !> Whitespace- or comma-separated tokens on a line.
-  pure integer function count_tokens(line)
-    character(len=*), intent(in) :: line
-    integer :: i
+  !> Bytes 0 to 31 and 127, except tab and carriage return.
+  pure function control_characters() result(set)
+    character(len=31) :: set
+    integer :: i, k
+    k = 0
+    do i = 0, 31
+      if (i == 9 .or. i == 13) cycle
+      k = k + 1
+      set(k:k) = achar(i)
+    end do
+    set(31:31) = achar(127)
+  end function control_characters
+
+  !> The numbers of one table row (blanks, tabs, carriage returns and commas
+  !> separate them). `count` is the number of fields, or -1 when a field is not a
+  !> plain number: only digits, signs, '.' and the exponent letters e and d may
+  !> appear, so list-directed extras (`2*0` repeats, `/`, quotes) cannot hide
+  !> or invent a column.
+  subroutine parse_row(text, values, count)
+    character(len=*), intent(in) :: text
+    real(dp), intent(out) :: values(:)
+    integer, intent(out) :: count
+    character(len=len(text)) :: clean
+    integer :: i, ios
     logical :: inside, sep
-    count_tokens = 0
+    clean = text
+    values = 0.0_dp
+    count = 0
     inside = .false.
-    do i = 1, len_trim(line)
-      sep = line(i:i) == " " .or. line(i:i) == "," .or. line(i:i) == achar(9)
-      if (.not. sep .and. .not. inside) count_tokens = count_tokens + 1
+    do i = 1, len(clean)
+      select case (clean(i:i))
+      case (" ", ",", achar(9), achar(13))
+        clean(i:i) = " "
+        sep = .true.
+      case ("0":"9", "+", "-", ".", "e", "E", "d", "D")
+        sep = .false.
+      case default
+        count = -1
+        return
+      end select
+      if (.not. sep .and. .not. inside) count = count + 1
       inside = .not. sep
     end do
-  end function count_tokens
+    if (count /= size(values)) return
+    read(clean, *, iostat=ios) values
+    if (ios /= 0) count = -1
+  end subroutine parse_row
+
+  !> At most 60 characters of a text, for a message.
+  pure function shortened(text) result(short)
+    character(len=*), intent(in) :: text
+    character(len=:), allocatable :: short
+    if (len(text) <= 60) then
+      short = text
+    else
+      short = text(:57)//"..."
+    end if
+  end function shortened
 
   subroutine report(u, group, sc, crit, ran, dt_used, steps, summary)
     integer, intent(in) :: u

@@ -26,7 +26,8 @@ module demstep
   use demstep_scene, only: scene_type, scene_summary_type, cubic_lattice, new_scene, scene_add_bonds, &
     scene_add_walls, scene_run, contact_list, effect_index, restitution_to_damping_ratio, &
     law_linear, law_hertz, effect_contacts, effect_gravity, effect_damping, &
-    effect_local_damping, effect_walls, n_effects, effect_names
+    effect_local_damping, effect_walls, n_effects, effect_names, max_coordinate, contact_limit, &
+    max_damping_ratio
   use demstep_assembly, only: critical_step_type, critical_time_steps, hertz_at_current, &
     hertz_at_impact, default_max_eigen_dof
   use demstep_contact, only: onset_contact_type, contact_with_onset, contact_worst_case, &

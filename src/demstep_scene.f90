@@ -26,6 +26,7 @@ module demstep_scene
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text
+  use demstep_progress, only: progress_type
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -102,6 +103,14 @@ module demstep_scene
     integer, allocatable :: cell_start(:), cell_particle(:), cell_of(:)
     real(dp) :: max_overlap = 0.0_dp
     integer :: max_contacts = 0
+    !> Cell width before coarsening: twice the largest radius of a non-giant.
+    real(dp) :: cell_width = 0.0_dp
+    !> Giants: particles searched against all others, not put into cells.
+    integer, allocatable :: giants(:)
+    logical, allocatable :: is_giant(:)
+    !> The first pair found at the same point, and whether contact_limit was hit.
+    integer :: coincident(2) = 0
+    logical :: too_many = .false.
   end type work_type
 
   abstract interface
@@ -119,12 +128,27 @@ module demstep_scene
 
   !> Energy growth that counts as blowing up.
   real(dp), parameter :: blow_up_factor = 1.0e6_dp
+  !> Largest |coordinate| and radius of a scene: squared distances stay finite.
+  real(dp), parameter, public :: max_coordinate = 1.0e150_dp
+  !> Most particle contacts a scene may have at once (about 1 GB of contact data
+  !> in the analysis; a DEM packing has a few per particle).
+  integer, parameter, public :: contact_limit = 10000000
+  !> Largest viscous damping ratio: the damped limit, about dt/(2 zeta), stays a
+  !> normal number for every dt above 1e-200.
+  real(dp), parameter, public :: max_damping_ratio = 1.0e100_dp
+  !> At most this many of the largest particles are searched against every
+  !> particle instead of sizing the cells (a few giants must not put every
+  !> particle into one cell).
+  integer, parameter :: n_giants = 16
 
 contains
 
   !> Build a scene from particle arrays. Status `invalid_input` names the first
-  !> bad value (non-positive mass or radius, wrong sizes, non-finite values,
-  !> overlapping fixed particles).
+  !> bad value, its message starting with the variable (`mass:`, `radius:`,
+  !> `position:`, `velocity:`, `fixed:`): non-positive or too small mass (1/m must
+  !> be finite), radius or coordinates beyond `max_coordinate`, wrong sizes,
+  !> non-finite values, two particles at the same point (their contact normal is
+  !> undefined), overlapping fixed particles, more than `contact_limit` contacts.
   subroutine new_scene(scene, dim, x, mass, radius, status, v, fixed)
     type(scene_type), intent(out) :: scene
     integer, intent(in) :: dim
@@ -140,26 +164,41 @@ contains
     type(work_type) :: work
     scene%gravity = 0.0_dp
     if (dim < 1 .or. dim > 3) then
-      call set_status(status, demstep_stat%invalid_input, "dim must be 1, 2 or 3")
+      call set_status(status, demstep_stat%invalid_input, "dim: must be 1, 2 or 3")
       return
     end if
     n = size(mass)
     if (size(x, 1) /= dim .or. size(x, 2) /= n .or. size(radius) /= n) then
-      call set_status(status, demstep_stat%invalid_input, "positions, masses and radii must " &
-        //"describe the same particles")
+      call set_status(status, demstep_stat%invalid_input, "position: positions, masses and radii " &
+        //"must describe the same particles")
       return
     end if
     do i = 1, n
       if (.not. (ieee_is_finite(mass(i)) .and. mass(i) > 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "mass of particle "//int_text(i)//" must be > 0")
+        call set_status(status, demstep_stat%invalid_input, "mass: particle "//int_text(i)//": must be > 0")
+        return
+      end if
+      if (.not. ieee_is_finite(1.0_dp/mass(i))) then
+        call set_status(status, demstep_stat%invalid_input, "mass: particle "//int_text(i)//": must be " &
+          //"at least 5.6e-309 (1/mass must be finite)")
         return
       end if
       if (.not. (ieee_is_finite(radius(i)) .and. radius(i) > 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "radius of particle "//int_text(i)//" must be > 0")
+        call set_status(status, demstep_stat%invalid_input, "radius: particle "//int_text(i)//": must be > 0")
+        return
+      end if
+      if (radius(i) > max_coordinate) then
+        call set_status(status, demstep_stat%invalid_input, "radius: particle "//int_text(i)//": must be " &
+          //"at most 1e150 (squared distances must be representable)")
         return
       end if
       if (.not. all(ieee_is_finite(x(:, i)))) then
-        call set_status(status, demstep_stat%invalid_input, "position of particle "//int_text(i)//" is not finite")
+        call set_status(status, demstep_stat%invalid_input, "position: particle "//int_text(i)//" is not finite")
+        return
+      end if
+      if (any(abs(x(:, i)) > max_coordinate)) then
+        call set_status(status, demstep_stat%invalid_input, "position: particle "//int_text(i)//": every " &
+          //"coordinate must be within +-1e150 (squared distances must be representable)")
         return
       end if
     end do
@@ -172,7 +211,7 @@ contains
     allocate(scene%v(3, n), source=0.0_dp)
     if (present(v)) then
       if (size(v, 1) /= dim .or. size(v, 2) /= n .or. .not. all(ieee_is_finite(v))) then
-        call set_status(status, demstep_stat%invalid_input, "velocities must be finite, one per particle")
+        call set_status(status, demstep_stat%invalid_input, "velocity: must be finite, one per particle")
         return
       end if
       scene%v(:dim, :) = v
@@ -180,7 +219,7 @@ contains
     allocate(scene%fixed(n), source=.false.)
     if (present(fixed)) then
       if (size(fixed) /= n) then
-        call set_status(status, demstep_stat%invalid_input, "one fixed flag per particle")
+        call set_status(status, demstep_stat%invalid_input, "fixed: one fixed flag per particle")
         return
       end if
       scene%fixed = fixed
@@ -190,12 +229,14 @@ contains
     end do
     allocate(scene%bonds(2, 0), scene%bond_rest(3, 0), scene%bond_normal(3, 0), &
       scene%wall_point(3, 0), scene%wall_normal(3, 0))
-    ! two fixed particles may not overlap: their contact could never resolve
     call prepare(scene, work)
     call find_contacts(scene, work)
+    call contact_trouble(work, status)
+    if (status%stat /= demstep_stat%ok) return
+    ! two fixed particles may not overlap: their contact could never resolve
     do i = 1, work%n_pairs
       if (scene%fixed(work%pair_i(i)) .and. scene%fixed(work%pair_j(i))) then
-        call set_status(status, demstep_stat%invalid_input, "fixed particles "// &
+        call set_status(status, demstep_stat%invalid_input, "position: fixed particles "// &
           int_text(work%pair_i(i))//" and "//int_text(work%pair_j(i))//" overlap")
         return
       end if
@@ -203,12 +244,32 @@ contains
     status%stat = demstep_stat%ok
   end subroutine new_scene
 
+  !> The contact search's refusals as a status: coincident particles, too many contacts.
+  subroutine contact_trouble(work, status)
+    type(work_type), intent(in) :: work
+    type(demstep_status_type), intent(out) :: status
+    if (work%coincident(1) > 0) then
+      call set_status(status, demstep_stat%invalid_input, "position: particles "// &
+        int_text(work%coincident(1))//" and "//int_text(work%coincident(2))//" are at the same " &
+        //"point (their contact normal is undefined)")
+    else if (work%too_many) then
+      call set_status(status, demstep_stat%invalid_input, "position: more than "// &
+        int_text(contact_limit)//" particle contacts (the limit; the particles overlap far more than " &
+        //"in a DEM packing)")
+    else
+      status%stat = demstep_stat%ok
+    end if
+  end subroutine contact_trouble
+
   !> The overlapping particle pairs of the current configuration: particles
-  !> i(k) < j(k), unit normal n(:, k) from i to j, overlap d(k).
-  subroutine contact_list(scene, i, j, n, d)
+  !> i(k) < j(k), unit normal n(:, k) from i to j, overlap d(k). Status (when
+  !> present) `invalid_input` for coincident particles or more than
+  !> `contact_limit` contacts (the lists then hold what was found).
+  subroutine contact_list(scene, i, j, n, d, status)
     type(scene_type), intent(in) :: scene
     integer, allocatable, intent(out) :: i(:), j(:)
     real(dp), allocatable, intent(out) :: n(:, :), d(:)
+    type(demstep_status_type), intent(out), optional :: status
     type(work_type) :: work
     call prepare(scene, work)
     call find_contacts(scene, work)
@@ -216,6 +277,7 @@ contains
     j = work%pair_j(:work%n_pairs)
     n = work%pair_n(:, :work%n_pairs)
     d = work%pair_d(:work%n_pairs)
+    if (present(status)) call contact_trouble(work, status)
   end subroutine contact_list
 
   !> A cubic lattice of m^3 particles 1 apart (unit masses, radius r) with bonds of
@@ -353,63 +415,91 @@ contains
 
   !> Step a scene `steps` times with time step dt, recording energy every
   !> `sample_every` steps (default: about 1000 samples). Status `blow_up` when the
-  !> state became non-finite or the energy grew 1e6-fold (the summary says when).
-  subroutine scene_run(scene, dt, steps, summary, status, sample_every)
+  !> state became non-finite, the energy grew 1e6-fold or the contacts passed
+  !> `contact_limit` (the summary says when); `invalid_input` for a bad dt or
+  !> step count, a damping ratio above `max_damping_ratio`, or an initial energy
+  !> that overflows. `progress` (optional) is told the steps done every few
+  !> thousand particle-steps.
+  subroutine scene_run(scene, dt, steps, summary, status, sample_every, progress)
     type(scene_type), intent(inout) :: scene
     real(dp), intent(in) :: dt
     integer(i8), intent(in) :: steps
     type(scene_summary_type), intent(out) :: summary
     type(demstep_status_type), intent(out) :: status
     integer(i8), intent(in), optional :: sample_every
+    class(progress_type), intent(inout), optional :: progress
     type(term_type), allocatable :: terms(:)
     type(work_type) :: work
-    integer(i8) :: step, every
+    integer(i8) :: step, every, report_every
     integer :: t, ns, i
     real(dp) :: e, scale
     if (.not. (ieee_is_finite(dt) .and. dt > 0.0_dp) .or. steps < 0_i8) then
       call set_status(status, demstep_stat%invalid_input, "dt must be > 0 and steps >= 0")
       return
     end if
+    if (scene%effects(effect_damping) .and. .not. (scene%damping_ratio >= 0.0_dp .and. &
+        scene%damping_ratio <= max_damping_ratio)) then
+      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be in [0, 1e100]")
+      return
+    end if
     every = max(1_i8, steps/1000_i8)
     if (present(sample_every)) every = max(1_i8, sample_every)
+    ! progress every 1e5 particle-steps or so: a clock read is then negligible
+    report_every = max(1_i8, 100000_i8/max(1_i8, int(scene%n, i8)))
     call prepare(scene, work)
     terms = assemble(scene)
     allocate(summary%sample_time(steps/every + 2), summary%sample_energy(steps/every + 2))
     ! energy at the start: forces at x_0 give the first half-step pair v_{-1/2}, v_{1/2}
     summary%energy_initial = scene_energy(scene, work, terms, dt, advance=.false.)
+    if (.not. ieee_is_finite(summary%energy_initial)) then
+      call set_status(status, demstep_stat%invalid_input, "velocity: the initial energy (kinetic " &
+        //"+ elastic + gravitational) overflows: velocities, masses, stiffness or overlaps too large")
+      return
+    end if
     ns = 1
     summary%sample_time(1) = 0.0_dp
     summary%sample_energy(1) = summary%energy_initial
     scale = max(abs(summary%energy_initial), tiny(1.0_dp))
     status%stat = demstep_stat%ok
+    if (present(progress)) call progress%start("steps", steps)
     do step = 1_i8, steps
       scene%x = scene%x + scene%v*dt
       work%f = 0.0_dp
-      if (mod(step, every) == 0_i8 .or. step == steps) then
+      if (mod(step, every) == 0_i8 .or. step == steps .or. work%too_many) then
         ! a sample: E = kinetic (v_{n-1/2} . v_{n+1/2}) + potential at x_n
         e = scene_energy(scene, work, terms, dt, advance=.true.)
-        ns = ns + 1
-        summary%sample_time(ns) = real(step, dp)*dt
-        summary%sample_energy(ns) = e
-        summary%energy_drift = max(summary%energy_drift, abs(e - summary%energy_initial)/scale)
         summary%steps = step
+        if (ieee_is_finite(e)) then
+          ns = ns + 1
+          summary%sample_time(ns) = real(step, dp)*dt
+          summary%sample_energy(ns) = e
+          summary%energy_drift = max(summary%energy_drift, min(huge(1.0_dp), abs(e - summary%energy_initial)/scale))
+        end if
         if (.not. (ieee_is_finite(e) .and. all(ieee_is_finite(scene%x))) .or. &
-            abs(e - summary%energy_initial) > blow_up_factor*scale) then
+            abs(e - summary%energy_initial) > blow_up_factor*scale .or. work%too_many) then
+          ! (a non-finite energy is not sampled: the drift stays finite)
           summary%blew_up = .true.
-          call set_status(status, demstep_stat%blow_up, "the scene blew up at step "// &
-            int_text(step))
+          if (work%too_many) then
+            call set_status(status, demstep_stat%blow_up, "the scene blew up at step "// &
+              int_text(step)//": more than "//int_text(contact_limit)//" contacts")
+          else
+            call set_status(status, demstep_stat%blow_up, "the scene blew up at step "// &
+              int_text(step))
+          end if
           exit
         end if
-        cycle
+      else
+        do t = 1, size(terms)
+          call terms(t)%add(scene, work)
+        end do
+        do i = 1, scene%n
+          scene%v(:, i) = scene%v(:, i) + work%f(:, i)*(work%inv_mass(i)*dt)
+        end do
+        summary%steps = step
       end if
-      do t = 1, size(terms)
-        call terms(t)%add(scene, work)
-      end do
-      do i = 1, scene%n
-        scene%v(:, i) = scene%v(:, i) + work%f(:, i)*(work%inv_mass(i)*dt)
-      end do
-      summary%steps = step
+      if (present(progress) .and. mod(step, report_every) == 0_i8) call progress%update(step)
     end do
+    if (present(progress)) call progress%finish()
     summary%energy_final = summary%sample_energy(ns)
     summary%sample_time = summary%sample_time(:ns)
     summary%sample_energy = summary%sample_energy(:ns)
@@ -541,29 +631,61 @@ contains
     end subroutine push
   end function assemble
 
-  !> Allocate the scratch of a run.
+  !> Allocate the scratch of a run; split off the giants (radius above twice the
+  !> (n_giants+1)-th largest) and size the cells for the rest.
   subroutine prepare(scene, work)
     type(scene_type), intent(in) :: scene
     type(work_type), intent(out) :: work
+    real(dp) :: top(n_giants + 1)
+    integer :: i, k, m
     allocate(work%f(3, scene%n), source=0.0_dp)
     allocate(work%v_old(3, scene%n), source=0.0_dp)
     allocate(work%inv_mass(scene%n))
     work%inv_mass = merge(0.0_dp, 1.0_dp/scene%mass, scene%fixed)
     allocate(work%pair_i(64), work%pair_j(64), work%pair_n(3, 64), work%pair_d(64))
     allocate(work%wall_i(16), work%wall_k(16), work%wall_d(16))
+    ! the m largest radii, descending (insertion into a short list: linear in n)
+    m = min(scene%n, n_giants + 1)
+    top = -1.0_dp
+    do i = 1, scene%n
+      if (scene%radius(i) <= top(max(m, 1))) cycle
+      k = m
+      do while (k > 1)
+        if (top(k - 1) >= scene%radius(i)) exit
+        top(k) = top(k - 1)
+        k = k - 1
+      end do
+      top(k) = scene%radius(i)
+    end do
+    allocate(work%is_giant(scene%n))
+    if (m > n_giants) then
+      work%is_giant = scene%radius > 2.0_dp*top(m)
+    else
+      work%is_giant = .false.
+    end if
+    work%giants = pack([(i, i = 1, scene%n)], work%is_giant)
+    work%cell_width = 0.0_dp
+    do i = 1, scene%n
+      if (.not. work%is_giant(i)) work%cell_width = max(work%cell_width, 2.0_dp*scene%radius(i))
+    end do
   end subroutine prepare
 
   !> The contact list: every pair of overlapping particles, found with a cell list
-  !> (cells at least one particle diameter wide), in time linear in n.
+  !> (cells at least one non-giant diameter wide, at most about 4 per particle)
+  !> and the giants against every particle, in time linear in n plus the pairs
+  !> of neighbouring cells. Pairs at the same point are not contacts (the normal
+  !> is undefined): the first is recorded in work%coincident. The search stops at
+  !> `contact_limit` contacts (work%too_many).
   subroutine find_contacts(scene, work)
     type(scene_type), intent(in) :: scene
     type(work_type), intent(inout) :: work
-    integer :: dim, n, i, j, c, k, ncell(3), idx(3), lo(3), hi(3), a, b, cc, p
-    integer :: offs(3)
-    real(dp) :: xmin(3), xmax(3), h, d(3), dist, overlap, reach
+    integer :: dim, n, i, j, c, k, ncell(3), idx(3), lo(3), hi(3), a, b, cc, p, g, n_cells
+    real(dp) :: xmin(3), xmax(3), h, d(3)
     dim = scene%dim
     n = scene%n
     work%n_pairs = 0
+    work%coincident = 0
+    work%too_many = .false.
     if (n < 2) return
     xmin = 0.0_dp
     xmax = 0.0_dp
@@ -571,21 +693,23 @@ contains
     xmax(:dim) = maxval(scene%x(:dim, :), dim=2)
     ! a blown-up state has no contacts to find; the run's energy check reports it
     if (.not. all(ieee_is_finite(xmax(:dim) - xmin(:dim)))) return
-    h = 2.0_dp*maxval(scene%radius)
+    h = work%cell_width
     ! no more cells than about 4 per particle: coarser cells only cost more pairs
     do while (product(max(1.0_dp, (xmax(:dim) - xmin(:dim))/h + 1.0_dp)) > 4.0_dp*n + 64.0_dp)
       h = 2.0_dp*h
     end do
     ncell = 1
     ncell(:dim) = max(1, int((xmax(:dim) - xmin(:dim))/h) + 1)
+    n_cells = product(ncell)
     if (.not. allocated(work%cell_of)) allocate(work%cell_of(n), work%cell_particle(n))
     if (allocated(work%cell_start)) then
-      if (size(work%cell_start) < product(ncell) + 1) deallocate(work%cell_start)
+      if (size(work%cell_start) < n_cells + 1) deallocate(work%cell_start)
     end if
-    if (.not. allocated(work%cell_start)) allocate(work%cell_start(product(ncell) + 1))
-    ! counting sort of the particles by cell
-    work%cell_start(:product(ncell) + 1) = 0
+    if (.not. allocated(work%cell_start)) allocate(work%cell_start(n_cells + 1))
+    ! counting sort of the non-giants by cell
+    work%cell_start(:n_cells + 1) = 0
     do i = 1, n
+      if (work%is_giant(i)) cycle
       idx = 0
       idx(:dim) = min(ncell(:dim) - 1, int((scene%x(:dim, i) - xmin(:dim))/h))
       c = 1 + idx(1) + ncell(1)*(idx(2) + ncell(2)*idx(3))
@@ -593,20 +717,22 @@ contains
       work%cell_start(c + 1) = work%cell_start(c + 1) + 1
     end do
     work%cell_start(1) = 1
-    do c = 2, product(ncell) + 1
+    do c = 2, n_cells + 1
       work%cell_start(c) = work%cell_start(c) + work%cell_start(c - 1)
     end do
     do i = 1, n
+      if (work%is_giant(i)) cycle
       c = work%cell_of(i)
       work%cell_particle(work%cell_start(c)) = i
       work%cell_start(c) = work%cell_start(c) + 1
     end do
-    do c = product(ncell), 1, -1
+    do c = n_cells, 1, -1
       work%cell_start(c + 1) = work%cell_start(c)
     end do
     work%cell_start(1) = 1
-    ! every particle against the particles of its own and the neighbouring cells
-    do i = 1, n
+    ! every non-giant against the non-giants of its own and the neighbouring cells
+    particles: do i = 1, n
+      if (work%is_giant(i)) cycle
       c = work%cell_of(i) - 1
       idx(1) = mod(c, ncell(1))
       idx(2) = mod(c/ncell(1), ncell(2))
@@ -616,36 +742,73 @@ contains
       do a = lo(3), hi(3)
         do b = lo(2), hi(2)
           do cc = lo(1), hi(1)
-            offs = [cc, b, a]
-            k = 1 + offs(1) + ncell(1)*(offs(2) + ncell(2)*offs(3))
+            k = 1 + cc + ncell(1)*(b + ncell(2)*a)
             do p = work%cell_start(k), work%cell_start(k + 1) - 1
               j = work%cell_particle(p)
               if (j <= i) cycle
+              ! the distance test inline (the hot loop); try_pair for the hits
               d = scene%x(:, j) - scene%x(:, i)
-              reach = scene%radius(i) + scene%radius(j)
-              if (d(1)**2 + d(2)**2 + d(3)**2 >= reach**2) cycle
-              dist = norm2(d)
-              overlap = reach - dist
-              if (overlap > 0.0_dp) call add_pair(work, i, j, d/max(dist, tiny(1.0_dp)), overlap)
+              if (d(1)**2 + d(2)**2 + d(3)**2 >= (scene%radius(i) + scene%radius(j))**2) cycle
+              call try_pair(scene, work, i, j)
+              if (work%too_many) exit particles
             end do
           end do
         end do
       end do
-    end do
+    end do particles
+    ! every giant against every other particle (a pair of giants once)
+    giants: do g = 1, size(work%giants)
+      i = work%giants(g)
+      do j = 1, n
+        if (j == i) cycle
+        if (work%is_giant(j) .and. j < i) cycle
+        call try_pair(scene, work, min(i, j), max(i, j))
+        if (work%too_many) exit giants
+      end do
+    end do giants
     work%max_contacts = max(work%max_contacts, work%n_pairs + work%n_walls)
   end subroutine find_contacts
+
+  !> Add the pair (i, j), i < j, to the contact list if the particles overlap.
+  subroutine try_pair(scene, work, i, j)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer, intent(in) :: i, j
+    real(dp) :: d(3), reach, dist
+    d = scene%x(:, j) - scene%x(:, i)
+    reach = scene%radius(i) + scene%radius(j)
+    if (d(1)**2 + d(2)**2 + d(3)**2 >= reach**2) return
+    dist = norm2(d)
+    if (.not. dist > 0.0_dp) then
+      if (work%coincident(1) == 0) work%coincident = [i, j]
+      return
+    end if
+    call add_pair(work, i, j, d/dist, reach - dist)
+  end subroutine try_pair
 
   subroutine add_pair(work, i, j, normal, overlap)
     type(work_type), intent(inout) :: work
     integer, intent(in) :: i, j
-    real(dp), intent(in) :: normal(:), overlap
+    real(dp), intent(in) :: normal(3), overlap
     integer :: m
+    integer, allocatable :: ti(:), tj(:)
+    real(dp), allocatable :: td(:), tn(:, :)
+    if (work%n_pairs == contact_limit) then
+      work%too_many = .true.
+      return
+    end if
     if (work%n_pairs == size(work%pair_i)) then
-      m = 2*size(work%pair_i)
-      work%pair_i = [work%pair_i, spread(0, 1, m/2)]
-      work%pair_j = [work%pair_j, spread(0, 1, m/2)]
-      work%pair_d = [work%pair_d, spread(0.0_dp, 1, m/2)]
-      work%pair_n = reshape([work%pair_n, spread(0.0_dp, 1, size(normal)*m/2)], [size(normal), m])
+      ! double the capacity: amortised constant cost per pair
+      m = min(2*size(work%pair_i), contact_limit)
+      allocate(ti(m), tj(m), td(m), tn(3, m))
+      ti(:work%n_pairs) = work%pair_i
+      tj(:work%n_pairs) = work%pair_j
+      td(:work%n_pairs) = work%pair_d
+      tn(:, :work%n_pairs) = work%pair_n
+      call move_alloc(ti, work%pair_i)
+      call move_alloc(tj, work%pair_j)
+      call move_alloc(td, work%pair_d)
+      call move_alloc(tn, work%pair_n)
     end if
     work%n_pairs = work%n_pairs + 1
     work%pair_i(work%n_pairs) = i
@@ -724,11 +887,7 @@ contains
         overlap = scene%radius(i) - dot_product(scene%x(:, i) - scene%wall_point(:, w), scene%wall_normal(:, w))
         ! (a NaN overlap, after a blow-up, is no contact)
         if (overlap > 0.0_dp) then
-          if (work%n_walls == size(work%wall_i)) then
-            work%wall_i = [work%wall_i, work%wall_i]
-            work%wall_k = [work%wall_k, work%wall_k]
-            work%wall_d = [work%wall_d, work%wall_d]
-          end if
+          if (work%n_walls == size(work%wall_i)) call grow_walls(work)
           work%n_walls = work%n_walls + 1
           work%wall_i(work%n_walls) = i
           work%wall_k(work%n_walls) = w
@@ -739,6 +898,22 @@ contains
     end do
     work%max_contacts = max(work%max_contacts, work%n_pairs + work%n_walls)
   end subroutine detect_walls
+
+  !> Double the capacity of the wall contact list (amortised constant cost).
+  subroutine grow_walls(work)
+    type(work_type), intent(inout) :: work
+    integer, allocatable :: ti(:), tk(:)
+    real(dp), allocatable :: td(:)
+    integer :: m
+    m = 2*size(work%wall_i)
+    allocate(ti(m), tk(m), td(m))
+    ti(:work%n_walls) = work%wall_i(:work%n_walls)
+    tk(:work%n_walls) = work%wall_k(:work%n_walls)
+    td(:work%n_walls) = work%wall_d(:work%n_walls)
+    call move_alloc(ti, work%wall_i)
+    call move_alloc(tk, work%wall_k)
+    call move_alloc(td, work%wall_d)
+  end subroutine grow_walls
 
   subroutine walls_linear(scene, work)
     type(scene_type), intent(in) :: scene
@@ -866,7 +1041,9 @@ contains
     else if (scene%fixed(i)) then
       m = scene%mass(j)
     else
-      m = scene%mass(i)*scene%mass(j)/(scene%mass(i) + scene%mass(j))
+      ! m_a m_b/(m_a + m_b) as m_a/(1 + m_a/m_b), m_a the lighter: no under- or overflow
+      m = min(scene%mass(i), scene%mass(j))/(1.0_dp + min(scene%mass(i), scene%mass(j)) &
+        /max(scene%mass(i), scene%mass(j)))
     end if
   end function effective_mass
 

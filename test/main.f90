@@ -17,6 +17,7 @@ program tester
   use test_progress, only: collect_progress
   use test_deck, only: collect_deck
   use test_extremes, only: collect_extremes
+  use test_app_scene, only: collect_app_scene
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -36,7 +37,8 @@ program tester
     new_testsuite("deck", collect_deck), &
     new_testsuite("extremes", collect_extremes), &
     new_testsuite("app", collect_app), &
-    new_testsuite("app_stiffness", collect_app_stiffness) &
+    new_testsuite("app_stiffness", collect_app_stiffness), &
+    new_testsuite("app_scene", collect_app_scene) &
     ]
   stat = 0
   total = 0

@@ -508,7 +508,7 @@ contains
     call expect_bad(error, "&scene dim = 1, position = 0.0, 0.5, radius = 0.3, mass = 1, fixed = 1, 2 /", &
       "&scene: position: fixed particles 1 and 2 overlap")
     if (allocated(error)) return
-    call expect_bad(error, g//"mass = 1.0, effects = 'none' /", "&scene: the scene has no stiffness")
+    call expect_bad(error, g//"mass = 1.0, effects = 'none' /", "&scene: effects: the scene has no stiffness")
     if (allocated(error)) return
     call expect_bad(error, g//"mass = 1.0, bonds = 1, 2, k_bond = 1, effects = 'damping' /", &
       "&scene: damping_ratio: the 'damping' effect needs damping_ratio or restitution")

@@ -11,6 +11,17 @@ module test_scene
 
   logical, parameter :: no_effects(n_effects) = .false.
 
+  !> Counts what a run tells its progress object.
+  type, extends(progress_type) :: counting_progress_type
+    integer :: starts = 0, updates = 0, finishes = 0
+    integer(i8) :: total = 0, last = 0
+    logical :: increasing = .true.
+  contains
+    procedure :: start => counting_start
+    procedure :: update => counting_update
+    procedure :: finish => counting_finish
+  end type counting_progress_type
+
 contains
 
   subroutine collect_scene(testsuite)
@@ -26,7 +37,14 @@ contains
       new_unittest("walls + damping: restitution from the damping ratio", test_wall_restitution), &
       new_unittest("local damping removes energy; off, energy is kept", test_local_damping), &
       new_unittest("contacts: a Hertz pair conserves energy, max overlap", test_hertz_pair), &
-      new_unittest("bad scenes give a status", test_bad_scenes) &
+      new_unittest("bad scenes give a status", test_bad_scenes), &
+      new_unittest("contact search with giants equals brute force", test_giants_brute_force), &
+      new_unittest("coincident particles are refused by number", test_coincident), &
+      new_unittest("extreme mass and stiffness: omega_max scaled, vs closed form", test_scaled_eigen), &
+      new_unittest("extreme damping ratio: computed to 1e100, refused above", test_extreme_damping), &
+      new_unittest("extreme radius, position and mass are refused with the range", test_extreme_geometry), &
+      new_unittest("no stiffness: the message names the variable", test_no_stiffness), &
+      new_unittest("scene_run reports progress every so often", test_run_progress) &
       ]
   end subroutine collect_scene
 
@@ -432,6 +450,246 @@ contains
     call critical_time_steps(scene, c, status)
     call check(error, status%stat, demstep_stat%invalid_input, message="no stiffness")
   end subroutine test_bad_scenes
+
+  !> A polydisperse 2D cloud with a few giants: the contact list equals the
+  !> pairs found by checking every pair.
+  subroutine test_giants_brute_force(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer, parameter :: n = 1500
+    type(scene_type) :: scene
+    type(demstep_status_type) :: status
+    real(dp) :: x(2, n), r(n), u(2)
+    integer, allocatable :: ci(:), cj(:)
+    real(dp), allocatable :: cn(:, :), cd(:)
+    logical, allocatable :: found(:, :)
+    integer :: i, j, k, brute
+    call seed(11)
+    do i = 1, n
+      call random_number(u)
+      x(:, i) = 60.0_dp*u
+      r(i) = 0.3_dp + 0.4_dp*u(1)
+    end do
+    ! giants of radius 5 to 12 (more than twice the 17th largest): searched apart
+    r(1:10) = [(5.0_dp + 0.7_dp*k, k = 1, 10)]
+    call new_scene(scene, 2, x, spread(1.0_dp, 1, n), r, status)
+    call check(error, status%stat, demstep_stat%ok, message="new_scene: "//status%message)
+    if (allocated(error)) return
+    call contact_list(scene, ci, cj, cn, cd, status)
+    call check(error, status%stat, demstep_stat%ok, message="contact_list")
+    if (allocated(error)) return
+    allocate(found(n, n), source=.false.)
+    do k = 1, size(ci)
+      call check(error, ci(k) < cj(k) .and. .not. found(ci(k), cj(k)), "pairs ordered and unique")
+      if (allocated(error)) return
+      found(ci(k), cj(k)) = .true.
+      ! overlap as computed from the positions (1e-12: a few roundings of O(10))
+      call check(error, cd(k), r(ci(k)) + r(cj(k)) - norm2(x(:, cj(k)) - x(:, ci(k))), thr=1.0e-12_dp)
+      if (allocated(error)) return
+    end do
+    brute = 0
+    do i = 1, n
+      do j = i + 1, n
+        if (norm2(x(:, j) - x(:, i)) < r(i) + r(j)) then
+          brute = brute + 1
+          call check(error, found(i, j), "pair "//real_str(real(i, dp))//", "//real_str(real(j, dp))//" found")
+          if (allocated(error)) return
+        end if
+      end do
+    end do
+    call check(error, size(ci), brute, message="number of contacts")
+    if (allocated(error)) return
+    ! the giants do touch many particles: the test exercises their search
+    call check(error, count(ci <= 10 .or. cj <= 10) > 100, "giants have contacts")
+  end subroutine test_giants_brute_force
+
+  !> 1000 particles at one point: refused at once, naming two of them.
+  subroutine test_coincident(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: x(:, :)
+    integer :: k
+    allocate(x(3, 1000), source=0.0_dp)
+    call new_scene(scene, 3, x, spread(1.0_dp, 1, 1000), spread(0.5_dp, 1, 1000), status)
+    call check(error, status%stat, demstep_stat%invalid_input, message="coincident")
+    if (allocated(error)) return
+    call check(error, index(status%message, "position: particles 1 and 2 are at the same point") == 1, &
+      "message: "//status%message)
+    if (allocated(error)) return
+    ! one coincident pair among separated particles
+    x = reshape([(real(modulo(k, 1000), dp), k = 0, 2999)], [3, 1000])
+    x(:, 7) = x(:, 500)
+    call new_scene(scene, 3, x, spread(1.0_dp, 1, 1000), spread(0.1_dp, 1, 1000), status)
+    call check(error, index(status%message, "particles 7 and 500 are at the same point") > 0, &
+      "message: "//status%message)
+  end subroutine test_coincident
+
+  !> Two free particles on a bond: omega_max = sqrt(2 k/m) exactly. At m = 1e-308
+  !> or k = 1e308 the unscaled k/m overflows; the scaled problem gives the closed
+  !> form to a few roundings (1e-13 relative), and the other estimates stay
+  !> finite: the per-contact rule 2 sqrt(m*/k) and the bound (the pair's
+  !> Gershgorin bound is exact, 2k/m per row).
+  subroutine test_scaled_eigen(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), parameter :: masses(3) = [1.0e-308_dp, 1.0_dp, 1.0e-308_dp], &
+      stiffness(3) = [1.0e4_dp, 1.0e308_dp, 1.0e308_dp]
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    real(dp) :: omega
+    integer :: k
+    do k = 1, 3
+      call new_scene(scene, 1, reshape([0.0_dp, 1.0_dp], [1, 2]), [masses(k), masses(k)], &
+        [0.1_dp, 0.1_dp], status)
+      call scene_add_bonds(scene, reshape([1, 2], [2, 1]), status)
+      scene%k_bond = stiffness(k)
+      scene%effects = no_effects
+      call critical_time_steps(scene, c, status)
+      call check(error, status%stat, demstep_stat%ok, message="case "//real_str(real(k, dp))//": "// &
+        status%message)
+      if (allocated(error)) return
+      omega = sqrt(2.0_dp)*(sqrt(stiffness(k))/sqrt(masses(k)))
+      call check(error, c%omega_max, omega, thr=1.0e-13_dp, rel=.true., message="omega_max")
+      if (allocated(error)) return
+      call check(error, c%dt_critical_eigen, 2.0_dp/omega, thr=1.0e-13_dp, rel=.true., message="dt")
+      if (allocated(error)) return
+      call check(error, c%dt_critical_bound, 2.0_dp/omega, thr=1.0e-13_dp, rel=.true., message="bound")
+      if (allocated(error)) return
+      call check(error, c%dt_contact_rule, 2.0_dp*sqrt(0.5_dp*masses(k))/sqrt(stiffness(k)), &
+        thr=1.0e-13_dp, rel=.true., message="contact rule")
+      if (allocated(error)) return
+    end do
+  end subroutine test_scaled_eigen
+
+  !> One spring, one dashpot: the top mode's damping ratio is the dashpot's own,
+  !> and the damped limit (2/omega)/(sqrt(1 + z^2) + z) is 1/(omega z) to 1e-200
+  !> relative at z = 1e100 (1e-13: roundings). Above 1e100: refused by name.
+  subroutine test_extreme_damping(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(scene_summary_type) :: summary
+    type(demstep_status_type) :: status
+    call new_scene(scene, 1, reshape([0.0_dp, 1.0_dp], [1, 2]), [1.0_dp, 1.0_dp], [0.1_dp, 0.1_dp], &
+      status, fixed=[.true., .false.])
+    call scene_add_bonds(scene, reshape([1, 2], [2, 1]), status)
+    scene%k_bond = 4.0_dp
+    scene%effects = no_effects
+    scene%effects(effect_damping) = .true.
+    scene%damping_ratio = 1.0e100_dp
+    call critical_time_steps(scene, c, status)
+    call check(error, status%stat, demstep_stat%ok, message=status%message)
+    if (allocated(error)) return
+    call check(error, c%damping_ratio_top, 1.0e100_dp, thr=1.0e-13_dp, rel=.true., message="modal zeta")
+    if (allocated(error)) return
+    ! omega = 2: the limit is 1/(2 z)
+    call check(error, c%dt_critical_damped, 0.5e-100_dp, thr=1.0e-13_dp, rel=.true., message="damped")
+    if (allocated(error)) return
+    scene%damping_ratio = 1.0e308_dp
+    call critical_time_steps(scene, c, status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. &
+      index(status%message, "damping_ratio: must be in [0, 1e100]") == 1, "refused: "//status%message)
+    if (allocated(error)) return
+    call scene_run(scene, 0.01_dp, 10_i8, summary, status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. &
+      index(status%message, "damping_ratio:") == 1, "run refused: "//status%message)
+  end subroutine test_extreme_damping
+
+  !> radius 1e308 (whose overlaps overflow), coordinates beyond 1e150 and a mass
+  !> whose inverse overflows are refused, naming the variable and the range.
+  subroutine test_extreme_geometry(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(demstep_status_type) :: status
+    call new_scene(scene, 1, reshape([0.0_dp, 1.0_dp], [1, 2]), [1.0_dp, 1.0_dp], [1.0e308_dp, 1.0_dp], status)
+    call check(error, index(status%message, "radius: particle 1: must be at most 1e150") == 1, &
+      "radius: "//status%message)
+    if (allocated(error)) return
+    call new_scene(scene, 1, reshape([0.0_dp, 1.0e200_dp], [1, 2]), [1.0_dp, 1.0_dp], [1.0_dp, 1.0_dp], status)
+    call check(error, index(status%message, "position: particle 2: every coordinate must be within +-1e150") &
+      == 1, "position: "//status%message)
+    if (allocated(error)) return
+    call new_scene(scene, 1, reshape([0.0_dp, 1.0_dp], [1, 2]), [1.0e-310_dp, 1.0_dp], [0.1_dp, 0.1_dp], status)
+    call check(error, index(status%message, "mass: particle 1: must be at least 5.6e-309") == 1, &
+      "mass: "//status%message)
+    if (allocated(error)) return
+    ! at the edge of the range the overlap is finite
+    call new_scene(scene, 1, reshape([0.0_dp, 1.0_dp], [1, 2]), [1.0_dp, 1.0_dp], [1.0e150_dp, 1.0e150_dp], &
+      status)
+    call check(error, status%stat, demstep_stat%ok, message="radius 1e150: "//status%message)
+  end subroutine test_extreme_geometry
+
+  !> "The scene has no stiffness" says which variable to change.
+  subroutine test_no_stiffness(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    real(dp), parameter :: x(1, 2) = reshape([0.0_dp, 3.0_dp], [1, 2])
+    call new_scene(scene, 1, x, [1.0_dp, 1.0_dp], [1.0_dp, 1.0_dp], status, fixed=[.true., .true.])
+    scene%k_normal = 1.0_dp
+    call critical_time_steps(scene, c, status)
+    call check(error, index(status%message, "fixed: every particle is fixed") == 1, "all fixed: "//status%message)
+    if (allocated(error)) return
+    call new_scene(scene, 1, x, [1.0_dp, 1.0_dp], [1.0_dp, 1.0_dp], status)
+    scene%effects = no_effects
+    call critical_time_steps(scene, c, status)
+    call check(error, index(status%message, "effects: the scene has no stiffness") == 1, &
+      "no effects: "//status%message)
+    if (allocated(error)) return
+    scene%effects(effect_contacts) = .true.
+    scene%k_normal = 1.0_dp
+    call critical_time_steps(scene, c, status)
+    call check(error, index(status%message, "position: the scene has no stiffness") == 1, &
+      "apart: "//status%message)
+  end subroutine test_no_stiffness
+
+  !> A run tells its progress object the total once, then the steps done every
+  !> 1e5 particle-steps or so (not every step), increasing, then that it ended.
+  subroutine test_run_progress(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(scene_summary_type) :: summary
+    type(demstep_status_type) :: status
+    type(counting_progress_type) :: progress
+    call new_scene(scene, 1, reshape([0.0_dp, 1.0_dp], [1, 2]), [1.0_dp, 1.0_dp], [0.1_dp, 0.1_dp], &
+      status, v=reshape([0.0_dp, 0.01_dp], [1, 2]))
+    call scene_add_bonds(scene, reshape([1, 2], [2, 1]), status)
+    scene%k_bond = 1.0_dp
+    scene%effects = no_effects
+    call scene_run(scene, 0.01_dp, 200000_i8, summary, status, progress=progress)
+    call check(error, status%stat, demstep_stat%ok, message=status%message)
+    if (allocated(error)) return
+    call check(error, progress%starts == 1 .and. progress%finishes == 1 .and. progress%total == 200000_i8, &
+      "one start with the total, one finish")
+    if (allocated(error)) return
+    ! 2 particles: an update every 5e4 steps, so 4 of them
+    call check(error, progress%updates, 4, message="updates")
+    if (allocated(error)) return
+    call check(error, progress%increasing .and. progress%last == 200000_i8, "increasing, ends at the total")
+  end subroutine test_run_progress
+
+  subroutine counting_start(self, what, total)
+    class(counting_progress_type), intent(inout) :: self
+    character(len=*), intent(in) :: what
+    integer(i8), intent(in) :: total
+    if (what /= "steps") self%increasing = .false.
+    self%starts = self%starts + 1
+    self%total = total
+  end subroutine counting_start
+
+  subroutine counting_update(self, done)
+    class(counting_progress_type), intent(inout) :: self
+    integer(i8), intent(in) :: done
+    self%updates = self%updates + 1
+    if (done <= self%last .or. done > self%total) self%increasing = .false.
+    self%last = done
+  end subroutine counting_update
+
+  subroutine counting_finish(self)
+    class(counting_progress_type), intent(inout) :: self
+    self%finishes = self%finishes + 1
+  end subroutine counting_finish
 
   subroutine seed(k)
     integer, intent(in) :: k

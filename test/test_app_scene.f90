@@ -1,0 +1,328 @@
+!> End-to-end tests of the `&scene` group on large, degenerate and extreme
+!> inputs: each either computed (the result namelist read back) or refused with
+!> one line naming the variable. Timing is left to the benchmarks: these tests
+!> only assert that the work completes and what it gives.
+module test_app_scene
+  use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
+  use demstep, only: dp, i8
+  use test_support, only: run_app, write_file, read_file, file_exists, work_dir, real_str
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  implicit none
+  private
+  public :: collect_app_scene
+
+  character(len=*), parameter :: deck = work_dir//"/scene_deck.nml"
+  character(len=*), parameter :: out = work_dir//"/scene_out.nml"
+
+  !> The result namelist, as a legacy code would read it back.
+  type :: scene_result_type
+    integer :: n_particles = -1, n_dof = -1, n_springs = -1, max_contacts = -1
+    real(dp) :: omega_max = -1, dt_critical_eigen = -1, dt_critical_bound = -1, dt_contact_rule = -1, &
+      dt_critical_damped = -1, damping_ratio_top = -1, dt_used = -1, energy_drift = -1, max_overlap = -1
+    integer(i8) :: steps = -1
+    logical :: eigen_computed = .false., blew_up = .false.
+  end type scene_result_type
+
+contains
+
+  subroutine collect_app_scene(testsuite)
+    type(unittest_type), allocatable, intent(out) :: testsuite(:)
+    testsuite = [ &
+      new_unittest("1e5 particles from a table: a chain, and on a wall", test_large_tables), &
+      new_unittest("3e4 touching particles", test_touching), &
+      new_unittest("3000 all overlapping: every pair a spring", test_all_overlapping), &
+      new_unittest("1000 particles at one point: refused by number", test_one_point), &
+      new_unittest("/dev/zero, a binary file and an endless line are refused", test_not_text), &
+      new_unittest("a row with an extra or hidden column is refused", test_extra_column), &
+      new_unittest("extreme radius, damping, mass and stiffness", test_extremes), &
+      new_unittest("no stiffness: the message names the variable", test_no_stiffness), &
+      new_unittest("long runs: announced with progress, absurd ones refused", test_long_runs) &
+      ]
+  end subroutine collect_app_scene
+
+  !> A particles table of n rows, written directly (faster than a line array).
+  subroutine write_table(path, n, row)
+    character(len=*), intent(in) :: path
+    integer, intent(in) :: n
+    interface
+      function row(i) result(text)
+        integer, intent(in) :: i
+        character(len=:), allocatable :: text
+      end function row
+    end interface
+    integer :: unit, i
+    call execute_command_line("mkdir -p "//work_dir, wait=.true.)
+    open(newunit=unit, file=path, status="replace", action="write")
+    do i = 1, n
+      write(unit, '(a)') row(i)
+    end do
+    close(unit)
+  end subroutine write_table
+
+  !> Run the deck; expect exit 0 and read the result back.
+  subroutine expect_result(error, line, res, env)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), intent(in) :: line
+    type(scene_result_type), intent(out) :: res
+    character(len=*), intent(in), optional :: env
+    integer :: rc, unit, ios
+    character(len=:), allocatable :: stdout, stderr
+    integer :: n_particles, n_dof, n_springs, max_contacts
+    real(dp) :: omega_max, dt_critical_eigen, dt_critical_bound, dt_contact_rule, &
+      dt_critical_damped, damping_ratio_top, dt_used, energy_drift, max_overlap
+    integer(i8) :: steps
+    logical :: eigen_computed, blew_up
+    namelist /scene_result/ n_particles, n_dof, n_springs, omega_max, eigen_computed, &
+      dt_critical_eigen, dt_critical_bound, dt_contact_rule, dt_critical_damped, &
+      damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, blew_up
+    call write_file(deck, [line])
+    call execute_command_line("rm -f "//out, wait=.true.)
+    if (present(env)) then
+      call run_app("-q "//deck//" -o "//out, rc, stdout, stderr, env=env)
+    else
+      call run_app("-q "//deck//" -o "//out, rc, stdout, stderr)
+    end if
+    call check(error, rc, 0, message="exit status; stderr: "//stderr)
+    if (allocated(error)) return
+    open(newunit=unit, file=out, status="old", action="read", iostat=ios)
+    call check(error, ios, 0, message="result file")
+    if (allocated(error)) return
+    read(unit, nml=scene_result, iostat=ios)
+    close(unit)
+    call check(error, ios, 0, message="read(nml=scene_result)")
+    if (allocated(error)) return
+    res = scene_result_type(n_particles, n_dof, n_springs, max_contacts, omega_max, dt_critical_eigen, &
+      dt_critical_bound, dt_contact_rule, dt_critical_damped, damping_ratio_top, dt_used, energy_drift, &
+      max_overlap, steps, eigen_computed, blew_up)
+    call check(error, all(ieee_is_finite([omega_max, dt_critical_eigen, dt_critical_bound, &
+      dt_contact_rule, dt_critical_damped, damping_ratio_top, dt_used, energy_drift, max_overlap])), &
+      "every real in the result is finite")
+  end subroutine expect_result
+
+  !> Run the deck; expect exit 2 and one line on stderr starting with `expected`
+  !> (after "demstep: DECK: "), and no output file.
+  subroutine expect_refusal(error, line, expected)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), intent(in) :: line, expected
+    integer :: rc
+    character(len=:), allocatable :: stdout, stderr
+    call write_file(deck, [line])
+    call execute_command_line("rm -f "//out, wait=.true.)
+    call run_app(deck//" -o "//out, rc, stdout, stderr)
+    call check(error, rc, 2, message="exit status for '"//line(:min(len(line), 200))//"'")
+    if (allocated(error)) return
+    if (index(stderr, "demstep: "//deck//": "//expected) /= 1) then
+      call test_failed(error, "stderr '"//stderr//"' does not start with 'demstep: "//deck//": "// &
+        expected//"'")
+      return
+    end if
+    call check(error, count(transfer(stderr, "a", len(stderr)) == new_line("a")), 1, &
+      message="one line on stderr: "//stderr)
+    if (allocated(error)) return
+    call check(error, .not. file_exists(out), "no output file")
+  end subroutine expect_refusal
+
+  subroutine test_large_tables(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_result_type) :: res
+    ! a 2D chain, 1 apart, radius 0.55: 99999 contacts
+    call write_table(work_dir//"/chain.txt", 100000, chain_row)
+    call expect_result(error, "&scene dim = 2, particles_file = 'chain.txt', k_normal = 1e4 /", res)
+    if (allocated(error)) return
+    call check(error, res%n_particles == 100000 .and. res%n_springs == 99999 .and. res%n_dof == 200000, &
+      "chain: particles, springs and dof")
+    if (allocated(error)) return
+    ! 1e5 particles, 1 apart, each 0.1 into the wall y = 0: 1e5 wall contacts
+    call write_table(work_dir//"/wall.txt", 100000, wall_row)
+    call expect_result(error, "&scene dim = 2, particles_file = 'wall.txt', effects = 'walls', " &
+      //"walls = 0.0, 0.0, 0.0, 1.0, k_normal = 1e4 /", res)
+    if (allocated(error)) return
+    call check(error, res%n_particles == 100000 .and. res%n_springs == 100000, "wall: springs")
+    if (allocated(error)) return
+    ! each particle alone on the wall: the bound is exact, 2/sqrt(k/m)
+    call check(error, res%dt_critical_bound, 2.0_dp/sqrt(1.0e4_dp), thr=1.0e-12_dp, rel=.true., &
+      message="wall: bound")
+  end subroutine test_large_tables
+
+  function chain_row(i) result(text)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: text
+    character(len=64) :: buf
+    write(buf, '(i0, a)') i - 1, " 0 0 0 1 0.55 0"
+    text = trim(buf)
+  end function chain_row
+
+  function wall_row(i) result(text)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: text
+    character(len=64) :: buf
+    write(buf, '(i0, a)') i - 1, " 0.3 0 0 1 0.4 0"
+    text = trim(buf)
+  end function wall_row
+
+  !> 31^3 = 29791 particles on a unit lattice, radius 0.51: each touches its 6
+  !> neighbours, 3*31*31*30 contacts.
+  subroutine test_touching(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_result_type) :: res
+    call write_table(work_dir//"/touch.txt", 31**3, lattice_row)
+    call expect_result(error, "&scene dim = 3, particles_file = 'touch.txt', k_normal = 1e4 /", res)
+    if (allocated(error)) return
+    call check(error, res%n_particles == 29791 .and. res%n_springs == 3*31*31*30, &
+      "touching: "//real_str(real(res%n_springs, dp))//" springs")
+    if (allocated(error)) return
+    call check(error, res%n_dof == 89373 .and. .not. res%eigen_computed, "89373 dof, above the dense limit")
+  end subroutine test_touching
+
+  function lattice_row(p) result(text)
+    integer, intent(in) :: p
+    character(len=:), allocatable :: text
+    character(len=64) :: buf
+    integer :: i, j, k
+    i = mod(p - 1, 31)
+    j = mod((p - 1)/31, 31)
+    k = (p - 1)/961
+    write(buf, '(3(i0, 1x), a)') i, j, k, "0 0 0 1 0.51 0"
+    text = trim(buf)
+  end function lattice_row
+
+  !> 3000 distinct points in a unit cube, radius 2: every pair overlaps, 4498500
+  !> contacts, found and linearised in time linear in contacts.
+  subroutine test_all_overlapping(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_result_type) :: res
+    character(len=:), allocatable :: line
+    character(len=40) :: buf
+    integer :: i, pos
+    ! (filled in place: an assignment to the whole string would reallocate it)
+    allocate(character(len=3000*40 + 200) :: line)
+    pos = 0
+    ! a deterministic scatter (golden-ratio sequences): distinct points
+    do i = 1, 3000
+      write(buf, '(3(f0.8, ", "))') modulo(0.6180339887_dp*i, 1.0_dp), &
+        modulo(0.7548776662_dp*i, 1.0_dp), modulo(0.5698402910_dp*i, 1.0_dp)
+      line(pos + 1:pos + len_trim(buf) + 1) = trim(buf)//" "
+      pos = pos + len_trim(buf) + 1
+    end do
+    call expect_result(error, "&scene dim = 3, position = "//line(:pos - 2)//", mass = 1.0, radius = 2.0, " &
+      //"k_normal = 1e4 /", res)
+    if (allocated(error)) return
+    call check(error, res%n_springs, 4498500, message="springs")
+  end subroutine test_all_overlapping
+
+  subroutine test_one_point(error)
+    type(error_type), allocatable, intent(out) :: error
+    call expect_refusal(error, "&scene dim = 3, position = 3000*0.0, mass = 1.0, radius = 0.5, k_normal = 1e4 /", &
+      "&scene: position: particles 1 and 2 are at the same point")
+  end subroutine test_one_point
+
+  subroutine test_not_text(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer :: unit
+    call expect_refusal(error, "&scene dim = 2, particles_file = '/dev/zero', k_normal = 1e4 /", &
+      "&scene: particles_file: /dev/zero: line 1: not a text file (byte 0 in column 1)")
+    if (allocated(error)) return
+    ! a binary file after a good row
+    open(newunit=unit, file=work_dir//"/binary.txt", access="stream", status="replace", action="write")
+    write(unit) "0 0 0 0 1 0.6 0"//new_line("a")//"1 0 "//achar(1)//achar(200)//"xyz"//new_line("a")
+    close(unit)
+    call expect_refusal(error, "&scene dim = 2, particles_file = 'binary.txt', k_normal = 1e4 /", &
+      "&scene: particles_file: "//work_dir//"/binary.txt: line 2: not a text file (byte 1 in column 5)")
+    if (allocated(error)) return
+    ! one line of 100000 characters
+    open(newunit=unit, file=work_dir//"/long.txt", access="stream", status="replace", action="write")
+    write(unit) repeat("1 ", 50000)//new_line("a")
+    close(unit)
+    call expect_refusal(error, "&scene dim = 2, particles_file = 'long.txt', k_normal = 1e4 /", &
+      "&scene: particles_file: "//work_dir//"/long.txt: line 1: longer than 64512 characters")
+  end subroutine test_not_text
+
+  subroutine test_extra_column(error)
+    type(error_type), allocatable, intent(out) :: error
+    call write_file(work_dir//"/extra.txt", [character(len=40) :: "0 0 0 0 1 0.6 0", "1 0 0 0 1 0.6 0 5"])
+    call expect_refusal(error, "&scene dim = 2, particles_file = 'extra.txt', k_normal = 1e4 /", &
+      "&scene: particles_file: "//work_dir//"/extra.txt: line 2: expected 7 numbers, found 8")
+    if (allocated(error)) return
+    ! a list-directed repeat would hide an eighth value in seven fields
+    call write_file(work_dir//"/extra.txt", [character(len=40) :: "0 0 0 0 1 0.6 0", "1 0 0 0 1 0.6 2*0"])
+    call expect_refusal(error, "&scene dim = 2, particles_file = 'extra.txt', k_normal = 1e4 /", &
+      "&scene: particles_file: "//work_dir//"/extra.txt: line 2: cannot read '1 0 0 0 1 0.6 2*0'")
+    if (allocated(error)) return
+    ! commas and tabs separate fields too
+    call write_file(work_dir//"/extra.txt", [character(len=40) :: "0, 0, 0, 0, 1, 0.6, 0", &
+      "1"//achar(9)//"0 0 0 1 0.6 0 7"])
+    call expect_refusal(error, "&scene dim = 2, particles_file = 'extra.txt', k_normal = 1e4 /", &
+      "&scene: particles_file: "//work_dir//"/extra.txt: line 2: expected 7 numbers, found 8")
+  end subroutine test_extra_column
+
+  !> radius 1e308 and damping_ratio 1e308 are refused with the range; mass
+  !> 1e-308 and k_normal 1e308 are computed: two free particles on one contact,
+  !> omega_max = sqrt(2 k/m) (1e-13 relative: a few roundings).
+  subroutine test_extremes(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), parameter :: g = "&scene dim = 1, position = 0.0, 1.0, radius = 0.6, "
+    type(scene_result_type) :: res
+    call expect_refusal(error, "&scene dim = 1, position = 0.0, 1.0, radius = 1e308, mass = 1.0, " &
+      //"k_normal = 1e4, duration = 1.0, n_per_period = 20 /", "&scene: radius: particle 1: must be at " &
+      //"most 1e150")
+    if (allocated(error)) return
+    call expect_refusal(error, g//"mass = 1.0, k_normal = 1e4, effects = 'contacts', 'damping', " &
+      //"damping_ratio = 1e308 /", "&scene: damping_ratio: must be in [0, 1e100]")
+    if (allocated(error)) return
+    call expect_result(error, g//"mass = 1e-308, k_normal = 1e4 /", res)
+    if (allocated(error)) return
+    call check(error, res%omega_max, sqrt(2.0_dp)*1.0e2_dp/1.0e-154_dp, thr=1.0e-13_dp, rel=.true., &
+      message="mass 1e-308: omega_max")
+    if (allocated(error)) return
+    call expect_result(error, g//"mass = 1.0, k_normal = 1e308 /", res)
+    if (allocated(error)) return
+    call check(error, res%omega_max, sqrt(2.0_dp)*1.0e154_dp, thr=1.0e-13_dp, rel=.true., &
+      message="k_normal 1e308: omega_max")
+    if (allocated(error)) return
+    call check(error, res%dt_contact_rule, 2.0_dp*sqrt(0.5_dp)/1.0e154_dp, thr=1.0e-13_dp, rel=.true., &
+      message="k_normal 1e308: contact rule")
+  end subroutine test_extremes
+
+  subroutine test_no_stiffness(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), parameter :: g = "&scene dim = 1, position = 0.0, 3.0, radius = 0.6, mass = 1.0, "
+    call expect_refusal(error, g//"k_normal = 1e4, fixed = 1, 2 /", &
+      "&scene: fixed: every particle is fixed: the scene has no stiffness")
+    if (allocated(error)) return
+    call write_file(work_dir//"/empty.txt", [character(len=20) :: "# no bonds"])
+    call expect_refusal(error, g//"bonds_file = 'empty.txt', k_bond = 1.0, effects = 'none' /", &
+      "&scene: bonds_file: "//work_dir//"/empty.txt: holds no bonds")
+    if (allocated(error)) return
+    call expect_refusal(error, g//"effects = 'none' /", "&scene: effects: the scene has no stiffness")
+    if (allocated(error)) return
+    call expect_refusal(error, g//"k_normal = 1e4 /", "&scene: position: the scene has no stiffness")
+  end subroutine test_no_stiffness
+
+  !> A run of 1e9 steps says up front how much it will do and then shows
+  !> progress (it is stopped after 8 s by `timeout`); with -q it says nothing;
+  !> 1e18 steps are refused with the duration that fits.
+  subroutine test_long_runs(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), parameter :: g = "&scene dim = 1, position = 0.0, 1.0, radius = 0.6, mass = 1.0, " &
+      //"k_normal = 1e4, "
+    integer :: rc, k
+    character(len=:), allocatable :: stdout, stderr
+    call expect_refusal(error, g//"duration = 1e9, dt = 1e-9 /", "&scene: duration: 1e9 at dt = 1e-9 is 1e18 " &
+      //"steps of 2 particles")
+    if (allocated(error)) return
+    call write_file(deck, [g//"duration = 1e7, dt = 1e-2 /"])
+    call run_app(deck, rc, stdout, stderr, env="timeout 8")
+    call check(error, rc, 124, message="stopped by timeout; stderr: "//stderr)
+    if (allocated(error)) return
+    call check(error, index(stderr, "demstep: &scene: 1000000000 steps of 2 particles, about ") == 1 .and. &
+      index(stderr, " s per particle-step measured)") > 0, "announced up front: "//stderr)
+    if (allocated(error)) return
+    k = index(stderr, new_line("a"))
+    call check(error, index(stderr(k + 1:), "demstep: &scene: ") == 1 .and. &
+      index(stderr(k + 1:), " of 1000000000 steps (") > 0, "then progress: "//stderr)
+    if (allocated(error)) return
+    call run_app("-q "//deck, rc, stdout, stderr, env="timeout 2")
+    call check(error, rc == 124 .and. len(stderr) == 0, "quiet: nothing on stderr: "//stderr)
+  end subroutine test_long_runs
+
+end module test_app_scene
