@@ -106,11 +106,11 @@ contains
     self%last = now
     self%lines = self%lines + 1
     if (self%total > 0 .and. done > 0) then
-      write(pct, '(f0.1)') 100.0_dp*real(done, dp)/real(self%total, dp)
+      write(pct, '(f6.1)') 100.0_dp*real(done, dp)/real(self%total, dp)
       left = elapsed*real(max(self%total - done, 0_i8), dp)/real(done, dp)
-      write(secs, '(f0.1)') left
+      secs = seconds_text(left)
       write(self%unit, '(a, i0, a, i0, a)') self%label//": ", done, " of ", self%total, &
-        " "//self%what//" ("//trim(pct)//" %), about "//trim(secs)//" s left"
+        " "//self%what//" ("//trim(adjustl(pct))//" %), about "//trim(secs)//" s left"
     else
       write(self%unit, '(a, i0, a)') self%label//": ", done, " "//self%what
     end if
@@ -123,9 +123,21 @@ contains
     character(len=32) :: secs
     if (self%lines == 0) return
     call system_clock(now, rate)
-    write(secs, '(f0.1)') real(now - self%started, dp)/real(max(rate, 1_i8), dp)
+    secs = seconds_text(real(now - self%started, dp)/real(max(rate, 1_i8), dp))
     write(self%unit, '(a)') self%label//": done in "//trim(secs)//" s"
     flush(self%unit)
   end subroutine text_finish
+
+  !> Seconds as text: one decimal, or exponent form beyond 1e12.
+  pure function seconds_text(t) result(text)
+    real(dp), intent(in) :: t
+    character(len=32) :: text
+    if (abs(t) < 1.0e12_dp) then
+      write(text, '(f16.1)') t
+    else
+      write(text, '(es10.3)') t
+    end if
+    text = adjustl(text)
+  end function seconds_text
 
 end module demstep_progress

@@ -29,6 +29,7 @@ contains
     type(unittest_type), allocatable, intent(out) :: testsuite(:)
     testsuite = [ &
       new_unittest("1e5 particles from a table: a chain, and on a wall", test_large_tables), &
+      new_unittest("1e5 particles inline: a chain", test_large_inline), &
       new_unittest("3e4 touching particles", test_touching), &
       new_unittest("3000 all overlapping: every pair a spring", test_all_overlapping), &
       new_unittest("1000 particles at one point: refused by number", test_one_point), &
@@ -143,6 +144,34 @@ contains
     call check(error, res%dt_critical_bound, 2.0_dp/sqrt(1.0e4_dp), thr=1.0e-12_dp, rel=.true., &
       message="wall: bound")
   end subroutine test_large_tables
+
+  subroutine test_large_inline(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_result_type) :: res
+    character(len=:), allocatable :: line
+    integer, parameter :: n = 100000
+    integer :: i, k
+    character(len=16) :: buf
+    ! the chain of test_large_tables, as 2e5 inline coordinates (one text, filled once)
+    allocate(character(len=16*n + 200) :: line)
+    k = 0
+    call put("&scene dim = 2, k_normal = 1e4, mass = 1, radius = 0.55, position = ")
+    do i = 0, n - 1
+      write(buf, '(i0, a)') i, ", 0, "
+      call put(trim(buf))
+    end do
+    call put(" /")
+    call expect_result(error, line(1:k), res)
+    if (allocated(error)) return
+    call check(error, res%n_particles == n .and. res%n_springs == n - 1, &
+      "inline chain: particles and springs")
+  contains
+    subroutine put(text)
+      character(len=*), intent(in) :: text
+      line(k+1:k+len(text)) = text
+      k = k + len(text)
+    end subroutine put
+  end subroutine test_large_inline
 
   function chain_row(i) result(text)
     integer, intent(in) :: i

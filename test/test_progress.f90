@@ -45,14 +45,14 @@ contains
     character(len=200) :: first, second
     open(newunit=u, status="scratch", action="readwrite")
     p = text_progress_type(unit=u, label="t", delay=0.0_dp, interval=0.0_dp)
-    call p%start("steps", 200_i8)
-    call p%update(50_i8)
+    call p%start("steps", 2000_i8)
+    call p%update(5_i8)
     call p%finish()
     rewind(u)
     read(u, '(a)', iostat=ios) first
     read(u, '(a)', iostat=ios) second
     close(u)
-    call check(error, index(first, "t: 50 of 200 steps (25.0 %), about") == 1, &
+    call check(error, index(first, "t: 5 of 2000 steps (0.2 %), about") == 1, &
       "progress line: "//trim(first))
     if (allocated(error)) return
     call check(error, index(second, "t: done in") == 1, "final line: "//trim(second))
