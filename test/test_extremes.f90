@@ -570,6 +570,11 @@ contains
     character(len=*), parameter :: cost_vars(12) = [character(len=24) :: "quantity", "tolerances", &
       "duration", "n_particles", "mass", "stiffness", "damping_ratio", "lambda", &
       "cost_per_particle_step", "n_max", "csv", "figure"]
+    character(len=*), parameter :: stiffness_vars(11) = [character(len=16) :: "mass", "stiffness", &
+      "tolerance", "lambda", "steps", "n_steps", "n_max", "resolution", "aggregate", "weights", "pick"]
+    character(len=*), parameter :: scene_vars(13) = [character(len=20) :: "dim", "position", "mass", &
+      "radius", "k_normal", "e_star", "law", "effects", "damping_ratio", "bonds", "k_bond", "fixed", &
+      "hertz_linearization"]
     character(len=*), parameter :: quantities(5) = [character(len=12) :: "restitution", &
       "contact_time", "overlap", "period", "harmonic"]
     real(dp) :: u
@@ -620,6 +625,42 @@ contains
       call random_number(u)
       if (u < 0.3_dp) line = line//", damping_ratio = "//num(mixed(0.5_dp)/1000.0_dp)
       call check_deck(error, line//" /", "accuracy_cost", cost_vars)
+      if (allocated(error)) return
+    end do
+    do i = 1, 30
+      ! lambdas mostly in (0, 1), some extreme; resolutions that a scan can afford or
+      ! extreme ones (refused); every other value extreme or ordinary
+      call random_number(u)
+      line = "&simulated_stiffness mass = "//num(mixed(0.5_dp))//", stiffness = "//num(mixed(0.5_dp)) &
+        //", tolerance = "//num(mixed(0.5_dp)/1000.0_dp)//", lambda = "//num(mixed(0.3_dp)/1000.0_dp) &
+        //", "//num(mixed(0.3_dp)/1000.0_dp)
+      if (u < 0.3_dp) line = line//", steps = 'fixed', n_steps = "//num(mixed(0.5_dp))
+      call random_number(u)
+      if (u < 0.3_dp) line = line//", n_max = "//num(mixed(0.5_dp)*1000.0_dp)
+      call random_number(u)
+      if (u < 0.3_dp) line = line//", resolution = "//num(merge(extreme(0.9_dp), 0.01_dp + u, u < 0.15_dp))
+      call random_number(u)
+      if (u < 0.3_dp) line = line//", aggregate = 'weighted', weights = "//num(mixed(0.5_dp))//", " &
+        //num(mixed(0.5_dp))
+      call check_deck(error, line//" /", "simulated_stiffness", stiffness_vars)
+      if (allocated(error)) return
+    end do
+    do i = 1, 30
+      ! three particles in a bent chain; the critical steps only (a run's length is
+      ! work the user asks for, tested elsewhere)
+      call random_number(u)
+      line = "&scene dim = 2, position = 0, 0, "//num(mixed(0.3_dp))//", 0, "//num(mixed(0.3_dp)) &
+        //", "//num(mixed(0.3_dp))//", mass = "//num(mixed(0.5_dp))//", radius = "//num(mixed(0.5_dp))
+      if (u < 0.5_dp) then
+        line = line//", k_normal = "//num(mixed(0.5_dp))
+      else
+        line = line//", law = 'hertz', e_star = "//num(mixed(0.5_dp))
+      end if
+      call random_number(u)
+      if (u < 0.4_dp) line = line//", effects = 'contacts', 'damping', damping_ratio = "//num(mixed(0.5_dp))
+      call random_number(u)
+      if (u < 0.3_dp) line = line//", bonds = 1, 3, k_bond = "//num(mixed(0.5_dp))
+      call check_deck(error, line//" /", "scene", scene_vars)
       if (allocated(error)) return
     end do
   end subroutine test_app_random
