@@ -5,10 +5,12 @@ module demstep_cli_accuracy
     lowercase, onset_contact_type, contact_with_onset, contact_worst_case, quantity_restitution, &
     quantity_contact_time, quantity_overlap, quantity_period, n_quantities, quantity_names, &
     worst_error, n_for_tolerance, measure_step_cost, default_cost_n_max, nroots_options_type, &
-    nroots_type, n_roots, harmonic_error, replace_file, process_id, spring_type, new_spring, &
+    nroots_type, n_roots, harmonic_error, spring_type, new_spring, &
     spring_period, check_contact_damping, run_prediction_type, predict_run
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, fmt_real, &
     fmt_int, cli_context, check_real, new_array, array_length, broadcast, common_length
+  use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &
+    rename_file, process_id
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -549,7 +551,8 @@ contains
     real(dp) :: big_n, e(n_quantities + 1)
     real(dp), allocatable :: rows(:, :)
     integer :: unit, ios, k, j, m, rc, cs
-    character(len=:), allocatable :: tmp, script, fig
+    character(len=:), allocatable :: script, fig
+    type(output_file_type) :: csv_file
     type(demstep_status_type) :: st
     type(run_prediction_type) :: prediction
     m = 120
@@ -574,27 +577,25 @@ contains
     do k = m - 1, 0, -1
       rows(11, k) = max(rows(11, k + 1), rows(2 + min(q, n_quantities + 1), k))
     end do
-    tmp = csv//".tmp"//fmt_int(int(process_id(), i8))
-    open(newunit=unit, file=tmp, status="replace", action="write", iostat=ios)
-    if (ios /= 0) then
-      call set_status(status, demstep_stat%io_error, "'"//csv//"': cannot write")
+    call open_output(csv, csv_file, status)
+    if (status%stat /= demstep_stat%ok) then
+      call set_status(status, demstep_stat%io_error, "'"//csv//"': "//status%message)
       return
     end if
-    write(unit, '(a)', iostat=ios) "n_per_period,steps_per_contact,restitution_error," &
+    write(csv_file%unit, '(a)', iostat=ios) "n_per_period,steps_per_contact,restitution_error," &
       //"contact_time_error,overlap_error,period_error,harmonic_error,dt,steps,predicted_seconds," &
       //"guaranteed_error"
     do k = 0, m
-      if (ios == 0) write(unit, '(es16.8, *(",", es16.8))', iostat=ios) rows(:, k)
+      if (ios == 0) write(csv_file%unit, '(es16.8, *(",", es16.8))', iostat=ios) rows(:, k)
     end do
-    if (ios == 0) then
-      close(unit, iostat=ios)
-    else
-      close(unit, status="delete")
-    end if
-    if (ios == 0) call replace_file(tmp, csv, status)
-    if (ios /= 0 .or. status%stat /= demstep_stat%ok) then
-      call delete_file(tmp)
+    if (ios /= 0) then
+      call discard_output(csv_file)
       call set_status(status, demstep_stat%io_error, "'"//csv//"': cannot write")
+      return
+    end if
+    call commit_output(csv_file, status)
+    if (status%stat /= demstep_stat%ok) then
+      call set_status(status, demstep_stat%io_error, "'"//csv//"': "//status%message)
       return
     end if
     status%stat = demstep_stat%ok
@@ -636,8 +637,8 @@ contains
       call delete_file(fig//".svg.tmp")
       write(u, '(2x, a)') "gnuplot failed: no figure"
     else
-      call replace_file(fig//".png.tmp", fig//".png", st)
-      if (st%stat == demstep_stat%ok) call replace_file(fig//".svg.tmp", fig//".svg", st)
+      call rename_file(fig//".png.tmp", fig//".png", st)
+      if (st%stat == demstep_stat%ok) call rename_file(fig//".svg.tmp", fig//".svg", st)
       if (st%stat == demstep_stat%ok) then
         write(u, '(2x, a)') "figure written to "//fig//".png and "//fig//".svg"
       else

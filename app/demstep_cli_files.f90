@@ -11,7 +11,8 @@ module demstep_cli_files
   implicit none
   private
 
-  public :: resolve_path, same_file, open_output, commit_output, discard_output
+  public :: resolve_path, same_file, open_output, commit_output, discard_output, rename_file, &
+    process_id
 
   !> An output being written: the unit, its temporary and the final name.
   type, public :: output_file_type
@@ -79,7 +80,6 @@ contains
     !> The open temporary (formatted, sequential).
     type(output_file_type), intent(out) :: file
     type(demstep_status_type), intent(out) :: status
-    character(len=256) :: msg
     character(len=:), allocatable :: dir
     logical :: is_dir
     integer :: ios, k, attempt
@@ -91,17 +91,22 @@ contains
     end if
     k = index(file%target, "/", back=.true.)
     dir = file%target(1:k)
+    if (k == 0) dir = "./"
     do attempt = 0, 99
       ! a short name, so that a target name of the longest length still gets one
-      file%temp = dir//".demstep-"//int_text(int(c_getpid()))//"-"//int_text(attempt)//".tmp"
+      file%temp = dir//".demstep-"//int_text(process_id())//"-"//int_text(attempt)//".tmp"
       open(newunit=file%unit, file=file%temp, status="new", action="write", form="formatted", &
-        iostat=ios, iomsg=msg)
+        iostat=ios)
       if (ios == 0) exit
       if (.not. exists(file%temp)) exit
     end do
     if (ios /= 0) then
       file%unit = -1
-      call set_status(status, demstep_stat%io_error, "cannot create a file in '"//dir//"': "//trim(msg))
+      if (exists(dir//".")) then
+        call set_status(status, demstep_stat%io_error, "cannot write in directory '"//dir//"'")
+      else
+        call set_status(status, demstep_stat%io_error, "cannot write: no directory '"//dir//"'")
+      end if
       return
     end if
     status%stat = demstep_stat%ok
@@ -140,6 +145,25 @@ contains
     open(newunit=unit, file=file%temp, status="old", iostat=ios)
     if (ios == 0) close(unit, status="delete", iostat=ios)
   end subroutine discard_output
+
+  !> Atomically rename `source` over `target` (POSIX rename).
+  subroutine rename_file(source, target, status)
+    !> Existing file, in the target's directory.
+    character(len=*), intent(in) :: source
+    !> Final name.
+    character(len=*), intent(in) :: target
+    type(demstep_status_type), intent(out) :: status
+    if (c_rename(source//c_null_char, target//c_null_char) /= 0) then
+      call set_status(status, demstep_stat%io_error, "cannot rename "//source//" to "//target)
+    else
+      status%stat = demstep_stat%ok
+    end if
+  end subroutine rename_file
+
+  !> This process's id, for names of temporary files.
+  integer function process_id()
+    process_id = int(c_getpid())
+  end function process_id
 
   logical function exists(path)
     character(len=*), intent(in) :: path

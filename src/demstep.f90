@@ -40,7 +40,7 @@ module demstep
   use demstep_capi, only: capi_message_length
   use demstep_progress, only: progress_type, text_progress_type
   use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, &
-    scan_namelist, lowercase, replace_file, process_id
+    scan_namelist, lowercase
   implicit none
   public
 end module demstep

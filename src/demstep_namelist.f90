@@ -5,15 +5,14 @@
 !> and each group into assignments `designator = values`, honouring quotes and `!`
 !> comments, so that a reader can process only the groups it knows and report an
 !> error against the exact variable. Values are left as text for the Fortran
-!> runtime to convert (`read(text, nml=...)`). Also: atomic file replacement.
+!> runtime to convert (`read(text, nml=...)`).
 module demstep_namelist
-  use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text
   implicit none
   private
 
-  public :: read_text_file, scan_namelist, lowercase, replace_file, process_id, excerpt
+  public :: read_text_file, scan_namelist, lowercase, excerpt
 
   !> One assignment `designator = values` of a group.
   type, public :: nml_item_type
@@ -37,17 +36,6 @@ module demstep_namelist
     type(nml_item_type), allocatable :: items(:)
   end type nml_group_type
 
-  interface
-    function c_rename(old, new) result(rc) bind(c, name="rename")
-      import :: c_char, c_int
-      character(kind=c_char), intent(in) :: old(*), new(*)
-      integer(c_int) :: rc
-    end function c_rename
-    function c_getpid() result(pid) bind(c, name="getpid")
-      import :: c_int
-      integer(c_int) :: pid
-    end function c_getpid
-  end interface
 
   character(len=*), parameter :: lf = achar(10), cr = achar(13), tab = achar(9)
   !> Longest group or variable name Fortran allows.
@@ -498,25 +486,6 @@ contains
     end do
   end function lowercase
 
-  !> Atomically replace `target` by `source` (POSIX rename).
-  subroutine replace_file(source, target, status)
-    !> Existing file, typically a temporary in the target's directory.
-    character(len=*), intent(in) :: source
-    !> Final name.
-    character(len=*), intent(in) :: target
-    type(demstep_status_type), intent(out) :: status
-    if (c_rename(source//c_null_char, target//c_null_char) /= 0) then
-      call set_status(status, demstep_stat%io_error, "cannot rename "//source//" to "//target)
-    else
-      status%stat = demstep_stat%ok
-    end if
-  end subroutine replace_file
-
-  !> Process id, for unique temporary file names.
-  function process_id() result(pid)
-    integer :: pid
-    pid = int(c_getpid())
-  end function process_id
 
   elemental logical function is_blank(c)
     character, intent(in) :: c
