@@ -31,7 +31,7 @@ DENSITY = float(os.environ.get('DEMSTEP_YADE_DENSITY', '2623.0'))
 OVERLAP = 1.0e-3     # lattices: overlap / (2 R0), spacing = 2 R0 (1 - OVERLAP)
 NOSLIP = 1.0e6       # tan(friction angle) set on every contact: no sliding
 
-V0 = 1.0e-5          # m/s, rms of the random test velocities (tiny: linear regime)
+V0 = 1.0e-7          # m/s, rms of the random test velocities (tiny: linear regime)
 SEED = 12345
 
 mat = O.materials.append(FrictMat(young=YOUNG, poisson=KS_RATIO, density=DENSITY,
@@ -87,21 +87,39 @@ def random_packing():
     # frictionless growth (no shear pre-load at the end), then no-slip
     O.materials[mat].frictionAngle = 0.0
     O.dt = 0.5 * PWaveTimeStep()
-    target = 2.0e-3   # mean overlap / mean radius at the end of growth (as the lattices)
-    grown = 1.0
-    for it in range(5000):
-        O.run(100, True)
+    target = 2.0e-3   # mean overlap / mean radius of the relaxed packing (lattices: 2e-3)
+
+    def state():
         ov = [i.geom.penetrationDepth / (0.5 * (i.geom.refR1 + i.geom.refR2))
               for i in O.interactions if i.isReal]
-        mean_ov = sum(ov) / len(ov) if ov else 0.0
-        z = 2.0 * len(ov) / len(O.bodies)
-        if z > 5.0 and mean_ov >= target:
+        return (sum(ov) / len(ov) if ov else 0.0), 2.0 * len(ov) / len(O.bodies)
+    grown = 1.0
+    # 1) fast growth until a contact network spans the cell (dynamic compression)
+    for it in range(5000):
+        O.run(100, True)
+        mean_ov, z = state()
+        if z > 4.0:
             break
-        f = 1.003 if z < 4.0 else 1.0002
+        growParticles(1.003, updateMass=True, dynamicOnly=True)
+        grown *= 1.003
+    # 2) quasi-static growth: relax, then grow towards the target overlap
+    for it in range(400):
+        O.run(2000, True)
+        mean_ov, z = state()
+        if mean_ov >= target and z > 5.0 and unbalancedForce() < 0.05:
+            break
+        f = 1.0 + min(2e-3, max(2e-4, 0.5 * (target - mean_ov)))
         growParticles(f, updateMass=True, dynamicOnly=True)
         grown *= f
-    print('growth: factor %.5f, mean overlap/r %.3e, contacts %d, z %.3f, steps %d' % (grown, mean_ov, len(ov), z, O.iter))
-    # relax at fixed radii with damping until forces balance
+    print('growth: factor %.5f, mean overlap/r %.3e, z %.3f, steps %d' % (grown, mean_ov, z, O.iter))
+    # Ip2 set k_n, k_s when each contact formed; growth changed the radii since:
+    # give every contact the FrictPhys values of its final radii
+    for i in O.interactions:
+        if i.isReal:
+            r1, r2 = O.bodies[i.id1].shape.radius, O.bodies[i.id2].shape.radius
+            i.phys.kn = 2 * YOUNG * r1 * YOUNG * r2 / (YOUNG * r1 + YOUNG * r2)
+            i.phys.ks = KS_RATIO * i.phys.kn
+    # 3) relax at fixed radii with damping until forces balance
     for it in range(1000):
         O.run(200, True)
         if unbalancedForce() < 1e-6:
@@ -249,6 +267,19 @@ while (hi - lo) / lo > RTOL:
     else:
         lo = mid
 
+# confirm the stable end with a run 5 times longer; step down while it fails
+NCONFIRM = 5 * NMAX
+confirm = []
+while True:
+    NMAX, nsave = NCONFIRM, NMAX
+    unstable = trial(lo)
+    NMAX = nsave
+    confirm.append({'dt': lo, 'steps': trials[-1]['steps'], 'unstable': unstable})
+    if not unstable:
+        break
+    hi = lo
+    lo = lo * (1 - RTOL)
+
 ov = [c[4] for c in contacts]
 summary = {
     'case': CASE,
@@ -266,6 +297,7 @@ summary = {
     'measured_dt_lo': lo, 'measured_dt_hi': hi, 'measured_dt_mid': 0.5 * (lo + hi),
     'criterion': 'unstable if kinetic energy (translational + rotational) exceeds %g x its initial value within %d steps'
                  % (GROWTH, NMAX),
+    'confirmation_runs_at_lo': confirm,
     'test_velocity_rms_per_component': V0, 'test_angvel_rms_per_component': V0 / R0, 'seed': SEED,
     'GlobalStiffnessTimeStepper_raw': gsts_dt,
     'PWaveTimeStep': pwave,
