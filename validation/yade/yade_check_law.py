@@ -44,13 +44,15 @@ eps = 1e-9
 # 1) tangential translation of sphere 2
 fs, f1, t1, t2 = run(eps * t, Vector3(0, 0, 0), Vector3(0, 0, 0))
 exp_fs = -ks * alpha * eps * O.dt * t
-print('translation: shear force / (-ks alpha v dt) = %.9f' % (fs.dot(t) / exp_fs.dot(t)))
+print('translation: shear force / (-ks alpha v dt) = %.9f  (1/alpha = %.9f: the ratio without alpha)'
+      % (fs.dot(t) / exp_fs.dot(t), 1.0 / alpha))
 nrm = i.geom.normal
 d = i.geom.penetrationDepth
 exp_t1 = (r1 - 0.5 * d) * nrm.cross(f1)
 exp_t2 = (r2 - 0.5 * d) * nrm.cross(f1)
-print('torque arms: t1/[(r1-d/2) n x f1] = %.9f, t2/[(r2-d/2) n x f1] = %.9f'
-      % (t1.norm() / exp_t1.norm(), t2.norm() / exp_t2.norm()))
+print('torque arms: t1.e/|e|^2 = %.9f (|t1 - e|/|e| = %.1e), t2.e/|e|^2 = %.9f (|t2 - e|/|e| = %.1e)'
+      % (t1.dot(exp_t1) / exp_t1.squaredNorm(), (t1 - exp_t1).norm() / exp_t1.norm(),
+         t2.dot(exp_t2) / exp_t2.squaredNorm(), (t2 - exp_t2).norm() / exp_t2.norm()))
 # 2) rotation of sphere 1 about an axis normal to n: slip velocity r1 n x w1
 w = n.cross(t)
 fs, f1, t1, t2 = run(Vector3(0, 0, 0), eps / r1 * w, Vector3(0, 0, 0))
