@@ -2,11 +2,10 @@
 !> and what a tolerance costs in steps and run time (table, CSV, figure).
 module demstep_cli_accuracy
   use demstep, only: dp, i8, pi, demstep_status_type, demstep_stat, nml_group_type, set_status, &
-    lowercase, onset_contact_type, contact_with_onset, contact_worst_case, quantity_restitution, &
-    quantity_contact_time, quantity_overlap, quantity_period, n_quantities, quantity_names, &
-    worst_error, n_for_tolerance, measure_step_cost, default_cost_n_max, nroots_options_type, &
-    nroots_type, n_roots, harmonic_error, spring_type, new_spring, &
-    spring_period, check_contact_damping, run_prediction_type, predict_run
+    lowercase, onset_contact_type, contact_with_onset, contact_worst_case, quantity_kind, &
+    n_quantities, quantity_names, worst_error, n_for_tolerance, measure_step_cost, &
+    default_cost_n_max, nroots_options_type, nroots_type, n_roots, harmonic_error, spring_type, &
+    new_spring, spring_period, check_contact_damping, run_prediction_type, predict_run
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, fmt_real, &
     fmt_int, cli_context, check_real, new_array, array_length, broadcast, common_length
   use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &
@@ -81,7 +80,7 @@ contains
     logical :: worst
     type(onset_contact_type) :: c
     real(dp) :: e
-    integer, parameter :: columns(3) = [quantity_contact_time, quantity_restitution, quantity_overlap]
+    integer, parameter :: columns(3) = [quantity_kind%contact_time, quantity_kind%restitution, quantity_kind%overlap]
 
     specs = contact_error_specs()
     call check_names(group, specs, status)

@@ -3,10 +3,8 @@
 module demstep_cli_stiffness
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, set_status, &
     lowercase, stiffness_input_type, stiffness_result_type, run_procedure => simulated_stiffness, &
-    steps_fixed, policy_fraction => steps_fraction, steps_rounded, new_step_policy, pick_largest_step, pick_zero, &
-    aggregate_mean, aggregate_weighted, aggregate_median, aggregate_min, aggregate_max, &
-    interval_bounded, interval_unbounded, default_n_max, default_resolution, n_scan_start, &
-    text_progress_type
+    step_kind, new_step_policy, pick_kind, aggregate_kind, &
+    interval_kind, default_n_max, default_resolution, n_scan_start, text_progress_type
   use demstep_stiffness, only: procedure_cost, measure_evaluation_cost, max_procedure_evaluations
   use, intrinsic :: iso_fortran_env, only: error_unit
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
@@ -168,9 +166,9 @@ contains
     ! step policy, pick and aggregation
     select case (lowercase(trim(adjustl(steps))))
     case ("half_period")
-      call new_step_policy(input%options%policy, policy_fraction, 0.5_dp, stat)
+      call new_step_policy(input%options%policy, step_kind%fraction, 0.5_dp, stat)
     case ("fraction", "rounded")
-      kind = merge(policy_fraction, steps_rounded, lowercase(trim(adjustl(steps))) == "fraction")
+      kind = merge(step_kind%fraction, step_kind%rounded, lowercase(trim(adjustl(steps))) == "fraction")
       call check_real(g, "steps_fraction", steps_fraction, status)
       if (status%stat /= demstep_stat%ok) return
       call new_step_policy(input%options%policy, kind, steps_fraction, stat)
@@ -181,7 +179,7 @@ contains
       end if
       call check_real(g, "n_steps", n_steps, status)
       if (status%stat /= demstep_stat%ok) return
-      call new_step_policy(input%options%policy, steps_fixed, n_steps, stat)
+      call new_step_policy(input%options%policy, step_kind%fixed, n_steps, stat)
       if (stat /= demstep_stat%ok) then
         call set_status(status, demstep_stat%invalid_input, "&"//g//": n_steps: must be in [1, 1e12], got " &
           //fmt_real(n_steps))
@@ -194,9 +192,9 @@ contains
     end select
     select case (lowercase(trim(adjustl(pick))))
     case ("largest_step")
-      input%options%pick = pick_largest_step
+      input%options%pick = pick_kind%largest_step
     case ("zero")
-      input%options%pick = pick_zero
+      input%options%pick = pick_kind%zero
     case default
       call set_status(status, demstep_stat%invalid_input, "&"//g//": pick: unknown word '"// &
         trim(pick)//"' (largest_step, zero)")
@@ -204,15 +202,15 @@ contains
     end select
     select case (lowercase(trim(adjustl(aggregate))))
     case ("mean")
-      input%aggregate = aggregate_mean
+      input%aggregate = aggregate_kind%mean
     case ("weighted")
-      input%aggregate = aggregate_weighted
+      input%aggregate = aggregate_kind%weighted
     case ("median")
-      input%aggregate = aggregate_median
+      input%aggregate = aggregate_kind%median
     case ("min")
-      input%aggregate = aggregate_min
+      input%aggregate = aggregate_kind%min
     case ("max")
-      input%aggregate = aggregate_max
+      input%aggregate = aggregate_kind%max
     case default
       call set_status(status, demstep_stat%invalid_input, "&"//g//": aggregate: unknown word '"// &
         trim(aggregate)//"' (mean, weighted, median, min, max)")
@@ -220,7 +218,7 @@ contains
     end select
     call array_length(g, "weights", weights, n_weights, status)
     if (status%stat /= demstep_stat%ok) return
-    if (input%aggregate == aggregate_weighted) then
+    if (input%aggregate == aggregate_kind%weighted) then
       if (n_weights /= size(input%lambdas)) then
         call set_status(status, demstep_stat%invalid_input, "&"//g//": weights: "// &
           fmt_int(int(n_weights, i8))//" given for "//fmt_int(int(size(input%lambdas), i8))//" lambdas")
@@ -289,9 +287,9 @@ contains
         if (size(r%lower) > 0) then
           lower = fmt_real(r%lower(1))
           upper = fmt_real(r%upper(1))
-          if (size(r%lower) == 1 .and. r%last_interval == interval_unbounded) upper = "unbounded"
-          if (size(r%lower) == 1 .and. r%last_interval /= interval_bounded .and. &
-            r%last_interval /= interval_unbounded) upper = ">"//fmt_real(r%upper(1))
+          if (size(r%lower) == 1 .and. r%last_interval == interval_kind%unbounded) upper = "unbounded"
+          if (size(r%lower) == 1 .and. r%last_interval /= interval_kind%bounded .and. &
+            r%last_interval /= interval_kind%unbounded) upper = ">"//fmt_real(r%upper(1))
         end if
         if (r%stat /= demstep_stat%not_found) pick = fmt_real(r%n_pick)
         write(u, '(2x, a14, 4a20, 2x, a)') fmt_real(r%lambda), adjustr(zero), adjustr(lower), &
@@ -351,7 +349,7 @@ contains
         if (size(r%lower) > 0) then
           n_lower(i) = r%lower(1)
           n_upper(i) = r%upper(1)
-          bounded(i) = size(r%lower) > 1 .or. r%last_interval == interval_bounded
+          bounded(i) = size(r%lower) > 1 .or. r%last_interval == interval_kind%bounded
         end if
         n_pick(i) = r%n_pick
         status(i) = r%stat

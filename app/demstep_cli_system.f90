@@ -1,10 +1,10 @@
 !> Group `&system`: one mass on a contact spring (the seed's model).
 module demstep_cli_system
-  use demstep, only: dp, i8, pi, demstep_status_type, demstep_stat, spring_type, &
-    new_spring, spring_omega, spring_period, spring_damping_ratio, critical_time_step, numerical_phase, &
-    growth_factor, discrete_contact_type, discrete_contact, &
-    dashpot_lagged, dashpot_centred, lowercase, nml_group_type, set_status, check_time_step, &
-    step_for_n_per_period, onset_contact_type, contact_with_onset
+  use demstep, only: dp, i8, pi, demstep_status_type, demstep_stat, spring_type, new_spring, &
+    spring_omega, spring_period, spring_damping_ratio, critical_time_step, numerical_phase, &
+    growth_factor, discrete_contact_type, discrete_contact, dashpot_kind, lowercase, &
+    nml_group_type, set_status, check_time_step, step_for_n_per_period, onset_contact_type, &
+    contact_with_onset
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
     check_real, fmt_real, fmt_int, cli_context
   implicit none
@@ -89,9 +89,9 @@ contains
     if (status%stat /= demstep_stat%ok) return
     select case (lowercase(trim(adjustl(dashpot))))
     case ("lagged")
-      kind = dashpot_lagged
+      kind = dashpot_kind%lagged
     case ("centred", "centered")
-      kind = dashpot_centred
+      kind = dashpot_kind%centred
     case default
       call set_status(status, demstep_stat%invalid_input, "&system: dashpot: must be 'lagged' or " &
         //"'centred', got '"//trim(dashpot)//"'")
@@ -143,7 +143,7 @@ contains
     call row(u, "mass M", fmt_real(spring%mass))
     call row(u, "stiffness K", fmt_real(spring%stiffness))
     if (zeta > 0.0_dp) call row(u, "damping ratio", fmt_real(zeta)//merge(" (lagged dashpot) ", &
-      " (centred dashpot)", spring%dashpot == dashpot_lagged))
+      " (centred dashpot)", spring%dashpot == dashpot_kind%lagged))
     call row(u, "natural period T", fmt_real(period)//"  (2 pi sqrt(M/K))")
     call row(u, "omega", fmt_real(omega))
     call row(u, "critical step", fmt_real(dt_critical)//"  (T/"//fmt_real(period/dt_critical)//")")

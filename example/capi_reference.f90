@@ -54,7 +54,7 @@ program capi_reference
   call put("dt_contact_rule", c%dt_contact_rule)
   call contact_with_onset(20.0_dp, 0.5_dp, contact, status, 0.1_dp)
   call put("contact_restitution", contact%restitution)
-  call n_for_tolerance(quantity_restitution, 1.0e-3_dp, e, status)
+  call n_for_tolerance(quantity_kind%restitution, 1.0e-3_dp, e, status)
   call put("n_for_tolerance", e)
 contains
   subroutine put(name, value)

@@ -25,7 +25,7 @@
 module demstep_contact
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_spring, only: saturated_count, ceiling_real, dashpot_lagged, dashpot_centred
+  use demstep_spring, only: saturated_count, ceiling_real, dashpot_kind
   use demstep_text, only: real_text
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
@@ -34,9 +34,21 @@ module demstep_contact
   public :: contact_with_onset, contact_worst_case, exact_contact, contact_error_of, &
     period_error, check_contact_damping
 
-  !> Quantities whose error can be asked for.
-  integer, parameter, public :: quantity_restitution = 1, quantity_contact_time = 2, &
-    quantity_overlap = 3, quantity_period = 4, n_quantities = 4
+  !> The quantities whose error can be asked for, by name: `quantity_kind%restitution`.
+  type, public :: quantity_kinds
+    !> Rebound over impact speed.
+    integer :: restitution = 1
+    !> Duration of the contact.
+    integer :: contact_time = 2
+    !> Largest overlap.
+    integer :: overlap = 3
+    !> Period of the undamped oscillation.
+    integer :: period = 4
+  end type quantity_kinds
+  !> The quantities by name.
+  type(quantity_kinds), parameter, public :: quantity_kind = quantity_kinds()
+  !> How many quantities there are (their codes are 1 .. n_quantities).
+  integer, parameter, public :: n_quantities = 4
   character(len=*), parameter, public :: quantity_names(n_quantities) = [character(len=12) :: &
     "restitution", "contact_time", "overlap", "period"]
 
@@ -67,7 +79,7 @@ contains
 
   !> The discrete contact at N steps per period and onset s, with damping ratio
   !> zeta (default 0) of a lagged dashpot (default) or a centred one (`dashpot =
-  !> dashpot_centred`). Status invalid_input for N outside
+  !> dashpot_kind%centred`). Status invalid_input for N outside
   !> [2 pi (1 + zeta)/1e50, huge], s outside (0, 1], zeta < 0 (messages name
   !> `n_per_period`, `onset`, `damping_ratio`); not_converged when the discrete
   !> contact never ends (an overdamped step: the overlap decays without crossing
@@ -80,7 +92,7 @@ contains
     type(demstep_status_type), intent(out) :: status
     !> zeta >= 0 (default 0).
     real(dp), intent(in), optional :: damping_ratio
-    !> `dashpot_lagged` (default) or `dashpot_centred`.
+    !> `dashpot_kind%lagged` (default) or `dashpot_kind%centred`.
     integer, intent(in), optional :: dashpot
     real(dp) :: h, zeta, rho, theta, a, b, r, phi, q, x, xm, best, nc, f, k, lo, hi, log_rho, n_min, d
     logical :: closed, centred
@@ -88,11 +100,11 @@ contains
     if (present(damping_ratio)) zeta = damping_ratio
     centred = .false.
     if (present(dashpot)) then
-      if (dashpot /= dashpot_lagged .and. dashpot /= dashpot_centred) then
+      if (dashpot /= dashpot_kind%lagged .and. dashpot /= dashpot_kind%centred) then
         call set_status(status, demstep_stat%invalid_input, "dashpot: must be lagged or centred")
         return
       end if
-      centred = dashpot == dashpot_centred
+      centred = dashpot == dashpot_kind%centred
     end if
     if (.not. (ieee_is_finite(zeta) .and. zeta >= 0.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be finite and >= 0")
@@ -344,11 +356,11 @@ contains
     integer, intent(in) :: quantity
     type(onset_contact_type), intent(in) :: contact, exact
     select case (quantity)
-    case (quantity_restitution)
+    case (quantity_kind%restitution)
       err = abs(contact%restitution - exact%restitution)/max(exact%restitution, tiny(1.0_dp))
-    case (quantity_contact_time)
+    case (quantity_kind%contact_time)
       err = abs(contact%contact_time - exact%contact_time)/max(exact%contact_time, tiny(1.0_dp))
-    case (quantity_overlap)
+    case (quantity_kind%overlap)
       err = abs(contact%max_overlap - exact%max_overlap)/max(exact%max_overlap, tiny(1.0_dp))
     case default
       err = 0.0_dp
@@ -395,7 +407,7 @@ contains
     call check_contact_damping(zeta, status)
     if (status%stat /= demstep_stat%ok) return
     exact = exact_contact(zeta)
-    if (quantity == quantity_contact_time) then
+    if (quantity == quantity_kind%contact_time) then
       call worst_contact_time(n_per_period, zeta, exact, worst, error, status)
       if (status%stat == demstep_stat%ok) return
     end if

@@ -3,8 +3,8 @@
 module demstep_cost
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_contact, only: onset_contact_type, contact_worst_case, period_error, &
-    quantity_period, n_quantities, check_contact_damping
+  use demstep_contact, only: onset_contact_type, contact_worst_case, period_error, quantity_kind, &
+    n_quantities, check_contact_damping
   use demstep_spring, only: saturated_count, ceiling_real
   use demstep_text, only: real_text
   use demstep_scene, only: scene_type, scene_summary_type, cubic_lattice, scene_run
@@ -54,7 +54,7 @@ contains
       error = 0.0_dp
       return
     end if
-    if (quantity == quantity_period) then
+    if (quantity == quantity_kind%period) then
       error = period_error(n_per_period)
       if (present(onset)) onset = 1.0_dp
       status%stat = demstep_stat%ok
@@ -94,7 +94,7 @@ contains
       call set_status(status, demstep_stat%invalid_input, "tolerance: must be finite and > 0")
       return
     end if
-    if (quantity /= quantity_period) then
+    if (quantity /= quantity_kind%period) then
       call check_contact_damping(zeta, status)
       if (status%stat /= demstep_stat%ok) return
     else if (.not. (ieee_is_finite(zeta) .and. zeta >= 0.0_dp .and. zeta <= 1.0e100_dp)) then

@@ -29,13 +29,17 @@ module demstep_harmonic
   public :: harmonic_sum, harmonic_error, harmonic_error_steps, policy_steps
   public :: new_step_policy, harmonic_error_check
 
-  !> Step policy: a fixed number of steps `n`.
-  integer, parameter, public :: steps_fixed = 1
-  !> Step policy: a fraction `f` of the simulated period, `n = f N`.
-  integer, parameter, public :: steps_fraction = 2
-  !> Step policy: whole steps, `n = max(1, nint(f N))`: E jumps where f N crosses
-  !> a half-integer.
-  integer, parameter, public :: steps_rounded = 3
+  !> The kinds of step policy, by name: `step_kind%fraction`.
+  type, public :: step_kinds
+    !> A fixed number of steps `n`.
+    integer :: fixed = 1
+    !> A fraction `f` of the simulated period, `n = f N`.
+    integer :: fraction = 2
+    !> Whole steps, `n = max(1, nint(f N))`: E jumps where f N crosses a half-integer.
+    integer :: rounded = 3
+  end type step_kinds
+  !> The step policy kinds by name.
+  type(step_kinds), parameter, public :: step_kind = step_kinds()
   !> Largest supported number of steps.
   real(dp), parameter, public :: harmonic_n_max = 1.0e12_dp
   !> Largest phase (n + 1) max(1, lambda)/N in turns: below 2^50 every phase is
@@ -47,18 +51,18 @@ module demstep_harmonic
 
   !> How many steps `n` the error E compares, as a function of N = T/dt.
   !>
-  !> - `steps_fixed`, `value = n`: the same `n` for every N. E is smooth in N
+  !> - `step_kind%fixed`, `value = n`: the same `n` for every N. E is smooth in N
   !>   (between its poles).
-  !> - `steps_fraction`, `value = f`: `n = f N` (real), by default `f = 1/2`: half a
+  !> - `step_kind%fraction`, `value = f`: `n = f N` (real), by default `f = 1/2`: half a
   !>   simulated period, the duration of a compression-only contact. E is smooth in N
   !>   because the closed form is smooth in real `n`.
   !>
-  !> - `steps_rounded`, `value = f`: `n = max(1, nint(f N))`, the whole steps a DEM
+  !> - `step_kind%rounded`, `value = f`: `n = max(1, nint(f N))`, the whole steps a DEM
   !>   run takes. E then jumps wherever `f N` crosses a half-integer; root finders
   !>   must not take those jumps for roots.
   type, public :: step_policy_type
-    !> `steps_fixed`, `steps_fraction` or `steps_rounded`.
-    integer :: kind = steps_fraction
+    !> `step_kind%fixed`, `step_kind%fraction` or `step_kind%rounded`.
+    integer :: kind = step_kind%fraction
     !> `n` (fixed) or `f` (fraction, rounded).
     real(dp) :: value = 0.5_dp
   end type step_policy_type
@@ -92,7 +96,7 @@ contains
   !> Build a validated step policy.
   pure subroutine new_step_policy(policy, kind, value, stat)
     type(step_policy_type), intent(out) :: policy
-    !> `steps_fixed`, `steps_fraction` or `steps_rounded`.
+    !> `step_kind%fixed`, `step_kind%fraction` or `step_kind%rounded`.
     integer, intent(in) :: kind
     !> `n` in [1, 1e12] (fixed) or `f` > 0 (fraction, rounded).
     real(dp), intent(in) :: value
@@ -101,9 +105,9 @@ contains
     stat = demstep_stat%invalid_input
     if (.not. ieee_is_finite(value)) return
     select case (kind)
-    case (steps_fixed)
+    case (step_kind%fixed)
       if (value < 1.0_dp .or. value > harmonic_n_max) return
-    case (steps_fraction, steps_rounded)
+    case (step_kind%fraction, step_kind%rounded)
       if (.not. value > 0.0_dp) return
     case default
       return
@@ -119,9 +123,9 @@ contains
     real(dp), intent(in) :: n_per_period
     real(dp) :: n
     select case (policy%kind)
-    case (steps_fixed)
+    case (step_kind%fixed)
       n = policy%value
-    case (steps_rounded)
+    case (step_kind%rounded)
       n = max(1.0_dp, anint(policy%value*n_per_period))
     case default
       n = policy%value*n_per_period

@@ -28,10 +28,15 @@ module demstep_spring
   public :: discrete_contact, simulate_contact
   public :: check_time_step, step_for_n_per_period, saturated_count, ceiling_real
 
-  !> Dashpot uses the velocity of the previous half step (explicit, DEM default).
-  integer, parameter, public :: dashpot_lagged = 1
-  !> Dashpot uses the average of the half-step velocities around the force evaluation.
-  integer, parameter, public :: dashpot_centred = 2
+  !> The velocity a dashpot uses, by name: `dashpot_kind%lagged`.
+  type, public :: dashpot_kinds
+    !> The velocity of the previous half step (explicit, DEM default).
+    integer :: lagged = 1
+    !> The average of the half-step velocities around the force evaluation.
+    integer :: centred = 2
+  end type dashpot_kinds
+  !> The dashpot kinds by name.
+  type(dashpot_kinds), parameter, public :: dashpot_kind = dashpot_kinds()
   !> Range of omega = sqrt(K/M) a spring may have: its period, critical step and
   !> the quantities built on them then stay well inside the double range.
   real(dp), parameter, public :: spring_omega_min = 1.0e-300_dp, spring_omega_max = 1.0e300_dp
@@ -49,8 +54,8 @@ module demstep_spring
     real(dp) :: damping = 0.0_dp
     !> Force only while the overlap is positive (a contact), else a bond.
     logical :: compression_only = .true.
-    !> `dashpot_lagged` or `dashpot_centred`.
-    integer :: dashpot = dashpot_lagged
+    !> `dashpot_kind%lagged` or `dashpot_kind%centred`.
+    integer :: dashpot = dashpot_kind%lagged
   end type spring_type
 
   !> State of the stepper after `step` steps.
@@ -92,7 +97,7 @@ contains
     real(dp), intent(in), optional :: damping_ratio
     !> Contact spring (default) or bond.
     logical, intent(in), optional :: compression_only
-    !> `dashpot_lagged` (default) or `dashpot_centred`.
+    !> `dashpot_kind%lagged` (default) or `dashpot_kind%centred`.
     integer, intent(in), optional :: dashpot
     real(dp) :: zeta, omega, root_km, c, dt_critical, bound
     zeta = 0.0_dp
@@ -135,7 +140,7 @@ contains
     spring%damping = c
     if (present(compression_only)) spring%compression_only = compression_only
     if (present(dashpot)) then
-      if (dashpot /= dashpot_lagged .and. dashpot /= dashpot_centred) then
+      if (dashpot /= dashpot_kind%lagged .and. dashpot /= dashpot_kind%centred) then
         call set_status(status, demstep_stat%invalid_input, "dashpot: must be lagged or centred")
         return
       end if
@@ -158,7 +163,7 @@ contains
     if (spring%compression_only .and. .not. state%x > 0.0_dp) return
     if (.not. spring%damping > 0.0_dp) then
       state%v = state%v - (spring%stiffness/spring%mass)*state%x*dt
-    else if (spring%dashpot == dashpot_lagged) then
+    else if (spring%dashpot == dashpot_kind%lagged) then
       state%v = state%v - (spring%stiffness*state%x + spring%damping*state%v)/spring%mass*dt
     else
       a = 0.5_dp*spring%damping/spring%mass*dt
@@ -209,7 +214,7 @@ contains
   elemental function critical_time_step(spring) result(dt_critical)
     type(spring_type), intent(in) :: spring
     real(dp) :: dt_critical
-    if (spring%dashpot == dashpot_lagged) then
+    if (spring%dashpot == dashpot_kind%lagged) then
       dt_critical = lagged_limit(spring_omega(spring), spring_damping_ratio(spring))
     else
       dt_critical = 2.0_dp/spring_omega(spring)
@@ -341,7 +346,7 @@ contains
     real(dp) :: rho, h, a, b, c, t, disc
     h = spring_omega(spring)*dt
     a = spring_damping_ratio(spring)*h
-    if (spring%dashpot == dashpot_lagged) then
+    if (spring%dashpot == dashpot_kind%lagged) then
       b = 2.0_dp - 2.0_dp*a - h**2
       c = 1.0_dp - 2.0_dp*a
     else

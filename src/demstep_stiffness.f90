@@ -9,8 +9,8 @@
 !> - the admissible intervals of N where |E| <= E0, their ends being where |E|
 !>   crosses E0 (an end may sit on a jump of a rounded step policy: |E| <= E0
 !>   does change there). The last interval may reach `n_max`: it is flagged
-!>   `interval_unbounded` when E tends, as N grows, to a limit inside the
-!>   tolerance, and `interval_truncated` otherwise;
+!>   `interval_kind%unbounded` when E tends, as N grows, to a limit inside the
+!>   tolerance, and `interval_kind%truncated` otherwise;
 !> - the pick N_i: the smallest admissible N (largest step meeting the tolerance,
 !>   default) or the smallest root of E.
 !> Interval ends and the pick meet |E| <= E0 as E is evaluated. With a huge fixed
@@ -23,8 +23,8 @@
 module demstep_stiffness
   use demstep_kinds, only: dp, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_harmonic, only: step_policy_type, steps_fixed, steps_fraction, steps_rounded, &
-    harmonic_error_steps, harmonic_error, harmonic_n_max
+  use demstep_harmonic, only: step_policy_type, step_kind, harmonic_error_steps, harmonic_error, &
+    harmonic_n_max
   use demstep_roots, only: root_context_type, find_root, sort_ascending
   use demstep_progress, only: progress_type
   use demstep_kinds, only: i8
@@ -35,23 +35,43 @@ module demstep_stiffness
   public :: n_roots, aggregate_picks, simulated_stiffness, error_limit, scan_cost, procedure_cost, &
     n_max_limit, measure_evaluation_cost
 
-  !> Pick: the smallest N with |E| <= E0 (the largest step meeting the tolerance).
-  integer, parameter, public :: pick_largest_step = 1
-  !> Pick: the smallest root of E = 0.
-  integer, parameter, public :: pick_zero = 2
+  !> The picks N_i one lambda can give, by name: `pick_kind%largest_step`.
+  type, public :: pick_kinds
+    !> The smallest N with |E| <= E0 (the largest step meeting the tolerance).
+    integer :: largest_step = 1
+    !> The smallest root of E = 0.
+    integer :: zero = 2
+  end type pick_kinds
+  !> The picks by name.
+  type(pick_kinds), parameter, public :: pick_kind = pick_kinds()
 
-  !> Aggregation of the picks N_i into N*.
-  integer, parameter, public :: aggregate_mean = 1, aggregate_weighted = 2, &
-    aggregate_median = 3, aggregate_min = 4, aggregate_max = 5
+  !> The rules aggregating the picks N_i into N*, by name: `aggregate_kind%mean`.
+  type, public :: aggregate_kinds
+    !> The mean.
+    integer :: mean = 1
+    !> The weighted mean (one weight per lambda).
+    integer :: weighted = 2
+    !> The median.
+    integer :: median = 3
+    !> The smallest pick.
+    integer :: min = 4
+    !> The largest pick.
+    integer :: max = 5
+  end type aggregate_kinds
+  !> The aggregation rules by name.
+  type(aggregate_kinds), parameter, public :: aggregate_kind = aggregate_kinds()
 
-  !> An admissible interval closed at both ends.
-  integer, parameter, public :: interval_bounded = 0
-  !> The last interval reaches n_max and E tends to a limit with |E| < E0: it is
-  !> admissible for all larger N.
-  integer, parameter, public :: interval_unbounded = 1
-  !> The last interval is cut at n_max, but the limit of |E| exceeds E0: it ends
-  !> somewhere beyond n_max.
-  integer, parameter, public :: interval_truncated = 2
+  !> The kinds of the last admissible interval, by name: `interval_kind%unbounded`.
+  type, public :: interval_kinds
+    !> Closed at both ends.
+    integer :: bounded = 0
+    !> Reaches n_max and E tends to a limit with |E| < E0: admissible for all larger N.
+    integer :: unbounded = 1
+    !> Cut at n_max, but the limit of |E| exceeds E0: it ends somewhere beyond n_max.
+    integer :: truncated = 2
+  end type interval_kinds
+  !> The interval kinds by name.
+  type(interval_kinds), parameter, public :: interval_kind = interval_kinds()
 
   !> The scan starts at pi (1 + 1e-9), just above the stability limit N = pi.
   real(dp), parameter, public :: n_scan_start = pi*(1.0_dp + 1.0e-9_dp)
@@ -95,8 +115,8 @@ module demstep_stiffness
     real(dp) :: n_max = default_n_max
     !> Grid step relative to N.
     real(dp) :: resolution = default_resolution
-    !> `pick_largest_step` or `pick_zero`.
-    integer :: pick = pick_largest_step
+    !> `pick_kind%largest_step` or `pick_kind%zero`.
+    integer :: pick = pick_kind%largest_step
     !> Stop the scan once the first root and the first admissible interval are
     !> known (all the pick needs); `roots`, `lower`, `upper` then hold only those.
     logical :: first_only = .false.
@@ -109,8 +129,8 @@ module demstep_stiffness
     real(dp), allocatable :: roots(:)
     !> Admissible intervals [lower(k), upper(k)] where |E| <= E0, increasing.
     real(dp), allocatable :: lower(:), upper(:)
-    !> Kind of the last interval: interval_bounded, _unbounded or _truncated.
-    integer :: last_interval = interval_bounded
+    !> Kind of the last interval: interval_kind%bounded, _unbounded or _truncated.
+    integer :: last_interval = interval_kind%bounded
     !> The pick N_i (0 when there is none).
     real(dp) :: n_pick = 0.0_dp
     !> ok; not_found (no admissible N / no root up to n_max); unstable (the
@@ -130,9 +150,9 @@ module demstep_stiffness
     !> The lambda set, increasing, in (0, 1).
     real(dp), allocatable :: lambdas(:)
     type(nroots_options_type) :: options
-    !> aggregate_mean (default), _weighted, _median, _min, _max.
-    integer :: aggregate = aggregate_mean
-    !> Weights for aggregate_weighted (>= 0, one per lambda).
+    !> aggregate_kind%mean (default), _weighted, _median, _min, _max.
+    integer :: aggregate = aggregate_kind%mean
+    !> Weights for aggregate_kind%weighted (>= 0, one per lambda).
     real(dp), allocatable :: weights(:)
   end type stiffness_input_type
 
@@ -261,12 +281,12 @@ contains
         s%have_prev = .true.
         first_in_piece = .false.
         if (options%first_only .and. s%n_roots > 0 .and. s%n_upper > 0) done = .true.
-        if (s%blocked .and. options%pick == pick_largest_step) then
+        if (s%blocked .and. options%pick == pick_kind%largest_step) then
           call unresolvable(lambda, options, s%blocked_root, s%blocked_e, status)
           return
         end if
         if (real(s%ctx%evaluations, dp) > budget) then
-          if (options%policy%kind == steps_fixed) then
+          if (options%policy%kind == step_kind%fixed) then
             call set_status(status, demstep_stat%invalid_input, "n_steps: the scan of E for lambda = " &
               //real_text(lambda)//" took more than "//real_text(budget)//" evaluations; " &
               //"use fewer steps, a coarser resolution or a smaller n_max")
@@ -285,20 +305,20 @@ contains
       n_piece = n_next
     end do
 
-    result%last_interval = interval_bounded
+    result%last_interval = interval_kind%bounded
     if (s%n_lower > s%n_upper) then
       ! the last interval reaches n_max: unbounded when E's limit lies inside
       call push(s%upper, s%n_upper, options%n_max)
       limit = error_limit(lambda, options%policy)
       if (abs(limit) < options%tolerance) then
-        result%last_interval = interval_unbounded
+        result%last_interval = interval_kind%unbounded
       else
-        result%last_interval = interval_truncated
+        result%last_interval = interval_kind%truncated
       end if
     end if
     if (options%first_only) then
       s%n_roots = min(s%n_roots, 1)
-      if (s%n_lower > 1) result%last_interval = interval_bounded
+      if (s%n_lower > 1) result%last_interval = interval_kind%bounded
       s%n_lower = min(s%n_lower, 1)
       s%n_upper = s%n_lower
     end if
@@ -309,7 +329,7 @@ contains
     result%unresolved = s%unresolved
 
     result%stat = demstep_stat%ok
-    if (options%pick == pick_zero) then
+    if (options%pick == pick_kind%zero) then
       if (size(result%roots) > 0) then
         result%n_pick = result%roots(1)
       else
@@ -365,7 +385,7 @@ contains
     type(demstep_status_type), intent(out) :: status
     character(len=:), allocatable :: advice
     advice = "use tolerance >= "//real_text(round_up_2(max(e_min, min_tolerance)))
-    if (options%policy%kind == steps_fixed) advice = advice//" or fewer n_steps"
+    if (options%policy%kind == step_kind%fixed) advice = advice//" or fewer n_steps"
     call set_status(status, demstep_stat%invalid_input, "tolerance: for lambda = "//real_text(lambda) &
       //" the smallest N with |E| <= "//real_text(options%tolerance)//" lies next to N = " &
       //real_text(x, 15)//" in an interval narrower than the spacing of doubles: |E| >= " &
@@ -542,7 +562,7 @@ contains
   pure real(dp) function scan_start(policy) result(x)
     type(step_policy_type), intent(in) :: policy
     x = n_scan_start
-    if (policy%kind == steps_fraction) x = max(x, (1.0_dp/policy%value)*(1.0_dp + 4.0_dp*epsilon(1.0_dp)))
+    if (policy%kind == step_kind%fraction) x = max(x, (1.0_dp/policy%value)*(1.0_dp + 4.0_dp*epsilon(1.0_dp)))
   end function scan_start
 
   !> The fixed step count of the piece starting at x, or 0 where n follows the policy.
@@ -551,9 +571,9 @@ contains
     real(dp), intent(in) :: x
     n = 0.0_dp
     select case (policy%kind)
-    case (steps_fixed)
+    case (step_kind%fixed)
       n = policy%value
-    case (steps_rounded)
+    case (step_kind%rounded)
       n = max(1.0_dp, anint(policy%value*x))
       if (n > rounded_exact_steps) n = 0.0_dp
     end select
@@ -598,7 +618,7 @@ contains
     if (n_piece > 0.0_dp) then
       ! S(2 pi lambda/N, n) = 0 where n lambda/N or (n + 1) lambda/N is an integer
       p = min(next_pole(n_piece*lambda, a), next_pole((n_piece + 1.0_dp)*lambda, a))
-      if (policy%kind == steps_rounded) then
+      if (policy%kind == step_kind%rounded) then
         jump = (n_piece + 0.5_dp)/policy%value
         if (jump < b .and. jump <= p) then
           b = jump
@@ -607,7 +627,7 @@ contains
           if (n_next > rounded_exact_steps) n_next = 0.0_dp
         end if
       end if
-    else if (policy%kind == steps_fraction) then
+    else if (policy%kind == step_kind%fraction) then
       ! n = f N: only (n + 1) lambda/N = f lambda + lambda/N can be an integer k,
       ! at N = lambda/(k - f lambda), k the first integer above f lambda
       f = policy%value
@@ -637,7 +657,7 @@ contains
     top = max(options%n_max, start)
     cost = log(top/start)/ln_1p(options%resolution) + 2.0_dp
     select case (options%policy%kind)
-    case (steps_fixed)
+    case (step_kind%fixed)
       n = options%policy%value
       dense = min(top, 4.0_dp*n*options%resolution)
       if (options%first_only) then
@@ -646,7 +666,7 @@ contains
         if (dense > start) cost = cost + 4.0_dp*n*(1.0_dp/start - 1.0_dp/dense)
         if (min(top, n + 1.0_dp) > start) cost = cost + 4.0_dp*(n + 1.0_dp)*(1.0_dp/start - 1.0_dp/min(top, n + 1.0_dp))
       end if
-    case (steps_rounded)
+    case (step_kind%rounded)
       segments = max(0.0_dp, min(options%policy%value*top, rounded_exact_steps) - options%policy%value*start)
       cost = cost + 3.0_dp*segments
     end select
@@ -740,7 +760,7 @@ contains
     real(dp), intent(in) :: lambda
     type(step_policy_type), intent(in) :: policy
     real(dp) :: limit
-    if (policy%kind == steps_fixed) then
+    if (policy%kind == step_kind%fixed) then
       limit = 1.0_dp - 1.0_dp/lambda**2
     else
       limit = 1.0_dp - (sin(pi*policy%value)/sin(pi*policy%value*lambda))**2
@@ -785,7 +805,7 @@ contains
     else if (.not. (options%tolerance >= min_tolerance .and. options%tolerance < 1.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, "tolerance: must be in (0, 1) and at least 1e-10 (E is " &
         //"computed to 1e-12), got "//real_text(options%tolerance))
-    else if (options%pick /= pick_largest_step .and. options%pick /= pick_zero) then
+    else if (options%pick /= pick_kind%largest_step .and. options%pick /= pick_kind%zero) then
       call set_status(status, demstep_stat%invalid_input, "pick: unknown pick")
     else if (.not. valid_policy(options%policy)) then
       call set_status(status, demstep_stat%invalid_input, "steps: invalid step policy (n_steps in " &
@@ -803,7 +823,7 @@ contains
         //"(n <= 1e12 steps), got "//real_text(options%n_max))
       return
     end if
-    if (options%policy%kind == steps_fraction) then
+    if (options%policy%kind == step_kind%fraction) then
       if (aint(options%policy%value*lambda) == options%policy%value*lambda) then
         call set_status(status, demstep_stat%invalid_input, "steps_fraction: f lambda = "// &
           real_text(options%policy%value*lambda)//" is an integer: E has a pole at every N")
@@ -813,7 +833,7 @@ contains
     cost = scan_cost(options)
     if (.not. cost <= max_scan_evaluations) then
       r = finest_resolution(options, max_scan_evaluations)
-      if (options%policy%kind == steps_fixed .and. .not. options%first_only .and. r <= 1.0_dp .and. &
+      if (options%policy%kind == step_kind%fixed .and. .not. options%first_only .and. r <= 1.0_dp .and. &
           options%resolution >= r) then
         call set_status(status, demstep_stat%invalid_input, "n_steps: a scan for every root with n = " &
           //real_text(options%policy%value)//" needs "//count_text(cost)//" evaluations of E " &
@@ -832,7 +852,7 @@ contains
   pure real(dp) function n_max_limit(policy) result(top)
     type(step_policy_type), intent(in) :: policy
     top = fixed_n_max_limit
-    if (policy%kind == steps_fraction .or. policy%kind == steps_rounded) then
+    if (policy%kind == step_kind%fraction .or. policy%kind == step_kind%rounded) then
       if (policy%value > 0.0_dp) top = min(top, harmonic_n_max/policy%value)
     end if
   end function n_max_limit
@@ -887,9 +907,9 @@ contains
   pure logical function valid_policy(policy)
     type(step_policy_type), intent(in) :: policy
     select case (policy%kind)
-    case (steps_fixed)
+    case (step_kind%fixed)
       valid_policy = policy%value >= 1.0_dp .and. policy%value <= harmonic_n_max
-    case (steps_fraction, steps_rounded)
+    case (step_kind%fraction, step_kind%rounded)
       valid_policy = policy%value > 0.0_dp .and. ieee_is_finite(policy%value)
     case default
       valid_policy = .false.
@@ -917,9 +937,9 @@ contains
     end if
     status%stat = demstep_stat%ok
     select case (rule)
-    case (aggregate_mean)
+    case (aggregate_kind%mean)
       n_star = sum(x)/n
-    case (aggregate_weighted)
+    case (aggregate_kind%weighted)
       w = pack(weights, use)
       if (.not. (all(w >= 0.0_dp) .and. all(ieee_is_finite(w)) .and. any(w > 0.0_dp))) then
         call set_status(status, demstep_stat%invalid_input, "weights: the weights of the usable " &
@@ -929,16 +949,16 @@ contains
       ! scaled by the largest weight: no overflow for weights up to huge
       w = w/maxval(w)
       n_star = sum(w*x)/sum(w)
-    case (aggregate_median)
+    case (aggregate_kind%median)
       call sort_ascending(x)
       if (mod(n, 2) == 1) then
         n_star = x((n + 1)/2)
       else
         n_star = 0.5_dp*(x(n/2) + x(n/2 + 1))
       end if
-    case (aggregate_min)
+    case (aggregate_kind%min)
       n_star = minval(x)
-    case (aggregate_max)
+    case (aggregate_kind%max)
       n_star = maxval(x)
     case default
       call set_status(status, demstep_stat%invalid_input, "aggregate: unknown aggregation rule")
@@ -986,7 +1006,7 @@ contains
     end if
     call aggregate_picks(picks, use, input%aggregate, weights, result%n_star, status)
     if (status%stat == demstep_stat%not_found) then
-      if (input%options%pick == pick_zero) then
+      if (input%options%pick == pick_kind%zero) then
         call set_status(status, demstep_stat%not_found, "n_max: no lambda has a root of E up to n_max = " &
           //real_text(input%options%n_max)//"; raise n_max or pick the largest step")
       else
@@ -1078,7 +1098,7 @@ contains
         return
       end if
     end if
-    if (input%aggregate == aggregate_weighted) then
+    if (input%aggregate == aggregate_kind%weighted) then
       if (.not. allocated(input%weights)) then
         call set_status(status, demstep_stat%invalid_input, "weights: weighted aggregation needs weights")
       else if (size(input%weights) /= n) then
@@ -1088,7 +1108,7 @@ contains
       else if (.not. any(input%weights > 0.0_dp)) then
         call set_status(status, demstep_stat%invalid_input, "weights: must not all be 0")
       end if
-    else if (input%aggregate < aggregate_mean .or. input%aggregate > aggregate_max) then
+    else if (input%aggregate < aggregate_kind%mean .or. input%aggregate > aggregate_kind%max) then
       call set_status(status, demstep_stat%invalid_input, "aggregate: unknown aggregation rule")
     end if
     if (status%stat /= demstep_stat%ok) return

@@ -578,7 +578,7 @@ contains
     read(stdout, nml=contact_error_result, iostat=ios)
     call check(error, ios, 0, message="read --namelist")
     if (allocated(error)) return
-    call contact_worst_case(20.0_dp, quantity_restitution, c, e, st)
+    call contact_worst_case(20.0_dp, quantity_kind%restitution, c, e, st)
     call check(error, restitution(1), c%restitution, thr=0.0_dp, message="worst restitution")
     if (allocated(error)) return
     call check(error, onset_restitution(1), c%onset, thr=0.0_dp, message="its onset")
@@ -612,7 +612,7 @@ contains
     call check(error, ios, 0, message="read back")
     if (allocated(error)) return
     do i = 1, 2
-      call n_for_tolerance(quantity_overlap, tolerances(i), n, st)
+      call n_for_tolerance(quantity_kind%overlap, tolerances(i), n, st)
       call check(error, n_per_period(i), n, thr=0.0_dp, message="N as n_for_tolerance")
       if (allocated(error)) return
       call check(error, dt(i), period/n, thr=0.0_dp, message="dt = T/N")

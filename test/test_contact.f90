@@ -111,8 +111,8 @@ contains
   !> largest error over N = 100..110 and over N = 1000..1010, in steps of 0.05.
   subroutine test_rates(error)
     type(error_type), allocatable, intent(out) :: error
-    integer, parameter :: quantities(4) = [quantity_restitution, quantity_contact_time, &
-      quantity_overlap, quantity_period]
+    integer, parameter :: quantities(4) = [quantity_kind%restitution, quantity_kind%contact_time, &
+      quantity_kind%overlap, quantity_kind%period]
     real(dp), parameter :: rates(4) = [-2.0_dp, -1.0_dp, -2.0_dp, -2.0_dp]
     type(demstep_status_type) :: status
     real(dp) :: e, top(2), slope
@@ -205,10 +205,10 @@ contains
     call contact_with_onset(-1.0_dp, 0.5_dp, c, status)
     call check(error, status%stat, demstep_stat%invalid_input, message="N < 0")
     if (allocated(error)) return
-    call n_for_tolerance(quantity_restitution, 0.0_dp, n, status)
+    call n_for_tolerance(quantity_kind%restitution, 0.0_dp, n, status)
     call check(error, status%stat, demstep_stat%invalid_input, message="tolerance 0")
     if (allocated(error)) return
-    call n_for_tolerance(quantity_contact_time, 1.0e-9_dp, n, status)
+    call n_for_tolerance(quantity_kind%contact_time, 1.0e-9_dp, n, status)
     call check(error, status%stat, demstep_stat%not_found, message="1e-9 needs more than n_max")
   end subroutine test_flags
 
@@ -226,10 +226,10 @@ contains
     real(dp) :: n, tol
     integer :: i, k
     do k = 1, size(zetas)
-      call new_spring(spring, 1.0_dp, 1.0_dp, status, damping_ratio=zetas(k), dashpot=dashpot_centred)
+      call new_spring(spring, 1.0_dp, 1.0_dp, status, damping_ratio=zetas(k), dashpot=dashpot_kind%centred)
       do i = 0, 60
         n = 3.5_dp*(2000.0_dp/3.5_dp)**(real(i, dp)/60.0_dp)
-        call contact_with_onset(n, 1.0_dp, c, status, zetas(k), dashpot=dashpot_centred)
+        call contact_with_onset(n, 1.0_dp, c, status, zetas(k), dashpot=dashpot_kind%centred)
         call check(error, status%stat, demstep_stat%ok, message="centred at N = "//real_str(n))
         if (allocated(error)) return
         call simulate_contact(spring, 2.0_dp*pi/n, stepped, status)
@@ -263,8 +263,8 @@ contains
     do d = 1, 2
       do i = 1, size(ns)
         zeta = merge(0.0_dp, 0.3_dp, i == 1 .and. d == 1)
-        call contact_with_onset(ns(i), 1.0_dp, c, status, zeta, dashpot=merge(dashpot_lagged, &
-          dashpot_centred, d == 1))
+        call contact_with_onset(ns(i), 1.0_dp, c, status, zeta, dashpot=merge(dashpot_kind%lagged, &
+          dashpot_kind%centred, d == 1))
         call check(error, status%stat, demstep_stat%ok, message="N = "//real_str(ns(i)))
         if (allocated(error)) return
         call check(error, c%steps, huge(1_i8), message="saturated steps")
@@ -324,7 +324,7 @@ contains
     end do
     call check(error, k > 100000 .or. x == 0.0_dp, "brute force: positive until it underflows")
     if (allocated(error)) return
-    call contact_worst_case(10.0_dp, quantity_restitution, c, e, status, 3.14_dp)
+    call contact_worst_case(10.0_dp, quantity_kind%restitution, c, e, status, 3.14_dp)
     call check(error, status%stat, demstep_stat%invalid_input, message="zeta 3.14 worst case")
     if (allocated(error)) return
     call check(error, index(status%message, "damping_ratio: ") == 1, "names damping_ratio")

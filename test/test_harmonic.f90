@@ -266,14 +266,14 @@ contains
     type(step_policy_type) :: half, fixed
     real(dp) :: e1, e2, big_n, prev, de
     integer :: stat, i
-    call new_step_policy(half, steps_fraction, 0.5_dp, stat)
+    call new_step_policy(half, step_kind%fraction, 0.5_dp, stat)
     call check(error, stat, demstep_stat%ok)
     if (allocated(error)) return
     call harmonic_error_steps(19.0_dp, 0.9_dp, half, e1, stat)
     call harmonic_error(19.0_dp, 0.9_dp, 9.5_dp, e2, stat)
     call check(error, e1, e2, thr=0.0_dp, message="half period is n = N/2")
     if (allocated(error)) return
-    call new_step_policy(fixed, steps_fixed, 40.0_dp, stat)
+    call new_step_policy(fixed, step_kind%fixed, 40.0_dp, stat)
     call harmonic_error_steps(19.0_dp, 0.9_dp, fixed, e1, stat)
     call harmonic_error(19.0_dp, 0.9_dp, 40.0_dp, e2, stat)
     call check(error, e1, e2, thr=0.0_dp, message="fixed n")
@@ -288,10 +288,10 @@ contains
       if (allocated(error)) return
       prev = e1
     end do
-    call new_step_policy(fixed, steps_fixed, 0.5_dp, stat)
+    call new_step_policy(fixed, step_kind%fixed, 0.5_dp, stat)
     call check(error, stat, demstep_stat%invalid_input, message="fixed n < 1")
     if (allocated(error)) return
-    call new_step_policy(fixed, steps_fraction, -1.0_dp, stat)
+    call new_step_policy(fixed, step_kind%fraction, -1.0_dp, stat)
     call check(error, stat, demstep_stat%invalid_input, message="negative fraction")
   end subroutine test_policies
 

@@ -239,7 +239,7 @@ contains
     do i = 1, size(zetas)
       call new_spring(lagged, 1.0_dp, 1.0_dp, status, damping_ratio=zetas(i), compression_only=.false.)
       call new_spring(centred, 1.0_dp, 1.0_dp, status, damping_ratio=zetas(i), &
-        compression_only=.false., dashpot=dashpot_centred)
+        compression_only=.false., dashpot=dashpot_kind%centred)
       dtc = critical_time_step(lagged)
       call check(error, dtc, 2.0_dp*(sqrt(1.0_dp + zetas(i)**2) - zetas(i)), thr=4*epsilon(1.0_dp), &
         rel=.true., message="lagged dashpot limit")

@@ -149,18 +149,18 @@ contains
     ! lambda = 0.99: E tends to 1 - 1/sin^2(0.495 pi) = -2.5e-4, inside 1e-3
     options%tolerance = 1.0e-3_dp
     call n_roots(0.99_dp, options, r, status)
-    call check(error, r%last_interval, interval_unbounded, message="lambda = 0.99, E0 = 1e-3")
+    call check(error, r%last_interval, interval_kind%unbounded, message="lambda = 0.99, E0 = 1e-3")
     if (allocated(error)) return
     call check(error, abs(error_limit(0.99_dp, options%policy)) < 1.0e-3_dp, "limit inside")
     if (allocated(error)) return
     ! lambda = 0.9, cut just after the root: the interval goes on but must end
     options%n_max = 19.5_dp
     call n_roots(0.9_dp, options, r, status)
-    call check(error, r%last_interval, interval_truncated, message="cut at n_max = 19.5")
+    call check(error, r%last_interval, interval_kind%truncated, message="cut at n_max = 19.5")
     if (allocated(error)) return
     options%n_max = default_n_max
     call n_roots(0.9_dp, options, r, status)
-    call check(error, r%last_interval, interval_bounded, message="lambda = 0.9 closes at 20.07")
+    call check(error, r%last_interval, interval_kind%bounded, message="lambda = 0.9 closes at 20.07")
   end subroutine test_unbounded
 
   subroutine test_fixed_n_poles(error)
@@ -172,7 +172,7 @@ contains
     real(qp) :: ref
     integer :: i, k, s1, s2
     options%tolerance = 1.0e-3_dp
-    options%policy = step_policy_type(steps_fixed, 100.0_dp)
+    options%policy = step_policy_type(step_kind%fixed, 100.0_dp)
     options%n_max = 1.0e3_dp
     call n_roots(0.9_dp, options, r, status)
     call check(error, size(r%roots) > 30, "many roots: "//real_str(real(size(r%roots), dp)))
@@ -299,7 +299,7 @@ contains
     integer :: i, j
     options%tolerance = 1.0e-3_dp
     do j = 1, size(steps)
-      options%policy = step_policy_type(steps_fixed, steps(j))
+      options%policy = step_policy_type(step_kind%fixed, steps(j))
       options%n_max = 1.0e4_dp
       first = options
       first%first_only = .true.
@@ -322,11 +322,11 @@ contains
       end do
     end do
     ! the issue's values (8 digits): a root 0.53 % from the pole 9.9/3
-    options%policy = step_policy_type(steps_fixed, 10.0_dp)
+    options%policy = step_policy_type(step_kind%fixed, 10.0_dp)
     call n_roots(0.9_dp, options, r, status)
     call check(error, r%roots(1), 3.3174587_dp, thr=1.0e-7_dp, rel=.true., message="n = 10, lambda = 0.9")
     if (allocated(error)) return
-    options%policy = step_policy_type(steps_fixed, 1000.0_dp)
+    options%policy = step_policy_type(step_kind%fixed, 1000.0_dp)
     call n_roots(0.999_dp, options, r, status)
     call check(error, r%roots(1), 3.14465252_dp, thr=1.0e-8_dp, rel=.true., message="n = 1000, lambda = 0.999")
   end subroutine test_fixed_roots_by_poles
@@ -344,7 +344,7 @@ contains
     input%stiffness = 1.0_dp
     input%options%tolerance = 1.0e-3_dp
     input%lambdas = [0.9_dp, 0.95_dp]
-    input%aggregate = aggregate_weighted
+    input%aggregate = aggregate_kind%weighted
     input%weights = [1.0e308_dp, 1.0_dp]
     call simulated_stiffness(input, result, status)
     call check(error, status%stat, demstep_stat%ok, message="weights 1e308, 1")
@@ -356,7 +356,7 @@ contains
     ! n = 1e12 steps: the first-only scan stops at the first root next to pi
     options%tolerance = 1.0e-3_dp
     options%first_only = .true.
-    options%policy = step_policy_type(steps_fixed, 1.0e12_dp)
+    options%policy = step_policy_type(step_kind%fixed, 1.0e12_dp)
     call n_roots(0.9_dp, options, r, status)
     call check(error, status%stat == demstep_stat%ok .and. size(r%roots) == 1, "n = 1e12")
     if (allocated(error)) return
@@ -373,7 +373,7 @@ contains
     options%tolerance = 0.1_dp
     options%n_max = 2.0e12_dp
     call n_roots(0.9_dp, options, r, status)
-    call check(error, status%stat == demstep_stat%ok .and. r%last_interval == interval_unbounded, &
+    call check(error, status%stat == demstep_stat%ok .and. r%last_interval == interval_kind%unbounded, &
       "lambda 0.9, E0 0.1 up to 2e12: unbounded")
     if (allocated(error)) return
     options%n_max = 2.5e12_dp
@@ -420,7 +420,7 @@ contains
     do i = 1, size(ns)
       do j = 1, size(lambdas)
         do k = 1, size(tols)
-          options%policy = step_policy_type(steps_fixed, ns(i))
+          options%policy = step_policy_type(step_kind%fixed, ns(i))
           options%tolerance = tols(k)
           options%first_only = .true.
           call n_roots(lambdas(j), options, r, status)
@@ -451,7 +451,7 @@ contains
     call check(error, refused > 0 .and. picked > 0, "some picks and some refusals")
     if (allocated(error)) return
     ! the case that failed before
-    options%policy = step_policy_type(steps_fixed, 1.0e12_dp)
+    options%policy = step_policy_type(step_kind%fixed, 1.0e12_dp)
     options%tolerance = 1.0e-3_dp
     call n_roots(0.9_dp, options, r, status)
     call check(error, status%stat, demstep_stat%ok, message="n = 1e12, lambda 0.9, E0 = 1e-3")
@@ -468,7 +468,7 @@ contains
     real(dp) :: e_lo, e_hi, h
     integer :: i, s1, s2, jumps
     options%tolerance = 1.0e-3_dp
-    options%policy = step_policy_type(steps_rounded, 0.5_dp)
+    options%policy = step_policy_type(step_kind%rounded, 0.5_dp)
     options%n_max = 1.0e3_dp
     call n_roots(0.9_dp, options, r, status)
     ! n = nint(N/2) jumps at every odd N; E changes sign across many of them
@@ -517,22 +517,22 @@ contains
     real(dp), parameter :: p(5) = [10.0_dp, 40.0_dp, 20.0_dp, 99.0_dp, 30.0_dp]
     logical, parameter :: use(5) = [.true., .true., .true., .false., .true.]
     real(dp), parameter :: w(5) = [1.0_dp, 0.0_dp, 3.0_dp, 5.0_dp, 0.0_dp]
-    call aggregate_picks(p, use, aggregate_mean, w, n_star, status)
+    call aggregate_picks(p, use, aggregate_kind%mean, w, n_star, status)
     call check(error, n_star, 25.0_dp, thr=1.0e-15_dp, rel=.true., message="mean, one excluded")
     if (allocated(error)) return
-    call aggregate_picks(p, use, aggregate_weighted, w, n_star, status)
+    call aggregate_picks(p, use, aggregate_kind%weighted, w, n_star, status)
     call check(error, n_star, 17.5_dp, thr=1.0e-15_dp, rel=.true., message="weighted")
     if (allocated(error)) return
-    call aggregate_picks(p, use, aggregate_median, w, n_star, status)
+    call aggregate_picks(p, use, aggregate_kind%median, w, n_star, status)
     call check(error, n_star, 25.0_dp, thr=1.0e-15_dp, rel=.true., message="median of 4")
     if (allocated(error)) return
-    call aggregate_picks(p, use, aggregate_min, w, n_star, status)
+    call aggregate_picks(p, use, aggregate_kind%min, w, n_star, status)
     call check(error, n_star, 10.0_dp, thr=0.0_dp, message="min")
     if (allocated(error)) return
-    call aggregate_picks(p, use, aggregate_max, w, n_star, status)
+    call aggregate_picks(p, use, aggregate_kind%max, w, n_star, status)
     call check(error, n_star, 40.0_dp, thr=0.0_dp, message="max")
     if (allocated(error)) return
-    call aggregate_picks(p, [.false., .false., .false., .false., .false.], aggregate_mean, w, n_star, status)
+    call aggregate_picks(p, [.false., .false., .false., .false., .false.], aggregate_kind%mean, w, n_star, status)
     call check(error, status%stat, demstep_stat%not_found, message="nothing usable")
   end subroutine test_aggregate
 
@@ -602,7 +602,7 @@ contains
     call check(error, status%stat, demstep_stat%invalid_input, message="unsorted set")
     if (allocated(error)) return
     input%lambdas = [0.9_dp, 0.95_dp]
-    input%aggregate = aggregate_weighted
+    input%aggregate = aggregate_kind%weighted
     input%weights = [1.0_dp]
     call simulated_stiffness(input, result, status)
     call check(error, status%stat, demstep_stat%invalid_input, message="weights of the wrong length")
@@ -613,7 +613,7 @@ contains
     if (allocated(error)) return
     deallocate(input%lambdas)
     allocate(input%lambdas(0))
-    input%aggregate = aggregate_mean
+    input%aggregate = aggregate_kind%mean
     call simulated_stiffness(input, result, status)
     call check(error, status%stat, demstep_stat%invalid_input, message="empty set")
   end subroutine test_invalid
@@ -627,7 +627,7 @@ contains
     call measure_evaluation_cost(input, seconds)
     call check(error, seconds > 0.0_dp .and. ieee_is_finite(seconds), "seconds = "//real_str(seconds))
     if (allocated(error)) return
-    input%options%policy = step_policy_type(steps_fixed, 1.0e12_dp)
+    input%options%policy = step_policy_type(step_kind%fixed, 1.0e12_dp)
     input%options%n_max = 1.0e300_dp
     call measure_evaluation_cost(input, seconds)
     call check(error, seconds > 0.0_dp .and. ieee_is_finite(seconds), "fixed n: seconds = "//real_str(seconds))
