@@ -423,7 +423,7 @@ contains
       n = r%n_pick
       stat = st%stat
       if (stat == demstep_stat%ok) stat = r%stat
-      if (stat == demstep_stat%unstable) stat = demstep_stat%ok
+      if (stat == demstep_stat%at_stability_limit) stat = demstep_stat%ok
     else
       call n_for_tolerance(q, tolerance, n, st, damping_ratio=zeta, n_max=n_max)
       stat = st%stat

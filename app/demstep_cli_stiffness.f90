@@ -72,7 +72,7 @@ contains
     type(text_progress_type) :: progress
     real(dp) :: cost, seconds
     character(len=*), parameter :: required(3) = [character(len=9) :: "mass", "stiffness", "tolerance"]
-    integer :: i, ios, n_lambda, n_weights, kind, stat
+    integer :: i, ios, n_lambda, n_weights, kind
 
     specs = stiffness_specs()
     call check_names(group, specs, status)
@@ -166,12 +166,12 @@ contains
     ! step policy, pick and aggregation
     select case (lowercase(trim(adjustl(steps))))
     case ("half_period")
-      call new_step_policy(input%options%policy, step_kind%fraction, 0.5_dp, stat)
+      call new_step_policy(input%options%policy, step_kind%fraction, 0.5_dp, status)
     case ("fraction", "rounded")
       kind = merge(step_kind%fraction, step_kind%rounded, lowercase(trim(adjustl(steps))) == "fraction")
       call check_real(g, "steps_fraction", steps_fraction, status)
       if (status%stat /= demstep_stat%ok) return
-      call new_step_policy(input%options%policy, kind, steps_fraction, stat)
+      call new_step_policy(input%options%policy, kind, steps_fraction, status)
     case ("fixed")
       if (.not. given(group, "n_steps")) then
         call set_status(status, demstep_stat%invalid_input, "&"//g//": n_steps: required with steps = 'fixed'")
@@ -179,17 +179,16 @@ contains
       end if
       call check_real(g, "n_steps", n_steps, status)
       if (status%stat /= demstep_stat%ok) return
-      call new_step_policy(input%options%policy, step_kind%fixed, n_steps, stat)
-      if (stat /= demstep_stat%ok) then
-        call set_status(status, demstep_stat%invalid_input, "&"//g//": n_steps: must be in [1, 1e12], got " &
-          //fmt_real(n_steps))
-        return
-      end if
+      call new_step_policy(input%options%policy, step_kind%fixed, n_steps, status)
     case default
       call set_status(status, demstep_stat%invalid_input, "&"//g//": steps: unknown word '"// &
         trim(steps)//"' (half_period, fraction, rounded, fixed)")
       return
     end select
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "&"//g//": "//status%message
+      return
+    end if
     select case (lowercase(trim(adjustl(pick))))
     case ("largest_step")
       input%options%pick = pick_kind%largest_step
@@ -312,18 +311,17 @@ contains
   pure function status_word(stat) result(word)
     integer, intent(in) :: stat
     character(len=:), allocatable :: word
-    select case (stat)
-    case (0)
+    if (stat == demstep_stat%ok) then
       word = "ok"
-    case (2)
+    else if (stat == demstep_stat%at_stability_limit) then
       word = "holds at the stability limit"
-    case (3)
+    else if (stat == demstep_stat%discontinuous) then
       word = "pick jumps here"
-    case (5)
+    else if (stat == demstep_stat%not_found) then
       word = "none up to n_max"
-    case default
+    else
       word = "status "//fmt_int(int(stat, i8))
-    end select
+    end if
   end function status_word
 
   subroutine write_result(unit, result)

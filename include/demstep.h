@@ -28,7 +28,9 @@ enum {
   DEMSTEP_NOT_FOUND = 5,      /* nothing satisfies the request */
   DEMSTEP_LAPACK_FAILURE = 6, /* LAPACK reported failure */
   DEMSTEP_IO_ERROR = 7,       /* reading or writing a file failed */
-  DEMSTEP_BLOW_UP = 8         /* a simulated value grew without bound */
+  DEMSTEP_BLOW_UP = 8,        /* a simulated value grew without bound */
+  DEMSTEP_AT_STABILITY_LIMIT = 9, /* the tolerance already holds at the stability limit */
+  DEMSTEP_DISCONTINUOUS = 10  /* a sign change or pick lies on a jump or pole, not a root */
 };
 
 /* Dashpots, step policies, picks, aggregation rules, contact laws, effects. */
@@ -70,14 +72,16 @@ typedef struct {
   int interval;    /* kind of the first interval [n_lower, n_upper]: 0 bounded (closed
                       below n_max), 1 unbounded (|E| <= E0 for every larger N), 2 truncated
                       (cut at n_max, ends beyond it) */
-  int stat;        /* 0 ok, 2 tolerance met at the stability limit, 5 none */
+  int stat;        /* DEMSTEP_OK, DEMSTEP_AT_STABILITY_LIMIT (the tolerance holds at the
+                      stability limit: n_pick is there) or DEMSTEP_NOT_FOUND (none) */
   int evaluations; /* evaluations of E */
 } demstep_nroots;
 
 /* The simulated-stiffness procedure's answer: dt = T* / N*, K' = lambda*^2 K*. */
 typedef struct {
   double n_star, lambda_star, period, dt, stiffness_actual;
-  int lambda_star_stat; /* 0 ok, 3 the pick jumps at lambda*, 5 outside the set */
+  int lambda_star_stat; /* DEMSTEP_OK, DEMSTEP_DISCONTINUOUS (the pick jumps at lambda*)
+                           or DEMSTEP_NOT_FOUND (N* outside the picks of the set) */
   int excluded;         /* lambdas without an admissible N */
 } demstep_stiffness_result;
 

@@ -235,18 +235,17 @@ contains
     call harmonic_error(n_per_period, lambda, n_steps, value, stat)
     call c_f_pointer(e, out)
     out = value
-    select case (stat)
-    case (0)
+    if (stat == demstep_stat%ok) then
       code = ok(err)
       call guard_finite([value], "demstep_harmonic_error", err, code)
-    case (3)
+    else if (stat == demstep_stat%pole) then
       call set_status(status, stat, "demstep_harmonic_error: a pole, S(2 pi lambda/N, n) = 0")
       code = report(err, status)
-    case default
+    else
       call set_status(status, stat, "demstep_harmonic_error: N, lambda must be finite and > 0, " &
         //"1 <= n_steps <= 1e12")
       code = report(err, status)
-    end select
+    end if
   end function c_harmonic_error
 
   !> Options of an N-scan from C arguments.
@@ -257,11 +256,11 @@ contains
     type(nroots_options_type), intent(out) :: options
     type(c_ptr), intent(in) :: err
     integer(c_int), intent(out) :: code
-    integer :: stat
+    type(demstep_status_type) :: status
     code = 0
     nroots_options = .false.
-    call new_step_policy(options%policy, int(steps_kind), steps_value, stat)
-    if (stat /= 0) then
+    call new_step_policy(options%policy, int(steps_kind), steps_value, status)
+    if (status%stat /= demstep_stat%ok) then
       code = invalid(err, "steps_value: step policy kind 1 (fixed, 1 <= n <= 1e12), 2 (fraction " &
         //"f > 0) or 3 (rounded f > 0)")
       return

@@ -19,7 +19,7 @@
 module demstep_harmonic
   use demstep_kinds, only: dp, pi
   use demstep_status, only: demstep_stat, demstep_status_type, set_status
-  use demstep_text, only: real_text
+  use demstep_text, only: real_text, int_text
   use demstep_double_double, only: dd_type, dd, two_sum, two_prod, dd_add, dd_mul, &
     dd_div, dd_div_d, dd_neg, dd_sinpi, dd_cospi
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -93,28 +93,35 @@ module demstep_harmonic
 
 contains
 
-  !> Build a validated step policy.
-  pure subroutine new_step_policy(policy, kind, value, stat)
+  !> Build a validated step policy. Status invalid_input, the message naming
+  !> `steps` (an unknown kind), `n_steps` (fixed) or `steps_fraction`.
+  pure subroutine new_step_policy(policy, kind, value, status)
     type(step_policy_type), intent(out) :: policy
     !> `step_kind%fixed`, `step_kind%fraction` or `step_kind%rounded`.
     integer, intent(in) :: kind
     !> `n` in [1, 1e12] (fixed) or `f` > 0 (fraction, rounded).
     real(dp), intent(in) :: value
-    !> `demstep_stat%ok` or `demstep_stat%invalid_input`.
-    integer, intent(out) :: stat
-    stat = demstep_stat%invalid_input
-    if (.not. ieee_is_finite(value)) return
-    select case (kind)
-    case (step_kind%fixed)
-      if (value < 1.0_dp .or. value > harmonic_n_max) return
-    case (step_kind%fraction, step_kind%rounded)
-      if (.not. value > 0.0_dp) return
-    case default
+    type(demstep_status_type), intent(out) :: status
+    if (kind == step_kind%fixed) then
+      if (.not. (ieee_is_finite(value) .and. value >= 1.0_dp .and. value <= harmonic_n_max)) then
+        call set_status(status, demstep_stat%invalid_input, "n_steps: must be in [1, 1e12], got " &
+          //real_text(value))
+        return
+      end if
+    else if (kind == step_kind%fraction .or. kind == step_kind%rounded) then
+      if (.not. (ieee_is_finite(value) .and. value > 0.0_dp)) then
+        call set_status(status, demstep_stat%invalid_input, "steps_fraction: must be finite and > 0, " &
+          //"got "//real_text(value))
+        return
+      end if
+    else
+      call set_status(status, demstep_stat%invalid_input, "steps: unknown step policy kind "// &
+        int_text(kind)//" (step_kind%fixed, %fraction or %rounded)")
       return
-    end select
+    end if
     policy%kind = kind
     policy%value = value
-    stat = demstep_stat%ok
+    status%stat = demstep_stat%ok
   end subroutine new_step_policy
 
   !> The number of steps `n` a policy gives at N steps per period.

@@ -52,10 +52,11 @@ contains
 
   !> A root of f in [a, b], where f(a) and f(b) differ in sign.
   !>
-  !> `status`: ok; `not_found` when f(a), f(b) do not bracket a sign change or the
-  !> bracket closed onto a discontinuity (pole or jump: |f| did not shrink with the
-  !> bracket; `root` is then where it is); `invalid_input` for a bad interval or
-  !> tolerance; `pole` when f cannot be evaluated inside the bracket.
+  !> `status`: ok; `not_found` when f(a), f(b) do not bracket a sign change;
+  !> `discontinuous` when the bracket closed onto a discontinuity (pole or jump:
+  !> |f| did not shrink with the bracket; `root` is then where it is);
+  !> `invalid_input` for a bad interval or tolerance; `pole` when f cannot be
+  !> evaluated inside the bracket.
   pure subroutine find_root(f, context, a, b, root, status, x_rel, x_abs, f_tol, fa, fb, &
       discontinuity, check_continuity, bracket_lo, bracket_hi)
     procedure(root_function) :: f
@@ -168,7 +169,7 @@ contains
     end do
     if (jump) then
       if (present(discontinuity)) discontinuity = .true.
-      call set_status(status, demstep_stat%not_found, &
+      call set_status(status, demstep_stat%discontinuous, &
         "find_root: the bracket closed onto a discontinuity (pole or jump), not a root")
     end if
   end subroutine find_root
@@ -283,7 +284,7 @@ contains
         fa=fx(i), fb=fx(i+1), discontinuity=jump)
       if (st%stat == demstep_stat%ok) then
         roots = [roots, x]
-      else if (jump .or. st%stat == demstep_stat%pole) then
+      else if (st%stat == demstep_stat%discontinuous .or. st%stat == demstep_stat%pole) then
         discontinuities = [discontinuities, x]
       end if
     end do

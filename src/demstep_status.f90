@@ -14,7 +14,7 @@ module demstep_status
     integer :: invalid_input = 1
     !> The time step is at or beyond the stability limit.
     integer :: unstable = 2
-    !> A denominator vanished (a pole of the quantity asked for).
+    !> A denominator vanished: the function cannot be evaluated there (a pole).
     integer :: pole = 3
     !> An iteration did not reach its tolerance.
     integer :: not_converged = 4
@@ -26,6 +26,12 @@ module demstep_status
     integer :: io_error = 7
     !> A simulated value grew without bound.
     integer :: blow_up = 8
+    !> The tolerance already holds at the stability limit: the answer is the
+    !> limit itself (a scan of E whose first admissible N is where it starts).
+    integer :: at_stability_limit = 9
+    !> A sign change or a pick lies on a jump or a pole, not a root: the value
+    !> returned is where the function jumps.
+    integer :: discontinuous = 10
   end type demstep_stat_codes
 
   !> The status codes by name.

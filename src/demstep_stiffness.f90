@@ -133,8 +133,8 @@ module demstep_stiffness
     integer :: last_interval = interval_kind%bounded
     !> The pick N_i (0 when there is none).
     real(dp) :: n_pick = 0.0_dp
-    !> ok; not_found (no admissible N / no root up to n_max); unstable (the
-    !> tolerance already holds at the stability limit: the pick is n_scan_start).
+    !> ok; not_found (no admissible N / no root up to n_max); at_stability_limit
+    !> (the tolerance already holds at the stability limit: the pick is n_scan_start).
     integer :: stat = 0
     !> Evaluations of E made.
     integer :: evaluations = 0
@@ -165,8 +165,8 @@ module demstep_stiffness
     !> T* = 2 pi sqrt(M/K*), dt = T*/N* (28), K' = lambda*^2 K* (29).
     real(dp) :: period = 0.0_dp, dt = 0.0_dp, stiffness_actual = 0.0_dp
     !> Status of lambda*: ok; not_found when N* lies outside the picks the lambda
-    !> set spans (lambda* is then the nearest end); pole when the pick jumps at
-    !> lambda* (lambda* is where it jumps).
+    !> set spans (lambda* is then the nearest end); discontinuous when the pick
+    !> jumps at lambda* (lambda* is where it jumps).
     integer :: lambda_star_stat = 0
     !> Lambdas without an admissible N, left out of N* (reported in rows).
     integer :: excluded = 0
@@ -339,7 +339,7 @@ contains
       call check_pick(s, options, result, status)
       if (status%stat /= demstep_stat%ok) return
       result%n_pick = result%lower(1)
-      if (s%inside_at_start .and. result%lower(1) == n_scan_start) result%stat = demstep_stat%unstable
+      if (s%inside_at_start .and. result%lower(1) == n_scan_start) result%stat = demstep_stat%at_stability_limit
     else
       result%stat = demstep_stat%not_found
     end if
@@ -1040,7 +1040,7 @@ contains
       if (st%stat == demstep_stat%ok) then
         result%lambda_star_stat = demstep_stat%ok
       else
-        result%lambda_star_stat = demstep_stat%pole
+        result%lambda_star_stat = demstep_stat%discontinuous
       end if
       exit
     end do

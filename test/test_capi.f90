@@ -9,7 +9,7 @@ module test_capi
     demstep_nroots_c, demstep_stiffness_result_c, demstep_critical_step_c, c_spring_new, &
     c_spring_step, c_critical_time_step, c_harmonic_error, c_n_roots, c_simulated_stiffness, &
     c_scene_critical_step, demstep_contact_c, c_contact_with_onset, c_n_for_tolerance
-  use test_support, only: ieee_nan
+  use test_support, only: ieee_nan, read_file
   implicit none
   private
   public :: collect_capi
@@ -22,9 +22,89 @@ contains
       new_unittest("C API gives the Fortran numbers bit for bit", test_same_numbers), &
       new_unittest("NULL pointers, empty arrays, NaN: statuses and messages", test_bad_input), &
       new_unittest("n_roots and the procedure: NaN options, extreme weights and n, fine scans", &
-        test_stiffness_limits) &
+        test_stiffness_limits), &
+      new_unittest("include/demstep.h: every enum value equals the Fortran one", test_header_enums) &
       ]
   end subroutine collect_capi
+
+  !> Every `DEMSTEP_NAME = value` of the C header is parsed and compared with the
+  !> Fortran constant of the same meaning; a header constant missing from the
+  !> table, or a table entry missing from the header, fails too.
+  subroutine test_header_enums(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=32), allocatable :: names(:)
+    integer, allocatable :: values(:)
+    logical, allocatable :: seen(:)
+    character(len=:), allocatable :: text, name
+    integer :: i, j, k, value, ios, found
+    names = [character(len=32) :: "OK", "INVALID_INPUT", "UNSTABLE", "POLE", "NOT_CONVERGED", &
+      "NOT_FOUND", "LAPACK_FAILURE", "IO_ERROR", "BLOW_UP", "AT_STABILITY_LIMIT", "DISCONTINUOUS", &
+      "DASHPOT_LAGGED", "DASHPOT_CENTRED", "STEPS_FIXED", "STEPS_FRACTION", "STEPS_ROUNDED", &
+      "PICK_LARGEST_STEP", "PICK_ZERO", "AGGREGATE_MEAN", "AGGREGATE_WEIGHTED", "AGGREGATE_MEDIAN", &
+      "AGGREGATE_MIN", "AGGREGATE_MAX", "QUANTITY_RESTITUTION", "QUANTITY_CONTACT_TIME", &
+      "QUANTITY_OVERLAP", "QUANTITY_PERIOD", "LAW_LINEAR", "LAW_HERTZ", "EFFECT_CONTACTS", &
+      "EFFECT_GRAVITY", "EFFECT_DAMPING", "EFFECT_LOCAL_DAMPING", "EFFECT_WALLS"]
+    values = [demstep_stat%ok, demstep_stat%invalid_input, demstep_stat%unstable, demstep_stat%pole, &
+      demstep_stat%not_converged, demstep_stat%not_found, demstep_stat%lapack_failure, &
+      demstep_stat%io_error, demstep_stat%blow_up, demstep_stat%at_stability_limit, &
+      demstep_stat%discontinuous, dashpot_kind%lagged, dashpot_kind%centred, step_kind%fixed, &
+      step_kind%fraction, step_kind%rounded, pick_kind%largest_step, pick_kind%zero, &
+      aggregate_kind%mean, aggregate_kind%weighted, aggregate_kind%median, aggregate_kind%min, &
+      aggregate_kind%max, quantity_kind%restitution, quantity_kind%contact_time, &
+      quantity_kind%overlap, quantity_kind%period, law_linear, law_hertz, &
+      ! effects are bit flags: bit (index - 1) of the Fortran effect index
+      2**(effect_contacts - 1), 2**(effect_gravity - 1), 2**(effect_damping - 1), &
+      2**(effect_local_damping - 1), 2**(effect_walls - 1)]
+    allocate(seen(size(names)), source=.false.)
+    call read_file("include/demstep.h", text)
+    call check(error, len(text) > 0, "include/demstep.h read")
+    if (allocated(error)) return
+    found = 0
+    i = 1
+    do
+      k = index(text(i:), "DEMSTEP_")
+      if (k == 0) exit
+      i = i + k - 1 + len("DEMSTEP_")
+      ! a name of capitals and underscores, then " = value"
+      j = i
+      do while (j <= len(text))
+        if (index("ABCDEFGHIJKLMNOPQRSTUVWXYZ_", text(j:j)) == 0) exit
+        j = j + 1
+      end do
+      name = text(i:j-1)
+      k = j
+      do while (k <= len(text))
+        if (text(k:k) /= " ") exit
+        k = k + 1
+      end do
+      if (k > len(text) .or. len(name) == 0) cycle
+      if (text(k:k) /= "=") cycle
+      read(text(k+1:min(len(text), k+12)), *, iostat=ios) value
+      if (ios /= 0) then
+        ! a value followed by a comment or a brace: read up to it
+        j = k + 1
+        do while (j <= len(text))
+          if (index(",}/ ", text(j:j)) > 0 .and. j > k + 2) exit
+          j = j + 1
+        end do
+        read(text(k+1:j-1), *, iostat=ios) value
+      end if
+      call check(error, ios == 0, "DEMSTEP_"//name//": value not read")
+      if (allocated(error)) return
+      found = found + 1
+      do j = 1, size(names)
+        if (trim(names(j)) == name) exit
+      end do
+      call check(error, j <= size(names), "DEMSTEP_"//name//" has no Fortran counterpart in the test")
+      if (allocated(error)) return
+      call check(error, value, values(j), message="DEMSTEP_"//name)
+      if (allocated(error)) return
+      seen(j) = .true.
+    end do
+    call check(error, all(seen), "every Fortran constant has its DEMSTEP_ value in the header")
+    if (allocated(error)) return
+    call check(error, found, size(names), message="one header value per name")
+  end subroutine test_header_enums
 
   !> The message of a C error struct as a Fortran string.
   function message_of(e) result(text)

@@ -266,14 +266,15 @@ contains
     type(step_policy_type) :: half, fixed
     real(dp) :: e1, e2, big_n, prev, de
     integer :: stat, i
-    call new_step_policy(half, step_kind%fraction, 0.5_dp, stat)
-    call check(error, stat, demstep_stat%ok)
+    type(demstep_status_type) :: status
+    call new_step_policy(half, step_kind%fraction, 0.5_dp, status)
+    call check(error, status%stat, demstep_stat%ok)
     if (allocated(error)) return
     call harmonic_error_steps(19.0_dp, 0.9_dp, half, e1, stat)
     call harmonic_error(19.0_dp, 0.9_dp, 9.5_dp, e2, stat)
     call check(error, e1, e2, thr=0.0_dp, message="half period is n = N/2")
     if (allocated(error)) return
-    call new_step_policy(fixed, step_kind%fixed, 40.0_dp, stat)
+    call new_step_policy(fixed, step_kind%fixed, 40.0_dp, status)
     call harmonic_error_steps(19.0_dp, 0.9_dp, fixed, e1, stat)
     call harmonic_error(19.0_dp, 0.9_dp, 40.0_dp, e2, stat)
     call check(error, e1, e2, thr=0.0_dp, message="fixed n")
@@ -288,11 +289,18 @@ contains
       if (allocated(error)) return
       prev = e1
     end do
-    call new_step_policy(fixed, step_kind%fixed, 0.5_dp, stat)
-    call check(error, stat, demstep_stat%invalid_input, message="fixed n < 1")
+    call new_step_policy(fixed, step_kind%fixed, 0.5_dp, status)
+    call check(error, status%stat, demstep_stat%invalid_input, message="fixed n < 1")
     if (allocated(error)) return
-    call new_step_policy(fixed, step_kind%fraction, -1.0_dp, stat)
-    call check(error, stat, demstep_stat%invalid_input, message="negative fraction")
+    call check(error, index(status%message, "n_steps: ") == 1, "names n_steps")
+    if (allocated(error)) return
+    call new_step_policy(fixed, step_kind%fraction, -1.0_dp, status)
+    call check(error, status%stat, demstep_stat%invalid_input, message="negative fraction")
+    if (allocated(error)) return
+    call check(error, index(status%message, "steps_fraction: ") == 1, "names steps_fraction")
+    if (allocated(error)) return
+    call new_step_policy(fixed, 7, 1.0_dp, status)
+    call check(error, status%stat, demstep_stat%invalid_input, message="unknown kind")
   end subroutine test_policies
 
   !> METHOD.md section 2: with n = N/2, E(N) = 0 near 2/(1 - lambda) - 2/3
