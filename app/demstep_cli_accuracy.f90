@@ -2,7 +2,7 @@
 !> and what a tolerance costs in steps and run time (table, CSV, figure).
 module demstep_cli_accuracy
   use demstep, only: dp, i8, pi, demstep_status_type, demstep_stat, nml_group_type, set_status, &
-    lowercase, onset_contact_type, contact_with_onset, contact_worst_case, quantity_kind, &
+    lowercase, discrete_contact_type, contact_with_onset, contact_worst_case, quantity_kind, &
     n_quantities, quantity_names, worst_error, n_for_tolerance, measure_step_cost, &
     default_cost_n_max, nroots_options_type, nroots_type, n_roots, harmonic_error, spring_type, &
     new_spring, spring_period, check_contact_damping, run_prediction_type, predict_run
@@ -78,7 +78,7 @@ contains
     logical, allocatable :: stable(:), saturated(:)
     integer :: i, ios, lengths(2), length, q
     logical :: worst
-    type(onset_contact_type) :: c
+    type(discrete_contact_type) :: c
     real(dp) :: e
     integer, parameter :: columns(3) = [quantity_kind%contact_time, quantity_kind%restitution, quantity_kind%overlap]
 

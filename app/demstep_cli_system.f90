@@ -2,9 +2,8 @@
 module demstep_cli_system
   use demstep, only: dp, i8, pi, demstep_status_type, demstep_stat, spring_type, new_spring, &
     spring_omega, spring_period, spring_damping_ratio, critical_time_step, numerical_phase, &
-    growth_factor, discrete_contact_type, discrete_contact, dashpot_kind, lowercase, &
-    nml_group_type, set_status, check_time_step, step_for_n_per_period, onset_contact_type, &
-    contact_with_onset
+    growth_factor, discrete_contact_type, spring_contact, dashpot_kind, lowercase, &
+    nml_group_type, set_status, check_time_step, step_for_n_per_period
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
     check_real, fmt_real, fmt_int, cli_context
   implicit none
@@ -129,7 +128,6 @@ contains
     real(dp) :: period, omega, dt_critical, n_per_period, theta, period_numerical, rho
     real(dp) :: zeta, overlap
     type(discrete_contact_type) :: contact
-    type(onset_contact_type) :: onset_contact
     type(demstep_status_type) :: phase_status
     logical :: stable
     integer :: u
@@ -168,16 +166,8 @@ contains
     call numerical_phase(omega*dt, theta, phase_status)
     ! 2 pi dt/theta, formed as T (omega dt/theta) so that nothing underflows
     period_numerical = period*(omega*dt/theta)
-    if (.not. spring%damping > 0.0_dp) then
-      call discrete_contact(omega*dt, contact, status)
-    else
-      ! the damped contact in closed form (onset at a step), either dashpot
-      call contact_with_onset(n_per_period, 1.0_dp, onset_contact, status, damping_ratio=zeta, &
-        dashpot=spring%dashpot)
-      contact = discrete_contact_type(steps=onset_contact%steps, &
-        steps_saturated=onset_contact%steps_saturated, restitution=onset_contact%restitution, &
-        max_overlap=onset_contact%max_overlap, contact_time=onset_contact%contact_time)
-    end if
+    ! the contact in closed form (onset at a step), either dashpot
+    call spring_contact(spring, dt, contact, status)
     if (status%stat /= demstep_stat%ok) then
       ! the library speaks of N; the deck may have given dt
       if (index(status%message, "n_per_period: ") == 1) status%message = trim(step_name)//": " &

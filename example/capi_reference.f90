@@ -12,7 +12,7 @@ program capi_reference
   type(stiffness_result_type) :: res
   type(scene_type) :: scene
   type(critical_step_type) :: c
-  type(onset_contact_type) :: contact
+  type(discrete_contact_type) :: contact
   real(dp) :: dt_crit, e, x(1, 12)
   integer :: i, stat, pairs(2, 11)
   call new_spring(spring, 0.01_dp, 1.0e5_dp, status)

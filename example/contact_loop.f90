@@ -37,7 +37,7 @@ program contact_loop
     if (.not. any(touching)) exit
   end do
 
-  call discrete_contact(spring_omega(contact)*dt, predicted, status)
+  call spring_contact(contact, dt, predicted, status)
   write(*, '(a, f12.9)') "measured restitution (all particles): ", -v_out(1)/v0(1)
   write(*, '(a, es9.2)') "spread over impact speeds:            ", &
     maxval(-v_out/v0) - minval(-v_out/v0)

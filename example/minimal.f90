@@ -7,6 +7,6 @@ program minimal
   call new_spring(contact, mass=0.01_dp, stiffness=1.0e5_dp, status=status)
   if (.not. is_ok(status)) error stop status%message
   print *, "critical step", critical_time_step(contact)       ! 2 sqrt(M/K)
-  call discrete_contact(spring_omega(contact)*spring_period(contact)/10, c, status)
+  call spring_contact(contact, spring_period(contact)/10, c, status)
   print *, "restitution at N = 10:", c%restitution            ! 1.0164...
 end program minimal

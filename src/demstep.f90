@@ -6,10 +6,10 @@ module demstep
   use demstep_version, only: demstep_version_string
   use demstep_status, only: demstep_status_type, demstep_stat_codes, demstep_stat, set_status, &
     is_ok
-  use demstep_spring, only: spring_type, spring_state_type, discrete_contact_type, dashpot_kind, &
+  use demstep_spring, only: spring_type, spring_state_type, dashpot_kind, damped_limit, &
     new_spring, spring_step, spring_run, spring_omega, spring_period, spring_damping_ratio, &
     critical_time_step, numerical_phase, numerical_period, growth_factor, exact_discrete_state, &
-    paper_closed_form_velocity, discrete_contact, simulate_contact, check_time_step, &
+    paper_closed_form_velocity, check_time_step, &
     step_for_n_per_period, saturated_count, ceiling_real, spring_omega_min, spring_omega_max, &
     spring_h_max
   use demstep_harmonic, only: step_policy_type, step_kind, harmonic_n_max, new_step_policy, &
@@ -27,7 +27,8 @@ module demstep
     max_damping_ratio
   use demstep_assembly, only: critical_step_type, critical_time_steps, hertz_at_current, &
     hertz_at_impact, default_max_eigen_dof
-  use demstep_contact, only: onset_contact_type, contact_with_onset, contact_worst_case, &
+  use demstep_contact, only: discrete_contact_type, contact_with_onset, spring_contact, &
+    simulate_contact, contact_worst_case, &
     exact_contact, contact_error_of, period_error, quantity_kind, n_quantities, quantity_names, &
     worst_case_samples, check_contact_damping
   use demstep_cost, only: worst_error, n_for_tolerance, measure_step_cost, default_cost_n_max, &

@@ -17,7 +17,7 @@ module demstep_capi
     stiffness_result_type, simulated_stiffness
   use demstep_scene, only: scene_type, new_scene, scene_add_bonds, n_effects
   use demstep_assembly, only: critical_step_type, critical_time_steps
-  use demstep_contact, only: onset_contact_type, contact_with_onset
+  use demstep_contact, only: discrete_contact_type, contact_with_onset
   use demstep_cost, only: n_for_tolerance
   implicit none
   private
@@ -444,7 +444,7 @@ contains
     real(c_double), value :: n_per_period, onset, damping_ratio
     type(c_ptr), value :: contact, err
     integer(c_int) :: code
-    type(onset_contact_type) :: c
+    type(discrete_contact_type) :: c
     type(demstep_status_type) :: status
     type(demstep_contact_c), pointer :: out
     if (.not. c_associated(contact)) then

@@ -21,18 +21,31 @@
 !> These closed forms are used whenever the roots are complex (every stable
 !> undamped step; damped steps with 2 zeta h < 1 below the limit); otherwise
 !> (beyond the limit, or an overdamped discrete contact) the recurrence is
-!> stepped exactly.
+!> stepped exactly, by the spring's own stepper `spring_step`.
+!>
+!> Undamped, with onset 1 (contact beginning exactly at a step), the closed form
+!> is the simplest: with theta = 2 asin(h/2) and n_c = ceil(pi/theta), the force
+!> acts at steps 1 .. n_c - 1 and the rebound velocity is
+!> v0 cos((n_c - 1/2) theta)/cos(theta/2), so the restitution lies in
+!> [1, 1/cos(theta/2)].
+!>
+!> One result type, `discrete_contact_type`, serves every entry point:
+!> `contact_with_onset` (any N, onset, damping), `spring_contact` (a spring and
+!> its step, onset 1), `simulate_contact` (a spring stepped), `exact_contact`
+!> (the continuous contact).
 module demstep_contact
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_spring, only: saturated_count, ceiling_real, dashpot_kind
-  use demstep_text, only: real_text
+  use demstep_spring, only: saturated_count, ceiling_real, dashpot_kind, spring_type, &
+    spring_state_type, spring_step, spring_omega, spring_damping_ratio, critical_time_step, &
+    check_time_step, damped_limit, scheme_phase, phase_factor
+  use demstep_text, only: real_text, int_text
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
-  public :: contact_with_onset, contact_worst_case, exact_contact, contact_error_of, &
-    period_error, check_contact_damping
+  public :: contact_with_onset, spring_contact, simulate_contact, contact_worst_case, &
+    exact_contact, contact_error_of, period_error, check_contact_damping
 
   !> The quantities whose error can be asked for, by name: `quantity_kind%restitution`.
   type, public :: quantity_kinds
@@ -57,8 +70,9 @@ module demstep_contact
   !> Steps a contact may take when stepped (beyond the closed forms).
   integer(i8), parameter :: max_contact_steps = 100000000_i8
 
-  !> One discrete contact.
-  type, public :: onset_contact_type
+  !> One contact of a mass arriving at speed v0: overlaps in v0/omega, times in
+  !> the undamped contact time T/2 = pi/omega, velocities in v0.
+  type, public :: discrete_contact_type
     !> Onset s in (0, 1].
     real(dp) :: onset = 1.0_dp
     !> Force evaluations with a positive overlap (saturates at huge(1_i8)).
@@ -73,7 +87,7 @@ module demstep_contact
     real(dp) :: max_overlap = 0.0_dp
     !> dt below the scheme's stability limit.
     logical :: stable = .true.
-  end type onset_contact_type
+  end type discrete_contact_type
 
 contains
 
@@ -88,14 +102,14 @@ contains
   pure subroutine contact_with_onset(n_per_period, onset, contact, status, damping_ratio, dashpot)
     !> N = T/dt and the onset s.
     real(dp), intent(in) :: n_per_period, onset
-    type(onset_contact_type), intent(out) :: contact
+    type(discrete_contact_type), intent(out) :: contact
     type(demstep_status_type), intent(out) :: status
     !> zeta >= 0 (default 0).
     real(dp), intent(in), optional :: damping_ratio
     !> `dashpot_kind%lagged` (default) or `dashpot_kind%centred`.
     integer, intent(in), optional :: dashpot
-    real(dp) :: h, zeta, rho, theta, a, b, r, phi, q, x, xm, best, nc, f, k, lo, hi, log_rho, n_min, d
-    logical :: closed, centred
+    real(dp) :: zeta, n_min
+    logical :: centred
     zeta = 0.0_dp
     if (present(damping_ratio)) zeta = damping_ratio
     centred = .false.
@@ -121,20 +135,84 @@ contains
       call set_status(status, demstep_stat%invalid_input, "onset: must be in (0, 1]")
       return
     end if
+    call contact_kernel(2.0_dp*pi/n_per_period, onset, zeta, centred, contact, status)
+  end subroutine contact_with_onset
+
+  !> The contact of a spring at its step dt, beginning exactly at a step (onset 1),
+  !> either dashpot: `contact_with_onset` at N = T/dt, with h = omega dt formed from
+  !> the spring. Status invalid_input for a dt `check_time_step` refuses (the
+  !> message names `dt`); not_converged as `contact_with_onset`.
+  pure subroutine spring_contact(spring, dt, contact, status)
+    !> The spring (from new_spring).
+    type(spring_type), intent(in) :: spring
+    !> Time step.
+    real(dp), intent(in) :: dt
+    type(discrete_contact_type), intent(out) :: contact
+    type(demstep_status_type), intent(out) :: status
+    call check_time_step(spring, dt, status)
+    if (status%stat /= demstep_stat%ok) return
+    call contact_kernel(spring_omega(spring)*dt, 1.0_dp, spring_damping_ratio(spring), &
+      spring%dashpot == dashpot_kind%centred, contact, status)
+  end subroutine spring_contact
+
+  !> The contact of a spring at its step dt by stepping (`spring_step`): the mass
+  !> arrives at speed v0 with zero overlap at step 0 and is stepped until the
+  !> overlap is no longer positive. Units as in `discrete_contact_type`.
+  !> Status `unstable` at or beyond the stability limit, `not_converged` past
+  !> `max_steps` or when the contact never ends.
+  pure subroutine simulate_contact(spring, dt, contact, status, max_steps)
+    !> The spring (from new_spring).
+    type(spring_type), intent(in) :: spring
+    !> Time step, finite and > 0.
+    real(dp), intent(in) :: dt
+    type(discrete_contact_type), intent(out) :: contact
+    type(demstep_status_type), intent(out) :: status
+    !> Give up after this many steps (default 10**8).
+    integer(i8), intent(in), optional :: max_steps
+    integer(i8) :: limit
+    limit = max_contact_steps
+    if (present(max_steps)) limit = max_steps
+    if (.not. (ieee_is_finite(dt) .and. dt > 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "dt must be finite and > 0")
+      return
+    end if
+    if (dt >= critical_time_step(spring)) then
+      call set_status(status, demstep_stat%unstable, "dt is at or beyond the stability limit")
+      return
+    end if
+    status%stat = demstep_stat%ok
+    contact%onset = 1.0_dp
+    call step_contact(spring_omega(spring)*dt, spring_damping_ratio(spring), &
+      spring%dashpot == dashpot_kind%centred, 1.0_dp, limit, contact, status)
+  end subroutine simulate_contact
+
+  !> The contact at h = omega dt and onset s (both checked by the caller): the
+  !> undamped onset-1 closed form, the general closed form where the roots are
+  !> complex, else exact stepping.
+  pure subroutine contact_kernel(h, onset, zeta, centred, contact, status)
+    real(dp), intent(in) :: h, onset, zeta
+    logical, intent(in) :: centred
+    type(discrete_contact_type), intent(out) :: contact
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: rho, theta, a, b, r, phi, q, x, xm, best, nc, f, k, lo, hi, log_rho, d
+    logical :: closed
     status%stat = demstep_stat%ok
     contact%onset = onset
-    h = 2.0_dp*pi/n_per_period
     ! the stability limit: lagged h < 2 (sqrt(1 + zeta^2) - zeta), centred h < 2
     if (centred) then
       contact%stable = h < 2.0_dp
     else
-      contact%stable = h < 2.0_dp/(sqrt(1.0_dp + zeta**2) + zeta)
+      contact%stable = h < damped_limit(2.0_dp, zeta)
+    end if
+    if (zeta == 0.0_dp .and. onset == 1.0_dp .and. h < 2.0_dp) then
+      call undamped_at_step(h, contact)
+      return
     end if
     a = (onset - 1.0_dp)*h
     b = onset*h
-    call discrete_phase(h, zeta, centred, rho, theta, closed)
+    call scheme_phase(h, zeta, centred, rho, theta, closed)
     if (.not. closed) then
-      call step_contact(h, zeta, centred, onset, contact, status)
+      call step_contact(h, zeta, centred, onset, max_contact_steps, contact, status)
       return
     end if
     ! x_0 = R sin(phi) = a, x_1 = R rho sin(theta + phi) = b
@@ -175,57 +253,31 @@ contains
       if (k == lo) exit
     end do
     contact%max_overlap = xm
-  end subroutine contact_with_onset
+  end subroutine contact_kernel
 
-  !> The roots rho e^(+-i theta) of the contact recurrence at h = omega dt,
-  !> x_{n+1} = beta x_n - rho^2 x_{n-1}. With f = 1 - (zeta + h/2)^2 (lagged) or
-  !> 1 - zeta^2 - h^2/4 (centred), the discriminant is beta^2/4 - rho^2 = -h^2 f
-  !> (over (1 + zeta h)^2 when centred), so the roots are complex when f > 0 and
-  !> sin^2(theta/2) = (2 rho - beta)/(4 rho) = h^2 f/(rho (2 rho + beta)) (over
-  !> (1 + zeta h)^2 when centred): no cancellation near critical damping, and
-  !> 2 asin(h/2) undamped. `closed` is false beyond the stability limit or where
-  !> the roots are real: step there instead.
-  elemental subroutine discrete_phase(h, zeta, centred, rho, theta, closed)
-    real(dp), intent(in) :: h, zeta
-    logical, intent(in) :: centred
-    real(dp), intent(out) :: rho, theta
-    logical, intent(out) :: closed
-    real(dp) :: f, beta, sin_half, a
-    rho = 0.0_dp
-    theta = 0.0_dp
-    a = zeta*h
-    if (centred) then
-      closed = a < 1.0_dp .and. h < 2.0_dp
-      if (.not. closed) return
-      rho = sqrt((1.0_dp - a)/(1.0_dp + a))
-      beta = (2.0_dp - h**2)/(1.0_dp + a)
-    else
-      closed = a < 0.5_dp .and. h < 2.0_dp/(sqrt(1.0_dp + zeta**2) + zeta)
-      if (.not. closed) return
-      rho = sqrt(1.0_dp - 2.0_dp*a)
-      beta = 2.0_dp - 2.0_dp*a - h**2
-    end if
-    f = root_factor(h, zeta, centred)
-    closed = f > 0.0_dp
-    if (.not. closed) return
-    ! sin(theta/2) itself: its square underflows for the finest steps
-    sin_half = h*sqrt(f)/sqrt(rho*(2.0_dp*rho + beta))
-    if (centred) sin_half = sin_half/(1.0_dp + a)
-    closed = sin_half < 1.0_dp
-    if (closed) theta = 2.0_dp*asin(sin_half)
-  end subroutine discrete_phase
-
-  !> f of `discrete_phase`: > 0 for complex roots; 1 - zeta is exact for zeta
-  !> in [1/2, 2], so f keeps its digits next to critical damping.
-  elemental real(dp) function root_factor(h, zeta, centred) result(f)
-    real(dp), intent(in) :: h, zeta
-    logical, intent(in) :: centred
-    if (centred) then
-      f = (1.0_dp - zeta)*(1.0_dp + zeta) - 0.25_dp*h**2
-    else
-      f = ((1.0_dp - zeta) - 0.5_dp*h)*((1.0_dp + zeta) + 0.5_dp*h)
-    end if
-  end function root_factor
+  !> The undamped contact beginning at a step (onset 1) in closed form, h < 2.
+  pure subroutine undamped_at_step(h, contact)
+    real(dp), intent(in) :: h
+    type(discrete_contact_type), intent(inout) :: contact
+    real(dp) :: rho, theta, q, nc, f, half, d, k
+    logical :: closed
+    call scheme_phase(h, 0.0_dp, .false., rho, theta, closed)
+    ! in reals: pi/theta reaches 1e308 for the finest steps
+    q = pi/theta
+    nc = ceiling_real(q)
+    call saturated_count(nc - 1.0_dp, contact%steps, contact%steps_saturated)
+    ! (nc - 1/2) theta = pi + (f - 1/2) theta with f = nc - q in [0, 1)
+    f = nc - q
+    contact%restitution = cos((f - 0.5_dp)*theta)/cos(0.5_dp*theta)
+    ! the overlap h sin(k theta)/sin(theta) = sin(k theta)/cos(theta/2) peaks at the
+    ! step k in [1, nc - 1] nearest to q/2, where sin(k theta) = cos((q/2 - k) theta)
+    half = 0.5_dp*q
+    k = min(max(1.0_dp, anint(half)), max(1.0_dp, nc - 1.0_dp))
+    d = half - k
+    contact%max_overlap = cos(d*theta)/cos(0.5_dp*theta)
+    if (nc < 2.0_dp) contact%max_overlap = 0.0_dp
+    contact%contact_time = (nc - 1.0_dp)*(h/pi)
+  end subroutine undamped_at_step
 
   !> The contact by exact stepping of the recurrence (beyond the closed forms).
   !> With real roots r1 > 0 (dominant) and r2 of r^2 - beta r + gamma,
@@ -233,16 +285,18 @@ contains
   !> passed between steps 0 and 1, so the overlap stays positive for ever; if
   !> r2 < 0 and A > 0, |B r2^n|/(A r1^n) decreases, so a contact that survives
   !> steps 2 and 3 (both signs of r2^n) never ends. Either: status not_converged.
-  pure subroutine step_contact(h, zeta, centred, onset, contact, status)
+  pure subroutine step_contact(h, zeta, centred, onset, limit, contact, status)
     real(dp), intent(in) :: h, zeta, onset
     logical, intent(in) :: centred
-    type(onset_contact_type), intent(inout) :: contact
+    !> Give up after this many steps in contact.
+    integer(i8), intent(in) :: limit
+    type(discrete_contact_type), intent(inout) :: contact
     type(demstep_status_type), intent(inout) :: status
-    real(dp) :: x, v, xm, beta, gam, disc, r1, r2, x0, ca
+    type(spring_type) :: unit
+    type(spring_state_type) :: state
+    real(dp) :: xm, beta, gam, disc, r1, r2, x0, ca
     logical :: watch
     x0 = (onset - 1.0_dp)*h
-    x = x0
-    v = 1.0_dp
     xm = 0.0_dp
     if (centred) then
       beta = (2.0_dp - h**2)/(1.0_dp + zeta*h)
@@ -251,8 +305,8 @@ contains
       beta = 2.0_dp - 2.0_dp*zeta*h - h**2
       gam = 1.0_dp - 2.0_dp*zeta*h
     end if
-    ! beta^2/4 - gamma = -h^2 f (see discrete_phase), its sign kept next to critical damping
-    disc = -h**2*root_factor(h, zeta, centred)
+    ! beta^2/4 - gamma = -h^2 f (see scheme_phase), its sign kept next to critical damping
+    disc = -h**2*phase_factor(h, zeta, centred)
     if (centred) disc = disc/(1.0_dp + zeta*h)**2
     watch = .false.
     if (disc >= 0.0_dp .and. beta > 0.0_dp) then
@@ -265,28 +319,28 @@ contains
       ca = (onset*h - r2*x0)/(r1 - r2)
       watch = ca > 0.0_dp .and. r1 > abs(r2)
     end if
+    ! the spring's own stepper in these units: M = K = 1 (omega = 1), dt = h,
+    ! c = 2 zeta (exact), overlap in v0/omega and velocity in v0
+    unit = spring_type(mass=1.0_dp, stiffness=1.0_dp, damping=2.0_dp*zeta, &
+      compression_only=.true., dashpot=merge(dashpot_kind%centred, dashpot_kind%lagged, centred))
+    state = spring_state_type(x=x0, v=1.0_dp, step=0_i8)
     do
-      x = x + v*h
-      if (.not. x > 0.0_dp) exit
-      if (centred) then
-        v = ((1.0_dp - zeta*h)*v - h*x)/(1.0_dp + zeta*h)
-      else
-        v = v - h*(x + 2.0_dp*zeta*v)
-      end if
+      call spring_step(unit, h, state)
+      if (.not. state%x > 0.0_dp) exit
       contact%steps = contact%steps + 1_i8
-      xm = max(xm, x)
+      xm = max(xm, state%x)
       if (watch .and. contact%steps >= 3_i8) then
         call set_status(status, demstep_stat%not_converged, never_ends(h, zeta))
         return
       end if
-      if (contact%steps > max_contact_steps .or. .not. ieee_is_finite(v)) then
+      if (contact%steps > limit .or. .not. ieee_is_finite(state%v)) then
         call set_status(status, demstep_stat%not_converged, "n_per_period: the stepped contact " &
-          //"did not end within 1e8 steps")
+          //"did not end within "//int_text(limit)//" steps")
         return
       end if
     end do
     contact%contact_time = real(contact%steps, dp)*h/pi
-    contact%restitution = -v
+    contact%restitution = -state%v
     contact%max_overlap = xm
   end subroutine step_contact
 
@@ -335,7 +389,7 @@ contains
   !> restitution and time are 0.
   elemental function exact_contact(damping_ratio) result(contact)
     real(dp), intent(in) :: damping_ratio
-    type(onset_contact_type) :: contact
+    type(discrete_contact_type) :: contact
     real(dp) :: w, t
     contact%onset = 1.0_dp
     if (damping_ratio >= 1.0_dp) then
@@ -354,7 +408,7 @@ contains
   !> Relative error of one quantity of a discrete contact against the exact one.
   elemental real(dp) function contact_error_of(quantity, contact, exact) result(err)
     integer, intent(in) :: quantity
-    type(onset_contact_type), intent(in) :: contact, exact
+    type(discrete_contact_type), intent(in) :: contact, exact
     select case (quantity)
     case (quantity_kind%restitution)
       err = abs(contact%restitution - exact%restitution)/max(exact%restitution, tiny(1.0_dp))
@@ -393,11 +447,11 @@ contains
   pure subroutine contact_worst_case(n_per_period, quantity, worst, error, status, damping_ratio)
     real(dp), intent(in) :: n_per_period
     integer, intent(in) :: quantity
-    type(onset_contact_type), intent(out) :: worst
+    type(discrete_contact_type), intent(out) :: worst
     real(dp), intent(out) :: error
     type(demstep_status_type), intent(out) :: status
     real(dp), intent(in), optional :: damping_ratio
-    type(onset_contact_type) :: c, c1, c2, exact
+    type(discrete_contact_type) :: c, c1, c2, exact
     real(dp) :: zeta, s, e, a, b, x1, x2, e1, e2
     integer :: k, kbest, it
     real(dp), parameter :: golden = 0.6180339887498949_dp
@@ -464,8 +518,8 @@ contains
   !> Status not_converged outside the closed forms' range (the caller samples).
   pure subroutine worst_contact_time(n_per_period, zeta, exact, worst, error, status)
     real(dp), intent(in) :: n_per_period, zeta
-    type(onset_contact_type), intent(in) :: exact
-    type(onset_contact_type), intent(out) :: worst
+    type(discrete_contact_type), intent(in) :: exact
+    type(discrete_contact_type), intent(out) :: worst
     real(dp), intent(out) :: error
     type(demstep_status_type), intent(out) :: status
     real(dp) :: h, rho, theta, q, e1, e2, m
@@ -473,7 +527,7 @@ contains
     h = 2.0_dp*pi/n_per_period
     error = -1.0_dp
     call set_status(status, demstep_stat%not_converged, "outside the closed forms")
-    call discrete_phase(h, zeta, .false., rho, theta, closed)
+    call scheme_phase(h, zeta, .false., rho, theta, closed)
     if (.not. closed) return
     q = pi/theta
     m = ceiling_real(q)
@@ -497,8 +551,8 @@ contains
   pure subroutine onset_error(n_per_period, quantity, zeta, exact, onset, contact, error)
     real(dp), intent(in) :: n_per_period, zeta, onset
     integer, intent(in) :: quantity
-    type(onset_contact_type), intent(in) :: exact
-    type(onset_contact_type), intent(out) :: contact
+    type(discrete_contact_type), intent(in) :: exact
+    type(discrete_contact_type), intent(out) :: contact
     real(dp), intent(out) :: error
     type(demstep_status_type) :: st
     error = -1.0_dp

@@ -3,7 +3,7 @@
 module demstep_cost
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_contact, only: onset_contact_type, contact_worst_case, period_error, quantity_kind, &
+  use demstep_contact, only: discrete_contact_type, contact_worst_case, period_error, quantity_kind, &
     n_quantities, check_contact_damping
   use demstep_spring, only: saturated_count, ceiling_real
   use demstep_text, only: real_text
@@ -48,7 +48,7 @@ contains
     real(dp), intent(in), optional :: damping_ratio
     !> The onset attaining it.
     real(dp), intent(out), optional :: onset
-    type(onset_contact_type) :: worst
+    type(discrete_contact_type) :: worst
     if (quantity < 1 .or. quantity > n_quantities) then
       call set_status(status, demstep_stat%invalid_input, "quantity: unknown quantity")
       error = 0.0_dp

@@ -25,8 +25,8 @@ module demstep_spring
   public :: spring_omega, spring_period, spring_damping_ratio, critical_time_step
   public :: numerical_phase, numerical_period, growth_factor
   public :: exact_discrete_state, paper_closed_form_velocity
-  public :: discrete_contact, simulate_contact
   public :: check_time_step, step_for_n_per_period, saturated_count, ceiling_real
+  public :: damped_limit, scheme_phase, phase_factor
 
   !> The velocity a dashpot uses, by name: `dashpot_kind%lagged`.
   type, public :: dashpot_kinds
@@ -68,19 +68,6 @@ module demstep_spring
     integer(i8) :: step = 0_i8
   end type spring_state_type
 
-  !> The discrete contact of an undamped spring hit at speed v0, onset at a step.
-  type, public :: discrete_contact_type
-    !> Force evaluations that see a positive overlap (saturates at huge(1_i8)).
-    integer(i8) :: steps = 0_i8
-    !> True when `steps` saturated: the count is above huge(1_i8) = 2^63 - 1.
-    logical :: steps_saturated = .false.
-    !> Rebound speed over impact speed, -v_out/v0 (1 for the exact contact).
-    real(dp) :: restitution = 1.0_dp
-    !> Largest overlap at a force evaluation, in units of v0/omega (exact: 1).
-    real(dp) :: max_overlap = 1.0_dp
-    !> Force evaluations times dt, in units of the exact contact time T/2 = pi/omega.
-    real(dp) :: contact_time = 1.0_dp
-  end type discrete_contact_type
 
 contains
 
@@ -124,7 +111,7 @@ contains
     end if
     root_km = sqrt(stiffness)*sqrt(mass)
     c = 2.0_dp*zeta*root_km
-    dt_critical = lagged_limit(omega, zeta)
+    dt_critical = damped_limit(2.0_dp/omega, zeta)
     if (zeta > 0.0_dp .and. .not. (c <= huge(1.0_dp) .and. c >= tiny(1.0_dp) .and. &
         dt_critical >= tiny(1.0_dp))) then
       ! the dashpot c = 2 zeta sqrt(K M) and the critical step must be normal doubles
@@ -215,23 +202,92 @@ contains
     type(spring_type), intent(in) :: spring
     real(dp) :: dt_critical
     if (spring%dashpot == dashpot_kind%lagged) then
-      dt_critical = lagged_limit(spring_omega(spring), spring_damping_ratio(spring))
+      dt_critical = damped_limit(2.0_dp/spring_omega(spring), spring_damping_ratio(spring))
     else
       dt_critical = 2.0_dp/spring_omega(spring)
     end if
   end function critical_time_step
 
-  !> (2/omega)(sqrt(1 + zeta^2) - zeta), written without cancellation or overflow
-  !> for large zeta.
-  elemental function lagged_limit(omega, zeta) result(dt_critical)
-    real(dp), intent(in) :: omega, zeta
-    real(dp) :: dt_critical
+  !> The stability limit of a lagged dashpot from the undamped one:
+  !> `dt_undamped (sqrt(1 + zeta^2) - zeta)`, the damped-limit factor written as
+  !> `dt_undamped/(sqrt(1 + zeta^2) + zeta)`: no cancellation, and no overflow for
+  !> large zeta. Any scale works in place of a time step (h = omega dt: 2).
+  elemental function damped_limit(dt_undamped, zeta) result(limit)
+    !> The limit without a dashpot (2/omega for one spring).
+    real(dp), intent(in) :: dt_undamped
+    !> Damping ratio >= 0.
+    real(dp), intent(in) :: zeta
+    real(dp) :: limit
     if (zeta <= 1.0_dp) then
-      dt_critical = (2.0_dp/omega)/(sqrt(1.0_dp + zeta**2) + zeta)
+      limit = dt_undamped/(sqrt(1.0_dp + zeta**2) + zeta)
     else
-      dt_critical = ((2.0_dp/omega)/zeta)/(sqrt(1.0_dp + (1.0_dp/zeta)**2) + 1.0_dp)
+      limit = (dt_undamped/zeta)/(sqrt(1.0_dp + (1.0_dp/zeta)**2) + 1.0_dp)
     end if
-  end function lagged_limit
+  end function damped_limit
+
+  !> The roots rho e^(+-i theta) of the scheme's two-step recurrence for an acting
+  !> spring at h = omega dt, x_{n+1} = beta x_n - rho^2 x_{n-1}: the phase per step
+  !> theta and the decay per step rho. Undamped, theta = 2 asin(h/2), rho = 1. With
+  !> f = `phase_factor`, the discriminant is beta^2/4 - rho^2 = -h^2 f (over
+  !> (1 + zeta h)^2 when centred), so the roots are complex when f > 0 and
+  !> sin^2(theta/2) = (2 rho - beta)/(4 rho) = h^2 f/(rho (2 rho + beta)) (over
+  !> (1 + zeta h)^2 when centred): no cancellation near critical damping.
+  !> `closed` is false beyond the stability limit or where the roots are real.
+  elemental subroutine scheme_phase(h, zeta, centred, rho, theta, closed)
+    !> omega dt and the damping ratio (>= 0).
+    real(dp), intent(in) :: h, zeta
+    !> Centred dashpot (else lagged).
+    logical, intent(in) :: centred
+    !> Decay and phase per step; 0 when not `closed`.
+    real(dp), intent(out) :: rho, theta
+    !> The roots are complex and the step below the limit.
+    logical, intent(out) :: closed
+    real(dp) :: f, beta, sin_half, a
+    rho = 0.0_dp
+    theta = 0.0_dp
+    if (zeta == 0.0_dp) then
+      closed = h < 2.0_dp
+      if (.not. closed) return
+      rho = 1.0_dp
+      theta = 2.0_dp*asin(0.5_dp*h)
+      return
+    end if
+    a = zeta*h
+    if (centred) then
+      closed = a < 1.0_dp .and. h < 2.0_dp
+      if (.not. closed) return
+      rho = sqrt((1.0_dp - a)/(1.0_dp + a))
+      beta = (2.0_dp - h**2)/(1.0_dp + a)
+    else
+      closed = a < 0.5_dp .and. h < damped_limit(2.0_dp, zeta)
+      if (.not. closed) return
+      rho = sqrt(1.0_dp - 2.0_dp*a)
+      beta = 2.0_dp - 2.0_dp*a - h**2
+    end if
+    f = phase_factor(h, zeta, centred)
+    closed = f > 0.0_dp
+    if (.not. closed) return
+    ! sin(theta/2) itself: its square underflows for the finest steps
+    sin_half = h*sqrt(f)/sqrt(rho*(2.0_dp*rho + beta))
+    if (centred) sin_half = sin_half/(1.0_dp + a)
+    closed = sin_half < 1.0_dp
+    if (closed) theta = 2.0_dp*asin(sin_half)
+  end subroutine scheme_phase
+
+  !> f of `scheme_phase`: 1 - (zeta + h/2)^2 (lagged) or 1 - zeta^2 - h^2/4
+  !> (centred), > 0 for complex roots; 1 - zeta is exact for zeta in [1/2, 2], so
+  !> f keeps its digits next to critical damping.
+  elemental real(dp) function phase_factor(h, zeta, centred) result(f)
+    !> omega dt and the damping ratio.
+    real(dp), intent(in) :: h, zeta
+    !> Centred dashpot (else lagged).
+    logical, intent(in) :: centred
+    if (centred) then
+      f = (1.0_dp - zeta)*(1.0_dp + zeta) - 0.25_dp*h**2
+    else
+      f = ((1.0_dp - zeta) - 0.5_dp*h)*((1.0_dp + zeta) + 0.5_dp*h)
+    end if
+  end function phase_factor
 
   !> Check a time step to assess on a spring: finite, a normal double, and
   !> (1 + zeta) omega dt <= spring_h_max, so that N = T/dt and the growth factor
@@ -307,16 +363,20 @@ contains
     !> Phase per step in (0, pi); 0 when not ok.
     real(dp), intent(out) :: theta
     type(demstep_status_type), intent(out) :: status
+    real(dp) :: rho
+    logical :: closed
     theta = 0.0_dp
     if (.not. (ieee_is_finite(omega_dt) .and. omega_dt >= tiny(1.0_dp))) then
       call set_status(status, demstep_stat%invalid_input, "omega*dt must be finite and >= " &
         //real_text(tiny(1.0_dp)))
-    else if (omega_dt >= 2.0_dp) then
+      return
+    end if
+    call scheme_phase(omega_dt, 0.0_dp, .false., rho, theta, closed)
+    if (closed) then
+      status%stat = demstep_stat%ok
+    else
       call set_status(status, demstep_stat%unstable, &
         "omega*dt >= 2: the time step is at or beyond the stability limit 2 sqrt(M/K)")
-    else
-      theta = 2.0_dp*asin(0.5_dp*omega_dt)
-      status%stat = demstep_stat%ok
     end if
   end subroutine numerical_phase
 
@@ -435,85 +495,6 @@ contains
     ratio = real(0.5_dp*((1.0_dp + a/d)*r1**n + (1.0_dp - a/d)*r2**n), dp)
     status%stat = demstep_stat%ok
   end subroutine paper_closed_form_velocity
-
-  !> Exact discrete contact of the undamped compression-only spring, contact
-  !> starting exactly at a step (METHOD.md section 1): with theta the numerical
-  !> phase and n_c = ceil(pi/theta), the force acts at steps 1 .. n_c - 1,
-  !> the rebound velocity is v0 cos((n_c - 1/2) theta)/cos(theta/2), so the
-  !> restitution lies in [1, 1/cos(theta/2)]. Status `unstable` for omega dt >= 2.
-  pure subroutine discrete_contact(omega_dt, contact, status)
-    !> omega * dt.
-    real(dp), intent(in) :: omega_dt
-    type(discrete_contact_type), intent(out) :: contact
-    type(demstep_status_type), intent(out) :: status
-    real(dp) :: theta, q, nc, f, half, d, k
-    call numerical_phase(omega_dt, theta, status)
-    if (status%stat /= demstep_stat%ok) return
-    ! in reals: pi/theta reaches 1e308 for the finest steps
-    q = pi/theta
-    nc = ceiling_real(q)
-    call saturated_count(nc - 1.0_dp, contact%steps, contact%steps_saturated)
-    ! (nc - 1/2) theta = pi + (f - 1/2) theta with f = nc - q in [0, 1)
-    f = nc - q
-    contact%restitution = cos((f - 0.5_dp)*theta)/cos(0.5_dp*theta)
-    ! the overlap h sin(k theta)/sin(theta) = sin(k theta)/cos(theta/2) peaks at the
-    ! step k in [1, nc - 1] nearest to q/2, where sin(k theta) = cos((q/2 - k) theta)
-    half = 0.5_dp*q
-    k = min(max(1.0_dp, anint(half)), max(1.0_dp, nc - 1.0_dp))
-    d = half - k
-    contact%max_overlap = cos(d*theta)/cos(0.5_dp*theta)
-    if (nc < 2.0_dp) contact%max_overlap = 0.0_dp
-    contact%contact_time = (nc - 1.0_dp)*(omega_dt/pi)
-  end subroutine discrete_contact
-
-  !> Discrete contact of any spring (damped or not) by stepping: the mass arrives
-  !> at speed v0 with zero overlap at step 0 and is stepped until the overlap is
-  !> no longer positive. Units as in `discrete_contact_type`.
-  !> Status `unstable` beyond the stability limit, `not_converged` past `max_steps`.
-  pure subroutine simulate_contact(spring, dt, contact, status, max_steps)
-    type(spring_type), intent(in) :: spring
-    !> Time step, finite and > 0.
-    real(dp), intent(in) :: dt
-    type(discrete_contact_type), intent(out) :: contact
-    type(demstep_status_type), intent(out) :: status
-    !> Give up after this many steps (default 10**8).
-    integer(i8), intent(in), optional :: max_steps
-    type(spring_state_type) :: state
-    type(spring_type) :: contact_spring
-    integer(i8) :: limit
-    real(dp) :: omega, xmax, v_last
-    limit = 100000000_i8
-    if (present(max_steps)) limit = max_steps
-    if (.not. positive_finite(dt)) then
-      call set_status(status, demstep_stat%invalid_input, "dt must be finite and > 0")
-      return
-    end if
-    if (dt >= critical_time_step(spring)) then
-      call set_status(status, demstep_stat%unstable, "dt is at or beyond the stability limit")
-      return
-    end if
-    contact_spring = spring
-    contact_spring%compression_only = .true.
-    omega = spring_omega(spring)
-    state = spring_state_type(x=0.0_dp, v=1.0_dp, step=0_i8)
-    xmax = 0.0_dp
-    v_last = 1.0_dp
-    do
-      call spring_step(contact_spring, dt, state)
-      if (.not. state%x > 0.0_dp) exit
-      contact%steps = contact%steps + 1_i8
-      xmax = max(xmax, state%x)
-      v_last = state%v
-      if (contact%steps >= limit) then
-        call set_status(status, demstep_stat%not_converged, "contact lasted more than max_steps steps")
-        return
-      end if
-    end do
-    contact%restitution = -v_last
-    contact%max_overlap = xmax*omega
-    contact%contact_time = real(contact%steps, dp)*dt*omega/pi
-    status%stat = demstep_stat%ok
-  end subroutine simulate_contact
 
   !> ceiling(x) as a real, for any finite x (doubles from 2^52 up are integers).
   elemental function ceiling_real(x) result(c)

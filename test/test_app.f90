@@ -66,6 +66,7 @@ contains
       growth_factor, theta, period_numerical, contact_steps, contact_time, restitution, &
       max_overlap
     type(discrete_contact_type) :: contact
+    type(spring_type) :: unit_spring
     type(demstep_status_type) :: status
     call write_file(deck, [character(len=80) :: "&other x = 1 /", &
       "&system mass = 2.0, stiffness = 50.0, velocity = 3.0, dt = 0.1 /"])
@@ -89,7 +90,9 @@ contains
     if (allocated(error)) return
     call check(error, theta, 2.0_dp*asin(0.25_dp), thr=2*epsilon(1.0_dp), rel=.true., message="theta")
     if (allocated(error)) return
-    call discrete_contact(0.5_dp, contact, status)
+    ! the unit spring at dt = 0.5: omega dt = 0.5 as in the app (omega = 5, dt = 0.1)
+    call new_spring(unit_spring, 1.0_dp, 1.0_dp, status)
+    call spring_contact(unit_spring, 0.5_dp, contact, status)
     call check(error, contact_steps, contact%steps, message="contact steps")
     if (allocated(error)) return
     call check(error, restitution, contact%restitution, thr=0.0_dp, message="restitution")
@@ -547,7 +550,7 @@ contains
     logical :: stable(3)
     namelist /contact_error_result/ n_per_period, onset, steps_in_contact, contact_time, &
       restitution, max_overlap, onset_contact_time, onset_restitution, onset_overlap, stable
-    type(onset_contact_type) :: c
+    type(discrete_contact_type) :: c
     type(demstep_status_type) :: st
     real(dp) :: e
     ! given onsets, one N beyond the stability limit: computed and flagged

@@ -3,7 +3,7 @@
 module test_contact
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
-  use test_support, only: real_str
+  use test_support, only: real_str, unit_contact
   use, intrinsic :: iso_fortran_env, only: qp => real128
   implicit none
   private
@@ -50,7 +50,7 @@ contains
   subroutine test_vs_stepping(error)
     type(error_type), allocatable, intent(out) :: error
     real(dp), parameter :: zetas(3) = [0.0_dp, 0.1_dp, 0.3_dp]
-    type(onset_contact_type) :: c
+    type(discrete_contact_type) :: c
     type(demstep_status_type) :: status
     real(dp) :: n, s, e, xm, tol
     integer(i8) :: steps
@@ -83,7 +83,7 @@ contains
 
   subroutine test_onset_one(error)
     type(error_type), allocatable, intent(out) :: error
-    type(onset_contact_type) :: c
+    type(discrete_contact_type) :: c
     type(discrete_contact_type) :: d
     type(demstep_status_type) :: status
     real(dp) :: n, theta
@@ -95,7 +95,7 @@ contains
       call check(error, c%restitution >= 1.0_dp - 1.0e-13_dp .and. &
         c%restitution <= (1.0_dp + 1.0e-13_dp)/cos(0.5_dp*theta), "restitution bounds at N = "//real_str(n))
       if (allocated(error)) return
-      call discrete_contact(2.0_dp*pi/n, d, status)
+      call unit_contact(2.0_dp*pi/n, d, status)
       call check(error, c%steps, d%steps, message="steps as discrete_contact")
       if (allocated(error)) return
       call check(error, c%restitution, d%restitution, thr=1.0e-12_dp, rel=.true., &
@@ -133,7 +133,7 @@ contains
 
   subroutine test_damped_limit(error)
     type(error_type), allocatable, intent(out) :: error
-    type(onset_contact_type) :: c, exact
+    type(discrete_contact_type) :: c, exact
     type(demstep_status_type) :: status
     exact = exact_contact(0.2_dp)
     call contact_with_onset(2.0e4_dp, 0.5_dp, c, status, 0.2_dp)
@@ -185,7 +185,7 @@ contains
 
   subroutine test_flags(error)
     type(error_type), allocatable, intent(out) :: error
-    type(onset_contact_type) :: c
+    type(discrete_contact_type) :: c
     type(demstep_status_type) :: status
     real(dp) :: n
     integer(i8) :: steps
@@ -221,7 +221,7 @@ contains
     real(dp), parameter :: zetas(4) = [0.05_dp, 0.1_dp, 0.3_dp, 0.7_dp]
     type(spring_type) :: spring
     type(discrete_contact_type) :: stepped
-    type(onset_contact_type) :: c
+    type(discrete_contact_type) :: c
     type(demstep_status_type) :: status
     real(dp) :: n, tol
     integer :: i, k
@@ -256,7 +256,7 @@ contains
   subroutine test_extreme_n(error)
     type(error_type), allocatable, intent(out) :: error
     real(dp), parameter :: ns(3) = [1.0e20_dp, 1.0e200_dp, 1.0e308_dp]
-    type(onset_contact_type) :: c, exact
+    type(discrete_contact_type) :: c, exact
     type(demstep_status_type) :: status
     integer :: i, d
     real(dp) :: zeta
@@ -305,7 +305,7 @@ contains
   !> the overlap still positive after 1e5 steps. zeta >= 1 in a worst case: refused.
   subroutine test_never_ends(error)
     type(error_type), allocatable, intent(out) :: error
-    type(onset_contact_type) :: c
+    type(discrete_contact_type) :: c
     type(demstep_status_type) :: status
     real(dp) :: h, x, v, e
     integer :: k

@@ -448,7 +448,7 @@ contains
     type(spring_type) :: spring
     type(demstep_status_type) :: status
     type(discrete_contact_type) :: contact
-    type(onset_contact_type) :: oc
+    type(discrete_contact_type) :: oc
     type(run_prediction_type) :: prediction
     real(dp) :: mass, stiffness, zeta, dt, e, n, lambda, steps, s, theta
     character(len=:), allocatable :: case
@@ -468,7 +468,7 @@ contains
       case = case//", dt "//num(dt)
       if (.not. all_normal([dt, spring_period(spring)/dt, growth_factor(spring, dt)])) exit
       if (dt < critical_time_step(spring) .and. zeta == 0.0_dp) then
-        call discrete_contact(spring_omega(spring)*dt, contact, status)
+        call spring_contact(spring, dt, contact, status)
         if (status%stat /= demstep_stat%ok) exit
         call numerical_phase(spring_omega(spring)*dt, theta, status)
         if (.not. all_normal([contact%restitution, contact%max_overlap, contact%contact_time, theta])) exit

@@ -339,7 +339,7 @@ contains
       omega = 20.0_dp
       dt = 2.0_dp*pi/(omega*ns(i))
       call scene_run(scene, dt, int(ns(i), i8) + 2_i8, summary, status)
-      call discrete_contact(omega*dt, exact, status)
+      call contact_with_onset(2.0_dp*pi/(omega*dt), 1.0_dp, exact, status)
       call check(error, scene%v(1, 1), exact%restitution, thr=1.0e-12_dp, rel=.true., &
         message="rebound at N = "//real_str(ns(i)))
       if (allocated(error)) return

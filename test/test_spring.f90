@@ -3,13 +3,14 @@
 module test_spring
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
-  use test_support, only: ieee_nan, real_str, int_str
+  use test_support, only: ieee_nan, real_str, int_str, unit_contact
   use, intrinsic :: iso_fortran_env, only: qp => real128
   implicit none
   private
   public :: collect_spring
 
 contains
+
 
   subroutine collect_spring(testsuite)
     type(unittest_type), allocatable, intent(out) :: testsuite(:)
@@ -304,7 +305,7 @@ contains
       q = pi/theta
       ! pi/theta an integer to rounding: the last overlap is +-0 and either count is right
       if (abs(q - anint(q)) < 1.0e-9_dp) cycle
-      call discrete_contact(h, contact, status)
+      call unit_contact(h, contact, status)
       call check(error, status%stat, demstep_stat%ok)
       if (allocated(error)) return
       call brute_contact(h, steps, e, xmax)
@@ -333,7 +334,7 @@ contains
       n = 3.2_dp*3125.0_dp**(real(i, dp)/2000.0_dp)
       h = 2.0_dp*pi/n
       call numerical_phase(h, theta, status)
-      call discrete_contact(h, contact, status)
+      call unit_contact(h, contact, status)
       upper = 1.0_dp/cos(0.5_dp*theta)
       ! 4 eps: rounding of the two cosines
       call check(error, contact%restitution >= 1.0_dp - 4*epsilon(1.0_dp) .and. &
@@ -343,7 +344,7 @@ contains
       if (allocated(error)) return
     end do
     ! errors vanish as N grows: 1/cos(theta/2) - 1 ~ theta^2/8 ~ (pi/N)^2/2
-    call discrete_contact(2.0_dp*pi/1.0e4_dp, contact, status)
+    call unit_contact(2.0_dp*pi/1.0e4_dp, contact, status)
     call check(error, contact%restitution - 1.0_dp <= 0.5_dp*(pi/1.0e4_dp)**2*(1.0_dp + 1.0e-3_dp), &
       "restitution error at N = 1e4")
   end subroutine test_restitution_bounds
@@ -358,7 +359,7 @@ contains
     call new_spring(spring, 0.01_dp, 1.0e5_dp, status)
     do i = 1, 50
       dt = critical_time_step(spring)*(0.02_dp*i - 0.01_dp)
-      call discrete_contact(spring_omega(spring)*dt, closed, status)
+      call unit_contact(spring_omega(spring)*dt, closed, status)
       call simulate_contact(spring, dt, stepped, status)
       call check(error, status%stat, demstep_stat%ok)
       if (allocated(error)) return
@@ -474,7 +475,7 @@ contains
     call check(error, growth_factor(spring, 1.0e6_dp), real(0.5_qp*(abs(b) + sqrt(b**2 - 4)), dp), &
       thr=4*epsilon(1.0_dp), rel=.true., message="growth factor at omega dt = 1e6")
     if (allocated(error)) return
-    call discrete_contact(1.0e-300_dp, contact, status)
+    call unit_contact(1.0e-300_dp, contact, status)
     call check(error, status%stat, demstep_stat%ok, message="omega dt = 1e-300")
     if (allocated(error)) return
     call check(error, contact%steps == huge(1_i8) .and. contact%steps_saturated, "steps saturate")

@@ -1,10 +1,11 @@
 !> Helpers shared by the test suites: formatting, NaN, and running the app.
 module test_support
-  use demstep, only: dp, i8
+  use demstep, only: dp, i8, spring_type, new_spring, spring_contact, discrete_contact_type, &
+    demstep_status_type, demstep_stat
   use, intrinsic :: iso_fortran_env, only: qp => real128
   implicit none
   private
-  public :: sinpi_q, reference, reference_steps
+  public :: sinpi_q, reference, reference_steps, unit_contact
   public :: ieee_nan, real_str, int_str, app_path, run_app, write_file, read_file, &
     file_exists, work_dir
 
@@ -154,5 +155,17 @@ contains
     character(len=*), intent(in) :: path
     inquire(file=path, exist=file_exists)
   end function file_exists
+
+  !> The contact of the unit spring (M = K = 1, so omega dt = dt) at h = omega dt,
+  !> onset 1: `spring_contact` with h formed exactly as given.
+  subroutine unit_contact(h, contact, status)
+    real(dp), intent(in) :: h
+    type(discrete_contact_type), intent(out) :: contact
+    type(demstep_status_type), intent(out) :: status
+    type(spring_type) :: unit
+    call new_spring(unit, 1.0_dp, 1.0_dp, status)
+    if (status%stat /= demstep_stat%ok) return
+    call spring_contact(unit, h, contact, status)
+  end subroutine unit_contact
 
 end module test_support
