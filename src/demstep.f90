@@ -16,7 +16,8 @@ module demstep
     policy_steps, harmonic_sum, harmonic_error, harmonic_error_steps, harmonic_error_check, &
     harmonic_phase_max, harmonic_phase_min
   use demstep_roots, only: root_context_type, root_function, find_root, scan_roots, &
-    geometric_grid, sort_ascending
+    scan_break, scan_cell_type, scan_sample_type, &
+    sort_ascending
   use demstep_stiffness, only: nroots_options_type, nroots_type, stiffness_input_type, &
     stiffness_result_type, n_roots, aggregate_picks, simulated_stiffness, error_limit, pick_kind, &
     aggregate_kind, interval_kind, n_scan_start, default_n_max, default_resolution

@@ -9,7 +9,9 @@
 !>   evaluations than bisection plus one, and converges superlinearly on smooth
 !>   functions. After convergence a continuity probe rejects poles and jumps.
 !> - `scan_roots`: every sign change of f on a grid, each refined by find_root;
-!>   poles and jumps are returned apart from the roots.
+!>   poles and jumps are returned apart from the roots. The grid may be split
+!>   at known poles and jumps (sampled one-sidedly), and a caller's `visit`
+!>   sees every sample: `n_roots` of demstep_stiffness is built on it.
 !>
 !> Tolerances: the bracket is shrunk until its width is at most
 !> `2 (x_abs + x_rel |x|)`, so the returned root is within `x_abs + x_rel |x|` of a
@@ -22,7 +24,8 @@ module demstep_roots
   implicit none
   private
 
-  public :: root_function, find_root, scan_roots, geometric_grid, sort_ascending
+  public :: root_function, find_root, scan_roots, sort_ascending, append
+  public :: scan_break_function, scan_step_function, scan_visit_function
 
   !> Base of the user's context: extend it with the function's data.
   type, public :: root_context_type
@@ -41,12 +44,80 @@ module demstep_roots
     end subroutine root_function
   end interface
 
+  !> The kinds of breakpoints of a scan, by name: `scan_break%pole`.
+  type, public :: scan_break_kinds
+    !> Inside a piece (no breakpoint).
+    integer :: none = -1
+    !> The start of the range.
+    integer :: start = 0
+    !> A pole: f is sampled a relative `scan_pole_offset` away on either side.
+    integer :: pole = 1
+    !> A jump: f is sampled on it and just after it, with no root sought across.
+    integer :: jump = 2
+    !> The end of the range.
+    integer :: end = 3
+  end type scan_break_kinds
+  !> The breakpoint kinds by name.
+  type(scan_break_kinds), parameter, public :: scan_break = scan_break_kinds()
+  !> One-sided samples sit this far (relative) from a pole: beyond a 4-ulp pole
+  !> test, far below the 1e-13 to which roots are located.
+  real(dp), parameter, public :: scan_pole_offset = 32.0_dp*epsilon(1.0_dp)
+
+  !> One sample of a scan.
+  type, public :: scan_sample_type
+    !> Where, f there, and whether f could be evaluated (finite).
+    real(dp) :: x = 0.0_dp, f = 0.0_dp
+    logical :: ok = .false.
+  end type scan_sample_type
+
+  !> A sample and the cell it closes, as `scan_roots` shows it to `visit`.
+  type, public :: scan_cell_type
+    !> The previous sample (undefined for the first) and this one.
+    type(scan_sample_type) :: prev, cur
+    !> `scan_break%start` for the first sample; `pole` or `jump` when the cell
+    !> crosses that breakpoint at `at` (a sample where f cannot be evaluated
+    !> counts as a pole at the previous sample); `none` inside a piece.
+    integer :: across = -1
+    real(dp) :: at = 0.0_dp
+    !> A root refined inside the cell, with the final bracket of `find_root`.
+    logical :: root_found = .false.
+    real(dp) :: root = 0.0_dp, bracket_lo = 0.0_dp, bracket_hi = 0.0_dp
+    !> Roots found so far, this one included.
+    integer :: roots = 0
+  end type scan_cell_type
+
   !> Default relative tolerance in x.
   real(dp), parameter, public :: root_x_rel_default = 1.0e-13_dp
   !> The continuity probe first looks this many final bracket widths away.
   real(dp), parameter :: probe_factor = 128.0_dp
   !> At a root |f| at the final bracket must be below this share of |f| at the probes.
   real(dp), parameter :: probe_ratio = 0.25_dp
+
+  abstract interface
+    !> The next breakpoint b > a of f (a pole or jump) and its kind; leave b and
+    !> kind as given (the end of the range) when there is none before it.
+    pure subroutine scan_break_function(context, a, b, kind)
+      import :: dp, root_context_type
+      class(root_context_type), intent(inout) :: context
+      real(dp), intent(in) :: a
+      real(dp), intent(inout) :: b
+      integer, intent(inout) :: kind
+    end subroutine scan_break_function
+    !> The grid step at x (> 0).
+    pure function scan_step_function(context, x) result(h)
+      import :: dp, root_context_type
+      class(root_context_type), intent(in) :: context
+      real(dp), intent(in) :: x
+      real(dp) :: h
+    end function scan_step_function
+    !> Bookkeeping of one sample of a scan; set `stop` to end the scan.
+    pure subroutine scan_visit_function(context, cell, stop)
+      import :: root_context_type, scan_cell_type
+      class(root_context_type), intent(inout) :: context
+      type(scan_cell_type), intent(in) :: cell
+      logical, intent(inout) :: stop
+    end subroutine scan_visit_function
+  end interface
 
 contains
 
@@ -239,84 +310,163 @@ contains
     y = min(abs(flo), abs(fhi))
   end subroutine itp
 
-  !> Every root of f at the sign changes between consecutive points of `grid`.
+  !> Every root of f on [lo, hi] by a scan: f is sampled on a grid and every sign
+  !> change between neighbouring samples is refined by `find_root`.
   !>
-  !> Sign changes through a discontinuity are returned in `discontinuities`; grid
-  !> points where f cannot be evaluated split the scan. Two roots closer than the
-  !> grid spacing (or a root next to a pole in one cell) can cancel and be missed,
-  !> and a root where f touches zero without changing sign is found only if it
-  !> falls on a grid point.
-  pure subroutine scan_roots(f, context, grid, roots, discontinuities, status, x_rel, x_abs)
+  !> The range falls into smooth pieces at breakpoints that `next_break` gives
+  !> (optional; default none): at a `scan_break%pole` f is sampled one-sidedly on
+  !> both sides (a relative `scan_pole_offset` away, so a root next to a pole is
+  !> bracketed however close it lies), and no root is sought across any
+  !> breakpoint. Inside a piece the grid steps by `step(context, x)` (optional),
+  !> else by max(abs_step, rel_step |x|) as given; never by less than 4 ulps.
+  !> Grid points where f cannot be evaluated split the scan too.
+  !>
+  !> Sign changes through a discontinuity are returned in `discontinuities`. Two
+  !> roots closer than the grid spacing can cancel and be missed, and a root
+  !> where f touches zero without changing sign is found only on a grid point.
+  !> `visit` (optional) hears of every sample with the cell it closes (the
+  !> caller's own bookkeeping, such as where |f| crosses a level) and may stop
+  !> the scan; `first_only` stops it at the first root.
+  pure subroutine scan_roots(f, context, lo, hi, roots, discontinuities, status, rel_step, &
+      abs_step, x_rel, x_abs, next_break, step, visit, first_only)
     procedure(root_function) :: f
     class(root_context_type), intent(inout) :: context
-    !> Increasing sample points.
-    real(dp), intent(in) :: grid(:)
+    !> The range, lo < hi.
+    real(dp), intent(in) :: lo, hi
+    !> Roots and discontinuities found, increasing.
     real(dp), allocatable, intent(out) :: roots(:), discontinuities(:)
     type(demstep_status_type), intent(out) :: status
+    !> Grid step max(abs_step, rel_step |x|) where `step` is not given.
+    real(dp), intent(in), optional :: rel_step, abs_step
     !> Tolerances in x, as for `find_root`.
     real(dp), intent(in), optional :: x_rel, x_abs
-    real(dp), allocatable :: fx(:)
-    logical, allocatable :: ok(:)
-    real(dp) :: x
-    integer :: i, stat
-    logical :: jump
+    !> The breakpoints of f (poles, jumps).
+    procedure(scan_break_function), optional :: next_break
+    !> The grid step at x.
+    procedure(scan_step_function), optional :: step
+    !> The caller's bookkeeping of every sample.
+    procedure(scan_visit_function), optional :: visit
+    !> Stop at the first root.
+    logical, intent(in), optional :: first_only
+    type(scan_cell_type) :: cell
     type(demstep_status_type) :: st
+    real(dp) :: a, b, x, xb, h, rel, abst, r, r_lo, r_hi
+    real(dp), allocatable :: found(:), jumps(:)
+    integer :: a_kind, b_kind, n_found, n_jumps, stat
+    logical :: stop, have_prev, first_in_piece, first, jump
     allocate(roots(0), discontinuities(0))
-    if (size(grid) < 2) then
-      call set_status(status, demstep_stat%invalid_input, "scan_roots: need at least 2 grid points")
+    rel = 0.0_dp
+    abst = 0.0_dp
+    if (present(rel_step)) rel = rel_step
+    if (present(abs_step)) abst = abs_step
+    first = .false.
+    if (present(first_only)) first = first_only
+    if (.not. (ieee_is_finite(lo) .and. ieee_is_finite(hi) .and. lo < hi)) then
+      call set_status(status, demstep_stat%invalid_input, "scan_roots: need finite lo < hi")
       return
     end if
-    if (any(grid(2:) <= grid(:size(grid)-1))) then
-      call set_status(status, demstep_stat%invalid_input, "scan_roots: grid must increase")
+    if (.not. present(step) .and. .not. (rel >= 0.0_dp .and. abst >= 0.0_dp .and. &
+        max(rel, abst) > 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "scan_roots: need rel_step, abs_step " &
+        //">= 0, one of them > 0")
       return
     end if
-    allocate(fx(size(grid)), ok(size(grid)))
-    do i = 1, size(grid)
-      call evaluate(f, context, grid(i), fx(i), stat)
-      ok(i) = stat == 0
-      if (ok(i) .and. fx(i) == 0.0_dp) roots = [roots, grid(i)]
-    end do
-    do i = 1, size(grid) - 1
-      if (.not. (ok(i) .and. ok(i+1))) cycle
-      if (fx(i) == 0.0_dp .or. fx(i+1) == 0.0_dp) cycle
-      if ((fx(i) > 0.0_dp) .eqv. (fx(i+1) > 0.0_dp)) cycle
-      call find_root(f, context, grid(i), grid(i+1), x, st, x_rel=x_rel, x_abs=x_abs, &
-        fa=fx(i), fb=fx(i+1), discontinuity=jump)
-      if (st%stat == demstep_stat%ok) then
-        roots = [roots, x]
-      else if (st%stat == demstep_stat%discontinuous .or. st%stat == demstep_stat%pole) then
-        discontinuities = [discontinuities, x]
-      end if
-    end do
-    call sort_ascending(roots)
     status%stat = demstep_stat%ok
+    allocate(found(8), jumps(8))
+    n_found = 0
+    n_jumps = 0
+    stop = .false.
+    have_prev = .false.
+    a = lo
+    a_kind = scan_break%start
+    do while (a < hi .and. .not. stop)
+      b = hi
+      b_kind = scan_break%end
+      if (present(next_break)) call next_break(context, a, b, b_kind)
+      if (.not. b < hi) then
+        b = hi
+        b_kind = scan_break%end
+      end if
+      x = a
+      if (a_kind == scan_break%pole) x = a*(1.0_dp + scan_pole_offset)
+      xb = b
+      if (b_kind == scan_break%pole) xb = b*(1.0_dp - scan_pole_offset)
+      first_in_piece = .true.
+      do while (x <= xb)
+        cell%prev = cell%cur
+        call evaluate(f, context, x, cell%cur%f, stat)
+        cell%cur%x = x
+        cell%cur%ok = stat == 0
+        cell%root_found = .false.
+        if (.not. have_prev) then
+          cell%across = scan_break%start
+          cell%at = x
+        else if (first_in_piece) then
+          cell%across = a_kind
+          cell%at = a
+        else if (.not. (cell%prev%ok .and. cell%cur%ok)) then
+          ! a sample where f cannot be evaluated splits the scan like a pole
+          cell%across = scan_break%pole
+          cell%at = cell%prev%x
+        else
+          cell%across = scan_break%none
+          cell%at = x
+        end if
+        if (cell%cur%ok .and. cell%cur%f == 0.0_dp) then
+          call append(found, n_found, x)
+        else if (cell%across == scan_break%none .and. cell%prev%f /= 0.0_dp .and. &
+            ((cell%prev%f > 0.0_dp) .neqv. (cell%cur%f > 0.0_dp))) then
+          call find_root(f, context, cell%prev%x, x, r, st, x_rel=x_rel, x_abs=x_abs, &
+            fa=cell%prev%f, fb=cell%cur%f, discontinuity=jump, bracket_lo=r_lo, bracket_hi=r_hi)
+          if (st%stat == demstep_stat%ok) then
+            call append(found, n_found, r)
+            cell%root_found = .true.
+            cell%root = r
+            cell%bracket_lo = r_lo
+            cell%bracket_hi = r_hi
+          else if (st%stat == demstep_stat%discontinuous .or. st%stat == demstep_stat%pole) then
+            call append(jumps, n_jumps, r)
+          end if
+        end if
+        cell%roots = n_found
+        if (present(visit)) call visit(context, cell, stop)
+        if (first .and. n_found > 0) stop = .true.
+        have_prev = .true.
+        first_in_piece = .false.
+        if (stop .or. x >= xb) exit
+        if (present(step)) then
+          h = step(context, x)
+        else
+          h = max(abst, rel*abs(x))
+        end if
+        x = min(xb, x + max(h, 4.0_dp*spacing(x)))
+      end do
+      a = b
+      a_kind = b_kind
+    end do
+    roots = found(:n_found)
+    discontinuities = jumps(:n_jumps)
+    call sort_ascending(roots)
   end subroutine scan_roots
 
-  !> Points from a to b with x_{i+1} = x_i + max(abs_step, rel_step |x_i|); b is last.
-  pure function geometric_grid(a, b, rel_step, abs_step) result(grid)
-    real(dp), intent(in) :: a, b, rel_step, abs_step
-    real(dp), allocatable :: grid(:)
-    real(dp) :: x, h
-    integer :: n
-    h = max(abs_step, rel_step*abs(a))
-    if (.not. (b > a .and. h > 0.0_dp)) then
-      grid = [a]
-      return
+  !> Append to a buffer, doubling its size when full (linear cost over many calls).
+  pure subroutine append(buffer, n, x)
+    !> The buffer; holds `n` values.
+    real(dp), allocatable, intent(inout) :: buffer(:)
+    !> Values held, incremented.
+    integer, intent(inout) :: n
+    !> The value appended.
+    real(dp), intent(in) :: x
+    real(dp), allocatable :: grown(:)
+    if (.not. allocated(buffer)) allocate(buffer(8))
+    if (n == size(buffer)) then
+      allocate(grown(max(8, 2*n)))
+      grown(:n) = buffer(:n)
+      call move_alloc(grown, buffer)
     end if
-    ! count first, then fill
-    n = 1
-    x = a
-    do while (x < b)
-      x = x + max(abs_step, rel_step*abs(x))
-      n = n + 1
-    end do
-    allocate(grid(n))
-    grid(1) = a
-    do n = 2, size(grid)
-      grid(n) = min(b, grid(n-1) + max(abs_step, rel_step*abs(grid(n-1))))
-    end do
-    grid(size(grid)) = b
-  end function geometric_grid
+    n = n + 1
+    buffer(n) = x
+  end subroutine append
 
   !> One counted evaluation; a non-finite value counts as not evaluable.
   pure subroutine evaluate(f, context, x, fx, stat)

@@ -25,7 +25,8 @@ module demstep_stiffness
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_harmonic, only: step_policy_type, step_kind, harmonic_error_steps, harmonic_error, &
     harmonic_n_max
-  use demstep_roots, only: root_context_type, find_root, sort_ascending
+  use demstep_roots, only: root_context_type, find_root, sort_ascending, scan_roots, append, &
+    scan_break, scan_cell_type
   use demstep_progress, only: progress_type
   use demstep_kinds, only: i8
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -99,11 +100,6 @@ module demstep_stiffness
   !> Largest n_max for a fixed n: E's closed form is evaluated in double to here.
   real(dp), parameter :: fixed_n_max_limit = 1.0e300_dp
 
-  !> Kinds of scan breakpoints.
-  integer, parameter :: break_start = 0, break_pole = 1, break_jump = 2, break_end = 3
-  !> One-sided samples sit this far (relative) from a pole: beyond the evaluator's
-  !> 4-ulp pole test, far below the 1e-13 to which roots are located.
-  real(dp), parameter :: pole_offset = 32.0_dp*epsilon(1.0_dp)
 
   !> How to scan and pick for one lambda.
   type, public :: nroots_options_type
@@ -198,14 +194,21 @@ module demstep_stiffness
     logical :: ok = .false., inside = .false.
   end type sample_type
 
-  !> What a scan has found so far.
-  type :: scan_state_type
-    type(e_context_type) :: ctx
+  !> What a scan has found so far: the context `scan_roots` passes to E and to
+  !> the scan's callbacks.
+  type, extends(e_context_type) :: scan_state_type
+    type(nroots_options_type) :: options
     real(dp) :: tolerance = 0.0_dp
-    real(dp), allocatable :: roots(:), lower(:), upper(:)
+    !> The step count of the piece after the next breakpoint (0: n = f N).
+    real(dp) :: n_next = 0.0_dp
+    real(dp), allocatable :: lower(:), upper(:)
     integer :: n_roots = 0, n_lower = 0, n_upper = 0
     type(sample_type) :: prev
-    logical :: have_prev = .false., inside_at_start = .false.
+    logical :: inside_at_start = .false.
+    !> Set when the scan must be refused (see `budget`, `blocked`).
+    type(demstep_status_type) :: refusal
+    !> A hard stop on the evaluations, should the estimate be far off.
+    real(dp) :: budget = 0.0_dp
     !> Roots whose admissible interval holds no double N (narrower than the
     !> spacing of doubles there): left out of the intervals.
     integer :: unresolved = 0
@@ -235,80 +238,32 @@ contains
     type(nroots_type), intent(out) :: result
     type(demstep_status_type), intent(out) :: status
     type(scan_state_type) :: s
-    type(sample_type) :: cur
-    real(dp) :: a, b, x, xb, n_piece, n_next, limit, budget
-    integer :: a_kind, b_kind
-    logical :: first_in_piece, done
+    real(dp), allocatable :: roots(:), jumps(:)
+    real(dp) :: limit
 
     call check_options(lambda, options, status)
     if (status%stat /= demstep_stat%ok) return
     result%lambda = lambda
-    s%ctx%lambda = lambda
-    s%ctx%policy = options%policy
+    s%lambda = lambda
+    s%policy = options%policy
+    s%options = options
     s%tolerance = options%tolerance
-    allocate(s%roots(8), s%lower(8), s%upper(8))
-    ! a hard stop, should the estimate checked above be far off
-    budget = 4.0_dp*max_scan_evaluations
-    a = scan_start(options%policy)
-    a_kind = break_start
-    n_piece = piece_steps(options%policy, a)
-    done = .false.
-    do while (a < options%n_max .and. .not. done)
-      call next_break(lambda, options%policy, a, n_piece, options%n_max, b, b_kind, n_next)
-      x = a
-      if (a_kind == break_pole) x = a*(1.0_dp + pole_offset)
-      xb = b
-      if (b_kind == break_pole) xb = b*(1.0_dp - pole_offset)
-      first_in_piece = .true.
-      do while (x <= xb)
-        s%ctx%n = n_piece
-        call take_sample(s, x, cur)
-        if (.not. s%have_prev) then
-          if (cur%inside) call push(s%lower, s%n_lower, x)
-          s%inside_at_start = cur%inside
-          if (cur%ok .and. cur%e == 0.0_dp) call push(s%roots, s%n_roots, x)
-        else if (first_in_piece) then
-          if (a_kind == break_pole) then
-            ! E is not evaluable at a pole: the samples either side are the ends
-            call across(s, cur, s%prev%x, cur%x)
-          else
-            call across(s, cur, a, a)
-          end if
-        else
-          call within(s, cur)
-        end if
-        s%prev = cur
-        s%have_prev = .true.
-        first_in_piece = .false.
-        if (options%first_only .and. s%n_roots > 0 .and. s%n_upper > 0) done = .true.
-        if (s%blocked .and. options%pick == pick_kind%largest_step) then
-          call unresolvable(lambda, options, s%blocked_root, s%blocked_e, status)
-          return
-        end if
-        if (real(s%ctx%evaluations, dp) > budget) then
-          if (options%policy%kind == step_kind%fixed) then
-            call set_status(status, demstep_stat%invalid_input, "n_steps: the scan of E for lambda = " &
-              //real_text(lambda)//" took more than "//real_text(budget)//" evaluations; " &
-              //"use fewer steps, a coarser resolution or a smaller n_max")
-          else
-            call set_status(status, demstep_stat%invalid_input, "resolution: the scan of E for lambda = " &
-              //real_text(lambda)//" took more than "//real_text(budget)//" evaluations; " &
-              //"use a coarser resolution or a smaller n_max")
-          end if
-          return
-        end if
-        if (done .or. x >= xb) exit
-        x = min(xb, x + grid_step(options, n_piece, x))
-      end do
-      a = b
-      a_kind = b_kind
-      n_piece = n_next
-    end do
+    allocate(s%lower(8), s%upper(8))
+    s%budget = 4.0_dp*max_scan_evaluations
+    s%n_next = piece_steps(options%policy, scan_start(options%policy))
+    call scan_roots(e_function, s, scan_start(options%policy), options%n_max, roots, jumps, status, &
+      x_rel=n_root_x_rel, next_break=piece_break, step=piece_step, visit=visit_sample)
+    if (status%stat /= demstep_stat%ok) return
+    if (s%refusal%stat /= demstep_stat%ok) then
+      status = s%refusal
+      return
+    end if
+    s%n_roots = size(roots)
 
     result%last_interval = interval_kind%bounded
     if (s%n_lower > s%n_upper) then
       ! the last interval reaches n_max: unbounded when E's limit lies inside
-      call push(s%upper, s%n_upper, options%n_max)
+      call append(s%upper, s%n_upper, options%n_max)
       limit = error_limit(lambda, options%policy)
       if (abs(limit) < options%tolerance) then
         result%last_interval = interval_kind%unbounded
@@ -322,8 +277,7 @@ contains
       s%n_lower = min(s%n_lower, 1)
       s%n_upper = s%n_lower
     end if
-    result%roots = s%roots(:s%n_roots)
-    call sort_ascending(result%roots)
+    result%roots = roots(:s%n_roots)
     result%lower = s%lower(:s%n_lower)
     result%upper = s%upper(:s%n_upper)
     result%unresolved = s%unresolved
@@ -343,7 +297,7 @@ contains
     else
       result%stat = demstep_stat%not_found
     end if
-    result%evaluations = s%ctx%evaluations
+    result%evaluations = s%evaluations
     status%stat = demstep_stat%ok
   end subroutine n_roots
 
@@ -362,8 +316,8 @@ contains
     x = result%lower(1)
     e_min = huge(1.0_dp)
     do k = 1, 16
-      call harmonic_error_steps(x, s%ctx%lambda, options%policy, e, stat)
-      s%ctx%evaluations = s%ctx%evaluations + 1
+      call harmonic_error_steps(x, s%lambda, options%policy, e, stat)
+      s%evaluations = s%evaluations + 1
       if (stat == demstep_stat%ok .and. ieee_is_finite(e)) then
         if (abs(e) <= options%tolerance) then
           result%lower(1) = x
@@ -374,7 +328,7 @@ contains
       x = nearest(x, 1.0_dp)
       if (x > result%upper(1)) exit
     end do
-    call unresolvable(s%ctx%lambda, options, result%lower(1), e_min, status)
+    call unresolvable(s%lambda, options, result%lower(1), e_min, status)
   end subroutine check_pick
 
   !> The status of a scan whose smallest admissible N lies in an interval holding
@@ -392,19 +346,76 @@ contains
       //real_text(e_min)//" at every double N there; "//advice)
   end subroutine unresolvable
 
-  !> One sample of the scan: E at x, evaluable or not, |E| <= E0 or not.
-  pure subroutine take_sample(s, x, cur)
-    type(scan_state_type), intent(inout) :: s
+  !> The scan's bookkeeping of one sample (`scan_roots` found the roots): the
+  !> admissible intervals, and the refusals (a blocked pick, the budget).
+  pure subroutine visit_sample(context, cell, stop)
+    class(root_context_type), intent(inout) :: context
+    type(scan_cell_type), intent(in) :: cell
+    logical, intent(inout) :: stop
+    type(sample_type) :: cur
+    select type (s => context)
+    class is (scan_state_type)
+      cur%x = cell%cur%x
+      cur%e = cell%cur%f
+      cur%ok = cell%cur%ok
+      cur%inside = cur%ok .and. abs(cur%e) <= s%tolerance
+      s%n_roots = cell%roots
+      if (cell%across == scan_break%start) then
+        if (cur%inside) call append(s%lower, s%n_lower, cur%x)
+        s%inside_at_start = cur%inside
+      else if (cell%across == scan_break%pole) then
+        ! E is not evaluable at a pole: the samples either side are the ends
+        call across(s, cur, s%prev%x, cur%x)
+      else if (cell%across == scan_break%jump) then
+        call across(s, cur, cell%at, cell%at)
+      else
+        call within(s, cur, cell)
+      end if
+      s%prev = cur
+      if (s%options%first_only .and. s%n_roots > 0 .and. s%n_upper > 0) stop = .true.
+      if (s%blocked .and. s%options%pick == pick_kind%largest_step) then
+        call unresolvable(s%lambda, s%options, s%blocked_root, s%blocked_e, s%refusal)
+        stop = .true.
+      else if (real(s%evaluations, dp) > s%budget) then
+        if (s%options%policy%kind == step_kind%fixed) then
+          call set_status(s%refusal, demstep_stat%invalid_input, "n_steps: the scan of E for " &
+            //"lambda = "//real_text(s%lambda)//" took more than "//real_text(s%budget) &
+            //" evaluations; use fewer steps, a coarser resolution or a smaller n_max")
+        else
+          call set_status(s%refusal, demstep_stat%invalid_input, "resolution: the scan of E for " &
+            //"lambda = "//real_text(s%lambda)//" took more than "//real_text(s%budget) &
+            //" evaluations; use a coarser resolution or a smaller n_max")
+        end if
+        stop = .true.
+      end if
+    end select
+  end subroutine visit_sample
+
+  !> The next breakpoint of the scan after a (`next_break`), and the step count
+  !> of the piece starting at a.
+  pure subroutine piece_break(context, a, b, kind)
+    class(root_context_type), intent(inout) :: context
+    real(dp), intent(in) :: a
+    real(dp), intent(inout) :: b
+    integer, intent(inout) :: kind
+    select type (s => context)
+    class is (scan_state_type)
+      s%n = s%n_next
+      call next_break(s%lambda, s%policy, a, s%n, s%options%n_max, b, kind, s%n_next)
+    end select
+  end subroutine piece_break
+
+  !> The grid step at x in the current piece (`grid_step`).
+  pure function piece_step(context, x) result(h)
+    class(root_context_type), intent(in) :: context
     real(dp), intent(in) :: x
-    type(sample_type), intent(out) :: cur
-    integer :: stat
-    s%ctx%absolute = .false.
-    call e_function(x, s%ctx, cur%e, stat)
-    s%ctx%evaluations = s%ctx%evaluations + 1
-    cur%x = x
-    cur%ok = stat == demstep_stat%ok .and. ieee_is_finite(cur%e)
-    cur%inside = cur%ok .and. abs(cur%e) <= s%tolerance
-  end subroutine take_sample
+    real(dp) :: h
+    h = 0.0_dp
+    select type (s => context)
+    class is (scan_state_type)
+      h = grid_step(s%options, s%n, x)
+    end select
+  end function piece_step
 
   !> The first sample of a new piece: admissibility may change at the breakpoint
   !> `at` itself (a jump; or a removable pole); no root is sought across it.
@@ -413,54 +424,42 @@ contains
     type(sample_type), intent(in) :: cur
     real(dp), intent(in) :: at_upper, at_lower
     if (s%prev%inside .and. .not. cur%inside) then
-      call push(s%upper, s%n_upper, at_upper)
+      call append(s%upper, s%n_upper, at_upper)
     else if (.not. s%prev%inside .and. cur%inside) then
-      call push(s%lower, s%n_lower, at_lower)
+      call append(s%lower, s%n_lower, at_lower)
     end if
-    if (cur%ok .and. cur%e == 0.0_dp) call push(s%roots, s%n_roots, cur%x)
   end subroutine across
 
   !> A cell inside a smooth piece: its root (sign change of E) and the interval
   !> ends in it (where |E| crosses E0, or around a root between outside points).
-  pure subroutine within(s, cur)
+  pure subroutine within(s, cur, cell)
     type(scan_state_type), intent(inout) :: s
     type(sample_type), intent(in) :: cur
+    !> The cell as `scan_roots` saw it: its root, if any, and find_root's bracket.
+    type(scan_cell_type), intent(in) :: cell
     type(sample_type) :: prev
-    type(demstep_status_type) :: st
     real(dp) :: r, b, r_lo, r_hi, x_in, e_min
     logical :: found, resolved
     prev = s%prev
-    if (.not. (prev%ok .and. cur%ok)) then
-      call across(s, cur, prev%x, cur%x)
-      return
-    end if
-    found = .false.
-    if (cur%e == 0.0_dp) then
-      call push(s%roots, s%n_roots, cur%x)
-    else if (prev%e /= 0.0_dp .and. ((prev%e > 0.0_dp) .neqv. (cur%e > 0.0_dp))) then
-      s%ctx%absolute = .false.
-      call find_root(e_function, s%ctx, prev%x, cur%x, r, st, x_rel=n_root_x_rel, fa=prev%e, fb=cur%e, &
-        bracket_lo=r_lo, bracket_hi=r_hi)
-      if (st%stat == demstep_stat%ok) then
-        call push(s%roots, s%n_roots, r)
-        found = .true.
-      end if
-    end if
+    found = cell%root_found
+    r = cell%root
+    r_lo = cell%bracket_lo
+    r_hi = cell%bracket_hi
     if (prev%inside .and. .not. cur%inside) then
       call boundary(s, prev%x, cur%x, abs(prev%e), abs(cur%e), b)
-      call push(s%upper, s%n_upper, b)
+      call append(s%upper, s%n_upper, b)
     else if (.not. prev%inside .and. cur%inside) then
       call boundary(s, cur%x, prev%x, abs(cur%e), abs(prev%e), b)
-      call push(s%lower, s%n_lower, b)
+      call append(s%lower, s%n_lower, b)
     else if (.not. (prev%inside .or. cur%inside) .and. found) then
       ! a root between two outside points carries a narrow interval around it,
       ! found from an admissible double next to the root
       call admissible_near_root(s, r, r_lo, r_hi, x_in, resolved, e_min)
       if (resolved) then
         call boundary(s, x_in, prev%x, e_min, abs(prev%e), b)
-        call push(s%lower, s%n_lower, b)
+        call append(s%lower, s%n_lower, b)
         call boundary(s, x_in, cur%x, e_min, abs(cur%e), b)
-        call push(s%upper, s%n_upper, b)
+        call append(s%upper, s%n_upper, b)
       else
         s%unresolved = s%unresolved + 1
         if (s%n_lower == 0 .and. .not. s%blocked) then
@@ -485,25 +484,25 @@ contains
     type(demstep_status_type) :: st
     real(dp) :: e, y, lo2, hi2, r2
     integer :: stat, k
-    s%ctx%absolute = .false.
+    s%absolute = .false.
     x = r
     e_min = huge(1.0_dp)
     found = .false.
-    call e_function(r, s%ctx, e, stat)
-    s%ctx%evaluations = s%ctx%evaluations + 1
+    call e_function(r, s, e, stat)
+    s%evaluations = s%evaluations + 1
     if (stat == demstep_stat%ok) then
       e_min = abs(e)
       found = e_min <= s%tolerance
       if (found) return
     end if
     ! a bracket of at most 8 ulps (find_root's floor on its tolerance)
-    call find_root(e_function, s%ctx, lo, hi, r2, st, x_rel=0.0_dp, x_abs=tiny(1.0_dp), &
+    call find_root(e_function, s, lo, hi, r2, st, x_rel=0.0_dp, x_abs=tiny(1.0_dp), &
       check_continuity=.false., bracket_lo=lo2, bracket_hi=hi2)
     if (st%stat /= demstep_stat%ok) return
     y = lo2
     do k = 1, 16
-      call e_function(y, s%ctx, e, stat)
-      s%ctx%evaluations = s%ctx%evaluations + 1
+      call e_function(y, s, e, stat)
+      s%evaluations = s%evaluations + 1
       if (stat == demstep_stat%ok .and. abs(e) < e_min) then
         e_min = abs(e)
         x = y
@@ -526,36 +525,22 @@ contains
     real(dp), intent(out) :: b
     type(demstep_status_type) :: st
     real(dp) :: r, lo, hi, g_in, g_out
-    s%ctx%absolute = .true.
-    s%ctx%shift = s%tolerance
+    s%absolute = .true.
+    s%shift = s%tolerance
     g_in = e_in - s%tolerance
     g_out = e_out - s%tolerance
     if (x_in < x_out) then
-      call find_root(e_function, s%ctx, x_in, x_out, r, st, x_rel=n_root_x_rel, fa=g_in, fb=g_out, &
+      call find_root(e_function, s, x_in, x_out, r, st, x_rel=n_root_x_rel, fa=g_in, fb=g_out, &
         check_continuity=.false., bracket_lo=lo, bracket_hi=hi)
     else
-      call find_root(e_function, s%ctx, x_out, x_in, r, st, x_rel=n_root_x_rel, fa=g_out, fb=g_in, &
+      call find_root(e_function, s, x_out, x_in, r, st, x_rel=n_root_x_rel, fa=g_out, fb=g_in, &
         check_continuity=.false., bracket_lo=lo, bracket_hi=hi)
     end if
     b = x_in
     if (st%stat == demstep_stat%ok) b = merge(lo, hi, x_in < x_out)
-    s%ctx%absolute = .false.
+    s%absolute = .false.
   end subroutine boundary
 
-  !> Append to a buffer, doubling its size when full.
-  pure subroutine push(buffer, n, x)
-    real(dp), allocatable, intent(inout) :: buffer(:)
-    integer, intent(inout) :: n
-    real(dp), intent(in) :: x
-    real(dp), allocatable :: grown(:)
-    if (n == size(buffer)) then
-      allocate(grown(max(8, 2*n)))
-      grown(:n) = buffer(:n)
-      call move_alloc(grown, buffer)
-    end if
-    n = n + 1
-    buffer(n) = x
-  end subroutine push
 
   !> Where the scan starts: just above the stability limit pi, and where n = f N
   !> reaches one step (N = 1/f) for the fraction policy.
@@ -579,13 +564,13 @@ contains
     end select
   end function piece_steps
 
-  !> The grid step at x inside a piece with n steps (0: n = f N).
+  !> The grid step at x inside a piece with n steps (0: n = f N); `scan_roots`
+  !> steps by at least 4 ulps.
   pure real(dp) function grid_step(options, n, x) result(h)
     type(nroots_options_type), intent(in) :: options
     real(dp), intent(in) :: n, x
     h = options%resolution*x
     if (n > 0.0_dp) h = min(h, x*(x/(4.0_dp*n)))
-    h = max(h, 4.0_dp*spacing(x))
   end function grid_step
 
   !> The smallest pole c/k > a (k = 1, 2, ...) of a family c = m lambda; huge if none.
@@ -612,7 +597,7 @@ contains
     integer, intent(out) :: kind
     real(dp) :: p, jump, f, k
     b = n_max
-    kind = break_end
+    kind = scan_break%end
     n_next = n_piece
     p = huge(1.0_dp)
     if (n_piece > 0.0_dp) then
@@ -622,7 +607,7 @@ contains
         jump = (n_piece + 0.5_dp)/policy%value
         if (jump < b .and. jump <= p) then
           b = jump
-          kind = break_jump
+          kind = scan_break%jump
           n_next = n_piece + 1.0_dp
           if (n_next > rounded_exact_steps) n_next = 0.0_dp
         end if
@@ -639,7 +624,7 @@ contains
     end if
     if (p < b) then
       b = p
-      kind = break_pole
+      kind = scan_break%pole
       n_next = n_piece
     end if
   end subroutine next_break
@@ -777,7 +762,7 @@ contains
     fx = 0.0_dp
     stat = demstep_stat%invalid_input
     select type (context)
-    type is (e_context_type)
+    class is (e_context_type)
       if (context%n > 0.0_dp) then
         call harmonic_error(x, context%lambda, context%n, fx, stat)
       else

@@ -24,6 +24,7 @@ contains
       new_unittest("a jump in the bracket is not a root", test_jump), &
       new_unittest("scan: 50 close roots of sin(50 pi x)", test_many_roots), &
       new_unittest("scan: roots of tan(20 pi x), poles apart", test_tan), &
+      new_unittest("scan: known poles as breakpoints, a coarse grid, first root only", test_breaks), &
       new_unittest("f tolerance and bad brackets", test_statuses), &
       new_unittest("final bracket: each end keeps its side's sign", test_bracket) &
       ]
@@ -112,12 +113,12 @@ contains
     type(error_type), allocatable, intent(out) :: error
     type(test_context_type) :: ctx
     type(demstep_status_type) :: status
-    real(dp), allocatable :: grid(:), roots(:), poles(:)
+    real(dp), allocatable :: roots(:), poles(:)
     integer :: k
     ctx%which = 5
     ! roots k/50, 0.02 apart; grid step 0.005 (finer than the separation)
-    grid = geometric_grid(0.013_dp, 1.007_dp, 0.0_dp, 0.005_dp)
-    call scan_roots(f, ctx, grid, roots, poles, status, x_abs=1.0e-15_dp, x_rel=0.0_dp)
+    call scan_roots(f, ctx, 0.013_dp, 1.007_dp, roots, poles, status, abs_step=0.005_dp, &
+      x_abs=1.0e-15_dp, x_rel=0.0_dp)
     call check(error, status%stat, demstep_stat%ok)
     if (allocated(error)) return
     call check(error, size(roots), 50, message="every root found")
@@ -134,12 +135,12 @@ contains
     type(error_type), allocatable, intent(out) :: error
     type(test_context_type) :: ctx
     type(demstep_status_type) :: status
-    real(dp), allocatable :: grid(:), roots(:), poles(:)
+    real(dp), allocatable :: roots(:), poles(:)
     integer :: k
     ctx%which = 6
     ! roots k/20, poles (k + 1/2)/20: a sign change at every one of both
-    grid = geometric_grid(0.0101_dp, 0.9899_dp, 0.0_dp, 0.004_dp)
-    call scan_roots(f, ctx, grid, roots, poles, status, x_abs=1.0e-15_dp, x_rel=0.0_dp)
+    call scan_roots(f, ctx, 0.0101_dp, 0.9899_dp, roots, poles, status, abs_step=0.004_dp, &
+      x_abs=1.0e-15_dp, x_rel=0.0_dp)
     call check(error, size(roots), 19, message="roots k/20, k = 1..19")
     if (allocated(error)) return
     call check(error, size(poles), 20, message="poles (k + 1/2)/20, k = 0..19")
@@ -174,6 +175,67 @@ contains
     call check(error, status%stat == demstep_stat%ok .and. abs(cos(x) - x) <= 1.0e-3_dp, &
       "stops once |f| <= f_tol")
   end subroutine test_statuses
+
+  !> The next pole (k + 1/2)/20 of tan(20 pi x) above a.
+  pure subroutine tan_poles(context, a, b, kind)
+    class(root_context_type), intent(inout) :: context
+    real(dp), intent(in) :: a
+    real(dp), intent(inout) :: b
+    integer, intent(inout) :: kind
+    real(dp) :: p
+    p = (real(floor(20.0_dp*a - 0.5_dp), dp) + 1.5_dp)/20.0_dp
+    if (.not. p > a) p = p + 0.05_dp
+    if (p < b) then
+      b = p
+      kind = scan_break%pole
+    end if
+  end subroutine tan_poles
+
+  !> With the poles given as breakpoints the scan never crosses one, so none is
+  !> reported, and a grid coarser than the root spacing still finds every root:
+  !> each piece between poles holds one root and one sign change. `first_only`
+  !> stops at the first root.
+  subroutine test_breaks(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(test_context_type) :: ctx
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: roots(:), poles(:)
+    integer :: k, all_evaluations
+    ctx%which = 6
+    ! grid step 0.3, six times the spacing of the roots k/20
+    call scan_roots(f, ctx, 0.0101_dp, 0.9899_dp, roots, poles, status, abs_step=0.3_dp, &
+      x_abs=1.0e-15_dp, x_rel=0.0_dp, next_break=tan_poles)
+    call check(error, status%stat, demstep_stat%ok)
+    if (allocated(error)) return
+    call check(error, size(poles), 0, message="no pole crossed")
+    if (allocated(error)) return
+    call check(error, size(roots), 19, message="roots k/20, k = 1..19")
+    if (allocated(error)) return
+    do k = 1, 19
+      call check(error, roots(k), real(k, dp)/20.0_dp, thr=1.0e-14_dp, message="root")
+      if (allocated(error)) return
+    end do
+    ctx%which = 5
+    ctx%evaluations = 0
+    call scan_roots(f, ctx, 0.013_dp, 1.007_dp, roots, poles, status, abs_step=0.005_dp, &
+      x_abs=1.0e-15_dp, x_rel=0.0_dp)
+    all_evaluations = ctx%evaluations
+    ctx%evaluations = 0
+    call scan_roots(f, ctx, 0.013_dp, 1.007_dp, roots, poles, status, abs_step=0.005_dp, &
+      x_abs=1.0e-15_dp, x_rel=0.0_dp, first_only=.true.)
+    call check(error, size(roots), 1, message="first_only: one root")
+    if (allocated(error)) return
+    call check(error, roots(1), 0.02_dp, thr=1.0e-14_dp, message="first_only: the first root")
+    if (allocated(error)) return
+    call check(error, ctx%evaluations < all_evaluations/10, "first_only stops early: " &
+      //real_str(real(ctx%evaluations, dp))//" evaluations")
+    if (allocated(error)) return
+    call scan_roots(f, ctx, 1.0_dp, 0.5_dp, roots, poles, status, abs_step=0.1_dp)
+    call check(error, status%stat, demstep_stat%invalid_input, message="lo > hi")
+    if (allocated(error)) return
+    call scan_roots(f, ctx, 0.0_dp, 1.0_dp, roots, poles, status)
+    call check(error, status%stat, demstep_stat%invalid_input, message="no grid step")
+  end subroutine test_breaks
 
   !> The final bracket holds the sign change, each end on its own side, and is
   !> as narrow as asked, down to find_root's floor of a few ulps.
