@@ -127,7 +127,7 @@ contains
     end if
     ! the message is built only for a value that fails (this runs once per array element)
     what = "&"//group//": "//name//": "
-    if (present(element)) what = what//"element "//fmt_int(int(element, 8))//" is "//fmt_real(x)//"; "
+    if (present(element)) what = what//"element "//fmt_int(int(element, i8))//" is "//fmt_real(x)//"; "
     if (.not. ieee_is_finite(x)) then
       call set_status(status, demstep_stat%invalid_input, what//"must be a finite number, not " &
         //fmt_real(x))
@@ -229,7 +229,7 @@ contains
 
   !> An integer as text.
   pure function fmt_int(i) result(text)
-    integer(kind=8), intent(in) :: i
+    integer(i8), intent(in) :: i
     character(len=:), allocatable :: text
     character(len=24) :: buf
     write(buf, '(i0)') i
@@ -305,7 +305,7 @@ contains
     do i = 1, length
       if (x(i) == unset) then
         call set_status(status, demstep_stat%invalid_input, "&"//group//": "//name//"(" &
-          //fmt_int(int(i, 8))//"): no value (values must be given without gaps)")
+          //fmt_int(int(i, i8))//"): no value (values must be given without gaps)")
         return
       end if
     end do

@@ -2,7 +2,7 @@
 !> evaluator, of the naive double-precision closed form, and of a direct sum, for
 !> n = 10 .. 1e9. Run: fpm run --profile release --example bench_harmonic
 program bench_harmonic
-  use demstep, only: dp, pi, harmonic_error, sort_ascending
+  use demstep, only: dp, i8, pi, harmonic_error, sort_ascending
   implicit none
   integer, parameter :: batch = 20000, repeats = 11
   real(dp), parameter :: ns(5) = [10.0_dp, 1.0e3_dp, 1.0e5_dp, 1.0e7_dp, 1.0e9_dp]
@@ -39,7 +39,7 @@ contains
     integer, intent(in) :: which
     real(dp), intent(in) :: n, lam(:)
     real(dp) :: times(repeats), e
-    integer(8) :: c0, c1, rate
+    integer(i8) :: c0, c1, rate
     integer :: r, i, stat
     do r = 1, repeats
       call system_clock(c0, rate)
@@ -61,7 +61,7 @@ contains
   real(dp) function direct_time(n) result(t)
     real(dp), intent(in) :: n
     real(dp) :: times(3)
-    integer(8) :: c0, c1, rate
+    integer(i8) :: c0, c1, rate
     integer :: r, reps
     reps = merge(3, 1, n <= 1.0e7_dp)
     do r = 1, reps
@@ -87,12 +87,12 @@ contains
   pure real(dp) function direct_error(big_n, lam, n) result(e)
     real(dp), intent(in) :: big_n, lam, n
     real(dp) :: s1, s2, p1, p2
-    integer(8) :: k
+    integer(i8) :: k
     p1 = 2.0_dp*pi/big_n
     p2 = 2.0_dp*pi*lam/big_n
     s1 = 0.0_dp
     s2 = 0.0_dp
-    do k = 1_8, int(n, 8)
+    do k = 1_i8, int(n, i8)
       s1 = s1 + sin(real(k, dp)*p1)
       s2 = s2 + sin(real(k, dp)*p2)
     end do

@@ -12,7 +12,7 @@ program bench_stiffness
   type(stiffness_input_type) :: input
   type(stiffness_result_type) :: result
   real(dp) :: lambda, times(repeats), tmin, tmed
-  integer(8) :: evaluations, found, c0, c1, rate
+  integer(i8) :: evaluations, found, c0, c1, rate
   integer :: i, k, rep
 
   write(*, '(a)') "evaluations of E per root, half-period steps, lambda in [0.3, 0.999]:"

@@ -3,10 +3,10 @@
 !>              fpm run --example read_result -- demstep_result.nml
 program read_result
   implicit none
-  integer, parameter :: dp = kind(1.0d0)
+  integer, parameter :: dp = kind(1.0d0), i8 = selected_int_kind(18)
   real(dp) :: period, omega, dt_critical, dt, n_per_period, growth_factor, theta, &
     period_numerical, contact_time, restitution, max_overlap
-  integer(kind=8) :: contact_steps
+  integer(i8) :: contact_steps
   logical :: stable
   namelist /system_result/ period, omega, dt_critical, dt, n_per_period, stable, &
     growth_factor, theta, period_numerical, contact_steps, contact_time, restitution, &

@@ -432,7 +432,7 @@ contains
   !>     x_n = x0 cos(n theta) + (x0 h^2/2 + v0 dt) sin(n theta)/sin(theta)
   !>     v_n = -x0 omega sin((n+1/2) theta) + (v0 + x0 omega h/2) cos((n+1/2) theta)/cos(theta/2)
   !>
-  !> with h = omega dt; for x0 = 0 these are METHOD.md section 1.
+  !> with h = omega dt (Yan & Guo 2014 give the x0 = 0 case, eqs. 2-4).
   pure subroutine exact_discrete_state(omega, dt, x0, v0, n, state, status)
     !> Natural angular frequency and time step.
     real(dp), intent(in) :: omega, dt

@@ -162,7 +162,7 @@ contains
     type(error_type), allocatable, intent(out) :: error
     real(dp) :: e
     integer :: stat, i
-    ! N = 1000, n = 1e7: the naive form returned garbage here (METHOD.md section 3);
+    ! N = 1000, n = 1e7: the naive form returned garbage here (README, "The harmonic-sum evaluator");
     ! lambda = 1/3 keeps n lambda/N away from an integer (0.9 would be a pole)
     call harmonic_error(1000.0_dp, 1.0_dp/3.0_dp, 1.0e7_dp, e, stat)
     call check(error, stat, demstep_stat%ok)
@@ -303,7 +303,7 @@ contains
     call check(error, status%stat, demstep_stat%invalid_input, message="unknown kind")
   end subroutine test_policies
 
-  !> METHOD.md section 2: with n = N/2, E(N) = 0 near 2/(1 - lambda) - 2/3
+  !> With n = N/2, E(N) = 0 near 2/(1 - lambda) - 2/3
   !> (lambda = 0.9: 19.316; 0.99: 199.331).
   subroutine test_root_asymptote(error)
     type(error_type), allocatable, intent(out) :: error

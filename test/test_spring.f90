@@ -230,7 +230,7 @@ contains
   subroutine test_damped_limits(error)
     type(error_type), allocatable, intent(out) :: error
     real(dp), parameter :: zetas(3) = [0.1_dp, 0.5_dp, 1.0_dp]
-    ! METHOD.md section 4: omega dt_crit = 1.810, 1.236, 0.828 (to 3 decimals)
+    ! the lagged dashpot limit 2 (sqrt(1 + z^2) - z): omega dt_crit = 1.810, 1.236, 0.828 (to 3 decimals)
     real(dp), parameter :: published(3) = [1.810_dp, 1.236_dp, 0.828_dp]
     type(spring_type) :: lagged, centred
     type(spring_state_type) :: state
