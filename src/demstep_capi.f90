@@ -111,7 +111,7 @@ contains
     character(len=*), intent(in) :: name
     type(c_ptr), intent(in) :: err
     integer(c_int), intent(inout) :: code
-    if (code /= 0) return
+    if (code /= demstep_stat%ok) return
     if (all(ieee_is_finite(values))) return
     code = invalid(err, name//": the result is not finite (an input is beyond the computable range)")
   end subroutine guard_finite
@@ -143,7 +143,7 @@ contains
       compression_only=compression_only /= 0, dashpot=int(dashpot))
     code = report(err, status)
     call guard_finite([f%mass, f%stiffness, f%damping], "demstep_spring_new", err, code)
-    if (code /= 0) return
+    if (code /= demstep_stat%ok) return
     call c_f_pointer(spring, s)
     s = demstep_spring_c(f%mass, f%stiffness, f%damping, merge(1, 0, f%compression_only), f%dashpot)
   end function c_spring_new
@@ -171,7 +171,7 @@ contains
     call spring_step(f, dt, st)
     code = ok(err)
     call guard_finite([st%x, st%v], "demstep_spring_step", err, code)
-    if (code /= 0) return
+    if (code /= demstep_stat%ok) return
     cs = demstep_spring_state_c(st%x, st%v, int(st%step, c_int64_t))
   end function c_spring_step
 
@@ -192,7 +192,7 @@ contains
     value = critical_time_step(f)
     code = ok(err)
     call guard_finite([value], "demstep_critical_time_step", err, code)
-    if (code /= 0) return
+    if (code /= demstep_stat%ok) return
     call c_f_pointer(dt_critical, out)
     out = value
   end function c_critical_time_step
@@ -208,7 +208,7 @@ contains
     call new_spring(f, s%mass, s%stiffness, status, compression_only=s%compression_only /= 0, &
       dashpot=int(s%dashpot))
     from_c_spring = status%stat == demstep_stat%ok .and. ieee_is_finite(s%damping) .and. s%damping >= 0.0_dp
-    code = 0
+    code = demstep_stat%ok
     if (status%stat /= demstep_stat%ok) then
       code = report(err, status)
     else if (.not. from_c_spring) then
@@ -257,7 +257,7 @@ contains
     type(c_ptr), intent(in) :: err
     integer(c_int), intent(out) :: code
     type(demstep_status_type) :: status
-    code = 0
+    code = demstep_stat%ok
     nroots_options = .false.
     call new_step_policy(options%policy, int(steps_kind), steps_value, status)
     if (status%stat /= demstep_stat%ok) then
@@ -297,7 +297,7 @@ contains
     call n_roots(lambda, options, r, status)
     if (status%stat /= demstep_stat%ok) status%message = "demstep_n_roots: "//status%message
     code = report(err, status)
-    if (code /= 0) return
+    if (code /= demstep_stat%ok) return
     row = demstep_nroots_c(r%n_pick, 0.0_dp, 0.0_dp, 0.0_dp, r%last_interval, r%stat, r%evaluations)
     if (size(r%roots) > 0) row%n_zero = r%roots(1)
     if (size(r%lower) > 0) then
@@ -305,7 +305,7 @@ contains
       row%n_upper = r%upper(1)
     end if
     call guard_finite([row%n_pick, row%n_zero, row%n_lower, row%n_upper], "demstep_n_roots", err, code)
-    if (code /= 0) return
+    if (code /= demstep_stat%ok) return
     call c_f_pointer(result, out)
     out = row
   end function c_n_roots
@@ -349,9 +349,9 @@ contains
     call simulated_stiffness(input, r, status)
     if (status%stat /= demstep_stat%ok) status%message = "demstep_simulated_stiffness: "//status%message
     code = report(err, status)
-    if (code == 0) call guard_finite([r%n_star, r%lambda_star, r%period, r%dt, r%stiffness_actual, &
+    if (code == demstep_stat%ok) call guard_finite([r%n_star, r%lambda_star, r%period, r%dt, r%stiffness_actual, &
       r%rows%n_pick], "demstep_simulated_stiffness", err, code)
-    if (code /= 0) return
+    if (code /= demstep_stat%ok) return
     call c_f_pointer(result, out)
     out = demstep_stiffness_result_c(r%n_star, r%lambda_star, r%period, r%dt, r%stiffness_actual, &
       r%lambda_star_stat, r%excluded)
@@ -406,12 +406,12 @@ contains
       call new_scene(scene, int(dim), px, pm, pr, status)
     end if
     code = report(err, status)
-    if (code /= 0) return
+    if (code /= demstep_stat%ok) return
     if (n_bonds > 0) then
       call c_f_pointer(bonds, pb, [2, n_bonds])
       call scene_add_bonds(scene, pb + 1, status)
       code = report(err, status)
-      if (code /= 0) return
+      if (code /= demstep_stat%ok) return
     end if
     if (.not. all(ieee_is_finite([k_bond, k_bond_tangential, k_normal, e_star, damping_ratio]))) then
       code = invalid(err, "demstep_scene_critical_step: stiffnesses and damping must be finite")
@@ -430,7 +430,7 @@ contains
     code = report(err, status)
     call guard_finite([c%omega_max, c%dt_critical_eigen, c%omega_bound, c%dt_critical_bound, &
       c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped], "demstep_scene_critical_step", err, code)
-    if (code /= 0) return
+    if (code /= demstep_stat%ok) return
     call c_f_pointer(result, out)
     out = demstep_critical_step_c(c%omega_max, c%dt_critical_eigen, c%omega_bound, c%dt_critical_bound, &
       c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped, c%n_dof, c%n_springs, &
@@ -455,7 +455,7 @@ contains
     code = report(err, status)
     call guard_finite([c%onset, c%contact_time, c%restitution, c%max_overlap], &
       "demstep_contact_with_onset", err, code)
-    if (code /= 0) return
+    if (code /= demstep_stat%ok) return
     call c_f_pointer(contact, out)
     out = demstep_contact_c(c%onset, c%contact_time, c%restitution, c%max_overlap, &
       int(c%steps, c_int64_t), merge(1, 0, c%stable))
@@ -485,7 +485,7 @@ contains
     call n_for_tolerance(int(quantity), tolerance, value, status, damping_ratio=damping_ratio, n_max=top)
     code = report(err, status)
     call guard_finite([value], "demstep_n_for_tolerance", err, code)
-    if (code /= 0) return
+    if (code /= demstep_stat%ok) return
     call c_f_pointer(n, out)
     out = value
   end function c_n_for_tolerance

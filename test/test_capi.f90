@@ -139,7 +139,7 @@ contains
     if (allocated(error)) return
     call check(error, dt, critical_time_step(fs), thr=0.0_dp, message="critical step")
     if (allocated(error)) return
-    cst = demstep_spring_state_c(0.0_dp, 1.0_dp, 0_8)
+    cst = demstep_spring_state_c(0.0_dp, 1.0_dp, 0_i8)
     fst = spring_state_type(x=0.0_dp, v=1.0_dp)
     do i = 1, 500
       call check(error, int(c_spring_step(c_loc(cs), 0.3_dp*dt, c_loc(cst), c_loc(e))), 0)
