@@ -1,11 +1,16 @@
 !> Groups `&contact_error` and `&accuracy_cost`: exact discrete contact errors,
 !> and what a tolerance costs in steps and run time (table, CSV, figure).
 module demstep_cli_accuracy
-  use demstep, only: dp, i8, pi, demstep_status_type, demstep_stat, nml_group_type, set_status, &
-    lowercase, discrete_contact_type, contact_with_onset, contact_worst_case, quantity_kind, &
-    n_quantities, quantity_names, worst_error, n_for_tolerance, measure_step_cost, &
-    default_cost_n_max, nroots_options_type, nroots_type, n_roots, harmonic_error, spring_type, &
-    new_spring, spring_period, check_contact_damping, run_prediction_type, predict_run
+  use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
+    discrete_contact_type, contact_with_onset, contact_worst_case, quantity_kind, n_quantities, &
+    quantity_names, worst_error, n_for_tolerance, measure_step_cost, nroots_options_type, &
+    nroots_type, n_roots, harmonic_error, spring_type, new_spring, spring_period, &
+    run_prediction_type, predict_run
+  use demstep_kinds, only: pi
+  use demstep_status, only: set_status
+  use demstep_namelist, only: lowercase
+  use demstep_cost, only: default_cost_n_max
+  use demstep_contact, only: check_contact_damping
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, fmt_real, &
     fmt_int, cli_context, check_real, new_array, array_length, broadcast, common_length
   use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &

@@ -1,7 +1,9 @@
 !> Group `&harmonic_error`: the paper's error E(N, lambda, n) for arrays of inputs.
 module demstep_cli_harmonic
-  use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, set_status, &
-    evaluate_error => harmonic_error, harmonic_n_max, harmonic_error_check
+  use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
+    evaluate_error => harmonic_error, harmonic_error_check
+  use demstep_status, only: set_status
+  use demstep_harmonic, only: harmonic_n_max
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
     fmt_real, fmt_real_column, fmt_int, cli_context, check_real, new_array, array_length, &
     broadcast, common_length

@@ -1,8 +1,11 @@
 !> Group `&scene`: a particle assembly, its critical time steps by four methods,
 !> and optionally a run that simulates only the effects it switches on.
 module demstep_cli_scene
-  use demstep, only: dp, i8, pi, demstep_status_type, demstep_stat, nml_group_type, set_status, &
-    lowercase, scene_type, scene_summary_type, new_scene, scene_add_bonds, scene_add_walls, &
+  use demstep_kinds, only: pi
+  use demstep_status, only: set_status
+  use demstep_namelist, only: lowercase
+  use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
+    scene_type, scene_summary_type, new_scene, scene_add_bonds, scene_add_walls, &
     scene_run, effect_index, restitution_to_damping_ratio, law_linear, law_hertz, &
     effect_contacts, effect_gravity, effect_damping, effect_local_damping, effect_walls, &
     n_effects, effect_names, critical_step_type, critical_time_steps, hertz_at_current, &

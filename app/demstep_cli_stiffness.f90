@@ -1,10 +1,12 @@
 !> Group `&simulated_stiffness`: the whole simulated-stiffness procedure
 !> (paper eqs. 25-29): dt = T*/N* and K' = lambda*^2 K*.
 module demstep_cli_stiffness
-  use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, set_status, &
-    lowercase, stiffness_input_type, stiffness_result_type, run_procedure => simulated_stiffness, &
-    step_kind, new_step_policy, pick_kind, aggregate_kind, &
-    interval_kind, default_n_max, default_resolution, n_scan_start, text_progress_type
+  use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
+    stiffness_input_type, stiffness_result_type, run_procedure => simulated_stiffness, step_kind, &
+    new_step_policy, pick_kind, aggregate_kind, interval_kind, text_progress_type
+  use demstep_status, only: set_status
+  use demstep_namelist, only: lowercase
+  use demstep_stiffness, only: default_n_max, default_resolution, n_scan_start
   use demstep_stiffness, only: procedure_cost, measure_evaluation_cost, max_procedure_evaluations
   use, intrinsic :: iso_fortran_env, only: error_unit
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &

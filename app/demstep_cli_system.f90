@@ -1,9 +1,12 @@
 !> Group `&system`: one mass on a contact spring (the seed's model).
 module demstep_cli_system
-  use demstep, only: dp, i8, pi, demstep_status_type, demstep_stat, spring_type, new_spring, &
+  use demstep, only: dp, i8, demstep_status_type, demstep_stat, spring_type, new_spring, &
     spring_omega, spring_period, spring_damping_ratio, critical_time_step, numerical_phase, &
-    growth_factor, discrete_contact_type, spring_contact, dashpot_kind, lowercase, &
-    nml_group_type, set_status, check_time_step, step_for_n_per_period
+    growth_factor, discrete_contact_type, spring_contact, dashpot_kind, nml_group_type, &
+    check_time_step, step_for_n_per_period
+  use demstep_kinds, only: pi
+  use demstep_namelist, only: lowercase
+  use demstep_status, only: set_status
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
     check_real, fmt_real, fmt_int, cli_context
   implicit none

@@ -8,8 +8,8 @@
 !> (the app must be built with the same profile: fpm build --profile release).
 program bench_deck
   use, intrinsic :: iso_c_binding, only: c_int, c_long
-  use demstep, only: dp, i8, nml_group_type, scan_namelist, demstep_status_type, &
-    sort_ascending
+  use demstep, only: dp, i8, nml_group_type, scan_namelist, demstep_status_type
+  use demstep_roots, only: sort_ascending
   implicit none
   !> struct rusage of Linux/glibc: two timevals, then 14 longs.
   type, bind(c) :: rusage_type

@@ -2,7 +2,9 @@
 !> evaluator, of the naive double-precision closed form, and of a direct sum, for
 !> n = 10 .. 1e9. Run: fpm run --profile release --example bench_harmonic
 program bench_harmonic
-  use demstep, only: dp, i8, pi, harmonic_error, sort_ascending
+  use demstep, only: dp, i8, harmonic_error
+  use demstep_kinds, only: pi
+  use demstep_roots, only: sort_ascending
   implicit none
   integer, parameter :: batch = 20000, repeats = 11
   real(dp), parameter :: ns(5) = [10.0_dp, 1.0e3_dp, 1.0e5_dp, 1.0e7_dp, 1.0e9_dp]

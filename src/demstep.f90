@@ -1,44 +1,80 @@
 !> The demstep library: time step and contact stiffness for Discrete Element Method codes.
 !>
-!> The facade: `use demstep` gives the whole public API.
+!> `use demstep` gives what a DEM-solver author needs, by task. Every call that
+!> can fail reports a `demstep_status_type` (`is_ok(status)`, or compare
+!> `status%stat` with the codes of `demstep_stat`); options are named constants
+!> (`dashpot_kind%lagged`, `step_kind%fraction`, `pick_kind%largest_step`, ...).
+!>
+!> - Status and kinds: `dp`, `i8`, `demstep_status_type`, `demstep_stat`, `is_ok`,
+!>   `demstep_version_string`.
+!> - One spring (a contact or a bond) stepped by central differences:
+!>   `spring_type`, `new_spring`, `spring_step` (elemental), `spring_run`,
+!>   `critical_time_step`, `damped_limit`, `growth_factor`, the exact discrete
+!>   solution (`numerical_phase`, `numerical_period`, `exact_discrete_state`).
+!> - One contact, exact and discrete: `discrete_contact_type`, `spring_contact`
+!>   (a spring at its step), `contact_with_onset` (any N = T/dt and onset),
+!>   `simulate_contact` (stepped), `exact_contact`, `contact_worst_case`.
+!> - What accuracy costs: `n_for_tolerance`, `worst_error`, `predict_run`.
+!> - The paper's error and the simulated-stiffness method: `harmonic_error`,
+!>   `step_policy_type`, `new_step_policy`, `n_roots`, `simulated_stiffness`.
+!> - Roots of any function: `find_root`, `scan_roots` (extend `root_context_type`).
+!> - Assemblies: `scene_type`, `new_scene`, `critical_time_steps`, `scene_run`.
+!> - Progress of long work, and reading namelist decks: `text_progress_type`,
+!>   `read_text_file`, `scan_namelist`.
+!>
+!> Internal helpers (limits, formatting, the C binding) stay in their own
+!> modules (`demstep_spring`, `demstep_stiffness`, `demstep_text`, `demstep_capi`, ...).
+!>
+!> A contact spring, its critical step and the restitution it gives at N = 10:
+!>
+!>```fortran
+!> use demstep
+!> type(spring_type) :: contact
+!> type(discrete_contact_type) :: c
+!> type(demstep_status_type) :: status
+!> call new_spring(contact, mass=0.01_dp, stiffness=1.0e5_dp, status=status)
+!> if (.not. is_ok(status)) error stop status%message
+!> print *, critical_time_step(contact)                   ! 2 sqrt(M/K)
+!> call spring_contact(contact, spring_period(contact)/10, c, status)
+!> print *, c%restitution                                 ! 1.0164...
+!>```
 module demstep
-  use demstep_kinds, only: dp, i8, pi
+  ! status and kinds
+  use demstep_kinds, only: dp, i8
   use demstep_version, only: demstep_version_string
-  use demstep_status, only: demstep_status_type, demstep_stat_codes, demstep_stat, set_status, &
-    is_ok
-  use demstep_spring, only: spring_type, spring_state_type, dashpot_kind, damped_limit, &
-    new_spring, spring_step, spring_run, spring_omega, spring_period, spring_damping_ratio, &
-    critical_time_step, numerical_phase, numerical_period, growth_factor, exact_discrete_state, &
-    paper_closed_form_velocity, check_time_step, &
-    step_for_n_per_period, saturated_count, ceiling_real, spring_omega_min, spring_omega_max, &
-    spring_h_max
-  use demstep_harmonic, only: step_policy_type, step_kind, harmonic_n_max, new_step_policy, &
-    policy_steps, harmonic_sum, harmonic_error, harmonic_error_steps, harmonic_error_check, &
-    harmonic_phase_max, harmonic_phase_min
+  use demstep_status, only: demstep_status_type, demstep_stat, is_ok
+  ! one spring
+  use demstep_spring, only: spring_type, spring_state_type, dashpot_kind, new_spring, &
+    spring_step, spring_run, spring_omega, spring_period, spring_damping_ratio, &
+    critical_time_step, damped_limit, growth_factor, numerical_phase, numerical_period, &
+    exact_discrete_state, paper_closed_form_velocity, check_time_step, step_for_n_per_period
+  ! one contact
+  use demstep_contact, only: discrete_contact_type, spring_contact, contact_with_onset, &
+    simulate_contact, exact_contact, contact_worst_case, contact_error_of, period_error, &
+    quantity_kind, n_quantities, quantity_names
+  ! what accuracy costs
+  use demstep_cost, only: n_for_tolerance, worst_error, run_prediction_type, predict_run, &
+    measure_step_cost
+  ! the paper's error and the simulated-stiffness method
+  use demstep_harmonic, only: step_policy_type, step_kind, new_step_policy, policy_steps, &
+    harmonic_sum, harmonic_error, harmonic_error_steps, harmonic_error_check
+  use demstep_stiffness, only: nroots_options_type, nroots_type, n_roots, pick_kind, &
+    interval_kind, stiffness_input_type, stiffness_result_type, simulated_stiffness, &
+    aggregate_kind, aggregate_picks, error_limit
+  ! roots of any function
   use demstep_roots, only: root_context_type, root_function, find_root, scan_roots, &
-    scan_break, scan_cell_type, scan_sample_type, &
-    sort_ascending
-  use demstep_stiffness, only: nroots_options_type, nroots_type, stiffness_input_type, &
-    stiffness_result_type, n_roots, aggregate_picks, simulated_stiffness, error_limit, pick_kind, &
-    aggregate_kind, interval_kind, n_scan_start, default_n_max, default_resolution
-  use demstep_scene, only: scene_type, scene_summary_type, cubic_lattice, new_scene, scene_add_bonds, &
-    scene_add_walls, scene_run, contact_list, effect_index, restitution_to_damping_ratio, &
-    law_linear, law_hertz, effect_contacts, effect_gravity, effect_damping, &
-    effect_local_damping, effect_walls, n_effects, effect_names, max_coordinate, contact_limit, &
-    max_damping_ratio
+    scan_break, scan_cell_type, scan_sample_type
+  ! assemblies (the scene modules' public names)
+  use demstep_scene, only: scene_type, scene_summary_type, cubic_lattice, new_scene, &
+    scene_add_bonds, scene_add_walls, scene_run, contact_list, effect_index, &
+    restitution_to_damping_ratio, law_linear, law_hertz, effect_contacts, effect_gravity, &
+    effect_damping, effect_local_damping, effect_walls, n_effects, effect_names, &
+    max_coordinate, contact_limit, max_damping_ratio
   use demstep_assembly, only: critical_step_type, critical_time_steps, hertz_at_current, &
     hertz_at_impact, default_max_eigen_dof
-  use demstep_contact, only: discrete_contact_type, contact_with_onset, spring_contact, &
-    simulate_contact, contact_worst_case, &
-    exact_contact, contact_error_of, period_error, quantity_kind, n_quantities, quantity_names, &
-    worst_case_samples, check_contact_damping
-  use demstep_cost, only: worst_error, n_for_tolerance, measure_step_cost, default_cost_n_max, &
-    tolerance_grid_ratio, cost_n_max_limit, run_prediction_type, predict_run
-  ! the C API lives in the same library (its names are bind(C), not re-exported)
-  use demstep_capi, only: capi_message_length
+  ! progress, and reading namelist decks
   use demstep_progress, only: progress_type, text_progress_type
-  use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, &
-    scan_namelist, lowercase
+  use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, scan_namelist
   implicit none
   public
 end module demstep

@@ -2,6 +2,7 @@
 module test_app
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed, skip_test
   use demstep
+  use demstep_kinds, only: pi
   use test_support, only: run_app, write_file, read_file, file_exists, work_dir
   implicit none
   private

@@ -7,6 +7,8 @@ module test_app_stiffness
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
+  use demstep_kinds, only: pi
+  use demstep_namelist, only: lowercase
   use test_support, only: run_app, write_file, read_file, file_exists, work_dir, real_str
   implicit none
   private

@@ -5,6 +5,7 @@ module test_capi
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_loc, c_null_ptr, c_null_char, c_ptr
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
+  use demstep_kinds, only: pi
   use demstep_capi, only: demstep_error_c, demstep_spring_c, demstep_spring_state_c, &
     demstep_nroots_c, demstep_stiffness_result_c, demstep_critical_step_c, c_spring_new, &
     c_spring_step, c_critical_time_step, c_harmonic_error, c_n_roots, c_simulated_stiffness, &

@@ -3,6 +3,7 @@
 module test_contact
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
+  use demstep_kinds, only: pi
   use test_support, only: real_str, unit_contact
   use, intrinsic :: iso_fortran_env, only: qp => real128
   implicit none

@@ -6,6 +6,7 @@
 module test_extremes
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
+  use demstep_kinds, only: pi
   use test_support, only: run_app, write_file, read_file, file_exists, work_dir, reference
   use, intrinsic :: iso_fortran_env, only: qp => real128
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite

@@ -3,6 +3,8 @@
 module test_spring
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
+  use demstep_kinds, only: pi
+  use demstep_spring, only: saturated_count
   use test_support, only: ieee_nan, real_str, int_str, unit_contact
   use, intrinsic :: iso_fortran_env, only: qp => real128
   implicit none

@@ -4,6 +4,8 @@ module test_stiffness
   use, intrinsic :: iso_fortran_env, only: qp => real128
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
+  use demstep_kinds, only: pi
+  use demstep_stiffness, only: n_scan_start, default_n_max, default_resolution
   use test_support, only: real_str, reference_steps
   use demstep_stiffness, only: measure_evaluation_cost
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
