@@ -11,6 +11,8 @@ program tester
   use test_stiffness, only: collect_stiffness
   use test_scene, only: collect_scene
   use test_contact, only: collect_contact
+  use test_cost, only: collect_cost
+  use test_double_double, only: collect_double_double
   use test_capi, only: collect_capi
   use test_app, only: collect_app
   use test_app_stiffness, only: collect_app_stiffness
@@ -32,6 +34,8 @@ program tester
     new_testsuite("stiffness", collect_stiffness), &
     new_testsuite("scene", collect_scene), &
     new_testsuite("contact", collect_contact), &
+    new_testsuite("cost", collect_cost), &
+    new_testsuite("double_double", collect_double_double), &
     new_testsuite("capi", collect_capi), &
     new_testsuite("progress", collect_progress), &
     new_testsuite("deck", collect_deck), &

@@ -17,9 +17,7 @@ contains
     testsuite = [ &
       new_unittest("closed forms equal brute-force stepping, N 3.2 .. 1e4", test_vs_stepping), &
       new_unittest("onset 1: restitution in [1, 1/cos(theta/2)], as discrete_contact", test_onset_one), &
-      new_unittest("errors vanish at the stated rates", test_rates), &
       new_unittest("damped contact tends to the continuous one", test_damped_limit), &
-      new_unittest("tolerance -> N inverts the error curves", test_tolerance), &
       new_unittest("beyond the limit: computed, flagged; bad input", test_flags), &
       new_unittest("centred dashpot: closed form equals stepping", test_centred), &
       new_unittest("extreme N: saturated steps, the continuous limit", test_extreme_n), &
@@ -105,33 +103,6 @@ contains
     end do
   end subroutine test_onset_one
 
-  !> Worst errors over the onset against N: O(1/N^2) for restitution, overlap and
-  !> period, O(1/N) for the contact time (the force count can be one step off).
-  !> The errors oscillate with N (period about 2: they follow the fraction of a
-  !> step at which the contact ends), so the rate is read from the envelope: the
-  !> largest error over N = 100..110 and over N = 1000..1010, in steps of 0.05.
-  subroutine test_rates(error)
-    type(error_type), allocatable, intent(out) :: error
-    integer, parameter :: quantities(4) = [quantity_kind%restitution, quantity_kind%contact_time, &
-      quantity_kind%overlap, quantity_kind%period]
-    real(dp), parameter :: rates(4) = [-2.0_dp, -1.0_dp, -2.0_dp, -2.0_dp]
-    type(demstep_status_type) :: status
-    real(dp) :: e, top(2), slope
-    integer :: q, i, band
-    do q = 1, size(quantities)
-      do band = 1, 2
-        top(band) = 0.0_dp
-        do i = 0, 200
-          call worst_error(100.0_dp*10.0_dp**(band - 1) + 0.05_dp*real(i, dp), quantities(q), e, status)
-          top(band) = max(top(band), e)
-        end do
-      end do
-      slope = log10(top(2)/top(1))
-      call check(error, slope, rates(q), thr=0.15_dp, message="rate of "//trim(quantity_names(quantities(q))))
-      if (allocated(error)) return
-    end do
-  end subroutine test_rates
-
   subroutine test_damped_limit(error)
     type(error_type), allocatable, intent(out) :: error
     type(discrete_contact_type) :: c, exact
@@ -149,46 +120,10 @@ contains
     call check(error, exact%restitution, exp(-0.2_dp*pi/sqrt(0.96_dp)), thr=1.0e-15_dp, rel=.true.)
   end subroutine test_damped_limit
 
-  subroutine test_tolerance(error)
-    type(error_type), allocatable, intent(out) :: error
-    type(demstep_status_type) :: status
-    real(dp) :: n, e, probe
-    integer :: q, k, j
-    logical :: failed_below
-    do q = 1, n_quantities
-      do k = 1, 3
-        call n_for_tolerance(q, 10.0_dp**(-k), n, status)
-        call check(error, status%stat, demstep_stat%ok)
-        if (allocated(error)) return
-        ! the tolerance holds at N, and above it (probed on another grid) to within
-        ! the error's variation over one cell of the search grid (2 %)
-        call worst_error(n, q, e, status)
-        call check(error, e <= 10.0_dp**(-k), trim(quantity_names(q))//": error above the tolerance at N")
-        if (allocated(error)) return
-        do j = 1, 200
-          call worst_error(n*1.0013_dp**j, q, e, status)
-          call check(error, e <= 1.02_dp*10.0_dp**(-k), trim(quantity_names(q))//": error "// &
-            real_str(e)//" above the tolerance at N = "//real_str(n*1.0013_dp**j))
-          if (allocated(error)) return
-        end do
-        ! ... and fails just below it (within the bisection's 1e-6)
-        failed_below = .false.
-        do j = 1, 20
-          probe = n*(1.0_dp - 1.0e-6_dp*real(j, dp)/20.0_dp)
-          call worst_error(probe, q, e, status)
-          if (e > 10.0_dp**(-k)) failed_below = .true.
-        end do
-        call check(error, failed_below, trim(quantity_names(q))//": not the smallest N")
-        if (allocated(error)) return
-      end do
-    end do
-  end subroutine test_tolerance
-
   subroutine test_flags(error)
     type(error_type), allocatable, intent(out) :: error
     type(discrete_contact_type) :: c
     type(demstep_status_type) :: status
-    real(dp) :: n
     integer(i8) :: steps
     real(dp) :: e, xm
     call contact_with_onset(3.0_dp, 0.7_dp, c, status)
@@ -205,12 +140,6 @@ contains
     if (allocated(error)) return
     call contact_with_onset(-1.0_dp, 0.5_dp, c, status)
     call check(error, status%stat, demstep_stat%invalid_input, message="N < 0")
-    if (allocated(error)) return
-    call n_for_tolerance(quantity_kind%restitution, 0.0_dp, n, status)
-    call check(error, status%stat, demstep_stat%invalid_input, message="tolerance 0")
-    if (allocated(error)) return
-    call n_for_tolerance(quantity_kind%contact_time, 1.0e-9_dp, n, status)
-    call check(error, status%stat, demstep_stat%not_found, message="1e-9 needs more than n_max")
   end subroutine test_flags
 
   !> The centred dashpot's closed form against the spring stepper (simulate_contact,
