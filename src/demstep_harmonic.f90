@@ -16,6 +16,12 @@
 !>   `sin x - sin y = 2 cos((x+y)/2) sin((x-y)/2)` with `1 - lambda` and
 !>   `1 + lambda` carried exactly, so E is accurate relative to `|E| + (1 - lambda)`.
 !> Cost is O(1) in `n`.
+!>
+!> The evaluators `harmonic_sum`, `harmonic_error` and `harmonic_error_steps` are
+!> elemental kernels called millions of times by the scans: they report through
+!> an integer `stat` holding a code of `demstep_stat` (`ok`, `invalid_input`,
+!> `pole`) instead of a `demstep_status_type` with a message;
+!> `harmonic_error_check` gives the message naming the argument.
 module demstep_harmonic
   use demstep_kinds, only: dp, pi
   use demstep_status, only: demstep_stat, demstep_status_type, set_status
