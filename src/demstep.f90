@@ -41,6 +41,14 @@ module demstep
   use demstep_progress, only: progress_type, text_progress_type
   use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, &
     scan_namelist, lowercase
+  ! materials in each code's convention and the peers' time-step rules
+  use demstep_material, only: code_convention_codes, code_convention, n_conventions, &
+    convention_names, peer_rule_codes, peer_rule, n_peer_rules, peer_rule_names, material_type, &
+    material_pair_type, effective_pair_type, contact_parameters_type, peer_steps_type, &
+    effective_pair, contact_parameters, rayleigh_time, hertz_max_overlap, hertz_contact_duration, &
+    linear_contact_duration, peer_time_steps, hertz_duration_constant, edem_fraction_low, &
+    edem_fraction_high, liggghts_fraction_rayleigh, liggghts_fraction_hertz, tc_over_dt_rule, &
+    yade_pwave_fraction
   implicit none
   public
 end module demstep
