@@ -49,6 +49,13 @@ module demstep
     linear_contact_duration, peer_time_steps, hertz_duration_constant, edem_fraction_low, &
     edem_fraction_high, liggghts_fraction_rayleigh, liggghts_fraction_hertz, tc_over_dt_rule, &
     yade_pwave_fraction
+  ! MFiX decks and what MFiX computes for its DEM solids step
+  use demstep_mfix_deck, only: mfix_deck_type, mfix_item_type, mfix_value_type, read_mfix_deck, &
+    parse_mfix_deck, mfix_get_real, mfix_get_integer, mfix_get_string, mfix_get_real_array, &
+    mfix_get_string_array, mfix_has_keyword, mfix_max_repeat
+  use demstep_mfix, only: mfix_input_type, mfix_result_type, mfix_units_codes, mfix_units, &
+    mfix_model_codes, mfix_model, mfix_integrator_codes, mfix_integrator, mfix_input_from_deck, &
+    mfix_compute, mfix_pair_index, mfix_dim_m, mfix_default_dtsolid_factor, mfix_default_kt_fac
   implicit none
   public
 end module demstep

@@ -146,10 +146,9 @@ contains
     type(demstep_status_type), intent(out) :: status
     character(len=:), allocatable :: text
     character(len=32) :: models(mfix_dim_m)
-    logical :: found, set(mfix_dim_m), set_pairs(55), set_w(mfix_dim_m)
-    integer :: line, lines(mfix_dim_m), lines_pairs(55), lines_w(mfix_dim_m), mmax, m, k, n, &
-      n_tfm, mmax_line
-    real(dp) :: d(mfix_dim_m), ro(mfix_dim_m), e(mfix_dim_m), nu(mfix_dim_m), en(55), enw(mfix_dim_m)
+    logical :: found, set(mfix_dim_m)
+    integer :: line, lines(mfix_dim_m), mmax, m, k, n, n_tfm, mmax_line
+    real(dp) :: d(mfix_dim_m), ro(mfix_dim_m), e(mfix_dim_m), nu(mfix_dim_m)
     logical :: set_d(mfix_dim_m), set_ro(mfix_dim_m), set_e(mfix_dim_m), set_nu(mfix_dim_m)
     integer :: ld(mfix_dim_m), lro(mfix_dim_m), le(mfix_dim_m), lnu(mfix_dim_m)
 
@@ -359,7 +358,9 @@ contains
       integer, intent(in) :: count
       real(dp), allocatable, intent(out) :: values(:)
       type(demstep_status_type), intent(out) :: st
-      integer :: i, j, lc
+      integer :: i, j, lc, lines_pairs(55)
+      real(dp) :: en(55)
+      logical :: set_pairs(55)
       call mfix_get_real_array(deck, name, 55, en, set_pairs, lines_pairs, st)
       if (st%stat /= demstep_stat%ok) return
       allocate(values(count))
@@ -389,7 +390,9 @@ contains
       character(len=*), intent(in) :: name
       real(dp), allocatable, intent(out) :: values(:)
       type(demstep_status_type), intent(out) :: st
-      integer :: i
+      integer :: i, lines_w(mfix_dim_m)
+      real(dp) :: enw(mfix_dim_m)
+      logical :: set_w(mfix_dim_m)
       call mfix_get_real_array(deck, name, mfix_dim_m, enw, set_w, lines_w, st)
       if (st%stat /= demstep_stat%ok) return
       allocate(values(n))

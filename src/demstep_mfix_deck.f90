@@ -58,6 +58,8 @@ module demstep_mfix_deck
   end type mfix_deck_type
 
   character(len=*), parameter :: lf = achar(10), cr = achar(13), tab = achar(9)
+  !> Marker of a keyword written without a subscript, for messages.
+  integer, parameter :: no_sub = -huge(1)
 
 contains
 
@@ -205,7 +207,11 @@ contains
         if (.not. is_name_char(s(p:p))) exit
         p = p + 1
       end do
-      item = mfix_item_type(name=lowercase(s(name_start:p-1)), line=line)
+      item%name = lowercase(s(name_start:p-1))
+      item%line = line
+      item%n_sub = 0
+      item%lo = 1
+      item%hi = 1
       loc = loc//s(name_start:p-1)
       do while (p <= n)
         if (.not. is_blank(s(p:p))) exit
@@ -364,7 +370,9 @@ contains
           end if
         end if
       end if
-      v = mfix_value_type(text="")
+      v%text = ""
+      v%arithmetic = .false.
+      v%quoted = .false.
       if (s(p:min(n, p+1)) == "@(") then
         depth = 0
         q = p + 1
@@ -451,7 +459,7 @@ contains
     integer, intent(in) :: line, idx
     character(len=:), allocatable :: w
     w = "line "//int_text(line)//": "//upper(name)
-    if (idx > 0) w = w//"("//int_text(idx)//")"
+    if (idx /= no_sub) w = w//"("//int_text(idx)//")"
     w = w//": "
   end function key_where
 
@@ -506,10 +514,10 @@ contains
     if (k == 0) return
     associate (it => deck%items(k))
       if (it%n_sub > 0) then
-        call set_status(status, demstep_stat%invalid_input, key_where(name, it%line, 0)// &
+        call set_status(status, demstep_stat%invalid_input, key_where(name, it%line, no_sub)// &
           "takes no subscript")
       else if (size(it%values) /= 1) then
-        call set_status(status, demstep_stat%invalid_input, key_where(name, it%line, 0)// &
+        call set_status(status, demstep_stat%invalid_input, key_where(name, it%line, no_sub)// &
           "expects one value, found "//int_text(size(it%values)))
       end if
     end associate
@@ -535,7 +543,7 @@ contains
     if (status%stat /= demstep_stat%ok .or. k == 0) return
     found = .true.
     line = deck%items(k)%line
-    call value_real(deck%items(k)%values(1), key_where(name, line, 0), x, status)
+    call value_real(deck%items(k)%values(1), key_where(name, line, no_sub), x, status)
   end subroutine mfix_get_real
 
   !> An integer scalar keyword.
@@ -560,14 +568,14 @@ contains
     line = deck%items(k)%line
     associate (v => deck%items(k)%values(1))
       if (v%arithmetic) then
-        call set_status(status, demstep_stat%invalid_input, key_where(name, line, 0)//"MFiX's "// &
+        call set_status(status, demstep_stat%invalid_input, key_where(name, line, no_sub)//"MFiX's "// &
           clip(v%text)//" arithmetic is not supported; write the value as a number")
         return
       end if
       ios = 1
       if (.not. v%quoted .and. len_trim(v%text) > 0 .and. verify(trim(v%text), "0123456789+-") == 0) &
         read(v%text, *, iostat=ios) i
-      if (ios /= 0) call set_status(status, demstep_stat%invalid_input, key_where(name, line, 0)// &
+      if (ios /= 0) call set_status(status, demstep_stat%invalid_input, key_where(name, line, no_sub)// &
         "'"//clip(v%text)//"' is not an integer")
     end associate
   end subroutine mfix_get_integer
@@ -618,12 +626,12 @@ contains
       if (deck%items(i)%name /= lowercase(name)) cycle
       associate (it => deck%items(i))
         if (it%n_sub > 1) then
-          call set_status(status, demstep_stat%invalid_input, key_where(name, it%line, 0)// &
+          call set_status(status, demstep_stat%invalid_input, key_where(name, it%line, no_sub)// &
             "takes one subscript")
           return
         end if
         if (it%n_sub == 1 .and. it%hi(1) > it%lo(1) .and. size(it%values) > it%hi(1) - it%lo(1) + 1) then
-          call set_status(status, demstep_stat%invalid_input, key_where(name, it%line, 0)// &
+          call set_status(status, demstep_stat%invalid_input, key_where(name, it%line, no_sub)// &
             int_text(size(it%values))//" values for "//int_text(it%hi(1) - it%lo(1) + 1)//" elements")
           return
         end if
