@@ -19,6 +19,10 @@
 !>   `step_policy_type`, `new_step_policy`, `n_roots`, `simulated_stiffness`.
 !> - Roots of any function: `find_root`, `scan_roots` (extend `root_context_type`).
 !> - Assemblies: `scene_type`, `new_scene`, `critical_time_steps`, `scene_run`.
+!> - Materials in each DEM code's convention and the peers' step rules:
+!>   `material_type`, `effective_pair`, `contact_parameters` (`code_convention%...`),
+!>   `rayleigh_time`, `hertz_contact_duration`, `peer_time_steps`.
+!> - MFiX decks: `read_mfix_deck`, `mfix_input_from_deck`, `mfix_compute`.
 !> - Progress of long work, and reading namelist decks: `text_progress_type`,
 !>   `read_text_file`, `scan_namelist`.
 !>
@@ -75,6 +79,16 @@ module demstep
   ! progress, and reading namelist decks
   use demstep_progress, only: progress_type, text_progress_type
   use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, scan_namelist
+  ! materials in each code's convention and the peers' time-step rules
+  use demstep_material, only: code_convention, convention_names, peer_rule, peer_rule_names, &
+    material_type, material_pair_type, effective_pair_type, contact_parameters_type, &
+    peer_steps_type, effective_pair, contact_parameters, rayleigh_time, hertz_max_overlap, &
+    hertz_contact_duration, linear_contact_duration, peer_time_steps
+  ! MFiX decks and what MFiX computes for its DEM solids step
+  use demstep_mfix_deck, only: mfix_deck_type, read_mfix_deck, parse_mfix_deck, mfix_get_real, &
+    mfix_get_integer, mfix_get_string, mfix_get_real_array, mfix_get_string_array, mfix_has_keyword
+  use demstep_mfix, only: mfix_input_type, mfix_result_type, mfix_units, mfix_model, &
+    mfix_integrator, mfix_input_from_deck, mfix_compute
   implicit none
   public
 end module demstep

@@ -20,6 +20,8 @@ program tester
   use test_deck, only: collect_deck
   use test_extremes, only: collect_extremes
   use test_app_scene, only: collect_app_scene
+  use test_material, only: collect_material
+  use test_mfix, only: collect_mfix
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -42,7 +44,9 @@ program tester
     new_testsuite("extremes", collect_extremes), &
     new_testsuite("app", collect_app), &
     new_testsuite("app_stiffness", collect_app_stiffness), &
-    new_testsuite("app_scene", collect_app_scene) &
+    new_testsuite("app_scene", collect_app_scene), &
+    new_testsuite("material", collect_material), &
+    new_testsuite("mfix", collect_mfix) &
     ]
   stat = 0
   total = 0

@@ -1,0 +1,596 @@
+!> What MFiX computes for its DEM solids time step, from an MFiX deck.
+!>
+!> Re-derived from MFiX 21.3, model/check_data/check_solids_dem.f:
+!> GET_REF_PARTICLE_SIZE_AND_MASS (reference radius `D_P0/2` and mass
+!> `(PI/6) D_P0^3 RO_S0` of each DEM phase), CHECK_SOLIDS_DEM_COLL_LSD and
+!> CHECK_SOLIDS_DEM_COLL_HERTZ (per pair: effective mass, spring, damping
+!> `DES_ETAN`, collision time `TCOLL_TMP`; `TCOLL` the smallest over particle
+!> pairs, walls left out; `DTSOLID = TCOLL/DTSOLID_FACTOR`). The arithmetic is
+!> done in MFiX's order so that the results agree with MFiX's to rounding.
+!> Units are the deck's (`UNITS = 'SI'` or `'CGS'`); times are in seconds.
+!>
+!> Caveats that this module reproduces rather than corrects: walls do not enter
+!> `TCOLL` (a stiff `KN_W` is ignored); with particles present at the start MFiX
+!> replaces `D_P0` by the smallest particle of the phase (not read here); and
+!> the Hertzian `TCOLL` uses `HERT_KN` (force/length^1.5) as if it were a linear
+!> stiffness, so it is the linear duration at the secant stiffness of an overlap
+!> of ONE length unit (1 m in SI, 1 cm in CGS): it depends on the unit system
+!> (CGS gives sqrt(10) times the SI value) and is not the Hertz contact duration.
+module demstep_mfix
+  use demstep_kinds, only: dp
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_text, only: int_text, real_text
+  use demstep_mfix_deck, only: mfix_deck_type, mfix_get_real, mfix_get_integer, mfix_get_string, &
+    mfix_get_real_array, mfix_get_string_array
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  implicit none
+  private
+
+  public :: mfix_input_from_deck, mfix_compute, mfix_pair_index
+
+  !> Largest number of solids phases MFiX allows (param_mod.f, DIM_M).
+  integer, parameter, public :: mfix_dim_m = 10
+  !> MFiX's default DTSOLID_FACTOR (des_init_namelist.f).
+  real(dp), parameter, public :: mfix_default_dtsolid_factor = 50.0_dp
+  !> MFiX's default KT_FAC and KT_W_FAC: the literal `0.28571428571429` of
+  !> des_init_namelist.f is a default (single precision) real, so MFiX holds
+  !> 0.2857142984867096..., not 2/7.
+  real(dp), parameter, public :: mfix_default_kt_fac = real(0.28571428571429, dp)
+  !> MFiX's PI (constant_mod.f: 4 atan(1)).
+  real(dp), parameter :: mfix_pi = 4.0_dp*atan(1.0_dp)
+
+  !> Unit systems.
+  type, public :: mfix_units_codes
+    !> `UNITS = 'SI'`.
+    integer :: si = 1
+    !> `UNITS = 'CGS'`.
+    integer :: cgs = 2
+  end type mfix_units_codes
+  !> The unit systems by name.
+  type(mfix_units_codes), parameter, public :: mfix_units = mfix_units_codes()
+
+  !> Collision models (`DES_COLL_MODEL`).
+  type, public :: mfix_model_codes
+    !> Linear spring-dashpot, `'LSD'` (the default).
+    integer :: lsd = 1
+    !> `'HERTZIAN'`.
+    integer :: hertzian = 2
+  end type mfix_model_codes
+  !> The collision models by name.
+  type(mfix_model_codes), parameter, public :: mfix_model = mfix_model_codes()
+
+  !> Integrators (`DES_INTG_METHOD`).
+  type, public :: mfix_integrator_codes
+    !> `'EULER'` (the default; cfnewvalues.f): `v += dt a(x_n)`, then
+    !> `x += dt v_(n+1)`: the central-difference scheme (symplectic Euler).
+    integer :: euler = 1
+    !> `'ADAMS_BASHFORTH'` (cfnewvalues.f): velocity by second-order
+    !> Adams-Bashforth, `v += dt (3 a_n - a_(n-1))/2`, position by the trapezoid
+    !> `x += dt (v_n + v_(n+1))/2`. On an undamped linear contact it gains
+    !> energy at every step (measured amplitude growth per period: 1.0008 at
+    !> omega dt = 0.1, 1.115 at 0.5): there is no stability limit to meet.
+    integer :: adams_bashforth = 2
+  end type mfix_integrator_codes
+  !> The integrators by name.
+  type(mfix_integrator_codes), parameter, public :: mfix_integrator = mfix_integrator_codes()
+
+  !> The DEM inputs of an MFiX deck, in the deck's units.
+  type, public :: mfix_input_type
+    !> `mfix_units%...`.
+    integer :: units = 1
+    !> `mfix_model%...`.
+    integer :: model = 1
+    !> `mfix_integrator%...`.
+    integer :: integrator = 1
+    !> Number of DEM phases, and their global phase numbers (`SOLIDS_MODEL(m)`
+    !> `'DEM'` or `'CGP'`; MFiX requires TFM phases before DEM ones).
+    integer :: n_phases = 0
+    integer, allocatable :: phase(:)
+    !> Per DEM phase: `D_P0`, `RO_S0`, `E_YOUNG`, `V_POISSON`.
+    real(dp), allocatable :: d_p0(:), ro_s0(:), e_young(:), v_poisson(:)
+    !> Packed upper-triangular restitution over DEM phases (11, 12, ..., 22, ...).
+    real(dp), allocatable :: en(:), et(:)
+    !> Per DEM phase: wall restitution.
+    real(dp), allocatable :: en_wall(:), et_wall(:)
+    !> LSD springs and factors.
+    real(dp) :: kn = 0.0_dp, kn_w = 0.0_dp, kt_fac = mfix_default_kt_fac, kt_w_fac = mfix_default_kt_fac
+    real(dp) :: etat_fac = 0.5_dp, etat_w_fac = 0.5_dp
+    !> Hertzian wall material.
+    real(dp) :: ew_young = 0.0_dp, vw_poisson = 0.0_dp
+    !> `DTSOLID_FACTOR`.
+    real(dp) :: dtsolid_factor = mfix_default_dtsolid_factor
+  end type mfix_input_type
+
+  !> What MFiX computes, per pair: the particle pairs in MFiX's order (11, 12,
+  !> ..., 22, ...), then the phase-wall pairs (1W, 2W, ...).
+  type, public :: mfix_result_type
+    !> Number of particle pairs and of wall pairs.
+    integer :: n_pairs = 0, n_walls = 0
+    !> Global phase numbers of each pair; `phase_j = 0` for a wall.
+    integer, allocatable :: phase_i(:), phase_j(:)
+    !> `MASS_EFF` (mass units).
+    real(dp), allocatable :: m_eff(:)
+    !> Normal spring: `KN`/`KN_W` (force/length) for LSD, `HERT_KN`/`HERT_KWN`
+    !> (force/length^1.5) for Hertzian.
+    real(dp), allocatable :: k_n(:)
+    !> Tangential spring: `KT_FAC KN` for LSD, `HERT_KT` for Hertzian.
+    real(dp), allocatable :: k_t(:)
+    !> `DES_ETAN` (force time/length for LSD; MFiX multiplies it by overlap^(1/4) for Hertzian).
+    real(dp), allocatable :: eta_n(:)
+    !> `DES_ETAT`.
+    real(dp), allocatable :: eta_t(:)
+    !> MFiX's collision time `TCOLL_TMP` of each pair (s).
+    real(dp), allocatable :: t_coll(:)
+    !> `TCOLL`: the smallest particle-pair collision time (walls left out).
+    real(dp) :: tcoll = 0.0_dp
+    !> `DTSOLID = TCOLL/DTSOLID_FACTOR`.
+    real(dp) :: dtsolid = 0.0_dp
+  end type mfix_result_type
+
+contains
+
+  !> Position of the pair (i, j), i <= j among n phases, in MFiX's packed
+  !> upper-triangular order 11, 12, ..., 1n, 22, ... (1-based).
+  pure integer function mfix_pair_index(i, j, n) result(k)
+    !> Phases (1-based DEM phase numbers), i <= j.
+    integer, intent(in) :: i, j
+    !> Number of DEM phases.
+    integer, intent(in) :: n
+    k = (i - 1)*n - (i - 1)*(i - 2)/2 + (j - i + 1)
+  end function mfix_pair_index
+
+  !> Extract and check the DEM inputs of a parsed deck, by MFiX's rules
+  !> (CHECK_SOLIDS_DEM_COLLISION and its LSD/Hertzian parts). Status
+  !> `invalid_input` with `line N: KEY(i): what is wrong` (or `KEY(i): ...`
+  !> for a keyword the deck lacks).
+  pure subroutine mfix_input_from_deck(deck, input, status)
+    !> The parsed deck.
+    type(mfix_deck_type), intent(in) :: deck
+    !> The inputs.
+    type(mfix_input_type), intent(out) :: input
+    type(demstep_status_type), intent(out) :: status
+    character(len=:), allocatable :: text
+    character(len=32) :: models(mfix_dim_m)
+    logical :: found, set(mfix_dim_m)
+    integer :: line, lines(mfix_dim_m), mmax, m, k, n, n_tfm, mmax_line
+    real(dp) :: d(mfix_dim_m), ro(mfix_dim_m), e(mfix_dim_m), nu(mfix_dim_m)
+    logical :: set_d(mfix_dim_m), set_ro(mfix_dim_m), set_e(mfix_dim_m), set_nu(mfix_dim_m)
+    integer :: ld(mfix_dim_m), lro(mfix_dim_m), le(mfix_dim_m), lnu(mfix_dim_m)
+
+    ! UNITS
+    call mfix_get_string(deck, "units", text, found, line, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (.not. found) then
+      call set_status(status, demstep_stat%invalid_input, "UNITS: missing ('SI' or 'CGS')")
+      return
+    end if
+    select case (upper_trim(text))
+    case ("SI")
+      input%units = mfix_units%si
+    case ("CGS")
+      input%units = mfix_units%cgs
+    case default
+      call set_status(status, demstep_stat%invalid_input, "line "//int_text(line)// &
+        ": UNITS: '"//text//"' is neither 'SI' nor 'CGS'")
+      return
+    end select
+
+    ! phases
+    mmax = 1
+    call mfix_get_integer(deck, "mmax", mmax, found, mmax_line, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (mmax < 1 .or. mmax > mfix_dim_m) then
+      call set_status(status, demstep_stat%invalid_input, "line "//int_text(mmax_line)// &
+        ": MMAX: must lie in [1, "//int_text(mfix_dim_m)//"]")
+      return
+    end if
+    call mfix_get_string_array(deck, "solids_model", mfix_dim_m, models, set, lines, status)
+    if (status%stat /= demstep_stat%ok) return
+    where (.not. set) models = "TFM"
+    n = 0
+    n_tfm = 0
+    allocate(input%phase(mmax))
+    do m = 1, mmax
+      select case (trim(models(m)))
+      case ("DEM", "CGP")
+        n = n + 1
+        input%phase(n) = m
+      case ("TFM")
+        if (n > 0) then
+          call set_status(status, demstep_stat%invalid_input, where_key("SOLIDS_MODEL", m, lines(m))// &
+            "MFiX requires the TFM phases before the DEM phases")
+          return
+        end if
+        n_tfm = n_tfm + 1
+      case ("PIC")
+        call set_status(status, demstep_stat%invalid_input, where_key("SOLIDS_MODEL", m, lines(m))// &
+          "'PIC' phases have no DEM collision time step (not supported)")
+        return
+      case default
+        call set_status(status, demstep_stat%invalid_input, where_key("SOLIDS_MODEL", m, lines(m))// &
+          "unknown solids model '"//trim(models(m))//"'")
+        return
+      end select
+    end do
+    if (n == 0) then
+      call set_status(status, demstep_stat%invalid_input, &
+        "SOLIDS_MODEL: no 'DEM' phase among the MMAX = "//int_text(mmax)//" solids phases")
+      return
+    end if
+    input%n_phases = n
+    input%phase = input%phase(1:n)
+
+    ! D_P0, RO_S0 of each DEM phase
+    call mfix_get_real_array(deck, "d_p0", mfix_dim_m, d, set_d, ld, status)
+    if (status%stat /= demstep_stat%ok) return
+    call mfix_get_real_array(deck, "ro_s0", mfix_dim_m, ro, set_ro, lro, status)
+    if (status%stat /= demstep_stat%ok) return
+    allocate(input%d_p0(n), input%ro_s0(n))
+    do k = 1, n
+      m = input%phase(k)
+      if (.not. set_d(m)) then
+        call set_status(status, demstep_stat%invalid_input, "D_P0("//int_text(m)// &
+          "): missing for DEM solids phase "//int_text(m))
+        return
+      else if (.not. (d(m) > 0.0_dp)) then
+        call set_status(status, demstep_stat%invalid_input, where_key("D_P0", m, ld(m))//"must be > 0")
+        return
+      else if (.not. set_ro(m)) then
+        call set_status(status, demstep_stat%invalid_input, "RO_S0("//int_text(m)// &
+          "): missing for DEM solids phase "//int_text(m)//" (variable solids density is not supported)")
+        return
+      else if (.not. (ro(m) > 0.0_dp)) then
+        call set_status(status, demstep_stat%invalid_input, where_key("RO_S0", m, lro(m))//"must be > 0")
+        return
+      end if
+      input%d_p0(k) = d(m)
+      input%ro_s0(k) = ro(m)
+    end do
+
+    ! model and integrator
+    call mfix_get_string(deck, "des_coll_model", text, found, line, status)
+    if (status%stat /= demstep_stat%ok) return
+    input%model = mfix_model%lsd
+    if (found) then
+      select case (upper_trim(text))
+      case ("LSD")
+        input%model = mfix_model%lsd
+      case ("HERTZIAN")
+        input%model = mfix_model%hertzian
+      case default
+        call set_status(status, demstep_stat%invalid_input, "line "//int_text(line)// &
+          ": DES_COLL_MODEL: '"//text//"' is neither 'LSD' nor 'HERTZIAN'")
+        return
+      end select
+    end if
+    call mfix_get_string(deck, "des_intg_method", text, found, line, status)
+    if (status%stat /= demstep_stat%ok) return
+    input%integrator = mfix_integrator%euler
+    if (found) then
+      select case (upper_trim(text))
+      case ("EULER")
+        input%integrator = mfix_integrator%euler
+      case ("ADAMS_BASHFORTH")
+        input%integrator = mfix_integrator%adams_bashforth
+      case default
+        call set_status(status, demstep_stat%invalid_input, "line "//int_text(line)// &
+          ": DES_INTG_METHOD: '"//text//"' is neither 'EULER' nor 'ADAMS_BASHFORTH'")
+        return
+      end select
+    end if
+    call mfix_get_real(deck, "dtsolid_factor", input%dtsolid_factor, found, line, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (.not. (input%dtsolid_factor >= 10.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "line "//int_text(line)// &
+        ": DTSOLID_FACTOR: MFiX requires >= 10, found "//real_text(input%dtsolid_factor))
+      return
+    end if
+
+    ! restitution: the DEM entries of DES_EN_INPUT come first in the deck and
+    ! MFiX shifts them behind the TFM ones (CHECK_SOLIDS_DEM_COLL_LSD)
+    k = n + n*(n - 1)/2
+    call packed_restitution("des_en_input", k, input%en, status)
+    if (status%stat /= demstep_stat%ok) return
+    call wall_restitution("des_en_wall_input", input%en_wall, status)
+    if (status%stat /= demstep_stat%ok) return
+
+    select case (input%model)
+    case (mfix_model%lsd)
+      call required_positive("kn", input%kn, status)
+      if (status%stat /= demstep_stat%ok) return
+      call required_positive("kn_w", input%kn_w, status)
+      if (status%stat /= demstep_stat%ok) return
+      call factor("kt_fac", input%kt_fac, status)
+      if (status%stat /= demstep_stat%ok) return
+      call factor("kt_w_fac", input%kt_w_fac, status)
+      if (status%stat /= demstep_stat%ok) return
+      call factor("des_etat_fac", input%etat_fac, status)
+      if (status%stat /= demstep_stat%ok) return
+      call factor("des_etat_w_fac", input%etat_w_fac, status)
+      if (status%stat /= demstep_stat%ok) return
+    case (mfix_model%hertzian)
+      call packed_restitution("des_et_input", k, input%et, status)
+      if (status%stat /= demstep_stat%ok) return
+      call wall_restitution("des_et_wall_input", input%et_wall, status)
+      if (status%stat /= demstep_stat%ok) return
+      call required_positive("ew_young", input%ew_young, status)
+      if (status%stat /= demstep_stat%ok) return
+      call mfix_get_real(deck, "vw_poisson", input%vw_poisson, found, line, status)
+      if (status%stat /= demstep_stat%ok) return
+      if (.not. found) then
+        call set_status(status, demstep_stat%invalid_input, "VW_POISSON: missing (DES_COLL_MODEL = 'HERTZIAN')")
+        return
+      else if (input%vw_poisson > 0.5_dp .or. input%vw_poisson <= -1.0_dp) then
+        call set_status(status, demstep_stat%invalid_input, "line "//int_text(line)// &
+          ": VW_POISSON: must lie in (-1, 0.5]")
+        return
+      end if
+      call mfix_get_real_array(deck, "e_young", mfix_dim_m, e, set_e, le, status)
+      if (status%stat /= demstep_stat%ok) return
+      call mfix_get_real_array(deck, "v_poisson", mfix_dim_m, nu, set_nu, lnu, status)
+      if (status%stat /= demstep_stat%ok) return
+      ! E_YOUNG and V_POISSON, like the restitution arrays, are numbered over the
+      ! DEM phases only (MFiX shifts e_young(1:DES_MMAX) behind the TFM phases)
+      allocate(input%e_young(n), input%v_poisson(n))
+      do k = 1, n
+        m = k
+        if (.not. set_e(m)) then
+          call set_status(status, demstep_stat%invalid_input, "E_YOUNG("//int_text(m)// &
+            "): missing for DEM solids phase "//int_text(input%phase(k))//" (DES_COLL_MODEL = 'HERTZIAN')")
+          return
+        else if (.not. (e(m) > 0.0_dp)) then
+          call set_status(status, demstep_stat%invalid_input, where_key("E_YOUNG", m, le(m))//"must be > 0")
+          return
+        else if (.not. set_nu(m)) then
+          call set_status(status, demstep_stat%invalid_input, "V_POISSON("//int_text(m)// &
+            "): missing for DEM solids phase "//int_text(input%phase(k))//" (DES_COLL_MODEL = 'HERTZIAN')")
+          return
+        else if (nu(m) > 0.5_dp .or. nu(m) <= -1.0_dp) then
+          call set_status(status, demstep_stat%invalid_input, where_key("V_POISSON", m, lnu(m))// &
+            "must lie in (-1, 0.5]")
+          return
+        end if
+        input%e_young(k) = e(k)
+        input%v_poisson(k) = nu(k)
+      end do
+    end select
+    status%stat = demstep_stat%ok
+
+  contains
+
+    pure subroutine packed_restitution(name, count, values, st)
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: count
+      real(dp), allocatable, intent(out) :: values(:)
+      type(demstep_status_type), intent(out) :: st
+      integer :: i, j, lc, lines_pairs(55)
+      real(dp) :: en(55)
+      logical :: set_pairs(55)
+      call mfix_get_real_array(deck, name, 55, en, set_pairs, lines_pairs, st)
+      if (st%stat /= demstep_stat%ok) return
+      allocate(values(count))
+      do i = 1, n
+        do j = i, n
+          lc = mfix_pair_index(i, j, n)
+          if (.not. set_pairs(lc)) then
+            call set_status(st, demstep_stat%invalid_input, upper_trim(name)//"("//int_text(lc)// &
+              "): missing (the pair of DEM phases "//int_text(input%phase(i))//" and "// &
+              int_text(input%phase(j))//")")
+            return
+          else if (en(lc) > 1.0_dp .or. en(lc) < 0.0_dp) then
+            call set_status(st, demstep_stat%invalid_input, where_key(name, lc, lines_pairs(lc))// &
+              "must lie in [0, 1]")
+            return
+          else if (en(lc) == 0.0_dp) then
+            call set_status(st, demstep_stat%invalid_input, where_key(name, lc, lines_pairs(lc))// &
+              "0 makes the contact critically damped: MFiX's collision time pi/sqrt(0) is undefined")
+            return
+          end if
+          values(lc) = en(lc)
+        end do
+      end do
+    end subroutine packed_restitution
+
+    pure subroutine wall_restitution(name, values, st)
+      character(len=*), intent(in) :: name
+      real(dp), allocatable, intent(out) :: values(:)
+      type(demstep_status_type), intent(out) :: st
+      integer :: i, lines_w(mfix_dim_m)
+      real(dp) :: enw(mfix_dim_m)
+      logical :: set_w(mfix_dim_m)
+      call mfix_get_real_array(deck, name, mfix_dim_m, enw, set_w, lines_w, st)
+      if (st%stat /= demstep_stat%ok) return
+      allocate(values(n))
+      do i = 1, n
+        if (.not. set_w(i)) then
+          call set_status(st, demstep_stat%invalid_input, upper_trim(name)//"("//int_text(i)// &
+            "): missing (DEM solids phase "//int_text(input%phase(i))//" against walls)")
+          return
+        else if (enw(i) > 1.0_dp .or. enw(i) < 0.0_dp) then
+          call set_status(st, demstep_stat%invalid_input, where_key(name, i, lines_w(i))//"must lie in [0, 1]")
+          return
+        else if (enw(i) == 0.0_dp) then
+          call set_status(st, demstep_stat%invalid_input, where_key(name, i, lines_w(i))// &
+            "0 makes the contact critically damped: MFiX's collision time pi/sqrt(0) is undefined")
+          return
+        end if
+        values(i) = enw(i)
+      end do
+    end subroutine wall_restitution
+
+    pure subroutine required_positive(name, x, st)
+      character(len=*), intent(in) :: name
+      real(dp), intent(inout) :: x
+      type(demstep_status_type), intent(out) :: st
+      logical :: there
+      integer :: ln
+      call mfix_get_real(deck, name, x, there, ln, st)
+      if (st%stat /= demstep_stat%ok) return
+      if (.not. there) then
+        call set_status(st, demstep_stat%invalid_input, upper_trim(name)//": missing (DES_COLL_MODEL = '"// &
+          trim(merge("LSD     ", "HERTZIAN", input%model == mfix_model%lsd))//"')")
+      else if (.not. (x > 0.0_dp)) then
+        call set_status(st, demstep_stat%invalid_input, "line "//int_text(ln)//": "//upper_trim(name)// &
+          ": must be > 0")
+      end if
+    end subroutine required_positive
+
+    pure subroutine factor(name, x, st)
+      character(len=*), intent(in) :: name
+      real(dp), intent(inout) :: x
+      type(demstep_status_type), intent(out) :: st
+      logical :: there
+      integer :: ln
+      call mfix_get_real(deck, name, x, there, ln, st)
+      if (st%stat /= demstep_stat%ok) return
+      if (x > 1.0_dp .or. x < 0.0_dp) then
+        call set_status(st, demstep_stat%invalid_input, "line "//int_text(ln)//": "//upper_trim(name)// &
+          ": must lie in [0, 1]")
+      end if
+    end subroutine factor
+
+  end subroutine mfix_input_from_deck
+
+  pure function where_key(name, idx, line) result(w)
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: idx, line
+    character(len=:), allocatable :: w
+    w = upper_trim(name)//"("//int_text(idx)//"): "
+    if (line > 0) w = "line "//int_text(line)//": "//w
+  end function where_key
+
+  pure function upper_trim(s) result(t)
+    character(len=*), intent(in) :: s
+    character(len=:), allocatable :: t
+    integer :: i
+    t = trim(adjustl(s))
+    do i = 1, len(t)
+      if (t(i:i) >= "a" .and. t(i:i) <= "z") t(i:i) = achar(iachar(t(i:i)) - 32)
+    end do
+  end function upper_trim
+
+  !> MFiX's per-pair quantities, TCOLL and DTSOLID (see the module's notes).
+  !> `invalid_input` when a pair is overdamped or a value leaves the double range.
+  pure subroutine mfix_compute(input, result, status)
+    !> The deck's DEM inputs.
+    type(mfix_input_type), intent(in) :: input
+    !> What MFiX computes.
+    type(mfix_result_type), intent(out) :: result
+    type(demstep_status_type), intent(out) :: status
+    integer :: n, m, l, lc, np, w
+    real(dp) :: mass(input%n_phases), radius(input%n_phases), g_mod(max(1, input%n_phases))
+    real(dp) :: mass_eff, red_mass_eff, r_eff, e_eff, g_mod_eff, g_mod_wall, en, et, tcoll_tmp, x
+    n = input%n_phases
+    np = n + n*(n - 1)/2
+    result%n_pairs = np
+    result%n_walls = n
+    allocate(result%phase_i(np + n), result%phase_j(np + n), result%m_eff(np + n), result%k_n(np + n), &
+      result%k_t(np + n), result%eta_n(np + n), result%eta_t(np + n), result%t_coll(np + n))
+    ! GET_REF_PARTICLE_SIZE_AND_MASS
+    do m = 1, n
+      radius(m) = 0.5_dp*input%d_p0(m)
+      mass(m) = (mfix_pi/6.0_dp)*(input%d_p0(m)**3)*input%ro_s0(m)
+    end do
+    if (input%model == mfix_model%hertzian) then
+      do m = 1, n
+        g_mod(m) = 0.5_dp*input%e_young(m)/(1.0_dp + input%v_poisson(m))
+      end do
+      g_mod_wall = 0.5_dp*input%ew_young/(1.0_dp + input%vw_poisson)
+    end if
+    result%tcoll = huge(1.0_dp)
+    lc = 0
+    do m = 1, n
+      do l = m, n
+        lc = lc + 1
+        en = input%en(lc)
+        result%phase_i(lc) = input%phase(m)
+        result%phase_j(lc) = input%phase(l)
+        mass_eff = mass(m)*mass(l)/(mass(m) + mass(l))
+        result%m_eff(lc) = mass_eff
+        if (input%model == mfix_model%lsd) then
+          ! CHECK_SOLIDS_DEM_COLL_LSD, particle-particle
+          result%k_n(lc) = input%kn
+          result%k_t(lc) = input%kt_fac*input%kn
+          result%eta_n(lc) = 2.0_dp*sqrt(input%kn*mass_eff)*abs(log(en))
+          result%eta_n(lc) = result%eta_n(lc)/sqrt(mfix_pi*mfix_pi + (log(en)**2))
+          result%eta_t(lc) = input%etat_fac*result%eta_n(lc)
+          x = input%kn/mass_eff - ((result%eta_n(lc)/mass_eff)**2)/4.0_dp
+        else
+          ! CHECK_SOLIDS_DEM_COLL_HERTZ, particle-particle
+          et = input%et(lc)
+          red_mass_eff = (2.0_dp/7.0_dp)*mass_eff
+          r_eff = radius(m)*radius(l)/(radius(m) + radius(l))
+          e_eff = input%e_young(m)*input%e_young(l)/(input%e_young(m)*(1.0_dp - input%v_poisson(l)**2) &
+            + input%e_young(l)*(1.0_dp - input%v_poisson(m)**2))
+          g_mod_eff = g_mod(m)*g_mod(l)/(g_mod(m)*(2.0_dp - input%v_poisson(l)) &
+            + g_mod(l)*(2.0_dp - input%v_poisson(m)))
+          result%k_n(lc) = (4.0_dp/3.0_dp)*sqrt(r_eff)*e_eff
+          result%k_t(lc) = 8.0_dp*sqrt(r_eff)*g_mod_eff
+          result%eta_n(lc) = 2.0_dp*sqrt(result%k_n(lc)*mass_eff)*abs(log(en))
+          result%eta_n(lc) = result%eta_n(lc)/sqrt(mfix_pi*mfix_pi + (log(en))**2)
+          result%eta_t(lc) = 2.0_dp*sqrt(result%k_t(lc)*red_mass_eff)*abs(log(et))
+          result%eta_t(lc) = result%eta_t(lc)/sqrt(mfix_pi*mfix_pi + (log(et))**2)
+          x = result%k_n(lc)/mass_eff - ((result%eta_n(lc)/mass_eff)**2)/4.0_dp
+        end if
+        if (.not. (x > 0.0_dp .and. ieee_is_finite(x))) then
+          call set_status(status, demstep_stat%invalid_input, "DES_EN_INPUT("//int_text(lc)// &
+            "): MFiX's collision time of the pair of phases "//int_text(input%phase(m))//" and "// &
+            int_text(input%phase(l))//" is undefined (overdamped or out of range)")
+          return
+        end if
+        tcoll_tmp = mfix_pi/sqrt(x)
+        result%t_coll(lc) = tcoll_tmp
+        result%tcoll = min(tcoll_tmp, result%tcoll)
+      end do
+    end do
+    ! walls: computed, but left out of TCOLL (MFiX comments the MIN out)
+    do m = 1, n
+      w = np + m
+      en = input%en_wall(m)
+      mass_eff = mass(m)
+      result%phase_i(w) = input%phase(m)
+      result%phase_j(w) = 0
+      result%m_eff(w) = mass_eff
+      if (input%model == mfix_model%lsd) then
+        result%k_n(w) = input%kn_w
+        result%k_t(w) = input%kt_w_fac*input%kn_w
+        result%eta_n(w) = 2.0_dp*sqrt(input%kn_w*mass_eff)*abs(log(en))
+        result%eta_n(w) = result%eta_n(w)/sqrt(mfix_pi*mfix_pi + (log(en))**2)
+        result%eta_t(w) = input%etat_w_fac*result%eta_n(w)
+        x = input%kn_w/mass_eff - ((result%eta_n(w)/mass_eff)**2)/4.0_dp
+      else
+        et = input%et_wall(m)
+        red_mass_eff = (2.0_dp/7.0_dp)*mass_eff
+        r_eff = radius(m)
+        e_eff = input%e_young(m)*input%ew_young/(input%e_young(m)*(1.0_dp - input%vw_poisson**2) &
+          + input%ew_young*(1.0_dp - input%v_poisson(m)**2))
+        g_mod_eff = g_mod(m)*g_mod_wall/(g_mod(m)*(2.0_dp - input%vw_poisson) &
+          + g_mod_wall*(2.0_dp - input%v_poisson(m)))
+        result%k_n(w) = (4.0_dp/3.0_dp)*sqrt(r_eff)*e_eff
+        ! MFiX writes 8.0 (a default real) here: exact, so the same value
+        result%k_t(w) = 8.0_dp*sqrt(r_eff)*g_mod_eff
+        result%eta_n(w) = 2.0_dp*sqrt(result%k_n(w)*mass_eff)*abs(log(en))
+        result%eta_n(w) = result%eta_n(w)/sqrt(mfix_pi*mfix_pi + (log(en))**2)
+        result%eta_t(w) = 2.0_dp*sqrt(result%k_t(w)*red_mass_eff)*abs(log(et))
+        result%eta_t(w) = result%eta_t(w)/sqrt(mfix_pi*mfix_pi + (log(et))**2)
+        x = result%k_n(w)/mass_eff - ((result%eta_n(w)/mass_eff)**2)/4.0_dp
+      end if
+      if (.not. (x > 0.0_dp .and. ieee_is_finite(x))) then
+        call set_status(status, demstep_stat%invalid_input, "DES_EN_WALL_INPUT("//int_text(m)// &
+          "): MFiX's wall collision time of phase "//int_text(input%phase(m))// &
+          " is undefined (overdamped or out of range)")
+        return
+      end if
+      result%t_coll(w) = mfix_pi/sqrt(x)
+    end do
+    result%dtsolid = result%tcoll/input%dtsolid_factor
+    if (.not. all(ieee_is_finite([result%m_eff, result%k_n, result%k_t, result%eta_n, result%eta_t, &
+      result%t_coll, result%dtsolid]))) then
+      call set_status(status, demstep_stat%invalid_input, &
+        "D_P0: MFiX's quantities leave the double range; rescale the units")
+      return
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine mfix_compute
+
+end module demstep_mfix
