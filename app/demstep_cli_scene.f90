@@ -10,9 +10,9 @@ module demstep_cli_scene
     effect_contacts, effect_gravity, effect_damping, effect_local_damping, effect_walls, &
     n_effects, effect_names, critical_step_type, critical_time_steps, hertz_at_current, &
     hertz_at_impact, default_max_eigen_dof, measure_step_cost, text_progress_type
-  use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, fmt_real, &
-    fmt_int, cli_context, check_real, new_array, array_length, new_int_array, int_array_length, &
-    max_values
+  use demstep_cli, only: var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
+    check_real, new_array, array_length, new_int_array, int_array_length, max_values, &
+    capacity_of, default_text
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use, intrinsic :: iso_fortran_env, only: error_unit
   implicit none
@@ -33,44 +33,55 @@ contains
   function scene_specs() result(specs)
     type(var_spec), allocatable :: specs(:)
     specs = [ &
-      var("dim", "an integer", "dimension: 1, 2 or 3 (required)", "2"), &
+      var("dim", "an integer", "dimension: 1, 2 or 3", "2", required=.true.), &
       var("position", "a list of real numbers", "dim coordinates per particle", &
-        "0.0, 0.0,  1.0, 0.0,  2.0, 0.0"), &
+        "0.0, 0.0,  1.0, 0.0,  2.0, 0.0", capacity=3*max_values, required=.true., &
+        excludes="particles_file"), &
       var("velocity", "a list of real numbers", "dim components per particle (default 0)", &
-        "0.0, 0.0,  0.0, 0.0,  0.0, 0.1"), &
-      var("mass", "a list of real numbers", "one per particle, or one for all (> 0)", "1.0"), &
-      var("radius", "a list of real numbers", "one per particle, or one for all (> 0)", "0.4"), &
-      var("fixed", "a list of integers", "numbers of the fixed particles", "1"), &
-      var("bonds", "a list of integers", "pairs of particle numbers joined by bonds", "1, 2,  2, 3"), &
+        "0.0, 0.0,  0.0, 0.0,  0.0, 0.1", capacity=3*max_values), &
+      var("mass", "a list of real numbers", "one per particle, or one for all (> 0)", "1.0", &
+        capacity=max_values), &
+      var("radius", "a list of real numbers", "one per particle, or one for all (> 0)", "0.4", &
+        capacity=max_values), &
+      var("fixed", "a list of integers", "numbers of the fixed particles", "1", capacity=max_values), &
+      var("bonds", "a list of integers", "pairs of particle numbers joined by bonds", "1, 2,  2, 3", &
+        capacity=2*max_values), &
       var("particles_file", "a quoted file name", "table instead of the arrays: per row dim " &
-        //"positions, dim velocities, mass, radius, fixed (0/1); # comments", "!'particles.txt'"), &
+        //"positions, dim velocities, mass, radius, fixed (0/1); # comments", "!'particles.txt'", &
+        excludes="velocity mass radius fixed"), &
       var("bonds_file", "a quoted file name", "table of bonds: per row two particle numbers", &
-        "!'bonds.txt'"), &
-      var("law", "a quoted word", "contact law: 'linear' (default, k_normal) or 'hertz' (e_star)", &
-        "'linear'"), &
-      var("k_normal", "a real number", "linear contact stiffness (> 0)", "1.0e4"), &
-      var("e_star", "a real number", "Hertz effective modulus E* (> 0)", "!1.0e8"), &
-      var("k_bond", "a real number", "bond normal stiffness (> 0 when there are bonds)", "100.0"), &
-      var("k_bond_tangential", "a real number", "bond tangential stiffness (>= 0, default 0)", "0.0"), &
+        "!'bonds.txt'", excludes="bonds"), &
+      var("law", "a quoted word", "contact law: 'linear' (k_normal) or 'hertz' (e_star)", &
+        "'linear'", default="'linear'"), &
+      var("k_normal", "a real number", "linear contact stiffness (> 0)", "1.0e4", default="!0"), &
+      var("e_star", "a real number", "Hertz effective modulus E* (> 0)", "!1.0e8", default="!0"), &
+      var("k_bond", "a real number", "bond normal stiffness (> 0 when there are bonds)", "100.0", &
+        default="!0"), &
+      var("k_bond_tangential", "a real number", "bond tangential stiffness (>= 0)", "0.0", &
+        default="0"), &
       var("walls", "a list of real numbers", "per wall: dim coordinates of a point, dim of the " &
-        //"normal pointing into the domain", "!0.0, -0.5,  0.0, 1.0"), &
+        //"normal pointing into the domain", "!0.0, -0.5,  0.0, 1.0", capacity=64), &
       var("effects", "a list of quoted words", "'contacts' (default), 'gravity', 'damping', " &
-        //"'local_damping', 'walls'; 'none' for bonds only", "'contacts'"), &
+        //"'local_damping', 'walls'; 'none' for bonds only", "'contacts'", capacity=max_effects), &
       var("gravity", "a list of real numbers", "dim components (default -9.81 along the last axis)", &
-        "!0.0, -9.81"), &
-      var("damping_ratio", "a real number", "viscous damping ratio (0 to 1e100) for 'damping'", "!0.1"), &
-      var("restitution", "a real number", "or the restitution coefficient in (0, 1] it gives", "!0.8"), &
-      var("local_damping", "a real number", "Cundall's alpha in [0, 1) for 'local_damping'", "!0.7"), &
-      var("hertz_linearization", "a quoted word", "'current' overlap (default) or 'impact' " &
-        //"(with impact_velocity)", "!'current'"), &
+        "!0.0, -9.81", capacity=3), &
+      var("damping_ratio", "a real number", "viscous damping ratio (0 to 1e100) for 'damping'", "!0.1", &
+        default="0"), &
+      var("restitution", "a real number", "or the restitution coefficient in (0, 1] it gives", "!0.8", &
+        excludes="damping_ratio"), &
+      var("local_damping", "a real number", "Cundall's alpha in [0, 1) for 'local_damping'", "!0.7", &
+        default="0"), &
+      var("hertz_linearization", "a quoted word", "'current' overlap or 'impact' " &
+        //"(with impact_velocity)", "!'current'", default="'current'"), &
       var("impact_velocity", "a real number", "impact speed for the 'impact' linearization (> 0)", &
-        "!1.0"), &
-      var("duration", "a real number", "simulated time (>= 0, default 0: no run)", "10.0"), &
-      var("dt", "a real number", "time step of the run (> 0), or give n_per_period", "!0.01"), &
+        "!1.0", default="!0"), &
+      var("duration", "a real number", "simulated time (>= 0; 0: no run)", "10.0", default="0"), &
+      var("dt", "a real number", "time step of the run (> 0), or give n_per_period", "!0.01", &
+        excludes="n_per_period"), &
       var("n_per_period", "a real number", "steps per smallest period 2 pi/omega_max (> pi " &
         //"to be stable)", "20.0"), &
-      var("max_eigen_dof", "an integer", "largest problem for the dense eigensolver " &
-        //"(default 4000)", "!4000") ]
+      var("max_eigen_dof", "an integer", "largest problem for the dense eigensolver", "!"// &
+        fmt_int(int(default_max_eigen_dof, i8)), default=fmt_int(int(default_max_eigen_dof, i8))) ]
   end function scene_specs
 
   !> Read, check and evaluate one `&scene` group.
@@ -107,47 +118,17 @@ contains
     type(text_progress_type) :: progress
 
     specs = scene_specs()
-    call check_names(group, specs, status)
-    if (status%stat /= demstep_stat%ok) return
-    dim = 0
-    position = new_array(3*max_values)
-    velocity = new_array(3*max_values)
-    mass = new_array()
-    radius = new_array()
-    walls = new_array(64)
-    gravity = new_array(3)
-    fixed = new_int_array(max_values)
-    bonds = new_int_array(2*max_values)
-    particles_file = ""
-    bonds_file = ""
-    law = "linear"
-    hertz_linearization = "current"
+    position = new_array(capacity_of(specs, "position"))
+    velocity = new_array(capacity_of(specs, "velocity"))
+    mass = new_array(capacity_of(specs, "mass"))
+    radius = new_array(capacity_of(specs, "radius"))
+    walls = new_array(capacity_of(specs, "walls"))
+    gravity = new_array(capacity_of(specs, "gravity"))
+    fixed = new_int_array(capacity_of(specs, "fixed"))
+    bonds = new_int_array(capacity_of(specs, "bonds"))
     effects = ""
-    k_normal = 0.0_dp
-    e_star = 0.0_dp
-    k_bond = 0.0_dp
-    k_bond_tangential = 0.0_dp
-    damping_ratio = 0.0_dp
-    restitution = 1.0_dp
-    local_damping = 0.0_dp
-    impact_velocity = 0.0_dp
-    duration = 0.0_dp
-    dt = 0.0_dp
-    n_per_period = 0.0_dp
-    max_eigen_dof = default_max_eigen_dof
-    do i = 1, size(group%items)
-      text = item_text(group, group%items(i))
-      read(text, nml=scene, iostat=ios)
-      if (ios /= 0) then
-        call read_failed(group, group%items(i), specs, status)
-        return
-      end if
-    end do
-
-    if (.not. given(group, "dim")) then
-      call fail("dim", "required")
-      return
-    end if
+    call read_group(group, specs, read_item, status)
+    if (status%stat /= demstep_stat%ok) return
     if (dim < 1 .or. dim > 3) then
       call fail("dim", "must be 1, 2 or 3, got "//fmt_int(int(dim, i8)))
       return
@@ -155,11 +136,6 @@ contains
 
     ! particles: a table file or the arrays
     if (given(group, "particles_file")) then
-      if (given(group, "position") .or. given(group, "velocity") .or. given(group, "mass") .or. &
-          given(group, "radius") .or. given(group, "fixed")) then
-        call fail("particles_file", "give either particles_file or the particle arrays, not both")
-        return
-      end if
       call read_particles(beside(file, trim(particles_file)), dim, x, v, m, r, is_fixed, status)
       if (status%stat /= demstep_stat%ok) then
         status%message = "&"//g//": particles_file: "//status%message
@@ -173,10 +149,6 @@ contains
       call array_length(g, "radius", radius, nr, status)
       call int_array_length(g, "fixed", fixed, nf, status)
       if (status%stat /= demstep_stat%ok) return
-      if (np == 0) then
-        call fail("position", "required (or give particles_file)")
-        return
-      end if
       if (mod(np, dim) /= 0) then
         call fail("position", fmt_int(int(np, i8))//" values are not "//fmt_int(int(dim, i8))// &
           " per particle")
@@ -226,10 +198,6 @@ contains
 
     ! bonds: a table file or the array
     if (given(group, "bonds_file")) then
-      if (given(group, "bonds")) then
-        call fail("bonds_file", "give either bonds_file or bonds, not both")
-        return
-      end if
       call read_bonds(beside(file, trim(bonds_file)), pairs, status)
       if (status%stat /= demstep_stat%ok) then
         status%message = "&"//g//": bonds_file: "//status%message
@@ -321,7 +289,7 @@ contains
       end if
     end if
     if (sc%effects(effect_damping)) then
-      if (given(group, "damping_ratio") .eqv. given(group, "restitution")) then
+      if (.not. (given(group, "damping_ratio") .or. given(group, "restitution"))) then
         call fail("damping_ratio", "the 'damping' effect needs damping_ratio or restitution (one)")
         return
       end if
@@ -355,8 +323,6 @@ contains
       return
     end select
     call check_real(g, "duration", duration, status, inclusive=.true.)
-    if (given(group, "dt") .and. given(group, "n_per_period")) call fail("dt", &
-      "give either dt or n_per_period, not both")
     if (given(group, "dt")) call check_real(g, "dt", dt, status)
     if (given(group, "n_per_period")) call check_real(g, "n_per_period", n_per_period, status)
     if (status%stat /= demstep_stat%ok) return
@@ -411,6 +377,12 @@ contains
     call write_result(ctx%results, sc, crit, dt_used, summary)
 
   contains
+
+    subroutine read_item(text, ios)
+      character(len=*), intent(in) :: text
+      integer, intent(out) :: ios
+      read(text, nml=scene, iostat=ios)
+    end subroutine read_item
 
     subroutine fail(name, what)
       character(len=*), intent(in) :: name, what

@@ -14,7 +14,8 @@
 !> - One contact, exact and discrete: `discrete_contact_type`, `spring_contact`
 !>   (a spring at its step), `contact_with_onset` (any N = T/dt and onset),
 !>   `simulate_contact` (stepped), `exact_contact`, `contact_worst_case`.
-!> - What accuracy costs: `n_for_tolerance`, `worst_error`, `predict_run`.
+!> - What accuracy costs: `n_for_tolerance`, `n_for_harmonic_tolerance`, `worst_error`,
+!>   `predict_run`.
 !> - The paper's error and the simulated-stiffness method: `harmonic_error`,
 !>   `step_policy_type`, `new_step_policy`, `n_roots`, `simulated_stiffness`.
 !> - Roots of any function: `find_root`, `scan_roots` (extend `root_context_type`).
@@ -53,8 +54,8 @@ module demstep
     simulate_contact, exact_contact, contact_worst_case, contact_error_of, period_error, &
     quantity_kind, n_quantities, quantity_names
   ! what accuracy costs
-  use demstep_cost, only: n_for_tolerance, worst_error, run_prediction_type, predict_run, &
-    measure_step_cost
+  use demstep_cost, only: n_for_tolerance, n_for_harmonic_tolerance, worst_error, &
+    run_prediction_type, predict_run, measure_step_cost
   ! the paper's error and the simulated-stiffness method
   use demstep_harmonic, only: step_policy_type, step_kind, new_step_policy, policy_steps, &
     harmonic_sum, harmonic_error, harmonic_error_steps, harmonic_error_check
