@@ -20,8 +20,8 @@
 !>   `step_policy_type`, `new_step_policy`, `n_roots`, `simulated_stiffness`.
 !> - Roots of any function: `find_root`, `scan_roots` (extend `root_context_type`).
 !> - Assemblies: `scene_type`, `new_scene`, `critical_time_steps`, `scene_run`.
-!> - Progress of long work, and reading namelist decks: `text_progress_type`,
-!>   `read_text_file`, `scan_namelist`.
+!> - Progress of long work, and reading namelist decks and tables of numbers:
+!>   `text_progress_type`, `read_text_file`, `scan_namelist`, `read_table`.
 !>
 !> Internal helpers (limits, formatting, the C binding) stay in their own
 !> modules (`demstep_spring`, `demstep_stiffness`, `demstep_text`, `demstep_capi`, ...).
@@ -73,9 +73,10 @@ module demstep
     max_coordinate, contact_limit, max_damping_ratio
   use demstep_assembly, only: critical_step_type, critical_time_steps, hertz_at_current, &
     hertz_at_impact, default_max_eigen_dof
-  ! progress, and reading namelist decks
+  ! progress, and reading namelist decks and tables
   use demstep_progress, only: progress_type, text_progress_type
   use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, scan_namelist
+  use demstep_table_io, only: read_table
   implicit none
   public
 end module demstep
