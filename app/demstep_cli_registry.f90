@@ -21,28 +21,13 @@ contains
   !> Every group, in the order of the template.
   function cli_groups() result(groups)
     type(group_spec), allocatable :: groups(:)
-    allocate(groups(6))
-    call entry(groups(1), "system", system_doc, handle_system)
-    groups(1)%vars = system_specs()
-    call entry(groups(2), "harmonic_error", harmonic_doc, handle_harmonic_error)
-    groups(2)%vars = harmonic_specs()
-    call entry(groups(3), "simulated_stiffness", stiffness_doc, handle_simulated_stiffness)
-    groups(3)%vars = stiffness_specs()
-    call entry(groups(4), "scene", scene_doc, run_scene)
-    groups(4)%vars = scene_specs()
-    call entry(groups(5), "contact_error", contact_error_doc, handle_contact_error)
-    groups(5)%vars = contact_error_specs()
-    call entry(groups(6), "accuracy_cost", accuracy_cost_doc, handle_accuracy_cost)
-    groups(6)%vars = accuracy_cost_specs()
-  contains
-    subroutine entry(spec, name, doc, handler)
-      type(group_spec), intent(inout) :: spec
-      character(len=*), intent(in) :: name, doc
-      procedure(handle_system) :: handler
-      spec%name = name
-      spec%doc = doc
-      spec%handler => handler
-    end subroutine entry
+    groups = [ &
+      group_spec("system", system_doc, system_specs(), handle_system), &
+      group_spec("harmonic_error", harmonic_doc, harmonic_specs(), handle_harmonic_error), &
+      group_spec("simulated_stiffness", stiffness_doc, stiffness_specs(), handle_simulated_stiffness), &
+      group_spec("scene", scene_doc, scene_specs(), run_scene), &
+      group_spec("contact_error", contact_error_doc, contact_error_specs(), handle_contact_error), &
+      group_spec("accuracy_cost", accuracy_cost_doc, accuracy_cost_specs(), handle_accuracy_cost) ]
   end function cli_groups
 
   !> The index of the group called `name` in `groups`, 0 when demstep does not know it.

@@ -10,7 +10,8 @@ module demstep_cli_scene
     scene_run, effect_index, restitution_to_damping_ratio, law_linear, law_hertz, &
     effect_contacts, effect_gravity, effect_damping, effect_local_damping, effect_walls, &
     n_effects, effect_names, critical_step_type, critical_time_steps, hertz_at_current, &
-    hertz_at_impact, default_max_eigen_dof, measure_step_cost, text_progress_type
+    hertz_at_impact, default_max_eigen_dof, measure_step_cost, text_progress_type, &
+    assembly_step_for_n_per_period
   use demstep_cli, only: var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
     check_real, new_array, array_length, new_int_array, int_array_length, max_values, &
     capacity_of, default_text
@@ -349,15 +350,12 @@ contains
     if (duration > 0.0_dp) then
       if (given(group, "dt")) then
         dt_used = dt
-      else if (crit%eigen_computed) then
-        dt_used = 2.0_dp*pi/crit%omega_max/n_per_period
       else
-        dt_used = 2.0_dp*pi/crit%omega_bound/n_per_period
-      end if
-      if (.not. ieee_is_finite(dt_used)) then
-        call fail("n_per_period", "the time step 2 pi/(omega_max n_per_period) overflows: n_per_period " &
-          //"must be above "//fmt_real(2.0_dp*pi/crit%omega_bound/huge(1.0_dp)))
-        return
+        call assembly_step_for_n_per_period(crit, n_per_period, dt_used, status)
+        if (status%stat /= demstep_stat%ok) then
+          status%message = "&"//g//": "//status%message
+          return
+        end if
       end if
       call plan_run(ctx, g, sc%n, crit%n_springs, duration, dt_used, steps, status)
       if (status%stat /= demstep_stat%ok) return

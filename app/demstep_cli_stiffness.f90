@@ -114,21 +114,6 @@ contains
           i = 1, lambda_count)]
       end if
     end if
-    do i = 1, size(input%lambdas)
-      call check_real(g, "lambda", input%lambdas(i), status, element=i)
-      if (status%stat == demstep_stat%ok .and. .not. input%lambdas(i) < 1.0_dp) call set_status(status, &
-        demstep_stat%invalid_input, "&"//g//": lambda: element "//fmt_int(int(i, i8))//" is "// &
-        fmt_real(input%lambdas(i))//"; must be in (0, 1)")
-      if (status%stat /= demstep_stat%ok) return
-      if (i > 1) then
-        if (.not. input%lambdas(i) > input%lambdas(i-1)) then
-          call set_status(status, demstep_stat%invalid_input, "&"//g//": lambda: the set must " &
-            //"increase (element "//fmt_int(int(i, i8))//" is "//fmt_real(input%lambdas(i))//")")
-          return
-        end if
-      end if
-    end do
-
     ! step policy, pick and aggregation
     select case (lowercase(trim(adjustl(steps))))
     case ("half_period")

@@ -19,7 +19,8 @@
 !> - The paper's error and the simulated-stiffness method: `harmonic_error`,
 !>   `step_policy_type`, `new_step_policy`, `n_roots`, `simulated_stiffness`.
 !> - Roots of any function: `find_root`, `scan_roots` (extend `root_context_type`).
-!> - Assemblies: `scene_type`, `new_scene`, `critical_time_steps`, `scene_run`.
+!> - Assemblies: `scene_type`, `new_scene`, `critical_time_steps`, `scene_run`,
+!>   `assembly_step_for_n_per_period`.
 !> - Progress of long work, and reading namelist decks and tables of numbers:
 !>   `text_progress_type`, `read_text_file`, `scan_namelist`, `read_table`.
 !>
@@ -72,7 +73,7 @@ module demstep
     effect_damping, effect_local_damping, effect_walls, n_effects, effect_names, &
     max_coordinate, contact_limit, max_damping_ratio
   use demstep_assembly, only: critical_step_type, critical_time_steps, hertz_at_current, &
-    hertz_at_impact, default_max_eigen_dof
+    hertz_at_impact, default_max_eigen_dof, assembly_step_for_n_per_period
   ! progress, and reading namelist decks and tables
   use demstep_progress, only: progress_type, text_progress_type
   use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, scan_namelist
