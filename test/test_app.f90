@@ -3,7 +3,7 @@ module test_app
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed, skip_test
   use demstep
   use demstep_kinds, only: pi
-  use test_support, only: run_app, write_file, read_file, file_exists, work_dir
+  use test_support, only: run_app, write_file, read_file, file_exists, work_dir, real_str
   implicit none
   private
   public :: collect_app
@@ -37,7 +37,8 @@ contains
       new_unittest("&accuracy_cost without gnuplot: CSV and a note", test_cost_no_gnuplot), &
       new_unittest("&contact_error, &accuracy_cost: each bad input", test_accuracy_bad), &
       new_unittest("the group table: defaults as the template says them", test_table_defaults), &
-      new_unittest("the group table: capacities and the either-or rules", test_table_rules) &
+      new_unittest("the group table: capacities and the either-or rules", test_table_rules), &
+      new_unittest("&accuracy_cost: the paper's E at lambda, N from the library", test_cost_harmonic) &
       ]
   end subroutine collect_app
 
@@ -735,6 +736,47 @@ contains
     call check(error, index(template, "impact speed v0 > 0, scales overlaps (default 1)") > 0, &
       "&system: velocity's default in the template")
   end subroutine test_table_defaults
+
+  !> quantity = 'harmonic': N is the smallest N with |E(N, lambda, N/2)| <= tolerance,
+  !> checked against E itself (a root of |E| - tolerance, above every sampled N
+  !> below it where |E| exceeds the tolerance).
+  subroutine test_cost_harmonic(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer :: rc, ios, k, stat
+    character(len=:), allocatable :: stdout, stderr
+    real(dp) :: tolerances(1), n_per_period(1), dt(1), predicted_seconds(1), cost_per_particle_step, &
+      period, e, big_n
+    integer(i8) :: steps(1)
+    integer :: status(1)
+    namelist /accuracy_cost_result/ tolerances, n_per_period, dt, steps, predicted_seconds, status, &
+      cost_per_particle_step, period
+    call write_file(deck, [character(len=160) :: "&accuracy_cost quantity = 'harmonic', lambda = 0.9,", &
+      "  tolerances = 1e-3, duration = 1.0, n_particles = 100, mass = 0.01, stiffness = 1e5,", &
+      "  cost_per_particle_step = 1e-7, csv = '"//work_dir//"/h.csv', figure = 'none' /"])
+    call run_app(deck//" -q --namelist", rc, stdout, stderr)
+    call check(error, rc, 0, message="exit status; stderr: "//stderr)
+    if (allocated(error)) return
+    read(stdout, nml=accuracy_cost_result, iostat=ios)
+    call check(error, ios, 0, message="read back: "//stdout)
+    if (allocated(error)) return
+    call check(error, status(1), 0, message="met")
+    if (allocated(error)) return
+    ! the N found is a root of |E| - tolerance: the root finder works to about
+    ! 1e-12 in N, and dE/dN there is of order E/N, so 1e-6 relative is generous
+    call harmonic_error(n_per_period(1), 0.9_dp, 0.5_dp*n_per_period(1), e, stat)
+    call check(error, abs(e), 1.0e-3_dp, thr=1.0e-6_dp, rel=.true., message="|E| = tolerance at N")
+    if (allocated(error)) return
+    ! and the smallest: |E| exceeds the tolerance on a grid of N below it (above pi)
+    do k = 0, 999
+      big_n = 3.2_dp + (0.999_dp*n_per_period(1) - 3.2_dp)*real(k, dp)/999.0_dp
+      call harmonic_error(big_n, 0.9_dp, 0.5_dp*big_n, e, stat)
+      if (stat /= demstep_stat%ok) cycle
+      if (.not. abs(e) > 1.0e-3_dp) then
+        call test_failed(error, "|E| <= tolerance already at N = "//real_str(big_n))
+        return
+      end if
+    end do
+  end subroutine test_cost_harmonic
 
   !> More values than a list holds, and the required / either-or rules: one line
   !> in one style each.
