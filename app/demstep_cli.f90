@@ -16,7 +16,7 @@ module demstep_cli
     fmt_real_column, default_text, capacity_of, &
     new_array, array_length, broadcast, common_length, new_int_array, int_array_length
 
-  !> Most values one array variable of a group may hold.
+  !> Most values a list variable holds unless its table row says otherwise.
   integer, parameter, public :: max_values = 100000
   !> Marks array elements the input did not set.
   real(dp), parameter, public :: unset = -huge(1.0_dp)
@@ -584,15 +584,11 @@ contains
     write(unit, '(a)') "/"
   end subroutine write_template
 
-  !> An input array of max_values elements (or `capacity`), all unset.
+  !> An input array of `capacity` elements (the table's), all unset.
   pure function new_array(capacity) result(x)
-    integer, intent(in), optional :: capacity
+    integer, intent(in) :: capacity
     real(dp), allocatable :: x(:)
-    if (present(capacity)) then
-      allocate(x(capacity))
-    else
-      allocate(x(max_values))
-    end if
+    allocate(x(capacity))
     x = unset
   end function new_array
 

@@ -16,7 +16,6 @@ module demstep_cli_accuracy
     capacity_of
   use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &
     rename_file, process_id
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 

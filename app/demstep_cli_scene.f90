@@ -1,7 +1,6 @@
 !> Group `&scene`: a particle assembly, its critical time steps by four methods,
 !> and optionally a run that simulates only the effects it switches on.
 module demstep_cli_scene
-  use demstep_kinds, only: pi
   use demstep_status, only: set_status
   use demstep_namelist, only: lowercase
   use demstep_table_io, only: read_table
@@ -14,7 +13,7 @@ module demstep_cli_scene
     assembly_step_for_n_per_period
   use demstep_cli, only: var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
     check_real, new_array, array_length, new_int_array, int_array_length, max_values, &
-    capacity_of, default_text
+    capacity_of
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use, intrinsic :: iso_fortran_env, only: error_unit
   implicit none
@@ -106,7 +105,6 @@ contains
       damping_ratio, restitution, local_damping, hertz_linearization, impact_velocity, duration, &
       dt, n_per_period, max_eigen_dof
     type(var_spec), allocatable :: specs(:)
-    character(len=:), allocatable :: text
     character(len=*), parameter :: g = "scene"
     type(scene_type) :: sc
     type(critical_step_type) :: crit
@@ -114,7 +112,7 @@ contains
     real(dp), allocatable :: x(:, :), v(:, :), m(:), r(:)
     logical, allocatable :: is_fixed(:)
     integer, allocatable :: pairs(:, :)
-    integer :: i, ios, n, np, nv, nm, nr, nf, nb, nw, mode
+    integer :: i, n, np, nv, nm, nr, nf, nb, nw, mode
     real(dp) :: dt_used
     integer(i8) :: steps
     type(text_progress_type) :: progress
