@@ -1,6 +1,9 @@
-!> Shared machinery of the demstep command line: variable specifications,
-!> reading a group's assignments into a namelist one at a time (so that an error
-!> names the variable), number formatting and checks.
+!> Shared machinery of the demstep command line: the table that describes a
+!> group (its variables with type, default, capacity and the required and
+!> either-or rules), the one generic reader that fills a group's namelist from
+!> that table (defaults first, then the deck's assignments one at a time, so that
+!> an error names the variable), the one place the rules are checked, the
+!> template written from the same table, and number formatting.
 module demstep_cli
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
@@ -9,11 +12,11 @@ module demstep_cli
   implicit none
   private
 
-  public :: var, check_names, given, item_text, read_failed, check_real, fmt_real, fmt_int, write_template, cli_context, &
-    fmt_real_column, &
+  public :: var, given, read_group, check_real, fmt_real, fmt_int, write_template, cli_context, &
+    fmt_real_column, default_text, capacity_of, &
     new_array, array_length, broadcast, common_length, new_int_array, int_array_length
 
-  !> Most values one array variable of a group may hold.
+  !> Most values a list variable holds unless its table row says otherwise.
   integer, parameter, public :: max_values = 100000
   !> Marks array elements the input did not set.
   real(dp), parameter, public :: unset = -huge(1.0_dp)
@@ -28,25 +31,249 @@ module demstep_cli
     integer :: results = -1
     !> No progress or up-front estimates on stderr (`--quiet`).
     logical :: quiet = .false.
+    !> The input deck's name (relative table files are read beside it).
+    character(len=:), allocatable :: deck
   end type cli_context
 
-  !> One input variable of a group: name, what its value must be, documentation,
-  !> and an example value for the template (a leading '!' comments it out there).
+  !> One input variable of a group: name, what its value must be (its type, in
+  !> words), documentation, an example value for the template (a leading '!'
+  !> comments it out there), the default as namelist value text ('' for none; a
+  !> leading '!' marks the initial value of a variable needed only in some cases,
+  !> not shown as a default),
+  !> the capacity of a list (0 for a scalar), and the rules: `required`, and
+  !> `excludes` (blank-separated names that may not be given with it; with
+  !> `required`, one of it and them must be given) and `needs` (names that must
+  !> be given with it).
   type, public :: var_spec
-    character(len=:), allocatable :: name, what, doc, example
+    character(len=:), allocatable :: name, what, doc, example, default, excludes, needs
+    integer :: capacity = 0
+    logical :: required = .false.
   end type var_spec
+
+  !> Reads one namelist text (`&group name = value /`) into the caller's namelist.
+  abstract interface
+    subroutine nml_reader(text, ios)
+      character(len=*), intent(in) :: text
+      !> Nonzero when the runtime could not read the text.
+      integer, intent(out) :: ios
+    end subroutine nml_reader
+  end interface
+
+  !> Reads, checks and evaluates one group of a deck.
+  abstract interface
+    subroutine group_handler(ctx, group, status)
+      import :: cli_context, nml_group_type, demstep_status_type
+      type(cli_context), intent(in) :: ctx
+      type(nml_group_type), intent(in) :: group
+      type(demstep_status_type), intent(out) :: status
+    end subroutine group_handler
+  end interface
+
+  !> One group of the command line: its name, a line of documentation, its
+  !> variables and its handler.
+  type, public :: group_spec
+    character(len=:), allocatable :: name, doc
+    type(var_spec), allocatable :: vars(:)
+    procedure(group_handler), pointer, nopass :: handler => null()
+  end type group_spec
+
+  public :: nml_reader, group_handler
 
 contains
 
-  !> Build a variable specification.
-  pure function var(name, what, doc, example) result(spec)
+  !> Build a variable specification (see [[var_spec]] for the optional rules).
+  pure function var(name, what, doc, example, default, capacity, required, excludes, needs) &
+      result(spec)
     character(len=*), intent(in) :: name, what, doc, example
+    !> Default as namelist value text (a word quoted).
+    character(len=*), intent(in), optional :: default
+    !> Most values of a list variable.
+    integer, intent(in), optional :: capacity
+    logical, intent(in), optional :: required
+    !> Blank-separated names that may not be given with this one.
+    character(len=*), intent(in), optional :: excludes
+    !> Blank-separated names that must be given with this one.
+    character(len=*), intent(in), optional :: needs
     type(var_spec) :: spec
     spec%name = name
     spec%what = what
     spec%doc = doc
     spec%example = example
+    spec%default = ""
+    if (present(default)) spec%default = default
+    if (present(capacity)) spec%capacity = capacity
+    if (present(required)) spec%required = required
+    spec%excludes = ""
+    if (present(excludes)) spec%excludes = excludes
+    spec%needs = ""
+    if (present(needs)) spec%needs = needs
   end function var
+
+  !> A real default as namelist text: the short form of [[fmt_real]] when it reads
+  !> back to the same double, else all 17 digits (the template then shows exactly
+  !> the value the code uses).
+  pure function default_text(x) result(text)
+    real(dp), intent(in) :: x
+    character(len=:), allocatable :: text
+    character(len=32) :: buf
+    real(dp) :: back
+    integer :: ios
+    text = fmt_real(x)
+    read(text, *, iostat=ios) back
+    if (ios == 0 .and. back == x) return
+    write(buf, '(es25.17e3)') x
+    text = trim(adjustl(buf))
+  end function default_text
+
+  !> The capacity of list variable `name` in `specs` (0 when unknown or scalar).
+  pure integer function capacity_of(specs, name) result(capacity)
+    type(var_spec), intent(in) :: specs(:)
+    character(len=*), intent(in) :: name
+    integer :: j
+    capacity = 0
+    j = find(specs, name)
+    if (j > 0) capacity = specs(j)%capacity
+  end function capacity_of
+
+  !> The common part of every group handler: check the names, set the table's
+  !> defaults, read the deck's assignments one at a time through `reader` (the
+  !> handler's `read(text, nml=...)`), and check the required and either-or rules.
+  subroutine read_group(group, specs, reader, status)
+    type(nml_group_type), intent(in) :: group
+    !> The group's table.
+    type(var_spec), intent(in) :: specs(:)
+    procedure(nml_reader) :: reader
+    type(demstep_status_type), intent(out) :: status
+    integer :: i, ios
+    call check_names(group, specs, status)
+    if (status%stat /= demstep_stat%ok) return
+    do i = 1, size(specs)
+      if (len(specs(i)%default) == 0) cycle
+      call reader("&"//group%name//" "//specs(i)%name//" = "//value_of(specs(i)%default)//" /", ios)
+      if (ios /= 0) then
+        call set_status(status, demstep_stat%invalid_input, "&"//group%name//": "//specs(i)%name &
+          //": the default '"//specs(i)%default//"' cannot be read (a defect of demstep)")
+        return
+      end if
+    end do
+    do i = 1, size(group%items)
+      call reader(item_text(group, group%items(i)), ios)
+      if (ios /= 0) then
+        call read_failed(group, group%items(i), specs, status)
+        return
+      end if
+    end do
+    call check_rules(group, specs, status)
+  end subroutine read_group
+
+  !> A default without its '!' mark.
+  pure function value_of(default) result(text)
+    character(len=*), intent(in) :: default
+    character(len=:), allocatable :: text
+    text = default
+    if (default(1:1) == "!") text = default(2:)
+  end function value_of
+
+  !> The required and either-or rules of a table, in one message style:
+  !> `V: required`, `V: give either V or W, not both`, for a required
+  !> variable with alternatives `V: give either V or W (one of them is required)`,
+  !> and `W: required with V` for names that go together.
+  pure subroutine check_rules(group, specs, status)
+    type(nml_group_type), intent(in) :: group
+    type(var_spec), intent(in) :: specs(:)
+    type(demstep_status_type), intent(out) :: status
+    integer :: i, start
+    character(len=:), allocatable :: other
+    logical :: any_other
+    do i = 1, size(specs)
+      associate(s => specs(i))
+        any_other = .false.
+        start = 1
+        do while (start <= len(s%excludes))
+          call next_word(s%excludes, start, other)
+          if (len(other) == 0) exit
+          if (given(group, other)) then
+            any_other = .true.
+            if (given(group, s%name)) then
+              call set_status(status, demstep_stat%invalid_input, "&"//group%name//": "//s%name// &
+                ": give either "//s%name//" or "//other//", not both")
+              return
+            end if
+          end if
+        end do
+        if (given(group, s%name)) then
+          start = 1
+          do while (start <= len(s%needs))
+            call next_word(s%needs, start, other)
+            if (len(other) == 0) exit
+            if (.not. given(group, other)) then
+              call set_status(status, demstep_stat%invalid_input, "&"//group%name//": "//other// &
+                ": required with "//s%name)
+              return
+            end if
+          end do
+        end if
+        if (s%required .and. .not. (given(group, s%name) .or. any_other)) then
+          if (len_trim(s%excludes) == 0) then
+            call set_status(status, demstep_stat%invalid_input, "&"//group%name//": "//s%name// &
+              ": required")
+          else
+            call set_status(status, demstep_stat%invalid_input, "&"//group%name//": "//s%name// &
+              ": give either "//s%name//" or "//alternatives(s%excludes)//" (one of them is required)")
+          end if
+          return
+        end if
+      end associate
+    end do
+    status%stat = demstep_stat%ok
+  end subroutine check_rules
+
+  !> The next blank-separated word of `list` from `start` ('' at the end).
+  pure subroutine next_word(list, start, word)
+    character(len=*), intent(in) :: list
+    integer, intent(inout) :: start
+    character(len=:), allocatable, intent(out) :: word
+    integer :: first, last
+    word = ""
+    first = verify(list(start:), " ")
+    if (first == 0) then
+      start = len(list) + 1
+      return
+    end if
+    first = start + first - 1
+    last = index(list(first:), " ")
+    if (last == 0) then
+      last = len(list)
+    else
+      last = first + last - 2
+    end if
+    word = list(first:last)
+    start = last + 2
+  end subroutine next_word
+
+  !> Blank-separated names as prose: `a`, `a and b`, `a, b and c`.
+  pure function alternatives(list) result(text)
+    character(len=*), intent(in) :: list
+    character(len=:), allocatable :: text, word, last
+    integer :: start
+    text = ""
+    last = ""
+    start = 1
+    do
+      call next_word(list, start, word)
+      if (len(word) == 0) exit
+      if (len(last) > 0) then
+        if (len(text) > 0) text = text//", "
+        text = text//last
+      end if
+      last = word
+    end do
+    if (len(text) > 0) then
+      text = text//" and "//last
+    else
+      text = last
+    end if
+  end function alternatives
 
   !> Every assignment must name a known variable and have a value.
   pure subroutine check_names(group, specs, status)
@@ -98,10 +325,100 @@ contains
     type(var_spec), intent(in) :: specs(:)
     type(demstep_status_type), intent(out) :: status
     integer :: j
+    integer(i8) :: last
     j = find(specs, item%name)
+    if (specs(j)%capacity > 0) then
+      ! too many values is the likelier cause when the count says so
+      last = first_index(item%designator) - 1 + count_values(item%value)
+      if (last > specs(j)%capacity) then
+        call set_status(status, demstep_stat%invalid_input, "&"//group%name//": "//item%name// &
+          ": holds at most "//fmt_int(int(specs(j)%capacity, i8))//" values, got "//fmt_int(last))
+        return
+      end if
+    end if
     call set_status(status, demstep_stat%invalid_input, "&"//group%name//": "//item%name// &
-      ": cannot read '"//excerpt(item%value)//"' as "//specs(max(j, 1))%what)
+      ": cannot read '"//excerpt(item%value)//"' as "//specs(j)%what)
   end subroutine read_failed
+
+  !> The first subscript of a designator (`x(3)`, `x(3:5)`: 3), 1 without one.
+  pure integer(i8) function first_index(designator) result(k)
+    character(len=*), intent(in) :: designator
+    integer :: open, i
+    k = 1
+    open = index(designator, "(")
+    if (open == 0) return
+    k = 0
+    do i = open + 1, len(designator)
+      if (designator(i:i) == " ") cycle
+      if (designator(i:i) < "0" .or. designator(i:i) > "9") exit
+      if (k > huge(k)/10 - 9) exit
+      k = 10*k + (iachar(designator(i:i)) - iachar("0"))
+    end do
+    k = max(k, 1_i8)
+  end function first_index
+
+  !> How many values a list-directed value text holds: fields separated by commas
+  !> or blanks outside quotes, `r*c` and `r*` counting r, a null between two
+  !> commas counting 1 (only used to word a message; 64-bit so that huge repeat
+  !> counts saturate instead of wrapping).
+  pure integer(i8) function count_values(text) result(n)
+    character(len=*), intent(in) :: text
+    integer :: i, start
+    character :: quote
+    logical :: in_field, after_comma
+    n = 0
+    i = 1
+    in_field = .false.
+    after_comma = .true.
+    quote = " "
+    start = 1
+    do while (i <= len(text))
+      associate(c => text(i:i))
+        if (quote /= " ") then
+          if (c == quote) quote = " "
+        else if (c == "'" .or. c == '"') then
+          quote = c
+          if (.not. in_field) start = i
+          in_field = .true.
+        else if (c == "," .or. c == " " .or. c == achar(9) .or. c == achar(10) .or. c == achar(13)) then
+          if (in_field) then
+            n = n + field_count(text(start:i-1))
+            in_field = .false.
+            after_comma = c == ","
+          else if (c == ",") then
+            if (after_comma) n = n + 1
+            after_comma = .true.
+          end if
+        else if (c == "/") then
+          exit
+        else if (.not. in_field) then
+          in_field = .true.
+          start = i
+        end if
+      end associate
+      i = i + 1
+    end do
+    if (in_field) n = n + field_count(text(start:i-1))
+  contains
+    pure integer(i8) function field_count(field) result(m)
+      character(len=*), intent(in) :: field
+      integer :: j, star
+      integer(i8) :: r
+      m = 1
+      star = index(field, "*")
+      if (star <= 1) return
+      r = 0
+      do j = 1, star - 1
+        if (field(j:j) < "0" .or. field(j:j) > "9") return
+        if (r > huge(r)/10 - 9) then
+          m = huge(m)
+          return
+        end if
+        r = 10*r + (iachar(field(j:j)) - iachar("0"))
+      end do
+      m = r
+    end function field_count
+  end function count_values
 
   !> Status `invalid_input` unless x is finite and > `lower` (>= with `inclusive`);
   !> `element` names the array element checked. Does nothing after an error.
@@ -236,36 +553,42 @@ contains
     text = trim(buf)
   end function fmt_int
 
-  !> Write a commented input group for the template.
-  subroutine write_template(unit, group, doc, specs)
+  !> Write a commented input group for the template, from the group's table: its
+  !> documentation, and per variable the example, the documentation and the
+  !> default or the rule.
+  subroutine write_template(unit, spec)
     integer, intent(in) :: unit
-    character(len=*), intent(in) :: group, doc
-    type(var_spec), intent(in) :: specs(:)
+    type(group_spec), intent(in) :: spec
     integer :: i
-    character(len=:), allocatable :: line
-    write(unit, '(a)') "! "//doc
-    write(unit, '(a)') "&"//group
-    do i = 1, size(specs)
-      if (specs(i)%example(1:1) == "!") then
-        ! an alternative to another variable: shown commented out
-        line = "  ! "//specs(i)%name//" = "//specs(i)%example(2:)//","
-      else
-        line = "  "//specs(i)%name//" = "//specs(i)%example//","
-      end if
-      write(unit, '(a)') line//repeat(" ", max(1, 40 - len(line)))//"! "//specs(i)%doc
+    character(len=:), allocatable :: line, note
+    write(unit, '(a)') "! "//spec%doc
+    write(unit, '(a)') "&"//spec%name
+    do i = 1, size(spec%vars)
+      associate(s => spec%vars(i))
+        if (s%example(1:1) == "!") then
+          ! an alternative to another variable: shown commented out
+          line = "  ! "//s%name//" = "//s%example(2:)//","
+        else
+          line = "  "//s%name//" = "//s%example//","
+        end if
+        note = ""
+        if (len(s%default) > 0) then
+          if (s%default(1:1) /= "!") note = " (default "//s%default//")"
+        end if
+        if (s%required .and. len_trim(s%excludes) == 0) note = " (required)"
+        if (s%required .and. len_trim(s%excludes) > 0) note = " (this or "// &
+          alternatives(s%excludes)//" required)"
+        write(unit, '(a)') line//repeat(" ", max(1, 40 - len(line)))//"! "//s%doc//note
+      end associate
     end do
     write(unit, '(a)') "/"
   end subroutine write_template
 
-  !> An input array of max_values elements (or `capacity`), all unset.
+  !> An input array of `capacity` elements (the table's), all unset.
   pure function new_array(capacity) result(x)
-    integer, intent(in), optional :: capacity
+    integer, intent(in) :: capacity
     real(dp), allocatable :: x(:)
-    if (present(capacity)) then
-      allocate(x(capacity))
-    else
-      allocate(x(max_values))
-    end if
+    allocate(x(capacity))
     x = unset
   end function new_array
 
@@ -329,7 +652,7 @@ contains
     do i = 1, size(names)
       if (lengths(i) == 0) cycle
       if (len(listing) > 0) listing = listing//", "
-      listing = listing//trim(names(i))//": "//fmt_int(int(lengths(i), 8))
+      listing = listing//trim(names(i))//": "//fmt_int(int(lengths(i), i8))
     end do
     call set_status(status, demstep_stat%invalid_input, "&"//group//": "//trim(names(bad))// &
       ": arrays of different lengths ("//listing//"); give 1 value or the same number")

@@ -3,19 +3,19 @@
 module demstep_cli_accuracy
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
     discrete_contact_type, contact_with_onset, contact_worst_case, quantity_kind, n_quantities, &
-    quantity_names, worst_error, n_for_tolerance, measure_step_cost, nroots_options_type, &
-    nroots_type, n_roots, harmonic_error, spring_type, new_spring, spring_period, &
+    quantity_names, worst_error, n_for_tolerance, n_for_harmonic_tolerance, measure_step_cost, &
+    harmonic_error, spring_type, new_spring, spring_period, &
     run_prediction_type, predict_run
   use demstep_kinds, only: pi
   use demstep_status, only: set_status
   use demstep_namelist, only: lowercase
   use demstep_cost, only: default_cost_n_max
   use demstep_contact, only: check_contact_damping
-  use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, fmt_real, &
-    fmt_int, cli_context, check_real, new_array, array_length, broadcast, common_length
+  use demstep_cli, only: var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
+    check_real, new_array, array_length, broadcast, common_length, default_text, max_values, &
+    capacity_of
   use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &
     rename_file, process_id
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
@@ -40,31 +40,34 @@ contains
     type(var_spec), allocatable :: specs(:)
     specs = [ &
       var("n_per_period", "a list of real numbers", "N = T/dt (> 0; <= pi is flagged unstable)", &
-        "10.0, 20.0, 50.0"), &
+        "10.0, 20.0, 50.0", capacity=max_values, required=.true.), &
       var("onset", "a list of real numbers", "overlap at the first force evaluation over v0 dt, " &
-        //"in (0, 1]; omit for the worst case", "!1.0"), &
+        //"in (0, 1]; omit for the worst case", "!1.0", capacity=max_values), &
       var("damping_ratio", "a real number", "viscous damping ratio (>= 0; < 1 for the worst case) " &
-        //"of a lagged dashpot", "0.0") ]
+        //"of a lagged dashpot", "0.0", default="0") ]
   end function contact_error_specs
 
   function accuracy_cost_specs() result(specs)
     type(var_spec), allocatable :: specs(:)
     specs = [ &
       var("quantity", "a quoted word", "'restitution', 'contact_time', 'overlap', 'period' or " &
-        //"'harmonic' (the paper's E at lambda)", "'restitution'"), &
-      var("tolerances", "a list of real numbers", "relative errors to meet (> 0)", "1e-2, 1e-3, 1e-4"), &
-      var("duration", "a real number", "simulated time (> 0)", "1.0"), &
-      var("n_particles", "a real number", "particles in the simulation (>= 1)", "1.0e5"), &
-      var("mass", "a real number", "particle mass of the stiffest contact (> 0)", "0.01"), &
-      var("stiffness", "a real number", "its contact stiffness (> 0)", "1.0e5"), &
-      var("damping_ratio", "a real number", "viscous damping ratio in [0, 1)", "0.0"), &
-      var("lambda", "a real number", "for 'harmonic': sqrt(K'/K*) in (0, 1)", "!0.95"), &
+        //"'harmonic' (the paper's E at lambda)", "'restitution'", required=.true.), &
+      var("tolerances", "a list of real numbers", "relative errors to meet (> 0)", "1e-2, 1e-3, 1e-4", &
+        capacity=max_values, required=.true.), &
+      var("duration", "a real number", "simulated time (> 0)", "1.0", required=.true.), &
+      var("n_particles", "a real number", "particles in the simulation (>= 1)", "1.0e5", required=.true.), &
+      var("mass", "a real number", "particle mass of the stiffest contact (> 0)", "0.01", required=.true.), &
+      var("stiffness", "a real number", "its contact stiffness (> 0)", "1.0e5", required=.true.), &
+      var("damping_ratio", "a real number", "viscous damping ratio in [0, 1)", "0.0", default="0"), &
+      var("lambda", "a real number", "for 'harmonic': sqrt(K'/K*) in (0, 1]", "!0.95"), &
       var("cost_per_particle_step", "a real number", "seconds per particle-step (> 0); omit to " &
         //"measure the stepper on the spot", "!1.5e-7"), &
-      var("n_max", "a real number", "largest N searched (default 1e7, at most 1e15)", "!1.0e7"), &
-      var("csv", "a quoted file name", "curve data (default 'accuracy_cost.csv')", "'accuracy_cost.csv'"), &
-      var("figure", "a quoted file name", "figure base name, .png and .svg added (default " &
-        //"'accuracy_cost'; 'none' for no figure)", "'accuracy_cost'") ]
+      var("n_max", "a real number", "largest N searched (at most 1e15)", "!"//default_text(default_cost_n_max), &
+        default=default_text(default_cost_n_max)), &
+      var("csv", "a quoted file name", "curve data", "'accuracy_cost.csv'", &
+        default="'accuracy_cost.csv'"), &
+      var("figure", "a quoted file name", "figure base name, .png and .svg added ('none' for no " &
+        //"figure)", "'accuracy_cost'", default="'accuracy_cost'") ]
   end function accuracy_cost_specs
 
   !> Read, check and evaluate one `&contact_error` group.
@@ -76,38 +79,24 @@ contains
     real(dp) :: damping_ratio
     namelist /contact_error/ n_per_period, onset, damping_ratio
     type(var_spec), allocatable :: specs(:)
-    character(len=:), allocatable :: text
     character(len=*), parameter :: g = "contact_error"
     real(dp), allocatable :: big_n(:), s(:), onset_q(:, :), value(:, :)
     integer(i8), allocatable :: steps(:)
     logical, allocatable :: stable(:), saturated(:)
-    integer :: i, ios, lengths(2), length, q
+    integer :: i, lengths(2), length, q
     logical :: worst
     type(discrete_contact_type) :: c
     real(dp) :: e
     integer, parameter :: columns(3) = [quantity_kind%contact_time, quantity_kind%restitution, quantity_kind%overlap]
 
     specs = contact_error_specs()
-    call check_names(group, specs, status)
+    n_per_period = new_array(capacity_of(specs, "n_per_period"))
+    onset = new_array(capacity_of(specs, "onset"))
+    call read_group(group, specs, read_item, status)
     if (status%stat /= demstep_stat%ok) return
-    n_per_period = new_array()
-    onset = new_array()
-    damping_ratio = 0.0_dp
-    do i = 1, size(group%items)
-      text = item_text(group, group%items(i))
-      read(text, nml=contact_error, iostat=ios)
-      if (ios /= 0) then
-        call read_failed(group, group%items(i), specs, status)
-        return
-      end if
-    end do
     call array_length(g, "n_per_period", n_per_period, lengths(1), status)
     call array_length(g, "onset", onset, lengths(2), status)
     if (status%stat /= demstep_stat%ok) return
-    if (lengths(1) == 0) then
-      call set_status(status, demstep_stat%invalid_input, "&"//g//": n_per_period: required")
-      return
-    end if
     call common_length(g, [character(len=12) :: "n_per_period", "onset"], lengths, length, status)
     call check_real(g, "damping_ratio", damping_ratio, status, inclusive=.true.)
     if (status%stat /= demstep_stat%ok) return
@@ -163,6 +152,11 @@ contains
       call write_onset(ctx%results, big_n, s, steps, value, stable)
     end if
   contains
+    subroutine read_item(text, ios)
+      character(len=*), intent(in) :: text
+      integer, intent(out) :: ios
+      read(text, nml=contact_error, iostat=ios)
+    end subroutine read_item
     !> The library's "variable: what" as "&contact_error: variable: element i is x; what".
     subroutine name_element(st, element, n_value, onset_value)
       type(demstep_status_type), intent(inout) :: st
@@ -269,9 +263,8 @@ contains
     namelist /accuracy_cost/ quantity, tolerances, duration, n_particles, mass, stiffness, &
       damping_ratio, lambda, cost_per_particle_step, n_max, csv, figure
     type(var_spec), allocatable :: specs(:)
-    character(len=:), allocatable :: text
     character(len=*), parameter :: g = "accuracy_cost"
-    integer :: i, ios, nt, q
+    integer :: i, nt, q
     real(dp) :: period, cost, n_top
     real(dp), allocatable :: n(:), dt(:), predicted_seconds(:)
     integer(i8), allocatable :: steps(:)
@@ -282,28 +275,9 @@ contains
     type(run_prediction_type) :: prediction
 
     specs = accuracy_cost_specs()
-    call check_names(group, specs, status)
+    tolerances = new_array(capacity_of(specs, "tolerances"))
+    call read_group(group, specs, read_item, status)
     if (status%stat /= demstep_stat%ok) return
-    quantity = ""
-    tolerances = new_array()
-    duration = 0.0_dp
-    n_particles = 0.0_dp
-    mass = 0.0_dp
-    stiffness = 0.0_dp
-    damping_ratio = 0.0_dp
-    lambda = 0.0_dp
-    cost_per_particle_step = 0.0_dp
-    n_max = default_cost_n_max
-    csv = "accuracy_cost.csv"
-    figure = "accuracy_cost"
-    do i = 1, size(group%items)
-      text = item_text(group, group%items(i))
-      read(text, nml=accuracy_cost, iostat=ios)
-      if (ios /= 0) then
-        call read_failed(group, group%items(i), specs, status)
-        return
-      end if
-    end do
     q = 0
     do i = 1, n_quantities
       if (lowercase(trim(quantity)) == trim(quantity_names(i))) q = i
@@ -319,10 +293,6 @@ contains
     end select
     call array_length(g, "tolerances", tolerances, nt, status)
     if (status%stat /= demstep_stat%ok) return
-    if (nt == 0) then
-      call set_status(status, demstep_stat%invalid_input, "&"//g//": tolerances: required")
-      return
-    end if
     do i = 1, nt
       call check_real(g, "tolerances", tolerances(i), status, element=i)
     end do
@@ -335,13 +305,10 @@ contains
     if (given(group, "cost_per_particle_step")) call check_real(g, "cost_per_particle_step", &
       cost_per_particle_step, status)
     if (status%stat /= demstep_stat%ok) return
-    if (q == quantity_harmonic) then
-      call check_real(g, "lambda", lambda, status)
-      if (status%stat == demstep_stat%ok .and. .not. lambda < 1.0_dp) call set_status(status, &
-        demstep_stat%invalid_input, "&"//g//": lambda: must be in (0, 1) for 'harmonic'")
-      if (status%stat == demstep_stat%ok .and. any(tolerances(:nt) >= 1.0_dp)) call set_status(status, &
-        demstep_stat%invalid_input, "&"//g//": tolerances: must be < 1 for 'harmonic'")
-      if (status%stat /= demstep_stat%ok) return
+    if (q == quantity_harmonic .and. .not. given(group, "lambda")) then
+      call set_status(status, demstep_stat%invalid_input, "&"//g//": lambda: required with " &
+        //"quantity = 'harmonic'")
+      return
     end if
 
     call check_file_name(g, "csv", trim(csv), .false., status)
@@ -406,11 +373,17 @@ contains
     call write_curves(ctx%report, q, damping_ratio, lambda, period, duration, n_particles, cost, &
       n_top, trim(csv), trim(figure), status)
     if (status%stat /= demstep_stat%ok) status%message = "&"//g//": csv: "//status%message
+  contains
+    subroutine read_item(text, ios)
+      character(len=*), intent(in) :: text
+      integer, intent(out) :: ios
+      read(text, nml=accuracy_cost, iostat=ios)
+    end subroutine read_item
   end subroutine handle_accuracy_cost
 
-  !> N for one tolerance: the contact quantities through n_for_tolerance, the
-  !> paper's E through the simulated-stiffness root finding (smallest N with
-  !> |E| <= tolerance, half-period steps).
+  !> N for one tolerance from the library (a contact quantity's worst case, or the
+  !> paper's E at lambda); `stat` is the library's code, and bad input comes back
+  !> in `status` with the message naming the deck's variable.
   subroutine n_needed(q, tolerance, zeta, lambda, n_max, n, stat, status)
     integer, intent(in) :: q
     real(dp), intent(in) :: tolerance, zeta, lambda, n_max
@@ -419,25 +392,17 @@ contains
     !> Bad input (the message names the variable); ok otherwise.
     type(demstep_status_type), intent(out) :: status
     type(demstep_status_type) :: st
-    type(nroots_options_type) :: options
-    type(nroots_type) :: r
     if (q == quantity_harmonic) then
-      options%tolerance = tolerance
-      options%n_max = n_max
-      call n_roots(lambda, options, r, st)
-      n = r%n_pick
-      stat = st%stat
-      if (stat == demstep_stat%ok) stat = r%stat
-      if (stat == demstep_stat%at_stability_limit) stat = demstep_stat%ok
+      call n_for_harmonic_tolerance(lambda, tolerance, n, st, n_max=n_max)
     else
       call n_for_tolerance(q, tolerance, n, st, damping_ratio=zeta, n_max=n_max)
-      stat = st%stat
-      if (stat == demstep_stat%invalid_input) then
-        status = st
-        if (index(status%message, "tolerance: ") == 1) status%message = "tolerances: "// &
-          status%message(12:)
-        return
-      end if
+    end if
+    stat = st%stat
+    if (stat == demstep_stat%invalid_input) then
+      status = st
+      if (index(status%message, "tolerance: ") == 1) status%message = "tolerances: "// &
+        status%message(12:)
+      return
     end if
     status%stat = demstep_stat%ok
   end subroutine n_needed

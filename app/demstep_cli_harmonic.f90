@@ -4,9 +4,9 @@ module demstep_cli_harmonic
     evaluate_error => harmonic_error, harmonic_error_check
   use demstep_status, only: set_status
   use demstep_harmonic, only: harmonic_n_max
-  use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
-    fmt_real, fmt_real_column, fmt_int, cli_context, check_real, new_array, array_length, &
-    broadcast, common_length
+  use demstep_cli, only: var_spec, var, given, read_group, fmt_real, fmt_real_column, fmt_int, &
+    cli_context, check_real, new_array, array_length, broadcast, common_length, max_values, &
+    capacity_of
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -23,12 +23,14 @@ contains
   function harmonic_specs() result(specs)
     type(var_spec), allocatable :: specs(:)
     specs = [ &
-      var("n_per_period", "a list of real numbers", "N = T/dt (> 0), one or more", "10.0, 20.0, 40.0"), &
-      var("lambda", "a list of real numbers", "lambda = sqrt(K'/K*) (> 0), one or more", "0.9"), &
+      var("n_per_period", "a list of real numbers", "N = T/dt (> 0), one or more", "10.0, 20.0, 40.0", &
+        capacity=max_values, required=.true.), &
+      var("lambda", "a list of real numbers", "lambda = sqrt(K'/K*) (> 0), one or more", "0.9", &
+        capacity=max_values, required=.true.), &
       var("steps_fraction", "a list of real numbers", &
-        "n = f N steps (f > 0; 0.5 = half a period), or give n_steps", "0.5"), &
-      var("n_steps", "a list of real numbers", "n steps, 1 <= n <= 1e12, or give steps_fraction", &
-        "!100.0") ]
+        "n = f N steps (f > 0; 0.5 = half a period), or give n_steps", "0.5", capacity=max_values), &
+      var("n_steps", "a list of real numbers", "n steps, 1 <= n <= 1e12", &
+        "!100.0", capacity=max_values, required=.true., excludes="steps_fraction") ]
   end function harmonic_specs
 
   !> Read, check and evaluate one `&harmonic_error` group.
@@ -41,32 +43,18 @@ contains
     real(dp), allocatable :: big_n(:), lam(:), n(:), e(:)
     integer, allocatable :: stat(:)
     type(var_spec), allocatable :: specs(:)
-    character(len=:), allocatable :: text
     character(len=*), parameter :: g = "harmonic_error"
-    integer :: i, k, ios, lengths(3), length
+    integer :: i, k, lengths(3), length
     logical :: fraction
     character(len=:), allocatable :: name
 
     specs = harmonic_specs()
-    call check_names(group, specs, status)
+    n_per_period = new_array(capacity_of(specs, "n_per_period"))
+    lambda = new_array(capacity_of(specs, "lambda"))
+    steps_fraction = new_array(capacity_of(specs, "steps_fraction"))
+    n_steps = new_array(capacity_of(specs, "n_steps"))
+    call read_group(group, specs, read_item, status)
     if (status%stat /= demstep_stat%ok) return
-    n_per_period = new_array()
-    lambda = new_array()
-    steps_fraction = new_array()
-    n_steps = new_array()
-    do i = 1, size(group%items)
-      text = item_text(group, group%items(i))
-      read(text, nml=harmonic_error, iostat=ios)
-      if (ios /= 0) then
-        call read_failed(group, group%items(i), specs, status)
-        return
-      end if
-    end do
-    if (given(group, "n_steps") .eqv. given(group, "steps_fraction")) then
-      call set_status(status, demstep_stat%invalid_input, "&"//g//": n_steps: give either " &
-        //"n_steps or steps_fraction (exactly one of them)")
-      return
-    end if
     fraction = given(group, "steps_fraction")
     call array_length(g, "n_per_period", n_per_period, lengths(1), status)
     call array_length(g, "lambda", lambda, lengths(2), status)
@@ -75,11 +63,6 @@ contains
     else
       call array_length(g, "n_steps", n_steps, lengths(3), status)
     end if
-    if (status%stat /= demstep_stat%ok) return
-    if (lengths(1) == 0) call set_status(status, demstep_stat%invalid_input, "&"//g// &
-      ": n_per_period: required")
-    if (lengths(2) == 0 .and. status%stat == demstep_stat%ok) call set_status(status, &
-      demstep_stat%invalid_input, "&"//g//": lambda: required")
     if (status%stat /= demstep_stat%ok) return
     call common_length(g, [character(len=16) :: "n_per_period", "lambda", &
       merge("steps_fraction", "n_steps       ", fraction)], lengths, length, status)
@@ -131,6 +114,12 @@ contains
     end if
     call report(ctx%report, group, big_n, lam, n, e, stat)
     call write_result(ctx%results, big_n, lam, n, e, stat)
+  contains
+    subroutine read_item(text, ios)
+      character(len=*), intent(in) :: text
+      integer, intent(out) :: ios
+      read(text, nml=harmonic_error, iostat=ios)
+    end subroutine read_item
   end subroutine handle_harmonic_error
 
   subroutine report(u, group, big_n, lam, n, e, stat)

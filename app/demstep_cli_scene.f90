@@ -1,18 +1,19 @@
 !> Group `&scene`: a particle assembly, its critical time steps by four methods,
 !> and optionally a run that simulates only the effects it switches on.
 module demstep_cli_scene
-  use demstep_kinds, only: pi
   use demstep_status, only: set_status
   use demstep_namelist, only: lowercase
+  use demstep_table_io, only: read_table
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
     scene_type, scene_summary_type, new_scene, scene_add_bonds, scene_add_walls, &
     scene_run, effect_index, restitution_to_damping_ratio, law_linear, law_hertz, &
     effect_contacts, effect_gravity, effect_damping, effect_local_damping, effect_walls, &
     n_effects, effect_names, critical_step_type, critical_time_steps, hertz_at_current, &
-    hertz_at_impact, default_max_eigen_dof, measure_step_cost, text_progress_type
-  use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, fmt_real, &
-    fmt_int, cli_context, check_real, new_array, array_length, new_int_array, int_array_length, &
-    max_values
+    hertz_at_impact, default_max_eigen_dof, measure_step_cost, text_progress_type, &
+    assembly_step_for_n_per_period
+  use demstep_cli, only: var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
+    check_real, new_array, array_length, new_int_array, int_array_length, max_values, &
+    capacity_of
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use, intrinsic :: iso_fortran_env, only: error_unit
   implicit none
@@ -33,44 +34,55 @@ contains
   function scene_specs() result(specs)
     type(var_spec), allocatable :: specs(:)
     specs = [ &
-      var("dim", "an integer", "dimension: 1, 2 or 3 (required)", "2"), &
+      var("dim", "an integer", "dimension: 1, 2 or 3", "2", required=.true.), &
       var("position", "a list of real numbers", "dim coordinates per particle", &
-        "0.0, 0.0,  1.0, 0.0,  2.0, 0.0"), &
+        "0.0, 0.0,  1.0, 0.0,  2.0, 0.0", capacity=3*max_values, required=.true., &
+        excludes="particles_file"), &
       var("velocity", "a list of real numbers", "dim components per particle (default 0)", &
-        "0.0, 0.0,  0.0, 0.0,  0.0, 0.1"), &
-      var("mass", "a list of real numbers", "one per particle, or one for all (> 0)", "1.0"), &
-      var("radius", "a list of real numbers", "one per particle, or one for all (> 0)", "0.4"), &
-      var("fixed", "a list of integers", "numbers of the fixed particles", "1"), &
-      var("bonds", "a list of integers", "pairs of particle numbers joined by bonds", "1, 2,  2, 3"), &
+        "0.0, 0.0,  0.0, 0.0,  0.0, 0.1", capacity=3*max_values), &
+      var("mass", "a list of real numbers", "one per particle, or one for all (> 0)", "1.0", &
+        capacity=max_values), &
+      var("radius", "a list of real numbers", "one per particle, or one for all (> 0)", "0.4", &
+        capacity=max_values), &
+      var("fixed", "a list of integers", "numbers of the fixed particles", "1", capacity=max_values), &
+      var("bonds", "a list of integers", "pairs of particle numbers joined by bonds", "1, 2,  2, 3", &
+        capacity=2*max_values), &
       var("particles_file", "a quoted file name", "table instead of the arrays: per row dim " &
-        //"positions, dim velocities, mass, radius, fixed (0/1); # comments", "!'particles.txt'"), &
+        //"positions, dim velocities, mass, radius, fixed (0/1); # comments", "!'particles.txt'", &
+        excludes="velocity mass radius fixed"), &
       var("bonds_file", "a quoted file name", "table of bonds: per row two particle numbers", &
-        "!'bonds.txt'"), &
-      var("law", "a quoted word", "contact law: 'linear' (default, k_normal) or 'hertz' (e_star)", &
-        "'linear'"), &
-      var("k_normal", "a real number", "linear contact stiffness (> 0)", "1.0e4"), &
-      var("e_star", "a real number", "Hertz effective modulus E* (> 0)", "!1.0e8"), &
-      var("k_bond", "a real number", "bond normal stiffness (> 0 when there are bonds)", "100.0"), &
-      var("k_bond_tangential", "a real number", "bond tangential stiffness (>= 0, default 0)", "0.0"), &
+        "!'bonds.txt'", excludes="bonds"), &
+      var("law", "a quoted word", "contact law: 'linear' (k_normal) or 'hertz' (e_star)", &
+        "'linear'", default="'linear'"), &
+      var("k_normal", "a real number", "linear contact stiffness (> 0)", "1.0e4", default="!0"), &
+      var("e_star", "a real number", "Hertz effective modulus E* (> 0)", "!1.0e8", default="!0"), &
+      var("k_bond", "a real number", "bond normal stiffness (> 0 when there are bonds)", "100.0", &
+        default="!0"), &
+      var("k_bond_tangential", "a real number", "bond tangential stiffness (>= 0)", "0.0", &
+        default="0"), &
       var("walls", "a list of real numbers", "per wall: dim coordinates of a point, dim of the " &
-        //"normal pointing into the domain", "!0.0, -0.5,  0.0, 1.0"), &
+        //"normal pointing into the domain", "!0.0, -0.5,  0.0, 1.0", capacity=64), &
       var("effects", "a list of quoted words", "'contacts' (default), 'gravity', 'damping', " &
-        //"'local_damping', 'walls'; 'none' for bonds only", "'contacts'"), &
+        //"'local_damping', 'walls'; 'none' for bonds only", "'contacts'", capacity=max_effects), &
       var("gravity", "a list of real numbers", "dim components (default -9.81 along the last axis)", &
-        "!0.0, -9.81"), &
-      var("damping_ratio", "a real number", "viscous damping ratio (0 to 1e100) for 'damping'", "!0.1"), &
-      var("restitution", "a real number", "or the restitution coefficient in (0, 1] it gives", "!0.8"), &
-      var("local_damping", "a real number", "Cundall's alpha in [0, 1) for 'local_damping'", "!0.7"), &
-      var("hertz_linearization", "a quoted word", "'current' overlap (default) or 'impact' " &
-        //"(with impact_velocity)", "!'current'"), &
+        "!0.0, -9.81", capacity=3), &
+      var("damping_ratio", "a real number", "viscous damping ratio (0 to 1e100) for 'damping'", "!0.1", &
+        default="0"), &
+      var("restitution", "a real number", "or the restitution coefficient in (0, 1] it gives", "!0.8", &
+        excludes="damping_ratio"), &
+      var("local_damping", "a real number", "Cundall's alpha in [0, 1) for 'local_damping'", "!0.7", &
+        default="0"), &
+      var("hertz_linearization", "a quoted word", "'current' overlap or 'impact' " &
+        //"(with impact_velocity)", "!'current'", default="'current'"), &
       var("impact_velocity", "a real number", "impact speed for the 'impact' linearization (> 0)", &
-        "!1.0"), &
-      var("duration", "a real number", "simulated time (>= 0, default 0: no run)", "10.0"), &
-      var("dt", "a real number", "time step of the run (> 0), or give n_per_period", "!0.01"), &
+        "!1.0", default="!0"), &
+      var("duration", "a real number", "simulated time (>= 0; 0: no run)", "10.0", default="0"), &
+      var("dt", "a real number", "time step of the run (> 0), or give n_per_period", "!0.01", &
+        excludes="n_per_period"), &
       var("n_per_period", "a real number", "steps per smallest period 2 pi/omega_max (> pi " &
         //"to be stable)", "20.0"), &
-      var("max_eigen_dof", "an integer", "largest problem for the dense eigensolver " &
-        //"(default 4000)", "!4000") ]
+      var("max_eigen_dof", "an integer", "largest problem for the dense eigensolver", "!"// &
+        fmt_int(int(default_max_eigen_dof, i8)), default=fmt_int(int(default_max_eigen_dof, i8))) ]
   end function scene_specs
 
   !> Read, check and evaluate one `&scene` group.
@@ -93,7 +105,6 @@ contains
       damping_ratio, restitution, local_damping, hertz_linearization, impact_velocity, duration, &
       dt, n_per_period, max_eigen_dof
     type(var_spec), allocatable :: specs(:)
-    character(len=:), allocatable :: text
     character(len=*), parameter :: g = "scene"
     type(scene_type) :: sc
     type(critical_step_type) :: crit
@@ -101,53 +112,23 @@ contains
     real(dp), allocatable :: x(:, :), v(:, :), m(:), r(:)
     logical, allocatable :: is_fixed(:)
     integer, allocatable :: pairs(:, :)
-    integer :: i, ios, n, np, nv, nm, nr, nf, nb, nw, mode
+    integer :: i, n, np, nv, nm, nr, nf, nb, nw, mode
     real(dp) :: dt_used
     integer(i8) :: steps
     type(text_progress_type) :: progress
 
     specs = scene_specs()
-    call check_names(group, specs, status)
-    if (status%stat /= demstep_stat%ok) return
-    dim = 0
-    position = new_array(3*max_values)
-    velocity = new_array(3*max_values)
-    mass = new_array()
-    radius = new_array()
-    walls = new_array(64)
-    gravity = new_array(3)
-    fixed = new_int_array(max_values)
-    bonds = new_int_array(2*max_values)
-    particles_file = ""
-    bonds_file = ""
-    law = "linear"
-    hertz_linearization = "current"
+    position = new_array(capacity_of(specs, "position"))
+    velocity = new_array(capacity_of(specs, "velocity"))
+    mass = new_array(capacity_of(specs, "mass"))
+    radius = new_array(capacity_of(specs, "radius"))
+    walls = new_array(capacity_of(specs, "walls"))
+    gravity = new_array(capacity_of(specs, "gravity"))
+    fixed = new_int_array(capacity_of(specs, "fixed"))
+    bonds = new_int_array(capacity_of(specs, "bonds"))
     effects = ""
-    k_normal = 0.0_dp
-    e_star = 0.0_dp
-    k_bond = 0.0_dp
-    k_bond_tangential = 0.0_dp
-    damping_ratio = 0.0_dp
-    restitution = 1.0_dp
-    local_damping = 0.0_dp
-    impact_velocity = 0.0_dp
-    duration = 0.0_dp
-    dt = 0.0_dp
-    n_per_period = 0.0_dp
-    max_eigen_dof = default_max_eigen_dof
-    do i = 1, size(group%items)
-      text = item_text(group, group%items(i))
-      read(text, nml=scene, iostat=ios)
-      if (ios /= 0) then
-        call read_failed(group, group%items(i), specs, status)
-        return
-      end if
-    end do
-
-    if (.not. given(group, "dim")) then
-      call fail("dim", "required")
-      return
-    end if
+    call read_group(group, specs, read_item, status)
+    if (status%stat /= demstep_stat%ok) return
     if (dim < 1 .or. dim > 3) then
       call fail("dim", "must be 1, 2 or 3, got "//fmt_int(int(dim, i8)))
       return
@@ -155,11 +136,6 @@ contains
 
     ! particles: a table file or the arrays
     if (given(group, "particles_file")) then
-      if (given(group, "position") .or. given(group, "velocity") .or. given(group, "mass") .or. &
-          given(group, "radius") .or. given(group, "fixed")) then
-        call fail("particles_file", "give either particles_file or the particle arrays, not both")
-        return
-      end if
       call read_particles(beside(file, trim(particles_file)), dim, x, v, m, r, is_fixed, status)
       if (status%stat /= demstep_stat%ok) then
         status%message = "&"//g//": particles_file: "//status%message
@@ -173,10 +149,6 @@ contains
       call array_length(g, "radius", radius, nr, status)
       call int_array_length(g, "fixed", fixed, nf, status)
       if (status%stat /= demstep_stat%ok) return
-      if (np == 0) then
-        call fail("position", "required (or give particles_file)")
-        return
-      end if
       if (mod(np, dim) /= 0) then
         call fail("position", fmt_int(int(np, i8))//" values are not "//fmt_int(int(dim, i8))// &
           " per particle")
@@ -226,10 +198,6 @@ contains
 
     ! bonds: a table file or the array
     if (given(group, "bonds_file")) then
-      if (given(group, "bonds")) then
-        call fail("bonds_file", "give either bonds_file or bonds, not both")
-        return
-      end if
       call read_bonds(beside(file, trim(bonds_file)), pairs, status)
       if (status%stat /= demstep_stat%ok) then
         status%message = "&"//g//": bonds_file: "//status%message
@@ -321,7 +289,7 @@ contains
       end if
     end if
     if (sc%effects(effect_damping)) then
-      if (given(group, "damping_ratio") .eqv. given(group, "restitution")) then
+      if (.not. (given(group, "damping_ratio") .or. given(group, "restitution"))) then
         call fail("damping_ratio", "the 'damping' effect needs damping_ratio or restitution (one)")
         return
       end if
@@ -355,8 +323,6 @@ contains
       return
     end select
     call check_real(g, "duration", duration, status, inclusive=.true.)
-    if (given(group, "dt") .and. given(group, "n_per_period")) call fail("dt", &
-      "give either dt or n_per_period, not both")
     if (given(group, "dt")) call check_real(g, "dt", dt, status)
     if (given(group, "n_per_period")) call check_real(g, "n_per_period", n_per_period, status)
     if (status%stat /= demstep_stat%ok) return
@@ -382,15 +348,12 @@ contains
     if (duration > 0.0_dp) then
       if (given(group, "dt")) then
         dt_used = dt
-      else if (crit%eigen_computed) then
-        dt_used = 2.0_dp*pi/crit%omega_max/n_per_period
       else
-        dt_used = 2.0_dp*pi/crit%omega_bound/n_per_period
-      end if
-      if (.not. ieee_is_finite(dt_used)) then
-        call fail("n_per_period", "the time step 2 pi/(omega_max n_per_period) overflows: n_per_period " &
-          //"must be above "//fmt_real(2.0_dp*pi/crit%omega_bound/huge(1.0_dp)))
-        return
+        call assembly_step_for_n_per_period(crit, n_per_period, dt_used, status)
+        if (status%stat /= demstep_stat%ok) then
+          status%message = "&"//g//": "//status%message
+          return
+        end if
       end if
       call plan_run(ctx, g, sc%n, crit%n_springs, duration, dt_used, steps, status)
       if (status%stat /= demstep_stat%ok) return
@@ -411,6 +374,12 @@ contains
     call write_result(ctx%results, sc, crit, dt_used, summary)
 
   contains
+
+    subroutine read_item(text, ios)
+      character(len=*), intent(in) :: text
+      integer, intent(out) :: ios
+      read(text, nml=scene, iostat=ios)
+    end subroutine read_item
 
     subroutine fail(name, what)
       character(len=*), intent(in) :: name, what
@@ -532,172 +501,6 @@ contains
     end if
     pairs = nint(rows)
   end subroutine read_bonds
-
-  !> A table of `ncol` numbers per row (separated by blanks, tabs or commas; '#'
-  !> starts a comment; blank lines are skipped), read in time linear in its
-  !> size: one pass counts the rows and checks the text, the rows are allocated
-  !> once and a second pass fills them. A line longer than 64512 characters
-  !> or a control character (a binary file, /dev/zero) is refused at once; the
-  !> status names the line of a malformed row.
-  subroutine read_table(path, ncol, rows, status)
-    character(len=*), intent(in) :: path
-    integer, intent(in) :: ncol
-    real(dp), allocatable, intent(out) :: rows(:, :)
-    type(demstep_status_type), intent(out) :: status
-    integer, parameter :: max_line = 65536, chunk = 1024
-    integer :: unit, ios, line, n, n_rows, got, pass, k, count, n_read
-    character(len=max_line) :: buf
-    real(dp) :: values(ncol)
-    logical :: exists
-    inquire(file=path, exist=exists)
-    if (.not. exists) then
-      call set_status(status, demstep_stat%io_error, path//": no such file")
-      return
-    end if
-    open(newunit=unit, file=path, status="old", action="read", form="formatted", &
-      access="sequential", iostat=ios)
-    if (ios /= 0) then
-      call set_status(status, demstep_stat%io_error, path//": cannot open")
-      return
-    end if
-    n_rows = 0
-    n = 0
-    do pass = 1, 2
-      if (pass == 2) then
-        allocate(rows(ncol, n_rows))
-        rewind(unit, iostat=ios)
-        if (ios /= 0) then
-          call fail_at(demstep_stat%io_error, "cannot read it twice (a regular file is needed)")
-          return
-        end if
-      end if
-      n = 0
-      line = 0
-      do
-        ! the line in chunks: each is checked before the next is read, so a
-        ! binary file or an endless line is refused after one chunk
-        got = 0
-        do
-          read(unit, '(a)', advance="no", size=n_read, iostat=ios) buf(got+1:got+chunk)
-          if (is_iostat_end(ios) .and. got == 0) exit
-          k = scan(buf(got+1:got+n_read), control_characters())
-          if (k > 0) then
-            call fail_at(demstep_stat%invalid_input, "line "//fmt_int(int(line + 1, i8))//": not a " &
-              //"text file (byte "//fmt_int(int(iachar(buf(got+k:got+k)), i8))//" in column "// &
-              fmt_int(int(got + k, i8))//")")
-            return
-          end if
-          got = got + n_read
-          if (ios /= 0) exit
-          if (got + chunk > max_line) then
-            call fail_at(demstep_stat%invalid_input, "line "//fmt_int(int(line + 1, i8))//": longer " &
-              //"than "//fmt_int(int(max_line - chunk, i8))//" characters")
-            return
-          end if
-        end do
-        if (is_iostat_end(ios) .and. got == 0) exit
-        line = line + 1
-        if (ios /= 0 .and. .not. (is_iostat_eor(ios) .or. is_iostat_end(ios))) then
-          call fail_at(demstep_stat%io_error, "line "//fmt_int(int(line, i8))//": cannot be read")
-          return
-        end if
-        k = index(buf(:got), "#")
-        if (k > 0) got = k - 1
-        if (len_trim(buf(:got)) == 0) cycle
-        n = n + 1
-        if (pass == 1) cycle
-        if (n > n_rows) then
-          call fail_at(demstep_stat%io_error, "changed while it was read")
-          return
-        end if
-        call parse_row(buf(:got), values, count)
-        if (count >= 0 .and. count /= ncol) then
-          call fail_at(demstep_stat%invalid_input, "line "//fmt_int(int(line, i8))//": expected "// &
-            fmt_int(int(ncol, i8))//" numbers, found "//fmt_int(int(count, i8)))
-          return
-        end if
-        if (count < 0 .or. .not. all(ieee_is_finite(values))) then
-          call fail_at(demstep_stat%invalid_input, "line "//fmt_int(int(line, i8))//": cannot read '"// &
-            shortened(trim(adjustl(buf(:got))))//"' as finite numbers")
-          return
-        end if
-        rows(:, n) = values
-      end do
-      if (pass == 1) n_rows = n
-    end do
-    close(unit)
-    if (n /= n_rows) then
-      call set_status(status, demstep_stat%io_error, path//": changed while it was read")
-      return
-    end if
-    status%stat = demstep_stat%ok
-  contains
-    subroutine fail_at(stat, what)
-      integer, intent(in) :: stat
-      character(len=*), intent(in) :: what
-      call set_status(status, stat, path//": "//what)
-      close(unit)
-    end subroutine fail_at
-  end subroutine read_table
-
-  !> Bytes 0 to 31 and 127, except tab and carriage return.
-  pure function control_characters() result(set)
-    character(len=31) :: set
-    integer :: i, k
-    k = 0
-    do i = 0, 31
-      if (i == 9 .or. i == 13) cycle
-      k = k + 1
-      set(k:k) = achar(i)
-    end do
-    set(31:31) = achar(127)
-  end function control_characters
-
-  !> The numbers of one table row (blanks, tabs, carriage returns and commas
-  !> separate them). `count` is the number of fields, or -1 when a field is not a
-  !> plain number: only digits, signs, '.' and the exponent letters e and d may
-  !> appear, so list-directed extras (`2*0` repeats, `/`, quotes) cannot hide
-  !> or invent a column.
-  subroutine parse_row(text, values, count)
-    character(len=*), intent(in) :: text
-    real(dp), intent(out) :: values(:)
-    integer, intent(out) :: count
-    character(len=len(text)) :: clean
-    integer :: i, ios
-    logical :: inside, sep
-    clean = text
-    values = 0.0_dp
-    count = 0
-    inside = .false.
-    do i = 1, len(clean)
-      select case (clean(i:i))
-      case (" ", ",", achar(9), achar(13))
-        clean(i:i) = " "
-        sep = .true.
-      case ("0":"9", "+", "-", ".", "e", "E", "d", "D")
-        sep = .false.
-      case default
-        count = -1
-        return
-      end select
-      if (.not. sep .and. .not. inside) count = count + 1
-      inside = .not. sep
-    end do
-    if (count /= size(values)) return
-    read(clean, *, iostat=ios) values
-    if (ios /= 0) count = -1
-  end subroutine parse_row
-
-  !> At most 60 characters of a text, for a message.
-  pure function shortened(text) result(short)
-    character(len=*), intent(in) :: text
-    character(len=:), allocatable :: short
-    if (len(text) <= 60) then
-      short = text
-    else
-      short = text(:57)//"..."
-    end if
-  end function shortened
 
   subroutine report(u, group, sc, crit, ran, dt_used, steps, summary)
     integer, intent(in) :: u

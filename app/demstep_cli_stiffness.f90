@@ -9,8 +9,8 @@ module demstep_cli_stiffness
   use demstep_stiffness, only: default_n_max, default_resolution, n_scan_start
   use demstep_stiffness, only: procedure_cost, measure_evaluation_cost, max_procedure_evaluations
   use, intrinsic :: iso_fortran_env, only: error_unit
-  use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
-    fmt_real, fmt_int, cli_context, check_real, new_array, array_length
+  use demstep_cli, only: var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
+    check_real, new_array, array_length, default_text, max_values, capacity_of
   implicit none
   private
 
@@ -26,28 +26,33 @@ contains
   function stiffness_specs() result(specs)
     type(var_spec), allocatable :: specs(:)
     specs = [ &
-      var("mass", "a real number", "mass M (> 0)", "0.01"), &
-      var("stiffness", "a real number", "ideal (simulated) stiffness K* (> 0)", "1.0e5"), &
-      var("tolerance", "a real number", "tolerance E0 on |E|, in (0, 1)", "1.0e-3"), &
+      var("mass", "a real number", "mass M (> 0)", "0.01", required=.true.), &
+      var("stiffness", "a real number", "ideal (simulated) stiffness K* (> 0)", "1.0e5", required=.true.), &
+      var("tolerance", "a real number", "tolerance E0 on |E|, in (0, 1)", "1.0e-3", required=.true.), &
       var("lambda", "a list of real numbers", "lambda set, increasing, in (0, 1); or the three below", &
-        "!0.9, 0.95, 0.99"), &
-      var("lambda_min", "a real number", "smallest lambda of an even set", "0.9"), &
-      var("lambda_max", "a real number", "largest lambda of an even set", "0.99"), &
-      var("lambda_count", "an integer", "number of lambdas in the even set (>= 1)", "10"), &
-      var("steps", "a quoted word", "'half_period' (default), 'fraction', 'rounded' " &
-        //"(nint(f N) steps) or 'fixed'", "'half_period'"), &
-      var("steps_fraction", "a real number", "f for steps = 'fraction' or 'rounded' (> 0)", "!0.5"), &
+        "!0.9, 0.95, 0.99", capacity=max_values, required=.true., &
+        excludes="lambda_min lambda_max lambda_count"), &
+      var("lambda_min", "a real number", "smallest lambda of an even set", "0.9", &
+        needs="lambda_max lambda_count"), &
+      var("lambda_max", "a real number", "largest lambda of an even set", "0.99", &
+        needs="lambda_min lambda_count"), &
+      var("lambda_count", "an integer", "number of lambdas in the even set (>= 1)", "10", &
+        needs="lambda_min lambda_max"), &
+      var("steps", "a quoted word", "'half_period', 'fraction', 'rounded' " &
+        //"(nint(f N) steps) or 'fixed'", "'half_period'", default="'half_period'"), &
+      var("steps_fraction", "a real number", "f for steps = 'fraction' or 'rounded' (> 0)", "!0.5", &
+        default="0.5"), &
       var("n_steps", "a real number", "n for steps = 'fixed' (>= 1)", "!100.0"), &
-      var("pick", "a quoted word", "'largest_step' (default: smallest N with |E| <= E0) or 'zero'", &
-        "'largest_step'"), &
-      var("aggregate", "a quoted word", "'mean' (default), 'weighted', 'median', 'min' or 'max'", &
-        "'mean'"), &
+      var("pick", "a quoted word", "'largest_step' (smallest N with |E| <= E0) or 'zero'", &
+        "'largest_step'", default="'largest_step'"), &
+      var("aggregate", "a quoted word", "'mean', 'weighted', 'median', 'min' or 'max'", &
+        "'mean'", default="'mean'"), &
       var("weights", "a list of real numbers", "one weight >= 0 per lambda, for 'weighted'", &
-        "!1.0, 2.0, 1.0"), &
-      var("n_max", "a real number", "largest N scanned (default "//fmt_real(default_n_max)//")", &
-        fmt_real(default_n_max)), &
-      var("resolution", "a real number", "scan step relative to N, in (0, 1] (default "// &
-        fmt_real(default_resolution)//")", fmt_real(default_resolution)) ]
+        "!1.0, 2.0, 1.0", capacity=max_values), &
+      var("n_max", "a real number", "largest N scanned", default_text(default_n_max), &
+        default=default_text(default_n_max)), &
+      var("resolution", "a real number", "scan step relative to N, in (0, 1]", &
+        default_text(default_resolution), default=default_text(default_resolution)) ]
   end function stiffness_specs
 
   !> Read, check and run one `&simulated_stiffness` group.
@@ -65,7 +70,6 @@ contains
     type(var_spec), allocatable :: specs(:)
     type(stiffness_input_type) :: input
     type(stiffness_result_type) :: result
-    character(len=:), allocatable :: text
     character(len=*), parameter :: g = "simulated_stiffness"
     !> Estimated run times above this many seconds are announced on stderr.
     real(dp), parameter :: announce_seconds = 2.0_dp
@@ -73,43 +77,13 @@ contains
     real(dp), parameter :: measure_above = 1.0e5_dp
     type(text_progress_type) :: progress
     real(dp) :: cost, seconds
-    character(len=*), parameter :: required(3) = [character(len=9) :: "mass", "stiffness", "tolerance"]
-    integer :: i, ios, n_lambda, n_weights, kind
+    integer :: i, n_lambda, n_weights, kind
 
     specs = stiffness_specs()
-    call check_names(group, specs, status)
+    lambda = new_array(capacity_of(specs, "lambda"))
+    weights = new_array(capacity_of(specs, "weights"))
+    call read_group(group, specs, read_item, status)
     if (status%stat /= demstep_stat%ok) return
-    mass = 0.0_dp
-    stiffness = 0.0_dp
-    tolerance = 0.0_dp
-    lambda = new_array()
-    weights = new_array()
-    lambda_min = 0.0_dp
-    lambda_max = 0.0_dp
-    lambda_count = 0
-    steps = "half_period"
-    steps_fraction = 0.5_dp
-    n_steps = 0.0_dp
-    pick = "largest_step"
-    aggregate = "mean"
-    n_max = default_n_max
-    resolution = default_resolution
-    do i = 1, size(group%items)
-      text = item_text(group, group%items(i))
-      read(text, nml=simulated_stiffness, iostat=ios)
-      if (ios /= 0) then
-        call read_failed(group, group%items(i), specs, status)
-        return
-      end if
-    end do
-
-    do i = 1, size(required)
-      if (.not. given(group, trim(required(i)))) then
-        call set_status(status, demstep_stat%invalid_input, "&"//g//": "//trim(required(i))// &
-          ": required")
-        return
-      end if
-    end do
     call check_real(g, "mass", mass, status)
     call check_real(g, "stiffness", stiffness, status)
     call check_real(g, "tolerance", tolerance, status)
@@ -121,19 +95,9 @@ contains
     call array_length(g, "lambda", lambda, n_lambda, status)
     if (status%stat /= demstep_stat%ok) return
     if (given(group, "lambda")) then
-      if (given(group, "lambda_min") .or. given(group, "lambda_max") .or. given(group, "lambda_count")) then
-        call set_status(status, demstep_stat%invalid_input, "&"//g//": lambda: give either the " &
-          //"list lambda or lambda_min, lambda_max and lambda_count, not both")
-        return
-      end if
       input%lambdas = lambda(:n_lambda)
     else
-      if (.not. (given(group, "lambda_min") .and. given(group, "lambda_max") .and. &
-          given(group, "lambda_count"))) then
-        call set_status(status, demstep_stat%invalid_input, "&"//g//": lambda: the lambda set is " &
-          //"empty: give lambda, or lambda_min, lambda_max and lambda_count")
-        return
-      end if
+
       if (lambda_count < 1) then
         call set_status(status, demstep_stat%invalid_input, "&"//g//": lambda_count: must be >= 1, got " &
           //fmt_int(int(lambda_count, i8)))
@@ -150,21 +114,6 @@ contains
           i = 1, lambda_count)]
       end if
     end if
-    do i = 1, size(input%lambdas)
-      call check_real(g, "lambda", input%lambdas(i), status, element=i)
-      if (status%stat == demstep_stat%ok .and. .not. input%lambdas(i) < 1.0_dp) call set_status(status, &
-        demstep_stat%invalid_input, "&"//g//": lambda: element "//fmt_int(int(i, i8))//" is "// &
-        fmt_real(input%lambdas(i))//"; must be in (0, 1)")
-      if (status%stat /= demstep_stat%ok) return
-      if (i > 1) then
-        if (.not. input%lambdas(i) > input%lambdas(i-1)) then
-          call set_status(status, demstep_stat%invalid_input, "&"//g//": lambda: the set must " &
-            //"increase (element "//fmt_int(int(i, i8))//" is "//fmt_real(input%lambdas(i))//")")
-          return
-        end if
-      end if
-    end do
-
     ! step policy, pick and aggregation
     select case (lowercase(trim(adjustl(steps))))
     case ("half_period")
@@ -265,6 +214,12 @@ contains
     end if
     call report(ctx%report, group, input, result)
     call write_result(ctx%results, result)
+  contains
+    subroutine read_item(text, ios)
+      character(len=*), intent(in) :: text
+      integer, intent(out) :: ios
+      read(text, nml=simulated_stiffness, iostat=ios)
+    end subroutine read_item
   end subroutine handle_simulated_stiffness
 
   subroutine report(u, group, input, result)

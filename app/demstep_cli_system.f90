@@ -7,8 +7,8 @@ module demstep_cli_system
   use demstep_kinds, only: pi
   use demstep_namelist, only: lowercase
   use demstep_status, only: set_status
-  use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, &
-    check_real, fmt_real, fmt_int, cli_context
+  use demstep_cli, only: var_spec, var, given, read_group, check_real, fmt_real, fmt_int, &
+    cli_context
   implicit none
   private
 
@@ -25,13 +25,14 @@ contains
   function system_specs() result(specs)
     type(var_spec), allocatable :: specs(:)
     specs = [ &
-      var("mass", "a real number", "mass M (> 0)", "0.01"), &
-      var("stiffness", "a real number", "normal stiffness K (> 0)", "1.0e5"), &
-      var("damping_ratio", "a real number", "viscous damping ratio zeta >= 0 (default 0)", "0.0"), &
-      var("dashpot", "a quoted word", "'lagged' (default, half-step-old velocity) or 'centred'", &
-        "'lagged'"), &
-      var("velocity", "a real number", "impact speed v0 > 0 (default 1), scales overlaps", "1.0"), &
-      var("dt", "a real number", "time step to assess (> 0), or give n_per_period", "!2.0e-4"), &
+      var("mass", "a real number", "mass M (> 0)", "0.01", required=.true.), &
+      var("stiffness", "a real number", "normal stiffness K (> 0)", "1.0e5", required=.true.), &
+      var("damping_ratio", "a real number", "viscous damping ratio zeta >= 0", "0.0", default="0"), &
+      var("dashpot", "a quoted word", "'lagged' (half-step-old velocity) or 'centred'", &
+        "'lagged'", default="'lagged'"), &
+      var("velocity", "a real number", "impact speed v0 > 0, scales overlaps", "1.0", default="1"), &
+      var("dt", "a real number", "time step to assess (> 0), or give n_per_period", "!2.0e-4", &
+        excludes="n_per_period"), &
       var("n_per_period", "a real number", "steps per natural period N = T/dt (> 0), or give dt", &
         "10.0") ]
   end function system_specs
@@ -44,44 +45,12 @@ contains
     real(dp) :: mass, stiffness, damping_ratio, velocity, dt, n_per_period
     character(len=32) :: dashpot
     namelist /system/ mass, stiffness, damping_ratio, dashpot, velocity, dt, n_per_period
-    type(var_spec), allocatable :: specs(:)
     type(spring_type) :: spring
-    integer :: i, ios, kind
-    character(len=:), allocatable :: text
+    integer :: kind
     character(len=*), parameter :: g = "system"
 
-    specs = system_specs()
-    call check_names(group, specs, status)
+    call read_group(group, system_specs(), read_item, status)
     if (status%stat /= demstep_stat%ok) return
-    mass = 0.0_dp
-    stiffness = 0.0_dp
-    damping_ratio = 0.0_dp
-    dashpot = "lagged"
-    velocity = 1.0_dp
-    dt = 0.0_dp
-    n_per_period = 0.0_dp
-    do i = 1, size(group%items)
-      text = item_text(group, group%items(i))
-      read(text, nml=system, iostat=ios)
-      if (ios /= 0) then
-        call read_failed(group, group%items(i), specs, status)
-        return
-      end if
-    end do
-
-    if (.not. given(group, "mass")) then
-      call set_status(status, demstep_stat%invalid_input, "&system: mass: required")
-      return
-    end if
-    if (.not. given(group, "stiffness")) then
-      call set_status(status, demstep_stat%invalid_input, "&system: stiffness: required")
-      return
-    end if
-    if (given(group, "dt") .and. given(group, "n_per_period")) then
-      call set_status(status, demstep_stat%invalid_input, &
-        "&system: dt: give either dt or n_per_period, not both")
-      return
-    end if
     call check_real(g, "mass", mass, status)
     call check_real(g, "stiffness", stiffness, status)
     call check_real(g, "damping_ratio", damping_ratio, status, inclusive=.true.)
@@ -116,6 +85,12 @@ contains
     end if
     call evaluate(ctx, group, spring, velocity, given(group, "dt") .or. given(group, "n_per_period"), &
       dt, merge("n_per_period", "dt          ", given(group, "n_per_period")), status)
+  contains
+    subroutine read_item(text, ios)
+      character(len=*), intent(in) :: text
+      integer, intent(out) :: ios
+      read(text, nml=system, iostat=ios)
+    end subroutine read_item
   end subroutine handle_system
 
   !> Compute, report and write the result group.

@@ -6,15 +6,10 @@ program demstep_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use demstep, only: i8, demstep_version_string, demstep_status_type, demstep_stat, &
     nml_group_type, read_text_file, scan_namelist
-  use demstep_cli, only: cli_context, write_template, fmt_int
+  use demstep_cli, only: cli_context, write_template, fmt_int, group_spec
   use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &
     same_file
-  use demstep_cli_system, only: handle_system, system_specs, system_doc
-  use demstep_cli_harmonic, only: handle_harmonic_error, harmonic_specs, harmonic_doc
-  use demstep_cli_stiffness, only: handle_simulated_stiffness, stiffness_specs, stiffness_doc
-  use demstep_cli_scene, only: handle_scene, scene_specs, scene_doc
-  use demstep_cli_accuracy, only: handle_contact_error, contact_error_specs, contact_error_doc, &
-    handle_accuracy_cost, accuracy_cost_specs, accuracy_cost_doc
+  use demstep_cli_registry, only: cli_groups, find_group, group_list
   implicit none
 
   character(len=:), allocatable :: input, output, arg, text, skipped
@@ -23,11 +18,12 @@ program demstep_main
   type(nml_group_type), allocatable :: groups(:)
   type(demstep_status_type) :: status
   type(cli_context) :: ctx
-  integer :: i, nargs, known, ios, n_skipped
+  type(group_spec), allocatable :: registry(:)
+  integer :: i, k, nargs, known, ios, n_skipped
   !> Skipped groups listed by name in the report; the rest are counted.
   integer, parameter :: max_listed = 20
-  character(len=*), parameter :: known_groups = &
-    "&system, &harmonic_error, &simulated_stiffness, &scene, &contact_error, &accuracy_cost"
+
+  registry = cli_groups()
 
   namelist_only = .false.
   nargs = command_argument_count()
@@ -66,6 +62,7 @@ program demstep_main
     end select
   end do
   if (.not. allocated(input)) call usage_error("no input file")
+  ctx%deck = input
   if (allocated(output)) then
     if (len(output) == 0) call usage_error("empty output file name")
     ! the results would replace the deck they came from
@@ -86,31 +83,20 @@ program demstep_main
   n_skipped = 0
   skipped = ""
   do i = 1, size(groups)
-    select case (groups(i)%name)
-    case ("system")
-      call handle_system(ctx, groups(i), status)
-    case ("harmonic_error")
-      call handle_harmonic_error(ctx, groups(i), status)
-    case ("simulated_stiffness")
-      call handle_simulated_stiffness(ctx, groups(i), status)
-    case ("scene")
-      call handle_scene(ctx, groups(i), input, status)
-    case ("contact_error")
-      call handle_contact_error(ctx, groups(i), status)
-    case ("accuracy_cost")
-      call handle_accuracy_cost(ctx, groups(i), status)
-    case default
+    k = find_group(registry, groups(i)%name)
+    if (k == 0) then
       ! list the first few by name, count the rest: linear in the number of groups
       n_skipped = n_skipped + 1
       if (n_skipped <= max_listed) skipped = skipped//" &"//groups(i)%name//" (line " &
         //fmt_int(int(groups(i)%line, i8))//")"
       cycle
-    end select
+    end if
+    call registry(k)%handler(ctx, groups(i), status)
     if (status%stat /= demstep_stat%ok) call fail(input//": "//status%message, 2)
     known = known + 1
   end do
-  if (known == 0) call fail(input//": no demstep group in the file (known: "//known_groups//"; see " &
-    //"demstep --template)", 2)
+  if (known == 0) call fail(input//": no demstep group in the file (known: "//group_list(registry) &
+    //"; see demstep --template)", 2)
   if (n_skipped > max_listed) skipped = skipped//" and "//fmt_int(int(n_skipped - max_listed, i8)) &
     //" more"
   if (n_skipped > 0) write(ctx%report, '(a)') "skipped groups (not demstep's):"//skipped
@@ -202,24 +188,18 @@ contains
       "  -V, --version            print the version", &
       "  -h, --help               print this help", &
       "", &
-      "groups: "//known_groups, &
+      "groups: "//group_list(registry), &
       "exit status: 0 ok, 2 bad input or usage, 1 output not written"
   end subroutine print_help
 
   subroutine print_template()
+    integer :: j
     write(output_unit, '(a)') "! demstep input template: every group demstep knows.", &
-      "! Values shown are examples; give only the variables you need.", ""
-    call write_template(output_unit, "system", system_doc, system_specs())
-    write(output_unit, '(a)') ""
-    call write_template(output_unit, "harmonic_error", harmonic_doc, harmonic_specs())
-    write(output_unit, '(a)') ""
-    call write_template(output_unit, "simulated_stiffness", stiffness_doc, stiffness_specs())
-    write(output_unit, '(a)') ""
-    call write_template(output_unit, "scene", scene_doc, scene_specs())
-    write(output_unit, '(a)') ""
-    call write_template(output_unit, "contact_error", contact_error_doc, contact_error_specs())
-    write(output_unit, '(a)') ""
-    call write_template(output_unit, "accuracy_cost", accuracy_cost_doc, accuracy_cost_specs())
+      "! Values shown are examples; give only the variables you need."
+    do j = 1, size(registry)
+      write(output_unit, '(a)') ""
+      call write_template(output_unit, registry(j))
+    end do
   end subroutine print_template
 
 end program demstep_main

@@ -14,17 +14,19 @@
 !> - One contact, exact and discrete: `discrete_contact_type`, `spring_contact`
 !>   (a spring at its step), `contact_with_onset` (any N = T/dt and onset),
 !>   `simulate_contact` (stepped), `exact_contact`, `contact_worst_case`.
-!> - What accuracy costs: `n_for_tolerance`, `worst_error`, `predict_run`.
+!> - What accuracy costs: `n_for_tolerance`, `n_for_harmonic_tolerance`, `worst_error`,
+!>   `predict_run`.
 !> - The paper's error and the simulated-stiffness method: `harmonic_error`,
 !>   `step_policy_type`, `new_step_policy`, `n_roots`, `simulated_stiffness`.
 !> - Roots of any function: `find_root`, `scan_roots` (extend `root_context_type`).
-!> - Assemblies: `scene_type`, `new_scene`, `critical_time_steps`, `scene_run`.
+!> - Assemblies: `scene_type`, `new_scene`, `critical_time_steps`, `scene_run`,
+!>   `assembly_step_for_n_per_period`.
 !> - Materials in each DEM code's convention and the peers' step rules:
 !>   `material_type`, `effective_pair`, `contact_parameters` (`code_convention%...`),
 !>   `rayleigh_time`, `hertz_contact_duration`, `peer_time_steps`.
 !> - MFiX decks: `read_mfix_deck`, `mfix_input_from_deck`, `mfix_compute`.
-!> - Progress of long work, and reading namelist decks: `text_progress_type`,
-!>   `read_text_file`, `scan_namelist`.
+!> - Progress of long work, and reading namelist decks and tables of numbers:
+!>   `text_progress_type`, `read_text_file`, `scan_namelist`, `read_table`.
 !>
 !> Internal helpers (limits, formatting, the C binding) stay in their own
 !> modules (`demstep_spring`, `demstep_stiffness`, `demstep_text`, `demstep_capi`, ...).
@@ -57,8 +59,8 @@ module demstep
     simulate_contact, exact_contact, contact_worst_case, contact_error_of, period_error, &
     quantity_kind, n_quantities, quantity_names
   ! what accuracy costs
-  use demstep_cost, only: n_for_tolerance, worst_error, run_prediction_type, predict_run, &
-    measure_step_cost
+  use demstep_cost, only: n_for_tolerance, n_for_harmonic_tolerance, worst_error, &
+    run_prediction_type, predict_run, measure_step_cost
   ! the paper's error and the simulated-stiffness method
   use demstep_harmonic, only: step_policy_type, step_kind, new_step_policy, policy_steps, &
     harmonic_sum, harmonic_error, harmonic_error_steps, harmonic_error_check
@@ -75,10 +77,11 @@ module demstep
     effect_damping, effect_local_damping, effect_walls, n_effects, effect_names, &
     max_coordinate, contact_limit, max_damping_ratio
   use demstep_assembly, only: critical_step_type, critical_time_steps, hertz_at_current, &
-    hertz_at_impact, default_max_eigen_dof
-  ! progress, and reading namelist decks
+    hertz_at_impact, default_max_eigen_dof, assembly_step_for_n_per_period
+  ! progress, and reading namelist decks and tables
   use demstep_progress, only: progress_type, text_progress_type
   use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, scan_namelist
+  use demstep_table_io, only: read_table
   ! materials in each code's convention and the peers' time-step rules
   use demstep_material, only: code_convention, convention_names, peer_rule, peer_rule_names, &
     material_type, material_pair_type, effective_pair_type, contact_parameters_type, &

@@ -18,9 +18,9 @@
 !> the current overlap d or at the overlap an impact at a given speed would reach,
 !> d = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5).
 module demstep_assembly
-  use demstep_kinds, only: dp
+  use demstep_kinds, only: dp, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_text, only: int_text
+  use demstep_text, only: int_text, real_text
   use demstep_scene, only: scene_type, contact_list, law_linear, effect_contacts, &
     effect_walls, effect_damping, effective_mass, tangent_stiffness, max_damping_ratio
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -28,7 +28,7 @@ module demstep_assembly
   implicit none
   private
 
-  public :: critical_time_steps
+  public :: critical_time_steps, assembly_step_for_n_per_period
 
   !> Hertz linearisation at the current overlap, or at an impact's largest overlap.
   integer, parameter, public :: hertz_at_current = 1, hertz_at_impact = 2
@@ -426,5 +426,36 @@ contains
       end associate
     end do
   end function modal_damping
+
+  !> The time step of a run at `n_per_period` steps per smallest period
+  !> 2 pi/omega_max: the exact omega_max when it was computed, else the safe bound
+  !> omega_bound (which gives the smaller step). Status invalid_input naming
+  !> `n_per_period` when it is not finite and > 0 or the step overflows.
+  pure subroutine assembly_step_for_n_per_period(crit, n_per_period, dt, status)
+    !> The critical steps of the assembly.
+    type(critical_step_type), intent(in) :: crit
+    !> Steps per smallest period.
+    real(dp), intent(in) :: n_per_period
+    !> The time step.
+    real(dp), intent(out) :: dt
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: omega
+    dt = 0.0_dp
+    if (.not. (ieee_is_finite(n_per_period) .and. n_per_period > 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "n_per_period: must be finite and > 0")
+      return
+    end if
+    omega = crit%omega_bound
+    if (crit%eigen_computed) omega = crit%omega_max
+    dt = 2.0_dp*pi/omega/n_per_period
+    if (.not. ieee_is_finite(dt)) then
+      dt = 0.0_dp
+      call set_status(status, demstep_stat%invalid_input, "n_per_period: the time step 2 pi/(omega_max " &
+        //"n_per_period) overflows: n_per_period must be above "// &
+        real_text(2.0_dp*pi/crit%omega_bound/huge(1.0_dp)))
+      return
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine assembly_step_for_n_per_period
 
 end module demstep_assembly

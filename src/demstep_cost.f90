@@ -8,11 +8,12 @@ module demstep_cost
   use demstep_spring, only: saturated_count, ceiling_real
   use demstep_text, only: real_text
   use demstep_scene, only: scene_type, scene_summary_type, cubic_lattice, scene_run
+  use demstep_stiffness, only: nroots_options_type, nroots_type, n_roots
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
-  public :: worst_error, n_for_tolerance, measure_step_cost, predict_run
+  public :: worst_error, n_for_tolerance, n_for_harmonic_tolerance, measure_step_cost, predict_run
 
   !> Largest N searched by default.
   real(dp), parameter, public :: default_cost_n_max = 1.0e7_dp
@@ -163,6 +164,40 @@ contains
       pass_at = x
     end subroutine sweep_down
   end subroutine n_for_tolerance
+
+  !> The smallest N = T/dt at which the paper's |E| (eq. 23, half-period steps) at
+  !> `lambda` meets the tolerance: the simulated-stiffness pick of [[n_roots]],
+  !> with a pick at the stability limit counted as met. Status not_found when no
+  !> N up to n_max (default `default_cost_n_max`) meets it, discontinuous when the
+  !> pick jumps there; invalid_input (naming `lambda`, `tolerance` or `n_max`) as
+  !> for `n_roots`.
+  pure subroutine n_for_harmonic_tolerance(lambda, tolerance, n, status, n_max)
+    !> sqrt(K'/K*), in (0, 1].
+    real(dp), intent(in) :: lambda
+    !> Tolerance on |E|, in [1e-10, 1).
+    real(dp), intent(in) :: tolerance
+    !> The N found (0 when none).
+    real(dp), intent(out) :: n
+    type(demstep_status_type), intent(out) :: status
+    !> Largest N searched.
+    real(dp), intent(in), optional :: n_max
+    type(nroots_options_type) :: options
+    type(nroots_type) :: r
+    options%tolerance = tolerance
+    options%n_max = default_cost_n_max
+    if (present(n_max)) options%n_max = n_max
+    call n_roots(lambda, options, r, status)
+    n = 0.0_dp
+    if (status%stat /= demstep_stat%ok) return
+    n = r%n_pick
+    if (r%stat == demstep_stat%ok .or. r%stat == demstep_stat%at_stability_limit) then
+      status%stat = demstep_stat%ok
+    else if (r%stat == demstep_stat%not_found) then
+      call set_status(status, r%stat, "the tolerance is not met up to n_max")
+    else
+      call set_status(status, r%stat, "the pick of N jumps at this tolerance")
+    end if
+  end subroutine n_for_harmonic_tolerance
 
   !> The time step, steps and predicted run time of a run at N steps per period.
   !> Status invalid_input, naming the variable to change and the range that works,

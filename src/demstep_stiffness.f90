@@ -28,6 +28,7 @@ module demstep_stiffness
   use demstep_roots, only: root_context_type, find_root, sort_ascending, scan_roots, append, &
     scan_break, scan_cell_type
   use demstep_progress, only: progress_type
+  use demstep_text, only: int_text, value_text => real_text
   use demstep_kinds, only: i8
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
@@ -1073,16 +1074,19 @@ contains
       call set_status(status, demstep_stat%invalid_input, "lambda: the lambda set is empty; give " &
         //"at least one lambda in (0, 1)")
     else if (any(.not. (input%lambdas > 0.0_dp .and. input%lambdas < 1.0_dp))) then
-      call set_status(status, demstep_stat%invalid_input, "lambda: every lambda must be in (0, 1)")
+      i = findloc(input%lambdas > 0.0_dp .and. input%lambdas < 1.0_dp, .false., dim=1)
+      call set_status(status, demstep_stat%invalid_input, "lambda: element "//int_text(i)//" is " &
+        //value_text(input%lambdas(i))//"; must be in (0, 1)")
     end if
     if (status%stat /= demstep_stat%ok) return
     n = size(input%lambdas)
-    if (n > 1) then
-      if (any(input%lambdas(2:) <= input%lambdas(:n-1))) then
-        call set_status(status, demstep_stat%invalid_input, "lambda: the lambda set must increase")
+    do i = 2, n
+      if (.not. input%lambdas(i) > input%lambdas(i-1)) then
+        call set_status(status, demstep_stat%invalid_input, "lambda: the set must increase (element " &
+          //int_text(i)//" is "//value_text(input%lambdas(i))//")")
         return
       end if
-    end if
+    end do
     if (input%aggregate == aggregate_kind%weighted) then
       if (.not. allocated(input%weights)) then
         call set_status(status, demstep_stat%invalid_input, "weights: weighted aggregation needs weights")

@@ -6,6 +6,7 @@ program tester
     run_selected, get_argument, unittest_type
   use test_spring, only: collect_spring
   use test_namelist, only: collect_namelist
+  use test_table_io, only: collect_table_io
   use test_harmonic, only: collect_harmonic
   use test_roots, only: collect_roots
   use test_stiffness, only: collect_stiffness
@@ -31,6 +32,7 @@ program tester
   testsuites = [ &
     new_testsuite("spring", collect_spring), &
     new_testsuite("namelist", collect_namelist), &
+    new_testsuite("table_io", collect_table_io), &
     new_testsuite("harmonic", collect_harmonic), &
     new_testsuite("roots", collect_roots), &
     new_testsuite("stiffness", collect_stiffness), &

@@ -3,7 +3,7 @@ module test_app
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed, skip_test
   use demstep
   use demstep_kinds, only: pi
-  use test_support, only: run_app, write_file, read_file, file_exists, work_dir
+  use test_support, only: run_app, write_file, read_file, file_exists, work_dir, real_str
   implicit none
   private
   public :: collect_app
@@ -35,7 +35,10 @@ contains
       new_unittest("&contact_error: worst case and given onsets read back", test_contact_group), &
       new_unittest("&accuracy_cost: table, result, CSV and figure", test_cost_group), &
       new_unittest("&accuracy_cost without gnuplot: CSV and a note", test_cost_no_gnuplot), &
-      new_unittest("&contact_error, &accuracy_cost: each bad input", test_accuracy_bad) &
+      new_unittest("&contact_error, &accuracy_cost: each bad input", test_accuracy_bad), &
+      new_unittest("the group table: defaults as the template says them", test_table_defaults), &
+      new_unittest("the group table: capacities and the either-or rules", test_table_rules), &
+      new_unittest("&accuracy_cost: the paper's E at lambda, N from the library", test_cost_harmonic) &
       ]
   end subroutine collect_app
 
@@ -423,7 +426,8 @@ contains
     call expect_bad(error, g//"tolerance = 1e-3, lambda = 0.95, 0.9 /", &
       "&simulated_stiffness: lambda: the set must increase")
     if (allocated(error)) return
-    call expect_bad(error, g//"tolerance = 1e-3 /", "&simulated_stiffness: lambda: the lambda set is empty")
+    call expect_bad(error, g//"tolerance = 1e-3 /", "&simulated_stiffness: lambda: give either lambda " &
+      //"or lambda_min, lambda_max and lambda_count (one of them is required)")
     if (allocated(error)) return
     call expect_bad(error, g//"tolerance = 1e-3, lambda = 0.9, lambda_min = 0.8 /", &
       "&simulated_stiffness: lambda: give either")
@@ -690,6 +694,130 @@ contains
 
   !> Run on a one-line deck with -o; expect exit 2, one stderr line
   !> "demstep: DECK: <expected>...", no output file and no temporary left.
+  !> A default in the template is the value the code uses: a group without the
+  !> variable gives the same result namelist as one that sets the template's value.
+  subroutine test_table_defaults(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer :: rc
+    character(len=:), allocatable :: stdout, stderr, template, implicit, explicit
+    character(len=*), parameter :: g = "&simulated_stiffness mass = 0.01, stiffness = 1e5, " &
+      //"tolerance = 1e-3, lambda = 0.9, 0.95"
+    call run_app("--template", rc, template, stderr)
+    call check(error, rc, 0, message="--template")
+    if (allocated(error)) return
+    ! the library's constants, as the template words them
+    call check(error, index(template, "scan step relative to N, in (0, 1] (default 0.5)") > 0, &
+      "resolution: the template says the library's default 0.5")
+    if (allocated(error)) return
+    call check(error, index(template, "largest N scanned (default 1e8)") > 0, &
+      "n_max: the template says the library's default 1e8")
+    if (allocated(error)) return
+    call check(error, index(template, "dense eigensolver (default 4000)") > 0, &
+      "max_eigen_dof: the template says the library's default 4000")
+    if (allocated(error)) return
+    call write_file(deck, [g//" /"])
+    call run_app(deck//" -q --namelist", rc, implicit, stderr)
+    call check(error, rc, 0, message="defaults: "//stderr)
+    if (allocated(error)) return
+    call write_file(deck, [g//", n_max = 1e8, resolution = 0.5, steps = 'half_period', " &
+      //"pick = 'largest_step', aggregate = 'mean' /"])
+    call run_app(deck//" -q --namelist", rc, explicit, stderr)
+    call check(error, rc, 0, message="explicit: "//stderr)
+    if (allocated(error)) return
+    call check(error, implicit == explicit, "the defaults give the same result as the template's values")
+    if (allocated(error)) return
+    call write_file(deck, ["&system mass = 0.01, stiffness = 1e5, n_per_period = 10 /"])
+    call run_app(deck//" -q --namelist", rc, implicit, stderr)
+    call write_file(deck, ["&system mass = 0.01, stiffness = 1e5, n_per_period = 10, " &
+      //"damping_ratio = 0, dashpot = 'lagged', velocity = 1 /"])
+    call run_app(deck//" -q --namelist", rc, explicit, stderr)
+    call check(error, rc == 0 .and. implicit == explicit, "&system: defaults as the template says")
+    if (allocated(error)) return
+    call check(error, index(template, "impact speed v0 > 0, scales overlaps (default 1)") > 0, &
+      "&system: velocity's default in the template")
+  end subroutine test_table_defaults
+
+  !> quantity = 'harmonic': N is the smallest N with |E(N, lambda, N/2)| <= tolerance,
+  !> checked against E itself (a root of |E| - tolerance, above every sampled N
+  !> below it where |E| exceeds the tolerance).
+  subroutine test_cost_harmonic(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer :: rc, ios, k, stat
+    character(len=:), allocatable :: stdout, stderr
+    real(dp) :: tolerances(1), n_per_period(1), dt(1), predicted_seconds(1), cost_per_particle_step, &
+      period, e, big_n
+    integer(i8) :: steps(1)
+    integer :: status(1)
+    namelist /accuracy_cost_result/ tolerances, n_per_period, dt, steps, predicted_seconds, status, &
+      cost_per_particle_step, period
+    call write_file(deck, [character(len=160) :: "&accuracy_cost quantity = 'harmonic', lambda = 0.9,", &
+      "  tolerances = 1e-3, duration = 1.0, n_particles = 100, mass = 0.01, stiffness = 1e5,", &
+      "  cost_per_particle_step = 1e-7, csv = '"//work_dir//"/h.csv', figure = 'none' /"])
+    call run_app(deck//" -q --namelist", rc, stdout, stderr)
+    call check(error, rc, 0, message="exit status; stderr: "//stderr)
+    if (allocated(error)) return
+    read(stdout, nml=accuracy_cost_result, iostat=ios)
+    call check(error, ios, 0, message="read back: "//stdout)
+    if (allocated(error)) return
+    call check(error, status(1), 0, message="met")
+    if (allocated(error)) return
+    ! the N found is a root of |E| - tolerance: the root finder works to about
+    ! 1e-12 in N, and dE/dN there is of order E/N, so 1e-6 relative is generous
+    call harmonic_error(n_per_period(1), 0.9_dp, 0.5_dp*n_per_period(1), e, stat)
+    call check(error, abs(e), 1.0e-3_dp, thr=1.0e-6_dp, rel=.true., message="|E| = tolerance at N")
+    if (allocated(error)) return
+    ! and the smallest: |E| exceeds the tolerance on a grid of N below it (above pi)
+    do k = 0, 999
+      big_n = 3.2_dp + (0.999_dp*n_per_period(1) - 3.2_dp)*real(k, dp)/999.0_dp
+      call harmonic_error(big_n, 0.9_dp, 0.5_dp*big_n, e, stat)
+      if (stat /= demstep_stat%ok) cycle
+      if (.not. abs(e) > 1.0e-3_dp) then
+        call test_failed(error, "|E| <= tolerance already at N = "//real_str(big_n))
+        return
+      end if
+    end do
+  end subroutine test_cost_harmonic
+
+  !> More values than a list holds, and the required / either-or rules: one line
+  !> in one style each.
+  subroutine test_table_rules(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), parameter :: g = "&simulated_stiffness mass = 0.01, stiffness = 1e5, tolerance = 1e-3, "
+    call expect_bad(error, "&harmonic_error n_per_period = 100001*10.0, lambda = 0.9, n_steps = 5 /", &
+      "&harmonic_error: n_per_period: holds at most 100000 values, got 100001")
+    if (allocated(error)) return
+    call expect_bad(error, "&harmonic_error n_per_period(99999) = 10, 20, 30, lambda = 0.9, n_steps = 5 /", &
+      "&harmonic_error: n_per_period: holds at most 100000 values, got 100001")
+    if (allocated(error)) return
+    call expect_bad(error, "&scene dim = 1, position = 0, 1, mass = 1, radius = 0.1, gravity = 1, 2, 3, 4 /", &
+      "&scene: gravity: holds at most 3 values, got 4")
+    if (allocated(error)) return
+    ! a list within its capacity that the runtime cannot read keeps its message
+    call expect_bad(error, "&harmonic_error n_per_period = 10, 'x', lambda = 0.9, n_steps = 5 /", &
+      "&harmonic_error: n_per_period: cannot read")
+    if (allocated(error)) return
+    call expect_bad(error, g//"lambda_min = 0.9 /", "&simulated_stiffness: lambda_max: required with lambda_min")
+    if (allocated(error)) return
+    call expect_bad(error, g//"lambda_min = 0.9, lambda_max = 0.99 /", &
+      "&simulated_stiffness: lambda_count: required with lambda_min")
+    if (allocated(error)) return
+    call expect_bad(error, "&scene dim = 1, position = 0, particles_file = 'p.txt' /", &
+      "&scene: position: give either position or particles_file, not both")
+    if (allocated(error)) return
+    call expect_bad(error, "&scene dim = 1, particles_file = 'p.txt', mass = 1 /", &
+      "&scene: particles_file: give either particles_file or mass, not both")
+    if (allocated(error)) return
+    call expect_bad(error, "&scene dim = 1, mass = 1 /", &
+      "&scene: position: give either position or particles_file (one of them is required)")
+    if (allocated(error)) return
+    call expect_bad(error, "&accuracy_cost tolerances = 1e-3, duration = 1, n_particles = 1, mass = 1, " &
+      //"stiffness = 1 /", "&accuracy_cost: quantity: required")
+    if (allocated(error)) return
+    call expect_bad(error, "&accuracy_cost quantity = 'harmonic', tolerances = 1e-3, duration = 1, " &
+      //"n_particles = 1, mass = 1, stiffness = 1, cost_per_particle_step = 1e-7, figure = 'none' /", &
+      "&accuracy_cost: lambda: required with quantity = 'harmonic'")
+  end subroutine test_table_rules
+
   subroutine expect_bad(error, line, expected)
     type(error_type), allocatable, intent(out) :: error
     character(len=*), intent(in) :: line, expected

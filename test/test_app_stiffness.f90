@@ -227,7 +227,7 @@ contains
     if (allocated(error)) return
     call run_bad(error, g//"tolerance = 1e-3, lambda = 0.3, pick = 'zero' /", "n_max: no lambda has a root")
     if (allocated(error)) return
-    call run_bad(error, g//"tolerance = 1e-3 /", "lambda: the lambda set is empty")
+    call run_bad(error, g//"tolerance = 1e-3 /", "lambda: give either lambda or lambda_min, lambda_max and lambda_count")
   end subroutine test_messages
 
   pure integer function count_lines(text)

@@ -1,0 +1,63 @@
+!> The registry of the command line: every group demstep reads, with its
+!> documentation, its table of variables and its handler. The main program, the
+!> help text, the template and the "known groups" message are all derived from it.
+module demstep_cli_registry
+  use demstep_status, only: demstep_status_type
+  use demstep_namelist, only: nml_group_type
+  use demstep_cli, only: group_spec, cli_context
+  use demstep_cli_system, only: handle_system, system_specs, system_doc
+  use demstep_cli_harmonic, only: handle_harmonic_error, harmonic_specs, harmonic_doc
+  use demstep_cli_stiffness, only: handle_simulated_stiffness, stiffness_specs, stiffness_doc
+  use demstep_cli_scene, only: handle_scene, scene_specs, scene_doc
+  use demstep_cli_accuracy, only: handle_contact_error, contact_error_specs, contact_error_doc, &
+    handle_accuracy_cost, accuracy_cost_specs, accuracy_cost_doc
+  implicit none
+  private
+
+  public :: cli_groups, find_group, group_list
+
+contains
+
+  !> Every group, in the order of the template.
+  function cli_groups() result(groups)
+    type(group_spec), allocatable :: groups(:)
+    groups = [ &
+      group_spec("system", system_doc, system_specs(), handle_system), &
+      group_spec("harmonic_error", harmonic_doc, harmonic_specs(), handle_harmonic_error), &
+      group_spec("simulated_stiffness", stiffness_doc, stiffness_specs(), handle_simulated_stiffness), &
+      group_spec("scene", scene_doc, scene_specs(), run_scene), &
+      group_spec("contact_error", contact_error_doc, contact_error_specs(), handle_contact_error), &
+      group_spec("accuracy_cost", accuracy_cost_doc, accuracy_cost_specs(), handle_accuracy_cost) ]
+  end function cli_groups
+
+  !> The index of the group called `name` in `groups`, 0 when demstep does not know it.
+  pure integer function find_group(groups, name) result(k)
+    type(group_spec), intent(in) :: groups(:)
+    character(len=*), intent(in) :: name
+    do k = 1, size(groups)
+      if (groups(k)%name == name) return
+    end do
+    k = 0
+  end function find_group
+
+  !> The group names as `&a, &b, ...`.
+  pure function group_list(groups) result(text)
+    type(group_spec), intent(in) :: groups(:)
+    character(len=:), allocatable :: text
+    integer :: k
+    text = ""
+    do k = 1, size(groups)
+      if (k > 1) text = text//", "
+      text = text//"&"//groups(k)%name
+    end do
+  end function group_list
+
+  !> `&scene` reads its table files beside the deck.
+  subroutine run_scene(ctx, group, status)
+    type(cli_context), intent(in) :: ctx
+    type(nml_group_type), intent(in) :: group
+    type(demstep_status_type), intent(out) :: status
+    call handle_scene(ctx, group, ctx%deck, status)
+  end subroutine run_scene
+
+end module demstep_cli_registry

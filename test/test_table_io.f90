@@ -1,0 +1,163 @@
+!> Tests of demstep_table_io: tables of numbers read exactly, layouts with a fixed
+!> or an allowed set of column counts, and every malformed file refused with the
+!> file, the line and what is wrong.
+module test_table_io
+  use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
+  use demstep_kinds, only: dp
+  use demstep_status, only: demstep_status_type, demstep_stat
+  use demstep_table_io, only: read_table, table_max_line
+  use test_support, only: write_file, work_dir
+  implicit none
+  private
+  public :: collect_table_io
+
+  character(len=*), parameter :: table = work_dir//"/table.txt"
+
+contains
+
+  subroutine collect_table_io(testsuite)
+    type(unittest_type), allocatable, intent(out) :: testsuite(:)
+    testsuite = [ &
+      new_unittest("numbers, separators, comments and blank lines", test_values), &
+      new_unittest("an allowed set of column counts", test_allowed), &
+      new_unittest("an empty table", test_empty), &
+      new_unittest("malformed rows: file, line and what is wrong", test_malformed), &
+      new_unittest("binary input, long lines, missing files", test_refused), &
+      new_unittest("1e5 rows, each value in its place", test_many_rows) &
+      ]
+  end subroutine collect_table_io
+
+  subroutine test_values(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), allocatable :: rows(:, :)
+    type(demstep_status_type) :: status
+    call write_file(table, [character(len=40) :: "# particle numbers", "", "1 2", &
+      "2,3   # a comment", achar(9)//"3"//achar(9)//"4", "  ", "-1.5e2 2.5d-1"])
+    call read_table(table, 2, rows, status)
+    call check(error, status%stat, demstep_stat%ok, message=status%message)
+    if (allocated(error)) return
+    call check(error, size(rows, 1) == 2 .and. size(rows, 2) == 4, "2 columns, 4 rows")
+    if (allocated(error)) return
+    ! decimal text read by the runtime: exact for these values
+    call check(error, all(rows(:, 1:3) == reshape([1.0_dp, 2.0_dp, 2.0_dp, 3.0_dp, 3.0_dp, &
+      4.0_dp], [2, 3])), "rows 1 to 3")
+    if (allocated(error)) return
+    call check(error, rows(1, 4) == -150.0_dp .and. rows(2, 4) == 0.25_dp, "exponents e and d")
+  end subroutine test_values
+
+  subroutine test_allowed(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), allocatable :: rows(:, :)
+    type(demstep_status_type) :: status
+    call write_file(table, [character(len=40) :: "1 2 3", "4 5 6"])
+    call read_table(table, [2, 3], rows, status)
+    call check(error, status%stat, demstep_stat%ok, message=status%message)
+    if (allocated(error)) return
+    call check(error, size(rows, 1) == 3 .and. size(rows, 2) == 2 .and. rows(3, 2) == 6.0_dp, &
+      "the first row's count, 3 of [2, 3]")
+    if (allocated(error)) return
+    call write_file(table, [character(len=40) :: "1 2", "# two columns first", "4 5 6"])
+    call read_table(table, [2, 3], rows, status)
+    call expect(error, status, demstep_stat%invalid_input, &
+      table//": line 3: 3 numbers, but line 1 has 2 (every row the same)")
+    if (allocated(error)) return
+    call write_file(table, [character(len=40) :: "1 2 3 4 5"])
+    call read_table(table, [2, 3, 4], rows, status)
+    call expect(error, status, demstep_stat%invalid_input, &
+      table//": line 1: expected 2, 3 or 4 numbers, found 5")
+  end subroutine test_allowed
+
+  subroutine test_empty(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), allocatable :: rows(:, :)
+    type(demstep_status_type) :: status
+    call write_file(table, [character(len=40) :: "# nothing here", ""])
+    call read_table(table, [7, 8], rows, status)
+    call check(error, status%stat, demstep_stat%ok, message=status%message)
+    if (allocated(error)) return
+    call check(error, size(rows, 1) == 8 .and. size(rows, 2) == 0, "8 by 0: the widest layout")
+  end subroutine test_empty
+
+  subroutine test_malformed(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), allocatable :: rows(:, :)
+    type(demstep_status_type) :: status
+    call write_file(table, [character(len=40) :: "1 2", "1 2 3"])
+    call read_table(table, 2, rows, status)
+    call expect(error, status, demstep_stat%invalid_input, table//": line 2: expected 2 numbers, found 3")
+    if (allocated(error)) return
+    ! a first row of a wrong count is named, not taken as the layout
+    call write_file(table, [character(len=40) :: "1", "1 2"])
+    call read_table(table, 2, rows, status)
+    call expect(error, status, demstep_stat%invalid_input, table//": line 1: expected 2 numbers, found 1")
+    if (allocated(error)) return
+    ! list-directed extras cannot invent or hide a column
+    call write_file(table, [character(len=40) :: "1 2", "2*0"])
+    call read_table(table, 2, rows, status)
+    call expect(error, status, demstep_stat%invalid_input, table//": line 2: cannot read '2*0'")
+    if (allocated(error)) return
+    call write_file(table, [character(len=40) :: "1 nan"])
+    call read_table(table, 2, rows, status)
+    call expect(error, status, demstep_stat%invalid_input, table//": line 1: cannot read '1 nan'")
+    if (allocated(error)) return
+    call write_file(table, [character(len=40) :: "1 1e999"])
+    call read_table(table, 2, rows, status)
+    call expect(error, status, demstep_stat%invalid_input, table//": line 1: cannot read '1 1e999' as " &
+      //"finite numbers")
+  end subroutine test_malformed
+
+  subroutine test_refused(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), allocatable :: rows(:, :)
+    type(demstep_status_type) :: status
+    call write_file(table, [character(len=8) :: "1 2", "3 "//achar(0)//" 4"])
+    call read_table(table, 2, rows, status)
+    call expect(error, status, demstep_stat%invalid_input, table//": line 2: not a text file (byte 0 " &
+      //"in column 3)")
+    if (allocated(error)) return
+    ! the longest line is read; one character more is refused
+    call write_file(table, ["1"//repeat(" ", table_max_line - 2)//"2"])
+    call read_table(table, 2, rows, status)
+    call check(error, status%stat, demstep_stat%ok, message="a line of 64512 characters: "//status%message)
+    if (allocated(error)) return
+    call write_file(table, ["1"//repeat(" ", table_max_line - 1)//"2"])
+    call read_table(table, 2, rows, status)
+    call expect(error, status, demstep_stat%invalid_input, table//": line 1: longer than 64512 characters")
+    if (allocated(error)) return
+    call read_table(work_dir//"/no-such-table.txt", 2, rows, status)
+    call expect(error, status, demstep_stat%io_error, work_dir//"/no-such-table.txt: no such file")
+  end subroutine test_refused
+
+  subroutine test_many_rows(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), allocatable :: rows(:, :)
+    type(demstep_status_type) :: status
+    integer, parameter :: n = 100000
+    integer :: unit, i
+    open(newunit=unit, file=table, status="replace", action="write")
+    do i = 1, n
+      write(unit, '(i0, 1x, i0, " # row")') i, n - i
+    end do
+    close(unit)
+    call read_table(table, 2, rows, status)
+    call check(error, status%stat, demstep_stat%ok, message=status%message)
+    if (allocated(error)) return
+    call check(error, size(rows, 2), n, message="rows")
+    if (allocated(error)) return
+    call check(error, all(rows(1, :) == [(real(i, dp), i = 1, n)]) .and. &
+      all(rows(2, :) == [(real(n - i, dp), i = 1, n)]), "every value in its place")
+  end subroutine test_many_rows
+
+  !> The status code and the exact message.
+  subroutine expect(error, status, stat, message)
+    type(error_type), allocatable, intent(out) :: error
+    type(demstep_status_type), intent(in) :: status
+    integer, intent(in) :: stat
+    character(len=*), intent(in) :: message
+    call check(error, status%stat, stat, message="status for: "//message)
+    if (allocated(error)) return
+    if (index(status%message, message) /= 1) call test_failed(error, "message '"//status%message// &
+      "' does not start with '"//message//"'")
+  end subroutine expect
+
+end module test_table_io
