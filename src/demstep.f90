@@ -19,6 +19,9 @@
 !>   `step_policy_type`, `new_step_policy`, `n_roots`, `simulated_stiffness`.
 !> - Roots of any function: `find_root`, `scan_roots` (extend `root_context_type`).
 !> - Assemblies: `scene_type`, `new_scene`, `critical_time_steps`, `scene_run`.
+!> - The largest eigenvalue of a large symmetric operator, matrix-free, with an
+!>   error bar: `lanczos_largest` (extend `lanczos_context_type`), `eigen_result_type`,
+!>   a sparse operator from springs (`csr_from_springs`, `csr_apply`).
 !> - Progress of long work, and reading namelist decks: `text_progress_type`,
 !>   `read_text_file`, `scan_namelist`.
 !>
@@ -72,6 +75,10 @@ module demstep
     max_coordinate, contact_limit, max_damping_ratio
   use demstep_assembly, only: critical_step_type, critical_time_steps, hertz_at_current, &
     hertz_at_impact, default_max_eigen_dof
+  ! the largest eigenvalue of a large operator, matrix-free (Lanczos, ARPACK)
+  use demstep_lanczos, only: lanczos_context_type, lanczos_operator, lanczos_largest, &
+    eigen_result_type, lanczos_tolerance_default, lanczos_ncv_default, lanczos_nev_default, &
+    lanczos_restarts_default, lanczos_solver_name, csr_matrix_type, csr_from_springs, csr_apply
   ! progress, and reading namelist decks
   use demstep_progress, only: progress_type, text_progress_type
   use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, scan_namelist

@@ -20,6 +20,7 @@ program tester
   use test_deck, only: collect_deck
   use test_extremes, only: collect_extremes
   use test_app_scene, only: collect_app_scene
+  use test_lanczos, only: collect_lanczos
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -42,7 +43,8 @@ program tester
     new_testsuite("extremes", collect_extremes), &
     new_testsuite("app", collect_app), &
     new_testsuite("app_stiffness", collect_app_stiffness), &
-    new_testsuite("app_scene", collect_app_scene) &
+    new_testsuite("app_scene", collect_app_scene), &
+    new_testsuite("lanczos", collect_lanczos) &
     ]
   stat = 0
   total = 0
