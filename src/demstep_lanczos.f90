@@ -54,6 +54,10 @@ module demstep_lanczos
   !> residual and the Rayleigh quotient are sums of rounded products.
   real(dp), parameter :: rounding_ulps = 8.0_dp
 
+  !> Below this many rows a product runs on one thread: a parallel region costs
+  !> more than the ~10 flops per row it would share.
+  integer, parameter :: csr_parallel_rows = 20000
+
   !> Base of the caller's context: extend it with the operator's data.
   type, public :: lanczos_context_type
   end type lanczos_context_type
@@ -481,7 +485,7 @@ contains
     y = 0.0_dp
     select type (context)
     class is (csr_matrix_type)
-      !$omp parallel do private(i, p, s) schedule(static)
+      !$omp parallel do private(i, p, s) schedule(static) if(context%n >= csr_parallel_rows)
       do i = 1, context%n
         s = 0.0_dp
         do p = context%row_start(i), context%row_start(i + 1) - 1
