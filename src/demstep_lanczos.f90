@@ -141,7 +141,7 @@ contains
     integer, intent(in), optional :: nev
     !> Maximum implicit restarts (>= 1; ARPACK's mxiter). Default `lanczos_restarts_default`.
     integer, intent(in), optional :: max_restarts
-    !> Reports the products made.
+    !> Reports the products made (no total: convergence is not known ahead).
     class(progress_type), intent(inout), optional :: progress
     real(dp) :: tol, theta, rnorm, znorm
     integer :: k, m, restarts, ido, info, lworkl, nconv, ldv
@@ -222,8 +222,8 @@ contains
     iparam(7) = 1         ! mode 1: OP = A, B = I
     ido = 0
     info = 1              ! start from resid, not ARPACK's random vector
-    if (present(progress)) call progress%start("Lanczos products", &
-      int(m, i8) + int(restarts, i8)*int(m - k, i8) + 1_i8)
+    ! how many products convergence takes is not known ahead: no total
+    if (present(progress)) call progress%start("Lanczos products", 0_i8)
     do
       call dsaupd(ido, "I", n, "LA", k, tol, resid, m, v, ldv, iparam, ipntr, workd, workl, &
         lworkl, info)

@@ -12,6 +12,7 @@ module test_lanczos
     csr_matrix_type, csr_from_springs, csr_apply, csr_to_dense, lanczos_start_vector, &
     lanczos_tolerance_default
   use test_support, only: real_str
+  use demstep_progress, only: progress_type
   use demstep_text, only: int_text
   !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
@@ -24,7 +25,37 @@ module test_lanczos
     integer :: which = 0
   end type odd_operator_type
 
+  !> Counts the progress calls.
+  type, extends(progress_type) :: count_progress_type
+    integer :: starts = 0, updates = 0, finishes = 0
+    integer(i8) :: total = 0, last = 0
+  contains
+    procedure :: start => count_start
+    procedure :: update => count_update
+    procedure :: finish => count_finish
+  end type count_progress_type
+
 contains
+
+  subroutine count_start(self, what, total)
+    class(count_progress_type), intent(inout) :: self
+    character(len=*), intent(in) :: what
+    integer(i8), intent(in) :: total
+    if (len(what) > 0) self%starts = self%starts + 1
+    self%total = total
+  end subroutine count_start
+
+  subroutine count_update(self, done)
+    class(count_progress_type), intent(inout) :: self
+    integer(i8), intent(in) :: done
+    self%updates = self%updates + 1
+    self%last = done
+  end subroutine count_update
+
+  subroutine count_finish(self)
+    class(count_progress_type), intent(inout) :: self
+    self%finishes = self%finishes + 1
+  end subroutine count_finish
 
   subroutine collect_lanczos(testsuite)
     type(unittest_type), allocatable, intent(out) :: testsuite(:)
@@ -36,7 +67,8 @@ contains
       new_unittest("bad arguments, n = 1, a zero and a NaN operator", test_arguments), &
       new_unittest("ARPACK info codes as statuses (some provoked)", test_arpack_codes), &
       new_unittest("springs to CSR: the dense matrix, bad springs refused", test_csr), &
-      new_unittest("same result for 1 and 2 threads, run after run", test_threads) &
+      new_unittest("same result for 1 and 2 threads, run after run", test_threads), &
+      new_unittest("progress: one start, a update per product, one finish", test_progress) &
       ]
   end subroutine collect_lanczos
 
@@ -505,5 +537,22 @@ contains
     if (allocated(error)) return
     call check(error, r1%tolerance == lanczos_tolerance_default, "default tolerance")
   end subroutine test_threads
+
+  subroutine test_progress(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(csr_matrix_type) :: a
+    type(eigen_result_type) :: r
+    type(demstep_status_type) :: status
+    type(count_progress_type) :: p
+    real(dp) :: top
+    call periodic_lattice(2, 20, 1, a, top)
+    call lanczos_largest(csr_apply, a, a%n, r, status, progress=p)
+    call check(error, status%stat, demstep_stat%ok, "status")
+    if (allocated(error)) return
+    ! every product but the final residual check is reported
+    call check(error, p%starts == 1 .and. p%finishes == 1 .and. p%updates == r%applications - 1 &
+      .and. p%last == r%applications - 1 .and. p%total == 0, "calls: "//int_text(p%starts)//" " &
+      //int_text(p%updates)//" "//int_text(p%finishes)//" of "//int_text(r%applications))
+  end subroutine test_progress
 
 end module test_lanczos
