@@ -144,7 +144,7 @@ contains
     !> Reports the products made (no total: convergence is not known ahead).
     class(progress_type), intent(inout), optional :: progress
     real(dp) :: tol, theta, rnorm, znorm
-    integer :: k, m, restarts, ido, info, lworkl, nconv, ldv
+    integer :: k, m, restarts, ido, info, lworkl, nconv, ldv, itop
     integer :: iparam(arpack_iparam_size), ipntr(arpack_iparam_size)
     real(dp), allocatable :: v(:, :), workd(:), workl(:), resid(:), z(:, :), d(:), y(:)
     logical, allocatable :: select(:)
@@ -259,10 +259,11 @@ contains
     end if
 
     if (nconv < 1) then
-      ! no Ritz pair met the tolerance: the best Ritz value and ARPACK's Ritz
-      ! estimate of its residual; with 'LA' the largest comes first
-      result%eigenvalue = workl(ipntr(6))
-      result%residual = abs(workl(ipntr(7)))
+      ! no Ritz pair met the tolerance: the largest of the k wanted Ritz values
+      ! and ARPACK's Ritz estimate of its residual
+      itop = maxloc(workl(ipntr(6):ipntr(6) + k - 1), 1) - 1
+      result%eigenvalue = workl(ipntr(6) + itop)
+      result%residual = abs(workl(ipntr(7) + itop))
       result%error_bound = result%residual + rounding_ulps*epsilon(1.0_dp)*abs(result%eigenvalue)
       if (present(progress)) call progress%finish()
       if (step_status%stat == demstep_stat%ok) then

@@ -232,6 +232,12 @@ contains
       ! the closed form: sin in double, a few ulps
       call check_result(error, r, status, top, 4*epsilon(1.0_dp)*top, 1.0e-10_dp, label)
       if (allocated(error)) return
+      ! a block of 4 wanted Ritz values
+      call lanczos_largest(csr_apply, a, a%n, r, status, nev=4, ncv=20)
+      call check_result(error, r, status, top, 4*epsilon(1.0_dp)*top, 1.0e-10_dp, label//", nev = 4")
+      if (allocated(error)) return
+      call check(error, r%nev == 4 .and. r%ncv == 20, label//": nev, ncv reported")
+      if (allocated(error)) return
     end do
   end subroutine test_lattices
 
