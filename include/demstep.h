@@ -30,7 +30,8 @@ enum {
   DEMSTEP_IO_ERROR = 7,       /* reading or writing a file failed */
   DEMSTEP_BLOW_UP = 8,        /* a simulated value grew without bound */
   DEMSTEP_AT_STABILITY_LIMIT = 9, /* the tolerance already holds at the stability limit */
-  DEMSTEP_DISCONTINUOUS = 10  /* a sign change or pick lies on a jump or pole, not a root */
+  DEMSTEP_DISCONTINUOUS = 10, /* a sign change or pick lies on a jump or pole, not a root */
+  DEMSTEP_EIGENSOLVER_FAILURE = 11 /* the eigensolver (ARPACK) failed */
 };
 
 /* Dashpots, step policies, picks, aggregation rules, contact laws, effects. */

@@ -21,6 +21,9 @@
 !> - Roots of any function: `find_root`, `scan_roots` (extend `root_context_type`).
 !> - Assemblies: `scene_type`, `new_scene`, `critical_time_steps`, `scene_run`,
 !>   `assembly_step_for_n_per_period`.
+!> - The largest eigenvalue of a large symmetric operator, matrix-free, with an
+!>   error bar: `lanczos_largest` (extend `lanczos_context_type`), `eigen_result_type`,
+!>   a sparse operator from springs (`csr_from_springs`, `csr_apply`).
 !> - Materials in each DEM code's convention and the peers' step rules:
 !>   `material_type`, `effective_pair`, `contact_parameters` (`code_convention%...`),
 !>   `rayleigh_time`, `hertz_contact_duration`, `peer_time_steps`.
@@ -78,6 +81,10 @@ module demstep
     max_coordinate, contact_limit, max_damping_ratio
   use demstep_assembly, only: critical_step_type, critical_time_steps, hertz_at_current, &
     hertz_at_impact, default_max_eigen_dof, assembly_step_for_n_per_period
+  ! the largest eigenvalue of a large operator, matrix-free (Lanczos, ARPACK)
+  use demstep_lanczos, only: lanczos_context_type, lanczos_operator, lanczos_largest, &
+    eigen_result_type, lanczos_tolerance_default, lanczos_ncv_default, lanczos_nev_default, &
+    lanczos_restarts_default, lanczos_solver_name, csr_matrix_type, csr_from_springs, csr_apply
   ! progress, and reading namelist decks and tables
   use demstep_progress, only: progress_type, text_progress_type
   use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, scan_namelist

@@ -32,6 +32,9 @@ module demstep_status
     !> A sign change or a pick lies on a jump or a pole, not a root: the value
     !> returned is where the function jumps.
     integer :: discontinuous = 10
+    !> The iterative eigensolver (ARPACK) failed: no Lanczos factorization could
+    !> be built, or its data was inconsistent.
+    integer :: eigensolver_failure = 11
   end type demstep_stat_codes
 
   !> The status codes by name.
