@@ -19,7 +19,8 @@ module demstep_material
   private
 
   public :: effective_pair, contact_parameters, rayleigh_time, hertz_max_overlap, &
-    hertz_contact_duration, linear_contact_duration, peer_time_steps, hertz_duration_constant
+    hertz_contact_duration, linear_contact_duration, peer_time_steps, hertz_duration_constant, &
+    hertz_impact_stiffness
 
   !> The codes whose contact conventions are reproduced, as components of a parameter.
   type, public :: code_convention_codes
@@ -309,6 +310,31 @@ contains
       return
     end if
   end subroutine hertz_contact_duration
+
+  !> The Hertz contact linearised at the largest overlap `delta` of an impact at
+  !> velocity `v`: its tangent stiffness `dF/d delta = 2 E* sqrt(R* delta)`, the
+  !> stiffest state the contact reaches, so that the linear contact's stability
+  !> limit bounds the step of the whole impact. Hertz quantities depend on E* and
+  !> R* only through E* sqrt(R*).
+  pure subroutine hertz_impact_stiffness(eff, v, k, status)
+    !> The pair.
+    type(effective_pair_type), intent(in) :: eff
+    !> Impact velocity (> 0).
+    real(dp), intent(in) :: v
+    !> The tangent stiffness.
+    real(dp), intent(out) :: k
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: delta
+    k = 0.0_dp
+    call hertz_max_overlap(eff, v, delta, status)
+    if (status%stat /= demstep_stat%ok) return
+    k = 2.0_dp*eff%e_star*sqrt(eff%r_star)*sqrt(delta)
+    if (.not. (ieee_is_finite(k) .and. k > 0.0_dp)) then
+      k = 0.0_dp
+      call set_status(status, demstep_stat%invalid_input, &
+        "impact_velocity: the linearised Hertz stiffness leaves the double range; rescale the units")
+    end if
+  end subroutine hertz_impact_stiffness
 
   !> Duration of a linear spring-dashpot contact `m x'' = -k x - gamma x'`
   !> that ends at zero overlap: `pi/sqrt(k/m - (gamma/2m)^2)`.

@@ -23,6 +23,7 @@ program tester
   use test_app_scene, only: collect_app_scene
   use test_material, only: collect_material
   use test_mfix, only: collect_mfix
+  use test_app_mfix, only: collect_app_mfix
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -48,7 +49,8 @@ program tester
     new_testsuite("app_stiffness", collect_app_stiffness), &
     new_testsuite("app_scene", collect_app_scene), &
     new_testsuite("material", collect_material), &
-    new_testsuite("mfix", collect_mfix) &
+    new_testsuite("mfix", collect_mfix), &
+    new_testsuite("app_mfix", collect_app_mfix) &
     ]
   stat = 0
   total = 0
