@@ -14,13 +14,14 @@ module demstep_material
   use demstep_kinds, only: dp, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: real_text
+  use demstep_spring, only: damped_limit
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
   public :: effective_pair, contact_parameters, rayleigh_time, hertz_max_overlap, &
     hertz_contact_duration, linear_contact_duration, peer_time_steps, hertz_duration_constant, &
-    hertz_impact_stiffness
+    hertz_impact_stiffness, convention_limit
 
   !> The codes whose contact conventions are reproduced, as components of a parameter.
   type, public :: code_convention_codes
@@ -335,6 +336,35 @@ contains
         "impact_velocity: the linearised Hertz stiffness leaves the double range; rescale the units")
     end if
   end subroutine hertz_impact_stiffness
+
+  !> The exact stability limit of a contact as a code steps it with `params`
+  !> (central differences, dashpot on the previous velocity): `(2/omega)
+  !> (sqrt(1 + z^2) - z)` with `omega = sqrt(k/m*)`, `z = gamma_n/(2 sqrt(k m*))`;
+  !> for the Hertz conventions `k` is the tangent stiffness at `params%overlap`,
+  !> 3/2 of the secant `k_n` (the force grows as overlap^(3/2)).
+  !> `invalid_input` naming `k_n` or `m_star` when they are not finite and > 0.
+  pure subroutine convention_limit(params, m_star, dt, status)
+    !> The code's parameters (from [[contact_parameters]]).
+    type(contact_parameters_type), intent(in) :: params
+    !> Effective mass (> 0).
+    real(dp), intent(in) :: m_star
+    !> The limit.
+    real(dp), intent(out) :: dt
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: k
+    dt = 0.0_dp
+    k = params%k_n
+    if (params%overlap > 0.0_dp) k = 1.5_dp*params%k_n
+    if (.not. (k > 0.0_dp .and. ieee_is_finite(k))) then
+      call set_status(status, demstep_stat%invalid_input, "k_n: must be finite and > 0")
+      return
+    else if (.not. (m_star > 0.0_dp .and. ieee_is_finite(m_star))) then
+      call set_status(status, demstep_stat%invalid_input, "m_star: must be finite and > 0")
+      return
+    end if
+    dt = damped_limit(2.0_dp*(sqrt(m_star)/sqrt(k)), (0.5_dp*params%gamma_n/sqrt(k))/sqrt(m_star))
+    status%stat = demstep_stat%ok
+  end subroutine convention_limit
 
   !> Duration of a linear spring-dashpot contact `m x'' = -k x - gamma x'`
   !> that ends at zero overlap: `pi/sqrt(k/m - (gamma/2m)^2)`.

@@ -21,11 +21,14 @@ module demstep_recommend
   use demstep_contact, only: discrete_contact_type, contact_with_onset, contact_worst_case, &
     quantity_kind
   use demstep_cost, only: n_for_tolerance
+  use demstep_material, only: material_pair_type, effective_pair_type, effective_pair, &
+    hertz_impact_stiffness
+  use demstep_scene, only: restitution_to_damping_ratio
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
-  public :: recommended_step, assess_contact
+  public :: recommended_step, assess_contact, assess_material_pair
 
   !> Default fraction of the exact stability limit recommended.
   real(dp), parameter, public :: default_safety = 0.9_dp
@@ -182,5 +185,34 @@ contains
     end if
     status%stat = demstep_stat%ok
   end subroutine recommended_step
+
+  !> demstep's exact answers for a pair of materials: the Hertz contact
+  !> linearised at the largest overlap of an impact at `pair%impact_velocity`
+  !> (its tangent stiffness, the stiffest state the contact reaches, so the
+  !> limit bounds the whole impact), with the lagged dashpot of the pair's
+  !> restitution, `z = |ln e|/sqrt(pi^2 + ln^2 e)`; see [[assess_contact]].
+  pure subroutine assess_material_pair(pair, assessment, status, tolerance, stiffness)
+    !> The pair, its restitution and impact velocity.
+    type(material_pair_type), intent(in) :: pair
+    type(contact_assessment_type), intent(out) :: assessment
+    type(demstep_status_type), intent(out) :: status
+    !> Tolerance on the relative restitution error (> 0).
+    real(dp), intent(in), optional :: tolerance
+    !> The linearised stiffness used.
+    real(dp), intent(out), optional :: stiffness
+    type(effective_pair_type) :: eff
+    real(dp) :: k
+    call effective_pair(pair%a, pair%b, eff, status)
+    if (status%stat /= demstep_stat%ok) return
+    call hertz_impact_stiffness(eff, pair%impact_velocity, k, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (present(stiffness)) stiffness = k
+    if (.not. (pair%restitution > 0.0_dp .and. pair%restitution <= 1.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "restitution: must lie in (0, 1]")
+      return
+    end if
+    call assess_contact(eff%m_star, k, restitution_to_damping_ratio(pair%restitution), assessment, &
+      status, tolerance=tolerance)
+  end subroutine assess_material_pair
 
 end module demstep_recommend

@@ -24,6 +24,7 @@ program tester
   use test_material, only: collect_material
   use test_mfix, only: collect_mfix
   use test_app_mfix, only: collect_app_mfix
+  use test_app_material, only: collect_app_material
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -50,7 +51,8 @@ program tester
     new_testsuite("app_scene", collect_app_scene), &
     new_testsuite("material", collect_material), &
     new_testsuite("mfix", collect_mfix), &
-    new_testsuite("app_mfix", collect_app_mfix) &
+    new_testsuite("app_mfix", collect_app_mfix), &
+    new_testsuite("app_material", collect_app_material) &
     ]
   stat = 0
   total = 0
