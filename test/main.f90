@@ -25,6 +25,7 @@ program tester
   use test_mfix, only: collect_mfix
   use test_app_mfix, only: collect_app_mfix
   use test_app_material, only: collect_app_material
+  use test_recommend, only: collect_recommend
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -52,7 +53,8 @@ program tester
     new_testsuite("material", collect_material), &
     new_testsuite("mfix", collect_mfix), &
     new_testsuite("app_mfix", collect_app_mfix), &
-    new_testsuite("app_material", collect_app_material) &
+    new_testsuite("app_material", collect_app_material), &
+    new_testsuite("recommend", collect_recommend) &
     ]
   stat = 0
   total = 0
