@@ -26,6 +26,7 @@ program tester
   use test_app_mfix, only: collect_app_mfix
   use test_app_material, only: collect_app_material
   use test_recommend, only: collect_recommend
+  use test_snapshot, only: collect_snapshot
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -54,7 +55,8 @@ program tester
     new_testsuite("mfix", collect_mfix), &
     new_testsuite("app_mfix", collect_app_mfix), &
     new_testsuite("app_material", collect_app_material), &
-    new_testsuite("recommend", collect_recommend) &
+    new_testsuite("recommend", collect_recommend), &
+    new_testsuite("snapshot", collect_snapshot) &
     ]
   stat = 0
   total = 0
