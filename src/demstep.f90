@@ -26,6 +26,8 @@
 !>   `rayleigh_time`, `hertz_contact_duration`, `peer_time_steps`.
 !> - MFiX decks: `read_mfix_deck`, `mfix_looks_like_deck`, `mfix_input_from_deck`,
 !>   `mfix_compute` (what MFiX computes), `mfix_assess` (demstep's exact answers at MFiX's step).
+!> - Snapshots from DEM codes' files (LAMMPS/LIGGGHTS dump and data files, Yade text):
+!>   `snapshot_type`, `read_snapshot`, `parse_snapshot` (`snapshot_format%...`).
 !> - One recommended step: `recommended_step` (safety times the exact limit, or the
 !>   accuracy requirement), `assess_contact` (one linear contact's limit, errors at a
 !>   step and the step for a tolerance).
@@ -98,6 +100,9 @@ module demstep
   use demstep_mfix, only: mfix_input_type, mfix_result_type, mfix_units, mfix_model, &
     mfix_integrator, mfix_input_from_deck, mfix_compute, mfix_assessment_type, mfix_assess, &
     mfix_default_dtsolid_factor
+  ! particle snapshots from DEM codes' files
+  use demstep_snapshot, only: snapshot_type, snapshot_format, snapshot_format_names, read_snapshot, &
+    parse_snapshot, snapshot_format_of
   ! one recommended step
   use demstep_recommend, only: recommended_step, default_safety, step_governs, step_governs_names, &
     contact_assessment_type, assess_contact

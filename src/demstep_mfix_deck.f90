@@ -105,12 +105,7 @@ contains
     in_block = .false.
     status%stat = demstep_stat%ok
     do while (start <= n)
-      finish = index(text(start:), lf)
-      if (finish == 0) then
-        finish = n + 1
-      else
-        finish = start + finish - 1
-      end if
+      finish = line_end(text, start)
       line = line + 1
       last = finish - 1
       if (last >= start) then
@@ -131,6 +126,18 @@ contains
       start = finish + 1
     end do
   end subroutine parse_mfix_deck
+
+  !> Position of the newline ending the line that starts at `start` (len + 1 for the last).
+  pure integer function line_end(text, start) result(finish)
+    character(len=*), intent(in) :: text
+    integer, intent(in) :: start
+    finish = index(text(start:), lf)
+    if (finish == 0) then
+      finish = len(text) + 1
+    else
+      finish = start + finish - 1
+    end if
+  end function line_end
 
   pure logical function is_name_start(c)
     character, intent(in) :: c
@@ -455,12 +462,7 @@ contains
     n = len(text)
     start = 1
     do while (start <= n)
-      finish = index(text(start:), lf)
-      if (finish == 0) then
-        finish = n + 1
-      else
-        finish = start + finish - 1
-      end if
+      finish = line_end(text, start)
       low = lowercase(adjustl(text(start:finish - 1)))//" "
       do k = 1, size(mfix_marks)
         p = len_trim(mfix_marks(k))
@@ -514,6 +516,16 @@ contains
     end do
   end function upper
 
+  !> Status `invalid_input` for MFiX's `@(...)` arithmetic, ok otherwise.
+  pure subroutine refuse_arithmetic(v, loc, status)
+    type(mfix_value_type), intent(in) :: v
+    character(len=*), intent(in) :: loc
+    type(demstep_status_type), intent(out) :: status
+    status%stat = demstep_stat%ok
+    if (v%arithmetic) call set_status(status, demstep_stat%invalid_input, loc//"MFiX's "//clip(v%text)// &
+      " arithmetic is not supported; write the value as a number")
+  end subroutine refuse_arithmetic
+
   !> Convert a value to a real (`1.0`, `1.0d-3`, `2E5`, `3`).
   pure subroutine value_real(v, loc, x, status)
     type(mfix_value_type), intent(in) :: v
@@ -522,11 +534,8 @@ contains
     type(demstep_status_type), intent(out) :: status
     integer :: ios
     x = 0.0_dp
-    if (v%arithmetic) then
-      call set_status(status, demstep_stat%invalid_input, loc//"MFiX's "//clip(v%text)// &
-        " arithmetic is not supported; write the value as a number")
-      return
-    end if
+    call refuse_arithmetic(v, loc, status)
+    if (status%stat /= demstep_stat%ok) return
     if (v%quoted .or. len_trim(v%text) == 0 .or. verify(trim(v%text), "0123456789.+-eEdD") > 0) then
       call set_status(status, demstep_stat%invalid_input, loc//"'"//clip(v%text)//"' is not a number")
       return
@@ -541,18 +550,24 @@ contains
   end subroutine value_real
 
   !> The last assignment of a scalar keyword, or `found = .false.`.
-  pure subroutine last_scalar(deck, name, k, status)
+  pure subroutine last_scalar(deck, name, k, found, line, status)
     type(mfix_deck_type), intent(in) :: deck
     character(len=*), intent(in) :: name
     integer, intent(out) :: k
+    !> Whether the deck assigns it, and the line of the last assignment (0: none).
+    logical, intent(out) :: found
+    integer, intent(out) :: line
     type(demstep_status_type), intent(out) :: status
     integer :: i
     k = 0
+    line = 0
     status%stat = demstep_stat%ok
     do i = 1, deck%n_items
       if (deck%items(i)%name == lowercase(name)) k = i
     end do
+    found = k > 0
     if (k == 0) return
+    line = deck%items(k)%line
     associate (it => deck%items(k))
       if (it%n_sub > 0) then
         call set_status(status, demstep_stat%invalid_input, key_where(name, it%line, no_sub)// &
@@ -578,12 +593,8 @@ contains
     integer, intent(out) :: line
     type(demstep_status_type), intent(out) :: status
     integer :: k
-    found = .false.
-    line = 0
-    call last_scalar(deck, name, k, status)
-    if (status%stat /= demstep_stat%ok .or. k == 0) return
-    found = .true.
-    line = deck%items(k)%line
+    call last_scalar(deck, name, k, found, line, status)
+    if (status%stat /= demstep_stat%ok .or. .not. found) return
     call value_real(deck%items(k)%values(1), key_where(name, line, no_sub), x, status)
   end subroutine mfix_get_real
 
@@ -601,18 +612,11 @@ contains
     integer, intent(out) :: line
     type(demstep_status_type), intent(out) :: status
     integer :: k, ios
-    found = .false.
-    line = 0
-    call last_scalar(deck, name, k, status)
-    if (status%stat /= demstep_stat%ok .or. k == 0) return
-    found = .true.
-    line = deck%items(k)%line
+    call last_scalar(deck, name, k, found, line, status)
+    if (status%stat /= demstep_stat%ok .or. .not. found) return
     associate (v => deck%items(k)%values(1))
-      if (v%arithmetic) then
-        call set_status(status, demstep_stat%invalid_input, key_where(name, line, no_sub)//"MFiX's "// &
-          clip(v%text)//" arithmetic is not supported; write the value as a number")
-        return
-      end if
+      call refuse_arithmetic(v, key_where(name, line, no_sub), status)
+      if (status%stat /= demstep_stat%ok) return
       ios = 1
       if (.not. v%quoted .and. len_trim(v%text) > 0 .and. verify(trim(v%text), "0123456789+-") == 0) &
         read(v%text, *, iostat=ios) i
@@ -635,12 +639,8 @@ contains
     integer, intent(out) :: line
     type(demstep_status_type), intent(out) :: status
     integer :: k
-    found = .false.
-    line = 0
-    call last_scalar(deck, name, k, status)
-    if (status%stat /= demstep_stat%ok .or. k == 0) return
-    found = .true.
-    line = deck%items(k)%line
+    call last_scalar(deck, name, k, found, line, status)
+    if (status%stat /= demstep_stat%ok .or. .not. found) return
     s = trim(adjustl(deck%items(k)%values(1)%text))
   end subroutine mfix_get_string
 

@@ -223,7 +223,7 @@ contains
         cycle
       end if
       if (l /= "ITEM: TIMESTEP") then
-        call fail(k, "expected 'ITEM: TIMESTEP' (the start of a frame), found '"//clipped(l)//"'")
+        call fail_at(status, k, "expected 'ITEM: TIMESTEP' (the start of a frame), found '"//clipped(l)//"'")
         return
       end if
       n_frames = n_frames + 1
@@ -233,7 +233,7 @@ contains
       if (status%stat /= demstep_stat%ok) return
       ! TIMESTEP, value, NUMBER OF ATOMS, value, BOX BOUNDS, 3 lines, ATOMS, rows
       if (k + 8 + natoms > lines%n) then
-        call fail(lines%n, "truncated: frame "//int_text(n_frames)//" declares "//int_text(natoms)// &
+        call fail_at(status, lines%n, "truncated: frame "//int_text(n_frames)//" declares "//int_text(natoms)// &
           " atoms, the file ends after "//int_text(max(0, lines%n - (k + 8)))//" of their rows")
         return
       end if
@@ -255,11 +255,6 @@ contains
     call read_frame(starts(want))
   contains
 
-    subroutine fail(line, what)
-      integer, intent(in) :: line
-      character(len=*), intent(in) :: what
-      call set_status(status, demstep_stat%invalid_input, "line "//int_text(line)//": "//what)
-    end subroutine fail
 
     !> Check a frame's header from its TIMESTEP line; the atom count.
     subroutine frame_size(k0, count)
@@ -273,7 +268,7 @@ contains
       call integer_line(k0 + 3, "the number of atoms", c)
       if (status%stat /= demstep_stat%ok) return
       if (c < 0 .or. c > huge(1)) then
-        call fail(k0 + 3, "the number of atoms must lie in [0, "//int_text(huge(1))//"]")
+        call fail_at(status, k0 + 3, "the number of atoms must lie in [0, "//int_text(huge(1))//"]")
         return
       end if
       count = int(c)
@@ -286,9 +281,9 @@ contains
       integer, intent(in) :: k0
       character(len=*), intent(in) :: item
       if (k0 > lines%n) then
-        call fail(lines%n, "truncated: the file ends before '"//item//"'")
+        call fail_at(status, lines%n, "truncated: the file ends before '"//item//"'")
       else if (index(adjustl(line_of(text, lines, k0)), item) /= 1) then
-        call fail(k0, "expected '"//item//"', found '"//clipped(trim(adjustl(line_of(text, lines, k0))))//"'")
+        call fail_at(status, k0, "expected '"//item//"', found '"//clipped(trim(adjustl(line_of(text, lines, k0))))//"'")
       else
         status%stat = demstep_stat%ok
       end if
@@ -302,14 +297,14 @@ contains
       integer :: ios
       value = 0
       if (k0 > lines%n) then
-        call fail(lines%n, "truncated: the file ends before "//what)
+        call fail_at(status, lines%n, "truncated: the file ends before "//what)
         return
       end if
       t = trim(adjustl(line_of(text, lines, k0)))
       ios = 1
       if (len(t) > 0 .and. verify(t, "0123456789+-") == 0) read(t, *, iostat=ios) value
       if (ios /= 0) then
-        call fail(k0, what//": '"//clipped(t)//"' is not an integer")
+        call fail_at(status, k0, what//": '"//clipped(t)//"' is not an integer")
         return
       end if
       status%stat = demstep_stat%ok
@@ -333,9 +328,9 @@ contains
       call fields(h, a, b, nf)
       if (nf /= 6) then
         if (nf == 9) then
-          call fail(k0 + 4, "a triclinic box (xy xz yz) is not supported")
+          call fail_at(status, k0 + 4, "a triclinic box (xy xz yz) is not supported")
         else
-          call fail(k0 + 4, "expected 'ITEM: BOX BOUNDS' and three boundary words (pp, ff, fs, ...), " &
+          call fail_at(status, k0 + 4, "expected 'ITEM: BOX BOUNDS' and three boundary words (pp, ff, fs, ...), " &
             //"found "//int_text(nf - 3)//" words")
         end if
         return
@@ -347,7 +342,7 @@ contains
         s%lo(j) = vals(1)
         s%hi(j) = vals(2)
         if (.not. s%hi(j) > s%lo(j)) then
-          call fail(k0 + 4 + j, "the box's upper bound must exceed its lower bound")
+          call fail_at(status, k0 + 4 + j, "the box's upper bound must exceed its lower bound")
           return
         end if
       end do
@@ -357,11 +352,11 @@ contains
       call fields(h, a, b, nf)
       ncol = nf - 2
       if (ncol < 1) then
-        call fail(k0 + 8, "'ITEM: ATOMS' names no column")
+        call fail_at(status, k0 + 8, "'ITEM: ATOMS' names no column")
         return
       end if
       if (nf > size(a)) then
-        call fail(k0 + 8, "more than "//int_text(size(a) - 2)//" columns")
+        call fail_at(status, k0 + 8, "more than "//int_text(size(a) - 2)//" columns")
         return
       end if
       col_id = 0; col_type = 0; col_x = 0; col_v = 0; col_w = 0; col_r = 0; col_d = 0; col_m = 0; col_rho = 0
@@ -414,20 +409,20 @@ contains
           if (.not. (index(name, "c_") == 1 .or. index(name, "f_") == 1 .or. index(name, "v_") == 1 &
             .or. index(name, "i_") == 1 .or. index(name, "d_") == 1 .or. index(name, "i2_") == 1 &
             .or. index(name, "d2_") == 1)) then
-            call fail(k0 + 8, "unknown column '"//clipped(name)//"' (known: id type x y z xs ys zs xu yu " &
+            call fail_at(status, k0 + 8, "unknown column '"//clipped(name)//"' (known: id type x y z xs ys zs xu yu " &
               //"zu vx vy vz radius diameter mass density omegax omegay omegaz, LAMMPS' others skipped)")
             return
           end if
         end select
       end do
       if (any(col_x == 0)) then
-        call fail(k0 + 8, "the columns need x y z (or xs ys zs)")
+        call fail_at(status, k0 + 8, "the columns need x y z (or xs ys zs)")
         return
       else if (col_r == 0 .and. col_d == 0) then
-        call fail(k0 + 8, "the columns need radius or diameter")
+        call fail_at(status, k0 + 8, "the columns need radius or diameter")
         return
       else if (col_r > 0 .and. col_d > 0) then
-        call fail(k0 + 8, "give radius or diameter, not both")
+        call fail_at(status, k0 + 8, "give radius or diameter, not both")
         return
       end if
       s%has_velocity = all(col_v > 0)
@@ -450,13 +445,13 @@ contains
         if (col_r > 0) s%radius(i) = vals(col_r)
         if (col_d > 0) s%radius(i) = 0.5_dp*vals(col_d)
         if (.not. s%radius(i) > 0.0_dp) then
-          call fail(row, trim(merge("radius  ", "diameter", col_r > 0))//" must be > 0")
+          call fail_at(status, row, trim(merge("radius  ", "diameter", col_r > 0))//" must be > 0")
           return
         end if
         if (s%has_mass) s%mass(i) = vals(col_m)
         if (s%has_density) s%density(i) = vals(col_rho)
         if (s%has_mass .and. .not. s%mass(i) > 0.0_dp) then
-          call fail(row, "mass must be > 0")
+          call fail_at(status, row, "mass must be > 0")
           return
         end if
       end do
@@ -512,7 +507,7 @@ contains
       else if (nf == 4 .and. word_at(3) == "zlo") then
         call bounds(3)
       else if (nf == 6 .and. word_at(4) == "xy") then
-        call fail(k, "a triclinic box (xy xz yz) is not supported")
+        call fail_at(status, k, "a triclinic box (xy xz yz) is not supported")
       end if
       if (status%stat /= demstep_stat%ok) return
       k = k + 1
@@ -532,7 +527,7 @@ contains
       if (len(word) == 0) then
         call fields(l, a, b, nf)
         if (nf > 0) then
-          call fail(k, "expected a section keyword (Atoms, Velocities, Masses, ...), found '" &
+          call fail_at(status, k, "expected a section keyword (Atoms, Velocities, Masses, ...), found '" &
             //clipped(trim(adjustl(l)))//"'")
           return
         end if
@@ -550,21 +545,21 @@ contains
         atoms_line = k
         if (index(lowercase(line_of(text, lines, k)), "#") > 0 .and. &
           index(lowercase(line_of(text, lines, k)), "sphere") == 0) then
-          call fail(k, "atom style '"//clipped(trim(adjustl(line_of(text, lines, k))))// &
+          call fail_at(status, k, "atom style '"//clipped(trim(adjustl(line_of(text, lines, k))))// &
             "': only the sphere style (id type diameter density x y z) is read")
           return
         end if
         ncol = 0
         do i = 1, n_atoms
           if (j + i - 1 > lines%n) then
-            call fail(lines%n, "truncated: the Atoms section has "//int_text(i - 1)//" of the " &
+            call fail_at(status, lines%n, "truncated: the Atoms section has "//int_text(i - 1)//" of the " &
               //int_text(n_atoms)//" rows the header declares")
             return
           end if
           call fields(strip_comment(line_of(text, lines, j + i - 1)), a, b, nf)
           if (i == 1) ncol = nf
           if (nf /= 7 .and. nf /= 10) then
-            call fail(j + i - 1, "an Atoms row of style sphere has 7 values (id type diameter density " &
+            call fail_at(status, j + i - 1, "an Atoms row of style sphere has 7 values (id type diameter density " &
               //"x y z) or 10 (with ix iy iz), found "//int_text(nf))
             return
           end if
@@ -577,7 +572,7 @@ contains
           s%density(i) = vals(4)
           s%x(:, i) = vals(5:7)
           if (.not. s%radius(i) > 0.0_dp) then
-            call fail(j + i - 1, "diameter must be > 0 (a point particle has no contact)")
+            call fail_at(status, j + i - 1, "diameter must be > 0 (a point particle has no contact)")
             return
           end if
         end do
@@ -585,13 +580,13 @@ contains
       case ("velocities")
         vel_line = k
         if (atoms_line == 0) then
-          call fail(k, "the Velocities section must follow the Atoms section")
+          call fail_at(status, k, "the Velocities section must follow the Atoms section")
           return
         end if
         call id_table(s%id, table, slot)
         do i = 1, n_atoms
           if (j + i - 1 > lines%n) then
-            call fail(lines%n, "truncated: the Velocities section has "//int_text(i - 1)//" of the " &
+            call fail_at(status, lines%n, "truncated: the Velocities section has "//int_text(i - 1)//" of the " &
               //int_text(n_atoms)//" rows")
             return
           end if
@@ -600,7 +595,7 @@ contains
           if (status%stat /= demstep_stat%ok) return
           pos = find_id(table, slot, nint(vals(1), i8))
           if (pos == 0) then
-            call fail(j + i - 1, "atom id "//int_text(nint(vals(1), i8))//" is not in the Atoms section")
+            call fail_at(status, j + i - 1, "atom id "//int_text(nint(vals(1), i8))//" is not in the Atoms section")
             return
           end if
           s%v(:, pos) = vals(2:4)
@@ -633,11 +628,6 @@ contains
       if (i <= nf) w = l(a(i):b(i))
     end function word_at
 
-    subroutine fail(line, what)
-      integer, intent(in) :: line
-      character(len=*), intent(in) :: what
-      call set_status(status, demstep_stat%invalid_input, "line "//int_text(line)//": "//what)
-    end subroutine fail
 
     subroutine count_of(line, t, n)
       integer, intent(in) :: line
@@ -649,7 +639,7 @@ contains
       ios = 1
       if (verify(t, "0123456789") == 0) read(t, *, iostat=ios) c
       if (ios /= 0 .or. c > huge(1)) then
-        call fail(line, "the atom count '"//clipped(t)//"' is not an integer in [0, "//int_text(huge(1))//"]")
+        call fail_at(status, line, "the atom count '"//clipped(t)//"' is not an integer in [0, "//int_text(huge(1))//"]")
         return
       end if
       n = int(c)
@@ -662,7 +652,7 @@ contains
       if (status%stat /= demstep_stat%ok) return
       s%lo(axis) = vals(1)
       s%hi(axis) = vals(2)
-      if (.not. s%hi(axis) > s%lo(axis)) call fail(k, "the box's upper bound must exceed its lower bound")
+      if (.not. s%hi(axis) > s%lo(axis)) call fail_at(status, k, "the box's upper bound must exceed its lower bound")
     end subroutine bounds
 
   end subroutine parse_data
@@ -721,7 +711,7 @@ contains
           select case (layout)
           case ("x_y_z_r", "x_y_z_r_matId", "x_y_z_r_attrs")
           case default
-            call fail(k, "unknown Yade format '"//clipped(layout)//"' (x_y_z_r, x_y_z_r_matId, x_y_z_r_attrs)")
+            call fail_at(status, k, "unknown Yade format '"//clipped(layout)//"' (x_y_z_r, x_y_z_r_matId, x_y_z_r_attrs)")
             return
           end select
         end if
@@ -744,15 +734,15 @@ contains
       if (i == 1) ncol = nf
       if ((.not. attrs .and. nf /= min_col) .or. (attrs .and. (nf < 4 .or. nf /= ncol))) then
         if (attrs) then
-          call fail(k, "expected "//int_text(max(ncol, 4))//" values (x y z r and the attributes), found " &
+          call fail_at(status, k, "expected "//int_text(max(ncol, 4))//" values (x y z r and the attributes), found " &
             //int_text(nf))
         else
-          call fail(k, "expected "//int_text(min_col)//" values ("//layout//"), found "//int_text(nf))
+          call fail_at(status, k, "expected "//int_text(min_col)//" values ("//layout//"), found "//int_text(nf))
         end if
         return
       end if
       if (nf > size(vals)) then
-        call fail(k, "more than "//int_text(size(vals))//" values")
+        call fail_at(status, k, "more than "//int_text(size(vals))//" values")
         return
       end if
       call line_numbers(text, lines, k, nf, vals, status, columns="x y z r matId")
@@ -763,20 +753,23 @@ contains
       s%type(i) = 1
       if (with_mat) s%type(i) = nint(vals(5))
       if (.not. s%radius(i) > 0.0_dp) then
-        call fail(k, "r must be > 0")
+        call fail_at(status, k, "r must be > 0")
         return
       end if
     end do
     status%stat = demstep_stat%ok
   contains
-    subroutine fail(line, what)
-      integer, intent(in) :: line
-      character(len=*), intent(in) :: what
-      call set_status(status, demstep_stat%invalid_input, "line "//int_text(line)//": "//what)
-    end subroutine fail
   end subroutine parse_yade
 
   ! ------------------------------------------------------------------ helpers
+
+  !> Status `invalid_input` with `line N: what`.
+  pure subroutine fail_at(status, line, what)
+    type(demstep_status_type), intent(inout) :: status
+    integer, intent(in) :: line
+    character(len=*), intent(in) :: what
+    call set_status(status, demstep_stat%invalid_input, "line "//int_text(line)//": "//what)
+  end subroutine fail_at
 
   pure subroutine allocate_snapshot(s, n)
     type(snapshot_type), intent(inout) :: s
