@@ -26,7 +26,8 @@ contains
       new_unittest("data file: each malformed file", test_data_bad), &
       new_unittest("Yade text: x_y_z_r, matId, attrs", test_yade), &
       new_unittest("Yade text: each malformed file; format detection", test_yade_bad), &
-      new_unittest("files: the message starts with the file name", test_files) &
+      new_unittest("files: the message starts with the file name", test_files), &
+      new_unittest("files LIGGGHTS 3.8.0 wrote (test/data/liggghts)", test_liggghts) &
       ]
   end subroutine collect_snapshot
 
@@ -300,5 +301,31 @@ contains
     call check(error, status%stat == demstep_stat%io_error .and. index(status%message, work_dir//"/no_such_file: ") &
       == 1, "missing file: "//status%message)
   end subroutine test_files
+
+  !> The dump and data file LIGGGHTS itself wrote (make_fixtures.sh beside them):
+  !> the same three spheres read both ways agree.
+  subroutine test_liggghts(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(snapshot_type) :: d, w
+    type(demstep_status_type) :: status
+    call read_snapshot("test/data/liggghts/dump.liggghts", d, status)
+    call check(error, status%stat == demstep_stat%ok, "dump: "//status%message)
+    if (allocated(error)) return
+    call check(error, d%format == snapshot_format%lammps_dump .and. d%n_frames == 3 .and. d%timestep == 100_i8 &
+      .and. d%n == 3 .and. all(d%periodic .eqv. [.true., .true., .false.]), "dump: last of 3 frames, pp pp ff")
+    if (allocated(error)) return
+    call read_snapshot("test/data/liggghts/data.liggghts", w, status)
+    call check(error, status%stat == demstep_stat%ok, "data: "//status%message)
+    if (allocated(error)) return
+    call check(error, w%format == snapshot_format%lammps_data .and. all(w%id == d%id) .and. &
+      all(w%type == d%type) .and. all(w%radius == d%radius), "same ids, types, radii")
+    if (allocated(error)) return
+    ! the dump prints 6 significant digits: positions and masses agree to 5e-6 relative
+    call check(error, all(abs(w%x - d%x) <= 5.0e-6_dp*0.01_dp) .and. all(abs(w%mass - d%mass) <= 5.0e-6_dp*d%mass), &
+      "positions and masses (mass from diameter and density in the data file)")
+    if (allocated(error)) return
+    call check(error, w%v(1, 1) == 0.5_dp .and. d%v(1, 1) == 0.5_dp .and. w%omega(3, 3) == 10.0_dp .and. &
+      d%omega(3, 3) == 10.0_dp, "velocities and angular velocities")
+  end subroutine test_liggghts
 
 end module test_snapshot
