@@ -144,7 +144,7 @@ contains
     !> `step_governs%stability` or `step_governs%accuracy`.
     integer, intent(out) :: governs
     type(demstep_status_type), intent(out) :: status
-    !> Fraction of the limit, in (0, 1] (default [[default_safety]]).
+    !> Fraction of the limit, in (0, 1] (default `default_safety`, 0.9).
     real(dp), intent(in), optional :: safety
     !> The largest step meeting the accuracy requirement (> 0); absent: none.
     real(dp), intent(in), optional :: dt_accuracy
