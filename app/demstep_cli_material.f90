@@ -9,6 +9,7 @@ module demstep_cli_material
     recommended_step, step_governs, default_safety, contact_assessment_type
   use demstep_material, only: convention_limit, n_conventions, n_peer_rules
   use demstep_recommend, only: assess_material_pair
+  use demstep_cost, only: default_cost_n_max
   use demstep_status, only: set_status
   use demstep_namelist, only: lowercase
   use demstep_cli, only: var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
@@ -180,7 +181,11 @@ contains
         else
           call assess_material_pair(pair, exact, status, stiffness=k_linear(p))
         end if
-        if (status%stat /= demstep_stat%ok) then
+        if (status%stat == demstep_stat%not_found) then
+          call set_status(status, demstep_stat%invalid_input, "tolerance: "//fmt_real(tolerance)// &
+            " is not met below "//fmt_real(default_cost_n_max)//" steps per period ("//who(:len(who)-2)//"); use a larger one")
+          return
+        else if (status%stat /= demstep_stat%ok) then
           status%message = who//status%message
           return
         end if

@@ -109,10 +109,10 @@ contains
       //"dashpot on the previous velocity):"
     if (.not. lsd) write(u, '(2x, a)') "Hertz contacts linearised at the largest overlap of an impact at " &
       //fmt_real(a%velocity)//" "//trim(len_unit)//"/s (tangent stiffness, the stiffest state)"
-    write(u, '(2x, a8, a15, a18, a16, a10, a18, a16)') "pair", "damping ratio", "dt_critical", &
+    write(u, '(2x, a8, 6(1x, a19))') "pair", "damping ratio", "dt_critical", &
       "DTSOLID/dt_c", "steps", "restitution err", "overlap err"
     do p = 1, np + result%n_walls
-      write(u, '(2x, a8, a15, a18, a16, a10, a18, a16)') pair_label(result, p), &
+      write(u, '(2x, a8, 6(1x, a19))') pair_label(result, p), &
         fmt_real(a%damping_ratio(p)), fmt_real(a%dt_critical(p)), &
         fmt_real(result%dtsolid/a%dt_critical(p)), fmt_int(a%steps(p)), &
         fmt_real(a%restitution_error(p)), fmt_real(a%overlap_error(p))

@@ -23,6 +23,7 @@ module demstep_mfix
     mfix_moduli, mfix_pair_springs
   use demstep_recommend, only: contact_assessment_type, assess_contact, recommended_step
   use demstep_spring, only: ceiling_real
+  use demstep_cost, only: default_cost_n_max
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text, real_text
   use demstep_mfix_deck, only: mfix_deck_type, mfix_get_real, mfix_get_integer, mfix_get_string, &
@@ -576,15 +577,19 @@ contains
       res%m_eff(p) = m_eff
       call mfix_pair_springs(m_eff, en, res%k_n(p), res%k_t(p), res%eta_n(p), res%eta_t(p), x, &
         kn, kt_fac, etat_fac, r_eff, e_eff, g_eff, et)
-      if (.not. (x > 0.0_dp .and. ieee_is_finite(x))) then
+      if (.not. ieee_is_finite(x)) then
+        call set_status(st, demstep_stat%invalid_input, "D_P0: MFiX's masses, springs or dashpots leave " &
+          //"the double range ("//pair_name(res, p)//"); rescale the units")
+        return
+      else if (.not. (x > 0.0_dp)) then
         if (res%phase_j(p) == 0) then
           call set_status(st, demstep_stat%invalid_input, "DES_EN_WALL_INPUT("//int_text(p - np)// &
             "): MFiX's wall collision time of phase "//int_text(res%phase_i(p))// &
-            " is undefined (overdamped or out of range)")
+            " is undefined (overdamped)")
         else
           call set_status(st, demstep_stat%invalid_input, "DES_EN_INPUT("//int_text(p)// &
             "): MFiX's collision time of the pair of phases "//int_text(res%phase_i(p))//" and "// &
-            int_text(res%phase_j(p))//" is undefined (overdamped or out of range)")
+            int_text(res%phase_j(p))//" is undefined (overdamped)")
         end if
         return
       end if
@@ -769,7 +774,12 @@ contains
         end do
         if (n_tol(p) == 0.0_dp) then
           call assess_contact(m, k_lin, a%damping_ratio(p), c, status, tolerance=a%tolerance)
-          if (status%stat /= demstep_stat%ok) then
+          if (status%stat == demstep_stat%not_found) then
+            call set_status(status, demstep_stat%invalid_input, "tolerance: "//real_text(a%tolerance)// &
+              " is not met below "//real_text(default_cost_n_max)//" steps per period ("// &
+              pair_name(result, p)//"); use a larger one")
+            return
+          else if (status%stat /= demstep_stat%ok) then
             status%message = pair_name(result, p)//": "//status%message
             return
           end if

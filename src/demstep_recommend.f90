@@ -55,7 +55,8 @@ module demstep_recommend
     real(dp) :: dt_critical = 0.0_dp
     !> At the given step: N = T/dt, stable (dt below the limit), force
     !> evaluations in contact (onset at a step), the worst relative errors over
-    !> the onset of the restitution and of the largest overlap.
+    !> the onset of the restitution and of the largest overlap (-1: not
+    !> computed, the step being more than 1e50/omega beyond the limit).
     real(dp) :: n_per_period = 0.0_dp
     logical :: stable = .true.
     integer(i8) :: steps = 0_i8
@@ -114,6 +115,12 @@ contains
       end if
       assessment%n_per_period = assessment%period/dt
       assessment%stable = dt < assessment%dt_critical
+      ! far beyond the limit ((1 + z) omega dt > 1e50) the contact is not stepped
+      if (assessment%n_per_period < 2.0_dp*pi*(1.0_dp + damping_ratio)/1.0e50_dp) then
+        assessment%restitution_error = -1.0_dp
+        assessment%overlap_error = -1.0_dp
+        return
+      end if
       call contact_with_onset(assessment%n_per_period, 1.0_dp, c, status, damping_ratio)
       if (status%stat /= demstep_stat%ok) return
       assessment%steps = c%steps

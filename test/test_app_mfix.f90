@@ -318,6 +318,17 @@ contains
     ! LSD, fixed KN: the limit scales as sqrt(m) ~ d^(3/2): 2^(-3/2) of D_P0's
     call check(error, abs(r%dt_stability/r0%dt_stability - 0.5_dp**1.5_dp) < 1.0e-12_dp, &
       "the smallest particles' limit is used")
+    if (allocated(error)) return
+    ! a particle spring of 1e-300: MFiX's DTSOLID is 1e149 times the wall's
+    ! limit; that contact is not stepped (-1), the output stays finite
+    lines(8) = "kn = 1e-300"
+    lines(10) = ""
+    call write_file(deck, lines)
+    call run_read(deck, r, stdout, error)
+    if (allocated(error)) return
+    call check(error, r%restitution_error(2) == -1 .and. r%steps_per_contact(2) == 0 .and. &
+      index(stdout, "UNSTABLE") > 0 .and. index(stdout, "NaN") == 0 .and. index(stdout, "Inf") == 0, &
+      "far beyond the limit: flagged, not stepped")
   end subroutine test_misleads
 
   subroutine test_bad(error)
@@ -352,6 +363,15 @@ contains
     call expect("--velocity -1 "//deck, "demstep: --velocity: must be a finite number > 0")
     if (allocated(error)) return
     call expect("--tolerance abc "//deck, "demstep: --tolerance: 'abc' is not a number")
+    if (allocated(error)) return
+    ! a tolerance no step below 1e7 per period meets
+    call write_file(deck, [lines, "kn_w = 1000.0                           "])
+    call expect("--tolerance 1e-13 "//deck, "demstep: "//deck//": --tolerance: 1e-13 is not met below")
+    if (allocated(error)) return
+    ! masses that underflow
+    lines(4) = "d_p0 = 2*1e-100"
+    call write_file(deck, [lines, "kn_w = 1000.0                           "])
+    call expect(deck, "demstep: "//deck//": D_P0: MFiX's masses, springs or dashpots leave the double range")
   contains
     subroutine expect(args, start)
       character(len=*), intent(in) :: args, start
