@@ -92,7 +92,8 @@ module demstep
   use demstep_material, only: code_convention, convention_names, peer_rule, peer_rule_names, &
     material_type, material_pair_type, effective_pair_type, contact_parameters_type, &
     peer_steps_type, effective_pair, contact_parameters, rayleigh_time, hertz_max_overlap, &
-    hertz_contact_duration, linear_contact_duration, peer_time_steps, hertz_impact_stiffness
+    hertz_contact_duration, linear_contact_duration, peer_time_steps, hertz_impact_stiffness, &
+    convention_limit
   ! MFiX decks and what MFiX computes for its DEM solids step
   use demstep_mfix_deck, only: mfix_deck_type, read_mfix_deck, parse_mfix_deck, mfix_get_real, &
     mfix_get_integer, mfix_get_string, mfix_get_real_array, mfix_get_string_array, mfix_has_keyword, &
@@ -105,7 +106,7 @@ module demstep
     parse_snapshot, snapshot_format_of
   ! one recommended step
   use demstep_recommend, only: recommended_step, default_safety, step_governs, step_governs_names, &
-    contact_assessment_type, assess_contact
+    contact_assessment_type, assess_contact, assess_material_pair
   implicit none
   public
 end module demstep
