@@ -5,7 +5,7 @@ module demstep_cli_accuracy
     discrete_contact_type, contact_with_onset, contact_worst_case, quantity_kind, n_quantities, &
     quantity_names, worst_error, n_for_tolerance, n_for_harmonic_tolerance, measure_step_cost, &
     harmonic_error, spring_type, new_spring, spring_period, &
-    run_prediction_type, predict_run
+    run_prediction_type, predict_run, critical_time_step, recommended_step, step_governs, default_safety
   use demstep_kinds, only: pi
   use demstep_status, only: set_status
   use demstep_namelist, only: lowercase
@@ -271,8 +271,10 @@ contains
     integer, allocatable :: stat(:)
     logical, allocatable :: saturated(:)
     logical :: measured
-    type(spring_type) :: spring
+    type(spring_type) :: spring, damped
     type(run_prediction_type) :: prediction
+    real(dp) :: dt_recommended
+    integer :: governs
 
     specs = accuracy_cost_specs()
     tolerances = new_array(capacity_of(specs, "tolerances"))
@@ -369,10 +371,39 @@ contains
     end if
     call report_cost(ctx%report, group, q, tolerances(:nt), n, dt, steps, predicted_seconds, stat, &
       cost, measured, duration, n_particles, period, saturated)
-    call write_cost(ctx%results, tolerances(:nt), n, dt, steps, predicted_seconds, stat, cost, period)
+    ! the recommended step: the tightest tolerance met, and the damped spring's limit
+    call new_spring(damped, mass, stiffness, status, damping_ratio=damping_ratio)
+    if (status%stat == demstep_stat%ok) then
+      if (any(stat == demstep_stat%ok)) then
+        call recommended_step(critical_time_step(damped), dt_recommended, governs, status, &
+          dt_accuracy=minval(dt, mask=stat == demstep_stat%ok))
+      else
+        call recommended_step(critical_time_step(damped), dt_recommended, governs, status)
+      end if
+    end if
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "&"//g//": "//status%message
+      return
+    end if
+    call write_cost(ctx%results, tolerances(:nt), n, dt, steps, predicted_seconds, stat, cost, period, &
+      dt_recommended)
     call write_curves(ctx%report, q, damping_ratio, lambda, period, duration, n_particles, cost, &
       n_top, trim(csv), trim(figure), status)
-    if (status%stat /= demstep_stat%ok) status%message = "&"//g//": csv: "//status%message
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "&"//g//": csv: "//status%message
+      return
+    end if
+    write(ctx%report, '(2x, a, t28, a)') "critical step", fmt_real(critical_time_step(damped))// &
+      "  (lagged dashpot)"
+    if (governs == step_governs%accuracy) then
+      write(ctx%report, '(2x, a, t28, a)') "governs", "accuracy (the tightest tolerance met, " &
+        //fmt_real(minval(tolerances(:nt), mask=stat == demstep_stat%ok))//")"
+    else
+      write(ctx%report, '(2x, a, t28, a)') "governs", "stability ("//fmt_real(default_safety)// &
+        " of the critical step)"
+    end if
+    write(ctx%report, '(a)') "recommended dt = "//fmt_real(dt_recommended)//" s"
+    write(ctx%report, '(a)') ""
   contains
     subroutine read_item(text, ios)
       character(len=*), intent(in) :: text
@@ -462,14 +493,14 @@ contains
   end function human_time
 
   subroutine write_cost(unit, tolerances, n_per_period, dt, steps, predicted_seconds, status, &
-      cost_per_particle_step, period)
+      cost_per_particle_step, period, dt_recommended)
     integer, intent(in) :: unit
     real(dp), intent(in) :: tolerances(:), n_per_period(:), dt(:), predicted_seconds(:), &
-      cost_per_particle_step, period
+      cost_per_particle_step, period, dt_recommended
     integer(i8), intent(in) :: steps(:)
     integer, intent(in) :: status(:)
     namelist /accuracy_cost_result/ tolerances, n_per_period, dt, steps, predicted_seconds, status, &
-      cost_per_particle_step, period
+      cost_per_particle_step, period, dt_recommended
     write(unit, nml=accuracy_cost_result)
   end subroutine write_cost
 

@@ -11,6 +11,7 @@ module demstep_cli_registry
   use demstep_cli_scene, only: handle_scene, scene_specs, scene_doc
   use demstep_cli_accuracy, only: handle_contact_error, contact_error_specs, contact_error_doc, &
     handle_accuracy_cost, accuracy_cost_specs, accuracy_cost_doc
+  use demstep_cli_material, only: handle_material, material_specs, material_doc
   implicit none
   private
 
@@ -27,7 +28,8 @@ contains
       group_spec("simulated_stiffness", stiffness_doc, stiffness_specs(), handle_simulated_stiffness), &
       group_spec("scene", scene_doc, scene_specs(), run_scene), &
       group_spec("contact_error", contact_error_doc, contact_error_specs(), handle_contact_error), &
-      group_spec("accuracy_cost", accuracy_cost_doc, accuracy_cost_specs(), handle_accuracy_cost) ]
+      group_spec("accuracy_cost", accuracy_cost_doc, accuracy_cost_specs(), handle_accuracy_cost), &
+      group_spec("material", material_doc, material_specs(), handle_material) ]
   end function cli_groups
 
   !> The index of the group called `name` in `groups`, 0 when demstep does not know it.

@@ -3,7 +3,8 @@
 module demstep_cli_stiffness
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
     stiffness_input_type, stiffness_result_type, run_procedure => simulated_stiffness, step_kind, &
-    new_step_policy, pick_kind, aggregate_kind, interval_kind, text_progress_type
+    new_step_policy, pick_kind, aggregate_kind, interval_kind, text_progress_type, spring_type, &
+    new_spring, critical_time_step, recommended_step, step_governs, default_safety
   use demstep_status, only: set_status
   use demstep_namelist, only: lowercase
   use demstep_stiffness, only: default_n_max, default_resolution, n_scan_start
@@ -77,7 +78,8 @@ contains
     real(dp), parameter :: measure_above = 1.0e5_dp
     type(text_progress_type) :: progress
     real(dp) :: cost, seconds
-    integer :: i, n_lambda, n_weights, kind
+    integer :: i, n_lambda, n_weights, kind, governs
+    real(dp) :: dt_stability, dt_recommended
 
     specs = stiffness_specs()
     lambda = new_array(capacity_of(specs, "lambda"))
@@ -212,8 +214,13 @@ contains
       status%message = "&"//g//": "//status%message
       return
     end if
-    call report(ctx%report, group, input, result)
-    call write_result(ctx%results, result)
+    call recommend(input, result, dt_stability, dt_recommended, governs, status)
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "&"//g//": "//status%message
+      return
+    end if
+    call report(ctx%report, group, input, result, dt_stability, dt_recommended, governs)
+    call write_result(ctx%results, result, dt_recommended)
   contains
     subroutine read_item(text, ios)
       character(len=*), intent(in) :: text
@@ -222,11 +229,33 @@ contains
     end subroutine read_item
   end subroutine handle_simulated_stiffness
 
-  subroutine report(u, group, input, result)
+  !> The recommended step: the procedure's dt = T*/N* is the accuracy step; the
+  !> stability limit is that of the simulated spring K' (0 when N* was not found).
+  subroutine recommend(input, result, dt_stability, dt_recommended, governs, status)
+    type(stiffness_input_type), intent(in) :: input
+    type(stiffness_result_type), intent(in) :: result
+    real(dp), intent(out) :: dt_stability, dt_recommended
+    integer, intent(out) :: governs
+    type(demstep_status_type), intent(out) :: status
+    type(spring_type) :: spring
+    dt_stability = 0.0_dp
+    dt_recommended = 0.0_dp
+    governs = 0
+    status%stat = demstep_stat%ok
+    if (.not. (result%dt > 0.0_dp .and. result%stiffness_actual > 0.0_dp)) return
+    call new_spring(spring, input%mass, result%stiffness_actual, status)
+    if (status%stat /= demstep_stat%ok) return
+    dt_stability = critical_time_step(spring)
+    call recommended_step(dt_stability, dt_recommended, governs, status, dt_accuracy=result%dt)
+  end subroutine recommend
+
+  subroutine report(u, group, input, result, dt_stability, dt_recommended, governs)
     integer, intent(in) :: u
     type(nml_group_type), intent(in) :: group
     type(stiffness_input_type), intent(in) :: input
     type(stiffness_result_type), intent(in) :: result
+    real(dp), intent(in) :: dt_stability, dt_recommended
+    integer, intent(in) :: governs
     integer :: i
     character(len=20) :: zero, lower, upper, pick
     write(u, '(a)') "&simulated_stiffness (line "//fmt_int(int(group%line, i8))//")"
@@ -261,6 +290,16 @@ contains
     write(u, '(2x, a, t30, a)') "dt = T*/N*", fmt_real(result%dt)
     write(u, '(2x, a, t30, a)') "K' = lambda*^2 K*", fmt_real(result%stiffness_actual)
     write(u, '(2x, a)') "(E evaluated "//fmt_int(int(result%evaluations, i8))//" times)"
+    if (dt_recommended > 0.0_dp) then
+      write(u, '(2x, a, t30, a)') "critical step of K'", fmt_real(dt_stability)
+      if (governs == step_governs%accuracy) then
+        write(u, '(2x, a, t30, a)') "governs", "accuracy (dt = T*/N*, |E| <= tolerance)"
+      else
+        write(u, '(2x, a, t30, a)') "governs", "stability ("//fmt_real(default_safety)// &
+          " of the critical step of K')"
+      end if
+      write(u, '(a)') "recommended dt = "//fmt_real(dt_recommended)//" s"
+    end if
     write(u, '(a)') ""
   end subroutine report
 
@@ -281,16 +320,18 @@ contains
     end if
   end function status_word
 
-  subroutine write_result(unit, result)
+  subroutine write_result(unit, result, dt_recommended)
     integer, intent(in) :: unit
     type(stiffness_result_type), intent(in) :: result
+    real(dp), intent(in) :: dt_recommended
     real(dp), allocatable :: lambda(:), n_zero(:), n_lower(:), n_upper(:), n_pick(:)
     logical, allocatable :: bounded(:)
     integer, allocatable :: status(:)
     real(dp) :: n_star, lambda_star, period, dt, stiffness_actual
     integer :: lambda_star_status, excluded, i, n
     namelist /simulated_stiffness_result/ lambda, n_zero, n_lower, n_upper, bounded, n_pick, &
-      status, n_star, lambda_star, lambda_star_status, period, dt, stiffness_actual, excluded
+      status, n_star, lambda_star, lambda_star_status, period, dt, stiffness_actual, excluded, &
+      dt_recommended
     n = size(result%rows)
     allocate(lambda(n), n_zero(n), n_lower(n), n_upper(n), n_pick(n), bounded(n), status(n))
     do i = 1, n

@@ -3,7 +3,7 @@ module demstep_cli_system
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, spring_type, new_spring, &
     spring_omega, spring_period, spring_damping_ratio, critical_time_step, numerical_phase, &
     growth_factor, discrete_contact_type, spring_contact, dashpot_kind, nml_group_type, &
-    check_time_step, step_for_n_per_period
+    check_time_step, step_for_n_per_period, recommended_step, default_safety
   use demstep_kinds, only: pi
   use demstep_namelist, only: lowercase
   use demstep_status, only: set_status
@@ -104,7 +104,8 @@ contains
     character(len=*), intent(in) :: step_name
     type(demstep_status_type), intent(out) :: status
     real(dp) :: period, omega, dt_critical, n_per_period, theta, period_numerical, rho
-    real(dp) :: zeta, overlap
+    real(dp) :: zeta, overlap, dt_recommended
+    integer :: governs
     type(discrete_contact_type) :: contact
     type(demstep_status_type) :: phase_status
     logical :: stable
@@ -123,10 +124,14 @@ contains
     call row(u, "natural period T", fmt_real(period)//"  (2 pi sqrt(M/K))")
     call row(u, "omega", fmt_real(omega))
     call row(u, "critical step", fmt_real(dt_critical)//"  (T/"//fmt_real(period/dt_critical)//")")
-    status%stat = demstep_stat%ok
+    call recommended_step(dt_critical, dt_recommended, governs, status)
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "&system: "//status%message
+      return
+    end if
     if (.not. have_dt) then
-      call write_basic(ctx%results, period, omega, dt_critical)
-      write(u, '(a)') ""
+      call write_basic(ctx%results, period, omega, dt_critical, dt_recommended)
+      call recommend_line(u, dt_recommended)
       return
     end if
 
@@ -137,8 +142,8 @@ contains
     if (.not. stable) then
       call row(u, "stable", "NO: dt >= critical step; amplitude grows by "//fmt_real(rho)// &
         " per step")
-      call write_unstable(ctx%results, period, omega, dt_critical, dt, n_per_period, rho)
-      write(u, '(a)') ""
+      call write_unstable(ctx%results, period, omega, dt_critical, dt, n_per_period, rho, dt_recommended)
+      call recommend_line(u, dt_recommended)
       return
     end if
     call numerical_phase(omega*dt, theta, phase_status)
@@ -179,11 +184,21 @@ contains
       "               ", contact%restitution > 1.0_dp))
     call row(u, "  max overlap", fmt_real(overlap)// &
       "  (exact v0/omega = "//fmt_real(velocity/omega)//")")
-    write(u, '(a)') ""
+    call recommend_line(u, dt_recommended)
     call write_stable(ctx%results, period, omega, dt_critical, dt, n_per_period, rho, theta, &
       period_numerical, contact%steps, contact%contact_time*(0.5_dp*period), contact%restitution, &
-      overlap)
+      overlap, dt_recommended)
   end subroutine evaluate
+
+  !> The closing line: the recommended step (no tolerance here: stability governs).
+  subroutine recommend_line(u, dt_recommended)
+    integer, intent(in) :: u
+    real(dp), intent(in) :: dt_recommended
+    call row(u, "governs", "stability ("//fmt_real(default_safety)//" of the critical step; " &
+      //"&accuracy_cost gives the step for a tolerance)")
+    write(u, '(a)') "recommended dt = "//fmt_real(dt_recommended)//" s"
+    write(u, '(a)') ""
+  end subroutine recommend_line
 
   subroutine row(unit, label, value)
     integer, intent(in) :: unit
@@ -192,32 +207,34 @@ contains
   end subroutine row
 
   !> Result without a time step.
-  subroutine write_basic(unit, period, omega, dt_critical)
+  subroutine write_basic(unit, period, omega, dt_critical, dt_recommended)
     integer, intent(in) :: unit
-    real(dp), intent(in) :: period, omega, dt_critical
-    namelist /system_result/ period, omega, dt_critical
+    real(dp), intent(in) :: period, omega, dt_critical, dt_recommended
+    namelist /system_result/ period, omega, dt_critical, dt_recommended
     write(unit, nml=system_result)
   end subroutine write_basic
 
   !> Result for a time step at or beyond the limit.
-  subroutine write_unstable(unit, period, omega, dt_critical, dt, n_per_period, growth_factor)
+  subroutine write_unstable(unit, period, omega, dt_critical, dt, n_per_period, growth_factor, &
+      dt_recommended)
     integer, intent(in) :: unit
-    real(dp), intent(in) :: period, omega, dt_critical, dt, n_per_period, growth_factor
+    real(dp), intent(in) :: period, omega, dt_critical, dt, n_per_period, growth_factor, dt_recommended
     logical :: stable
-    namelist /system_result/ period, omega, dt_critical, dt, n_per_period, stable, growth_factor
+    namelist /system_result/ period, omega, dt_critical, dt_recommended, dt, n_per_period, stable, &
+      growth_factor
     stable = .false.
     write(unit, nml=system_result)
   end subroutine write_unstable
 
   !> Result for a stable time step, with the discrete contact.
   subroutine write_stable(unit, period, omega, dt_critical, dt, n_per_period, growth_factor, &
-      theta, period_numerical, contact_steps, contact_time, restitution, max_overlap)
+      theta, period_numerical, contact_steps, contact_time, restitution, max_overlap, dt_recommended)
     integer, intent(in) :: unit
     real(dp), intent(in) :: period, omega, dt_critical, dt, n_per_period, growth_factor, theta, &
-      period_numerical, contact_time, restitution, max_overlap
+      period_numerical, contact_time, restitution, max_overlap, dt_recommended
     integer(i8), intent(in) :: contact_steps
     logical :: stable
-    namelist /system_result/ period, omega, dt_critical, dt, n_per_period, stable, &
+    namelist /system_result/ period, omega, dt_critical, dt_recommended, dt, n_per_period, stable, &
       growth_factor, theta, period_numerical, contact_steps, contact_time, restitution, &
       max_overlap
     stable = .true.

@@ -5,14 +5,15 @@
 program demstep_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use demstep, only: i8, demstep_version_string, demstep_status_type, demstep_stat, &
-    nml_group_type, read_text_file, scan_namelist
+    nml_group_type, read_text_file, scan_namelist, mfix_looks_like_deck, dp
   use demstep_cli, only: cli_context, write_template, fmt_int, group_spec
   use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &
     same_file
   use demstep_cli_registry, only: cli_groups, find_group, group_list
+  use demstep_cli_mfix, only: run_mfix, mfix_default_tolerance
   implicit none
 
-  character(len=:), allocatable :: input, output, arg, text, skipped
+  character(len=:), allocatable :: input, output, arg, text, skipped, format, value
   type(output_file_type) :: out_file
   logical :: namelist_only
   type(nml_group_type), allocatable :: groups(:)
@@ -20,12 +21,18 @@ program demstep_main
   type(cli_context) :: ctx
   type(group_spec), allocatable :: registry(:)
   integer :: i, k, nargs, known, ios, n_skipped
+  real(dp) :: tolerance, velocity
+  logical :: tolerance_given, is_mfix
   !> Skipped groups listed by name in the report; the rest are counted.
   integer, parameter :: max_listed = 20
 
   registry = cli_groups()
 
   namelist_only = .false.
+  format = "auto"
+  tolerance = mfix_default_tolerance
+  tolerance_given = .false.
+  velocity = 0.0_dp
   nargs = command_argument_count()
   i = 0
   do while (i < nargs)
@@ -49,9 +56,20 @@ program demstep_main
       if (i == nargs) call usage_error("option "//arg//" needs a file name")
       i = i + 1
       call argument(i, output)
+    case ("--format", "--tolerance", "--velocity")
+      if (i == nargs) call usage_error("option "//arg//" needs a value")
+      i = i + 1
+      call argument(i, value)
+      call option_value(arg, value)
     case default
       if (index(arg, "--output=") == 1) then
         output = arg(10:)
+      else if (index(arg, "--format=") == 1) then
+        call option_value("--format", arg(10:))
+      else if (index(arg, "--tolerance=") == 1) then
+        call option_value("--tolerance", arg(13:))
+      else if (index(arg, "--velocity=") == 1) then
+        call option_value("--velocity", arg(12:))
       else if (len(arg) > 1 .and. arg(1:1) == "-") then
         call usage_error("unknown option '"//arg//"'")
       else if (allocated(input)) then
@@ -72,8 +90,25 @@ program demstep_main
 
   call read_text_file(input, text, status)
   if (status%stat /= demstep_stat%ok) call fail(input//": "//status%message, 2)
-  call scan_namelist(text, groups, status)
-  if (status%stat /= demstep_stat%ok) call fail(input//": "//status%message, 2)
+  ! which kind of deck: namelist groups, or MFiX keyword lines (no group)
+  select case (format)
+  case ("mfix")
+    is_mfix = .true.
+  case ("namelist")
+    is_mfix = .false.
+    call scan_namelist(text, groups, status)
+  case default
+    call scan_namelist(text, groups, status)
+    is_mfix = .false.
+    if (status%stat /= demstep_stat%ok) then
+      is_mfix = mfix_looks_like_deck(text)
+    else if (size(groups) == 0) then
+      is_mfix = mfix_looks_like_deck(text)
+    end if
+  end select
+  if (.not. is_mfix .and. status%stat /= demstep_stat%ok) call fail(input//": "//status%message, 2)
+  if (.not. is_mfix .and. (tolerance_given .or. velocity > 0.0_dp)) call usage_error("--tolerance " &
+    //"and --velocity apply to MFiX decks (namelist groups take their own variables)")
 
   open(newunit=ctx%report, status="scratch", action="readwrite", form="formatted")
   open(newunit=ctx%results, status="scratch", action="readwrite", form="formatted")
@@ -82,6 +117,13 @@ program demstep_main
   known = 0
   n_skipped = 0
   skipped = ""
+  if (is_mfix) then
+    call run_mfix(ctx, text, tolerance, tolerance_given, velocity, status)
+    if (status%stat /= demstep_stat%ok) call fail(input//": "//status%message, 2)
+    known = 1
+    if (allocated(groups)) deallocate(groups)
+    allocate(groups(0))
+  end if
   do i = 1, size(groups)
     k = find_group(registry, groups(i)%name)
     if (k == 0) then
@@ -136,6 +178,36 @@ contains
     end select
   end subroutine fail
 
+  !> The value of --format, --tolerance or --velocity.
+  subroutine option_value(name, text)
+    character(len=*), intent(in) :: name, text
+    integer :: io
+    real(dp) :: x
+    select case (name)
+    case ("--format")
+      select case (text)
+      case ("auto", "mfix", "namelist")
+        format = text
+      case default
+        call usage_error("--format: must be 'auto', 'mfix' or 'namelist', got '"//text//"'")
+      end select
+    case default
+      read(text, *, iostat=io) x
+      if (io /= 0 .or. len_trim(text) == 0 .or. verify(trim(text), "0123456789.+-eEdD") > 0) &
+        call usage_error(name//": '"//text//"' is not a number")
+      if (name == "--tolerance") then
+        if (.not. (x > 0.0_dp .and. x < 1.0_dp)) call usage_error("--tolerance: must lie in (0, 1), got " &
+          //text)
+        tolerance = x
+        tolerance_given = .true.
+      else
+        if (.not. (x > 0.0_dp .and. x <= huge(1.0_dp))) call usage_error("--velocity: must be a finite " &
+          //"number > 0, got "//text)
+        velocity = x
+      end if
+    end select
+  end subroutine option_value
+
   subroutine usage_error(message)
     character(len=*), intent(in) :: message
     call fail(message//" (usage: demstep [options] FILE.nml; see demstep --help)", 2)
@@ -175,6 +247,7 @@ contains
   subroutine print_help()
     write(output_unit, '(a)') &
       "usage: demstep [options] FILE.nml", &
+      "       demstep [options] DECK.mfx   (an MFiX deck: keyword lines, no &group)", &
       "", &
       "Reads the namelist groups demstep knows from FILE.nml (other groups, such as a", &
       "DEM solver's own, are skipped and listed), prints a report, and optionally", &
@@ -183,6 +256,9 @@ contains
       "options:", &
       "  -o FILE, --output FILE   write the result namelist to FILE (atomically)", &
       "  --namelist               print the result namelist instead of the report", &
+      "  --format F               'auto' (default), 'mfix' or 'namelist': the kind of deck", &
+      "  --tolerance X            MFiX decks: tolerance on the restitution error (default 0.01)", &
+      "  --velocity V             MFiX Hertzian decks: impact velocity (deck units)", &
       "  -q, --quiet              no up-front estimates or progress on stderr", &
       "  --template               print a commented input with every group", &
       "  -V, --version            print the version", &

@@ -8,7 +8,8 @@ program read_result
     period_numerical, contact_time, restitution, max_overlap
   integer(i8) :: contact_steps
   logical :: stable
-  namelist /system_result/ period, omega, dt_critical, dt, n_per_period, stable, &
+  real(dp) :: dt_recommended
+  namelist /system_result/ dt_recommended, period, omega, dt_critical, dt, n_per_period, stable, &
     growth_factor, theta, period_numerical, contact_steps, contact_time, restitution, &
     max_overlap
   character(len=512) :: path

@@ -27,7 +27,13 @@
 !> - Materials in each DEM code's convention and the peers' step rules:
 !>   `material_type`, `effective_pair`, `contact_parameters` (`code_convention%...`),
 !>   `rayleigh_time`, `hertz_contact_duration`, `peer_time_steps`.
-!> - MFiX decks: `read_mfix_deck`, `mfix_input_from_deck`, `mfix_compute`.
+!> - MFiX decks: `read_mfix_deck`, `mfix_looks_like_deck`, `mfix_input_from_deck`,
+!>   `mfix_compute` (what MFiX computes), `mfix_assess` (demstep's exact answers at MFiX's step).
+!> - Snapshots from DEM codes' files (LAMMPS/LIGGGHTS dump and data files, Yade text):
+!>   `snapshot_type`, `read_snapshot`, `parse_snapshot` (`snapshot_format%...`).
+!> - One recommended step: `recommended_step` (safety times the exact limit, or the
+!>   accuracy requirement), `assess_contact` (one linear contact's limit, errors at a
+!>   step and the step for a tolerance).
 !> - Progress of long work, and reading namelist decks and tables of numbers:
 !>   `text_progress_type`, `read_text_file`, `scan_namelist`, `read_table`.
 !>
@@ -93,12 +99,21 @@ module demstep
   use demstep_material, only: code_convention, convention_names, peer_rule, peer_rule_names, &
     material_type, material_pair_type, effective_pair_type, contact_parameters_type, &
     peer_steps_type, effective_pair, contact_parameters, rayleigh_time, hertz_max_overlap, &
-    hertz_contact_duration, linear_contact_duration, peer_time_steps
+    hertz_contact_duration, linear_contact_duration, peer_time_steps, hertz_impact_stiffness, &
+    convention_limit
   ! MFiX decks and what MFiX computes for its DEM solids step
   use demstep_mfix_deck, only: mfix_deck_type, read_mfix_deck, parse_mfix_deck, mfix_get_real, &
-    mfix_get_integer, mfix_get_string, mfix_get_real_array, mfix_get_string_array, mfix_has_keyword
+    mfix_get_integer, mfix_get_string, mfix_get_real_array, mfix_get_string_array, mfix_has_keyword, &
+    mfix_min_by_second_index, mfix_looks_like_deck
   use demstep_mfix, only: mfix_input_type, mfix_result_type, mfix_units, mfix_model, &
-    mfix_integrator, mfix_input_from_deck, mfix_compute
+    mfix_integrator, mfix_input_from_deck, mfix_compute, mfix_assessment_type, mfix_assess, &
+    mfix_default_dtsolid_factor
+  ! particle snapshots from DEM codes' files
+  use demstep_snapshot, only: snapshot_type, snapshot_format, snapshot_format_names, read_snapshot, &
+    parse_snapshot, snapshot_format_of
+  ! one recommended step
+  use demstep_recommend, only: recommended_step, default_safety, step_governs, step_governs_names, &
+    contact_assessment_type, assess_contact, assess_material_pair
   implicit none
   public
 end module demstep

@@ -14,12 +14,14 @@ module demstep_material
   use demstep_kinds, only: dp, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: real_text
+  use demstep_spring, only: damped_limit
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
   public :: effective_pair, contact_parameters, rayleigh_time, hertz_max_overlap, &
-    hertz_contact_duration, linear_contact_duration, peer_time_steps, hertz_duration_constant
+    hertz_contact_duration, linear_contact_duration, peer_time_steps, hertz_duration_constant, &
+    hertz_impact_stiffness, convention_limit, mfix_moduli, mfix_pair_springs
 
   !> The codes whose contact conventions are reproduced, as components of a parameter.
   type, public :: code_convention_codes
@@ -310,6 +312,111 @@ contains
     end if
   end subroutine hertz_contact_duration
 
+  !> The Hertz contact linearised at the largest overlap `delta` of an impact at
+  !> velocity `v`: its tangent stiffness `dF/d delta = 2 E* sqrt(R* delta)`, the
+  !> stiffest state the contact reaches, so that the linear contact's stability
+  !> limit bounds the step of the whole impact. Hertz quantities depend on E* and
+  !> R* only through E* sqrt(R*).
+  pure subroutine hertz_impact_stiffness(eff, v, k, status)
+    !> The pair.
+    type(effective_pair_type), intent(in) :: eff
+    !> Impact velocity (> 0).
+    real(dp), intent(in) :: v
+    !> The tangent stiffness.
+    real(dp), intent(out) :: k
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: delta
+    k = 0.0_dp
+    call hertz_max_overlap(eff, v, delta, status)
+    if (status%stat /= demstep_stat%ok) return
+    k = 2.0_dp*eff%e_star*sqrt(eff%r_star)*sqrt(delta)
+    if (.not. (ieee_is_finite(k) .and. k > 0.0_dp)) then
+      k = 0.0_dp
+      call set_status(status, demstep_stat%invalid_input, &
+        "impact_velocity: the linearised Hertz stiffness leaves the double range; rescale the units")
+    end if
+  end subroutine hertz_impact_stiffness
+
+  !> MFiX's effective moduli of two materials, in its order of operations
+  !> (check_solids_dem.f, CHECK_SOLIDS_DEM_COLL_HERTZ): `E_eff = Ea Eb/(Ea (1 -
+  !> nub^2) + Eb (1 - nua^2))`, `G = E/(2 (1 + nu))`, `G_eff = Ga Gb/(Ga (2 - nub)
+  !> + Gb (2 - nua))`.
+  pure subroutine mfix_moduli(e_a, nu_a, e_b, nu_b, e_eff, g_eff)
+    !> Young's moduli and Poisson's ratios of the two sides.
+    real(dp), intent(in) :: e_a, nu_a, e_b, nu_b
+    !> The effective moduli.
+    real(dp), intent(out) :: e_eff, g_eff
+    real(dp) :: g_a, g_b
+    g_a = 0.5_dp*e_a/(1.0_dp + nu_a)
+    g_b = 0.5_dp*e_b/(1.0_dp + nu_b)
+    e_eff = e_a*e_b/(e_a*(1.0_dp - nu_b**2) + e_b*(1.0_dp - nu_a**2))
+    g_eff = g_a*g_b/(g_a*(2.0_dp - nu_b) + g_b*(2.0_dp - nu_a))
+  end subroutine mfix_moduli
+
+  !> MFiX's springs and dashpots of one pair (particle or wall), in its order
+  !> of operations (CHECK_SOLIDS_DEM_COLL_LSD and _HERTZ). LSD: `k_n = KN`,
+  !> `k_t = KT_FAC KN`, `eta_n = 2 sqrt(KN m)|ln en|/sqrt(pi^2 + ln^2 en)`,
+  !> `eta_t = DES_ETAT_FAC eta_n`. Hertzian (when `r_eff` is present): `k_n =
+  !> 4/3 sqrt(R) E_eff`, `k_t = 8 sqrt(R) G_eff`, `eta_n` as LSD with `k_n`,
+  !> `eta_t = 2 sqrt(2/7 k_t m)|ln et|/sqrt(pi^2 + ln^2 et)`. `w = k_n/m -
+  !> (eta_n/m)^2/4`, whose root gives MFiX's collision time `pi/sqrt(w)`.
+  pure subroutine mfix_pair_springs(mass_eff, en, k_n, k_t, eta_n, eta_t, w, kn, kt_fac, etat_fac, &
+      r_eff, e_eff, g_eff, et)
+    !> Effective mass and normal restitution.
+    real(dp), intent(in) :: mass_eff, en
+    !> MFiX's springs, dashpots and `w`.
+    real(dp), intent(out) :: k_n, k_t, eta_n, eta_t, w
+    !> LSD: `KN` (or `KN_W`), `KT_FAC`, `DES_ETAT_FAC`.
+    real(dp), intent(in), optional :: kn, kt_fac, etat_fac
+    !> Hertzian: effective radius and moduli, tangential restitution.
+    real(dp), intent(in), optional :: r_eff, e_eff, g_eff, et
+    if (present(r_eff)) then
+      k_n = (4.0_dp/3.0_dp)*sqrt(r_eff)*e_eff
+      k_t = 8.0_dp*sqrt(r_eff)*g_eff
+    else
+      k_n = kn
+      k_t = kt_fac*kn
+    end if
+    eta_n = 2.0_dp*sqrt(k_n*mass_eff)*abs(log(en))
+    eta_n = eta_n/sqrt(pi*pi + (log(en))**2)
+    if (present(r_eff)) then
+      eta_t = 2.0_dp*sqrt(k_t*((2.0_dp/7.0_dp)*mass_eff))*abs(log(et))
+      eta_t = eta_t/sqrt(pi*pi + (log(et))**2)
+    else
+      eta_t = etat_fac*eta_n
+    end if
+    w = k_n/mass_eff - ((eta_n/mass_eff)**2)/4.0_dp
+  end subroutine mfix_pair_springs
+
+  !> The exact stability limit of a contact as a code steps it with `params`
+  !> (central differences, dashpot on the previous velocity): `(2/omega)
+  !> (sqrt(1 + z^2) - z)` with `omega = sqrt(k/m*)`, `z = gamma_n/(2 sqrt(k m*))`;
+  !> for the Hertz conventions `k` is the tangent stiffness at `params%overlap`,
+  !> 3/2 of the secant `k_n` (the force grows as overlap^(3/2)).
+  !> `invalid_input` naming `k_n` or `m_star` when they are not finite and > 0.
+  pure subroutine convention_limit(params, m_star, dt, status)
+    !> The code's parameters (from [[contact_parameters]]).
+    type(contact_parameters_type), intent(in) :: params
+    !> Effective mass (> 0).
+    real(dp), intent(in) :: m_star
+    !> The limit.
+    real(dp), intent(out) :: dt
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: k
+    dt = 0.0_dp
+    k = params%k_n
+    if (params%overlap > 0.0_dp) k = 1.5_dp*params%k_n
+    if (.not. (k > 0.0_dp .and. ieee_is_finite(k))) then
+      call set_status(status, demstep_stat%invalid_input, "k_n: must be finite and > 0")
+      return
+    else if (.not. (m_star > 0.0_dp .and. ieee_is_finite(m_star))) then
+      call set_status(status, demstep_stat%invalid_input, "m_star: must be finite and > 0")
+      return
+    end if
+    dt = damped_limit(2.0_dp*(sqrt(m_star)/sqrt(k)), (0.5_dp*params%gamma_n/sqrt(k))/sqrt(m_star))
+    status%stat = demstep_stat%ok
+  end subroutine convention_limit
+
   !> Duration of a linear spring-dashpot contact `m x'' = -k x - gamma x'`
   !> that ends at zero overlap: `pi/sqrt(k/m - (gamma/2m)^2)`.
   !> `invalid_input` for a non-positive `k` or `m`, a negative `gamma`, or an
@@ -432,7 +539,7 @@ contains
     type(demstep_status_type), intent(out) :: status
     type(effective_pair_type) :: eff
     real(dp) :: e, et, le, let, v, tc, delta, a, beta, kl, t_hertz, w
-    real(dp) :: damp, hert_kn, hert_kt, eta_n, eta_t, g_a, g_b, g_eff, ra, rb
+    real(dp) :: damp, hert_kn, hert_kt, eta_n, eta_t, g_eff, e_mfix, ra, rb
     params%convention = convention
     call check_pair(pair, status)
     if (status%stat /= demstep_stat%ok) return
@@ -499,35 +606,24 @@ contains
       params%code_collision_time = tc
     case (code_convention%mfix_lsd)
       ! check_solids_dem.f, CHECK_SOLIDS_DEM_COLL_LSD: KT = KT_FAC KN (default 2/7),
-      ! DES_ETAN = 2 sqrt(KN m*) |ln e|/sqrt(pi^2 + ln^2 e), DES_ETAT = DES_ETAT_FAC
-      ! DES_ETAN (default 1/2), TCOLL = pi/sqrt(KN/m* - (DES_ETAN/m*)^2/4)
-      params%k_n = kl
-      params%k_t = 2.0_dp/7.0_dp*kl
-      params%gamma_n = 2.0_dp*sqrt(kl*eff%m_star)*abs(le)/sqrt(pi*pi + le**2)
-      params%gamma_t = 0.5_dp*params%gamma_n
-      params%code_collision_time = pi/sqrt(kl/eff%m_star - ((params%gamma_n/eff%m_star)**2)/4.0_dp)
+      ! DES_ETAT = DES_ETAT_FAC DES_ETAN (default 1/2), TCOLL = pi/sqrt(w)
+      call mfix_pair_springs(eff%m_star, e, params%k_n, params%k_t, params%gamma_n, params%gamma_t, w, &
+        kn=kl, kt_fac=2.0_dp/7.0_dp, etat_fac=0.5_dp)
+      params%code_collision_time = pi/sqrt(w)
     case (code_convention%mfix_hertzian)
-      ! check_solids_dem.f, CHECK_SOLIDS_DEM_COLL_HERTZ: HERT_KN = 4/3 sqrt(R*) E*,
-      ! HERT_KT = 8 sqrt(R*) G_MOD_EFF, G_MOD_EFF = Ga Gb/(Ga(2 - vb) + Gb(2 - va)),
-      ! DES_ETAN = 2 sqrt(HERT_KN m*)|ln e|/sqrt(pi^2 + ln^2 e),
-      ! DES_ETAT = 2 sqrt(HERT_KT 2/7 m*)|ln et|/sqrt(pi^2 + ln^2 et);
-      ! calc_force_dem.f: kn = HERT_KN sqrt(d), eta_n = DES_ETAN d^(1/4).
+      ! check_solids_dem.f, CHECK_SOLIDS_DEM_COLL_HERTZ (HERT_KN, HERT_KT, DES_ETAN,
+      ! DES_ETAT); calc_force_dem.f: kn = HERT_KN sqrt(d), eta_n = DES_ETAN d^(1/4).
       ! TCOLL = pi/sqrt(HERT_KN/m* - (DES_ETAN/m*)^2/4) treats HERT_KN (N/m^1.5)
       ! as a stiffness: it is the linear duration at the secant stiffness of an
       ! overlap of ONE length unit (1 m in SI), not the Hertz duration.
-      g_a = 0.5_dp*pair%a%young/(1.0_dp + pair%a%poisson)
-      g_b = 0.5_dp*pair%b%young/(1.0_dp + pair%b%poisson)
-      g_eff = g_a*g_b/(g_a*(2.0_dp - pair%b%poisson) + g_b*(2.0_dp - pair%a%poisson))
-      hert_kn = (4.0_dp/3.0_dp)*sqrt(eff%r_star)*eff%e_star
-      hert_kt = 8.0_dp*sqrt(eff%r_star)*g_eff
-      eta_n = 2.0_dp*sqrt(hert_kn*eff%m_star)*abs(le)/sqrt(pi*pi + le**2)
-      eta_t = 2.0_dp*sqrt(hert_kt*(2.0_dp/7.0_dp)*eff%m_star)*abs(let)/sqrt(pi*pi + let**2)
+      call mfix_moduli(pair%a%young, pair%a%poisson, pair%b%young, pair%b%poisson, e_mfix, g_eff)
+      call mfix_pair_springs(eff%m_star, e, hert_kn, hert_kt, eta_n, eta_t, w, r_eff=eff%r_star, &
+        e_eff=e_mfix, g_eff=g_eff, et=et)
       params%overlap = delta
       params%k_n = hert_kn*sqrt(delta)
       params%k_t = hert_kt*sqrt(delta)
       params%gamma_n = eta_n*sqrt(sqrt(delta))
       params%gamma_t = eta_t*sqrt(sqrt(delta))
-      w = hert_kn/eff%m_star - ((eta_n/eff%m_star)**2)/4.0_dp
       if (w > 0.0_dp) params%code_collision_time = pi/sqrt(w)
     case (code_convention%mercurydpm_linear)
       ! LinearViscoelasticNormalSpecies.cc, setCollisionTimeAndRestitutionCoefficient(tc, e,

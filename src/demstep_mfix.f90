@@ -17,7 +17,13 @@
 !> of ONE length unit (1 m in SI, 1 cm in CGS): it depends on the unit system
 !> (CGS gives sqrt(10) times the SI value) and is not the Hertz contact duration.
 module demstep_mfix
-  use demstep_kinds, only: dp
+  use demstep_kinds, only: dp, i8
+  use demstep_mfix_deck, only: mfix_min_by_second_index
+  use demstep_material, only: effective_pair_type, hertz_impact_stiffness, hertz_contact_duration, &
+    mfix_moduli, mfix_pair_springs
+  use demstep_recommend, only: contact_assessment_type, assess_contact, recommended_step
+  use demstep_spring, only: ceiling_real
+  use demstep_cost, only: default_cost_n_max
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text, real_text
   use demstep_mfix_deck, only: mfix_deck_type, mfix_get_real, mfix_get_integer, mfix_get_string, &
@@ -26,7 +32,7 @@ module demstep_mfix
   implicit none
   private
 
-  public :: mfix_input_from_deck, mfix_compute, mfix_pair_index
+  public :: mfix_input_from_deck, mfix_compute, mfix_pair_index, mfix_assess
 
   !> Largest number of solids phases MFiX allows (param_mod.f, DIM_M).
   integer, parameter, public :: mfix_dim_m = 10
@@ -127,6 +133,52 @@ module demstep_mfix
     real(dp) :: dtsolid = 0.0_dp
   end type mfix_result_type
 
+  !> demstep's exact answers for a deck at MFiX's step, per pair in the order of
+  !> [[mfix_result_type]], in the deck's units (times in seconds).
+  type, public :: mfix_assessment_type
+    !> The tolerance on the restitution error and the impact velocity used
+    !> (0: none given).
+    real(dp) :: tolerance = 0.0_dp, velocity = 0.0_dp
+    !> True when the exact answers exist: LSD, or Hertzian with an impact
+    !> velocity (the Hertz contact is linearised at its largest overlap).
+    logical :: linearised = .false.
+    !> Damping ratio of the (linearised) contact: `eta_n/(2 sqrt(k m))`, for
+    !> Hertzian `eta_n/(2 sqrt(1.5 HERT_KN m))` at every overlap.
+    real(dp), allocatable :: damping_ratio(:)
+    !> Linear stiffness: `KN` (LSD), the Hertz tangent stiffness at the largest
+    !> overlap of the impact (Hertzian); 0 where undefined.
+    real(dp), allocatable :: k_linear(:)
+    !> The contact's true duration: the damped linear one (LSD), the Hertz
+    !> duration at the impact velocity (Hertzian); 0 where undefined.
+    real(dp), allocatable :: t_contact(:)
+    !> Exact stability limit of the lagged dashpot (EULER); 0 where undefined.
+    real(dp), allocatable :: dt_critical(:)
+    !> At DTSOLID: N = T/DTSOLID, force evaluations per contact (onset at a
+    !> step), stable, worst relative restitution and overlap errors.
+    real(dp), allocatable :: n_per_period(:), restitution_error(:), overlap_error(:)
+    integer(i8), allocatable :: steps(:)
+    logical, allocatable :: stable(:)
+    !> Largest step meeting the tolerance, per pair (0 without a tolerance).
+    real(dp), allocatable :: dt_accuracy(:)
+    !> Smallest limit and accuracy step over all pairs (walls and the smallest
+    !> particles of a size distribution included); the recommended step and
+    !> what governs it (`step_governs%...`); the DTSOLID_FACTOR giving a DTSOLID
+    !> at most the recommended step (an integer >= 10, MFiX's lower bound).
+    real(dp) :: dt_stability = 0.0_dp, dt_accuracy_min = 0.0_dp, dt_recommended = 0.0_dp
+    integer :: governs = 0
+    real(dp) :: dtsolid_factor = 0.0_dp
+    !> True when a wall pair has a smaller limit than every particle pair
+    !> (MFiX leaves walls out of TCOLL).
+    logical :: walls_govern = .false.
+    !> Size distributions: per DEM phase the smallest diameter the deck's
+    !> `IC_PSD_MIN_DP`/`BC_PSD_MIN_DP` give (0: none) and its line; MFiX's TCOLL
+    !> and demstep's smallest limit with those diameters in place of `D_P0`.
+    logical :: psd = .false.
+    real(dp), allocatable :: d_min(:)
+    integer, allocatable :: d_min_line(:)
+    real(dp) :: tcoll_psd = 0.0_dp, dt_stability_psd = 0.0_dp
+  end type mfix_assessment_type
+
 contains
 
   !> Position of the pair (i, j), i <= j among n phases, in MFiX's packed
@@ -164,16 +216,8 @@ contains
       call set_status(status, demstep_stat%invalid_input, "UNITS: missing ('SI' or 'CGS')")
       return
     end if
-    select case (upper_trim(text))
-    case ("SI")
-      input%units = mfix_units%si
-    case ("CGS")
-      input%units = mfix_units%cgs
-    case default
-      call set_status(status, demstep_stat%invalid_input, "line "//int_text(line)// &
-        ": UNITS: '"//text//"' is neither 'SI' nor 'CGS'")
-      return
-    end select
+    call choice("units", "SI ", "CGS", input%units, status)
+    if (status%stat /= demstep_stat%ok) return
 
     ! phases
     mmax = 1
@@ -248,36 +292,10 @@ contains
     end do
 
     ! model and integrator
-    call mfix_get_string(deck, "des_coll_model", text, found, line, status)
+    call choice("des_coll_model", "LSD     ", "HERTZIAN", input%model, status)
     if (status%stat /= demstep_stat%ok) return
-    input%model = mfix_model%lsd
-    if (found) then
-      select case (upper_trim(text))
-      case ("LSD")
-        input%model = mfix_model%lsd
-      case ("HERTZIAN")
-        input%model = mfix_model%hertzian
-      case default
-        call set_status(status, demstep_stat%invalid_input, "line "//int_text(line)// &
-          ": DES_COLL_MODEL: '"//text//"' is neither 'LSD' nor 'HERTZIAN'")
-        return
-      end select
-    end if
-    call mfix_get_string(deck, "des_intg_method", text, found, line, status)
+    call choice("des_intg_method", "EULER          ", "ADAMS_BASHFORTH", input%integrator, status)
     if (status%stat /= demstep_stat%ok) return
-    input%integrator = mfix_integrator%euler
-    if (found) then
-      select case (upper_trim(text))
-      case ("EULER")
-        input%integrator = mfix_integrator%euler
-      case ("ADAMS_BASHFORTH")
-        input%integrator = mfix_integrator%adams_bashforth
-      case default
-        call set_status(status, demstep_stat%invalid_input, "line "//int_text(line)// &
-          ": DES_INTG_METHOD: '"//text//"' is neither 'EULER' nor 'ADAMS_BASHFORTH'")
-        return
-      end select
-    end if
     call mfix_get_real(deck, "dtsolid_factor", input%dtsolid_factor, found, line, status)
     if (status%stat /= demstep_stat%ok) return
     if (.not. (input%dtsolid_factor >= 10.0_dp)) then
@@ -296,24 +314,24 @@ contains
 
     select case (input%model)
     case (mfix_model%lsd)
-      call required_positive("kn", input%kn, status)
+      call real_keyword("kn", input%kn, .true., status)
       if (status%stat /= demstep_stat%ok) return
-      call required_positive("kn_w", input%kn_w, status)
+      call real_keyword("kn_w", input%kn_w, .true., status)
       if (status%stat /= demstep_stat%ok) return
-      call factor("kt_fac", input%kt_fac, status)
+      call real_keyword("kt_fac", input%kt_fac, .false., status)
       if (status%stat /= demstep_stat%ok) return
-      call factor("kt_w_fac", input%kt_w_fac, status)
+      call real_keyword("kt_w_fac", input%kt_w_fac, .false., status)
       if (status%stat /= demstep_stat%ok) return
-      call factor("des_etat_fac", input%etat_fac, status)
+      call real_keyword("des_etat_fac", input%etat_fac, .false., status)
       if (status%stat /= demstep_stat%ok) return
-      call factor("des_etat_w_fac", input%etat_w_fac, status)
+      call real_keyword("des_etat_w_fac", input%etat_w_fac, .false., status)
       if (status%stat /= demstep_stat%ok) return
     case (mfix_model%hertzian)
       call packed_restitution("des_et_input", k, input%et, status)
       if (status%stat /= demstep_stat%ok) return
       call wall_restitution("des_et_wall_input", input%et_wall, status)
       if (status%stat /= demstep_stat%ok) return
-      call required_positive("ew_young", input%ew_young, status)
+      call real_keyword("ew_young", input%ew_young, .true., status)
       if (status%stat /= demstep_stat%ok) return
       call mfix_get_real(deck, "vw_poisson", input%vw_poisson, found, line, status)
       if (status%stat /= demstep_stat%ok) return
@@ -372,20 +390,9 @@ contains
       do i = 1, n
         do j = i, n
           lc = mfix_pair_index(i, j, n)
-          if (.not. set_pairs(lc)) then
-            call set_status(st, demstep_stat%invalid_input, upper_trim(name)//"("//int_text(lc)// &
-              "): missing (the pair of DEM phases "//int_text(input%phase(i))//" and "// &
-              int_text(input%phase(j))//")")
-            return
-          else if (en(lc) > 1.0_dp .or. en(lc) < 0.0_dp) then
-            call set_status(st, demstep_stat%invalid_input, where_key(name, lc, lines_pairs(lc))// &
-              "must lie in [0, 1]")
-            return
-          else if (en(lc) == 0.0_dp) then
-            call set_status(st, demstep_stat%invalid_input, where_key(name, lc, lines_pairs(lc))// &
-              "0 makes the contact critically damped: MFiX's collision time pi/sqrt(0) is undefined")
-            return
-          end if
+          call check_restitution(name, lc, en(lc), set_pairs(lc), lines_pairs(lc), "the pair of DEM " &
+            //"phases "//int_text(input%phase(i))//" and "//int_text(input%phase(j)), st)
+          if (st%stat /= demstep_stat%ok) return
           values(lc) = en(lc)
         end do
       end do
@@ -402,52 +409,76 @@ contains
       if (st%stat /= demstep_stat%ok) return
       allocate(values(n))
       do i = 1, n
-        if (.not. set_w(i)) then
-          call set_status(st, demstep_stat%invalid_input, upper_trim(name)//"("//int_text(i)// &
-            "): missing (DEM solids phase "//int_text(input%phase(i))//" against walls)")
-          return
-        else if (enw(i) > 1.0_dp .or. enw(i) < 0.0_dp) then
-          call set_status(st, demstep_stat%invalid_input, where_key(name, i, lines_w(i))//"must lie in [0, 1]")
-          return
-        else if (enw(i) == 0.0_dp) then
-          call set_status(st, demstep_stat%invalid_input, where_key(name, i, lines_w(i))// &
-            "0 makes the contact critically damped: MFiX's collision time pi/sqrt(0) is undefined")
-          return
-        end if
+        call check_restitution(name, i, enw(i), set_w(i), lines_w(i), "DEM solids phase "// &
+          int_text(input%phase(i))//" against walls", st)
+        if (st%stat /= demstep_stat%ok) return
         values(i) = enw(i)
       end do
     end subroutine wall_restitution
 
-    pure subroutine required_positive(name, x, st)
+    !> A keyword naming one of two options (the first the default when absent).
+    pure subroutine choice(name, first, second, code, st)
+      character(len=*), intent(in) :: name, first, second
+      integer, intent(out) :: code
+      type(demstep_status_type), intent(out) :: st
+      character(len=:), allocatable :: word
+      logical :: there
+      integer :: ln
+      code = 1
+      call mfix_get_string(deck, name, word, there, ln, st)
+      if (st%stat /= demstep_stat%ok .or. .not. there) return
+      if (upper_trim(word) == trim(first)) then
+        code = 1
+      else if (upper_trim(word) == trim(second)) then
+        code = 2
+      else
+        call set_status(st, demstep_stat%invalid_input, "line "//int_text(ln)//": "//upper_trim(name)// &
+          ": '"//word//"' is neither '"//trim(first)//"' nor '"//trim(second)//"'")
+      end if
+    end subroutine choice
+
+    !> One restitution coefficient: set, in [0, 1], not 0.
+    pure subroutine check_restitution(name, idx, e, is_set, ln, what, st)
+      character(len=*), intent(in) :: name, what
+      integer, intent(in) :: idx, ln
+      real(dp), intent(in) :: e
+      logical, intent(in) :: is_set
+      type(demstep_status_type), intent(out) :: st
+      if (.not. is_set) then
+        call set_status(st, demstep_stat%invalid_input, upper_trim(name)//"("//int_text(idx)// &
+          "): missing ("//what//")")
+      else if (e > 1.0_dp .or. e < 0.0_dp) then
+        call set_status(st, demstep_stat%invalid_input, where_key(name, idx, ln)//"must lie in [0, 1]")
+      else if (e == 0.0_dp) then
+        call set_status(st, demstep_stat%invalid_input, where_key(name, idx, ln)// &
+          "0 makes the contact critically damped: MFiX's collision time pi/sqrt(0) is undefined")
+      else
+        st%stat = demstep_stat%ok
+      end if
+    end subroutine check_restitution
+
+    !> A real keyword: `required` ones must be given and > 0 (springs), the
+    !> others lie in [0, 1] (factors, keeping their default when absent).
+    pure subroutine real_keyword(name, x, required, st)
       character(len=*), intent(in) :: name
       real(dp), intent(inout) :: x
+      logical, intent(in) :: required
       type(demstep_status_type), intent(out) :: st
       logical :: there
       integer :: ln
       call mfix_get_real(deck, name, x, there, ln, st)
       if (st%stat /= demstep_stat%ok) return
-      if (.not. there) then
+      if (required .and. .not. there) then
         call set_status(st, demstep_stat%invalid_input, upper_trim(name)//": missing (DES_COLL_MODEL = '"// &
           trim(merge("LSD     ", "HERTZIAN", input%model == mfix_model%lsd))//"')")
-      else if (.not. (x > 0.0_dp)) then
+      else if (required .and. .not. (x > 0.0_dp)) then
         call set_status(st, demstep_stat%invalid_input, "line "//int_text(ln)//": "//upper_trim(name)// &
           ": must be > 0")
-      end if
-    end subroutine required_positive
-
-    pure subroutine factor(name, x, st)
-      character(len=*), intent(in) :: name
-      real(dp), intent(inout) :: x
-      type(demstep_status_type), intent(out) :: st
-      logical :: there
-      integer :: ln
-      call mfix_get_real(deck, name, x, there, ln, st)
-      if (st%stat /= demstep_stat%ok) return
-      if (x > 1.0_dp .or. x < 0.0_dp) then
+      else if (.not. required .and. (x > 1.0_dp .or. x < 0.0_dp)) then
         call set_status(st, demstep_stat%invalid_input, "line "//int_text(ln)//": "//upper_trim(name)// &
           ": must lie in [0, 1]")
       end if
-    end subroutine factor
+    end subroutine real_keyword
 
   end subroutine mfix_input_from_deck
 
@@ -478,8 +509,8 @@ contains
     type(mfix_result_type), intent(out) :: result
     type(demstep_status_type), intent(out) :: status
     integer :: n, m, l, lc, np, w
-    real(dp) :: mass(input%n_phases), radius(input%n_phases), g_mod(max(1, input%n_phases))
-    real(dp) :: mass_eff, red_mass_eff, r_eff, e_eff, g_mod_eff, g_mod_wall, en, et, tcoll_tmp, x
+    real(dp) :: mass(input%n_phases), radius(input%n_phases)
+    real(dp) :: mass_eff, e_eff, g_mod_eff
     n = input%n_phases
     np = n + n*(n - 1)/2
     result%n_pairs = np
@@ -491,97 +522,40 @@ contains
       radius(m) = 0.5_dp*input%d_p0(m)
       mass(m) = (mfix_pi/6.0_dp)*(input%d_p0(m)**3)*input%ro_s0(m)
     end do
-    if (input%model == mfix_model%hertzian) then
-      do m = 1, n
-        g_mod(m) = 0.5_dp*input%e_young(m)/(1.0_dp + input%v_poisson(m))
-      end do
-      g_mod_wall = 0.5_dp*input%ew_young/(1.0_dp + input%vw_poisson)
-    end if
     result%tcoll = huge(1.0_dp)
     lc = 0
     do m = 1, n
       do l = m, n
         lc = lc + 1
-        en = input%en(lc)
         result%phase_i(lc) = input%phase(m)
         result%phase_j(lc) = input%phase(l)
         mass_eff = mass(m)*mass(l)/(mass(m) + mass(l))
-        result%m_eff(lc) = mass_eff
         if (input%model == mfix_model%lsd) then
-          ! CHECK_SOLIDS_DEM_COLL_LSD, particle-particle
-          result%k_n(lc) = input%kn
-          result%k_t(lc) = input%kt_fac*input%kn
-          result%eta_n(lc) = 2.0_dp*sqrt(input%kn*mass_eff)*abs(log(en))
-          result%eta_n(lc) = result%eta_n(lc)/sqrt(mfix_pi*mfix_pi + (log(en)**2))
-          result%eta_t(lc) = input%etat_fac*result%eta_n(lc)
-          x = input%kn/mass_eff - ((result%eta_n(lc)/mass_eff)**2)/4.0_dp
+          call pair(result, status, lc, mass_eff, input%en(lc), input%kn, input%kt_fac, input%etat_fac)
         else
-          ! CHECK_SOLIDS_DEM_COLL_HERTZ, particle-particle
-          et = input%et(lc)
-          red_mass_eff = (2.0_dp/7.0_dp)*mass_eff
-          r_eff = radius(m)*radius(l)/(radius(m) + radius(l))
-          e_eff = input%e_young(m)*input%e_young(l)/(input%e_young(m)*(1.0_dp - input%v_poisson(l)**2) &
-            + input%e_young(l)*(1.0_dp - input%v_poisson(m)**2))
-          g_mod_eff = g_mod(m)*g_mod(l)/(g_mod(m)*(2.0_dp - input%v_poisson(l)) &
-            + g_mod(l)*(2.0_dp - input%v_poisson(m)))
-          result%k_n(lc) = (4.0_dp/3.0_dp)*sqrt(r_eff)*e_eff
-          result%k_t(lc) = 8.0_dp*sqrt(r_eff)*g_mod_eff
-          result%eta_n(lc) = 2.0_dp*sqrt(result%k_n(lc)*mass_eff)*abs(log(en))
-          result%eta_n(lc) = result%eta_n(lc)/sqrt(mfix_pi*mfix_pi + (log(en))**2)
-          result%eta_t(lc) = 2.0_dp*sqrt(result%k_t(lc)*red_mass_eff)*abs(log(et))
-          result%eta_t(lc) = result%eta_t(lc)/sqrt(mfix_pi*mfix_pi + (log(et))**2)
-          x = result%k_n(lc)/mass_eff - ((result%eta_n(lc)/mass_eff)**2)/4.0_dp
+          call mfix_moduli(input%e_young(m), input%v_poisson(m), input%e_young(l), input%v_poisson(l), &
+            e_eff, g_mod_eff)
+          call pair(result, status, lc, mass_eff, input%en(lc), r_eff=radius(m)*radius(l)/(radius(m) + radius(l)), &
+            e_eff=e_eff, g_eff=g_mod_eff, et=input%et(lc))
         end if
-        if (.not. (x > 0.0_dp .and. ieee_is_finite(x))) then
-          call set_status(status, demstep_stat%invalid_input, "DES_EN_INPUT("//int_text(lc)// &
-            "): MFiX's collision time of the pair of phases "//int_text(input%phase(m))//" and "// &
-            int_text(input%phase(l))//" is undefined (overdamped or out of range)")
-          return
-        end if
-        tcoll_tmp = mfix_pi/sqrt(x)
-        result%t_coll(lc) = tcoll_tmp
-        result%tcoll = min(tcoll_tmp, result%tcoll)
+        if (status%stat /= demstep_stat%ok) return
+        result%tcoll = min(result%t_coll(lc), result%tcoll)
       end do
     end do
     ! walls: computed, but left out of TCOLL (MFiX comments the MIN out)
     do m = 1, n
       w = np + m
-      en = input%en_wall(m)
-      mass_eff = mass(m)
       result%phase_i(w) = input%phase(m)
       result%phase_j(w) = 0
-      result%m_eff(w) = mass_eff
       if (input%model == mfix_model%lsd) then
-        result%k_n(w) = input%kn_w
-        result%k_t(w) = input%kt_w_fac*input%kn_w
-        result%eta_n(w) = 2.0_dp*sqrt(input%kn_w*mass_eff)*abs(log(en))
-        result%eta_n(w) = result%eta_n(w)/sqrt(mfix_pi*mfix_pi + (log(en))**2)
-        result%eta_t(w) = input%etat_w_fac*result%eta_n(w)
-        x = input%kn_w/mass_eff - ((result%eta_n(w)/mass_eff)**2)/4.0_dp
+        call pair(result, status, w, mass(m), input%en_wall(m), input%kn_w, input%kt_w_fac, input%etat_w_fac)
       else
-        et = input%et_wall(m)
-        red_mass_eff = (2.0_dp/7.0_dp)*mass_eff
-        r_eff = radius(m)
-        e_eff = input%e_young(m)*input%ew_young/(input%e_young(m)*(1.0_dp - input%vw_poisson**2) &
-          + input%ew_young*(1.0_dp - input%v_poisson(m)**2))
-        g_mod_eff = g_mod(m)*g_mod_wall/(g_mod(m)*(2.0_dp - input%vw_poisson) &
-          + g_mod_wall*(2.0_dp - input%v_poisson(m)))
-        result%k_n(w) = (4.0_dp/3.0_dp)*sqrt(r_eff)*e_eff
-        ! MFiX writes 8.0 (a default real) here: exact, so the same value
-        result%k_t(w) = 8.0_dp*sqrt(r_eff)*g_mod_eff
-        result%eta_n(w) = 2.0_dp*sqrt(result%k_n(w)*mass_eff)*abs(log(en))
-        result%eta_n(w) = result%eta_n(w)/sqrt(mfix_pi*mfix_pi + (log(en))**2)
-        result%eta_t(w) = 2.0_dp*sqrt(result%k_t(w)*red_mass_eff)*abs(log(et))
-        result%eta_t(w) = result%eta_t(w)/sqrt(mfix_pi*mfix_pi + (log(et))**2)
-        x = result%k_n(w)/mass_eff - ((result%eta_n(w)/mass_eff)**2)/4.0_dp
+        call mfix_moduli(input%e_young(m), input%v_poisson(m), input%ew_young, input%vw_poisson, &
+          e_eff, g_mod_eff)
+        call pair(result, status, w, mass(m), input%en_wall(m), r_eff=radius(m), e_eff=e_eff, g_eff=g_mod_eff, &
+          et=input%et_wall(m))
       end if
-      if (.not. (x > 0.0_dp .and. ieee_is_finite(x))) then
-        call set_status(status, demstep_stat%invalid_input, "DES_EN_WALL_INPUT("//int_text(m)// &
-          "): MFiX's wall collision time of phase "//int_text(input%phase(m))// &
-          " is undefined (overdamped or out of range)")
-        return
-      end if
-      result%t_coll(w) = mfix_pi/sqrt(x)
+      if (status%stat /= demstep_stat%ok) return
     end do
     result%dtsolid = result%tcoll/input%dtsolid_factor
     if (.not. all(ieee_is_finite([result%m_eff, result%k_n, result%k_t, result%eta_n, result%eta_t, &
@@ -591,6 +565,241 @@ contains
       return
     end if
     status%stat = demstep_stat%ok
+  contains
+    !> One pair's springs, dashpots and collision time (`status` set when undefined).
+    pure subroutine pair(res, st, p, m_eff, en, kn, kt_fac, etat_fac, r_eff, e_eff, g_eff, et)
+      type(mfix_result_type), intent(inout) :: res
+      type(demstep_status_type), intent(out) :: st
+      integer, intent(in) :: p
+      real(dp), intent(in) :: m_eff, en
+      real(dp), intent(in), optional :: kn, kt_fac, etat_fac, r_eff, e_eff, g_eff, et
+      real(dp) :: x
+      res%m_eff(p) = m_eff
+      call mfix_pair_springs(m_eff, en, res%k_n(p), res%k_t(p), res%eta_n(p), res%eta_t(p), x, &
+        kn, kt_fac, etat_fac, r_eff, e_eff, g_eff, et)
+      if (.not. ieee_is_finite(x)) then
+        call set_status(st, demstep_stat%invalid_input, "D_P0: MFiX's masses, springs or dashpots leave " &
+          //"the double range ("//pair_name(res, p)//"); rescale the units")
+        return
+      else if (.not. (x > 0.0_dp)) then
+        if (res%phase_j(p) == 0) then
+          call set_status(st, demstep_stat%invalid_input, "DES_EN_WALL_INPUT("//int_text(p - np)// &
+            "): MFiX's wall collision time of phase "//int_text(res%phase_i(p))// &
+            " is undefined (overdamped)")
+        else
+          call set_status(st, demstep_stat%invalid_input, "DES_EN_INPUT("//int_text(p)// &
+            "): MFiX's collision time of the pair of phases "//int_text(res%phase_i(p))//" and "// &
+            int_text(res%phase_j(p))//" is undefined (overdamped)")
+        end if
+        return
+      end if
+      res%t_coll(p) = mfix_pi/sqrt(x)
+      st%stat = demstep_stat%ok
+    end subroutine pair
   end subroutine mfix_compute
+
+  !> demstep's exact answers for a deck at MFiX's step (see
+  !> [[mfix_assessment_type]]): per pair the exact limit under MFiX's EULER
+  !> scheme (central differences, dashpot on the previous velocity), the contact
+  !> at DTSOLID, the step meeting `tolerance` on the restitution; the smallest
+  !> particles of a size distribution; the recommended step and DTSOLID_FACTOR.
+  !> Status `invalid_input` naming `tolerance` or `velocity`, or the pair.
+  pure subroutine mfix_assess(deck, input, result, assessment, status, tolerance, velocity)
+    !> The parsed deck (for its size distributions).
+    type(mfix_deck_type), intent(in) :: deck
+    !> Its DEM inputs and what MFiX computes from them.
+    type(mfix_input_type), intent(in) :: input
+    type(mfix_result_type), intent(in) :: result
+    type(mfix_assessment_type), intent(out) :: assessment
+    type(demstep_status_type), intent(out) :: status
+    !> Tolerance on the relative restitution error (> 0); absent: stability only.
+    real(dp), intent(in), optional :: tolerance
+    !> Impact velocity in the deck's units (> 0), needed for Hertzian decks.
+    real(dp), intent(in), optional :: velocity
+    type(mfix_assessment_type) :: small
+    type(mfix_input_type) :: psd_input
+    type(mfix_result_type) :: psd_result
+    real(dp) :: dmin(mfix_dim_m), dmin2(mfix_dim_m)
+    logical :: set(mfix_dim_m), set2(mfix_dim_m)
+    integer :: lines(mfix_dim_m), lines2(mfix_dim_m), k, m, np
+    if (present(tolerance)) then
+      if (.not. (tolerance > 0.0_dp .and. tolerance < 1.0_dp)) then
+        call set_status(status, demstep_stat%invalid_input, "tolerance: must lie in (0, 1), got " &
+          //real_text(tolerance))
+        return
+      end if
+      assessment%tolerance = tolerance
+    end if
+    if (present(velocity)) then
+      if (.not. (velocity > 0.0_dp .and. ieee_is_finite(velocity))) then
+        call set_status(status, demstep_stat%invalid_input, "velocity: must be finite and > 0, got " &
+          //real_text(velocity))
+        return
+      end if
+      assessment%velocity = velocity
+    end if
+    call assess_pairs(input, result, assessment, status)
+    if (status%stat /= demstep_stat%ok) return
+    np = result%n_pairs
+
+    ! size distributions: the smallest diameter of each DEM phase
+    call mfix_min_by_second_index(deck, "ic_psd_min_dp", mfix_dim_m, dmin, set, lines, status)
+    if (status%stat /= demstep_stat%ok) return
+    call mfix_min_by_second_index(deck, "bc_psd_min_dp", mfix_dim_m, dmin2, set2, lines2, status)
+    if (status%stat /= demstep_stat%ok) return
+    allocate(assessment%d_min(input%n_phases), assessment%d_min_line(input%n_phases))
+    assessment%d_min = 0.0_dp
+    assessment%d_min_line = 0
+    psd_input = input
+    do k = 1, input%n_phases
+      m = input%phase(k)
+      if (set2(m) .and. (.not. set(m) .or. dmin2(m) < dmin(m))) then
+        dmin(m) = dmin2(m)
+        lines(m) = lines2(m)
+        set(m) = .true.
+      end if
+      if (.not. set(m)) cycle
+      if (.not. (dmin(m) > 0.0_dp)) then
+        call set_status(status, demstep_stat%invalid_input, "line "//int_text(lines(m))// &
+          ": PSD_MIN_DP: the smallest diameter of phase "//int_text(m)//" must be > 0")
+        return
+      end if
+      assessment%d_min(k) = dmin(m)
+      assessment%d_min_line(k) = lines(m)
+      if (dmin(m) < input%d_p0(k)) then
+        assessment%psd = .true.
+        psd_input%d_p0(k) = dmin(m)
+      end if
+    end do
+
+    assessment%dt_stability = 0.0_dp
+    if (assessment%linearised) then
+      assessment%dt_stability = minval(assessment%dt_critical)
+      assessment%walls_govern = minval(assessment%dt_critical(np+1:)) < minval(assessment%dt_critical(:np))
+    end if
+    if (present(tolerance) .and. assessment%linearised) assessment%dt_accuracy_min = minval(assessment%dt_accuracy)
+    if (assessment%psd) then
+      call mfix_compute(psd_input, psd_result, status)
+      if (status%stat /= demstep_stat%ok) return
+      assessment%tcoll_psd = psd_result%tcoll
+      small%tolerance = assessment%tolerance
+      small%velocity = assessment%velocity
+      call assess_pairs(psd_input, psd_result, small, status)
+      if (status%stat /= demstep_stat%ok) return
+      if (small%linearised) then
+        assessment%dt_stability_psd = minval(small%dt_critical)
+        assessment%dt_stability = min(assessment%dt_stability, assessment%dt_stability_psd)
+        if (present(tolerance)) assessment%dt_accuracy_min = min(assessment%dt_accuracy_min, &
+          minval(small%dt_accuracy))
+      end if
+    end if
+
+    status%stat = demstep_stat%ok
+    if (.not. assessment%linearised) return
+    if (present(tolerance)) then
+      call recommended_step(assessment%dt_stability, assessment%dt_recommended, assessment%governs, &
+        status, dt_accuracy=assessment%dt_accuracy_min)
+    else
+      call recommended_step(assessment%dt_stability, assessment%dt_recommended, assessment%governs, status)
+    end if
+    if (status%stat /= demstep_stat%ok) return
+    ! DTSOLID = TCOLL/factor <= the recommended step
+    assessment%dtsolid_factor = max(10.0_dp, ceiling_real(result%tcoll/assessment%dt_recommended))
+  end subroutine mfix_assess
+
+  !> The per-pair part of [[mfix_assess]] for one input (D_P0 or the smallest sizes).
+  pure subroutine assess_pairs(input, result, a, status)
+    type(mfix_input_type), intent(in) :: input
+    type(mfix_result_type), intent(in) :: result
+    type(mfix_assessment_type), intent(inout) :: a
+    type(demstep_status_type), intent(out) :: status
+    type(contact_assessment_type) :: c
+    type(effective_pair_type) :: eff
+    integer :: p, n, j
+    real(dp) :: m, k_lin, t_contact, n_tol(result%n_pairs + result%n_walls)
+    n = result%n_pairs + result%n_walls
+    allocate(a%damping_ratio(n), a%k_linear(n), a%t_contact(n), a%dt_critical(n), a%n_per_period(n), &
+      a%restitution_error(n), a%overlap_error(n), a%steps(n), a%stable(n), a%dt_accuracy(n))
+    a%k_linear = 0.0_dp
+    a%t_contact = 0.0_dp
+    a%dt_critical = 0.0_dp
+    a%n_per_period = 0.0_dp
+    a%restitution_error = 0.0_dp
+    a%overlap_error = 0.0_dp
+    a%steps = 0_i8
+    a%stable = .true.
+    a%dt_accuracy = 0.0_dp
+    a%linearised = input%model == mfix_model%lsd .or. a%velocity > 0.0_dp
+    status%stat = demstep_stat%ok
+    do p = 1, n
+      m = result%m_eff(p)
+      if (input%model == mfix_model%lsd) then
+        a%damping_ratio(p) = result%eta_n(p)/(2.0_dp*sqrt(result%k_n(p)*m))
+        k_lin = result%k_n(p)
+        t_contact = result%t_coll(p)
+      else
+        ! force HERT_KN d^(3/2) + eta_n d^(1/4) v: tangent 1.5 HERT_KN d^(1/2), so
+        ! the linearised damping ratio does not depend on the overlap
+        a%damping_ratio(p) = result%eta_n(p)/(2.0_dp*sqrt(1.5_dp*result%k_n(p)*m))
+        if (.not. a%linearised) cycle
+        ! HERT_KN = 4/3 E* sqrt(R*): E* sqrt(R*) is all the Hertz law needs
+        eff%e_star = 0.75_dp*result%k_n(p)
+        eff%r_star = 1.0_dp
+        eff%m_star = m
+        call hertz_impact_stiffness(eff, a%velocity, k_lin, status)
+        if (status%stat == demstep_stat%ok) call hertz_contact_duration(eff, a%velocity, t_contact, status)
+        if (status%stat /= demstep_stat%ok) then
+          status%message = "velocity: "//pair_name(result, p)//": "//status%message
+          return
+        end if
+      end if
+      a%k_linear(p) = k_lin
+      a%t_contact(p) = t_contact
+      call assess_contact(m, k_lin, a%damping_ratio(p), c, status, dt=result%dtsolid)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = pair_name(result, p)//": "//status%message
+        return
+      end if
+      a%dt_critical(p) = c%dt_critical
+      a%n_per_period(p) = c%n_per_period
+      a%steps(p) = c%steps
+      a%stable(p) = c%stable
+      a%restitution_error(p) = c%restitution_error
+      a%overlap_error(p) = c%overlap_error
+      if (a%tolerance > 0.0_dp) then
+        ! N for a tolerance depends on the damping ratio alone: reuse it
+        n_tol(p) = 0.0_dp
+        do j = 1, p - 1
+          if (a%damping_ratio(j) == a%damping_ratio(p) .and. n_tol(j) > 0.0_dp) n_tol(p) = n_tol(j)
+        end do
+        if (n_tol(p) == 0.0_dp) then
+          call assess_contact(m, k_lin, a%damping_ratio(p), c, status, tolerance=a%tolerance)
+          if (status%stat == demstep_stat%not_found) then
+            call set_status(status, demstep_stat%invalid_input, "tolerance: "//real_text(a%tolerance)// &
+              " is not met below "//real_text(default_cost_n_max)//" steps per period ("// &
+              pair_name(result, p)//"); use a larger one")
+            return
+          else if (status%stat /= demstep_stat%ok) then
+            status%message = pair_name(result, p)//": "//status%message
+            return
+          end if
+          n_tol(p) = c%n_tolerance
+        end if
+        a%dt_accuracy(p) = c%period/n_tol(p)
+      end if
+    end do
+  end subroutine assess_pairs
+
+  !> `the pair of phases i and j` or `phase i against walls`.
+  pure function pair_name(result, p) result(name)
+    type(mfix_result_type), intent(in) :: result
+    integer, intent(in) :: p
+    character(len=:), allocatable :: name
+    if (result%phase_j(p) == 0) then
+      name = "phase "//int_text(result%phase_i(p))//" against walls"
+    else
+      name = "the pair of phases "//int_text(result%phase_i(p))//" and "//int_text(result%phase_j(p))
+    end if
+  end function pair_name
 
 end module demstep_mfix

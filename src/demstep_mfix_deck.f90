@@ -20,7 +20,8 @@ module demstep_mfix_deck
   private
 
   public :: read_mfix_deck, parse_mfix_deck, mfix_get_real, mfix_get_integer, mfix_get_string, &
-    mfix_get_real_array, mfix_get_string_array, mfix_has_keyword
+    mfix_get_real_array, mfix_get_string_array, mfix_has_keyword, mfix_min_by_second_index, &
+    mfix_looks_like_deck
 
   !> Largest repeat count `r*value` accepted.
   integer, parameter, public :: mfix_max_repeat = 100000
@@ -58,6 +59,9 @@ module demstep_mfix_deck
   end type mfix_deck_type
 
   character(len=*), parameter :: lf = achar(10), cr = achar(13), tab = achar(9)
+  !> Keywords that mark a text as an MFiX deck.
+  character(len=*), parameter :: mfix_marks(10) = [character(len=16) :: "units", "mmax", &
+    "solids_model", "d_p0", "ro_s0", "des_en_input", "des_coll_model", "kn", "e_young", "run_name"]
   !> Marker of a keyword written without a subscript, for messages.
   integer, parameter :: no_sub = -huge(1)
 
@@ -101,12 +105,7 @@ contains
     in_block = .false.
     status%stat = demstep_stat%ok
     do while (start <= n)
-      finish = index(text(start:), lf)
-      if (finish == 0) then
-        finish = n + 1
-      else
-        finish = start + finish - 1
-      end if
+      finish = line_end(text, start)
       line = line + 1
       last = finish - 1
       if (last >= start) then
@@ -127,6 +126,18 @@ contains
       start = finish + 1
     end do
   end subroutine parse_mfix_deck
+
+  !> Position of the newline ending the line that starts at `start` (len + 1 for the last).
+  pure integer function line_end(text, start) result(finish)
+    character(len=*), intent(in) :: text
+    integer, intent(in) :: start
+    finish = index(text(start:), lf)
+    if (finish == 0) then
+      finish = len(text) + 1
+    else
+      finish = start + finish - 1
+    end if
+  end function line_end
 
   pure logical function is_name_start(c)
     character, intent(in) :: c
@@ -437,6 +448,38 @@ contains
     deck%items(deck%n_items) = item
   end subroutine append_item
 
+  !> The recognition rule of an MFiX deck: some line starts (after blanks)
+  !> with one of MFiX's keywords `UNITS`, `MMAX`, `SOLIDS_MODEL`, `D_P0`,
+  !> `RO_S0`, `DES_EN_INPUT`, `DES_COLL_MODEL`, `KN`, `E_YOUNG`, `RUN_NAME`
+  !> (any case) followed by `=` or a subscript. A deck with bad lines is still
+  !> recognised, so that the reader can name the bad line.
+  pure logical function mfix_looks_like_deck(text) result(yes)
+    !> The file's text.
+    character(len=*), intent(in) :: text
+    integer :: start, finish, k, p, n
+    character(len=:), allocatable :: low
+    yes = .false.
+    n = len(text)
+    start = 1
+    do while (start <= n)
+      finish = line_end(text, start)
+      low = lowercase(adjustl(text(start:finish - 1)))//" "
+      do k = 1, size(mfix_marks)
+        p = len_trim(mfix_marks(k))
+        if (low(1:min(p, len(low))) /= mfix_marks(k)(1:p)) cycle
+        if (verify(low(p+1:), " ") == 0) cycle
+        associate (c => low(p + verify(low(p+1:), " "):p + verify(low(p+1:), " ")))
+          if ((c == "=" .or. c == "(") .and. (low(p+1:p+1) == " " .or. low(p+1:p+1) == "=" &
+            .or. low(p+1:p+1) == "(")) then
+            yes = .true.
+            return
+          end if
+        end associate
+      end do
+      start = finish + 1
+    end do
+  end function mfix_looks_like_deck
+
   !> True when the deck assigns the keyword (any subscript).
   pure logical function mfix_has_keyword(deck, name) result(has)
     !> The deck.
@@ -473,6 +516,16 @@ contains
     end do
   end function upper
 
+  !> Status `invalid_input` for MFiX's `@(...)` arithmetic, ok otherwise.
+  pure subroutine refuse_arithmetic(v, loc, status)
+    type(mfix_value_type), intent(in) :: v
+    character(len=*), intent(in) :: loc
+    type(demstep_status_type), intent(out) :: status
+    status%stat = demstep_stat%ok
+    if (v%arithmetic) call set_status(status, demstep_stat%invalid_input, loc//"MFiX's "//clip(v%text)// &
+      " arithmetic is not supported; write the value as a number")
+  end subroutine refuse_arithmetic
+
   !> Convert a value to a real (`1.0`, `1.0d-3`, `2E5`, `3`).
   pure subroutine value_real(v, loc, x, status)
     type(mfix_value_type), intent(in) :: v
@@ -481,11 +534,8 @@ contains
     type(demstep_status_type), intent(out) :: status
     integer :: ios
     x = 0.0_dp
-    if (v%arithmetic) then
-      call set_status(status, demstep_stat%invalid_input, loc//"MFiX's "//clip(v%text)// &
-        " arithmetic is not supported; write the value as a number")
-      return
-    end if
+    call refuse_arithmetic(v, loc, status)
+    if (status%stat /= demstep_stat%ok) return
     if (v%quoted .or. len_trim(v%text) == 0 .or. verify(trim(v%text), "0123456789.+-eEdD") > 0) then
       call set_status(status, demstep_stat%invalid_input, loc//"'"//clip(v%text)//"' is not a number")
       return
@@ -500,18 +550,24 @@ contains
   end subroutine value_real
 
   !> The last assignment of a scalar keyword, or `found = .false.`.
-  pure subroutine last_scalar(deck, name, k, status)
+  pure subroutine last_scalar(deck, name, k, found, line, status)
     type(mfix_deck_type), intent(in) :: deck
     character(len=*), intent(in) :: name
     integer, intent(out) :: k
+    !> Whether the deck assigns it, and the line of the last assignment (0: none).
+    logical, intent(out) :: found
+    integer, intent(out) :: line
     type(demstep_status_type), intent(out) :: status
     integer :: i
     k = 0
+    line = 0
     status%stat = demstep_stat%ok
     do i = 1, deck%n_items
       if (deck%items(i)%name == lowercase(name)) k = i
     end do
+    found = k > 0
     if (k == 0) return
+    line = deck%items(k)%line
     associate (it => deck%items(k))
       if (it%n_sub > 0) then
         call set_status(status, demstep_stat%invalid_input, key_where(name, it%line, no_sub)// &
@@ -537,12 +593,8 @@ contains
     integer, intent(out) :: line
     type(demstep_status_type), intent(out) :: status
     integer :: k
-    found = .false.
-    line = 0
-    call last_scalar(deck, name, k, status)
-    if (status%stat /= demstep_stat%ok .or. k == 0) return
-    found = .true.
-    line = deck%items(k)%line
+    call last_scalar(deck, name, k, found, line, status)
+    if (status%stat /= demstep_stat%ok .or. .not. found) return
     call value_real(deck%items(k)%values(1), key_where(name, line, no_sub), x, status)
   end subroutine mfix_get_real
 
@@ -560,18 +612,11 @@ contains
     integer, intent(out) :: line
     type(demstep_status_type), intent(out) :: status
     integer :: k, ios
-    found = .false.
-    line = 0
-    call last_scalar(deck, name, k, status)
-    if (status%stat /= demstep_stat%ok .or. k == 0) return
-    found = .true.
-    line = deck%items(k)%line
+    call last_scalar(deck, name, k, found, line, status)
+    if (status%stat /= demstep_stat%ok .or. .not. found) return
     associate (v => deck%items(k)%values(1))
-      if (v%arithmetic) then
-        call set_status(status, demstep_stat%invalid_input, key_where(name, line, no_sub)//"MFiX's "// &
-          clip(v%text)//" arithmetic is not supported; write the value as a number")
-        return
-      end if
+      call refuse_arithmetic(v, key_where(name, line, no_sub), status)
+      if (status%stat /= demstep_stat%ok) return
       ios = 1
       if (.not. v%quoted .and. len_trim(v%text) > 0 .and. verify(trim(v%text), "0123456789+-") == 0) &
         read(v%text, *, iostat=ios) i
@@ -594,12 +639,8 @@ contains
     integer, intent(out) :: line
     type(demstep_status_type), intent(out) :: status
     integer :: k
-    found = .false.
-    line = 0
-    call last_scalar(deck, name, k, status)
-    if (status%stat /= demstep_stat%ok .or. k == 0) return
-    found = .true.
-    line = deck%items(k)%line
+    call last_scalar(deck, name, k, found, line, status)
+    if (status%stat /= demstep_stat%ok .or. .not. found) return
     s = trim(adjustl(deck%items(k)%values(1)%text))
   end subroutine mfix_get_string
 
@@ -681,6 +722,52 @@ contains
       lines(idx(k)) = ln(k)
     end do
   end subroutine mfix_get_real_array
+
+  !> The smallest value a two-subscript real keyword (`KEY(i, j)`, such as
+  !> `BC_PSD_MIN_DP(bc, phase)`) assigns for each second subscript j in [1, n]:
+  !> `x(j)` and its line, `set(j)` false where the deck assigns none.
+  pure subroutine mfix_min_by_second_index(deck, name, n, x, set, lines, status)
+    !> The deck.
+    type(mfix_deck_type), intent(in) :: deck
+    !> Keyword.
+    character(len=*), intent(in) :: name
+    !> Range of the second subscript.
+    integer, intent(in) :: n
+    !> Smallest value per second subscript.
+    real(dp), intent(out) :: x(n)
+    !> Which second subscripts the deck assigns.
+    logical, intent(out) :: set(n)
+    !> Line of each smallest value (0 elsewhere).
+    integer, intent(out) :: lines(n)
+    type(demstep_status_type), intent(out) :: status
+    integer :: i, j, k
+    real(dp) :: v
+    x = 0.0_dp
+    set = .false.
+    lines = 0
+    status%stat = demstep_stat%ok
+    do i = 1, deck%n_items
+      if (deck%items(i)%name /= lowercase(name)) cycle
+      associate (it => deck%items(i))
+        if (it%n_sub /= 2) then
+          call set_status(status, demstep_stat%invalid_input, key_where(name, it%line, no_sub)// &
+            "takes two subscripts")
+          return
+        end if
+        do k = 1, size(it%values)
+          call value_real(it%values(k), key_where(name, it%line, no_sub), v, status)
+          if (status%stat /= demstep_stat%ok) return
+          do j = max(1, it%lo(2)), min(n, it%hi(2))
+            if (.not. set(j) .or. v < x(j)) then
+              x(j) = v
+              lines(j) = it%line
+            end if
+            set(j) = .true.
+          end do
+        end do
+      end associate
+    end do
+  end subroutine mfix_min_by_second_index
 
   !> A string array keyword of n elements (values upper case, blank loc not set).
   pure subroutine mfix_get_string_array(deck, name, n, s, set, lines, status)

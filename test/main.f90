@@ -24,6 +24,10 @@ program tester
   use test_material, only: collect_material
   use test_mfix, only: collect_mfix
   use test_lanczos, only: collect_lanczos
+  use test_app_mfix, only: collect_app_mfix
+  use test_app_material, only: collect_app_material
+  use test_recommend, only: collect_recommend
+  use test_snapshot, only: collect_snapshot
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -50,7 +54,11 @@ program tester
     new_testsuite("app_scene", collect_app_scene), &
     new_testsuite("material", collect_material), &
     new_testsuite("mfix", collect_mfix), &
-    new_testsuite("lanczos", collect_lanczos) &
+    new_testsuite("lanczos", collect_lanczos), &
+    new_testsuite("app_mfix", collect_app_mfix), &
+    new_testsuite("app_material", collect_app_material), &
+    new_testsuite("recommend", collect_recommend), &
+    new_testsuite("snapshot", collect_snapshot) &
     ]
   stat = 0
   total = 0

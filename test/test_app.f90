@@ -66,7 +66,8 @@ contains
       period_numerical, contact_time, restitution, max_overlap
     integer(i8) :: contact_steps
     logical :: stable
-    namelist /system_result/ period, omega, dt_critical, dt, n_per_period, stable, &
+    real(dp) :: dt_recommended
+    namelist /system_result/ dt_recommended, period, omega, dt_critical, dt, n_per_period, stable, &
       growth_factor, theta, period_numerical, contact_steps, contact_time, restitution, &
       max_overlap
     type(discrete_contact_type) :: contact
@@ -111,7 +112,8 @@ contains
     character(len=:), allocatable :: stdout, stderr
     real(dp) :: period, omega, dt_critical, dt, n_per_period, growth_factor
     logical :: stable
-    namelist /system_result/ period, omega, dt_critical, dt, n_per_period, stable, growth_factor
+    real(dp) :: dt_recommended
+    namelist /system_result/ dt_recommended, period, omega, dt_critical, dt, n_per_period, stable, growth_factor
     call write_file(deck, [character(len=60) :: "&system mass=1, stiffness=1, n_per_period=3 /"])
     call remove(out)
     call run_app(deck//" -o "//out, rc, stdout, stderr)
@@ -134,7 +136,8 @@ contains
     integer :: rc, unit, ios
     character(len=:), allocatable :: stdout, stderr, manifest
     real(dp) :: period, omega, dt_critical
-    namelist /system_result/ period, omega, dt_critical
+    real(dp) :: dt_recommended
+    namelist /system_result/ dt_recommended, period, omega, dt_critical
     call write_file(deck, [character(len=60) :: "&system mass=4, stiffness=1 /"])
     call run_app(deck//" --namelist", rc, stdout, stderr)
     call check(error, rc, 0, message="--namelist")
@@ -376,7 +379,8 @@ contains
     logical :: bounded(10)
     integer :: status(10), lambda_star_status, excluded
     real(dp) :: n_star, lambda_star, period, dt, stiffness_actual
-    namelist /simulated_stiffness_result/ lambda, n_zero, n_lower, n_upper, bounded, n_pick, &
+    real(dp) :: dt_recommended
+    namelist /simulated_stiffness_result/ dt_recommended, lambda, n_zero, n_lower, n_upper, bounded, n_pick, &
       status, n_star, lambda_star, lambda_star_status, period, dt, stiffness_actual, excluded
     type(stiffness_input_type) :: input
     type(stiffness_result_type) :: result
@@ -599,7 +603,8 @@ contains
     real(dp) :: tolerances(2), n_per_period(2), dt(2), predicted_seconds(2), cost_per_particle_step, period
     integer(i8) :: steps(2)
     integer :: status(2)
-    namelist /accuracy_cost_result/ tolerances, n_per_period, dt, steps, predicted_seconds, status, &
+    real(dp) :: dt_recommended
+    namelist /accuracy_cost_result/ dt_recommended, tolerances, n_per_period, dt, steps, predicted_seconds, status, &
       cost_per_particle_step, period
     real(dp) :: n
     type(demstep_status_type) :: st
@@ -748,7 +753,8 @@ contains
       period, e, big_n
     integer(i8) :: steps(1)
     integer :: status(1)
-    namelist /accuracy_cost_result/ tolerances, n_per_period, dt, steps, predicted_seconds, status, &
+    real(dp) :: dt_recommended
+    namelist /accuracy_cost_result/ dt_recommended, tolerances, n_per_period, dt, steps, predicted_seconds, status, &
       cost_per_particle_step, period
     call write_file(deck, [character(len=160) :: "&accuracy_cost quantity = 'harmonic', lambda = 0.9,", &
       "  tolerances = 1e-3, duration = 1.0, n_particles = 100, mass = 0.01, stiffness = 1e5,", &

@@ -103,7 +103,8 @@ contains
     integer :: status(2), lambda_star_status, excluded, unit, ios
     real(dp) :: n_star, lambda_star, period, dt, stiffness_actual
     character(len=:), allocatable :: text
-    namelist /simulated_stiffness_result/ lambda, n_zero, n_lower, n_upper, bounded, n_pick, &
+    real(dp) :: dt_recommended
+    namelist /simulated_stiffness_result/ dt_recommended, lambda, n_zero, n_lower, n_upper, bounded, n_pick, &
       status, n_star, lambda_star, lambda_star_status, period, dt, stiffness_actual, excluded
     call read_file(out, text)
     call check_finite_text(error, text, "the result namelist")

@@ -150,7 +150,8 @@ contains
       contact_time, restitution, max_overlap
     integer :: contact_steps
     logical :: stable
-    namelist /system_result/ period, omega, dt_critical, dt, n_per_period, stable, growth_factor, &
+    real(dp) :: dt_recommended
+    namelist /system_result/ dt_recommended, period, omega, dt_critical, dt, n_per_period, stable, growth_factor, &
       theta, period_numerical, contact_steps, contact_time, restitution, max_overlap
     omega = -1.0_dp
     call run_app(deck//" -q --namelist", rc, stdout, stderr)

@@ -88,7 +88,8 @@ contains
       period_numerical, contact_time, restitution, max_overlap
     integer(i8) :: contact_steps, steps_q
     logical :: stable
-    namelist /system_result/ period, omega, dt_critical, dt, n_per_period, stable, &
+    real(dp) :: dt_recommended
+    namelist /system_result/ dt_recommended, period, omega, dt_critical, dt, n_per_period, stable, &
       growth_factor, theta, period_numerical, contact_steps, contact_time, restitution, &
       max_overlap
     real(qp) :: omega_q, restitution_q, overlap_q
@@ -127,7 +128,8 @@ contains
       period_numerical, contact_time, restitution, max_overlap
     integer(i8) :: contact_steps
     logical :: stable
-    namelist /system_result/ period, omega, dt_critical, dt, n_per_period, stable, &
+    real(dp) :: dt_recommended
+    namelist /system_result/ dt_recommended, period, omega, dt_critical, dt, n_per_period, stable, &
       growth_factor, theta, period_numerical, contact_steps, contact_time, restitution, &
       max_overlap
     character(len=:), allocatable :: text
@@ -181,7 +183,8 @@ contains
       period_numerical, contact_time, restitution, max_overlap
     integer(i8) :: contact_steps, steps_q
     logical :: stable
-    namelist /system_result/ period, omega, dt_critical, dt, n_per_period, stable, &
+    real(dp) :: dt_recommended
+    namelist /system_result/ dt_recommended, period, omega, dt_critical, dt, n_per_period, stable, &
       growth_factor, theta, period_numerical, contact_steps, contact_time, restitution, &
       max_overlap
     character(len=:), allocatable :: text
@@ -282,7 +285,8 @@ contains
       cost_per_particle_step, period
     integer(i8) :: steps(1)
     integer :: status(1), ios
-    namelist /accuracy_cost_result/ tolerances, n_per_period, dt, steps, predicted_seconds, status, &
+    real(dp) :: dt_recommended
+    namelist /accuracy_cost_result/ dt_recommended, tolerances, n_per_period, dt, steps, predicted_seconds, status, &
       cost_per_particle_step, period
     character(len=:), allocatable :: text
     character(len=*), parameter :: g = "&accuracy_cost quantity = 'restitution', tolerances = 1e-2, " &

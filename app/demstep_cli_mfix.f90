@@ -1,0 +1,219 @@
+!> MFiX mode: `demstep deck.mfx` reports what MFiX computes for its DEM solids
+!> step, demstep's exact answers at that step, and the DTSOLID_FACTOR that
+!> meets a tolerance, written as a line MFiX reads.
+module demstep_cli_mfix
+  use demstep, only: dp, i8, demstep_status_type, demstep_stat, mfix_deck_type, parse_mfix_deck, &
+    mfix_input_type, mfix_result_type, mfix_assessment_type, mfix_input_from_deck, mfix_compute, &
+    mfix_assess, mfix_units, mfix_model, mfix_integrator, step_governs, default_safety
+  use demstep_cli, only: cli_context, fmt_real, fmt_int
+  implicit none
+  private
+
+  public :: run_mfix
+
+  !> Tolerance on the relative restitution error when the command line gives none.
+  real(dp), parameter, public :: mfix_default_tolerance = 1.0e-2_dp
+
+contains
+
+  !> Read an MFiX deck's text, report and write `&mfix_result`. `tolerance`
+  !> (restitution, relative) and `velocity` (Hertzian impact velocity, deck
+  !> units; <= 0: none) come from the command line.
+  subroutine run_mfix(ctx, text, tolerance, tolerance_given, velocity, status)
+    type(cli_context), intent(in) :: ctx
+    character(len=*), intent(in) :: text
+    real(dp), intent(in) :: tolerance, velocity
+    logical, intent(in) :: tolerance_given
+    type(demstep_status_type), intent(out) :: status
+    type(mfix_deck_type) :: deck
+    type(mfix_input_type) :: input
+    type(mfix_result_type) :: result
+    type(mfix_assessment_type) :: a
+    call parse_mfix_deck(text, deck, status)
+    if (status%stat /= demstep_stat%ok) return
+    call mfix_input_from_deck(deck, input, status)
+    if (status%stat /= demstep_stat%ok) return
+    call mfix_compute(input, result, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (velocity > 0.0_dp) then
+      call mfix_assess(deck, input, result, a, status, tolerance=tolerance, velocity=velocity)
+    else
+      call mfix_assess(deck, input, result, a, status, tolerance=tolerance)
+    end if
+    if (status%stat /= demstep_stat%ok) then
+      ! the command line's names for the library's
+      if (index(status%message, "tolerance: ") == 1) status%message = "--tolerance: "//status%message(12:)
+      if (index(status%message, "velocity: ") == 1) status%message = "--velocity: "//status%message(11:)
+      return
+    end if
+    call report(ctx%report, input, result, a, tolerance_given)
+    call write_result(ctx%results, input, result, a)
+  end subroutine run_mfix
+
+  !> The human report.
+  subroutine report(u, input, result, a, tolerance_given)
+    integer, intent(in) :: u
+    type(mfix_input_type), intent(in) :: input
+    type(mfix_result_type), intent(in) :: result
+    type(mfix_assessment_type), intent(in) :: a
+    logical, intent(in) :: tolerance_given
+    character(len=:), allocatable :: mass_unit, k_unit, eta_unit, len_unit, model
+    integer :: p, np, k
+    logical :: si, lsd
+    si = input%units == mfix_units%si
+    lsd = input%model == mfix_model%lsd
+    mass_unit = merge("kg", "g ", si)
+    len_unit = merge("m ", "cm", si)
+    if (lsd) then
+      model = "LSD"
+      k_unit = merge("N/m   ", "dyn/cm", si)
+    else
+      model = "HERTZIAN"
+      k_unit = merge("N/m^1.5   ", "dyn/cm^1.5", si)
+    end if
+    eta_unit = merge("kg/s", "g/s ", si)
+    np = result%n_pairs
+    write(u, '(a)') "MFiX deck: UNITS = '"//trim(merge("SI ", "CGS", si))//"', DES_COLL_MODEL = '"//model// &
+      "', DES_INTG_METHOD = '"//trim(merge("EULER          ", "ADAMS_BASHFORTH", &
+      input%integrator == mfix_integrator%euler))//"', "//fmt_int(int(input%n_phases, i8))//" DEM phase" &
+      //trim(merge("s", " ", input%n_phases > 1))
+    write(u, '(2x, a)') "what MFiX computes (check_solids_dem.f; mass in "//trim(mass_unit)//", k_n in " &
+      //trim(k_unit)//", eta_n in "//trim(eta_unit)//", times in s):"
+    write(u, '(2x, a8, 4a18)') "pair", "m_eff", "k_n", "eta_n", "t_coll"
+    do p = 1, np + result%n_walls
+      write(u, '(2x, a8, 4a18)') pair_label(result, p), fmt_real(result%m_eff(p)), fmt_real(result%k_n(p)), &
+        fmt_real(result%eta_n(p)), fmt_real(result%t_coll(p))
+    end do
+    call row(u, "TCOLL", fmt_real(result%tcoll)//" s  (smallest particle pair; walls left out)")
+    call row(u, "DTSOLID_FACTOR", fmt_real(input%dtsolid_factor))
+    call row(u, "DTSOLID", fmt_real(result%dtsolid)//" s  (TCOLL/DTSOLID_FACTOR)")
+
+    if (input%integrator == mfix_integrator%adams_bashforth) then
+      write(u, '(2x, a)') "ADAMS_BASHFORTH: an undamped contact gains energy at every step (amplitude " &
+        //"x1.0008 per period at omega dt = 0.1, x1.115 at 0.5):", &
+        "  no step is stable without damping. The exact answers below are for DES_INTG_METHOD = 'EULER'."
+    end if
+    if (.not. lsd) then
+      write(u, '(2x, a)') "Hertzian: MFiX's t_coll uses HERT_KN (force/length^1.5) as a linear stiffness, " &
+        //"i.e. the secant", "  stiffness at an overlap of ONE length unit (1 "//trim(len_unit)// &
+        "): it depends on the unit system (CGS gives sqrt(10)", &
+        "  times the SI value) and is not the Hertz contact duration."
+    end if
+    if (.not. a%linearised) then
+      write(u, '(2x, a)') "demstep's exact answers need the Hertz contact's impact velocity: give " &
+        //"--velocity V (in "//trim(len_unit)//"/s).", ""
+      return
+    end if
+
+    write(u, '(2x, a)') "demstep's exact answers at DTSOLID (EULER = central differences with the " &
+      //"dashpot on the previous velocity):"
+    if (.not. lsd) write(u, '(2x, a)') "Hertz contacts linearised at the largest overlap of an impact at " &
+      //fmt_real(a%velocity)//" "//trim(len_unit)//"/s (tangent stiffness, the stiffest state)"
+    write(u, '(2x, a8, 6(1x, a19))') "pair", "damping ratio", "dt_critical", &
+      "DTSOLID/dt_c", "steps", "restitution err", "overlap err"
+    do p = 1, np + result%n_walls
+      write(u, '(2x, a8, 6(1x, a19))') pair_label(result, p), &
+        fmt_real(a%damping_ratio(p)), fmt_real(a%dt_critical(p)), &
+        fmt_real(result%dtsolid/a%dt_critical(p)), fmt_int(a%steps(p)), &
+        fmt_real(a%restitution_error(p)), fmt_real(a%overlap_error(p))
+    end do
+    if (.not. lsd) then
+      write(u, '(2x, a)') "Hertz contact duration at the impact velocity, beside MFiX's t_coll:"
+      do p = 1, np + result%n_walls
+        write(u, '(2x, a8, a18, a)') pair_label(result, p), fmt_real(a%t_contact(p)), "  (MFiX's t_coll/it = " &
+          //fmt_real(result%t_coll(p)/a%t_contact(p))//")"
+      end do
+    end if
+    if (any(.not. a%stable)) write(u, '(2x, a)') "UNSTABLE: DTSOLID is above the exact limit of a pair marked " &
+      //"DTSOLID/dt_c >= 1; MFiX would blow up there."
+    if (a%walls_govern) write(u, '(2x, a)') "walls: a wall pair has a smaller limit (" &
+      //fmt_real(minval(a%dt_critical(np+1:)))//" s) than every particle pair (" &
+      //fmt_real(minval(a%dt_critical(:np)))//" s); MFiX leaves walls out of TCOLL."
+    if (a%psd) then
+      do k = 1, input%n_phases
+        if (a%d_min(k) > 0.0_dp .and. a%d_min(k) < input%d_p0(k)) write(u, '(2x, a)') "size distribution: " &
+          //"phase "//fmt_int(int(input%phase(k), i8))//" has particles of "//fmt_real(a%d_min(k))//" " &
+          //trim(len_unit)//" (line "//fmt_int(int(a%d_min_line(k), i8))//"), below D_P0 = " &
+          //fmt_real(input%d_p0(k))//"; MFiX's TCOLL ignores them."
+      end do
+      write(u, '(2x, a)') "  with the smallest particles: TCOLL would be "//fmt_real(a%tcoll_psd)// &
+        " s, the exact limit "//fmt_real(a%dt_stability_psd)//" s (used below)"
+    end if
+    if (tolerance_given) then
+      write(u, '(2x, a)') "tolerance "//fmt_real(a%tolerance)//" on the restitution error (--tolerance): " &
+        //"largest step per pair"
+    else
+      write(u, '(2x, a)') "tolerance "//fmt_real(a%tolerance)//" on the restitution error (the default; " &
+        //"set it with --tolerance X): largest step per pair"
+    end if
+    write(u, '(2x, a8, a18)') "pair", "dt"
+    do p = 1, np + result%n_walls
+      write(u, '(2x, a8, a18)') pair_label(result, p), fmt_real(a%dt_accuracy(p))
+    end do
+    call row(u, "exact limit", fmt_real(a%dt_stability)//" s  (smallest over the pairs)")
+    call row(u, "accuracy step", fmt_real(a%dt_accuracy_min)//" s")
+    if (a%governs == step_governs%accuracy) then
+      call row(u, "governs", "accuracy (tolerance "//fmt_real(a%tolerance)//" on the restitution)")
+    else
+      call row(u, "governs", "stability ("//fmt_real(default_safety)//" of the exact limit)")
+    end if
+    write(u, '(2x, a)') "for MFiX (DTSOLID = TCOLL/DTSOLID_FACTOR = "// &
+      fmt_real(result%tcoll/a%dtsolid_factor)//" s):"
+    if (input%integrator == mfix_integrator%adams_bashforth) write(u, '(a)') "des_intg_method = 'EULER'"
+    write(u, '(a)') "dtsolid_factor = "//fmt_real(a%dtsolid_factor)
+    write(u, '(a)') "recommended dt = "//fmt_real(a%dt_recommended)//" s"
+    write(u, '(a)') ""
+  end subroutine report
+
+  !> `1-2` for particle phases 1 and 2, `1-W` for phase 1 against walls.
+  pure function pair_label(result, p) result(label)
+    type(mfix_result_type), intent(in) :: result
+    integer, intent(in) :: p
+    character(len=:), allocatable :: label
+    label = fmt_int(int(result%phase_i(p), i8))//"-"
+    if (result%phase_j(p) == 0) then
+      label = label//"W"
+    else
+      label = label//fmt_int(int(result%phase_j(p), i8))
+    end if
+  end function pair_label
+
+  subroutine row(unit, label, value)
+    integer, intent(in) :: unit
+    character(len=*), intent(in) :: label, value
+    write(unit, '(2x, a, t28, a)') label, trim(value)
+  end subroutine row
+
+  !> The result group `&mfix_result`, per pair in MFiX's order (particle pairs
+  !> 11, 12, ..., then phase-wall pairs; `phase_j = 0` for a wall).
+  subroutine write_result(unit, input, result, a)
+    integer, intent(in) :: unit
+    type(mfix_input_type), intent(in) :: input
+    type(mfix_result_type), intent(in) :: result
+    type(mfix_assessment_type), intent(in) :: a
+    call write_group(unit, result%tcoll, result%dtsolid, input%dtsolid_factor, a%dtsolid_factor, &
+      a%dt_recommended, a%tolerance, a%dt_stability, a%dt_accuracy_min, &
+      trim(merge("stability", "accuracy ", a%governs /= step_governs%accuracy)), &
+      result%phase_i, result%phase_j, result%m_eff, result%k_n, result%eta_n, a%damping_ratio, &
+      result%t_coll, a%dt_critical, a%steps, a%restitution_error, a%overlap_error, a%dt_accuracy)
+  end subroutine write_result
+
+  subroutine write_group(unit, tcoll, dtsolid, dtsolid_factor, dtsolid_factor_recommended, &
+      dt_recommended, tolerance, dt_stability, dt_accuracy_min, governs, phase_i, phase_j, m_eff, &
+      k_n, eta_n, damping_ratio, t_coll, dt_critical, steps_per_contact, restitution_error, &
+      overlap_error, dt_accuracy)
+    integer, intent(in) :: unit
+    real(dp), intent(in) :: tcoll, dtsolid, dtsolid_factor, dtsolid_factor_recommended, &
+      dt_recommended, tolerance, dt_stability, dt_accuracy_min
+    character(len=*), intent(in) :: governs
+    integer, intent(in) :: phase_i(:), phase_j(:)
+    real(dp), intent(in) :: m_eff(:), k_n(:), eta_n(:), damping_ratio(:), t_coll(:), dt_critical(:), &
+      restitution_error(:), overlap_error(:), dt_accuracy(:)
+    integer(i8), intent(in) :: steps_per_contact(:)
+    namelist /mfix_result/ tcoll, dtsolid, dtsolid_factor, dtsolid_factor_recommended, dt_recommended, &
+      governs, tolerance, dt_stability, dt_accuracy_min, phase_i, phase_j, m_eff, k_n, eta_n, &
+      damping_ratio, t_coll, dt_critical, steps_per_contact, restitution_error, overlap_error, dt_accuracy
+    write(unit, nml=mfix_result)
+  end subroutine write_group
+
+end module demstep_cli_mfix

@@ -1,0 +1,972 @@
+!> Particle snapshots from the files DEM codes write: LAMMPS/LIGGGHTS dump
+!> files, LAMMPS/LIGGGHTS data files of the `sphere` atom style, and Yade's
+!> text export.
+!>
+!> - Dump (`lammps_dump`): frames of `ITEM: TIMESTEP`, `ITEM: NUMBER OF ATOMS`,
+!>   `ITEM: BOX BOUNDS xx yy zz` (`pp` marks a periodic axis; `ff`, `fs`, `fm`,
+!>   `ss`, ... do not), `ITEM: ATOMS <columns>` and one row per atom. Columns in
+!>   any order: `id`, `type`, `x y z` (or scaled `xs ys zs`, or unwrapped `xu yu
+!>   zu`), `vx vy vz`, `radius` or `diameter`, `mass`, `density`, `omegax omegay
+!>   omegaz`; LAMMPS' other per-atom columns (`fx`, `tqx`, `ix`, `q`, `c_*`,
+!>   `f_*`, `v_*`, ...) are skipped; any other name is refused. The last frame is
+!>   read unless another is asked for.
+!> - Data file (`lammps_data`): the header counts (`N atoms`, `xlo xhi`, ...),
+!>   the `Atoms` section of atom style sphere (`id type diameter density x y z`,
+!>   optionally `ix iy iz`) and the optional `Velocities` section (`id vx vy vz
+!>   wx wy wz`); other sections are skipped. A data file does not say which axes
+!>   are periodic (the input script does): all are marked non-periodic.
+!> - Yade text (`yade_text`): `#format x_y_z_r` (the default), `x_y_z_r_matId`
+!>   (the material id becomes the type) or `x_y_z_r_attrs` (extra columns
+!>   skipped); `#` lines are comments.
+!>
+!> Masses: a `mass` column, else `4/3 pi r^3 density` from a `density` column
+!> (or the data file's), else from a density per type given by the caller; with
+!> none of them `has_mass` is false. Every reader passes over the text a fixed
+!> number of times (linear in its size) and reports a bad file as
+!> `FILE: line N: what is wrong`.
+module demstep_snapshot
+  use demstep_kinds, only: dp, i8, pi
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_text, only: int_text, real_text
+  use demstep_namelist, only: read_text_file, lowercase
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  implicit none
+  private
+
+  public :: read_snapshot, parse_snapshot, snapshot_format_of
+
+  !> The formats, as components of a parameter.
+  type, public :: snapshot_format_codes
+    !> Decide from the text (see [[snapshot_format_of]]).
+    integer :: auto = 0
+    !> LAMMPS/LIGGGHTS dump file.
+    integer :: lammps_dump = 1
+    !> LAMMPS/LIGGGHTS data file, atom style sphere.
+    integer :: lammps_data = 2
+    !> Yade `export.text`/`textExt`.
+    integer :: yade_text = 3
+  end type snapshot_format_codes
+  !> The formats by name.
+  type(snapshot_format_codes), parameter, public :: snapshot_format = snapshot_format_codes()
+  !> Their names, indexed by code (auto excluded).
+  character(len=*), parameter, public :: snapshot_format_names(3) = [character(len=11) :: &
+    "lammps_dump", "lammps_data", "yade_text"]
+
+  !> Particles read from a snapshot.
+  type, public :: snapshot_type
+    !> The format read (`snapshot_format%...`).
+    integer :: format = 0
+    !> Number of particles.
+    integer :: n = 0
+    !> Identifiers and types (1 and 1..n when the file has none).
+    integer(i8), allocatable :: id(:)
+    integer, allocatable :: type(:)
+    !> Positions, velocities and angular velocities, 3 by n (0 where absent).
+    real(dp), allocatable :: x(:, :), v(:, :), omega(:, :)
+    !> Radii.
+    real(dp), allocatable :: radius(:)
+    !> Masses and densities (0 where unknown).
+    real(dp), allocatable :: mass(:), density(:)
+    !> Which optional data the file had.
+    logical :: has_velocity = .false., has_omega = .false., has_mass = .false., has_density = .false.
+    !> Box bounds (0 for Yade, which writes none) and periodic axes.
+    real(dp) :: lo(3) = 0.0_dp, hi(3) = 0.0_dp
+    logical :: has_box = .false.
+    logical :: periodic(3) = .false.
+    !> Dump: the timestep and frame read (1-based) and the number of frames.
+    integer(i8) :: timestep = 0_i8
+    integer :: frame = 0, n_frames = 0
+  end type snapshot_type
+
+  character(len=*), parameter :: lf = achar(10), cr = achar(13), tab = achar(9)
+
+  !> The lines of a text: start and end (exclusive of the newline) of each.
+  type :: lines_type
+    integer :: n = 0
+    integer, allocatable :: first(:), last(:)
+  end type lines_type
+
+contains
+
+  !> Read a snapshot file. `format` (default auto), `frame` (dump: 1-based,
+  !> default 0 = the last; negative counts from the end) and `type_density`
+  !> (density per type, for masses) as for [[parse_snapshot]]. Status
+  !> `io_error` for an unreadable file, `invalid_input` for a bad one; the
+  !> message starts with `path: `.
+  subroutine read_snapshot(path, snapshot, status, format, frame, type_density)
+    !> File name.
+    character(len=*), intent(in) :: path
+    type(snapshot_type), intent(out) :: snapshot
+    type(demstep_status_type), intent(out) :: status
+    integer, intent(in), optional :: format, frame
+    real(dp), intent(in), optional :: type_density(:)
+    character(len=:), allocatable :: text
+    call read_text_file(path, text, status)
+    if (status%stat == demstep_stat%ok) call parse_snapshot(text, snapshot, status, format, frame, type_density)
+    if (status%stat /= demstep_stat%ok) status%message = path//": "//status%message
+  end subroutine read_snapshot
+
+  !> The format of a snapshot's text: a dump starts with `ITEM:`, a Yade export
+  !> with `#format`; a data file has a header line `N atoms`; Yade's default
+  !> layout is also recognised by rows of 4 numbers. 0 (auto) when none fits.
+  pure integer function snapshot_format_of(text) result(format)
+    !> The file's text.
+    character(len=*), intent(in) :: text
+    type(lines_type) :: lines
+    character(len=:), allocatable :: s
+    integer :: k, nf
+    integer :: a(64), b(64)
+    format = snapshot_format%auto
+    call split_lines(text, lines)
+    do k = 1, lines%n
+      s = lowercase(trim(adjustl(line_of(text, lines, k))))
+      if (len(s) == 0) cycle
+      if (index(s, "item:") == 1) then
+        format = snapshot_format%lammps_dump
+      else if (index(s, "#format") == 1) then
+        format = snapshot_format%yade_text
+      else if (k == 1) then
+        ! a data file's first line is a title; look for the atoms count
+        cycle
+      else
+        call fields(s, a, b, nf)
+        if (nf == 2) then
+          if (s(a(2):b(2)) == "atoms") format = snapshot_format%lammps_data
+        end if
+        if (format == snapshot_format%auto .and. nf == 4 .and. s(1:1) /= "#") &
+          format = snapshot_format%yade_text
+      end if
+      if (format /= snapshot_format%auto) return
+      if (k > 50) return
+    end do
+  end function snapshot_format_of
+
+  !> Parse a snapshot's text (see the module's notes). Status `invalid_input`
+  !> with `line N: what is wrong` (or `what is wrong` for the file as a whole).
+  subroutine parse_snapshot(text, snapshot, status, format, frame, type_density)
+    !> The file's text.
+    character(len=*), intent(in) :: text
+    type(snapshot_type), intent(out) :: snapshot
+    type(demstep_status_type), intent(out) :: status
+    !> `snapshot_format%...` (default auto).
+    integer, intent(in), optional :: format
+    !> Dump frame: 1-based, 0 (default) the last, -1 the one before, ...
+    integer, intent(in), optional :: frame
+    !> Density of each particle type (index = type), for the masses.
+    real(dp), intent(in), optional :: type_density(:)
+    type(lines_type) :: lines
+    integer :: f, fr, i
+    f = snapshot_format%auto
+    if (present(format)) f = format
+    fr = 0
+    if (present(frame)) fr = frame
+    if (f == snapshot_format%auto) f = snapshot_format_of(text)
+    call split_lines(text, lines)
+    select case (f)
+    case (snapshot_format%lammps_dump)
+      call parse_dump(text, lines, fr, snapshot, status)
+    case (snapshot_format%lammps_data)
+      call parse_data(text, lines, snapshot, status)
+    case (snapshot_format%yade_text)
+      call parse_yade(text, lines, snapshot, status)
+    case (snapshot_format%auto)
+      call set_status(status, demstep_stat%invalid_input, "cannot tell the format (not a LAMMPS " &
+        //"dump, data file or Yade text export); name it")
+      return
+    case default
+      call set_status(status, demstep_stat%invalid_input, "unknown snapshot format code "//int_text(f))
+      return
+    end select
+    if (status%stat /= demstep_stat%ok) return
+    snapshot%format = f
+    ! masses from the densities, or from a density per type
+    if (.not. snapshot%has_mass .and. .not. snapshot%has_density .and. present(type_density)) then
+      do i = 1, snapshot%n
+        if (snapshot%type(i) < 1 .or. snapshot%type(i) > size(type_density)) then
+          call set_status(status, demstep_stat%invalid_input, "type_density: no density for particle " &
+            //"type "//int_text(snapshot%type(i))//" (particle "//int_text(snapshot%id(i))//")")
+          return
+        end if
+        snapshot%density(i) = type_density(snapshot%type(i))
+      end do
+      snapshot%has_density = .true.
+    end if
+    if (.not. snapshot%has_mass .and. snapshot%has_density) then
+      if (.not. all(snapshot%density > 0.0_dp)) then
+        call set_status(status, demstep_stat%invalid_input, "density: must be > 0 for every particle")
+        return
+      end if
+      snapshot%mass = (4.0_dp*pi/3.0_dp)*snapshot%radius**3*snapshot%density
+      snapshot%has_mass = .true.
+    end if
+  end subroutine parse_snapshot
+
+  ! ---------------------------------------------------------------- dump files
+
+  subroutine parse_dump(text, lines, frame, s, status)
+    character(len=*), intent(in) :: text
+    type(lines_type), intent(in) :: lines
+    integer, intent(in) :: frame
+    type(snapshot_type), intent(out) :: s
+    type(demstep_status_type), intent(out) :: status
+    integer, allocatable :: starts(:)
+    integer :: k, n_frames, natoms, want
+    character(len=:), allocatable :: l
+    ! one pass: the frames' first lines, each frame's rows skipped by count
+    allocate(starts(16))
+    n_frames = 0
+    k = 1
+    do while (k <= lines%n)
+      l = trim(adjustl(line_of(text, lines, k)))
+      if (len(l) == 0) then
+        k = k + 1
+        cycle
+      end if
+      if (l /= "ITEM: TIMESTEP") then
+        call fail_at(status, k, "expected 'ITEM: TIMESTEP' (the start of a frame), found '"//clipped(l)//"'")
+        return
+      end if
+      n_frames = n_frames + 1
+      if (n_frames > size(starts)) call grow(starts)
+      starts(n_frames) = k
+      call frame_size(k, natoms)
+      if (status%stat /= demstep_stat%ok) return
+      ! TIMESTEP, value, NUMBER OF ATOMS, value, BOX BOUNDS, 3 lines, ATOMS, rows
+      if (k + 8 + natoms > lines%n) then
+        call fail_at(status, lines%n, "truncated: frame "//int_text(n_frames)//" declares "//int_text(natoms)// &
+          " atoms, the file ends after "//int_text(max(0, lines%n - (k + 8)))//" of their rows")
+        return
+      end if
+      k = k + 9 + natoms
+    end do
+    if (n_frames == 0) then
+      call set_status(status, demstep_stat%invalid_input, "no frame (empty dump file)")
+      return
+    end if
+    want = frame
+    if (want <= 0) want = n_frames + frame
+    if (want < 1 .or. want > n_frames) then
+      call set_status(status, demstep_stat%invalid_input, "frame: the file has "//int_text(n_frames)// &
+        " frames (1 to "//int_text(n_frames)//", 0 the last), asked for "//int_text(frame))
+      return
+    end if
+    s%n_frames = n_frames
+    s%frame = want
+    call read_frame(starts(want))
+  contains
+
+
+    !> Check a frame's header from its TIMESTEP line; the atom count.
+    subroutine frame_size(k0, count)
+      integer, intent(in) :: k0
+      integer, intent(out) :: count
+      integer(i8) :: c
+      count = 0
+      status%stat = demstep_stat%ok
+      call expect_item(k0 + 2, "ITEM: NUMBER OF ATOMS")
+      if (status%stat /= demstep_stat%ok) return
+      call integer_line(k0 + 3, "the number of atoms", c)
+      if (status%stat /= demstep_stat%ok) return
+      if (c < 0 .or. c > huge(1)) then
+        call fail_at(status, k0 + 3, "the number of atoms must lie in [0, "//int_text(huge(1))//"]")
+        return
+      end if
+      count = int(c)
+      call expect_item(k0 + 4, "ITEM: BOX BOUNDS")
+      if (status%stat /= demstep_stat%ok) return
+      call expect_item(k0 + 8, "ITEM: ATOMS")
+    end subroutine frame_size
+
+    subroutine expect_item(k0, item)
+      integer, intent(in) :: k0
+      character(len=*), intent(in) :: item
+      if (k0 > lines%n) then
+        call fail_at(status, lines%n, "truncated: the file ends before '"//item//"'")
+      else if (index(adjustl(line_of(text, lines, k0)), item) /= 1) then
+        call fail_at(status, k0, "expected '"//item//"', found '"//clipped(trim(adjustl(line_of(text, lines, k0))))//"'")
+      else
+        status%stat = demstep_stat%ok
+      end if
+    end subroutine expect_item
+
+    subroutine integer_line(k0, what, value)
+      integer, intent(in) :: k0
+      character(len=*), intent(in) :: what
+      integer(i8), intent(out) :: value
+      character(len=:), allocatable :: t
+      integer :: ios
+      value = 0
+      if (k0 > lines%n) then
+        call fail_at(status, lines%n, "truncated: the file ends before "//what)
+        return
+      end if
+      t = trim(adjustl(line_of(text, lines, k0)))
+      ios = 1
+      if (len(t) > 0 .and. verify(t, "0123456789+-") == 0) read(t, *, iostat=ios) value
+      if (ios /= 0) then
+        call fail_at(status, k0, what//": '"//clipped(t)//"' is not an integer")
+        return
+      end if
+      status%stat = demstep_stat%ok
+    end subroutine integer_line
+
+    !> Read the frame starting at line k0 into s.
+    subroutine read_frame(k0)
+      integer, intent(in) :: k0
+      integer :: a(64), b(64), nf, j, c, i, ncol, row
+      integer(i8) :: count
+      integer :: col_id, col_type, col_x(3), col_v(3), col_w(3), col_r, col_d, col_m, col_rho
+      logical :: scaled
+      real(dp) :: vals(64)
+      character(len=:), allocatable :: h, name
+      call integer_line(k0 + 3, "the number of atoms", count)
+      s%n = int(count)
+      call integer_line(k0 + 1, "the timestep", s%timestep)
+      if (status%stat /= demstep_stat%ok) return
+      ! box
+      h = lowercase(trim(adjustl(line_of(text, lines, k0 + 4))))
+      call fields(h, a, b, nf)
+      if (nf /= 6) then
+        if (nf == 9) then
+          call fail_at(status, k0 + 4, "a triclinic box (xy xz yz) is not supported")
+        else
+          call fail_at(status, k0 + 4, "expected 'ITEM: BOX BOUNDS' and three boundary words (pp, ff, fs, ...), " &
+            //"found "//int_text(nf - 3)//" words")
+        end if
+        return
+      end if
+      do j = 1, 3
+        s%periodic(j) = h(a(3 + j):b(3 + j)) == "pp"
+        call numbers(k0 + 4 + j, 2, vals)
+        if (status%stat /= demstep_stat%ok) return
+        s%lo(j) = vals(1)
+        s%hi(j) = vals(2)
+        if (.not. s%hi(j) > s%lo(j)) then
+          call fail_at(status, k0 + 4 + j, "the box's upper bound must exceed its lower bound")
+          return
+        end if
+      end do
+      s%has_box = .true.
+      ! columns
+      h = trim(adjustl(line_of(text, lines, k0 + 8)))
+      call fields(h, a, b, nf)
+      ncol = nf - 2
+      if (ncol < 1) then
+        call fail_at(status, k0 + 8, "'ITEM: ATOMS' names no column")
+        return
+      end if
+      if (nf > size(a)) then
+        call fail_at(status, k0 + 8, "more than "//int_text(size(a) - 2)//" columns")
+        return
+      end if
+      col_id = 0; col_type = 0; col_x = 0; col_v = 0; col_w = 0; col_r = 0; col_d = 0; col_m = 0; col_rho = 0
+      scaled = .false.
+      do c = 1, ncol
+        name = h(a(c + 2):b(c + 2))
+        select case (name)
+        case ("id")
+          col_id = c
+        case ("type")
+          col_type = c
+        case ("x", "xu")
+          col_x(1) = c
+        case ("y", "yu")
+          col_x(2) = c
+        case ("z", "zu")
+          col_x(3) = c
+        case ("xs", "xsu")
+          col_x(1) = c
+          scaled = .true.
+        case ("ys", "ysu")
+          col_x(2) = c
+          scaled = .true.
+        case ("zs", "zsu")
+          col_x(3) = c
+          scaled = .true.
+        case ("vx")
+          col_v(1) = c
+        case ("vy")
+          col_v(2) = c
+        case ("vz")
+          col_v(3) = c
+        case ("omegax")
+          col_w(1) = c
+        case ("omegay")
+          col_w(2) = c
+        case ("omegaz")
+          col_w(3) = c
+        case ("radius")
+          col_r = c
+        case ("diameter")
+          col_d = c
+        case ("mass")
+          col_m = c
+        case ("density")
+          col_rho = c
+        case ("mol", "q", "fx", "fy", "fz", "tqx", "tqy", "tqz", "ix", "iy", "iz", "angmomx", "angmomy", &
+          "angmomz", "mux", "muy", "muz", "mu", "proc", "procp1", "element", "ke", "pe")
+        case default
+          if (.not. (index(name, "c_") == 1 .or. index(name, "f_") == 1 .or. index(name, "v_") == 1 &
+            .or. index(name, "i_") == 1 .or. index(name, "d_") == 1 .or. index(name, "i2_") == 1 &
+            .or. index(name, "d2_") == 1)) then
+            call fail_at(status, k0 + 8, "unknown column '"//clipped(name)//"' (known: id type x y z xs ys zs xu yu " &
+              //"zu vx vy vz radius diameter mass density omegax omegay omegaz, LAMMPS' others skipped)")
+            return
+          end if
+        end select
+      end do
+      if (any(col_x == 0)) then
+        call fail_at(status, k0 + 8, "the columns need x y z (or xs ys zs)")
+        return
+      else if (col_r == 0 .and. col_d == 0) then
+        call fail_at(status, k0 + 8, "the columns need radius or diameter")
+        return
+      else if (col_r > 0 .and. col_d > 0) then
+        call fail_at(status, k0 + 8, "give radius or diameter, not both")
+        return
+      end if
+      s%has_velocity = all(col_v > 0)
+      s%has_omega = all(col_w > 0)
+      s%has_mass = col_m > 0
+      s%has_density = col_rho > 0
+      call allocate_snapshot(s, s%n)
+      do i = 1, s%n
+        row = k0 + 8 + i
+        call numbers(row, ncol, vals, columns=h(a(3):b(nf)))
+        if (status%stat /= demstep_stat%ok) return
+        s%id(i) = i
+        if (col_id > 0) s%id(i) = nint(vals(col_id), i8)
+        s%type(i) = 1
+        if (col_type > 0) s%type(i) = nint(vals(col_type))
+        s%x(:, i) = vals(col_x)
+        if (scaled) s%x(:, i) = s%lo + vals(col_x)*(s%hi - s%lo)
+        if (s%has_velocity) s%v(:, i) = vals(col_v)
+        if (s%has_omega) s%omega(:, i) = vals(col_w)
+        if (col_r > 0) s%radius(i) = vals(col_r)
+        if (col_d > 0) s%radius(i) = 0.5_dp*vals(col_d)
+        if (.not. s%radius(i) > 0.0_dp) then
+          call fail_at(status, row, trim(merge("radius  ", "diameter", col_r > 0))//" must be > 0")
+          return
+        end if
+        if (s%has_mass) s%mass(i) = vals(col_m)
+        if (s%has_density) s%density(i) = vals(col_rho)
+        if (s%has_mass .and. .not. s%mass(i) > 0.0_dp) then
+          call fail_at(status, row, "mass must be > 0")
+          return
+        end if
+      end do
+      status%stat = demstep_stat%ok
+    end subroutine read_frame
+
+    !> The numbers of line k0, exactly `count` of them.
+    subroutine numbers(k0, count, vals, columns)
+      integer, intent(in) :: k0, count
+      real(dp), intent(out) :: vals(:)
+      character(len=*), intent(in), optional :: columns
+      call line_numbers(text, lines, k0, count, vals, status, columns)
+    end subroutine numbers
+
+  end subroutine parse_dump
+
+  ! ---------------------------------------------------------------- data files
+
+  subroutine parse_data(text, lines, s, status)
+    character(len=*), intent(in) :: text
+    type(lines_type), intent(in) :: lines
+    type(snapshot_type), intent(out) :: s
+    type(demstep_status_type), intent(out) :: status
+    integer :: k, a(64), b(64), nf, j, i, atoms_line, vel_line, ncol, n_atoms, pos
+    character(len=:), allocatable :: l, word
+    real(dp) :: vals(64)
+    logical :: have_count
+    integer(i8), allocatable :: table(:)
+    integer, allocatable :: slot(:)
+    ! header: from line 2 up to the first section keyword
+    have_count = .false.
+    atoms_line = 0
+    vel_line = 0
+    n_atoms = 0
+    k = 2
+    do while (k <= lines%n)
+      l = lowercase(strip_comment(line_of(text, lines, k)))
+      call fields(l, a, b, nf)
+      if (nf == 0) then
+        k = k + 1
+        cycle
+      end if
+      word = section_word(l)
+      if (len(word) > 0) exit
+      if (nf == 2 .and. word_at(2) == "atoms") then
+        call count_of(k, l(a(1):b(1)), n_atoms)
+        if (status%stat /= demstep_stat%ok) return
+        have_count = .true.
+      else if (nf == 4 .and. word_at(3) == "xlo") then
+        call bounds(1)
+      else if (nf == 4 .and. word_at(3) == "ylo") then
+        call bounds(2)
+      else if (nf == 4 .and. word_at(3) == "zlo") then
+        call bounds(3)
+      else if (nf == 6 .and. word_at(4) == "xy") then
+        call fail_at(status, k, "a triclinic box (xy xz yz) is not supported")
+      end if
+      if (status%stat /= demstep_stat%ok) return
+      k = k + 1
+    end do
+    if (.not. have_count) then
+      call set_status(status, demstep_stat%invalid_input, "no 'N atoms' line in the header")
+      return
+    end if
+    s%has_box = .true.
+    s%n = n_atoms
+    call allocate_snapshot(s, n_atoms)
+    s%has_density = .true.
+    ! sections: Atoms and Velocities read, others skipped to the next keyword
+    do while (k <= lines%n)
+      l = strip_comment(line_of(text, lines, k))
+      word = section_word(lowercase(l))
+      if (len(word) == 0) then
+        call fields(l, a, b, nf)
+        if (nf > 0) then
+          call fail_at(status, k, "expected a section keyword (Atoms, Velocities, Masses, ...), found '" &
+            //clipped(trim(adjustl(l)))//"'")
+          return
+        end if
+        k = k + 1
+        cycle
+      end if
+      ! the rows start after the keyword and one blank line
+      j = k + 1
+      do while (j <= lines%n)
+        if (len_trim(line_of(text, lines, j)) > 0) exit
+        j = j + 1
+      end do
+      select case (word)
+      case ("atoms")
+        atoms_line = k
+        if (index(lowercase(line_of(text, lines, k)), "#") > 0 .and. &
+          index(lowercase(line_of(text, lines, k)), "sphere") == 0) then
+          call fail_at(status, k, "atom style '"//clipped(trim(adjustl(line_of(text, lines, k))))// &
+            "': only the sphere style (id type diameter density x y z) is read")
+          return
+        end if
+        ncol = 0
+        do i = 1, n_atoms
+          if (j + i - 1 > lines%n) then
+            call fail_at(status, lines%n, "truncated: the Atoms section has "//int_text(i - 1)//" of the " &
+              //int_text(n_atoms)//" rows the header declares")
+            return
+          end if
+          call fields(strip_comment(line_of(text, lines, j + i - 1)), a, b, nf)
+          if (i == 1) ncol = nf
+          if (nf /= 7 .and. nf /= 10) then
+            call fail_at(status, j + i - 1, "an Atoms row of style sphere has 7 values (id type diameter density " &
+              //"x y z) or 10 (with ix iy iz), found "//int_text(nf))
+            return
+          end if
+          call line_numbers(text, lines, j + i - 1, nf, vals, status, &
+            columns="id type diameter density x y z ix iy iz", strip=.true.)
+          if (status%stat /= demstep_stat%ok) return
+          s%id(i) = nint(vals(1), i8)
+          s%type(i) = nint(vals(2))
+          s%radius(i) = 0.5_dp*vals(3)
+          s%density(i) = vals(4)
+          s%x(:, i) = vals(5:7)
+          if (.not. s%radius(i) > 0.0_dp) then
+            call fail_at(status, j + i - 1, "diameter must be > 0 (a point particle has no contact)")
+            return
+          end if
+        end do
+        k = j + n_atoms
+      case ("velocities")
+        vel_line = k
+        if (atoms_line == 0) then
+          call fail_at(status, k, "the Velocities section must follow the Atoms section")
+          return
+        end if
+        call id_table(s%id, table, slot)
+        do i = 1, n_atoms
+          if (j + i - 1 > lines%n) then
+            call fail_at(status, lines%n, "truncated: the Velocities section has "//int_text(i - 1)//" of the " &
+              //int_text(n_atoms)//" rows")
+            return
+          end if
+          call line_numbers(text, lines, j + i - 1, 7, vals, status, columns="id vx vy vz wx wy wz", &
+            strip=.true.)
+          if (status%stat /= demstep_stat%ok) return
+          pos = find_id(table, slot, nint(vals(1), i8))
+          if (pos == 0) then
+            call fail_at(status, j + i - 1, "atom id "//int_text(nint(vals(1), i8))//" is not in the Atoms section")
+            return
+          end if
+          s%v(:, pos) = vals(2:4)
+          s%omega(:, pos) = vals(5:7)
+        end do
+        s%has_velocity = .true.
+        s%has_omega = .true.
+        k = j + n_atoms
+      case default
+        ! skip the section's rows: up to the next keyword
+        k = j
+        do while (k <= lines%n)
+          if (len(section_word(lowercase(strip_comment(line_of(text, lines, k))))) > 0) exit
+          k = k + 1
+        end do
+      end select
+    end do
+    if (atoms_line == 0) then
+      call set_status(status, demstep_stat%invalid_input, "no Atoms section")
+      return
+    end if
+    status%stat = demstep_stat%ok
+  contains
+
+    !> Field i of the current header line ('' beyond the last).
+    function word_at(i) result(w)
+      integer, intent(in) :: i
+      character(len=:), allocatable :: w
+      w = ""
+      if (i <= nf) w = l(a(i):b(i))
+    end function word_at
+
+
+    subroutine count_of(line, t, n)
+      integer, intent(in) :: line
+      character(len=*), intent(in) :: t
+      integer, intent(out) :: n
+      integer :: ios
+      integer(i8) :: c
+      n = 0
+      ios = 1
+      if (verify(t, "0123456789") == 0) read(t, *, iostat=ios) c
+      if (ios /= 0 .or. c > huge(1)) then
+        call fail_at(status, line, "the atom count '"//clipped(t)//"' is not an integer in [0, "//int_text(huge(1))//"]")
+        return
+      end if
+      n = int(c)
+      status%stat = demstep_stat%ok
+    end subroutine count_of
+
+    subroutine bounds(axis)
+      integer, intent(in) :: axis
+      call line_numbers(text, lines, k, 2, vals, status, strip=.true., words=2)
+      if (status%stat /= demstep_stat%ok) return
+      s%lo(axis) = vals(1)
+      s%hi(axis) = vals(2)
+      if (.not. s%hi(axis) > s%lo(axis)) call fail_at(status, k, "the box's upper bound must exceed its lower bound")
+    end subroutine bounds
+
+  end subroutine parse_data
+
+  !> The section keyword a data-file line holds ('' for none), lower case.
+  pure function section_word(l) result(word)
+    character(len=*), intent(in) :: l
+    character(len=:), allocatable :: word
+    character(len=:), allocatable :: t
+    integer :: k
+    character(len=*), parameter :: known(14) = [character(len=20) :: "atoms", "velocities", "masses", &
+      "ellipsoids", "lines", "triangles", "bodies", "bonds", "angles", "dihedrals", "impropers", &
+      "pair coeffs", "bond coeffs", "pairij coeffs"]
+    t = trim(adjustl(l))
+    k = index(t, "#")
+    if (k > 0) t = trim(t(:k-1))
+    word = ""
+    do k = 1, size(known)
+      if (t == trim(known(k))) word = trim(known(k))
+    end do
+  end function section_word
+
+  pure function strip_comment(l) result(t)
+    character(len=*), intent(in) :: l
+    character(len=:), allocatable :: t
+    integer :: k
+    k = index(l, "#")
+    if (k > 0) then
+      t = l(:k-1)
+    else
+      t = l
+    end if
+  end function strip_comment
+
+  ! ------------------------------------------------------------- Yade exports
+
+  subroutine parse_yade(text, lines, s, status)
+    character(len=*), intent(in) :: text
+    type(lines_type), intent(in) :: lines
+    type(snapshot_type), intent(out) :: s
+    type(demstep_status_type), intent(out) :: status
+    integer :: k, n, a(64), b(64), nf, ncol, i, min_col
+    character(len=:), allocatable :: l, layout
+    real(dp) :: vals(64)
+    logical :: with_mat, attrs
+    layout = "x_y_z_r"
+    ! the layout, and the rows counted
+    n = 0
+    ncol = 0
+    do k = 1, lines%n
+      l = trim(adjustl(line_of(text, lines, k)))
+      if (len(l) == 0) cycle
+      if (l(1:1) == "#") then
+        if (index(lowercase(l), "#format") == 1) then
+          layout = trim(adjustl(l(8:)))
+          select case (layout)
+          case ("x_y_z_r", "x_y_z_r_matId", "x_y_z_r_attrs")
+          case default
+            call fail_at(status, k, "unknown Yade format '"//clipped(layout)//"' (x_y_z_r, x_y_z_r_matId, x_y_z_r_attrs)")
+            return
+          end select
+        end if
+        cycle
+      end if
+      n = n + 1
+    end do
+    with_mat = layout == "x_y_z_r_matId"
+    attrs = layout == "x_y_z_r_attrs"
+    min_col = merge(5, 4, with_mat)
+    s%n = n
+    call allocate_snapshot(s, n)
+    i = 0
+    do k = 1, lines%n
+      l = trim(adjustl(line_of(text, lines, k)))
+      if (len(l) == 0) cycle
+      if (l(1:1) == "#") cycle
+      call fields(l, a, b, nf)
+      i = i + 1
+      if (i == 1) ncol = nf
+      if ((.not. attrs .and. nf /= min_col) .or. (attrs .and. (nf < 4 .or. nf /= ncol))) then
+        if (attrs) then
+          call fail_at(status, k, "expected "//int_text(max(ncol, 4))//" values (x y z r and the attributes), found " &
+            //int_text(nf))
+        else
+          call fail_at(status, k, "expected "//int_text(min_col)//" values ("//layout//"), found "//int_text(nf))
+        end if
+        return
+      end if
+      if (nf > size(vals)) then
+        call fail_at(status, k, "more than "//int_text(size(vals))//" values")
+        return
+      end if
+      call line_numbers(text, lines, k, nf, vals, status, columns="x y z r matId")
+      if (status%stat /= demstep_stat%ok) return
+      s%id(i) = i
+      s%x(:, i) = vals(1:3)
+      s%radius(i) = vals(4)
+      s%type(i) = 1
+      if (with_mat) s%type(i) = nint(vals(5))
+      if (.not. s%radius(i) > 0.0_dp) then
+        call fail_at(status, k, "r must be > 0")
+        return
+      end if
+    end do
+    status%stat = demstep_stat%ok
+  contains
+  end subroutine parse_yade
+
+  ! ------------------------------------------------------------------ helpers
+
+  !> Status `invalid_input` with `line N: what`.
+  pure subroutine fail_at(status, line, what)
+    type(demstep_status_type), intent(inout) :: status
+    integer, intent(in) :: line
+    character(len=*), intent(in) :: what
+    call set_status(status, demstep_stat%invalid_input, "line "//int_text(line)//": "//what)
+  end subroutine fail_at
+
+  pure subroutine allocate_snapshot(s, n)
+    type(snapshot_type), intent(inout) :: s
+    integer, intent(in) :: n
+    allocate(s%id(n), s%type(n), s%x(3, n), s%v(3, n), s%omega(3, n), s%radius(n), s%mass(n), s%density(n))
+    s%id = 0
+    s%type = 1
+    s%x = 0.0_dp
+    s%v = 0.0_dp
+    s%omega = 0.0_dp
+    s%radius = 0.0_dp
+    s%mass = 0.0_dp
+    s%density = 0.0_dp
+  end subroutine allocate_snapshot
+
+  !> Double the capacity of an integer list, keeping its values.
+  pure subroutine grow(list)
+    integer, allocatable, intent(inout) :: list(:)
+    integer, allocatable :: bigger(:)
+    allocate(bigger(2*size(list)))
+    bigger(:size(list)) = list
+    bigger(size(list)+1:) = 0
+    call move_alloc(bigger, list)
+  end subroutine grow
+
+  !> Line starts and ends, in one pass (lines counted first, arrays allocated once).
+  pure subroutine split_lines(text, lines)
+    character(len=*), intent(in) :: text
+    type(lines_type), intent(out) :: lines
+    integer :: i, n, start
+    n = 0
+    do i = 1, len(text)
+      if (text(i:i) == lf) n = n + 1
+    end do
+    if (len(text) > 0) then
+      if (text(len(text):len(text)) /= lf) n = n + 1
+    end if
+    allocate(lines%first(n), lines%last(n))
+    lines%n = n
+    start = 1
+    n = 0
+    do i = 1, len(text)
+      if (text(i:i) == lf) then
+        n = n + 1
+        lines%first(n) = start
+        lines%last(n) = i - 1
+        start = i + 1
+      end if
+    end do
+    if (start <= len(text)) then
+      n = n + 1
+      lines%first(n) = start
+      lines%last(n) = len(text)
+    end if
+    ! a carriage return before the newline is not part of the line
+    do i = 1, n
+      if (lines%last(i) >= lines%first(i)) then
+        if (text(lines%last(i):lines%last(i)) == cr) lines%last(i) = lines%last(i) - 1
+      end if
+    end do
+  end subroutine split_lines
+
+  pure function line_of(text, lines, k) result(l)
+    character(len=*), intent(in) :: text
+    type(lines_type), intent(in) :: lines
+    integer, intent(in) :: k
+    character(len=:), allocatable :: l
+    l = text(lines%first(k):lines%last(k))
+  end function line_of
+
+  !> Blank- or tab-separated fields of s: a(i):b(i), at most size(a) (nf counts all).
+  pure subroutine fields(s, a, b, nf)
+    character(len=*), intent(in) :: s
+    integer, intent(out) :: a(:), b(:)
+    integer, intent(out) :: nf
+    integer :: i
+    logical :: in_field
+    nf = 0
+    in_field = .false.
+    do i = 1, len(s)
+      if (s(i:i) == " " .or. s(i:i) == tab) then
+        if (in_field) then
+          if (nf <= size(b)) b(nf) = i - 1
+          in_field = .false.
+        end if
+      else if (.not. in_field) then
+        nf = nf + 1
+        if (nf <= size(a)) a(nf) = i
+        in_field = .true.
+      end if
+    end do
+    if (in_field .and. nf <= size(b)) b(nf) = len(s)
+  end subroutine fields
+
+  !> Exactly `count` finite numbers at the start of line k, followed by exactly
+  !> `words` words (default 0; `xlo xhi` lines have 2). `columns` names the
+  !> values for messages; `strip` drops a `#` comment first.
+  pure subroutine line_numbers(text, lines, k, count, vals, status, columns, strip, words)
+    character(len=*), intent(in) :: text
+    type(lines_type), intent(in) :: lines
+    integer, intent(in) :: k, count
+    real(dp), intent(out) :: vals(:)
+    type(demstep_status_type), intent(out) :: status
+    character(len=*), intent(in), optional :: columns
+    logical, intent(in), optional :: strip
+    integer, intent(in), optional :: words
+    character(len=:), allocatable :: l, name
+    integer :: a(64), b(64), nf, j, ios, ca(64), cb(64), nc, expect
+    l = line_of(text, lines, k)
+    if (present(strip)) then
+      if (strip) l = strip_comment(l)
+    end if
+    call fields(l, a, b, nf)
+    expect = count
+    if (present(words)) expect = count + words
+    if (nf /= expect) then
+      call set_status(status, demstep_stat%invalid_input, "line "//int_text(k)//": expected "// &
+        int_text(expect)//" values, found "//int_text(nf))
+      return
+    end if
+    do j = 1, count
+      ios = 1
+      if (verify(l(a(j):b(j)), "0123456789.+-eEdD") == 0) read(l(a(j):b(j)), *, iostat=ios) vals(j)
+      if (ios == 0) then
+        if (.not. ieee_is_finite(vals(j))) ios = 1
+      end if
+      if (ios /= 0) then
+        name = "value "//int_text(j)
+        if (present(columns)) then
+          call fields(columns, ca, cb, nc)
+          if (j <= nc) name = "column '"//columns(ca(j):cb(j))//"'"
+        end if
+        call set_status(status, demstep_stat%invalid_input, "line "//int_text(k)//": "//name//": '"// &
+          clipped(l(a(j):b(j)))//"' is not a number")
+        return
+      end if
+    end do
+    status%stat = demstep_stat%ok
+  end subroutine line_numbers
+
+  !> At most 40 characters of a text, for messages.
+  pure function clipped(t) result(c)
+    character(len=*), intent(in) :: t
+    character(len=:), allocatable :: c
+    if (len(t) > 40) then
+      c = t(:37)//"..."
+    else
+      c = t
+    end if
+  end function clipped
+
+  !> An open-addressing table of the ids (size a power of two >= 2 n):
+  !> `table` holds the ids, `slot` their positions (0: empty).
+  pure subroutine id_table(ids, table, slot)
+    integer(i8), intent(in) :: ids(:)
+    integer(i8), allocatable, intent(out) :: table(:)
+    integer, allocatable, intent(out) :: slot(:)
+    integer :: m, i, h
+    m = 16
+    do while (m < 2*size(ids))
+      m = 2*m
+    end do
+    allocate(table(0:m-1), slot(0:m-1))
+    table = 0
+    slot = 0
+    do i = 1, size(ids)
+      h = hash(ids(i), m)
+      do while (slot(h) /= 0)
+        h = iand(h + 1, m - 1)
+      end do
+      table(h) = ids(i)
+      slot(h) = i
+    end do
+  end subroutine id_table
+
+  pure integer function find_id(table, slot, id) result(pos)
+    integer(i8), intent(in) :: table(0:)
+    integer, intent(in) :: slot(0:)
+    integer(i8), intent(in) :: id
+    integer :: h, m
+    m = size(table)
+    h = hash(id, m)
+    pos = 0
+    do while (slot(h) /= 0)
+      if (table(h) == id) then
+        pos = slot(h)
+        return
+      end if
+      h = iand(h + 1, m - 1)
+    end do
+  end function find_id
+
+  pure integer function hash(id, m) result(h)
+    integer(i8), intent(in) :: id
+    integer, intent(in) :: m
+    ! mix the high bits in; consecutive ids land in consecutive slots
+    h = int(modulo(ieor(id, ishft(id, -20)), int(m, i8)))
+  end function hash
+
+end module demstep_snapshot
