@@ -11,7 +11,7 @@ program mpi_network
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_lanczos, only: eigen_result_type
   use demstep_mpi_lanczos, only: dist_csr_type, dist_csr_create, parallel_lanczos_largest, &
-    dist_gershgorin_bound, dist_csr_bytes
+    dist_gershgorin_bound, dist_csr_bytes, dist_csr_free
   implicit none
   integer, parameter :: reach = 3
   integer :: rank, nranks, n, side, ncv, first, nl, i, d, j, q, arg_status
@@ -96,6 +96,7 @@ program mpi_network
       "  (halo ", a%n_halo, " entries)"
     write (*, '(a, f9.1, a)') "peak resident memory, largest rank ", hwm/1024.0_dp, " MiB"
   end if
+  call dist_csr_free(a)
   call MPI_Finalize()
 
 contains

@@ -34,7 +34,7 @@ module demstep_mpi_lanczos
   private
 
   public :: dist_csr_create, dist_csr_apply, dist_gershgorin_bound, parallel_lanczos_largest
-  public :: dist_start_vector, dist_csr_bytes
+  public :: dist_start_vector, dist_csr_bytes, dist_csr_free
 
   !> The solver's name in a result.
   character(len=*), parameter, public :: parallel_lanczos_solver_name = &
@@ -203,6 +203,15 @@ contains
     status%stat = demstep_stat%ok
   end subroutine dist_csr_create
 
+  !> Release the matrix's graph communicator and arrays. Collective; call it
+  !> before MPI_Finalize and before building a new matrix into the same variable.
+  subroutine dist_csr_free(matrix)
+    type(dist_csr_type), intent(inout) :: matrix
+    type(dist_csr_type) :: empty
+    if (matrix%n_global >= 1) call MPI_Comm_free(matrix%graph)
+    matrix = empty
+  end subroutine dist_csr_free
+
   !> y = A x on this rank's rows (x and y: this rank's block). Collective: one
   !> halo exchange, then the local rows, each summed in a fixed order.
   subroutine dist_csr_apply(matrix, x, y)
@@ -231,7 +240,8 @@ contains
   end subroutine dist_csr_apply
 
   !> Gershgorin's bound of the largest eigenvalue: the largest row sum of |A|
-  !> over all ranks (an MPI maximum). Collective.
+  !> over all ranks (an MPI maximum). Collective; the matrix must come from a
+  !> successful `dist_csr_create`.
   subroutine dist_gershgorin_bound(matrix, bound)
     type(dist_csr_type), intent(in) :: matrix
     !> max_i sum_j |a_ij| >= lambda_max, the same on every rank.
@@ -320,6 +330,11 @@ contains
     result%tolerance = tol
     n = matrix%n_local
     if (present(eigenvector)) eigenvector = 0.0_dp
+    if (matrix%n_global < 1) then
+      call set_status(status, demstep_stat%invalid_input, "parallel_lanczos_largest: " &
+        //"matrix: not built by dist_csr_create")
+      return
+    end if
     ! the arguments are the same on every rank but the eigenvector's size
     if (present(eigenvector)) then
       if (.not. all_ranks(size(eigenvector) == n)) then
@@ -327,11 +342,6 @@ contains
           //"eigenvector: need this rank's n_local entries on every rank")
         return
       end if
-    end if
-    if (matrix%n_global < 1) then
-      call set_status(status, demstep_stat%invalid_input, "parallel_lanczos_largest: " &
-        //"matrix: not built by dist_csr_create")
-      return
     end if
     if (.not. (tol >= epsilon(1.0_dp) .and. tol <= 0.1_dp)) then
       call set_status(status, demstep_stat%invalid_input, "parallel_lanczos_largest: " &

@@ -12,7 +12,7 @@ program test_mpi_lanczos
   use demstep_lanczos, only: csr_matrix_type, csr_from_springs, csr_apply, lanczos_largest, &
     eigen_result_type, lanczos_start_vector
   use demstep_mpi_lanczos, only: dist_csr_type, dist_csr_create, parallel_lanczos_largest, &
-    dist_gershgorin_bound, dist_start_vector
+    dist_gershgorin_bound, dist_start_vector, dist_csr_free
   implicit none
   integer :: rank, nranks, failures
   integer(i8) :: seed
@@ -142,6 +142,7 @@ contains
     ! rounding, a few ulps: 8 allowed, as the error bar's allowance)
     call report(name//": Gershgorin bound", bound == serial_bound .and. &
       bound*(1.0_dp + 8.0_dp*epsilon(1.0_dp)) >= parallel%eigenvalue, "")
+    call dist_csr_free(d)
   end subroutine compare
 
   subroutine check_network(name, n, springs, scaled, uneven)
@@ -228,6 +229,12 @@ contains
     ! a column outside 1..n_global
     call dist_csr_create(MPI_COMM_WORLD, nranks, rank + 1, rs, [nranks + 1], [1.0_dp], d, st)
     call report("column out of range refused", st%stat == demstep_stat%invalid_input, "")
+    ! an unbuilt matrix is refused, not used
+    block
+      type(eigen_result_type) :: r
+      call parallel_lanczos_largest(d, r, st)
+      call report("unbuilt matrix refused", st%stat == demstep_stat%invalid_input, "")
+    end block
   end subroutine check_bad_partition
 
   subroutine check_status_messages()
