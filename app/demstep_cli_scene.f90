@@ -3,10 +3,10 @@
 module demstep_cli_scene
   use demstep, only: dp, i8, pi, demstep_status_type, demstep_stat, nml_group_type, set_status, &
     lowercase, scene_type, scene_summary_type, new_scene, scene_add_bonds, scene_add_walls, &
-    scene_run, effect_index, restitution_to_damping_ratio, law_linear, law_hertz, &
-    effect_contacts, effect_gravity, effect_damping, effect_local_damping, effect_walls, &
-    n_effects, effect_names, critical_step_type, critical_time_steps, hertz_at_current, &
-    hertz_at_impact, default_max_eigen_dof, measure_step_cost, text_progress_type
+    scene_run, effect_index, restitution_to_damping_ratio, contact_law, scene_effect, &
+    scene_set_contacts, scene_set_cell, n_effects, effect_names, critical_step_type, &
+    assembly_critical_steps, hertz_modes => hertz_linearization, default_max_eigen_dof, measure_step_cost, &
+    text_progress_type
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, fmt_real, &
     fmt_int, cli_context, check_real, new_array, array_length, new_int_array, int_array_length, &
     max_values
@@ -269,12 +269,12 @@ contains
     end if
     select case (lowercase(trim(law)))
     case ("linear")
-      sc%law = law_linear
-      if (sc%effects(effect_contacts) .or. sc%effects(effect_walls)) call check_real(g, "k_normal", k_normal, status)
+      sc%law = contact_law%linear
+      if (sc%effects(scene_effect%contacts) .or. sc%effects(scene_effect%walls)) call check_real(g, "k_normal", k_normal, status)
       sc%k_normal = k_normal
     case ("hertz")
-      sc%law = law_hertz
-      if (sc%effects(effect_contacts) .or. sc%effects(effect_walls)) call check_real(g, "e_star", e_star, status)
+      sc%law = contact_law%hertz
+      if (sc%effects(scene_effect%contacts) .or. sc%effects(scene_effect%walls)) call check_real(g, "e_star", e_star, status)
       sc%e_star = e_star
     case default
       call fail("law", "unknown word '"//trim(law)//"' (linear, hertz)")
@@ -283,7 +283,7 @@ contains
     if (status%stat /= demstep_stat%ok) return
     call array_length(g, "walls", walls, nw, status)
     if (status%stat /= demstep_stat%ok) return
-    if (sc%effects(effect_walls) .neqv. nw > 0) then
+    if (sc%effects(scene_effect%walls) .neqv. nw > 0) then
       call fail("walls", "the 'walls' effect and the walls array go together")
       return
     end if
@@ -300,7 +300,7 @@ contains
         return
       end if
     end if
-    if (sc%effects(effect_gravity)) then
+    if (sc%effects(scene_effect%gravity)) then
       call array_length(g, "gravity", gravity, nv, status)
       if (status%stat /= demstep_stat%ok) return
       sc%gravity = 0.0_dp
@@ -317,7 +317,7 @@ contains
         end if
       end if
     end if
-    if (sc%effects(effect_damping)) then
+    if (sc%effects(scene_effect%damping)) then
       if (given(group, "damping_ratio") .eqv. given(group, "restitution")) then
         call fail("damping_ratio", "the 'damping' effect needs damping_ratio or restitution (one)")
         return
@@ -333,7 +333,7 @@ contains
       if (status%stat /= demstep_stat%ok) return
       sc%damping_ratio = damping_ratio
     end if
-    if (sc%effects(effect_local_damping)) then
+    if (sc%effects(scene_effect%local_damping)) then
       call check_real(g, "local_damping", local_damping, status, inclusive=.true.)
       if (status%stat == demstep_stat%ok .and. .not. local_damping < 1.0_dp) call fail("local_damping", &
         "must be in [0, 1), got "//fmt_real(local_damping))
@@ -342,9 +342,9 @@ contains
     end if
     select case (lowercase(trim(hertz_linearization)))
     case ("current")
-      mode = hertz_at_current
+      mode = hertz_modes%current
     case ("impact")
-      mode = hertz_at_impact
+      mode = hertz_modes%impact
       call check_real(g, "impact_velocity", impact_velocity, status)
       if (status%stat /= demstep_stat%ok) return
     case default
@@ -362,7 +362,7 @@ contains
       return
     end if
 
-    call critical_time_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
+    call assembly_critical_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
       max_eigen_dof=max_eigen_dof)
     if (status%stat /= demstep_stat%ok) then
       if (index(status%message, "effects:") == 1 .and. given(group, "bonds_file")) then

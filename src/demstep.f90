@@ -24,12 +24,11 @@ module demstep
     aggregate_min, aggregate_max, interval_bounded, interval_unbounded, interval_truncated, &
     n_scan_start, default_n_max, default_resolution
   use demstep_scene, only: scene_type, scene_summary_type, cubic_lattice, new_scene, scene_add_bonds, &
-    scene_add_walls, scene_run, contact_list, effect_index, restitution_to_damping_ratio, &
-    law_linear, law_hertz, effect_contacts, effect_gravity, effect_damping, &
-    effect_local_damping, effect_walls, n_effects, effect_names, max_coordinate, contact_limit, &
-    max_damping_ratio
-  use demstep_assembly, only: critical_step_type, critical_time_steps, hertz_at_current, &
-    hertz_at_impact, default_max_eigen_dof
+    scene_add_walls, scene_set_contacts, scene_set_cell, scene_run, contact_list, effect_index, &
+    restitution_to_damping_ratio, contact_law_enum, contact_law, scene_effect_enum, scene_effect, &
+    n_effects, effect_names, max_coordinate, contact_limit, max_damping_ratio
+  use demstep_assembly, only: critical_step_type, assembly_critical_steps, hertz_linearization_enum, &
+    hertz_linearization, default_max_eigen_dof
   use demstep_contact, only: onset_contact_type, contact_with_onset, contact_worst_case, &
     exact_contact, contact_error_of, period_error, quantity_restitution, &
     quantity_contact_time, quantity_overlap, quantity_period, n_quantities, quantity_names, &
