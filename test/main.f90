@@ -10,6 +10,7 @@ program tester
   use test_roots, only: collect_roots
   use test_stiffness, only: collect_stiffness
   use test_scene, only: collect_scene
+  use test_interaction, only: collect_interaction
   use test_contact, only: collect_contact
   use test_capi, only: collect_capi
   use test_app, only: collect_app
@@ -31,6 +32,7 @@ program tester
     new_testsuite("roots", collect_roots), &
     new_testsuite("stiffness", collect_stiffness), &
     new_testsuite("scene", collect_scene), &
+    new_testsuite("interaction", collect_interaction), &
     new_testsuite("contact", collect_contact), &
     new_testsuite("capi", collect_capi), &
     new_testsuite("progress", collect_progress), &
