@@ -6,7 +6,7 @@ module demstep_cli_scene
     scene_run, effect_index, restitution_to_damping_ratio, contact_law, scene_effect, &
     scene_set_contacts, scene_set_cell, n_effects, effect_names, critical_step_type, &
     assembly_critical_steps, hertz_modes => hertz_linearization, default_max_eigen_dof, measure_step_cost, &
-    text_progress_type
+    text_progress_type, has_tangential
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, fmt_real, &
     fmt_int, cli_context, check_real, new_array, array_length, new_int_array, int_array_length, &
     max_values
@@ -40,19 +40,36 @@ contains
       var("fixed", "a list of integers", "numbers of the fixed particles", "1"), &
       var("bonds", "a list of integers", "pairs of particle numbers joined by bonds", "1, 2,  2, 3"), &
       var("particles_file", "a quoted file name", "table instead of the arrays: per row dim " &
-        //"positions, dim velocities, mass, radius, fixed (0/1); # comments", "!'particles.txt'"), &
+        //"positions, dim velocities, mass, radius, fixed (0/1), optionally the moment of inertia; " &
+        //"# comments", "!'particles.txt'"), &
+      var("contacts_file", "a quoted file name", "explicit contacts instead of detection: per row " &
+        //"i j k_n k_t (particle numbers as in the particle table)", "!'contacts.txt'"), &
+      var("periodic", "a list of logicals", "periodic axes (default F, F, F)", "!T, T, T"), &
+      var("cell_lo", "a list of real numbers", "lower corner of the periodic cell (default 0)", &
+        "!0.0, 0.0, 0.0"), &
+      var("cell_hi", "a list of real numbers", "upper corner of the periodic cell (with periodic)", &
+        "!1.0, 1.0, 1.0"), &
       var("bonds_file", "a quoted file name", "table of bonds: per row two particle numbers", &
         "!'bonds.txt'"), &
       var("law", "a quoted word", "contact law: 'linear' (default, k_normal) or 'hertz' (e_star)", &
         "'linear'"), &
       var("k_normal", "a real number", "linear contact stiffness (> 0)", "1.0e4"), &
       var("e_star", "a real number", "Hertz effective modulus E* (> 0)", "!1.0e8"), &
+      var("k_tangential", "a real number", "linear tangential contact stiffness (>= 0, default 0)", &
+        "!3.0e3"), &
+      var("kt_ratio", "a real number", "or k_tangential as a ratio of k_normal (>= 0)", "!0.3"), &
+      var("g_star", "a real number", "Hertz: G* of Mindlin's k_t = 8 G* sqrt(R* d) (>= 0)", "!4.0e7"), &
+      var("friction", "a real number", "Coulomb friction coefficient of the tangential springs " &
+        //"(>= 0; default none: no sliding)", "!0.5"), &
+      var("prestress", "a logical", "count the pre-stress stiffness -(F_n/l)(I - n n^T) in the " &
+        //"analysis (default F)", "!F"), &
       var("k_bond", "a real number", "bond normal stiffness (> 0 when there are bonds)", "100.0"), &
       var("k_bond_tangential", "a real number", "bond tangential stiffness (>= 0, default 0)", "0.0"), &
       var("walls", "a list of real numbers", "per wall: dim coordinates of a point, dim of the " &
         //"normal pointing into the domain", "!0.0, -0.5,  0.0, 1.0"), &
       var("effects", "a list of quoted words", "'contacts' (default), 'gravity', 'damping', " &
-        //"'local_damping', 'walls'; 'none' for bonds only", "'contacts'"), &
+        //"'local_damping', 'walls', 'rotation' (default with tangential springs); 'none' for " &
+        //"bonds only", "'contacts'"), &
       var("gravity", "a list of real numbers", "dim components (default -9.81 along the last axis)", &
         "!0.0, -9.81"), &
       var("damping_ratio", "a real number", "viscous damping ratio (0 to 1e100) for 'damping'", "!0.1"), &
@@ -80,22 +97,26 @@ contains
     integer :: dim, max_eigen_dof
     real(dp), allocatable :: position(:), velocity(:), mass(:), radius(:), walls(:), gravity(:)
     integer, allocatable :: fixed(:), bonds(:)
-    character(len=512) :: particles_file, bonds_file
+    character(len=512) :: particles_file, bonds_file, contacts_file
     character(len=32) :: law, hertz_linearization
     character(len=32) :: effects(max_effects)
     real(dp) :: k_normal, e_star, k_bond, k_bond_tangential, damping_ratio, restitution, &
-      local_damping, impact_velocity, duration, dt, n_per_period
+      local_damping, impact_velocity, duration, dt, n_per_period, k_tangential, kt_ratio, g_star, &
+      friction, cell_lo(3), cell_hi(3)
+    logical :: periodic(3), prestress
     namelist /scene/ dim, position, velocity, mass, radius, fixed, bonds, particles_file, &
       bonds_file, law, k_normal, e_star, k_bond, k_bond_tangential, walls, effects, gravity, &
       damping_ratio, restitution, local_damping, hertz_linearization, impact_velocity, duration, &
-      dt, n_per_period, max_eigen_dof
+      dt, n_per_period, max_eigen_dof, contacts_file, periodic, cell_lo, cell_hi, k_tangential, &
+      kt_ratio, g_star, friction, prestress
     type(var_spec), allocatable :: specs(:)
     character(len=:), allocatable :: text
     character(len=*), parameter :: g = "scene"
     type(scene_type) :: sc
     type(critical_step_type) :: crit
     type(scene_summary_type) :: summary
-    real(dp), allocatable :: x(:, :), v(:, :), m(:), r(:)
+    real(dp), allocatable :: x(:, :), v(:, :), m(:), r(:), inertia(:), contact_k(:, :)
+    integer, allocatable :: contact_pairs(:, :), contact_lines(:)
     logical, allocatable :: is_fixed(:)
     integer, allocatable :: pairs(:, :)
     integer :: i, ios, n, np, nv, nm, nr, nf, nb, nw, mode
@@ -117,6 +138,15 @@ contains
     bonds = new_int_array(2*max_values)
     particles_file = ""
     bonds_file = ""
+    contacts_file = ""
+    periodic = .false.
+    cell_lo = 0.0_dp
+    cell_hi = 0.0_dp
+    k_tangential = 0.0_dp
+    kt_ratio = 0.0_dp
+    g_star = 0.0_dp
+    friction = -1.0_dp
+    prestress = .false.
     law = "linear"
     hertz_linearization = "current"
     effects = ""
@@ -157,7 +187,7 @@ contains
         call fail("particles_file", "give either particles_file or the particle arrays, not both")
         return
       end if
-      call read_particles(beside(file, trim(particles_file)), dim, x, v, m, r, is_fixed, status)
+      call read_particles(beside(file, trim(particles_file)), dim, x, v, m, r, is_fixed, inertia, status)
       if (status%stat /= demstep_stat%ok) then
         status%message = "&"//g//": particles_file: "//status%message
         return
@@ -215,10 +245,43 @@ contains
       if (.not. (ieee_is_finite(r(i)) .and. r(i) > 0.0_dp)) call check_real(g, "radius", r(i), status, element=i)
       if (status%stat /= demstep_stat%ok) return
     end do
-    call new_scene(sc, dim, x, m, r, status, v=v, fixed=is_fixed)
+    if (allocated(inertia)) then
+      call new_scene(sc, dim, x, m, r, status, v=v, fixed=is_fixed, inertia=inertia)
+    else
+      call new_scene(sc, dim, x, m, r, status, v=v, fixed=is_fixed)
+    end if
     if (status%stat /= demstep_stat%ok) then
-      status%message = "&"//g//": "//status%message
+      if (allocated(inertia) .and. index(status%message, "inertia:") == 1) then
+        status%message = "&"//g//": particles_file: "//beside(file, trim(particles_file))//": "// &
+          status%message
+      else
+        status%message = "&"//g//": "//status%message
+      end if
       return
+    end if
+
+    ! the periodic cell (before bonds: their rest vectors go through the nearest image)
+    if (any(periodic)) then
+      if (.not. given(group, "cell_hi")) then
+        call fail("cell_hi", "required with periodic axes")
+        return
+      end if
+      call scene_set_cell(sc, periodic, cell_lo, cell_hi, status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": "//status%message
+        return
+      end if
+    end if
+
+    ! an explicit contact list
+    if (given(group, "contacts_file")) then
+      call read_contacts(beside(file, trim(contacts_file)), contact_pairs, contact_k, contact_lines, status)
+      if (status%stat == demstep_stat%ok) call scene_set_contacts(sc, contact_pairs, contact_k, status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": contacts_file: "//row_to_line(status%message, &
+          beside(file, trim(contacts_file)), contact_lines)
+        return
+      end if
     end if
 
     ! bonds: a table file or the array
@@ -270,17 +333,36 @@ contains
     select case (lowercase(trim(law)))
     case ("linear")
       sc%law = contact_law%linear
-      if (sc%effects(scene_effect%contacts) .or. sc%effects(scene_effect%walls)) call check_real(g, "k_normal", k_normal, status)
+      if ((sc%effects(scene_effect%contacts) .and. .not. sc%given_contacts) .or. &
+        sc%effects(scene_effect%walls)) call check_real(g, "k_normal", k_normal, status)
       sc%k_normal = k_normal
+      if (given(group, "k_tangential") .and. given(group, "kt_ratio")) call fail("kt_ratio", &
+        "give either k_tangential or kt_ratio, not both")
+      if (given(group, "k_tangential")) call check_real(g, "k_tangential", k_tangential, status, inclusive=.true.)
+      if (given(group, "kt_ratio")) then
+        call check_real(g, "kt_ratio", kt_ratio, status, inclusive=.true.)
+        k_tangential = kt_ratio*k_normal
+      end if
+      sc%k_tangential = k_tangential
     case ("hertz")
       sc%law = contact_law%hertz
-      if (sc%effects(scene_effect%contacts) .or. sc%effects(scene_effect%walls)) call check_real(g, "e_star", e_star, status)
+      if ((sc%effects(scene_effect%contacts) .and. .not. sc%given_contacts) .or. &
+        sc%effects(scene_effect%walls)) call check_real(g, "e_star", e_star, status)
       sc%e_star = e_star
+      if (given(group, "g_star")) call check_real(g, "g_star", g_star, status, inclusive=.true.)
+      sc%g_star = g_star
     case default
       call fail("law", "unknown word '"//trim(law)//"' (linear, hertz)")
       return
     end select
     if (status%stat /= demstep_stat%ok) return
+    if (given(group, "friction")) then
+      call check_real(g, "friction", friction, status, inclusive=.true.)
+      if (status%stat /= demstep_stat%ok) return
+      sc%friction = friction
+    end if
+    ! rotations come with tangential springs unless the effects say otherwise
+    if (.not. given(group, "effects") .and. has_tangential(sc)) sc%effects(scene_effect%rotation) = .true.
     call array_length(g, "walls", walls, nw, status)
     if (status%stat /= demstep_stat%ok) return
     if (sc%effects(scene_effect%walls) .neqv. nw > 0) then
@@ -363,7 +445,7 @@ contains
     end if
 
     call assembly_critical_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
-      max_eigen_dof=max_eigen_dof)
+      max_eigen_dof=max_eigen_dof, prestress=prestress)
     if (status%stat /= demstep_stat%ok) then
       if (index(status%message, "effects:") == 1 .and. given(group, "bonds_file")) then
         ! the empty table is what left the scene without springs
@@ -491,23 +573,25 @@ contains
   end function effect_list
 
   !> A particles table: per row dim positions, dim velocities, mass, radius and
-  !> fixed (0 or 1); '#' starts a comment, blank lines are skipped.
-  subroutine read_particles(path, dim, x, v, m, r, fixed, status)
+  !> fixed (0 or 1), optionally the moment of inertia (the same columns on every
+  !> row); '#' starts a comment, blank lines are skipped.
+  subroutine read_particles(path, dim, x, v, m, r, fixed, inertia, status)
     character(len=*), intent(in) :: path
     integer, intent(in) :: dim
-    real(dp), allocatable, intent(out) :: x(:, :), v(:, :), m(:), r(:)
+    real(dp), allocatable, intent(out) :: x(:, :), v(:, :), m(:), r(:), inertia(:)
     logical, allocatable, intent(out) :: fixed(:)
     type(demstep_status_type), intent(out) :: status
     real(dp), allocatable :: rows(:, :)
-    integer :: ncol
+    integer :: ncol, width
     ncol = 2*dim + 3
-    call read_table(path, ncol, rows, status)
+    call read_table(path, ncol, rows, status, ncol_alt=ncol + 1, width=width)
     if (status%stat /= demstep_stat%ok) return
     x = rows(1:dim, :)
     v = rows(dim+1:2*dim, :)
     m = rows(2*dim+1, :)
     r = rows(2*dim+2, :)
     fixed = rows(2*dim+3, :) /= 0.0_dp
+    if (width == ncol + 1) inertia = rows(ncol + 1, :)
     if (any(rows(2*dim+3, :) /= 0.0_dp .and. rows(2*dim+3, :) /= 1.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, path//": the fixed column must be 0 or 1")
       return
@@ -530,22 +614,66 @@ contains
     pairs = nint(rows)
   end subroutine read_bonds
 
+  !> A contacts table: per row i j k_n k_t; the line of each row is kept for messages.
+  subroutine read_contacts(path, pairs, k, lines, status)
+    character(len=*), intent(in) :: path
+    integer, allocatable, intent(out) :: pairs(:, :), lines(:)
+    real(dp), allocatable, intent(out) :: k(:, :)
+    type(demstep_status_type), intent(out) :: status
+    real(dp), allocatable :: rows(:, :)
+    integer :: c
+    call read_table(path, 4, rows, status, lines=lines)
+    if (status%stat /= demstep_stat%ok) return
+    do c = 1, size(rows, 2)
+      if (any(rows(1:2, c) /= anint(rows(1:2, c))) .or. any(abs(rows(1:2, c)) > 2.0e9_dp)) then
+        call set_status(status, demstep_stat%invalid_input, path//": line "//fmt_int(int(lines(c), i8))// &
+          ": particle numbers must be integers")
+        return
+      end if
+    end do
+    pairs = nint(rows(1:2, :))
+    k = rows(3:4, :)
+  end subroutine read_contacts
+
+  !> A library message "contacts: row K: what" as "PATH: line L: what".
+  function row_to_line(message, path, lines) result(text)
+    character(len=*), intent(in) :: message, path
+    integer, intent(in), allocatable :: lines(:)
+    character(len=:), allocatable :: text
+    integer :: a, b, row, ios
+    text = message
+    a = index(message, "contacts: row ")
+    if (a /= 1 .or. .not. allocated(lines)) return
+    b = index(message(15:), ":") + 13
+    read(message(15:b), *, iostat=ios) row
+    if (ios /= 0 .or. row < 1 .or. row > size(lines)) return
+    text = path//": line "//fmt_int(int(lines(row), i8))//message(b+1:)
+  end function row_to_line
+
   !> A table of `ncol` numbers per row (separated by blanks, tabs or commas; '#'
   !> starts a comment; blank lines are skipped), read in time linear in its
   !> size: one pass counts the rows and checks the text, the rows are allocated
   !> once and a second pass fills them. A line longer than 64512 characters
   !> or a control character (a binary file, /dev/zero) is refused at once; the
   !> status names the line of a malformed row.
-  subroutine read_table(path, ncol, rows, status)
+  subroutine read_table(path, ncol, rows, status, ncol_alt, width, lines)
     character(len=*), intent(in) :: path
     integer, intent(in) :: ncol
     real(dp), allocatable, intent(out) :: rows(:, :)
     type(demstep_status_type), intent(out) :: status
+    !> Another column count the table may have (decided by its first row), and
+    !> the count found.
+    integer, intent(in), optional :: ncol_alt
+    integer, intent(out), optional :: width
+    !> The line of each row.
+    integer, allocatable, intent(out), optional :: lines(:)
     integer, parameter :: max_line = 65536, chunk = 1024
-    integer :: unit, ios, line, n, n_rows, got, pass, k, count, n_read
+    integer :: unit, ios, line, n, n_rows, got, pass, k, count, n_read, nc
     character(len=max_line) :: buf
-    real(dp) :: values(ncol)
+    real(dp), allocatable :: values(:)
     logical :: exists
+    nc = ncol
+    if (present(width)) width = ncol
     inquire(file=path, exist=exists)
     if (.not. exists) then
       call set_status(status, demstep_stat%io_error, path//": no such file")
@@ -561,7 +689,9 @@ contains
     n = 0
     do pass = 1, 2
       if (pass == 2) then
-        allocate(rows(ncol, n_rows))
+        allocate(rows(nc, n_rows))
+        allocate(values(nc))
+        if (present(lines)) allocate(lines(n_rows))
         rewind(unit, iostat=ios)
         if (ios /= 0) then
           call fail_at(demstep_stat%io_error, "cannot read it twice (a regular file is needed)")
@@ -602,15 +732,21 @@ contains
         if (k > 0) got = k - 1
         if (len_trim(buf(:got)) == 0) cycle
         n = n + 1
-        if (pass == 1) cycle
+        if (pass == 1) then
+          if (n == 1 .and. present(ncol_alt)) then
+            ! the first row decides between ncol and ncol_alt columns
+            if (field_count(buf(:got)) == ncol_alt) nc = ncol_alt
+          end if
+          cycle
+        end if
         if (n > n_rows) then
           call fail_at(demstep_stat%io_error, "changed while it was read")
           return
         end if
         call parse_row(buf(:got), values, count)
-        if (count >= 0 .and. count /= ncol) then
+        if (count >= 0 .and. count /= nc) then
           call fail_at(demstep_stat%invalid_input, "line "//fmt_int(int(line, i8))//": expected "// &
-            fmt_int(int(ncol, i8))//" numbers, found "//fmt_int(int(count, i8)))
+            fmt_int(int(nc, i8))//" numbers, found "//fmt_int(int(count, i8)))
           return
         end if
         if (count < 0 .or. .not. all(ieee_is_finite(values))) then
@@ -619,10 +755,12 @@ contains
           return
         end if
         rows(:, n) = values
+        if (present(lines)) lines(n) = line
       end do
       if (pass == 1) n_rows = n
     end do
     close(unit)
+    if (present(width)) width = nc
     if (n /= n_rows) then
       call set_status(status, demstep_stat%io_error, path//": changed while it was read")
       return
@@ -636,6 +774,20 @@ contains
       close(unit)
     end subroutine fail_at
   end subroutine read_table
+
+  !> The number of blank- or comma-separated fields of a row.
+  pure integer function field_count(text) result(count)
+    character(len=*), intent(in) :: text
+    integer :: i
+    logical :: inside, sep
+    count = 0
+    inside = .false.
+    do i = 1, len(text)
+      sep = index(" ,"//achar(9)//achar(13), text(i:i)) > 0
+      if (.not. sep .and. .not. inside) count = count + 1
+      inside = .not. sep
+    end do
+  end function field_count
 
   !> Bytes 0 to 31 and 127, except tab and carriage return.
   pure function control_characters() result(set)
@@ -716,6 +868,10 @@ contains
     write(u, '(2x, a)') fmt_int(int(sc%n, i8))//" particles in "//fmt_int(int(sc%dim, i8))//"D, "// &
       fmt_int(int(crit%n_dof, i8))//" degrees of freedom, "//fmt_int(int(crit%n_springs, i8))// &
       " springs (bonds and contacts); effects:"//on
+    write(u, '(2x, a)') "model: "//fmt_int(int(crit%dof_per_particle, i8))//" degrees of freedom per " &
+      //"particle, tangential springs "//trim(merge("counted", "none   ", crit%tangential))// &
+      ", periodic "//trim(merge("yes", "no ", crit%periodic))//", pre-stress "// &
+      trim(merge("yes", "no ", crit%prestress))
     write(u, '(2x, a)') "critical time step (undamped central differences, 2/omega):"
     write(u, '(4x, a, t40, a)') "per-contact rule 2 sqrt(m*/k)", fmt_real(crit%dt_contact_rule)// &
       "  (not safe in an assembly)"
@@ -748,17 +904,24 @@ contains
     type(critical_step_type), intent(in) :: crit
     real(dp), intent(in) :: dt_used
     type(scene_summary_type), intent(in) :: summary
-    integer :: n_particles, n_dof, n_springs, max_contacts
+    integer :: n_particles, n_dof, n_springs, max_contacts, dof_per_particle
+    logical :: rotation, tangential, periodic, prestress
     real(dp) :: omega_max, dt_critical_eigen, dt_critical_bound, dt_contact_rule, &
       dt_critical_damped, damping_ratio_top, energy_drift, max_overlap
     integer(i8) :: steps
     logical :: eigen_computed, blew_up
-    namelist /scene_result/ n_particles, n_dof, n_springs, omega_max, eigen_computed, &
+    namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
+      periodic, prestress, omega_max, eigen_computed, &
       dt_critical_eigen, dt_critical_bound, dt_contact_rule, dt_critical_damped, &
       damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, blew_up
     n_particles = sc%n
     n_dof = crit%n_dof
     n_springs = crit%n_springs
+    dof_per_particle = crit%dof_per_particle
+    rotation = crit%rotation
+    tangential = crit%tangential
+    periodic = crit%periodic
+    prestress = crit%prestress
     omega_max = crit%omega_max
     eigen_computed = crit%eigen_computed
     dt_critical_eigen = crit%dt_critical_eigen

@@ -11,6 +11,7 @@ program tester
   use test_stiffness, only: collect_stiffness
   use test_scene, only: collect_scene
   use test_interaction, only: collect_interaction
+  use test_yade, only: collect_yade
   use test_contact, only: collect_contact
   use test_capi, only: collect_capi
   use test_app, only: collect_app
@@ -33,6 +34,7 @@ program tester
     new_testsuite("stiffness", collect_stiffness), &
     new_testsuite("scene", collect_scene), &
     new_testsuite("interaction", collect_interaction), &
+    new_testsuite("yade", collect_yade), &
     new_testsuite("contact", collect_contact), &
     new_testsuite("capi", collect_capi), &
     new_testsuite("progress", collect_progress), &
