@@ -4,7 +4,7 @@ module demstep_cli_scene
   use demstep, only: dp, i8, pi, demstep_status_type, demstep_stat, nml_group_type, set_status, &
     lowercase, scene_type, scene_summary_type, new_scene, scene_add_bonds, scene_add_walls, &
     scene_run, effect_index, restitution_to_damping_ratio, contact_law, scene_effect, &
-    scene_set_contacts, scene_set_cell, n_effects, effect_names, critical_step_type, &
+    scene_set_contacts, scene_set_cell, scene_set_types, scene_set_hertz_types, n_effects, effect_names, critical_step_type, &
     assembly_critical_steps, hertz_modes => hertz_linearization, default_max_eigen_dof, measure_step_cost, &
     text_progress_type, has_tangential
   use demstep_cli, only: var_spec, var, check_names, given, item_text, read_failed, fmt_real, &
@@ -61,6 +61,15 @@ contains
       var("g_star", "a real number", "Hertz: G* of Mindlin's k_t = 8 G* sqrt(R* d) (>= 0)", "!4.0e7"), &
       var("friction", "a real number", "Coulomb friction coefficient of the tangential springs " &
         //"(>= 0; default none: no sliding)", "!0.5"), &
+      var("types", "a list of integers", "material type of each particle (1, 2, ...): per-type " &
+        //"stiffness instead of one law for all", "!1, 1, 2"), &
+      var("type_k_normal", "a list of real numbers", "linear: k_n per type pair, nt x nt (row " &
+        //"by row, symmetric)", "!1.0e4, 2.0e4,  2.0e4, 3.0e4"), &
+      var("type_k_tangential", "a list of real numbers", "linear: k_t per type pair, nt x nt " &
+        //"(default kt_ratio times type_k_normal, or 0)", "!3.0e3, 6.0e3,  6.0e3, 9.0e3"), &
+      var("young", "a list of real numbers", "Hertz: Young's modulus per type (> 0)", "!7.0e10, 2.1e11"), &
+      var("poisson", "a list of real numbers", "Hertz: Poisson's ratio per type (-1 to 0.5)", &
+        "!0.3, 0.25"), &
       var("prestress", "a logical", "count the pre-stress stiffness -(F_n/l)(I - n n^T) in the " &
         //"analysis (default F)", "!F"), &
       var("k_bond", "a real number", "bond normal stiffness (> 0 when there are bonds)", "100.0"), &
@@ -96,7 +105,9 @@ contains
     type(demstep_status_type), intent(out) :: status
     integer :: dim, max_eigen_dof
     real(dp), allocatable :: position(:), velocity(:), mass(:), radius(:), walls(:), gravity(:)
-    integer, allocatable :: fixed(:), bonds(:)
+    integer, allocatable :: fixed(:), bonds(:), types(:)
+    real(dp), allocatable :: type_k_normal(:), type_k_tangential(:), young(:), poisson(:), kk(:, :, :)
+    integer :: nty, nkn, nkt, nt
     character(len=512) :: particles_file, bonds_file, contacts_file
     character(len=32) :: law, hertz_linearization
     character(len=32) :: effects(max_effects)
@@ -108,7 +119,7 @@ contains
       bonds_file, law, k_normal, e_star, k_bond, k_bond_tangential, walls, effects, gravity, &
       damping_ratio, restitution, local_damping, hertz_linearization, impact_velocity, duration, &
       dt, n_per_period, max_eigen_dof, contacts_file, periodic, cell_lo, cell_hi, k_tangential, &
-      kt_ratio, g_star, friction, prestress
+      kt_ratio, g_star, friction, prestress, types, type_k_normal, type_k_tangential, young, poisson
     type(var_spec), allocatable :: specs(:)
     character(len=:), allocatable :: text
     character(len=*), parameter :: g = "scene"
@@ -136,6 +147,11 @@ contains
     gravity = new_array(3)
     fixed = new_int_array(max_values)
     bonds = new_int_array(2*max_values)
+    types = new_int_array(max_values)
+    type_k_normal = new_array(10000)
+    type_k_tangential = new_array(10000)
+    young = new_array(100)
+    poisson = new_array(100)
     particles_file = ""
     bonds_file = ""
     contacts_file = ""
@@ -333,8 +349,8 @@ contains
     select case (lowercase(trim(law)))
     case ("linear")
       sc%law = contact_law%linear
-      if ((sc%effects(scene_effect%contacts) .and. .not. sc%given_contacts) .or. &
-        sc%effects(scene_effect%walls)) call check_real(g, "k_normal", k_normal, status)
+      if ((sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. given(group, "types"))) &
+        .or. sc%effects(scene_effect%walls)) call check_real(g, "k_normal", k_normal, status)
       sc%k_normal = k_normal
       if (given(group, "k_tangential") .and. given(group, "kt_ratio")) call fail("kt_ratio", &
         "give either k_tangential or kt_ratio, not both")
@@ -346,8 +362,8 @@ contains
       sc%k_tangential = k_tangential
     case ("hertz")
       sc%law = contact_law%hertz
-      if ((sc%effects(scene_effect%contacts) .and. .not. sc%given_contacts) .or. &
-        sc%effects(scene_effect%walls)) call check_real(g, "e_star", e_star, status)
+      if ((sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. given(group, "types"))) &
+        .or. sc%effects(scene_effect%walls)) call check_real(g, "e_star", e_star, status)
       sc%e_star = e_star
       if (given(group, "g_star")) call check_real(g, "g_star", g_star, status, inclusive=.true.)
       sc%g_star = g_star
@@ -356,6 +372,10 @@ contains
       return
     end select
     if (status%stat /= demstep_stat%ok) return
+    if (given(group, "types")) then
+      call materials()
+      if (status%stat /= demstep_stat%ok) return
+    end if
     if (given(group, "friction")) then
       call check_real(g, "friction", friction, status, inclusive=.true.)
       if (status%stat /= demstep_stat%ok) return
@@ -495,6 +515,51 @@ contains
       character(len=*), intent(in) :: name, what
       call set_status(status, demstep_stat%invalid_input, "&"//g//": "//name//": "//what)
     end subroutine fail
+
+    !> Materials per particle type: the tables read, the library checks them.
+    subroutine materials()
+      call int_array_length(g, "types", types, nty, status)
+      if (status%stat /= demstep_stat%ok) return
+      if (nty /= n) then
+        call fail("types", "needs one type per particle ("//fmt_int(int(n, i8))//"), got "// &
+          fmt_int(int(nty, i8)))
+        return
+      end if
+      if (sc%law == contact_law%linear) then
+        call array_length(g, "type_k_normal", type_k_normal, nkn, status)
+        call array_length(g, "type_k_tangential", type_k_tangential, nkt, status)
+        if (status%stat /= demstep_stat%ok) return
+        nt = nint(sqrt(real(nkn, dp)))
+        if (nkn == 0 .or. nt*nt /= nkn) then
+          call fail("type_k_normal", "needs nt x nt values (nt types, row by row), got "// &
+            fmt_int(int(nkn, i8)))
+          return
+        end if
+        allocate(kk(2, nt, nt), source=0.0_dp)
+        kk(1, :, :) = reshape(type_k_normal(:nkn), [nt, nt])
+        if (nkt > 0) then
+          if (nkt /= nkn) then
+            call fail("type_k_tangential", "needs as many values as type_k_normal ("// &
+              fmt_int(int(nkn, i8))//"), got "//fmt_int(int(nkt, i8)))
+            return
+          end if
+          kk(2, :, :) = reshape(type_k_tangential(:nkt), [nt, nt])
+        else if (given(group, "kt_ratio")) then
+          kk(2, :, :) = kt_ratio*kk(1, :, :)
+        end if
+        call scene_set_types(sc, types(:n), kk, status)
+      else
+        call array_length(g, "young", young, nkn, status)
+        call array_length(g, "poisson", poisson, nkt, status)
+        if (status%stat /= demstep_stat%ok) return
+        if (nkn == 0) then
+          call fail("young", "required with types and the Hertz law (one per type)")
+          return
+        end if
+        call scene_set_hertz_types(sc, types(:n), young(:nkn), poisson(:nkt), status)
+      end if
+      if (status%stat /= demstep_stat%ok) status%message = "&"//g//": "//status%message
+    end subroutine materials
 
   end subroutine handle_scene
 

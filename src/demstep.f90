@@ -29,7 +29,8 @@ module demstep
     n_effects, effect_names, max_coordinate, contact_limit, max_damping_ratio
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, hertz_linearization_enum, &
     hertz_linearization, default_max_eigen_dof
-  use demstep_scene, only: has_tangential, branch_vector, effective_mass
+  use demstep_scene, only: has_tangential, branch_vector, effective_mass, scene_set_types, &
+    scene_set_hertz_types
   use demstep_contact, only: onset_contact_type, contact_with_onset, contact_worst_case, &
     exact_contact, contact_error_of, period_error, quantity_restitution, &
     quantity_contact_time, quantity_overlap, quantity_period, n_quantities, quantity_names, &

@@ -47,6 +47,10 @@ module demstep_assembly
   end type hertz_linearization_enum
   !> The Hertz linearisations by name.
   type(hertz_linearization_enum), parameter, public :: hertz_linearization = hertz_linearization_enum()
+  !> Most numbers (dof per particle squared times free particles) the bound keeps
+  !> for the diagonal blocks (160 MB); above, it sums absolute values of each
+  !> spring's entries (looser, equally rigorous).
+  real(dp), parameter :: max_bound_memory = 2.0e7_dp
   !> Largest number of degrees of freedom given to the dense eigensolver by default.
   integer, parameter, public :: default_max_eigen_dof = 4000
 
@@ -105,9 +109,9 @@ contains
     logical, intent(in), optional :: prestress
     type(spring_block_type), allocatable :: springs(:)
     integer, allocatable :: dof(:), comp(:)
-    real(dp), allocatable :: a(:, :), vec(:), rows(:), mdof(:, :)
+    real(dp), allocatable :: a(:, :), vec(:), rows(:), mdof(:, :), diag(:, :, :)
     real(dp) :: lam, zeta, v_impact, k_scale, m_scale, rate
-    integer :: mode, limit, i, nfree, nc
+    integer :: mode, limit, i, nfree, nc, p
     logical :: touches, geo
     mode = hertz_linearization%current
     if (present(hertz_mode)) mode = hertz_mode
@@ -180,15 +184,31 @@ contains
     ! omega = rate sqrt(lambda'), lambda' an eigenvalue of the scaled problem
     rate = sqrt(k_scale)/sqrt(m_scale)
 
-    ! per-contact rule and the Gershgorin bound (scaled, without pre-stress)
+    ! per-contact rule and the Gershgorin bound (scaled, without pre-stress):
+    ! the diagonal blocks are summed before their absolute values are taken
+    ! (contacts of one particle cancel there) when they fit in max_bound_memory
     result%dt_contact_rule = huge(1.0_dp)
     allocate(rows(result%n_dof), source=0.0_dp)
+    if (real(nfree, dp)*nc*nc <= max_bound_memory) then
+      allocate(diag(nc, nc, nfree), source=0.0_dp)
+    else
+      allocate(diag(0, 0, 0))
+    end if
     do i = 1, size(springs)
       associate(s => springs(i))
         result%dt_contact_rule = min(result%dt_contact_rule, &
           2.0_dp*sqrt(effective_mass(scene, s%b, s%a))/sqrt(max(s%k_n, s%k_t)))
-        call add_spring(scene, dof, comp, mdof, s, k_scale, .false., rows=rows)
+        if (size(diag) > 0) then
+          call add_spring(scene, dof, comp, mdof, s, k_scale, .false., rows=rows, diag=diag)
+        else
+          call add_spring(scene, dof, comp, mdof, s, k_scale, .false., rows=rows)
+        end if
       end associate
+    end do
+    do i = 1, size(diag, 3)
+      do p = 1, nc
+        rows((i - 1)*nc + p) = rows((i - 1)*nc + p) + sum(abs(diag(p, :, i)))
+      end do
     end do
     result%omega_bound = rate*sqrt(maxval(rows))
     if (.not. ieee_is_finite(result%omega_bound)) then
@@ -344,15 +364,16 @@ contains
 
   !> Add a spring's scaled block A' = M'^-1/2 K' M'^-1/2 (K' = K/k_scale, rotations
   !> as r theta) to the lower triangle of `a`, or the absolute values of its
-  !> entries to the row sums `rows` (an upper bound of |A'|'s row sums).
-  subroutine add_spring(scene, dof, comp, mdof, s, k_scale, geo, a, rows)
+  !> entries to the row sums `rows` (an upper bound of |A'|'s row sums); with
+  !> `diag`, the diagonal blocks go there (by free particle) instead of to `rows`.
+  subroutine add_spring(scene, dof, comp, mdof, s, k_scale, geo, a, rows, diag)
     type(scene_type), intent(in) :: scene
     integer, intent(in) :: dof(:), comp(:)
     real(dp), intent(in) :: mdof(:, :)
     type(spring_block_type), intent(in) :: s
     real(dp), intent(in) :: k_scale
     logical, intent(in) :: geo
-    real(dp), intent(inout), optional :: a(:, :), rows(:)
+    real(dp), intent(inout), optional :: a(:, :), rows(:), diag(:, :, :)
     real(dp) :: b(12, 12), arm(2), value, g
     integer :: body(2), sa, sb, p, q, row, col
     logical :: free(2)
@@ -377,7 +398,11 @@ contains
             row = dof(body(sa)) + p
             value = b(6*(sa - 1) + comp(p), 6*(sb - 1) + comp(q)) &
               /(sqrt(mdof(comp(p), body(sa)))*sqrt(mdof(comp(q), body(sb))))
-            if (present(rows)) rows(row) = rows(row) + abs(value)
+            if (present(diag) .and. sa == sb) then
+              diag(p, q, dof(body(sa))/size(comp) + 1) = diag(p, q, dof(body(sa))/size(comp) + 1) + value
+            else if (present(rows)) then
+              rows(row) = rows(row) + abs(value)
+            end if
             if (present(a) .and. row >= col) a(row, col) = a(row, col) + value
           end do
         end do

@@ -24,7 +24,7 @@ module demstep_interaction
 
   public :: reduced_radius, reduced_mass, normal_force, normal_stiffness, tangential_stiffness, &
     normal_energy, dashpot_coefficient, damped_limit, wall_overlap, contact_block, contact_forces, &
-    bond_force, dof_components
+    bond_force, add_bond_forces, dof_components, hertz_e_star, mindlin_g_star
 
   !> Contact laws, as components of a parameter: `contact_law%hertz`.
   type, public :: contact_law_enum
@@ -89,6 +89,20 @@ contains
       k = 8.0_dp*g_star*sqrt(rs*max(d, 0.0_dp))
     end if
   end function tangential_stiffness
+
+  !> Hertz's effective modulus of two materials (Young's modulus, Poisson's
+  !> ratio): 1/E* = (1 - nu_i^2)/E_i + (1 - nu_j^2)/E_j.
+  elemental real(dp) function hertz_e_star(e_i, nu_i, e_j, nu_j) result(e_star)
+    real(dp), intent(in) :: e_i, nu_i, e_j, nu_j
+    e_star = 1.0_dp/((1.0_dp - nu_i**2)/e_i + (1.0_dp - nu_j**2)/e_j)
+  end function hertz_e_star
+
+  !> Mindlin's effective shear modulus of two materials: 1/G* = (2 - nu_i)/G_i +
+  !> (2 - nu_j)/G_j with G = E/(2 (1 + nu)).
+  elemental real(dp) function mindlin_g_star(e_i, nu_i, e_j, nu_j) result(g_star)
+    real(dp), intent(in) :: e_i, nu_i, e_j, nu_j
+    g_star = 1.0_dp/(2.0_dp*(2.0_dp - nu_i)*(1.0_dp + nu_i)/e_i + 2.0_dp*(2.0_dp - nu_j)*(1.0_dp + nu_j)/e_j)
+  end function mindlin_g_star
 
   !> Elastic energy of the normal spring at overlap d.
   elemental real(dp) function normal_energy(law, k, e_star, d, rs) result(u)
@@ -198,6 +212,24 @@ contains
     un = dot_product(n0, u)
     f = k_n*un*n0 + k_t*(u - un*n0)
   end function bond_force
+
+  !> Add the forces of nb bonds (pairs bonds(:, b), rest vectors and unit
+  !> directions) at positions x to f: `bond_force` over plain contiguous arrays,
+  !> the stepper's hot loop for bonds.
+  pure subroutine add_bond_forces(nb, n, bonds, x, rest, normal, k_n, k_t, f)
+    integer, intent(in) :: nb, n, bonds(2, nb)
+    real(dp), intent(in) :: x(3, n), rest(3, nb), normal(3, nb), k_n, k_t
+    real(dp), intent(inout) :: f(3, n)
+    integer :: b, i, j
+    real(dp) :: fb(3)
+    do b = 1, nb
+      i = bonds(1, b)
+      j = bonds(2, b)
+      fb = bond_force(normal(:, b), k_n, k_t, x(:, j) - x(:, i) - rest(:, b))
+      f(:, i) = f(:, i) + fb
+      f(:, j) = f(:, j) - fb
+    end do
+  end subroutine add_bond_forces
 
   !> a x b.
   pure function cross(a, b) result(c)

@@ -137,7 +137,7 @@ contains
     integer :: dim, n, i, j, c, k, ncell(3), idx(3), a, b, cc, p, g, n_cells, ax
     integer :: nb(3, 3), nnb(3)
     real(dp) :: xmin(3), xmax(3), h, d(3), width(3)
-    logical :: wrap(3)
+    logical :: wrap(3), any_wrap
     dim = scene%dim
     n = scene%n
     s%n_pairs = 0
@@ -159,6 +159,7 @@ contains
     ! a blown-up state has no contacts to find; the run's energy check reports it
     if (.not. all(ieee_is_finite(xmax(:dim) - xmin(:dim)))) return
     wrap = scene%periodic
+    any_wrap = any(wrap)
     where (wrap)
       xmin = scene%cell_lo
       xmax = scene%cell_hi
@@ -217,7 +218,12 @@ contains
       idx(2) = mod(c/ncell(1), ncell(2))
       idx(3) = c/(ncell(1)*ncell(2))
       do ax = 1, 3
-        call neighbour_cells(idx(ax), ncell(ax), wrap(ax), nb(:, ax), nnb(ax))
+        if (wrap(ax)) then
+          call neighbour_cells(idx(ax), ncell(ax), nb(:, ax), nnb(ax))
+        else
+          nnb(ax) = min(ncell(ax) - 1, idx(ax) + 1) - max(0, idx(ax) - 1) + 1
+          nb(:nnb(ax), ax) = [(a, a = max(0, idx(ax) - 1), min(ncell(ax) - 1, idx(ax) + 1))]
+        end if
       end do
       do a = 1, nnb(3)
         do b = 1, nnb(2)
@@ -228,7 +234,7 @@ contains
               if (j <= i) cycle
               ! the distance test inline (the hot loop); try_pair for the hits
               d = scene%x(:, j) - scene%x(:, i)
-              if (any(wrap)) d = branch_vector(scene, i, j)
+              if (any_wrap) d = branch_vector(scene, i, j)
               if (d(1)**2 + d(2)**2 + d(3)**2 >= (scene%radius(i) + scene%radius(j))**2) cycle
               call try_pair(scene, s, i, j, 0)
               if (s%too_many) exit particles
@@ -250,21 +256,15 @@ contains
     s%max_contacts = max(s%max_contacts, s%n_pairs + s%n_walls)
   end subroutine find_contacts
 
-  !> The distinct cells next to cell idx along one axis (wrapping when periodic).
-  pure subroutine neighbour_cells(idx, ncell, wrap, nb, nnb)
+  !> The distinct cells next to cell idx along a periodic axis (wrapping around).
+  pure subroutine neighbour_cells(idx, ncell, nb, nnb)
     integer, intent(in) :: idx, ncell
-    logical, intent(in) :: wrap
     integer, intent(out) :: nb(3), nnb
     integer :: o, c
     nnb = 0
     nb = 0
     do o = -1, 1
-      c = idx + o
-      if (wrap) then
-        c = modulo(c, ncell)
-      else if (c < 0 .or. c >= ncell) then
-        cycle
-      end if
+      c = modulo(idx + o, ncell)
       if (any(nb(:nnb) == c)) cycle
       nnb = nnb + 1
       nb(nnb) = c

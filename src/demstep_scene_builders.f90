@@ -6,12 +6,14 @@ module demstep_scene_builders
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text
   use demstep_scene_data, only: scene_type, scene_effect, branch_vector
+  use demstep_interaction, only: hertz_e_star, mindlin_g_star
   use demstep_neighbours, only: search_type, prepare_search, find_contacts, search_trouble
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
   public :: new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, scene_set_cell, &
+    scene_set_types, scene_set_hertz_types, &
     cubic_lattice, restitution_to_damping_ratio, wrap_positions
 
   !> Largest |coordinate| and radius of a scene: squared distances stay finite.
@@ -254,6 +256,101 @@ contains
     scene%given_contacts = .true.
     status%stat = demstep_stat%ok
   end subroutine scene_set_contacts
+
+  !> Linear materials per particle type: the type of each particle (1 to nt) and
+  !> per type pair k(:, a, b) = (k_n, k_t), symmetric. Status `invalid_input`:
+  !> `types:` a type outside 1 to nt, a count other than one per particle;
+  !> `type_k_normal:` k_n <= 0 or not symmetric; `type_k_tangential:` k_t < 0 or
+  !> not symmetric.
+  subroutine scene_set_types(scene, types, k, status)
+    type(scene_type), intent(inout) :: scene
+    integer, intent(in) :: types(:)
+    real(dp), intent(in) :: k(:, :, :)
+    type(demstep_status_type), intent(out) :: status
+    integer :: nt
+    nt = size(k, 2)
+    call check_types(scene, types, nt, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (size(k, 1) /= 2 .or. size(k, 3) /= nt) then
+      call set_status(status, demstep_stat%invalid_input, "type_k_normal: one value per type pair")
+      return
+    end if
+    if (.not. all(ieee_is_finite(k(1, :, :)) .and. k(1, :, :) > 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "type_k_normal: must be > 0 and finite")
+      return
+    end if
+    if (.not. all(ieee_is_finite(k(2, :, :)) .and. k(2, :, :) >= 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "type_k_tangential: must be >= 0 and finite")
+      return
+    end if
+    if (any(k(1, :, :) /= transpose(k(1, :, :)))) then
+      call set_status(status, demstep_stat%invalid_input, "type_k_normal: must be symmetric (a-b as b-a)")
+      return
+    end if
+    if (any(k(2, :, :) /= transpose(k(2, :, :)))) then
+      call set_status(status, demstep_stat%invalid_input, "type_k_tangential: must be symmetric (a-b as b-a)")
+      return
+    end if
+    scene%ptype = types
+    allocate(scene%pair_law(4, nt, nt), source=0.0_dp)
+    scene%pair_law(1:2, :, :) = k
+    status%stat = demstep_stat%ok
+  end subroutine scene_set_types
+
+  !> Hertz materials per particle type: Young's modulus and Poisson's ratio per
+  !> type; E* and Mindlin's G* of each type pair follow. Status `invalid_input`:
+  !> `types:` as `scene_set_types`; `young:` not > 0 and finite; `poisson:`
+  !> outside (-1, 0.5].
+  subroutine scene_set_hertz_types(scene, types, young, poisson, status)
+    type(scene_type), intent(inout) :: scene
+    integer, intent(in) :: types(:)
+    real(dp), intent(in) :: young(:), poisson(:)
+    type(demstep_status_type), intent(out) :: status
+    integer :: nt, a
+    nt = size(young)
+    call check_types(scene, types, nt, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (size(poisson) /= nt) then
+      call set_status(status, demstep_stat%invalid_input, "poisson: one per type, as young")
+      return
+    end if
+    if (.not. all(ieee_is_finite(young) .and. young > 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "young: must be > 0 and finite")
+      return
+    end if
+    if (.not. all(poisson > -1.0_dp .and. poisson <= 0.5_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "poisson: must be in (-1, 0.5]")
+      return
+    end if
+    scene%ptype = types
+    allocate(scene%pair_law(4, nt, nt), source=0.0_dp)
+    do a = 1, nt
+      scene%pair_law(3, :, a) = hertz_e_star(young, poisson, young(a), poisson(a))
+      scene%pair_law(4, :, a) = mindlin_g_star(young, poisson, young(a), poisson(a))
+    end do
+    status%stat = demstep_stat%ok
+  end subroutine scene_set_hertz_types
+
+  !> One type in 1 to nt per particle.
+  subroutine check_types(scene, types, nt, status)
+    type(scene_type), intent(in) :: scene
+    integer, intent(in) :: types(:), nt
+    type(demstep_status_type), intent(out) :: status
+    integer :: i
+    if (size(types) /= scene%n .or. nt < 1) then
+      call set_status(status, demstep_stat%invalid_input, "types: one type per particle ("// &
+        int_text(scene%n)//"), and at least one material")
+      return
+    end if
+    do i = 1, scene%n
+      if (types(i) < 1 .or. types(i) > nt) then
+        call set_status(status, demstep_stat%invalid_input, "types: particle "//int_text(i)//": type "// &
+          int_text(types(i))//" is not one of the "//int_text(nt)//" materials")
+        return
+      end if
+    end do
+    status%stat = demstep_stat%ok
+  end subroutine check_types
 
   !> A cubic lattice of m^3 particles 1 apart (unit masses, radius r) with bonds of
   !> stiffness k_bond to the +x, +y, +z neighbours, and random velocities of size

@@ -56,6 +56,12 @@ module demstep_scene_data
     !> (e_star, g_star: Mindlin's k_t = 8 G* sqrt(R* d)).
     integer :: law = 1
     real(dp) :: k_normal = 0.0_dp, e_star = 0.0_dp, k_tangential = 0.0_dp, g_star = 0.0_dp
+    !> Materials per particle type (when `ptype` is allocated): the type of each
+    !> particle (1 to nt) and per type pair the law's parameters
+    !> pair_law(:, a, b) = (k_n, k_t, E*, G*), symmetric in a, b; they replace
+    !> k_normal, k_tangential, e_star, g_star for particle contacts.
+    integer, allocatable :: ptype(:)
+    real(dp), allocatable :: pair_law(:, :, :)
     !> Coulomb friction coefficient of the tangential springs (< 0: no sliding).
     real(dp) :: friction = -1.0_dp
     !> Bonds (2, nb): particle pairs; rest(3, nb) = initial x_j - x_i and its
@@ -138,11 +144,17 @@ contains
     integer, intent(in) :: c, i, j
     real(dp), intent(in) :: d
     real(dp), intent(out) :: f_n, k_n, k_t
-    real(dp) :: rs
+    real(dp) :: rs, p(4)
     if (c > 0) then
       k_n = scene%contact_k(1, c)
       k_t = scene%contact_k(2, c)
       f_n = k_n*d
+    else if (allocated(scene%ptype)) then
+      p = scene%pair_law(:, scene%ptype(i), scene%ptype(j))
+      rs = reduced_radius(scene%radius(i), scene%radius(j))
+      f_n = normal_force(scene%law, p(1), p(3), d, rs)
+      k_n = normal_stiffness(scene%law, p(1), p(3), d, rs)
+      k_t = tangential_stiffness(scene%law, p(2), p(4), d, rs)
     else
       rs = reduced_radius(scene%radius(i), scene%radius(j))
       f_n = normal_force(scene%law, scene%k_normal, scene%e_star, d, rs)
@@ -156,6 +168,8 @@ contains
     type(scene_type), intent(in) :: scene
     if (scene%given_contacts) then
       has_tangential = any(scene%contact_k(2, :) > 0.0_dp)
+    else if (allocated(scene%ptype)) then
+      has_tangential = any(scene%pair_law(merge(2, 4, scene%law == contact_law%linear), :, :) > 0.0_dp)
     else if (scene%law == contact_law%linear) then
       has_tangential = scene%k_tangential > 0.0_dp
     else

@@ -26,7 +26,7 @@ module demstep_stepper
   use demstep_text, only: int_text
   use demstep_progress, only: progress_type
   use demstep_interaction, only: contact_law, reduced_radius, normal_force, normal_stiffness, &
-    normal_energy, dashpot_coefficient, contact_forces, bond_force
+    normal_energy, dashpot_coefficient, contact_forces, bond_force, add_bond_forces
   use demstep_scene_data, only: scene_type, scene_summary_type, scene_effect, effective_mass, &
     contact_values, has_tangential
   use demstep_neighbours, only: search_type, prepare_search, find_contacts, find_wall_contacts, &
@@ -93,7 +93,7 @@ contains
     integer(i8) :: step, every, report_every
     integer :: t, ns, i
     real(dp) :: e, scale
-    logical :: rotation, periodic
+    logical :: rotation, periodic, torques
     if (.not. (ieee_is_finite(dt) .and. dt > 0.0_dp) .or. steps < 0_i8) then
       call set_status(status, demstep_stat%invalid_input, "dt must be > 0 and steps >= 0")
       return
@@ -105,6 +105,8 @@ contains
     end if
     rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
     periodic = any(scene%periodic)
+    ! only tangential springs make torques
+    torques = has_tangential(scene) .and. scene%effects(scene_effect%contacts)
     every = max(1_i8, steps/1000_i8)
     if (present(sample_every)) every = max(1_i8, sample_every)
     ! progress every 1e5 particle-steps or so: a clock read is then negligible
@@ -155,7 +157,7 @@ contains
         end if
       else
         work%f = 0.0_dp
-        work%t = 0.0_dp
+        if (torques) work%t = 0.0_dp
         do t = 1, size(terms)
           call terms(t)%add(scene, work)
         end do
@@ -462,26 +464,10 @@ contains
         work%f(:, j) = work%f(:, j) - fb
       end do
     else
-      call bond_forces(size(scene%bonds, 2), scene%n, scene%bonds, scene%x, scene%bond_rest, &
+      call add_bond_forces(size(scene%bonds, 2), scene%n, scene%bonds, scene%x, scene%bond_rest, &
         scene%bond_normal, scene%k_bond, scene%k_bond_tangential, work%f)
     end if
   end subroutine bonds_term
-
-  !> The kernel of `bonds_term` on plain contiguous arrays (the hot loop).
-  pure subroutine bond_forces(nb, n, bonds, x, rest, normal, k_n, k_t, f)
-    integer, intent(in) :: nb, n, bonds(2, nb)
-    real(dp), intent(in) :: x(3, n), rest(3, nb), normal(3, nb), k_n, k_t
-    real(dp), intent(inout) :: f(3, n)
-    integer :: b, i, j
-    real(dp) :: fb(3)
-    do b = 1, nb
-      i = bonds(1, b)
-      j = bonds(2, b)
-      fb = bond_force(normal(:, b), k_n, k_t, x(:, j) - x(:, i) - rest(:, b))
-      f(:, i) = f(:, i) + fb
-      f(:, j) = f(:, j) - fb
-    end do
-  end subroutine bond_forces
 
   !> Bond dashpots along the bond's initial direction.
   subroutine bonds_damping(scene, work)
@@ -517,8 +503,8 @@ contains
     ! sign of v, and 0 for a particle at rest
     work%f = work%f - scene%local_damping*abs(work%f)*(merge(1.0_dp, 0.0_dp, scene%v > 0.0_dp) &
       - merge(1.0_dp, 0.0_dp, scene%v < 0.0_dp))
-    work%t = work%t - scene%local_damping*abs(work%t)*(merge(1.0_dp, 0.0_dp, scene%w > 0.0_dp) &
-      - merge(1.0_dp, 0.0_dp, scene%w < 0.0_dp))
+    if (scene%effects(scene_effect%rotation)) work%t = work%t - scene%local_damping*abs(work%t) &
+      *(merge(1.0_dp, 0.0_dp, scene%w > 0.0_dp) - merge(1.0_dp, 0.0_dp, scene%w < 0.0_dp))
   end subroutine local_damping_term
 
   !> The force terms of a scene's effects, in order; local damping last.

@@ -371,6 +371,26 @@ contains
       "5.1 0 0  0 0 0  1 0.6 0 0"])
     call expect_refusal(error, g//"cell_hi = 4.0, 1.0, 1.0 /", "&scene: particles_file: "//work_dir// &
       "/p.txt: inertia: particle 2: must be > 0")
+    if (allocated(error)) return
+    ! materials per type: the pair's k_n, k_t from the type table
+    call expect_result(error, "&scene dim = 2, position = 0.0, 0.0, 1.0, 0.0, radius = 0.6, mass = 1.0, " &
+      //"types = 1, 2, type_k_normal = 1.0, 100.0, 100.0, 1.0, type_k_tangential = 0.0, 60.0, 60.0, 0.0 /", res)
+    if (allocated(error)) return
+    ! omega^2 = k_t (2/m + 2 r^2/I) = 60 x (2 + 5) = 420 > 2 k_n = 200
+    call check(error, res%omega_max, sqrt(420.0_dp), rel=.true., thr=1.0e-12_dp, message="types: omega_max")
+    if (allocated(error)) return
+    call expect_refusal(error, "&scene dim = 2, position = 0.0, 0.0, 1.0, 0.0, radius = 0.6, mass = 1.0, " &
+      //"types = 1, 3, type_k_normal = 1.0, 100.0, 100.0, 1.0 /", "&scene: types: particle 2: type 3 is " &
+      //"not one of the 2 materials")
+    if (allocated(error)) return
+    call expect_refusal(error, "&scene dim = 2, position = 0.0, 0.0, 1.0, 0.0, radius = 0.6, mass = 1.0, " &
+      //"types = 1, 2, type_k_normal = 1.0, 100.0, 90.0, 1.0 /", "&scene: type_k_normal: must be symmetric")
+    if (allocated(error)) return
+    call expect_refusal(error, "&scene dim = 2, position = 0.0, 0.0, 1.0, 0.0, radius = 0.6, mass = 1.0, " &
+      //"types = 1, 2, type_k_normal = 1.0, 100.0, 100.0 /", "&scene: type_k_normal: needs nt x nt values")
+    if (allocated(error)) return
+    call expect_refusal(error, "&scene dim = 2, position = 0.0, 0.0, 1.0, 0.0, radius = 0.6, mass = 1.0, " &
+      //"law = 'hertz', types = 1, 1, young = 1e9, poisson = 0.7 /", "&scene: poisson: must be in (-1, 0.5]")
   end subroutine test_assembly_inputs
 
   !> A run of 1e9 steps says up front how much it will do and then shows

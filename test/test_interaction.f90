@@ -24,6 +24,7 @@ contains
       new_unittest("the bound is never below the exact value with rotations", test_bound_rotations), &
       new_unittest("pre-stress: -(F_n/l)(I - n n^T) on a loaded ring", test_prestress), &
       new_unittest("periodic cell and contact list refusals", test_refusals), &
+      new_unittest("materials per type: linear k_n, k_t per pair; Hertz E, nu", test_materials), &
       new_unittest("stepper at 0.99/1.01 of the 6-dof limit: periodic packings", test_stability_full) &
       ]
   end subroutine collect_interaction
@@ -345,6 +346,86 @@ contains
     call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, "inertia:") == 1, &
       "inertia 0: "//status%message)
   end subroutine test_refusals
+
+  subroutine test_materials(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    real(dp) :: k(2, 2, 2), d, rs, e_star, g_star, kn, kt, mm, rot
+    ! three particles in a row: types 1, 2, 1; only the 1-2 pairs touch
+    call new_scene(scene, 2, reshape([0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, 2.0_dp, 0.0_dp], [2, 3]), &
+      [1.0_dp, 2.0_dp, 1.0_dp], [0.55_dp, 0.5_dp, 0.55_dp], status)
+    k(1, :, :) = reshape([1.0_dp, 40.0_dp, 40.0_dp, 9.0_dp], [2, 2])
+    k(2, :, :) = reshape([0.0_dp, 25.0_dp, 25.0_dp, 0.0_dp], [2, 2])
+    call scene_set_types(scene, [1, 2, 1], k, status)
+    call check(error, status%stat, demstep_stat%ok, "types: "//status%message)
+    if (allocated(error)) return
+    scene%effects(scene_effect%rotation) = .true.
+    call assembly_critical_steps(scene, c, status)
+    call check(error, status%stat, demstep_stat%ok, "analysis: "//status%message)
+    if (allocated(error)) return
+    ! a chain 1-2-1 with the pair's k_n = 40, k_t = 25 (the types' own values
+    ! would give other numbers): longitudinally the middle moves against both
+    ! ends, omega^2 = k_n (1/m_1 + 2/m_2) = 80; the transverse-rotational top
+    ! comes from its 6 x 6 problem, solved here independently
+    rot = tri_top(25.0_dp)
+    call check(error, c%omega_max**2, max(40.0_dp*(1.0_dp/1.0_dp + 2.0_dp/2.0_dp), rot), rel=.true., &
+      thr=1.0e-12_dp, message="linear types")
+    if (allocated(error)) return
+    ! Hertz: E*, G* of the pair from the types' E and nu
+    call new_scene(scene, 3, reshape([0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, 0.0_dp], [3, 2]), &
+      [1.0_dp, 2.0_dp], [0.52_dp, 0.5_dp], status)
+    scene%law = contact_law%hertz
+    call scene_set_hertz_types(scene, [1, 2], [70.0_dp, 210.0_dp], [0.3_dp, 0.25_dp], status)
+    call check(error, status%stat, demstep_stat%ok, "hertz types: "//status%message)
+    if (allocated(error)) return
+    scene%effects(scene_effect%rotation) = .true.
+    call assembly_critical_steps(scene, c, status)
+    d = 0.02_dp
+    rs = 0.52_dp*0.5_dp/1.02_dp
+    e_star = 1.0_dp/((1.0_dp - 0.09_dp)/70.0_dp + (1.0_dp - 0.0625_dp)/210.0_dp)
+    g_star = 1.0_dp/((2.0_dp - 0.3_dp)/(70.0_dp/2.6_dp) + (2.0_dp - 0.25_dp)/(210.0_dp/2.5_dp))
+    kn = 2.0_dp*e_star*sqrt(rs*d)
+    kt = 8.0_dp*g_star*sqrt(rs*d)
+    mm = 1.0_dp/1.0_dp + 1.0_dp/2.0_dp
+    call check(error, c%omega_max**2, max(kn*mm, kt*(mm + 1.0_dp/(0.4_dp*1.0_dp) + 1.0_dp/(0.4_dp*2.0_dp))), &
+      rel=.true., thr=1.0e-12_dp, message="Hertz types")
+    if (allocated(error)) return
+    call scene_set_types(scene, [1, 3], k, status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, "types:") == 1, &
+      "type out of range: "//status%message)
+  contains
+    !> The top of the rotational-transverse problem of the 1-2-1 chain along x:
+    !> dofs (u_y, theta) of each particle, s_c = u_j - u_i - r_i theta_i - r_j theta_j
+    !> per contact, by the largest eigenvalue of M^-1/2 K M^-1/2 (6 x 6), found
+    !> by power iteration on the shifted matrix (an independent small solver).
+    real(dp) function tri_top(kt) result(top)
+      real(dp), intent(in) :: kt
+      real(dp) :: kmat(6, 6), b(6), m(6), x(6), y(6)
+      integer :: e, it
+      integer, parameter :: pairs(2, 2) = reshape([1, 2, 2, 3], [2, 2])
+      real(dp), parameter :: r(3) = [0.55_dp, 0.5_dp, 0.55_dp], ms(3) = [1.0_dp, 2.0_dp, 1.0_dp]
+      kmat = 0.0_dp
+      do e = 1, 2
+        b = 0.0_dp
+        b(2*pairs(1, e) - 1) = -1.0_dp
+        b(2*pairs(1, e)) = -r(pairs(1, e))
+        b(2*pairs(2, e) - 1) = 1.0_dp
+        b(2*pairs(2, e)) = -r(pairs(2, e))
+        kmat = kmat + kt*spread(b, 2, 6)*spread(b, 1, 6)
+      end do
+      m = [(ms((e + 1)/2)*merge(1.0_dp, 0.4_dp*r((e + 1)/2)**2, mod(e, 2) == 1), e = 1, 6)]
+      kmat = kmat/sqrt(spread(m, 2, 6)*spread(m, 1, 6))
+      ! a start with no symmetry (the chain's mirror symmetry could hide the top)
+      x = [1.0_dp, 0.3_dp, -0.7_dp, 0.2_dp, 0.5_dp, -0.1_dp]
+      do it = 1, 20000
+        y = matmul(kmat, x)
+        x = y/norm2(y)
+      end do
+      top = dot_product(x, matmul(kmat, x))
+    end function tri_top
+  end subroutine test_materials
 
   !> Runs with the full physics (rotations, tangential springs; per-contact
   !> stiffness from a contact list) at 0.99 and 1.01 of dt_critical_eigen.

@@ -3,7 +3,8 @@
 !> on the exported particle and contact tables; its dt_critical_eigen must lie
 !> within 0.5 % of the measured limit and never above it by more than 0.1 %,
 !> and equal the independent numpy reference of the same model
-!> (reference_6dof.py, "sym6_radius_arms") to 1e-10. Yade is not needed: the
+!> (reference_6dof.py, "sym6_radius_arms") to 1e-10, and its bound the
+!> reference's Gershgorin bound. Yade is not needed: the
 !> measurements and the reference are committed JSON files.
 module test_yade
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
@@ -59,7 +60,7 @@ contains
     type(error_type), allocatable, intent(out) :: error
     character(len=*), intent(in) :: name
     character(len=:), allocatable :: stdout, stderr, summary, reference
-    real(dp) :: lo, hi, mid, ref
+    real(dp) :: lo, hi, mid, ref, ref_bound
     integer :: rc, unit, ios
     integer :: n_particles, n_dof, n_springs, max_contacts, dof_per_particle
     real(dp) :: omega_max, dt_critical_eigen, dt_critical_bound, dt_contact_rule, &
@@ -86,6 +87,7 @@ contains
     lo = json_number(summary, "measured_dt_lo", 1)
     hi = json_number(summary, "measured_dt_hi", 1)
     ref = json_number(reference, "dt", max(1, index(reference, '"sym6_radius_arms"')))
+    ref_bound = json_number(reference, "dt", max(1, index(reference, '"gershgorin_sym6"')))
     call check(error, lo > 0.0_dp .and. hi > lo .and. ref > 0.0_dp, "the JSON files are read")
     if (allocated(error)) return
     mid = 0.5_dp*(lo + hi)
@@ -103,6 +105,11 @@ contains
     call check(error, dt_critical_eigen, ref, rel=.true., thr=1.0e-10_dp, message=name//": vs reference_6dof.py")
     if (allocated(error)) return
     call check(error, dt_critical_bound <= dt_critical_eigen, name//": the bound is below the limit")
+    if (allocated(error)) return
+    ! the bound is the largest absolute row sum of the same matrix (each pair
+    ! touches once, so summing per spring off the diagonal loses nothing)
+    call check(error, dt_critical_bound, ref_bound, rel=.true., thr=1.0e-10_dp, message=name// &
+      ": bound vs reference_6dof.py's Gershgorin")
   end subroutine check_case
 
 end module test_yade
