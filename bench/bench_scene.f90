@@ -10,18 +10,24 @@ program bench_scene
     "+ contacts", "+ gravity", "+ damping", "+ local_damping", "+ walls"]
   real(dp) :: t(7)
   integer :: i, k
-  character(len=16) :: part
+  character(len=16) :: part, arg
+  integer :: n_max, ios
   ! an argument picks one part: steps, eigen or bound (default: all three).
   ! The program ends at `end program`, never at `stop`: gfortran's STOP lists the
   ! IEEE flags raised so far, and dsyevr sets divide-by-zero and invalid on
   ! purpose (LAPACK's ieeeck divides by zero to probe IEEE arithmetic), which
   ! would read like a fault of the benchmark or of demstep.
   call get_command_argument(1, part)
+  ! a second argument limits the particle counts of `steps` (say 10000)
+  call get_command_argument(2, arg)
+  n_max = huge(1)
+  if (arg /= "") read(arg, *, iostat=ios) n_max
   if (part == "" .or. part == "steps") then
     write(*, '(a)') "ns per particle-step (3D cubic lattice, 3 bonds per particle; median of 3):"
     write(*, '("| particles |", 7(1x, a, " |"))') (trim(labels(k)), k = 1, 7)
     write(*, '(a)') "|---:|---:|---:|---:|---:|---:|---:|---:|"
     do i = 1, size(sizes)
+      if (sizes(i) > n_max) exit
       do k = 1, 7
         t(k) = step_time(sizes(i), k)
       end do

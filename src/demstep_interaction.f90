@@ -24,7 +24,7 @@ module demstep_interaction
 
   public :: reduced_radius, reduced_mass, normal_force, normal_stiffness, tangential_stiffness, &
     normal_energy, dashpot_coefficient, damped_limit, wall_overlap, contact_block, contact_forces, &
-    bond_force, add_bond_forces, dof_components, hertz_e_star, mindlin_g_star
+    add_bond_forces, dof_components, hertz_e_star, mindlin_g_star
 
   !> Contact laws, as components of a parameter: `contact_law%hertz`.
   type, public :: contact_law_enum
@@ -118,7 +118,7 @@ contains
   !> The normal dashpot c = 2 zeta sqrt(m* k) of a spring of tangent stiffness k.
   elemental real(dp) function dashpot_coefficient(zeta, m, k) result(c)
     real(dp), intent(in) :: zeta, m, k
-    c = 2.0_dp*zeta*sqrt(m)*sqrt(k)
+    c = 2.0_dp*zeta*sqrt(m*k)
   end function dashpot_coefficient
 
   !> The lagged dashpot's limit dt (sqrt(1 + z^2) - z) = dt/(sqrt(1 + z^2) + z),
@@ -204,28 +204,25 @@ contains
     end if
   end subroutine contact_forces
 
-  !> Force on i of a bond along its initial unit direction n0 stretched by u
-  !> (the change of x_j - x_i): k_n n0 (n0 . u) + k_t (u - n0 (n0 . u)), -it on j.
-  pure function bond_force(n0, k_n, k_t, u) result(f)
-    real(dp), intent(in) :: n0(3), k_n, k_t, u(3)
-    real(dp) :: f(3), un
-    un = dot_product(n0, u)
-    f = k_n*un*n0 + k_t*(u - un*n0)
-  end function bond_force
-
-  !> Add the forces of nb bonds (pairs bonds(:, b), rest vectors and unit
-  !> directions) at positions x to f: `bond_force` over plain contiguous arrays,
-  !> the stepper's hot loop for bonds.
-  pure subroutine add_bond_forces(nb, n, bonds, x, rest, normal, k_n, k_t, f)
+  !> Add the forces of nb bonds at positions x to f (the stepper's hot loop for
+  !> bonds, on plain contiguous arrays). A bond (i, j) with rest vector r0 and
+  !> unit direction n0, stretched by u = x_j - x_i - r0, pulls i by
+  !> k_n n0 (n0 . u) + k_t (u - n0 (n0 . u)) = (k_n - k_t)(n0 . u) n0 + k_t u
+  !> and j by the opposite. With `box` (the periods, 0 along open axes) u is
+  !> taken through the nearest image.
+  pure subroutine add_bond_forces(nb, n, bonds, x, rest, normal, k_n, k_t, f, box)
     integer, intent(in) :: nb, n, bonds(2, nb)
     real(dp), intent(in) :: x(3, n), rest(3, nb), normal(3, nb), k_n, k_t
     real(dp), intent(inout) :: f(3, n)
+    real(dp), intent(in), optional :: box(3)
     integer :: b, i, j
-    real(dp) :: fb(3)
+    real(dp) :: fb(3), u(3)
     do b = 1, nb
       i = bonds(1, b)
       j = bonds(2, b)
-      fb = bond_force(normal(:, b), k_n, k_t, x(:, j) - x(:, i) - rest(:, b))
+      u = x(:, j) - x(:, i) - rest(:, b)
+      if (present(box)) where (box > 0.0_dp) u = u - box*anint(u/box)
+      fb = ((k_n - k_t)*dot_product(normal(:, b), u))*normal(:, b) + k_t*u
       f(:, i) = f(:, i) + fb
       f(:, j) = f(:, j) - fb
     end do

@@ -135,7 +135,7 @@ contains
     type(scene_type), intent(in) :: scene
     type(search_type), intent(inout) :: s
     integer :: dim, n, i, j, c, k, ncell(3), idx(3), a, b, cc, p, g, n_cells, ax
-    integer :: nb(3, 3), nnb(3)
+    integer :: lo(3), hi(3), ca(3)
     real(dp) :: xmin(3), xmax(3), h, d(3), width(3)
     logical :: wrap(3), any_wrap
     dim = scene%dim
@@ -217,18 +217,24 @@ contains
       idx(1) = mod(c, ncell(1))
       idx(2) = mod(c/ncell(1), ncell(2))
       idx(3) = c/(ncell(1)*ncell(2))
+      ! neighbour offsets: -1 to 1 clipped at the ends, or around a periodic
+      ! axis (each cell once: 0 only with 1 cell, 0 and 1 with 2)
       do ax = 1, 3
         if (wrap(ax)) then
-          call neighbour_cells(idx(ax), ncell(ax), nb(:, ax), nnb(ax))
+          lo(ax) = merge(-1, 0, ncell(ax) >= 3)
+          hi(ax) = merge(1, 0, ncell(ax) >= 2)
         else
-          nnb(ax) = min(ncell(ax) - 1, idx(ax) + 1) - max(0, idx(ax) - 1) + 1
-          nb(:nnb(ax), ax) = [(a, a = max(0, idx(ax) - 1), min(ncell(ax) - 1, idx(ax) + 1))]
+          lo(ax) = max(-1, -idx(ax))
+          hi(ax) = min(1, ncell(ax) - 1 - idx(ax))
         end if
       end do
-      do a = 1, nnb(3)
-        do b = 1, nnb(2)
-          do cc = 1, nnb(1)
-            k = 1 + nb(cc, 1) + ncell(1)*(nb(b, 2) + ncell(2)*nb(a, 3))
+      do a = lo(3), hi(3)
+        ca(3) = wrapped(idx(3) + a, ncell(3))
+        do b = lo(2), hi(2)
+          ca(2) = wrapped(idx(2) + b, ncell(2))
+          do cc = lo(1), hi(1)
+            ca(1) = wrapped(idx(1) + cc, ncell(1))
+            k = 1 + ca(1) + ncell(1)*(ca(2) + ncell(2)*ca(3))
             do p = s%cell_start(k), s%cell_start(k + 1) - 1
               j = s%cell_particle(p)
               if (j <= i) cycle
@@ -256,20 +262,13 @@ contains
     s%max_contacts = max(s%max_contacts, s%n_pairs + s%n_walls)
   end subroutine find_contacts
 
-  !> The distinct cells next to cell idx along a periodic axis (wrapping around).
-  pure subroutine neighbour_cells(idx, ncell, nb, nnb)
-    integer, intent(in) :: idx, ncell
-    integer, intent(out) :: nb(3), nnb
-    integer :: o, c
-    nnb = 0
-    nb = 0
-    do o = -1, 1
-      c = modulo(idx + o, ncell)
-      if (any(nb(:nnb) == c)) cycle
-      nnb = nnb + 1
-      nb(nnb) = c
-    end do
-  end subroutine neighbour_cells
+  !> Cell coordinate c in 0 to n-1, from -1 to n (wrapping around).
+  elemental integer function wrapped(c, n)
+    integer, intent(in) :: c, n
+    wrapped = c
+    if (c < 0) wrapped = c + n
+    if (c >= n) wrapped = c - n
+  end function wrapped
 
   !> Add the pair (i, j) to the contact list if the particles overlap (nearest image).
   subroutine try_pair(scene, s, i, j, c)

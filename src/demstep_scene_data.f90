@@ -128,12 +128,14 @@ contains
   pure function branch_vector(scene, i, j) result(d)
     type(scene_type), intent(in) :: scene
     integer, intent(in) :: i, j
-    real(dp) :: d(3), box(3)
+    real(dp) :: d(3), box
+    integer :: ax
     d = scene%x(:, j) - scene%x(:, i)
-    if (any(scene%periodic)) then
-      box = scene%cell_hi - scene%cell_lo
-      where (scene%periodic) d = d - box*anint(d/box)
-    end if
+    do ax = 1, 3
+      if (.not. scene%periodic(ax)) cycle
+      box = scene%cell_hi(ax) - scene%cell_lo(ax)
+      d(ax) = d(ax) - box*anint(d(ax)/box)
+    end do
   end function branch_vector
 
   !> The law's values for a particle contact (i, j) at overlap d: normal force,

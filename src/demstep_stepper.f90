@@ -26,7 +26,7 @@ module demstep_stepper
   use demstep_text, only: int_text
   use demstep_progress, only: progress_type
   use demstep_interaction, only: contact_law, reduced_radius, normal_force, normal_stiffness, &
-    normal_energy, dashpot_coefficient, contact_forces, bond_force, add_bond_forces
+    normal_energy, dashpot_coefficient, contact_forces, add_bond_forces
   use demstep_scene_data, only: scene_type, scene_summary_type, scene_effect, effective_mass, &
     contact_values, has_tangential
   use demstep_neighbours, only: search_type, prepare_search, find_contacts, find_wall_contacts, &
@@ -449,20 +449,14 @@ contains
     end associate
   end subroutine walls_damping
 
-  !> Bonds: F = k_n n0 (n0 . u) + k_t (u - n0 (n0 . u)), u the change of x_j - x_i.
+  !> Bonds: the kernel's bond forces (nearest image in a periodic cell).
   subroutine bonds_term(scene, work)
     type(scene_type), intent(in) :: scene
     type(work_type), intent(inout) :: work
-    integer :: k, i, j
-    real(dp) :: fb(3)
     if (any(scene%periodic)) then
-      do k = 1, size(scene%bonds, 2)
-        i = scene%bonds(1, k)
-        j = scene%bonds(2, k)
-        fb = bond_force(scene%bond_normal(:, k), scene%k_bond, scene%k_bond_tangential, bond_stretch(scene, k))
-        work%f(:, i) = work%f(:, i) + fb
-        work%f(:, j) = work%f(:, j) - fb
-      end do
+      call add_bond_forces(size(scene%bonds, 2), scene%n, scene%bonds, scene%x, scene%bond_rest, &
+        scene%bond_normal, scene%k_bond, scene%k_bond_tangential, work%f, &
+        box=merge(scene%cell_hi - scene%cell_lo, 0.0_dp, scene%periodic))
     else
       call add_bond_forces(size(scene%bonds, 2), scene%n, scene%bonds, scene%x, scene%bond_rest, &
         scene%bond_normal, scene%k_bond, scene%k_bond_tangential, work%f)
