@@ -18,6 +18,7 @@ contains
     type(unittest_type), allocatable, intent(out) :: testsuite(:)
     testsuite = [ &
       new_unittest("tangent block = finite differences of force and torque", test_block_fd), &
+      new_unittest("Coulomb friction caps the tangential force at friction F_n", test_friction), &
       new_unittest("rotating pair: omega^2 = k_t (1/m_i + 1/m_j + r_i^2/I_i + r_j^2/I_j)", test_pair), &
       new_unittest("periodic ring with rotations vs its dispersion relation", test_ring), &
       new_unittest("periodic simple cubic lattice vs its dispersion relation", test_sc_lattice), &
@@ -91,6 +92,28 @@ contains
       if (allocated(error)) return
     end do
   end subroutine test_block_fd
+
+  subroutine test_friction(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp) :: us(3), f(3), t_i(3), t_j(3), n(3)
+    n = [0.6_dp, 0.8_dp, 0.0_dp]
+    us = 0.0_dp
+    ! a tangential step of 1 at k_t = 10 would be 10; the cap is 0.5 x 4 = 2
+    call contact_forces(n, 4.0_dp, 10.0_dp, 0.5_dp, 1.0_dp, 1.0_dp, [0.0_dp, 0.0_dp, 1.0_dp], &
+      [0.0_dp, 0.0_dp, 0.0_dp], [0.0_dp, 0.0_dp, 0.0_dp], us, f, t_i, t_j)
+    call check(error, norm2(f - dot_product(f, n)*n), 2.0_dp, rel=.true., thr=1.0e-15_dp, message="capped")
+    if (allocated(error)) return
+    call check(error, dot_product(f, n), 4.0_dp, rel=.true., thr=1.0e-15_dp, message="normal kept")
+    if (allocated(error)) return
+    ! the history holds the slipped spring: a step back unloads by k_t du
+    call contact_forces(n, 4.0_dp, 10.0_dp, 0.5_dp, 1.0_dp, 1.0_dp, [0.0_dp, 0.0_dp, -0.1_dp], &
+      [0.0_dp, 0.0_dp, 0.0_dp], [0.0_dp, 0.0_dp, 0.0_dp], us, f, t_i, t_j)
+    call check(error, f(3), -1.0_dp, rel=.true., thr=1.0e-14_dp, message="unloading from the cap")
+    if (allocated(error)) return
+    ! torques: -r n x f on each body
+    call check(error, maxval(abs(t_i + [n(2)*f(3), -n(1)*f(3), 0.0_dp])), 0.0_dp, thr=1.0e-15_dp, &
+      message="torque on i")
+  end subroutine test_friction
 
   subroutine random_seed_fixed(k)
     integer, intent(in) :: k
