@@ -4,13 +4,13 @@ module demstep_cli_scene
   use demstep_status, only: set_status
   use demstep_namelist, only: lowercase
   use demstep_table_io, only: read_table
+  use demstep_scene, only: has_tangential
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
     scene_type, scene_summary_type, new_scene, scene_add_bonds, scene_add_walls, &
-    scene_run, effect_index, restitution_to_damping_ratio, law_linear, law_hertz, &
-    effect_contacts, effect_gravity, effect_damping, effect_local_damping, effect_walls, &
-    n_effects, effect_names, critical_step_type, critical_time_steps, hertz_at_current, &
-    hertz_at_impact, default_max_eigen_dof, measure_step_cost, text_progress_type, &
-    assembly_step_for_n_per_period
+    scene_run, effect_index, restitution_to_damping_ratio, contact_law, scene_effect, &
+    scene_set_contacts, scene_set_cell, scene_set_types, scene_set_hertz_types, n_effects, &
+    effect_names, critical_step_type, assembly_critical_steps, hertz_modes => hertz_linearization, &
+    default_max_eigen_dof, measure_step_cost, text_progress_type, assembly_step_for_n_per_period
   use demstep_cli, only: var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
     check_real, new_array, array_length, new_int_array, int_array_length, max_values, &
     capacity_of
@@ -48,14 +48,42 @@ contains
       var("bonds", "a list of integers", "pairs of particle numbers joined by bonds", "1, 2,  2, 3", &
         capacity=2*max_values), &
       var("particles_file", "a quoted file name", "table instead of the arrays: per row dim " &
-        //"positions, dim velocities, mass, radius, fixed (0/1); # comments", "!'particles.txt'", &
-        excludes="velocity mass radius fixed"), &
+        //"positions, dim velocities, mass, radius, fixed (0/1), optionally the moment of inertia; " &
+        //"# comments", "!'particles.txt'", excludes="velocity mass radius fixed"), &
+      var("contacts_file", "a quoted file name", "explicit contacts instead of detection: per row " &
+        //"i j k_n k_t (particle numbers as in the particle table)", "!'contacts.txt'"), &
+      var("periodic", "a list of logicals", "periodic axes", "!T, T, T", capacity=3, &
+        default="F, F, F"), &
+      var("cell_lo", "a list of real numbers", "lower corner of the periodic cell", &
+        "!0.0, 0.0, 0.0", capacity=3, default="0, 0, 0"), &
+      var("cell_hi", "a list of real numbers", "upper corner of the periodic cell (with periodic)", &
+        "!1.0, 1.0, 1.0", capacity=3, default="!0, 0, 0"), &
       var("bonds_file", "a quoted file name", "table of bonds: per row two particle numbers", &
         "!'bonds.txt'", excludes="bonds"), &
       var("law", "a quoted word", "contact law: 'linear' (k_normal) or 'hertz' (e_star)", &
         "'linear'", default="'linear'"), &
       var("k_normal", "a real number", "linear contact stiffness (> 0)", "1.0e4", default="!0"), &
       var("e_star", "a real number", "Hertz effective modulus E* (> 0)", "!1.0e8", default="!0"), &
+      var("k_tangential", "a real number", "linear tangential contact stiffness (>= 0)", &
+        "!3.0e3", default="0"), &
+      var("kt_ratio", "a real number", "or k_tangential as a ratio of k_normal (>= 0)", "!0.3", &
+        default="!0"), &
+      var("g_star", "a real number", "Hertz: G* of Mindlin's k_t = 8 G* sqrt(R* d) (>= 0)", "!4.0e7", &
+        default="!0"), &
+      var("friction", "a real number", "Coulomb friction coefficient of the tangential springs " &
+        //"(>= 0; default none: no sliding)", "!0.5", default="!-1"), &
+      var("types", "a list of integers", "material type of each particle (1, 2, ...): per-type " &
+        //"stiffness instead of one law for all", "!1, 1, 2", capacity=max_values), &
+      var("type_k_normal", "a list of real numbers", "linear: k_n per type pair, nt x nt (row " &
+        //"by row, symmetric)", "!1.0e4, 2.0e4,  2.0e4, 3.0e4", capacity=10000), &
+      var("type_k_tangential", "a list of real numbers", "linear: k_t per type pair, nt x nt " &
+        //"(default kt_ratio times type_k_normal, or 0)", "!3.0e3, 6.0e3,  6.0e3, 9.0e3", capacity=10000), &
+      var("young", "a list of real numbers", "Hertz: Young's modulus per type (> 0)", "!7.0e10, 2.1e11", &
+        capacity=100), &
+      var("poisson", "a list of real numbers", "Hertz: Poisson's ratio per type (-1 to 0.5)", &
+        "!0.3, 0.25", capacity=100), &
+      var("prestress", "a logical", "count the pre-stress stiffness -(F_n/l)(I - n n^T) in the " &
+        //"analysis", "!F", default="F"), &
       var("k_bond", "a real number", "bond normal stiffness (> 0 when there are bonds)", "100.0", &
         default="!0"), &
       var("k_bond_tangential", "a real number", "bond tangential stiffness (>= 0)", "0.0", &
@@ -63,7 +91,8 @@ contains
       var("walls", "a list of real numbers", "per wall: dim coordinates of a point, dim of the " &
         //"normal pointing into the domain", "!0.0, -0.5,  0.0, 1.0", capacity=64), &
       var("effects", "a list of quoted words", "'contacts' (default), 'gravity', 'damping', " &
-        //"'local_damping', 'walls'; 'none' for bonds only", "'contacts'", capacity=max_effects), &
+        //"'local_damping', 'walls', 'rotation' (default with tangential springs); 'none' for " &
+        //"bonds only", "'contacts'", capacity=max_effects), &
       var("gravity", "a list of real numbers", "dim components (default -9.81 along the last axis)", &
         "!0.0, -9.81", capacity=3), &
       var("damping_ratio", "a real number", "viscous damping ratio (0 to 1e100) for 'damping'", "!0.1", &
@@ -94,22 +123,28 @@ contains
     type(demstep_status_type), intent(out) :: status
     integer :: dim, max_eigen_dof
     real(dp), allocatable :: position(:), velocity(:), mass(:), radius(:), walls(:), gravity(:)
-    integer, allocatable :: fixed(:), bonds(:)
-    character(len=512) :: particles_file, bonds_file
+    integer, allocatable :: fixed(:), bonds(:), types(:)
+    real(dp), allocatable :: type_k_normal(:), type_k_tangential(:), young(:), poisson(:), kk(:, :, :)
+    integer :: nty, nkn, nkt, nt
+    character(len=512) :: particles_file, bonds_file, contacts_file
     character(len=32) :: law, hertz_linearization
     character(len=32) :: effects(max_effects)
     real(dp) :: k_normal, e_star, k_bond, k_bond_tangential, damping_ratio, restitution, &
-      local_damping, impact_velocity, duration, dt, n_per_period
+      local_damping, impact_velocity, duration, dt, n_per_period, k_tangential, kt_ratio, g_star, &
+      friction, cell_lo(3), cell_hi(3)
+    logical :: periodic(3), prestress
     namelist /scene/ dim, position, velocity, mass, radius, fixed, bonds, particles_file, &
       bonds_file, law, k_normal, e_star, k_bond, k_bond_tangential, walls, effects, gravity, &
       damping_ratio, restitution, local_damping, hertz_linearization, impact_velocity, duration, &
-      dt, n_per_period, max_eigen_dof
+      dt, n_per_period, max_eigen_dof, contacts_file, periodic, cell_lo, cell_hi, k_tangential, &
+      kt_ratio, g_star, friction, prestress, types, type_k_normal, type_k_tangential, young, poisson
     type(var_spec), allocatable :: specs(:)
     character(len=*), parameter :: g = "scene"
     type(scene_type) :: sc
     type(critical_step_type) :: crit
     type(scene_summary_type) :: summary
-    real(dp), allocatable :: x(:, :), v(:, :), m(:), r(:)
+    real(dp), allocatable :: x(:, :), v(:, :), m(:), r(:), inertia(:), contact_k(:, :)
+    integer, allocatable :: contact_pairs(:, :), contact_lines(:)
     logical, allocatable :: is_fixed(:)
     integer, allocatable :: pairs(:, :)
     integer :: i, n, np, nv, nm, nr, nf, nb, nw, mode
@@ -126,6 +161,11 @@ contains
     gravity = new_array(capacity_of(specs, "gravity"))
     fixed = new_int_array(capacity_of(specs, "fixed"))
     bonds = new_int_array(capacity_of(specs, "bonds"))
+    types = new_int_array(capacity_of(specs, "types"))
+    type_k_normal = new_array(capacity_of(specs, "type_k_normal"))
+    type_k_tangential = new_array(capacity_of(specs, "type_k_tangential"))
+    young = new_array(capacity_of(specs, "young"))
+    poisson = new_array(capacity_of(specs, "poisson"))
     effects = ""
     call read_group(group, specs, read_item, status)
     if (status%stat /= demstep_stat%ok) return
@@ -136,7 +176,7 @@ contains
 
     ! particles: a table file or the arrays
     if (given(group, "particles_file")) then
-      call read_particles(beside(file, trim(particles_file)), dim, x, v, m, r, is_fixed, status)
+      call read_particles(beside(file, trim(particles_file)), dim, x, v, m, r, is_fixed, inertia, status)
       if (status%stat /= demstep_stat%ok) then
         status%message = "&"//g//": particles_file: "//status%message
         return
@@ -190,10 +230,43 @@ contains
       if (.not. (ieee_is_finite(r(i)) .and. r(i) > 0.0_dp)) call check_real(g, "radius", r(i), status, element=i)
       if (status%stat /= demstep_stat%ok) return
     end do
-    call new_scene(sc, dim, x, m, r, status, v=v, fixed=is_fixed)
+    if (allocated(inertia)) then
+      call new_scene(sc, dim, x, m, r, status, v=v, fixed=is_fixed, inertia=inertia)
+    else
+      call new_scene(sc, dim, x, m, r, status, v=v, fixed=is_fixed)
+    end if
     if (status%stat /= demstep_stat%ok) then
-      status%message = "&"//g//": "//status%message
+      if (allocated(inertia) .and. index(status%message, "inertia:") == 1) then
+        status%message = "&"//g//": particles_file: "//beside(file, trim(particles_file))//": "// &
+          status%message
+      else
+        status%message = "&"//g//": "//status%message
+      end if
       return
+    end if
+
+    ! the periodic cell (before bonds: their rest vectors go through the nearest image)
+    if (any(periodic)) then
+      if (.not. given(group, "cell_hi")) then
+        call fail("cell_hi", "required with periodic axes")
+        return
+      end if
+      call scene_set_cell(sc, periodic, cell_lo, cell_hi, status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": "//status%message
+        return
+      end if
+    end if
+
+    ! an explicit contact list
+    if (given(group, "contacts_file")) then
+      call read_contacts(beside(file, trim(contacts_file)), contact_pairs, contact_k, contact_lines, status)
+      if (status%stat == demstep_stat%ok) call scene_set_contacts(sc, contact_pairs, contact_k, status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": contacts_file: "//row_to_line(status%message, &
+          beside(file, trim(contacts_file)), contact_lines)
+        return
+      end if
     end if
 
     ! bonds: a table file or the array
@@ -240,21 +313,44 @@ contains
     end if
     select case (lowercase(trim(law)))
     case ("linear")
-      sc%law = law_linear
-      if (sc%effects(effect_contacts) .or. sc%effects(effect_walls)) call check_real(g, "k_normal", k_normal, status)
+      sc%law = contact_law%linear
+      if ((sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. given(group, "types"))) &
+        .or. sc%effects(scene_effect%walls)) call check_real(g, "k_normal", k_normal, status)
       sc%k_normal = k_normal
+      if (given(group, "k_tangential") .and. given(group, "kt_ratio")) call fail("kt_ratio", &
+        "give either k_tangential or kt_ratio, not both")
+      if (given(group, "k_tangential")) call check_real(g, "k_tangential", k_tangential, status, inclusive=.true.)
+      if (given(group, "kt_ratio")) then
+        call check_real(g, "kt_ratio", kt_ratio, status, inclusive=.true.)
+        k_tangential = kt_ratio*k_normal
+      end if
+      sc%k_tangential = k_tangential
     case ("hertz")
-      sc%law = law_hertz
-      if (sc%effects(effect_contacts) .or. sc%effects(effect_walls)) call check_real(g, "e_star", e_star, status)
+      sc%law = contact_law%hertz
+      if ((sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. given(group, "types"))) &
+        .or. sc%effects(scene_effect%walls)) call check_real(g, "e_star", e_star, status)
       sc%e_star = e_star
+      if (given(group, "g_star")) call check_real(g, "g_star", g_star, status, inclusive=.true.)
+      sc%g_star = g_star
     case default
       call fail("law", "unknown word '"//trim(law)//"' (linear, hertz)")
       return
     end select
     if (status%stat /= demstep_stat%ok) return
+    if (given(group, "types")) then
+      call materials()
+      if (status%stat /= demstep_stat%ok) return
+    end if
+    if (given(group, "friction")) then
+      call check_real(g, "friction", friction, status, inclusive=.true.)
+      if (status%stat /= demstep_stat%ok) return
+      sc%friction = friction
+    end if
+    ! rotations come with tangential springs unless the effects say otherwise
+    if (.not. given(group, "effects") .and. has_tangential(sc)) sc%effects(scene_effect%rotation) = .true.
     call array_length(g, "walls", walls, nw, status)
     if (status%stat /= demstep_stat%ok) return
-    if (sc%effects(effect_walls) .neqv. nw > 0) then
+    if (sc%effects(scene_effect%walls) .neqv. nw > 0) then
       call fail("walls", "the 'walls' effect and the walls array go together")
       return
     end if
@@ -271,7 +367,7 @@ contains
         return
       end if
     end if
-    if (sc%effects(effect_gravity)) then
+    if (sc%effects(scene_effect%gravity)) then
       call array_length(g, "gravity", gravity, nv, status)
       if (status%stat /= demstep_stat%ok) return
       sc%gravity = 0.0_dp
@@ -288,7 +384,7 @@ contains
         end if
       end if
     end if
-    if (sc%effects(effect_damping)) then
+    if (sc%effects(scene_effect%damping)) then
       if (.not. (given(group, "damping_ratio") .or. given(group, "restitution"))) then
         call fail("damping_ratio", "the 'damping' effect needs damping_ratio or restitution (one)")
         return
@@ -304,7 +400,7 @@ contains
       if (status%stat /= demstep_stat%ok) return
       sc%damping_ratio = damping_ratio
     end if
-    if (sc%effects(effect_local_damping)) then
+    if (sc%effects(scene_effect%local_damping)) then
       call check_real(g, "local_damping", local_damping, status, inclusive=.true.)
       if (status%stat == demstep_stat%ok .and. .not. local_damping < 1.0_dp) call fail("local_damping", &
         "must be in [0, 1), got "//fmt_real(local_damping))
@@ -313,9 +409,9 @@ contains
     end if
     select case (lowercase(trim(hertz_linearization)))
     case ("current")
-      mode = hertz_at_current
+      mode = hertz_modes%current
     case ("impact")
-      mode = hertz_at_impact
+      mode = hertz_modes%impact
       call check_real(g, "impact_velocity", impact_velocity, status)
       if (status%stat /= demstep_stat%ok) return
     case default
@@ -331,8 +427,8 @@ contains
       return
     end if
 
-    call critical_time_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
-      max_eigen_dof=max_eigen_dof)
+    call assembly_critical_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
+      max_eigen_dof=max_eigen_dof, prestress=prestress)
     if (status%stat /= demstep_stat%ok) then
       if (index(status%message, "effects:") == 1 .and. given(group, "bonds_file")) then
         ! the empty table is what left the scene without springs
@@ -385,6 +481,51 @@ contains
       character(len=*), intent(in) :: name, what
       call set_status(status, demstep_stat%invalid_input, "&"//g//": "//name//": "//what)
     end subroutine fail
+
+    !> Materials per particle type: the tables read, the library checks them.
+    subroutine materials()
+      call int_array_length(g, "types", types, nty, status)
+      if (status%stat /= demstep_stat%ok) return
+      if (nty /= n) then
+        call fail("types", "needs one type per particle ("//fmt_int(int(n, i8))//"), got "// &
+          fmt_int(int(nty, i8)))
+        return
+      end if
+      if (sc%law == contact_law%linear) then
+        call array_length(g, "type_k_normal", type_k_normal, nkn, status)
+        call array_length(g, "type_k_tangential", type_k_tangential, nkt, status)
+        if (status%stat /= demstep_stat%ok) return
+        nt = nint(sqrt(real(nkn, dp)))
+        if (nkn == 0 .or. nt*nt /= nkn) then
+          call fail("type_k_normal", "needs nt x nt values (nt types, row by row), got "// &
+            fmt_int(int(nkn, i8)))
+          return
+        end if
+        allocate(kk(2, nt, nt), source=0.0_dp)
+        kk(1, :, :) = reshape(type_k_normal(:nkn), [nt, nt])
+        if (nkt > 0) then
+          if (nkt /= nkn) then
+            call fail("type_k_tangential", "needs as many values as type_k_normal ("// &
+              fmt_int(int(nkn, i8))//"), got "//fmt_int(int(nkt, i8)))
+            return
+          end if
+          kk(2, :, :) = reshape(type_k_tangential(:nkt), [nt, nt])
+        else if (given(group, "kt_ratio")) then
+          kk(2, :, :) = kt_ratio*kk(1, :, :)
+        end if
+        call scene_set_types(sc, types(:n), kk, status)
+      else
+        call array_length(g, "young", young, nkn, status)
+        call array_length(g, "poisson", poisson, nkt, status)
+        if (status%stat /= demstep_stat%ok) return
+        if (nkn == 0) then
+          call fail("young", "required with types and the Hertz law (one per type)")
+          return
+        end if
+        call scene_set_hertz_types(sc, types(:n), young(:nkn), poisson(:nkt), status)
+      end if
+      if (status%stat /= demstep_stat%ok) status%message = "&"//g//": "//status%message
+    end subroutine materials
 
   end subroutine handle_scene
 
@@ -463,23 +604,26 @@ contains
   end function effect_list
 
   !> A particles table: per row dim positions, dim velocities, mass, radius and
-  !> fixed (0 or 1); '#' starts a comment, blank lines are skipped.
-  subroutine read_particles(path, dim, x, v, m, r, fixed, status)
+  !> fixed (0 or 1), optionally the moment of inertia (the same columns on every
+  !> row); '#' starts a comment, blank lines are skipped.
+  subroutine read_particles(path, dim, x, v, m, r, fixed, inertia, status)
     character(len=*), intent(in) :: path
     integer, intent(in) :: dim
-    real(dp), allocatable, intent(out) :: x(:, :), v(:, :), m(:), r(:)
+    real(dp), allocatable, intent(out) :: x(:, :), v(:, :), m(:), r(:), inertia(:)
     logical, allocatable, intent(out) :: fixed(:)
     type(demstep_status_type), intent(out) :: status
     real(dp), allocatable :: rows(:, :)
     integer :: ncol
     ncol = 2*dim + 3
-    call read_table(path, ncol, rows, status)
+    ! an optional last column: the moment of inertia
+    call read_table(path, [ncol, ncol + 1], rows, status)
     if (status%stat /= demstep_stat%ok) return
     x = rows(1:dim, :)
     v = rows(dim+1:2*dim, :)
     m = rows(2*dim+1, :)
     r = rows(2*dim+2, :)
     fixed = rows(2*dim+3, :) /= 0.0_dp
+    if (size(rows, 1) == ncol + 1) inertia = rows(ncol + 1, :)
     if (any(rows(2*dim+3, :) /= 0.0_dp .and. rows(2*dim+3, :) /= 1.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, path//": the fixed column must be 0 or 1")
       return
@@ -502,6 +646,42 @@ contains
     pairs = nint(rows)
   end subroutine read_bonds
 
+  !> A contacts table: per row i j k_n k_t; the line of each row is kept for messages.
+  subroutine read_contacts(path, pairs, k, lines, status)
+    character(len=*), intent(in) :: path
+    integer, allocatable, intent(out) :: pairs(:, :), lines(:)
+    real(dp), allocatable, intent(out) :: k(:, :)
+    type(demstep_status_type), intent(out) :: status
+    real(dp), allocatable :: rows(:, :)
+    integer :: c
+    call read_table(path, 4, rows, status, lines=lines)
+    if (status%stat /= demstep_stat%ok) return
+    do c = 1, size(rows, 2)
+      if (any(rows(1:2, c) /= anint(rows(1:2, c))) .or. any(abs(rows(1:2, c)) > 2.0e9_dp)) then
+        call set_status(status, demstep_stat%invalid_input, path//": line "//fmt_int(int(lines(c), i8))// &
+          ": particle numbers must be integers")
+        return
+      end if
+    end do
+    pairs = nint(rows(1:2, :))
+    k = rows(3:4, :)
+  end subroutine read_contacts
+
+  !> A library message "contacts: row K: what" as "PATH: line L: what".
+  function row_to_line(message, path, lines) result(text)
+    character(len=*), intent(in) :: message, path
+    integer, intent(in), allocatable :: lines(:)
+    character(len=:), allocatable :: text
+    integer :: a, b, row, ios
+    text = message
+    a = index(message, "contacts: row ")
+    if (a /= 1 .or. .not. allocated(lines)) return
+    b = index(message(15:), ":") + 13
+    read(message(15:b), *, iostat=ios) row
+    if (ios /= 0 .or. row < 1 .or. row > size(lines)) return
+    text = path//": line "//fmt_int(int(lines(row), i8))//message(b+1:)
+  end function row_to_line
+
   subroutine report(u, group, sc, crit, ran, dt_used, steps, summary)
     integer, intent(in) :: u
     type(nml_group_type), intent(in) :: group
@@ -522,6 +702,10 @@ contains
     write(u, '(2x, a)') fmt_int(int(sc%n, i8))//" particles in "//fmt_int(int(sc%dim, i8))//"D, "// &
       fmt_int(int(crit%n_dof, i8))//" degrees of freedom, "//fmt_int(int(crit%n_springs, i8))// &
       " springs (bonds and contacts); effects:"//on
+    write(u, '(2x, a)') "model: "//fmt_int(int(crit%dof_per_particle, i8))//" degrees of freedom per " &
+      //"particle, tangential springs "//trim(merge("counted", "none   ", crit%tangential))// &
+      ", periodic "//trim(merge("yes", "no ", crit%periodic))//", pre-stress "// &
+      trim(merge("yes", "no ", crit%prestress))
     write(u, '(2x, a)') "critical time step (undamped central differences, 2/omega):"
     write(u, '(4x, a, t40, a)') "per-contact rule 2 sqrt(m*/k)", fmt_real(crit%dt_contact_rule)// &
       "  (not safe in an assembly)"
@@ -554,17 +738,24 @@ contains
     type(critical_step_type), intent(in) :: crit
     real(dp), intent(in) :: dt_used
     type(scene_summary_type), intent(in) :: summary
-    integer :: n_particles, n_dof, n_springs, max_contacts
+    integer :: n_particles, n_dof, n_springs, max_contacts, dof_per_particle
+    logical :: rotation, tangential, periodic, prestress
     real(dp) :: omega_max, dt_critical_eigen, dt_critical_bound, dt_contact_rule, &
       dt_critical_damped, damping_ratio_top, energy_drift, max_overlap
     integer(i8) :: steps
     logical :: eigen_computed, blew_up
-    namelist /scene_result/ n_particles, n_dof, n_springs, omega_max, eigen_computed, &
+    namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
+      periodic, prestress, omega_max, eigen_computed, &
       dt_critical_eigen, dt_critical_bound, dt_contact_rule, dt_critical_damped, &
       damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, blew_up
     n_particles = sc%n
     n_dof = crit%n_dof
     n_springs = crit%n_springs
+    dof_per_particle = crit%dof_per_particle
+    rotation = crit%rotation
+    tangential = crit%tangential
+    periodic = crit%periodic
+    prestress = crit%prestress
     omega_max = crit%omega_max
     eigen_computed = crit%eigen_computed
     dt_critical_eigen = crit%dt_critical_eigen

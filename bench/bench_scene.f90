@@ -11,18 +11,24 @@ program bench_scene
     "+ contacts", "+ gravity", "+ damping", "+ local_damping", "+ walls"]
   real(dp) :: t(7)
   integer :: i, k
-  character(len=16) :: part
+  character(len=16) :: part, arg
+  integer :: n_max, ios
   ! an argument picks one part: steps, eigen or bound (default: all three).
   ! The program ends at `end program`, never at `stop`: gfortran's STOP lists the
   ! IEEE flags raised so far, and dsyevr sets divide-by-zero and invalid on
   ! purpose (LAPACK's ieeeck divides by zero to probe IEEE arithmetic), which
   ! would read like a fault of the benchmark or of demstep.
   call get_command_argument(1, part)
+  ! a second argument limits the particle counts of `steps` (say 10000)
+  call get_command_argument(2, arg)
+  n_max = huge(1)
+  if (arg /= "") read(arg, *, iostat=ios) n_max
   if (part == "" .or. part == "steps") then
     write(*, '(a)') "ns per particle-step (3D cubic lattice, 3 bonds per particle; median of 3):"
     write(*, '("| particles |", 7(1x, a, " |"))') (trim(labels(k)), k = 1, 7)
     write(*, '(a)') "|---:|---:|---:|---:|---:|---:|---:|---:|"
     do i = 1, size(sizes)
+      if (sizes(i) > n_max) exit
       do k = 1, 7
         t(k) = step_time(sizes(i), k)
       end do
@@ -54,15 +60,15 @@ contains
     real(dp) :: times(3)
     integer :: r
     call lattice(n, start)
-    if (k >= 3) start%effects(effect_contacts) = .true.
-    if (k >= 4) start%effects(effect_gravity) = .true.
+    if (k >= 3) start%effects(scene_effect%contacts) = .true.
+    if (k >= 4) start%effects(scene_effect%gravity) = .true.
     if (k >= 4) start%gravity = [0.0_dp, 0.0_dp, -1.0e-3_dp]
-    if (k >= 5) start%effects(effect_damping) = .true.
+    if (k >= 5) start%effects(scene_effect%damping) = .true.
     if (k >= 5) start%damping_ratio = 0.05_dp
-    if (k >= 6) start%effects(effect_local_damping) = .true.
+    if (k >= 6) start%effects(scene_effect%local_damping) = .true.
     if (k >= 6) start%local_damping = 0.1_dp
     if (k >= 7) then
-      start%effects(effect_walls) = .true.
+      start%effects(scene_effect%walls) = .true.
       call scene_add_walls(start, reshape([0.0_dp, 0.0_dp, 0.5_dp], [3, 1]), &
         reshape([0.0_dp, 0.0_dp, 1.0_dp], [3, 1]), status)
     end if
@@ -121,7 +127,7 @@ contains
     do i = 1, size(dofs)
       call lattice(dofs(i)/3, scene)
       call system_clock(c0, rate)
-      call critical_time_steps(scene, c, status, max_eigen_dof=huge(1))
+      call assembly_critical_steps(scene, c, status, max_eigen_dof=huge(1))
       call system_clock(c1)
       write(*, '("| ", i0, " | ", f8.3, " |")') c%n_dof, real(c1 - c0, dp)/real(rate, dp)
     end do
@@ -139,7 +145,7 @@ contains
     do i = 1, size(counts)
       call lattice(counts(i)/3, scene)
       call system_clock(c0, rate)
-      call critical_time_steps(scene, c, status, max_eigen_dof=0)
+      call assembly_critical_steps(scene, c, status, max_eigen_dof=0)
       call system_clock(c1)
       write(*, '("| ", i0, " | ", f8.4, " | ", f8.1, " |")') c%n_springs, real(c1 - c0, dp)/real(rate, dp), &
         real(c1 - c0, dp)/real(rate, dp)*1.0e9_dp/c%n_springs

@@ -48,7 +48,7 @@ program capi_reference
   call scene_add_bonds(scene, pairs, status)
   scene%k_bond = 100.0_dp
   scene%effects = .false.
-  call critical_time_steps(scene, c, status)
+  call assembly_critical_steps(scene, c, status)
   call put("omega_max", c%omega_max)
   call put("dt_critical_bound", c%dt_critical_bound)
   call put("dt_contact_rule", c%dt_contact_rule)

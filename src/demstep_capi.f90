@@ -16,7 +16,7 @@ module demstep_capi
   use demstep_stiffness, only: nroots_options_type, nroots_type, n_roots, stiffness_input_type, &
     stiffness_result_type, simulated_stiffness
   use demstep_scene, only: scene_type, new_scene, scene_add_bonds, n_effects
-  use demstep_assembly, only: critical_step_type, critical_time_steps
+  use demstep_assembly, only: critical_step_type, assembly_critical_steps
   use demstep_contact, only: discrete_contact_type, contact_with_onset
   use demstep_cost, only: n_for_tolerance
   implicit none
@@ -426,7 +426,7 @@ contains
     do k = 1, n_effects
       scene%effects(k) = btest(effects, k - 1)
     end do
-    call critical_time_steps(scene, c, status)
+    call assembly_critical_steps(scene, c, status)
     code = report(err, status)
     call guard_finite([c%omega_max, c%dt_critical_eigen, c%omega_bound, c%dt_critical_bound, &
       c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped], "demstep_scene_critical_step", err, code)

@@ -37,7 +37,7 @@ module demstep_table_io
 contains
 
   !> A table with exactly `columns` numbers per row.
-  subroutine read_table_fixed(path, columns, rows, status)
+  subroutine read_table_fixed(path, columns, rows, status, lines)
     !> File name.
     character(len=*), intent(in) :: path
     !> Numbers per row.
@@ -48,12 +48,14 @@ contains
     !> invalid_input (not text, line too long, malformed row), the message
     !> starting with `path: ` and naming the line.
     type(demstep_status_type), intent(out) :: status
-    call read_table_allowed(path, [columns], rows, status)
+    !> The file line of each row (for messages about a row found later).
+    integer, allocatable, intent(out), optional :: lines(:)
+    call read_table_allowed(path, [columns], rows, status, lines)
   end subroutine read_table_fixed
 
   !> A table whose rows all have the same number of columns, one of `allowed`;
   !> the first row decides which.
-  subroutine read_table_allowed(path, allowed, rows, status)
+  subroutine read_table_allowed(path, allowed, rows, status, lines)
     !> File name.
     character(len=*), intent(in) :: path
     !> The column counts a row may have (each >= 1).
@@ -64,6 +66,8 @@ contains
     !> As for the fixed layout; a row of another length than the first is
     !> refused naming both lines.
     type(demstep_status_type), intent(out) :: status
+    !> The file line of each row (for messages about a row found later).
+    integer, allocatable, intent(out), optional :: lines(:)
     integer :: unit, ios, line, n, n_rows, got, pass, k, count, n_read, ncol, first_line
     character(len=table_max_line + chunk) :: buf
     real(dp), allocatable :: values(:)
@@ -94,6 +98,7 @@ contains
         ! allowed count fails below, at its first line
         if (n_rows == 0) ncol = maxval(allowed)
         allocate(rows(ncol, n_rows))
+        if (present(lines)) allocate(lines(n_rows))
         rewind(unit, iostat=ios)
         if (ios /= 0) then
           call fail_at(demstep_stat%io_error, "cannot read it twice (a regular file is needed)")
@@ -149,15 +154,19 @@ contains
           end if
           cycle
         end if
-        if (count >= 0 .and. count /= ncol .and. any(allowed == count)) then
-          call fail_at(demstep_stat%invalid_input, "line "//int_text(line)//": "//int_text(count) &
-            //" numbers, but line "//int_text(first_line)//" has "//int_text(ncol)// &
-            " (every row the same)")
-          return
-        end if
         if (count >= 0 .and. count /= ncol) then
-          call fail_at(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
-            counts_text(allowed)//" numbers, found "//int_text(count))
+          if (ncol == 0) then
+            ! no row has an allowed count: the layout is not known
+            call fail_at(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
+              counts_text(allowed)//" numbers, found "//int_text(count))
+          else if (any(allowed == count)) then
+            call fail_at(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
+              int_text(ncol)//" numbers, found "//int_text(count)//" (line "//int_text(first_line) &
+              //" has "//int_text(ncol)//"; every row the same)")
+          else
+            call fail_at(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
+              int_text(ncol)//" numbers, found "//int_text(count))
+          end if
           return
         end if
         if (count < 0 .or. .not. all(ieee_is_finite(values(:max(count, 1))))) then
@@ -166,6 +175,7 @@ contains
           return
         end if
         rows(:, n) = values(:ncol)
+        if (present(lines)) lines(n) = line
       end do
       if (pass == 1) n_rows = n
     end do

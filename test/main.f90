@@ -11,6 +11,8 @@ program tester
   use test_roots, only: collect_roots
   use test_stiffness, only: collect_stiffness
   use test_scene, only: collect_scene
+  use test_interaction, only: collect_interaction
+  use test_yade, only: collect_yade
   use test_contact, only: collect_contact
   use test_cost, only: collect_cost
   use test_double_double, only: collect_double_double
@@ -42,6 +44,8 @@ program tester
     new_testsuite("roots", collect_roots), &
     new_testsuite("stiffness", collect_stiffness), &
     new_testsuite("scene", collect_scene), &
+    new_testsuite("interaction", collect_interaction), &
+    new_testsuite("yade", collect_yade), &
     new_testsuite("contact", collect_contact), &
     new_testsuite("cost", collect_cost), &
     new_testsuite("double_double", collect_double_double), &

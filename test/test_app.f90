@@ -470,7 +470,10 @@ contains
       dt_critical_damped, damping_ratio_top, dt_used, energy_drift, max_overlap
     integer(i8) :: steps
     logical :: eigen_computed, blew_up
-    namelist /scene_result/ n_particles, n_dof, n_springs, omega_max, eigen_computed, &
+    integer :: dof_per_particle
+    logical :: rotation, tangential, periodic, prestress
+    namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
+      periodic, prestress, omega_max, eigen_computed, &
       dt_critical_eigen, dt_critical_bound, dt_contact_rule, dt_critical_damped, &
       damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, blew_up
     call remove(out)

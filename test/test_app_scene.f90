@@ -37,7 +37,8 @@ contains
       new_unittest("a row with an extra or hidden column is refused", test_extra_column), &
       new_unittest("extreme radius, damping, mass and stiffness", test_extremes), &
       new_unittest("no stiffness: the message names the variable", test_no_stiffness), &
-      new_unittest("long runs: announced with progress, absurd ones refused", test_long_runs) &
+      new_unittest("long runs: announced with progress, absurd ones refused", test_long_runs), &
+      new_unittest("inertia column, contacts_file, periodic cell: computed or refused", test_assembly_inputs) &
       ]
   end subroutine collect_app_scene
 
@@ -73,7 +74,10 @@ contains
       dt_critical_damped, damping_ratio_top, dt_used, energy_drift, max_overlap
     integer(i8) :: steps
     logical :: eigen_computed, blew_up
-    namelist /scene_result/ n_particles, n_dof, n_springs, omega_max, eigen_computed, &
+    integer :: dof_per_particle
+    logical :: rotation, tangential, periodic, prestress
+    namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
+      periodic, prestress, omega_max, eigen_computed, &
       dt_critical_eigen, dt_critical_bound, dt_contact_rule, dt_critical_damped, &
       damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, blew_up
     call write_file(deck, [line])
@@ -326,6 +330,68 @@ contains
     if (allocated(error)) return
     call expect_refusal(error, g//"k_normal = 1e4 /", "&scene: position: the scene has no stiffness")
   end subroutine test_no_stiffness
+
+  !> A pair from a 10-column particle table (with inertia), its contact from a
+  !> contacts_file, through a periodic cell (the second particle wrapped in);
+  !> each bad input refused with the line.
+  subroutine test_assembly_inputs(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_result_type) :: res
+    character(len=*), parameter :: g = "&scene dim = 3, particles_file = 'p.txt', contacts_file = 'c.txt', " &
+      //"periodic = T, F, F, "
+    call write_file(work_dir//"/p.txt", [character(len=60) :: "# x y z vx vy vz m r fixed inertia", &
+      "0.1 0 0  0 0 0  1 0.6 0 0.4", "5.1 0 0  0 0 0  1 0.6 0 0.4"])
+    call write_file(work_dir//"/c.txt", [character(len=20) :: "# i j k_n k_t", "1 2 100 60"])
+    ! x = 5.1 wraps to 1.1: one contact; the tangential-rotational mode is on top:
+    ! omega^2 = k_t (2/m + 2 r^2/I) = 60 x 3.8 = 228 > 2 k_n = 200
+    call expect_result(error, g//"cell_hi = 4.0, 1.0, 1.0 /", res)
+    if (allocated(error)) return
+    call check(error, res%n_springs, 1, "one contact")
+    if (allocated(error)) return
+    call check(error, res%omega_max, sqrt(228.0_dp), rel=.true., thr=1.0e-12_dp, message="omega_max")
+    if (allocated(error)) return
+    call expect_refusal(error, g//"cell_hi = 2.0, 1.0, 1.0 /", "&scene: cell_hi: axis 1: the periodic cell " &
+      //"must be at least twice the longest contact")
+    if (allocated(error)) return
+    call expect_refusal(error, g//"cell_lo = 0.0, 0.0, 0.0 /", "&scene: cell_hi: required with periodic axes")
+    if (allocated(error)) return
+    call write_file(work_dir//"/c.txt", [character(len=20) :: "# i j k_n k_t", "1 3 100 60"])
+    call expect_refusal(error, g//"cell_hi = 4.0, 1.0, 1.0 /", "&scene: contacts_file: "//work_dir// &
+      "/c.txt: line 2: names a missing particle (1, 3; there are 2)")
+    if (allocated(error)) return
+    call write_file(work_dir//"/c.txt", [character(len=20) :: "1 2 100 -1"])
+    call expect_refusal(error, g//"cell_hi = 4.0, 1.0, 1.0 /", "&scene: contacts_file: "//work_dir// &
+      "/c.txt: line 1: k_t must be >= 0")
+    if (allocated(error)) return
+    call write_file(work_dir//"/c.txt", [character(len=20) :: "1 2 100"])
+    call expect_refusal(error, g//"cell_hi = 4.0, 1.0, 1.0 /", "&scene: contacts_file: "//work_dir// &
+      "/c.txt: line 1: expected 4 numbers, found 3")
+    if (allocated(error)) return
+    call write_file(work_dir//"/p.txt", [character(len=60) :: "0.1 0 0  0 0 0  1 0.6 0 0.4", &
+      "5.1 0 0  0 0 0  1 0.6 0 0"])
+    call expect_refusal(error, g//"cell_hi = 4.0, 1.0, 1.0 /", "&scene: particles_file: "//work_dir// &
+      "/p.txt: inertia: particle 2: must be > 0")
+    if (allocated(error)) return
+    ! materials per type: the pair's k_n, k_t from the type table
+    call expect_result(error, "&scene dim = 2, position = 0.0, 0.0, 1.0, 0.0, radius = 0.6, mass = 1.0, " &
+      //"types = 1, 2, type_k_normal = 1.0, 100.0, 100.0, 1.0, type_k_tangential = 0.0, 60.0, 60.0, 0.0 /", res)
+    if (allocated(error)) return
+    ! omega^2 = k_t (2/m + 2 r^2/I) = 60 x (2 + 5) = 420 > 2 k_n = 200
+    call check(error, res%omega_max, sqrt(420.0_dp), rel=.true., thr=1.0e-12_dp, message="types: omega_max")
+    if (allocated(error)) return
+    call expect_refusal(error, "&scene dim = 2, position = 0.0, 0.0, 1.0, 0.0, radius = 0.6, mass = 1.0, " &
+      //"types = 1, 3, type_k_normal = 1.0, 100.0, 100.0, 1.0 /", "&scene: types: particle 2: type 3 is " &
+      //"not one of the 2 materials")
+    if (allocated(error)) return
+    call expect_refusal(error, "&scene dim = 2, position = 0.0, 0.0, 1.0, 0.0, radius = 0.6, mass = 1.0, " &
+      //"types = 1, 2, type_k_normal = 1.0, 100.0, 90.0, 1.0 /", "&scene: type_k_normal: must be symmetric")
+    if (allocated(error)) return
+    call expect_refusal(error, "&scene dim = 2, position = 0.0, 0.0, 1.0, 0.0, radius = 0.6, mass = 1.0, " &
+      //"types = 1, 2, type_k_normal = 1.0, 100.0, 100.0 /", "&scene: type_k_normal: needs nt x nt values")
+    if (allocated(error)) return
+    call expect_refusal(error, "&scene dim = 2, position = 0.0, 0.0, 1.0, 0.0, radius = 0.6, mass = 1.0, " &
+      //"law = 'hertz', types = 1, 1, young = 1e9, poisson = 0.7 /", "&scene: poisson: must be in (-1, 0.5]")
+  end subroutine test_assembly_inputs
 
   !> A run of 1e9 steps says up front how much it will do and then shows
   !> progress (it is stopped after 8 s by `timeout`); with -q it says nothing;

@@ -45,7 +45,7 @@ contains
       "PICK_LARGEST_STEP", "PICK_ZERO", "AGGREGATE_MEAN", "AGGREGATE_WEIGHTED", "AGGREGATE_MEDIAN", &
       "AGGREGATE_MIN", "AGGREGATE_MAX", "QUANTITY_RESTITUTION", "QUANTITY_CONTACT_TIME", &
       "QUANTITY_OVERLAP", "QUANTITY_PERIOD", "LAW_LINEAR", "LAW_HERTZ", "EFFECT_CONTACTS", &
-      "EFFECT_GRAVITY", "EFFECT_DAMPING", "EFFECT_LOCAL_DAMPING", "EFFECT_WALLS"]
+      "EFFECT_GRAVITY", "EFFECT_DAMPING", "EFFECT_LOCAL_DAMPING", "EFFECT_WALLS", "EFFECT_ROTATION"]
     values = [demstep_stat%ok, demstep_stat%invalid_input, demstep_stat%unstable, demstep_stat%pole, &
       demstep_stat%not_converged, demstep_stat%not_found, demstep_stat%lapack_failure, &
       demstep_stat%io_error, demstep_stat%blow_up, demstep_stat%at_stability_limit, &
@@ -53,10 +53,10 @@ contains
       step_kind%fraction, step_kind%rounded, pick_kind%largest_step, pick_kind%zero, &
       aggregate_kind%mean, aggregate_kind%weighted, aggregate_kind%median, aggregate_kind%min, &
       aggregate_kind%max, quantity_kind%restitution, quantity_kind%contact_time, &
-      quantity_kind%overlap, quantity_kind%period, law_linear, law_hertz, &
+      quantity_kind%overlap, quantity_kind%period, contact_law%linear, contact_law%hertz, &
       ! effects are bit flags: bit (index - 1) of the Fortran effect index
-      2**(effect_contacts - 1), 2**(effect_gravity - 1), 2**(effect_damping - 1), &
-      2**(effect_local_damping - 1), 2**(effect_walls - 1)]
+      2**(scene_effect%contacts - 1), 2**(scene_effect%gravity - 1), 2**(scene_effect%damping - 1), &
+      2**(scene_effect%local_damping - 1), 2**(scene_effect%walls - 1), 2**(scene_effect%rotation - 1)]
     allocate(seen(size(names)), source=.false.)
     call read_file("include/demstep.h", text)
     call check(error, len(text) > 0, "include/demstep.h read")

@@ -162,7 +162,7 @@ contains
       n = sizes(i)
       ! fixed ends: n - 2 free masses, omega_k = 2 sqrt(k/m) sin(k pi/(2(n-1)))
       call chain(scene, n, 2.0_dp, 50.0_dp, .true., .false.)
-      call critical_time_steps(scene, c, status)
+      call assembly_critical_steps(scene, c, status)
       call check(error, status%stat, demstep_stat%ok)
       if (allocated(error)) return
       call check(error, c%omega_max, 10.0_dp*sin((n - 2)*pi/(2.0_dp*(n - 1))), thr=1.0e-13_dp, &
@@ -170,13 +170,13 @@ contains
       if (allocated(error)) return
       ! free ends: omega_k = 2 sqrt(k/m) sin(k pi/(2n)), k = 0..n-1
       call chain(scene, n, 2.0_dp, 50.0_dp, .false., .false.)
-      call critical_time_steps(scene, c, status)
+      call assembly_critical_steps(scene, c, status)
       call check(error, c%omega_max, 10.0_dp*sin((n - 1)*pi/(2.0_dp*n)), thr=1.0e-13_dp, &
         rel=.true., message="free chain of "//real_str(real(n, dp)))
       if (allocated(error)) return
       ! ring: omega_k = 2 sqrt(k/m) |sin(pi k/n)|
       call chain(scene, n, 2.0_dp, 50.0_dp, .false., .true.)
-      call critical_time_steps(scene, c, status)
+      call assembly_critical_steps(scene, c, status)
       call check(error, c%omega_max, 10.0_dp*sin(pi*(n/2)/real(n, dp)), thr=1.0e-13_dp, &
         rel=.true., message="ring of "//real_str(real(n, dp)))
       if (allocated(error)) return
@@ -193,7 +193,7 @@ contains
     do trial = 1, 40
       call packing(scene, 10 + trial, 1.2_dp + 0.02_dp*trial, mod(trial, 2) == 0)
       if (size(scene%bonds, 2) == 0) cycle
-      call critical_time_steps(scene, c, status)
+      call assembly_critical_steps(scene, c, status)
       if (status%stat /= demstep_stat%ok) cycle
       ! LAPACK's eigenvalue is accurate to a few ulps of the matrix norm
       call check(error, c%omega_bound >= c%omega_max*(1.0_dp - 1.0e-13_dp), "bound "// &
@@ -221,7 +221,7 @@ contains
       case (3)
         call packing(start, 25, 1.5_dp, .true.)
       end select
-      call critical_time_steps(start, c, status)
+      call assembly_critical_steps(start, c, status)
       call check(error, status%stat, demstep_stat%ok)
       if (allocated(error)) return
       scene = start
@@ -245,7 +245,7 @@ contains
     type(scene_summary_type) :: summary
     type(demstep_status_type) :: status
     call chain(scene, 30, 1.0_dp, 1.0_dp, .true., .false.)
-    call critical_time_steps(scene, c, status)
+    call assembly_critical_steps(scene, c, status)
     ! 2 sqrt(m*/k) with m* = m/2 is sqrt(2) while the chain's limit tends to 1
     call check(error, c%dt_contact_rule, sqrt(2.0_dp), thr=1.0e-14_dp, rel=.true., message="rule")
     if (allocated(error)) return
@@ -269,7 +269,7 @@ contains
     call new_scene(scene, 3, reshape(x0, [3, 1]), [2.0_dp], [0.1_dp], status, &
       v=reshape(v0 + 0.5_dp*g*dt, [3, 1]))
     scene%effects = no_effects
-    scene%effects(effect_gravity) = .true.
+    scene%effects(scene_effect%gravity) = .true.
     scene%gravity = g
     call scene_run(scene, dt, 2000_i8, summary, status)
     t = 2000*dt
@@ -294,7 +294,7 @@ contains
     call scene_add_bonds(scene, reshape([1, 2], [2, 1]), status)
     scene%k_bond = 4.0_dp
     scene%effects = no_effects
-    scene%effects(effect_damping) = .true.
+    scene%effects(scene_effect%damping) = .true.
     zeta = 0.1_dp
     scene%damping_ratio = zeta
     omega = 2.0_dp
@@ -313,7 +313,7 @@ contains
     call check(error, scene%x(1, 2) - 1.0_dp, x, thr=1.0e-12_dp, message="displacement after 400 steps")
     if (allocated(error)) return
     ! the damped limit of this single mode: (2/omega)(sqrt(1 + zeta^2) - zeta)
-    call critical_time_steps(scene, c, status)
+    call assembly_critical_steps(scene, c, status)
     call check(error, c%damping_ratio_top, zeta, thr=1.0e-13_dp, rel=.true., message="modal zeta")
     if (allocated(error)) return
     call check(error, c%dt_critical_damped, (sqrt(1.0_dp + zeta**2) - zeta), thr=1.0e-13_dp, &
@@ -335,7 +335,7 @@ contains
         v=reshape([-1.0_dp], [1, 1]))
       call scene_add_walls(scene, reshape([0.0_dp], [1, 1]), reshape([1.0_dp], [1, 1]), status)
       scene%effects = no_effects
-      scene%effects(effect_walls) = .true.
+      scene%effects(scene_effect%walls) = .true.
       scene%k_normal = 800.0_dp
       omega = 20.0_dp
       dt = 2.0_dp*pi/(omega*ns(i))
@@ -361,8 +361,8 @@ contains
       v=reshape([0.0_dp, -1.0_dp], [2, 1]))
     call scene_add_walls(scene, reshape([0.0_dp, 0.0_dp], [2, 1]), reshape([0.0_dp, 2.0_dp], [2, 1]), status)
     scene%effects = no_effects
-    scene%effects(effect_walls) = .true.
-    scene%effects(effect_damping) = .true.
+    scene%effects(scene_effect%walls) = .true.
+    scene%effects(scene_effect%damping) = .true.
     scene%k_normal = 800.0_dp
     scene%damping_ratio = restitution_to_damping_ratio(e_target)
     ! 1000 steps per period: the continuous restitution to about 1 %
@@ -384,7 +384,7 @@ contains
     call check(error, summary%energy_drift < 1.0e-10_dp, "undamped chain keeps its energy")
     if (allocated(error)) return
     scene = start
-    scene%effects(effect_local_damping) = .true.
+    scene%effects(scene_effect%local_damping) = .true.
     scene%local_damping = 0.1_dp
     call scene_run(scene, 0.1_dp, 5000_i8, summary, status, sample_every=100_i8)
     do k = 2, size(summary%sample_energy)
@@ -406,10 +406,10 @@ contains
     call new_scene(scene, 3, reshape([0.0_dp, 0.0_dp, 0.0_dp, 2.0e-3_dp, 0.0_dp, 0.0_dp], [3, 2]), &
       [1.0e-3_dp, 1.0e-3_dp], [1.0e-3_dp, 1.0e-3_dp], status, &
       v=reshape([0.5_dp, 0.0_dp, 0.0_dp, -0.5_dp, 0.0_dp, 0.0_dp], [3, 2]))
-    scene%law = law_hertz
+    scene%law = contact_law%hertz
     scene%e_star = 1.0e8_dp
     scene%effects = no_effects
-    scene%effects(effect_contacts) = .true.
+    scene%effects(scene_effect%contacts) = .true.
     call scene_run(scene, 1.0e-8_dp, 20000_i8, summary, status, sample_every=10_i8)
     ! energy is kept to O(dt^2) and the largest overlap is Hertz's
     ! d = (15 m* v^2/(16 E* sqrt(R*)))^(2/5), v the approach speed
@@ -448,7 +448,7 @@ contains
       "a bond to a missing particle")
     if (allocated(error)) return
     scene%effects = no_effects
-    call critical_time_steps(scene, c, status)
+    call assembly_critical_steps(scene, c, status)
     call check(error, status%stat, demstep_stat%invalid_input, message="no stiffness")
   end subroutine test_bad_scenes
 
@@ -545,7 +545,7 @@ contains
       call scene_add_bonds(scene, reshape([1, 2], [2, 1]), status)
       scene%k_bond = stiffness(k)
       scene%effects = no_effects
-      call critical_time_steps(scene, c, status)
+      call assembly_critical_steps(scene, c, status)
       call check(error, status%stat, demstep_stat%ok, message="case "//real_str(real(k, dp))//": "// &
         status%message)
       if (allocated(error)) return
@@ -576,9 +576,9 @@ contains
     call scene_add_bonds(scene, reshape([1, 2], [2, 1]), status)
     scene%k_bond = 4.0_dp
     scene%effects = no_effects
-    scene%effects(effect_damping) = .true.
+    scene%effects(scene_effect%damping) = .true.
     scene%damping_ratio = 1.0e100_dp
-    call critical_time_steps(scene, c, status)
+    call assembly_critical_steps(scene, c, status)
     call check(error, status%stat, demstep_stat%ok, message=status%message)
     if (allocated(error)) return
     call check(error, c%damping_ratio_top, 1.0e100_dp, thr=1.0e-13_dp, rel=.true., message="modal zeta")
@@ -587,7 +587,7 @@ contains
     call check(error, c%dt_critical_damped, 0.5e-100_dp, thr=1.0e-13_dp, rel=.true., message="damped")
     if (allocated(error)) return
     scene%damping_ratio = 1.0e308_dp
-    call critical_time_steps(scene, c, status)
+    call assembly_critical_steps(scene, c, status)
     call check(error, status%stat == demstep_stat%invalid_input .and. &
       index(status%message, "damping_ratio: must be in [0, 1e100]") == 1, "refused: "//status%message)
     if (allocated(error)) return
@@ -629,18 +629,18 @@ contains
     real(dp), parameter :: x(1, 2) = reshape([0.0_dp, 3.0_dp], [1, 2])
     call new_scene(scene, 1, x, [1.0_dp, 1.0_dp], [1.0_dp, 1.0_dp], status, fixed=[.true., .true.])
     scene%k_normal = 1.0_dp
-    call critical_time_steps(scene, c, status)
+    call assembly_critical_steps(scene, c, status)
     call check(error, index(status%message, "fixed: every particle is fixed") == 1, "all fixed: "//status%message)
     if (allocated(error)) return
     call new_scene(scene, 1, x, [1.0_dp, 1.0_dp], [1.0_dp, 1.0_dp], status)
     scene%effects = no_effects
-    call critical_time_steps(scene, c, status)
+    call assembly_critical_steps(scene, c, status)
     call check(error, index(status%message, "effects: the scene has no stiffness") == 1, &
       "no effects: "//status%message)
     if (allocated(error)) return
-    scene%effects(effect_contacts) = .true.
+    scene%effects(scene_effect%contacts) = .true.
     scene%k_normal = 1.0_dp
-    call critical_time_steps(scene, c, status)
+    call assembly_critical_steps(scene, c, status)
     call check(error, index(status%message, "position: the scene has no stiffness") == 1, &
       "apart: "//status%message)
   end subroutine test_no_stiffness

@@ -59,7 +59,7 @@ contains
     call write_file(table, [character(len=40) :: "1 2", "# two columns first", "4 5 6"])
     call read_table(table, [2, 3], rows, status)
     call expect(error, status, demstep_stat%invalid_input, &
-      table//": line 3: 3 numbers, but line 1 has 2 (every row the same)")
+      table//": line 3: expected 2 numbers, found 3 (line 1 has 2; every row the same)")
     if (allocated(error)) return
     call write_file(table, [character(len=40) :: "1 2 3 4 5"])
     call read_table(table, [2, 3, 4], rows, status)

@@ -13,7 +13,7 @@ program dem_solver
   ! a 6 x 6 x 6 bonded lattice with contacts
   call cubic_lattice(scene, 6, 0.45_dp, 1.0e3_dp, status)
   if (.not. is_ok(status)) error stop status%message
-  call critical_time_steps(scene, limits, status)
+  call assembly_critical_steps(scene, limits, status)
   if (.not. is_ok(status)) error stop status%message
   dt = 0.2_dp*limits%dt_critical_eigen
   call scene_run(scene, dt, 20000_i8, summary, status)

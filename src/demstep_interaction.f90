@@ -1,0 +1,244 @@
+!> One interaction kernel for the stepper and the stability analysis.
+!>
+!> Every interaction of a scene (particle pair, particle and wall, bond) is a
+!> contact between two bodies i and j with a unit normal n from i to j, a normal
+!> spring and a tangential spring acting at the contact point, which lies at
+!> `arm_i n` from the centre of i and at `-arm_j n` from the centre of j (the
+!> radii for a particle pair; 0 for a wall (body i, the ground) and for bonds,
+!> which join centres). The relative displacement of the contact point is
+!>   u_c = u_j - u_i + arm_j n x theta_j + arm_i n x theta_i,
+!> the force on j is f = F_n n - k_t u_s (u_s the tangential part of u_c, kept
+!> incrementally with its history) and -f on i; the torques are
+!> -arm_i n x f on i and -arm_j n x f on j.
+!>
+!> The linearisation of exactly this force about a state without shear load is
+!> the 12 x 12 block on (u_i, theta_i, u_j, theta_j) of `contact_block`:
+!>   K = k_n b_n^T b_n + k_t B_t^T B_t - (F_n/l) B_p^T B_p,
+!> b_n = [-n^T, 0, n^T, 0], B_t = [-P, arm_i N, P, arm_j N], B_p = [-P, 0, P, 0],
+!> P = I - n n^T, N = [n]x; the last term is the pre-stress (geometric)
+!> stiffness of a loaded normal spring of length l whose direction turns.
+module demstep_interaction
+  use demstep_kinds, only: dp
+  implicit none
+  private
+
+  public :: reduced_radius, reduced_mass, normal_force, normal_stiffness, tangential_stiffness, &
+    normal_energy, dashpot_coefficient, wall_overlap, contact_block, contact_forces, &
+    add_bond_forces, dof_components, hertz_e_star, mindlin_g_star
+
+  !> Contact laws, as components of a parameter: `contact_law%hertz`.
+  type, public :: contact_law_enum
+    !> F = k_n d, tangential k_t.
+    integer :: linear = 1
+    !> F = (4/3) E* sqrt(R* d) d, tangential (Mindlin) 8 G* sqrt(R* d).
+    integer :: hertz = 2
+  end type contact_law_enum
+  !> The contact laws by name.
+  type(contact_law_enum), parameter, public :: contact_law = contact_law_enum()
+
+contains
+
+  !> R* = r_i r_j/(r_i + r_j), without overflow (a wall: pass r_j = huge).
+  elemental real(dp) function reduced_radius(ri, rj) result(rs)
+    real(dp), intent(in) :: ri, rj
+    rs = min(ri, rj)/(1.0_dp + min(ri, rj)/max(ri, rj))
+  end function reduced_radius
+
+  !> m* = m_i m_j/(m_i + m_j) as m_a/(1 + m_a/m_b), m_a the lighter (no under- or
+  !> overflow); an infinite (fixed, ground) partner is passed as huge.
+  elemental real(dp) function reduced_mass(mi, mj) result(m)
+    real(dp), intent(in) :: mi, mj
+    if (mj >= huge(1.0_dp)) then
+      m = mi
+    else if (mi >= huge(1.0_dp)) then
+      m = mj
+    else
+      m = min(mi, mj)/(1.0_dp + min(mi, mj)/max(mi, mj))
+    end if
+  end function reduced_mass
+
+  !> Normal force magnitude at overlap d: k d (linear) or (4/3) E* sqrt(R*) d^(3/2).
+  elemental real(dp) function normal_force(law, k, e_star, d, rs) result(f)
+    integer, intent(in) :: law
+    real(dp), intent(in) :: k, e_star, d, rs
+    if (law == contact_law%linear) then
+      f = k*d
+    else
+      f = (4.0_dp/3.0_dp)*e_star*sqrt(rs)*d**1.5_dp
+    end if
+  end function normal_force
+
+  !> dF_n/dd at overlap d: k (linear) or 2 E* sqrt(R* d) (Hertz).
+  elemental real(dp) function normal_stiffness(law, k, e_star, d, rs) result(kn)
+    integer, intent(in) :: law
+    real(dp), intent(in) :: k, e_star, d, rs
+    if (law == contact_law%linear) then
+      kn = k
+    else
+      kn = 2.0_dp*e_star*sqrt(rs*d)
+    end if
+  end function normal_stiffness
+
+  !> Tangential stiffness at overlap d: k_t (linear) or Mindlin's 8 G* sqrt(R* d) (Hertz).
+  elemental real(dp) function tangential_stiffness(law, kt, g_star, d, rs) result(k)
+    integer, intent(in) :: law
+    real(dp), intent(in) :: kt, g_star, d, rs
+    if (law == contact_law%linear) then
+      k = kt
+    else
+      k = 8.0_dp*g_star*sqrt(rs*max(d, 0.0_dp))
+    end if
+  end function tangential_stiffness
+
+  !> Hertz's effective modulus of two materials (Young's modulus, Poisson's
+  !> ratio): 1/E* = (1 - nu_i^2)/E_i + (1 - nu_j^2)/E_j.
+  elemental real(dp) function hertz_e_star(e_i, nu_i, e_j, nu_j) result(e_star)
+    real(dp), intent(in) :: e_i, nu_i, e_j, nu_j
+    e_star = 1.0_dp/((1.0_dp - nu_i**2)/e_i + (1.0_dp - nu_j**2)/e_j)
+  end function hertz_e_star
+
+  !> Mindlin's effective shear modulus of two materials: 1/G* = (2 - nu_i)/G_i +
+  !> (2 - nu_j)/G_j with G = E/(2 (1 + nu)).
+  elemental real(dp) function mindlin_g_star(e_i, nu_i, e_j, nu_j) result(g_star)
+    real(dp), intent(in) :: e_i, nu_i, e_j, nu_j
+    g_star = 1.0_dp/(2.0_dp*(2.0_dp - nu_i)*(1.0_dp + nu_i)/e_i + 2.0_dp*(2.0_dp - nu_j)*(1.0_dp + nu_j)/e_j)
+  end function mindlin_g_star
+
+  !> Elastic energy of the normal spring at overlap d.
+  elemental real(dp) function normal_energy(law, k, e_star, d, rs) result(u)
+    integer, intent(in) :: law
+    real(dp), intent(in) :: k, e_star, d, rs
+    if (law == contact_law%linear) then
+      u = 0.5_dp*k*d**2
+    else
+      u = (8.0_dp/15.0_dp)*e_star*sqrt(rs)*d**2.5_dp
+    end if
+  end function normal_energy
+
+  !> The normal dashpot c = 2 zeta sqrt(m* k) of a spring of tangent stiffness k.
+  elemental real(dp) function dashpot_coefficient(zeta, m, k) result(c)
+    real(dp), intent(in) :: zeta, m, k
+    c = 2.0_dp*zeta*sqrt(m*k)
+  end function dashpot_coefficient
+
+  !> Overlap r - (x - p).n of a sphere (centre x, radius r) with the wall through p
+  !> of unit normal n (pointing into the domain).
+  pure real(dp) function wall_overlap(x, r, p, n) result(d)
+    real(dp), intent(in) :: x(3), r, p(3), n(3)
+    d = r - dot_product(x - p, n)
+  end function wall_overlap
+
+  !> The 12 x 12 tangent stiffness of one interaction on (u_i, theta_i, u_j,
+  !> theta_j): normal k_n, tangential k_t with lever arms arm_i, arm_j, and the
+  !> pre-stress term -geo (I - n n^T) on the relative translation (geo = F_n/l,
+  !> 0 to leave it out). K f = -dF/dq for the forces and torques of `contact_forces`.
+  pure function contact_block(n, k_n, k_t, arm_i, arm_j, geo) result(k)
+    real(dp), intent(in) :: n(3), k_n, k_t, arm_i, arm_j, geo
+    real(dp) :: k(12, 12)
+    real(dp) :: bt(3, 12), bn(12), p(3, 3), nx(3, 3), bp(3, 12)
+    integer :: a
+    p = -spread(n, 2, 3)*spread(n, 1, 3)
+    do a = 1, 3
+      p(a, a) = p(a, a) + 1.0_dp
+    end do
+    nx = reshape([0.0_dp, n(3), -n(2), -n(3), 0.0_dp, n(1), n(2), -n(1), 0.0_dp], [3, 3])
+    bn = 0.0_dp
+    bn(1:3) = -n
+    bn(7:9) = n
+    bt(:, 1:3) = -p
+    bt(:, 4:6) = arm_i*nx
+    bt(:, 7:9) = p
+    bt(:, 10:12) = arm_j*nx
+    bp = 0.0_dp
+    bp(:, 1:3) = -p
+    bp(:, 7:9) = p
+    k = k_n*spread(bn, 2, 12)*spread(bn, 1, 12) + k_t*matmul(transpose(bt), bt)
+    if (geo /= 0.0_dp) k = k - geo*matmul(transpose(bp), bp)
+  end function contact_block
+
+  !> Forces and torques of one interaction in the stepper. The shear displacement
+  !> u_s (history, inout) is first turned into the plane normal to the current n
+  !> (keeping its length), then incremented by the tangential part of the contact
+  !> point's relative displacement since the last step (dx = increment of
+  !> x_j - x_i, dtheta the rotation increments), and capped by Coulomb's
+  !> |k_t u_s| <= friction F_n (friction < 0: no cap). Returns the force on j
+  !> (-f on i) and the torques on i and j.
+  pure subroutine contact_forces(n, f_n, k_t, friction, arm_i, arm_j, dx, dtheta_i, dtheta_j, &
+      u_s, f, t_i, t_j)
+    real(dp), intent(in) :: n(3), f_n, k_t, friction, arm_i, arm_j, dx(3), dtheta_i(3), dtheta_j(3)
+    real(dp), intent(inout) :: u_s(3)
+    real(dp), intent(out) :: f(3), t_i(3), t_j(3)
+    real(dp) :: du(3), len0, len1, cap, ft
+    if (k_t > 0.0_dp) then
+      len0 = norm2(u_s)
+      if (len0 > 0.0_dp) then
+        u_s = u_s - dot_product(u_s, n)*n
+        len1 = norm2(u_s)
+        if (len1 > 0.0_dp) u_s = u_s*(len0/len1)
+      end if
+      du = dx + arm_j*cross(n, dtheta_j) + arm_i*cross(n, dtheta_i)
+      u_s = u_s + (du - dot_product(du, n)*n)
+      if (friction >= 0.0_dp) then
+        cap = friction*max(f_n, 0.0_dp)
+        ft = k_t*norm2(u_s)
+        if (ft > cap) u_s = u_s*(cap/ft)
+      end if
+      f = f_n*n - k_t*u_s
+      t_i = -arm_i*cross(n, f)
+      t_j = -arm_j*cross(n, f)
+    else
+      f = f_n*n
+      t_i = 0.0_dp
+      t_j = 0.0_dp
+    end if
+  end subroutine contact_forces
+
+  !> Add the forces of nb bonds at positions x to f (the stepper's hot loop for
+  !> bonds, on plain contiguous arrays). A bond (i, j) with rest vector r0 and
+  !> unit direction n0, stretched by u = x_j - x_i - r0, pulls i by
+  !> k_n n0 (n0 . u) + k_t (u - n0 (n0 . u)) = (k_n - k_t)(n0 . u) n0 + k_t u
+  !> and j by the opposite. With `box` (the periods, 0 along open axes) u is
+  !> taken through the nearest image.
+  pure subroutine add_bond_forces(nb, n, bonds, x, rest, normal, k_n, k_t, f, box)
+    integer, intent(in) :: nb, n, bonds(2, nb)
+    real(dp), intent(in) :: x(3, n), rest(3, nb), normal(3, nb), k_n, k_t
+    real(dp), intent(inout) :: f(3, n)
+    real(dp), intent(in), optional :: box(3)
+    integer :: b, i, j
+    real(dp) :: fb(3), u(3)
+    do b = 1, nb
+      i = bonds(1, b)
+      j = bonds(2, b)
+      u = x(:, j) - x(:, i) - rest(:, b)
+      if (present(box)) where (box > 0.0_dp) u = u - box*anint(u/box)
+      fb = ((k_n - k_t)*dot_product(normal(:, b), u))*normal(:, b) + k_t*u
+      f(:, i) = f(:, i) + fb
+      f(:, j) = f(:, j) - fb
+    end do
+  end subroutine add_bond_forces
+
+  !> a x b.
+  pure function cross(a, b) result(c)
+    real(dp), intent(in) :: a(3), b(3)
+    real(dp) :: c(3)
+    c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
+  end function cross
+
+  !> The components (of u(1:3), theta(4:6)) that are degrees of freedom of a
+  !> particle in `dim` dimensions: translations up to dim, and with rotations
+  !> theta_z in 2D, all three in 3D (none in 1D).
+  pure function dof_components(dim, rotation) result(c)
+    integer, intent(in) :: dim
+    logical, intent(in) :: rotation
+    integer, allocatable :: c(:)
+    if (.not. rotation .or. dim == 1) then
+      c = [1, 2, 3]
+      c = c(:dim)
+    else if (dim == 2) then
+      c = [1, 2, 6]
+    else
+      c = [1, 2, 3, 4, 5, 6]
+    end if
+  end function dof_components
+
+end module demstep_interaction

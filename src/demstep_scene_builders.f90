@@ -1,0 +1,486 @@
+!> Scene builders: a scene from particle arrays, its bonds, walls, explicit
+!> contact list and periodic cell, each checked on the way in; and a ready
+!> cubic lattice for tests and benchmarks.
+module demstep_scene_builders
+  use demstep_kinds, only: dp, pi
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_text, only: int_text
+  use demstep_scene_data, only: scene_type, scene_effect, branch_vector
+  use demstep_interaction, only: hertz_e_star, mindlin_g_star
+  use demstep_neighbours, only: search_type, prepare_search, find_contacts, search_trouble
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  implicit none
+  private
+
+  public :: new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, scene_set_cell, &
+    scene_set_types, scene_set_hertz_types, &
+    cubic_lattice, restitution_to_damping_ratio, wrap_positions
+
+  !> Largest |coordinate| and radius of a scene: squared distances stay finite.
+  real(dp), parameter, public :: max_coordinate = 1.0e150_dp
+
+contains
+
+  !> Build a scene from particle arrays. Status `invalid_input` names the first
+  !> bad value, its message starting with the variable (`mass:`, `radius:`,
+  !> `inertia:`, `position:`, `velocity:`, `fixed:`): non-positive or too small
+  !> mass (1/m must be finite), non-positive inertia, radius or coordinates
+  !> beyond `max_coordinate`, wrong sizes, non-finite values, two particles at the
+  !> same point (their contact normal is undefined), overlapping fixed particles,
+  !> more than `contact_limit` contacts.
+  subroutine new_scene(scene, dim, x, mass, radius, status, v, fixed, inertia)
+    type(scene_type), intent(out) :: scene
+    integer, intent(in) :: dim
+    !> Positions (dim, n).
+    real(dp), intent(in) :: x(:, :)
+    real(dp), intent(in) :: mass(:), radius(:)
+    type(demstep_status_type), intent(out) :: status
+    !> Velocities (dim, n), default 0.
+    real(dp), intent(in), optional :: v(:, :)
+    !> Fixed flags, default none.
+    logical, intent(in), optional :: fixed(:)
+    !> Moments of inertia (> 0), default 2/5 m r^2 (a solid sphere).
+    real(dp), intent(in), optional :: inertia(:)
+    integer :: n, i
+    scene%gravity = 0.0_dp
+    if (dim < 1 .or. dim > 3) then
+      call set_status(status, demstep_stat%invalid_input, "dim: must be 1, 2 or 3")
+      return
+    end if
+    n = size(mass)
+    if (size(x, 1) /= dim .or. size(x, 2) /= n .or. size(radius) /= n) then
+      call set_status(status, demstep_stat%invalid_input, "position: positions, masses and radii " &
+        //"must describe the same particles")
+      return
+    end if
+    do i = 1, n
+      if (.not. (ieee_is_finite(mass(i)) .and. mass(i) > 0.0_dp)) then
+        call set_status(status, demstep_stat%invalid_input, "mass: particle "//int_text(i)//": must be > 0")
+        return
+      end if
+      if (.not. ieee_is_finite(1.0_dp/mass(i))) then
+        call set_status(status, demstep_stat%invalid_input, "mass: particle "//int_text(i)//": must be " &
+          //"at least 5.6e-309 (1/mass must be finite)")
+        return
+      end if
+      if (.not. (ieee_is_finite(radius(i)) .and. radius(i) > 0.0_dp)) then
+        call set_status(status, demstep_stat%invalid_input, "radius: particle "//int_text(i)//": must be > 0")
+        return
+      end if
+      if (radius(i) > max_coordinate) then
+        call set_status(status, demstep_stat%invalid_input, "radius: particle "//int_text(i)//": must be " &
+          //"at most 1e150 (squared distances must be representable)")
+        return
+      end if
+      if (.not. all(ieee_is_finite(x(:, i)))) then
+        call set_status(status, demstep_stat%invalid_input, "position: particle "//int_text(i)//" is not finite")
+        return
+      end if
+      if (any(abs(x(:, i)) > max_coordinate)) then
+        call set_status(status, demstep_stat%invalid_input, "position: particle "//int_text(i)//": every " &
+          //"coordinate must be within +-1e150 (squared distances must be representable)")
+        return
+      end if
+    end do
+    scene%dim = dim
+    scene%n = n
+    allocate(scene%x(3, n), source=0.0_dp)
+    scene%x(:dim, :) = x
+    scene%mass = mass
+    scene%radius = radius
+    if (present(inertia)) then
+      if (size(inertia) /= n) then
+        call set_status(status, demstep_stat%invalid_input, "inertia: one per particle")
+        return
+      end if
+      do i = 1, n
+        if (.not. (ieee_is_finite(inertia(i)) .and. inertia(i) > 0.0_dp)) then
+          call set_status(status, demstep_stat%invalid_input, "inertia: particle "//int_text(i)// &
+            ": must be > 0 and finite")
+          return
+        end if
+      end do
+      scene%inertia = inertia
+    else
+      ! 2/5 m r^2, saturated (only rotations use it)
+      scene%inertia = min(0.4_dp*mass*radius, huge(1.0_dp)/max(1.0_dp, radius))*radius
+    end if
+    allocate(scene%v(3, n), scene%w(3, n), source=0.0_dp)
+    if (present(v)) then
+      if (size(v, 1) /= dim .or. size(v, 2) /= n .or. .not. all(ieee_is_finite(v))) then
+        call set_status(status, demstep_stat%invalid_input, "velocity: must be finite, one per particle")
+        return
+      end if
+      scene%v(:dim, :) = v
+    end if
+    allocate(scene%fixed(n), source=.false.)
+    if (present(fixed)) then
+      if (size(fixed) /= n) then
+        call set_status(status, demstep_stat%invalid_input, "fixed: one fixed flag per particle")
+        return
+      end if
+      scene%fixed = fixed
+    end if
+    do i = 1, 3
+      where (scene%fixed) scene%v(i, :) = 0.0_dp
+    end do
+    allocate(scene%bonds(2, 0), scene%bond_rest(3, 0), scene%bond_normal(3, 0), &
+      scene%wall_point(3, 0), scene%wall_normal(3, 0), scene%contact_pairs(2, 0), scene%contact_k(2, 0))
+    call check_contacts(scene, status)
+  end subroutine new_scene
+
+  !> The contact search's refusals for the current configuration: coincident
+  !> particles, too many contacts, overlapping fixed particles.
+  subroutine check_contacts(scene, status)
+    type(scene_type), intent(in) :: scene
+    type(demstep_status_type), intent(out) :: status
+    type(search_type) :: s
+    integer :: i
+    call prepare_search(scene, s)
+    call find_contacts(scene, s)
+    call search_trouble(s, status)
+    if (status%stat /= demstep_stat%ok) return
+    ! two fixed particles may not overlap: their contact could never resolve
+    do i = 1, s%n_pairs
+      if (scene%fixed(s%pair_i(i)) .and. scene%fixed(s%pair_j(i))) then
+        call set_status(status, demstep_stat%invalid_input, "position: fixed particles "// &
+          int_text(s%pair_i(i))//" and "//int_text(s%pair_j(i))//" overlap")
+        return
+      end if
+    end do
+    status%stat = demstep_stat%ok
+  end subroutine check_contacts
+
+  !> Make axes periodic with the orthorhombic cell [lo, hi): positions are
+  !> wrapped into it, contacts and bonds then go through the nearest image.
+  !> Status `invalid_input`: `cell_hi:` a periodic length not above 0 or shorter
+  !> than twice the longest possible contact (2 (r_i + r_j), so that the nearest
+  !> image is the only one in contact) or bond; `periodic:` a periodic axis
+  !> beyond dim; call it before adding bonds.
+  subroutine scene_set_cell(scene, periodic, lo, hi, status)
+    type(scene_type), intent(inout) :: scene
+    logical, intent(in) :: periodic(3)
+    real(dp), intent(in) :: lo(3), hi(3)
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: longest
+    integer :: ax
+    if (any(periodic(scene%dim+1:))) then
+      call set_status(status, demstep_stat%invalid_input, "periodic: only the first dim axes can be periodic")
+      return
+    end if
+    longest = 2.0_dp*maxval(scene%radius)
+    if (size(scene%bonds, 2) > 0) longest = max(longest, maxval(norm2(scene%bond_rest, dim=1)))
+    do ax = 1, 3
+      if (.not. periodic(ax)) cycle
+      if (.not. (ieee_is_finite(lo(ax)) .and. ieee_is_finite(hi(ax)) .and. hi(ax) - lo(ax) > 0.0_dp &
+          .and. abs(lo(ax)) <= max_coordinate .and. abs(hi(ax)) <= max_coordinate)) then
+        call set_status(status, demstep_stat%invalid_input, "cell_hi: axis "//int_text(ax)//": cell_hi " &
+          //"must be above cell_lo, both finite within +-1e150")
+        return
+      end if
+      if (hi(ax) - lo(ax) < 2.0_dp*longest) then
+        call set_status(status, demstep_stat%invalid_input, "cell_hi: axis "//int_text(ax)//": the " &
+          //"periodic cell must be at least twice the longest contact or bond ("// &
+          trim(real_text(2.0_dp*longest))//") long")
+        return
+      end if
+    end do
+    scene%periodic = periodic
+    scene%cell_lo = lo
+    scene%cell_hi = hi
+    call wrap_positions(scene)
+    call check_contacts(scene, status)
+  end subroutine scene_set_cell
+
+  !> Wrap the positions along the periodic axes into [cell_lo, cell_hi).
+  pure subroutine wrap_positions(scene)
+    type(scene_type), intent(inout) :: scene
+    integer :: ax
+    real(dp) :: box
+    do ax = 1, 3
+      if (.not. scene%periodic(ax)) cycle
+      box = scene%cell_hi(ax) - scene%cell_lo(ax)
+      scene%x(ax, :) = scene%cell_lo(ax) + modulo(scene%x(ax, :) - scene%cell_lo(ax), box)
+    end do
+  end subroutine wrap_positions
+
+  !> A real number as text (for messages).
+  pure function real_text(x) result(text)
+    real(dp), intent(in) :: x
+    character(len=24) :: text
+    write(text, '(es12.5)') x
+    text = adjustl(text)
+  end function real_text
+
+  !> Replace contact detection by an explicit list: pairs (2, nc) of particle
+  !> numbers and their stiffness k (2, nc) = (k_n, k_t) (linear springs; a pair
+  !> acts while it overlaps, through the nearest periodic image). Status
+  !> `invalid_input` starting `contacts: row K:` for a missing particle, a
+  !> particle paired with itself, k_n <= 0 or k_t < 0 (or not finite).
+  subroutine scene_set_contacts(scene, pairs, k, status)
+    type(scene_type), intent(inout) :: scene
+    integer, intent(in) :: pairs(:, :)
+    real(dp), intent(in) :: k(:, :)
+    type(demstep_status_type), intent(out) :: status
+    integer :: c
+    if (size(pairs, 1) /= 2 .or. size(k, 1) /= 2 .or. size(k, 2) /= size(pairs, 2)) then
+      call set_status(status, demstep_stat%invalid_input, "contacts: each contact is two particle " &
+        //"numbers and two stiffnesses")
+      return
+    end if
+    do c = 1, size(pairs, 2)
+      if (any(pairs(:, c) < 1) .or. any(pairs(:, c) > scene%n)) then
+        call set_status(status, demstep_stat%invalid_input, "contacts: row "//int_text(c)//": names a " &
+          //"missing particle ("//int_text(pairs(1, c))//", "//int_text(pairs(2, c))//"; there are " &
+          //int_text(scene%n)//")")
+        return
+      end if
+      if (pairs(1, c) == pairs(2, c)) then
+        call set_status(status, demstep_stat%invalid_input, "contacts: row "//int_text(c)//": pairs " &
+          //"particle "//int_text(pairs(1, c))//" with itself")
+        return
+      end if
+      if (.not. (ieee_is_finite(k(1, c)) .and. k(1, c) > 0.0_dp)) then
+        call set_status(status, demstep_stat%invalid_input, "contacts: row "//int_text(c)//": k_n " &
+          //"must be > 0 and finite")
+        return
+      end if
+      if (.not. (ieee_is_finite(k(2, c)) .and. k(2, c) >= 0.0_dp)) then
+        call set_status(status, demstep_stat%invalid_input, "contacts: row "//int_text(c)//": k_t " &
+          //"must be >= 0 and finite")
+        return
+      end if
+    end do
+    scene%contact_pairs = pairs
+    scene%contact_k = k
+    scene%given_contacts = .true.
+    status%stat = demstep_stat%ok
+  end subroutine scene_set_contacts
+
+  !> Linear materials per particle type: the type of each particle (1 to nt) and
+  !> per type pair k(:, a, b) = (k_n, k_t), symmetric. Status `invalid_input`:
+  !> `types:` a type outside 1 to nt, a count other than one per particle;
+  !> `type_k_normal:` k_n <= 0 or not symmetric; `type_k_tangential:` k_t < 0 or
+  !> not symmetric.
+  subroutine scene_set_types(scene, types, k, status)
+    type(scene_type), intent(inout) :: scene
+    integer, intent(in) :: types(:)
+    real(dp), intent(in) :: k(:, :, :)
+    type(demstep_status_type), intent(out) :: status
+    integer :: nt
+    nt = size(k, 2)
+    call check_types(scene, types, nt, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (size(k, 1) /= 2 .or. size(k, 3) /= nt) then
+      call set_status(status, demstep_stat%invalid_input, "type_k_normal: one value per type pair")
+      return
+    end if
+    if (.not. all(ieee_is_finite(k(1, :, :)) .and. k(1, :, :) > 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "type_k_normal: must be > 0 and finite")
+      return
+    end if
+    if (.not. all(ieee_is_finite(k(2, :, :)) .and. k(2, :, :) >= 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "type_k_tangential: must be >= 0 and finite")
+      return
+    end if
+    if (any(k(1, :, :) /= transpose(k(1, :, :)))) then
+      call set_status(status, demstep_stat%invalid_input, "type_k_normal: must be symmetric (a-b as b-a)")
+      return
+    end if
+    if (any(k(2, :, :) /= transpose(k(2, :, :)))) then
+      call set_status(status, demstep_stat%invalid_input, "type_k_tangential: must be symmetric (a-b as b-a)")
+      return
+    end if
+    scene%ptype = types
+    allocate(scene%pair_law(4, nt, nt), source=0.0_dp)
+    scene%pair_law(1:2, :, :) = k
+    status%stat = demstep_stat%ok
+  end subroutine scene_set_types
+
+  !> Hertz materials per particle type: Young's modulus and Poisson's ratio per
+  !> type; E* and Mindlin's G* of each type pair follow. Status `invalid_input`:
+  !> `types:` as `scene_set_types`; `young:` not > 0 and finite; `poisson:`
+  !> outside (-1, 0.5].
+  subroutine scene_set_hertz_types(scene, types, young, poisson, status)
+    type(scene_type), intent(inout) :: scene
+    integer, intent(in) :: types(:)
+    real(dp), intent(in) :: young(:), poisson(:)
+    type(demstep_status_type), intent(out) :: status
+    integer :: nt, a
+    nt = size(young)
+    call check_types(scene, types, nt, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (size(poisson) /= nt) then
+      call set_status(status, demstep_stat%invalid_input, "poisson: one per type, as young")
+      return
+    end if
+    if (.not. all(ieee_is_finite(young) .and. young > 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "young: must be > 0 and finite")
+      return
+    end if
+    if (.not. all(poisson > -1.0_dp .and. poisson <= 0.5_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "poisson: must be in (-1, 0.5]")
+      return
+    end if
+    scene%ptype = types
+    allocate(scene%pair_law(4, nt, nt), source=0.0_dp)
+    do a = 1, nt
+      scene%pair_law(3, :, a) = hertz_e_star(young, poisson, young(a), poisson(a))
+      scene%pair_law(4, :, a) = mindlin_g_star(young, poisson, young(a), poisson(a))
+    end do
+    status%stat = demstep_stat%ok
+  end subroutine scene_set_hertz_types
+
+  !> One type in 1 to nt per particle.
+  subroutine check_types(scene, types, nt, status)
+    type(scene_type), intent(in) :: scene
+    integer, intent(in) :: types(:), nt
+    type(demstep_status_type), intent(out) :: status
+    integer :: i
+    if (size(types) /= scene%n .or. nt < 1) then
+      call set_status(status, demstep_stat%invalid_input, "types: one type per particle ("// &
+        int_text(scene%n)//"), and at least one material")
+      return
+    end if
+    do i = 1, scene%n
+      if (types(i) < 1 .or. types(i) > nt) then
+        call set_status(status, demstep_stat%invalid_input, "types: particle "//int_text(i)//": type "// &
+          int_text(types(i))//" is not one of the "//int_text(nt)//" materials")
+        return
+      end if
+    end do
+    status%stat = demstep_stat%ok
+  end subroutine check_types
+
+  !> A cubic lattice of m^3 particles 1 apart (unit masses, radius r) with bonds of
+  !> stiffness k_bond to the +x, +y, +z neighbours, and random velocities of size
+  !> `speed` (default 1e-3); linear contacts of stiffness k_bond, only the
+  !> `contacts` effect on. A ready test and benchmark load.
+  subroutine cubic_lattice(scene, m, radius, k_bond, status, speed)
+    type(scene_type), intent(out) :: scene
+    integer, intent(in) :: m
+    real(dp), intent(in) :: radius, k_bond
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: speed
+    real(dp), allocatable :: x(:, :), v(:, :)
+    integer, allocatable :: pairs(:, :)
+    integer :: i, j, k, p, nb
+    real(dp) :: size_v
+    if (m < 2) then
+      call set_status(status, demstep_stat%invalid_input, "a lattice needs m >= 2")
+      return
+    end if
+    size_v = 1.0e-3_dp
+    if (present(speed)) size_v = speed
+    allocate(x(3, m**3), v(3, m**3), pairs(2, 3*m**3))
+    call random_number(v)
+    v = size_v*(v - 0.5_dp)
+    nb = 0
+    do k = 1, m
+      do j = 1, m
+        do i = 1, m
+          p = i + m*(j - 1 + m*(k - 1))
+          x(:, p) = [real(i, dp), real(j, dp), real(k, dp)]
+          if (i < m) then
+            nb = nb + 1
+            pairs(:, nb) = [p, p + 1]
+          end if
+          if (j < m) then
+            nb = nb + 1
+            pairs(:, nb) = [p, p + m]
+          end if
+          if (k < m) then
+            nb = nb + 1
+            pairs(:, nb) = [p, p + m*m]
+          end if
+        end do
+      end do
+    end do
+    call new_scene(scene, 3, x, spread(1.0_dp, 1, m**3), spread(radius, 1, m**3), status, v=v)
+    if (status%stat /= demstep_stat%ok) return
+    call scene_add_bonds(scene, pairs(:, :nb), status)
+    scene%k_bond = k_bond
+    scene%k_normal = k_bond
+    scene%effects = .false.
+    scene%effects(scene_effect%contacts) = .true.
+  end subroutine cubic_lattice
+
+  !> Add bonds between particle pairs (2, nb); rest vectors from the current
+  !> positions (nearest image in a periodic cell).
+  subroutine scene_add_bonds(scene, pairs, status)
+    type(scene_type), intent(inout) :: scene
+    integer, intent(in) :: pairs(:, :)
+    type(demstep_status_type), intent(out) :: status
+    integer :: k, nb0, nb
+    integer, allocatable :: bonds(:, :)
+    real(dp), allocatable :: rest(:, :), normal(:, :)
+    if (size(pairs, 1) /= 2) then
+      call set_status(status, demstep_stat%invalid_input, "bonds are pairs of particle numbers")
+      return
+    end if
+    nb0 = size(scene%bonds, 2)
+    nb = nb0 + size(pairs, 2)
+    allocate(bonds(2, nb), rest(3, nb), normal(3, nb))
+    bonds(:, :nb0) = scene%bonds
+    rest(:, :nb0) = scene%bond_rest
+    normal(:, :nb0) = scene%bond_normal
+    do k = 1, size(pairs, 2)
+      if (any(pairs(:, k) < 1) .or. any(pairs(:, k) > scene%n)) then
+        call set_status(status, demstep_stat%invalid_input, "bond "//int_text(k)//" names a missing " &
+          //"particle ("//int_text(pairs(1, k))//", "//int_text(pairs(2, k))//")")
+        return
+      end if
+      if (pairs(1, k) == pairs(2, k)) then
+        call set_status(status, demstep_stat%invalid_input, "bond "//int_text(k)//" joins particle " &
+          //int_text(pairs(1, k))//" to itself")
+        return
+      end if
+      bonds(:, nb0 + k) = pairs(:, k)
+      rest(:, nb0 + k) = branch_vector(scene, pairs(1, k), pairs(2, k))
+      if (.not. norm2(rest(:, nb0 + k)) > 0.0_dp) then
+        call set_status(status, demstep_stat%invalid_input, "bond "//int_text(k)//" joins particles " &
+          //"at the same position")
+        return
+      end if
+      normal(:, nb0 + k) = rest(:, nb0 + k)/norm2(rest(:, nb0 + k))
+    end do
+    call move_alloc(bonds, scene%bonds)
+    call move_alloc(rest, scene%bond_rest)
+    call move_alloc(normal, scene%bond_normal)
+    status%stat = demstep_stat%ok
+  end subroutine scene_add_bonds
+
+  !> Add walls: points (dim, nw) and normals (dim, nw) pointing into the domain.
+  subroutine scene_add_walls(scene, points, normals, status)
+    type(scene_type), intent(inout) :: scene
+    real(dp), intent(in) :: points(:, :), normals(:, :)
+    type(demstep_status_type), intent(out) :: status
+    real(dp), allocatable :: unit(:, :), point(:, :)
+    integer :: k
+    if (size(points, 1) /= scene%dim .or. any(shape(normals) /= shape(points))) then
+      call set_status(status, demstep_stat%invalid_input, "a wall is a point and a normal of dim values each")
+      return
+    end if
+    allocate(unit(3, size(normals, 2)), point(3, size(points, 2)), source=0.0_dp)
+    point(:scene%dim, :) = points
+    do k = 1, size(normals, 2)
+      if (.not. (all(ieee_is_finite(points(:, k))) .and. norm2(normals(:, k)) > 0.0_dp)) then
+        call set_status(status, demstep_stat%invalid_input, "wall "//int_text(k)//" needs a finite " &
+          //"point and a non-zero normal")
+        return
+      end if
+      unit(:scene%dim, k) = normals(:, k)/norm2(normals(:, k))
+    end do
+    scene%wall_point = reshape([scene%wall_point, point], [3, size(scene%wall_point, 2) + size(point, 2)])
+    scene%wall_normal = reshape([scene%wall_normal, unit], [3, size(scene%wall_normal, 2) + size(unit, 2)])
+    status%stat = demstep_stat%ok
+  end subroutine scene_add_walls
+
+  !> Damping ratio of a linear spring-dashpot whose restitution coefficient is e:
+  !> zeta = -ln e / sqrt(pi^2 + ln^2 e).
+  elemental real(dp) function restitution_to_damping_ratio(e) result(zeta)
+    real(dp), intent(in) :: e
+    zeta = -log(e)/sqrt(pi**2 + log(e)**2)
+  end function restitution_to_damping_ratio
+
+end module demstep_scene_builders

@@ -1,0 +1,555 @@
+!> The stepper: a scene integrated with the central-difference (leapfrog)
+!> scheme, translations and (with the `rotation` effect) rotations.
+!>
+!> Physics on demand: the effects a scene switches on each become one force term,
+!> assembled once by `scene_run`; nothing in the step loop tests which effects
+!> are on. Bonds are always on (a scene without bonds has none). Every contact
+!> force comes from the interaction kernel (`demstep_interaction`), the one the
+!> stability analysis linearises.
+!>
+!> Conventions:
+!> - leapfrog: x_n = x_{n-1} + v_{n-1/2} dt, forces at x_n, v_{n+1/2} = v_{n-1/2} + F/m dt,
+!>   and w_{n+1/2} = w_{n-1/2} + T/I dt; periodic positions are wrapped each step;
+!> - contacts: overlap d = r_i + r_j - |x_j - x_i| > 0 (nearest image); normal force
+!>   from the law, tangential spring incremental (history kept while in contact,
+!>   turned with the contact plane, Coulomb cap when friction >= 0);
+!> - bonds: linear about the initial configuration (small strain), normal stiffness
+!>   k_n along the initial direction and optional tangential stiffness k_t;
+!> - viscous damping: a dashpot c = 2 zeta sqrt(m* k) on every contact, wall contact
+!>   and bond (normal direction), acting on the relative normal velocity of the
+!>   previous half step (lagged: the limit becomes (2/omega)(sqrt(1 + zeta^2) - zeta));
+!> - local (Cundall) damping: F <- F - alpha |F| sign(v_{n-1/2}) per component
+!>   (torques likewise).
+module demstep_stepper
+  use demstep_kinds, only: dp, i8
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_text, only: int_text
+  use demstep_progress, only: progress_type
+  use demstep_interaction, only: contact_law, reduced_radius, normal_force, normal_stiffness, &
+    normal_energy, dashpot_coefficient, contact_forces, add_bond_forces
+  use demstep_scene_data, only: scene_type, scene_summary_type, scene_effect, effective_mass, &
+    contact_values, has_tangential
+  use demstep_neighbours, only: search_type, prepare_search, find_contacts, find_wall_contacts, &
+    contact_limit
+  use demstep_scene_builders, only: wrap_positions
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  implicit none
+  private
+
+  public :: scene_run
+
+  !> Largest viscous damping ratio: the damped limit, about dt/(2 zeta), stays a
+  !> normal number for every dt above 1e-200.
+  real(dp), parameter, public :: max_damping_ratio = 1.0e100_dp
+
+  !> Scratch of a run: forces, torques, inverse masses, contact lists, shear history.
+  type :: work_type
+    real(dp), allocatable :: f(:, :), t(:, :), inv_mass(:), inv_inertia(:), v_old(:, :), w_old(:, :)
+    type(search_type) :: s
+    !> Shear history of the previous step's detected contacts, by particle i
+    !> (CSR: hist_start(i) to hist_start(i+1) - 1), and of the explicit list's rows.
+    integer, allocatable :: hist_start(:), hist_j(:)
+    real(dp), allocatable :: hist_us(:, :), row_us(:, :)
+    !> Time over which the velocities moved the contacts since the last force
+    !> evaluation (0 at the first).
+    real(dp) :: shear_dt = 0.0_dp
+  end type work_type
+
+  abstract interface
+    !> One force term: adds its forces (and torques) to work%f (work%t).
+    subroutine force_term(scene, work)
+      import :: scene_type, work_type
+      type(scene_type), intent(in) :: scene
+      type(work_type), intent(inout) :: work
+    end subroutine force_term
+  end interface
+
+  type :: term_type
+    procedure(force_term), pointer, nopass :: add => null()
+  end type term_type
+
+  !> Energy growth that counts as blowing up.
+  real(dp), parameter :: blow_up_factor = 1.0e6_dp
+
+contains
+
+  !> Step a scene `steps` times with time step dt, recording energy every
+  !> `sample_every` steps (default: about 1000 samples). Status `blow_up` when the
+  !> state became non-finite, the energy grew 1e6-fold or the contacts passed
+  !> `contact_limit` (the summary says when); `invalid_input` for a bad dt or
+  !> step count, a damping ratio above `max_damping_ratio`, or an initial energy
+  !> that overflows. `progress` (optional) is told the steps done every few
+  !> thousand particle-steps.
+  subroutine scene_run(scene, dt, steps, summary, status, sample_every, progress)
+    type(scene_type), intent(inout) :: scene
+    real(dp), intent(in) :: dt
+    integer(i8), intent(in) :: steps
+    type(scene_summary_type), intent(out) :: summary
+    type(demstep_status_type), intent(out) :: status
+    integer(i8), intent(in), optional :: sample_every
+    class(progress_type), intent(inout), optional :: progress
+    type(term_type), allocatable :: terms(:)
+    type(work_type) :: work
+    integer(i8) :: step, every, report_every
+    integer :: t, ns, i
+    real(dp) :: e, scale
+    logical :: rotation, periodic, torques
+    if (.not. (ieee_is_finite(dt) .and. dt > 0.0_dp) .or. steps < 0_i8) then
+      call set_status(status, demstep_stat%invalid_input, "dt must be > 0 and steps >= 0")
+      return
+    end if
+    if (scene%effects(scene_effect%damping) .and. .not. (scene%damping_ratio >= 0.0_dp .and. &
+        scene%damping_ratio <= max_damping_ratio)) then
+      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be in [0, 1e100]")
+      return
+    end if
+    rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
+    periodic = any(scene%periodic)
+    ! only tangential springs make torques
+    torques = has_tangential(scene) .and. scene%effects(scene_effect%contacts)
+    every = max(1_i8, steps/1000_i8)
+    if (present(sample_every)) every = max(1_i8, sample_every)
+    ! progress every 1e5 particle-steps or so: a clock read is then negligible
+    report_every = max(1_i8, 100000_i8/max(1_i8, int(scene%n, i8)))
+    call prepare(scene, work)
+    terms = assemble(scene)
+    allocate(summary%sample_time(steps/every + 2), summary%sample_energy(steps/every + 2))
+    ! energy at the start: forces at x_0 give the first half-step pair v_{-1/2}, v_{1/2}
+    work%shear_dt = 0.0_dp
+    summary%energy_initial = scene_energy(scene, work, terms, dt, rotation, advance=.false.)
+    if (.not. ieee_is_finite(summary%energy_initial)) then
+      call set_status(status, demstep_stat%invalid_input, "velocity: the initial energy (kinetic " &
+        //"+ elastic + gravitational) overflows: velocities, masses, stiffness or overlaps too large")
+      return
+    end if
+    work%shear_dt = dt
+    ns = 1
+    summary%sample_time(1) = 0.0_dp
+    summary%sample_energy(1) = summary%energy_initial
+    scale = max(abs(summary%energy_initial), tiny(1.0_dp))
+    status%stat = demstep_stat%ok
+    if (present(progress)) call progress%start("steps", steps)
+    do step = 1_i8, steps
+      scene%x = scene%x + scene%v*dt
+      if (periodic) call wrap_positions(scene)
+      if (mod(step, every) == 0_i8 .or. step == steps .or. work%s%too_many) then
+        ! a sample: E = kinetic (v_{n-1/2} . v_{n+1/2}) + potential at x_n
+        e = scene_energy(scene, work, terms, dt, rotation, advance=.true.)
+        summary%steps = step
+        if (ieee_is_finite(e)) then
+          ns = ns + 1
+          summary%sample_time(ns) = real(step, dp)*dt
+          summary%sample_energy(ns) = e
+          summary%energy_drift = max(summary%energy_drift, min(huge(1.0_dp), abs(e - summary%energy_initial)/scale))
+        end if
+        if (.not. (ieee_is_finite(e) .and. all(ieee_is_finite(scene%x))) .or. &
+            abs(e - summary%energy_initial) > blow_up_factor*scale .or. work%s%too_many) then
+          ! (a non-finite energy is not sampled: the drift stays finite)
+          summary%blew_up = .true.
+          if (work%s%too_many) then
+            call set_status(status, demstep_stat%blow_up, "the scene blew up at step "// &
+              int_text(step)//": more than "//int_text(contact_limit)//" contacts")
+          else
+            call set_status(status, demstep_stat%blow_up, "the scene blew up at step "// &
+              int_text(step))
+          end if
+          exit
+        end if
+      else
+        work%f = 0.0_dp
+        if (torques) work%t = 0.0_dp
+        do t = 1, size(terms)
+          call terms(t)%add(scene, work)
+        end do
+        do i = 1, scene%n
+          scene%v(:, i) = scene%v(:, i) + work%f(:, i)*(work%inv_mass(i)*dt)
+        end do
+        if (rotation) then
+          do i = 1, scene%n
+            scene%w(:, i) = scene%w(:, i) + work%t(:, i)*(work%inv_inertia(i)*dt)
+          end do
+        end if
+        summary%steps = step
+      end if
+      if (present(progress) .and. mod(step, report_every) == 0_i8) call progress%update(step)
+    end do
+    if (present(progress)) call progress%finish()
+    summary%energy_final = summary%sample_energy(ns)
+    summary%sample_time = summary%sample_time(:ns)
+    summary%sample_energy = summary%sample_energy(:ns)
+    summary%max_overlap = work%s%max_overlap
+    summary%max_contacts = work%s%max_contacts
+  end subroutine scene_run
+
+  !> Total energy at the current positions: elastic + gravitational, and kinetic
+  !> as the product of the half-step velocities around x_n (for the undamped
+  !> linear scheme this energy is exactly conserved). With `advance` the velocity
+  !> step is taken (scene%v holds v_{n-1/2} and becomes v_{n+1/2}); without, scene%v
+  !> is taken as v_{1/2} at the start and v_{-1/2} is reconstructed.
+  function scene_energy(scene, work, terms, dt, rotation, advance) result(energy)
+    type(scene_type), intent(inout) :: scene
+    type(work_type), intent(inout) :: work
+    type(term_type), intent(in) :: terms(:)
+    real(dp), intent(in) :: dt
+    logical, intent(in) :: rotation, advance
+    real(dp) :: energy, sgn
+    integer :: t, i
+    work%f = 0.0_dp
+    work%t = 0.0_dp
+    do t = 1, size(terms)
+      call terms(t)%add(scene, work)
+    end do
+    sgn = merge(1.0_dp, -1.0_dp, advance)
+    do i = 1, scene%n
+      work%v_old(:, i) = scene%v(:, i) + sgn*work%f(:, i)*(work%inv_mass(i)*dt)
+    end do
+    energy = 0.0_dp
+    do i = 1, scene%n
+      energy = energy + 0.5_dp*scene%mass(i)*dot_product(scene%v(:, i), work%v_old(:, i))
+    end do
+    if (rotation) then
+      do i = 1, scene%n
+        work%w_old(:, i) = scene%w(:, i) + sgn*work%t(:, i)*(work%inv_inertia(i)*dt)
+        energy = energy + 0.5_dp*scene%inertia(i)*dot_product(scene%w(:, i), work%w_old(:, i))
+      end do
+    end if
+    energy = energy + potential_energy(scene, work)
+    if (advance) then
+      scene%v = work%v_old
+      if (rotation) scene%w = work%w_old
+    end if
+  end function scene_energy
+
+  !> Elastic and gravitational energy at the current positions (contact lists current).
+  function potential_energy(scene, work) result(u)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(in) :: work
+    real(dp) :: u, d(3), f_n, k_n, k_t, dn
+    integer :: k, i, j
+    u = 0.0_dp
+    do k = 1, size(scene%bonds, 2)
+      i = scene%bonds(1, k)
+      j = scene%bonds(2, k)
+      d = scene%x(:, j) - scene%x(:, i) - scene%bond_rest(:, k)
+      if (any(scene%periodic)) d = bond_stretch(scene, k)
+      dn = dot_product(scene%bond_normal(:, k), d)
+      u = u + 0.5_dp*(scene%k_bond*dn**2 + scene%k_bond_tangential*(dot_product(d, d) - dn**2))
+    end do
+    if (scene%effects(scene_effect%contacts)) then
+      associate(s => work%s)
+        do k = 1, s%n_pairs
+          i = s%pair_i(k)
+          j = s%pair_j(k)
+          call contact_values(scene, s%pair_c(k), i, j, s%pair_d(k), f_n, k_n, k_t)
+          if (s%pair_c(k) > 0) then
+            u = u + normal_energy(contact_law%linear, k_n, 0.0_dp, s%pair_d(k), 0.0_dp)
+          else
+            u = u + normal_energy(scene%law, scene%k_normal, scene%e_star, s%pair_d(k), &
+              reduced_radius(scene%radius(i), scene%radius(j)))
+          end if
+          u = u + 0.5_dp*k_t*dot_product(s%pair_us(:, k), s%pair_us(:, k))
+        end do
+      end associate
+    end if
+    if (scene%effects(scene_effect%walls)) then
+      do k = 1, work%s%n_walls
+        u = u + normal_energy(scene%law, scene%k_normal, scene%e_star, work%s%wall_d(k), &
+          scene%radius(work%s%wall_i(k)))
+      end do
+    end if
+    if (scene%effects(scene_effect%gravity)) then
+      do i = 1, scene%n
+        if (.not. scene%fixed(i)) u = u - scene%mass(i)*dot_product(scene%gravity, scene%x(:, i))
+      end do
+    end if
+  end function potential_energy
+
+  !> x_j - x_i - rest of bond k (nearest image).
+  pure function bond_stretch(scene, k) result(u)
+    type(scene_type), intent(in) :: scene
+    integer, intent(in) :: k
+    real(dp) :: u(3), box(3)
+    u = scene%x(:, scene%bonds(2, k)) - scene%x(:, scene%bonds(1, k))
+    if (any(scene%periodic)) then
+      box = scene%cell_hi - scene%cell_lo
+      where (scene%periodic) u = u - box*anint((u - scene%bond_rest(:, k))/box)
+    end if
+    u = u - scene%bond_rest(:, k)
+  end function bond_stretch
+
+  ! ---- force terms ---------------------------------------------------------
+
+  !> The contact list of the current configuration, with each continuing
+  !> contact's shear history.
+  subroutine detect_contacts(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i, j, p
+    call find_contacts(scene, work%s)
+    associate(s => work%s)
+      if (scene%given_contacts) then
+        do k = 1, s%n_pairs
+          s%pair_us(:, k) = work%row_us(:, s%pair_c(k))
+        end do
+      else
+        do k = 1, s%n_pairs
+          i = s%pair_i(k)
+          j = s%pair_j(k)
+          do p = work%hist_start(i), work%hist_start(i + 1) - 1
+            if (work%hist_j(p) == j) then
+              s%pair_us(:, k) = work%hist_us(:, p)
+              exit
+            end if
+          end do
+        end do
+      end if
+    end associate
+  end subroutine detect_contacts
+
+  !> Keep the shear displacements of this step's contacts for the next step
+  !> (counting sort by the first particle: linear in contacts).
+  subroutine save_history(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i, p
+    associate(s => work%s)
+      if (scene%given_contacts) then
+        work%row_us = 0.0_dp
+        do k = 1, s%n_pairs
+          work%row_us(:, s%pair_c(k)) = s%pair_us(:, k)
+        end do
+        return
+      end if
+      if (size(work%hist_j) < s%n_pairs) then
+        deallocate(work%hist_j, work%hist_us)
+        allocate(work%hist_j(size(s%pair_i)), work%hist_us(3, size(s%pair_i)))
+      end if
+      work%hist_start = 0
+      do k = 1, s%n_pairs
+        i = s%pair_i(k)
+        work%hist_start(i + 1) = work%hist_start(i + 1) + 1
+      end do
+      work%hist_start(1) = 1
+      do i = 2, scene%n + 1
+        work%hist_start(i) = work%hist_start(i) + work%hist_start(i - 1)
+      end do
+      do k = 1, s%n_pairs
+        i = s%pair_i(k)
+        p = work%hist_start(i)
+        work%hist_j(p) = s%pair_j(k)
+        work%hist_us(:, p) = s%pair_us(:, k)
+        work%hist_start(i) = p + 1
+      end do
+      do i = scene%n, 1, -1
+        work%hist_start(i + 1) = work%hist_start(i)
+      end do
+      work%hist_start(1) = 1
+    end associate
+  end subroutine save_history
+
+  !> Normal forces only (no tangential springs): the kernel's law along n.
+  subroutine contacts_normal(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i, j
+    real(dp) :: f(3), f_n, k_n, k_t
+    associate(s => work%s)
+      do k = 1, s%n_pairs
+        i = s%pair_i(k)
+        j = s%pair_j(k)
+        call contact_values(scene, s%pair_c(k), i, j, s%pair_d(k), f_n, k_n, k_t)
+        f = f_n*s%pair_n(:, k)
+        work%f(:, i) = work%f(:, i) - f
+        work%f(:, j) = work%f(:, j) + f
+      end do
+    end associate
+  end subroutine contacts_normal
+
+  !> Normal and tangential springs with torques, from the kernel; then the
+  !> shear history is kept.
+  subroutine contacts_full(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i, j
+    real(dp) :: f(3), t_i(3), t_j(3), f_n, k_n, k_t, us(3), h
+    h = work%shear_dt
+    associate(s => work%s)
+      do k = 1, s%n_pairs
+        i = s%pair_i(k)
+        j = s%pair_j(k)
+        call contact_values(scene, s%pair_c(k), i, j, s%pair_d(k), f_n, k_n, k_t)
+        us = s%pair_us(:, k)
+        call contact_forces(s%pair_n(:, k), f_n, k_t, scene%friction, scene%radius(i), &
+          scene%radius(j), (scene%v(:, j) - scene%v(:, i))*h, scene%w(:, i)*h, scene%w(:, j)*h, &
+          us, f, t_i, t_j)
+        s%pair_us(:, k) = us
+        work%f(:, i) = work%f(:, i) - f
+        work%f(:, j) = work%f(:, j) + f
+        work%t(:, i) = work%t(:, i) + t_i
+        work%t(:, j) = work%t(:, j) + t_j
+      end do
+    end associate
+    call save_history(scene, work)
+  end subroutine contacts_full
+
+  !> Dashpot on the relative normal velocity of the previous half step.
+  subroutine contacts_damping(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i, j
+    real(dp) :: fd(3), c, vn, f_n, k_n, k_t
+    associate(s => work%s)
+      do k = 1, s%n_pairs
+        i = s%pair_i(k)
+        j = s%pair_j(k)
+        call contact_values(scene, s%pair_c(k), i, j, s%pair_d(k), f_n, k_n, k_t)
+        c = dashpot_coefficient(scene%damping_ratio, effective_mass(scene, i, j), k_n)
+        vn = dot_product(scene%v(:, j) - scene%v(:, i), s%pair_n(:, k))
+        fd = c*vn*s%pair_n(:, k)
+        work%f(:, i) = work%f(:, i) + fd
+        work%f(:, j) = work%f(:, j) - fd
+      end do
+    end associate
+  end subroutine contacts_damping
+
+  !> The wall contact list: particles overlapping a wall.
+  subroutine detect_walls(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    call find_wall_contacts(scene, work%s)
+  end subroutine detect_walls
+
+  !> Normal wall forces from the law (R* = r).
+  subroutine walls_normal(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i
+    associate(s => work%s)
+      do k = 1, s%n_walls
+        i = s%wall_i(k)
+        work%f(:, i) = work%f(:, i) + normal_force(scene%law, scene%k_normal, scene%e_star, &
+          s%wall_d(k), scene%radius(i))*scene%wall_normal(:, s%wall_k(k))
+      end do
+    end associate
+  end subroutine walls_normal
+
+  subroutine walls_damping(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i
+    real(dp) :: c, vn
+    associate(s => work%s)
+      do k = 1, s%n_walls
+        i = s%wall_i(k)
+        c = dashpot_coefficient(scene%damping_ratio, scene%mass(i), normal_stiffness(scene%law, &
+          scene%k_normal, scene%e_star, s%wall_d(k), scene%radius(i)))
+        vn = dot_product(scene%v(:, i), scene%wall_normal(:, s%wall_k(k)))
+        work%f(:, i) = work%f(:, i) - c*vn*scene%wall_normal(:, s%wall_k(k))
+      end do
+    end associate
+  end subroutine walls_damping
+
+  !> Bonds: the kernel's bond forces (nearest image in a periodic cell).
+  subroutine bonds_term(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    if (any(scene%periodic)) then
+      call add_bond_forces(size(scene%bonds, 2), scene%n, scene%bonds, scene%x, scene%bond_rest, &
+        scene%bond_normal, scene%k_bond, scene%k_bond_tangential, work%f, &
+        box=merge(scene%cell_hi - scene%cell_lo, 0.0_dp, scene%periodic))
+    else
+      call add_bond_forces(size(scene%bonds, 2), scene%n, scene%bonds, scene%x, scene%bond_rest, &
+        scene%bond_normal, scene%k_bond, scene%k_bond_tangential, work%f)
+    end if
+  end subroutine bonds_term
+
+  !> Bond dashpots along the bond's initial direction.
+  subroutine bonds_damping(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i, j
+    real(dp) :: n0(3), c, vn
+    do k = 1, size(scene%bonds, 2)
+      i = scene%bonds(1, k)
+      j = scene%bonds(2, k)
+      n0 = scene%bond_normal(:, k)
+      c = dashpot_coefficient(scene%damping_ratio, effective_mass(scene, i, j), scene%k_bond)
+      vn = dot_product(scene%v(:, j) - scene%v(:, i), n0)
+      work%f(:, i) = work%f(:, i) + c*vn*n0
+      work%f(:, j) = work%f(:, j) - c*vn*n0
+    end do
+  end subroutine bonds_damping
+
+  subroutine gravity_term(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: i
+    do i = 1, scene%n
+      work%f(:, i) = work%f(:, i) + scene%mass(i)*scene%gravity
+    end do
+  end subroutine gravity_term
+
+  !> Cundall's local damping: each force (and torque) component reduced by
+  !> alpha |F| against the half-step velocity.
+  subroutine local_damping_term(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    ! sign of v, and 0 for a particle at rest
+    work%f = work%f - scene%local_damping*abs(work%f)*(merge(1.0_dp, 0.0_dp, scene%v > 0.0_dp) &
+      - merge(1.0_dp, 0.0_dp, scene%v < 0.0_dp))
+    if (scene%effects(scene_effect%rotation)) work%t = work%t - scene%local_damping*abs(work%t) &
+      *(merge(1.0_dp, 0.0_dp, scene%w > 0.0_dp) - merge(1.0_dp, 0.0_dp, scene%w < 0.0_dp))
+  end subroutine local_damping_term
+
+  !> The force terms of a scene's effects, in order; local damping last.
+  function assemble(scene) result(terms)
+    type(scene_type), intent(in) :: scene
+    type(term_type), allocatable :: terms(:)
+    type(term_type) :: list(12)
+    integer :: n
+    n = 0
+    if (size(scene%bonds, 2) > 0) then
+      call push(bonds_term)
+      if (scene%effects(scene_effect%damping)) call push(bonds_damping)
+    end if
+    if (scene%effects(scene_effect%contacts)) then
+      call push(detect_contacts)
+      if (has_tangential(scene)) then
+        call push(contacts_full)
+      else
+        call push(contacts_normal)
+      end if
+      if (scene%effects(scene_effect%damping)) call push(contacts_damping)
+    end if
+    if (scene%effects(scene_effect%walls)) then
+      call push(detect_walls)
+      call push(walls_normal)
+      if (scene%effects(scene_effect%damping)) call push(walls_damping)
+    end if
+    if (scene%effects(scene_effect%gravity)) call push(gravity_term)
+    if (scene%effects(scene_effect%local_damping)) call push(local_damping_term)
+    terms = list(:n)
+  contains
+    subroutine push(term)
+      procedure(force_term) :: term
+      n = n + 1
+      list(n)%add => term
+    end subroutine push
+  end function assemble
+
+  !> Allocate the scratch of a run.
+  subroutine prepare(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(out) :: work
+    allocate(work%f(3, scene%n), work%t(3, scene%n), work%v_old(3, scene%n), &
+      work%w_old(3, scene%n), source=0.0_dp)
+    allocate(work%inv_mass(scene%n), work%inv_inertia(scene%n))
+    work%inv_mass = merge(0.0_dp, 1.0_dp/scene%mass, scene%fixed)
+    work%inv_inertia = merge(0.0_dp, 1.0_dp/scene%inertia, scene%fixed)
+    allocate(work%hist_start(scene%n + 1), source=1)
+    allocate(work%hist_j(64), work%hist_us(3, 64))
+    allocate(work%row_us(3, size(scene%contact_pairs, 2)), source=0.0_dp)
+    call prepare_search(scene, work%s)
+  end subroutine prepare
+
+end module demstep_stepper

@@ -1,0 +1,567 @@
+!> Tests of the interaction kernel and of the assembly physics built on it:
+!> the tangent block against finite differences of the kernel's forces and
+!> torques, rotating pairs, rings and lattices (periodic) against their
+!> hand-derived spectra, and the bound against the exact value with rotations.
+module test_interaction
+  use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
+  use demstep
+  use demstep_kinds, only: pi
+  use demstep_interaction, only: contact_block, contact_forces, normal_force, normal_stiffness, &
+    tangential_stiffness, reduced_radius
+  use test_support, only: real_str
+  implicit none
+  private
+  public :: collect_interaction
+
+contains
+
+  subroutine collect_interaction(testsuite)
+    type(unittest_type), allocatable, intent(out) :: testsuite(:)
+    testsuite = [ &
+      new_unittest("tangent block = finite differences of force and torque", test_block_fd), &
+      new_unittest("Coulomb friction caps the tangential force at friction F_n", test_friction), &
+      new_unittest("rotating pair: omega^2 = k_t (1/m_i + 1/m_j + r_i^2/I_i + r_j^2/I_j)", test_pair), &
+      new_unittest("periodic ring with rotations vs its dispersion relation", test_ring), &
+      new_unittest("periodic simple cubic lattice vs its dispersion relation", test_sc_lattice), &
+      new_unittest("the bound is never below the exact value with rotations", test_bound_rotations), &
+      new_unittest("pre-stress: -(F_n/l)(I - n n^T) on a loaded ring", test_prestress), &
+      new_unittest("periodic cell and contact list refusals", test_refusals), &
+      new_unittest("materials per type: linear k_n, k_t per pair; Hertz E, nu", test_materials), &
+      new_unittest("stepper at 0.99/1.01 of the 6-dof limit: periodic packings", test_stability_full) &
+      ]
+  end subroutine collect_interaction
+
+  !> Generalised forces (-f, t_i, f, t_j) of a pair displaced by q from x_i, x_j
+  !> (one kernel step from a state without shear load).
+  function pair_forces(law, xi, xj, ri, rj, k, e_star, kt, g_star, q) result(g)
+    integer, intent(in) :: law
+    real(dp), intent(in) :: xi(3), xj(3), ri, rj, k, e_star, kt, g_star, q(12)
+    real(dp) :: g(12), br(3), l, n(3), d, rs, f_n, k_t, us(3), f(3), t_i(3), t_j(3)
+    br = xj + q(7:9) - xi - q(1:3)
+    l = norm2(br)
+    n = br/l
+    d = ri + rj - l
+    rs = reduced_radius(ri, rj)
+    f_n = normal_force(law, k, e_star, d, rs)
+    k_t = tangential_stiffness(law, kt, g_star, d, rs)
+    us = 0.0_dp
+    call contact_forces(n, f_n, k_t, -1.0_dp, ri, rj, q(7:9) - q(1:3), q(4:6), q(10:12), us, f, t_i, t_j)
+    g(1:3) = -f
+    g(4:6) = t_i
+    g(7:9) = f
+    g(10:12) = t_j
+  end function pair_forces
+
+  subroutine test_block_fd(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp) :: xi(3), xj(3), ri, rj, u(3), kb(12, 12), fd(12, 12), q(12), h, l, d, rs, scale
+    integer :: trial, law, c
+    call random_seed_fixed(5)
+    do trial = 1, 20
+      law = merge(contact_law%linear, contact_law%hertz, mod(trial, 2) == 0)
+      call random_number(u)
+      ri = 0.5_dp + u(1)
+      rj = 0.3_dp + u(2)
+      call random_number(u)
+      u = u - 0.5_dp
+      u = u/norm2(u)
+      xi = [0.1_dp, -0.2_dp, 0.3_dp]
+      ! an overlap of 1 to 5 % of the reach
+      xj = xi + u*(ri + rj)*(0.95_dp + 0.02_dp*mod(trial, 3))
+      l = norm2(xj - xi)
+      d = ri + rj - l
+      rs = reduced_radius(ri, rj)
+      kb = contact_block((xj - xi)/l, normal_stiffness(law, 1.0e3_dp, 2.0e4_dp, d, rs), &
+        tangential_stiffness(law, 400.0_dp, 9.0e3_dp, d, rs), ri, rj, &
+        normal_force(law, 1.0e3_dp, 2.0e4_dp, d, rs)/l)
+      ! central differences, step 1e-6 of the size: truncation ~1e-12, rounding ~1e-10
+      h = 1.0e-6_dp*l
+      do c = 1, 12
+        q = 0.0_dp
+        q(c) = h
+        fd(:, c) = pair_forces(law, xi, xj, ri, rj, 1.0e3_dp, 2.0e4_dp, 400.0_dp, 9.0e3_dp, q)
+        q(c) = -h
+        fd(:, c) = -(fd(:, c) - pair_forces(law, xi, xj, ri, rj, 1.0e3_dp, 2.0e4_dp, 400.0_dp, &
+          9.0e3_dp, q))/(2.0_dp*h)
+      end do
+      scale = maxval(abs(kb))
+      call check(error, maxval(abs(fd - kb))/scale < 1.0e-7_dp, "trial "//real_str(real(trial, dp))// &
+        ": |K - FD|/|K| = "//real_str(maxval(abs(fd - kb))/scale))
+      if (allocated(error)) return
+      ! symmetric
+      call check(error, maxval(abs(kb - transpose(kb))) <= 1.0e-14_dp*scale, "block symmetric")
+      if (allocated(error)) return
+    end do
+  end subroutine test_block_fd
+
+  subroutine test_friction(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp) :: us(3), f(3), t_i(3), t_j(3), n(3)
+    n = [0.6_dp, 0.8_dp, 0.0_dp]
+    us = 0.0_dp
+    ! a tangential step of 1 at k_t = 10 would be 10; the cap is 0.5 x 4 = 2
+    call contact_forces(n, 4.0_dp, 10.0_dp, 0.5_dp, 1.0_dp, 1.0_dp, [0.0_dp, 0.0_dp, 1.0_dp], &
+      [0.0_dp, 0.0_dp, 0.0_dp], [0.0_dp, 0.0_dp, 0.0_dp], us, f, t_i, t_j)
+    call check(error, norm2(f - dot_product(f, n)*n), 2.0_dp, rel=.true., thr=1.0e-15_dp, message="capped")
+    if (allocated(error)) return
+    call check(error, dot_product(f, n), 4.0_dp, rel=.true., thr=1.0e-15_dp, message="normal kept")
+    if (allocated(error)) return
+    ! the history holds the slipped spring: a step back unloads by k_t du
+    call contact_forces(n, 4.0_dp, 10.0_dp, 0.5_dp, 1.0_dp, 1.0_dp, [0.0_dp, 0.0_dp, -0.1_dp], &
+      [0.0_dp, 0.0_dp, 0.0_dp], [0.0_dp, 0.0_dp, 0.0_dp], us, f, t_i, t_j)
+    call check(error, f(3), -1.0_dp, rel=.true., thr=1.0e-14_dp, message="unloading from the cap")
+    if (allocated(error)) return
+    ! torques: -r n x f on each body
+    call check(error, maxval(abs(t_i + [n(2)*f(3), -n(1)*f(3), 0.0_dp])), 0.0_dp, thr=1.0e-15_dp, &
+      message="torque on i")
+  end subroutine test_friction
+
+  subroutine random_seed_fixed(k)
+    integer, intent(in) :: k
+    integer :: n
+    integer, allocatable :: s(:)
+    call random_seed(size=n)
+    allocate(s(n))
+    s = 7919*k + [(n, n = 1, size(s))]
+    call random_seed(put=s)
+  end subroutine random_seed_fixed
+
+  subroutine test_pair(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    real(dp) :: expected, kt
+    integer :: dim
+    do dim = 2, 3
+      kt = 70.0_dp
+      ! centres 1 apart, reach 1.1
+      if (dim == 2) then
+        call new_scene(scene, 2, reshape([0.0_dp, 0.0_dp, 0.6_dp, 0.8_dp], [2, 2]), &
+          [2.0_dp, 3.0_dp], [0.6_dp, 0.5_dp], status, inertia=[0.25_dp, 0.4_dp])
+      else
+        call new_scene(scene, 3, reshape([0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.8_dp, 0.6_dp], [3, 2]), &
+          [2.0_dp, 3.0_dp], [0.6_dp, 0.5_dp], status, inertia=[0.25_dp, 0.4_dp])
+      end if
+      call check(error, status%stat, demstep_stat%ok, "new_scene")
+      if (allocated(error)) return
+      scene%k_normal = 10.0_dp
+      scene%k_tangential = kt
+      scene%effects(scene_effect%rotation) = .true.
+      call assembly_critical_steps(scene, c, status)
+      call check(error, status%stat, demstep_stat%ok, "analysis: "//status%message)
+      if (allocated(error)) return
+      ! tangential-rotational mode (the normal one, 10 (1/2 + 1/3), is below)
+      expected = kt*(1.0_dp/2.0_dp + 1.0_dp/3.0_dp + 0.6_dp**2/0.25_dp + 0.5_dp**2/0.4_dp)
+      call check(error, c%omega_max**2, expected, rel=.true., thr=1.0e-12_dp, message="pair in "// &
+        real_str(real(dim, dp))//"D")
+      if (allocated(error)) return
+      call check(error, c%dof_per_particle == merge(3, 6, dim == 2) .and. c%tangential .and. c%rotation, &
+        "the model reported")
+      if (allocated(error)) return
+    end do
+  end subroutine test_pair
+
+  !> A ring of n spheres along x in a periodic 2D cell (spacing 1.98 r).
+  subroutine ring(scene, n, m, r, kn, kt)
+    type(scene_type), intent(out) :: scene
+    integer, intent(in) :: n
+    real(dp), intent(in) :: m, r, kn, kt
+    real(dp) :: x(2, n)
+    integer :: i
+    type(demstep_status_type) :: status
+    do i = 1, n
+      x(:, i) = [(i - 1)*1.98_dp*r, 0.0_dp]
+    end do
+    call new_scene(scene, 2, x, spread(m, 1, n), spread(r, 1, n), status)
+    call scene_set_cell(scene, [.true., .false., .false.], [-0.99_dp*r, 0.0_dp, 0.0_dp], &
+      [(n - 0.5_dp)*1.98_dp*r, 0.0_dp, 0.0_dp], status)
+    scene%k_normal = kn
+    scene%k_tangential = kt
+    scene%effects(scene_effect%rotation) = .true.
+  end subroutine ring
+
+  subroutine test_ring(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    integer, parameter :: sizes(3) = [7, 8, 15]
+    integer :: k, n
+    real(dp) :: expected
+    do k = 1, size(sizes)
+      n = sizes(k)
+      ! longitudinal branch on top: omega^2 = (4 k_n/m) sin^2(q/2), q = 2 pi j/n
+      call ring(scene, n, 2.0_dp, 0.5_dp, 50.0_dp, 1.0_dp)
+      call assembly_critical_steps(scene, c, status)
+      call check(error, status%stat, demstep_stat%ok, "ring: "//status%message)
+      if (allocated(error)) return
+      call check(error, c%n_springs, n, "ring contacts")
+      if (allocated(error)) return
+      expected = 4.0_dp*50.0_dp/2.0_dp*sin(pi*(n/2)/real(n, dp))**2
+      call check(error, c%omega_max**2, expected, rel=.true., thr=1.0e-12_dp, message="longitudinal, n = "// &
+        real_str(real(n, dp)))
+      if (allocated(error)) return
+      ! transverse-rotational branch on top: omega^2 = 4 k_t (sin^2(q/2)/m + r^2 cos^2(q/2)/I),
+      ! largest at q = 0 (every sphere turning the same way): 10 k_t/m with I = 2/5 m r^2
+      call ring(scene, n, 2.0_dp, 0.5_dp, 50.0_dp, 30.0_dp)
+      call assembly_critical_steps(scene, c, status)
+      call check(error, c%omega_max**2, 10.0_dp*30.0_dp/2.0_dp, rel=.true., thr=1.0e-12_dp, &
+        message="rotational, n = "//real_str(real(n, dp)))
+      if (allocated(error)) return
+      ! without rotations the transverse branch is 4 k_t sin^2(q/2)/m
+      scene%effects(scene_effect%rotation) = .false.
+      call assembly_critical_steps(scene, c, status)
+      call check(error, c%omega_max**2, 4.0_dp*max(50.0_dp, 30.0_dp)/2.0_dp*sin(pi*(n/2)/real(n, dp))**2, &
+        rel=.true., thr=1.0e-12_dp, message="translations only, n = "//real_str(real(n, dp)))
+      if (allocated(error)) return
+    end do
+  end subroutine test_ring
+
+  !> A periodic simple cubic lattice of m^3 spheres (spacing 1.98 r, mass 1).
+  subroutine sc_lattice(scene, m, kn, kt)
+    type(scene_type), intent(out) :: scene
+    integer, intent(in) :: m
+    real(dp), intent(in) :: kn, kt
+    real(dp), allocatable :: x(:, :)
+    integer :: i, j, k, p
+    real(dp), parameter :: a = 1.98_dp*0.5_dp
+    type(demstep_status_type) :: status
+    allocate(x(3, m**3))
+    p = 0
+    do k = 1, m
+      do j = 1, m
+        do i = 1, m
+          p = p + 1
+          x(:, p) = a*[i - 1, j - 1, k - 1]
+        end do
+      end do
+    end do
+    call new_scene(scene, 3, x, spread(1.0_dp, 1, m**3), spread(0.5_dp, 1, m**3), status)
+    call scene_set_cell(scene, [.true., .true., .true.], spread(-0.5_dp*a, 1, 3), &
+      spread((m - 0.5_dp)*a, 1, 3), status)
+    scene%k_normal = kn
+    scene%k_tangential = kt
+    scene%effects(scene_effect%rotation) = .true.
+  end subroutine sc_lattice
+
+  subroutine test_sc_lattice(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    ! checkerboard translation: each sphere pushes 2 normal and 4 tangential
+    ! springs on both sides: omega^2 = (4 k_n + 8 k_t)/m; the rotational branch
+    ! tops at 4 x 2 k_t r^2/I = 20 k_t/m (all neighbours turning oppositely)
+    call sc_lattice(scene, 4, 1.0e3_dp, 300.0_dp)
+    call assembly_critical_steps(scene, c, status)
+    call check(error, status%stat, demstep_stat%ok, "sc: "//status%message)
+    if (allocated(error)) return
+    call check(error, c%n_springs, 3*64, "sc contacts")
+    if (allocated(error)) return
+    call check(error, c%omega_max**2, 4.0e3_dp + 8.0_dp*300.0_dp, rel=.true., thr=1.0e-12_dp, message="sc")
+    if (allocated(error)) return
+    call check(error, c%periodic .and. c%dof_per_particle == 6, "the model reported")
+    if (allocated(error)) return
+    call sc_lattice(scene, 4, 1.0e3_dp, 900.0_dp)
+    call assembly_critical_steps(scene, c, status)
+    call check(error, c%omega_max**2, max(4.0e3_dp + 8.0_dp*900.0_dp, 20.0_dp*900.0_dp), rel=.true., &
+      thr=1.0e-12_dp, message="sc, rotations on top")
+  end subroutine test_sc_lattice
+
+  !> A random polydisperse packing in a periodic box: n spheres placed at random
+  !> and shrunk to a typical overlap, with rotations and tangential springs.
+  subroutine random_packing(scene, n, dim, kt_ratio, fill)
+    type(scene_type), intent(out) :: scene
+    integer, intent(in) :: n, dim
+    real(dp), intent(in) :: kt_ratio, fill
+    real(dp), allocatable :: x(:, :), r(:), m(:)
+    real(dp) :: box
+    type(demstep_status_type) :: status
+    allocate(x(dim, n), r(n), m(n))
+    call random_number(x)
+    call random_number(r)
+    r = 0.4_dp + 0.3_dp*r
+    call random_number(m)
+    m = 1.0_dp + m
+    box = (real(n, dp)*fill)**(1.0_dp/dim)
+    x = box*x
+    call new_scene(scene, dim, x, m, r, status)
+    call scene_set_cell(scene, [.true., .true., dim == 3], [0.0_dp, 0.0_dp, 0.0_dp], spread(box, 1, 3), status)
+    scene%k_normal = 100.0_dp
+    scene%k_tangential = kt_ratio*100.0_dp
+    scene%effects(scene_effect%rotation) = .true.
+  end subroutine random_packing
+
+  subroutine test_bound_rotations(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    integer :: trial
+    call random_seed_fixed(11)
+    do trial = 1, 30
+      call random_packing(scene, 30 + trial, 2 + mod(trial, 2), 0.2_dp + 0.03_dp*trial, 1.0_dp)
+      call assembly_critical_steps(scene, c, status, prestress=mod(trial, 3) == 0)
+      if (status%stat /= demstep_stat%ok) cycle
+      ! LAPACK's eigenvalue is accurate to a few ulps of the matrix norm
+      call check(error, c%omega_bound >= c%omega_max*(1.0_dp - 1.0e-13_dp), "bound "// &
+        real_str(c%omega_bound)//" below exact "//real_str(c%omega_max))
+      if (allocated(error)) return
+      call check(error, c%tangential .and. c%rotation, "rotations and tangential springs counted")
+      if (allocated(error)) return
+    end do
+  end subroutine test_bound_rotations
+
+  subroutine test_prestress(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    real(dp) :: fl
+    ! ring of 8 without tangential springs: the transverse branch is only the
+    ! pre-stress, -(F_n/l) 4 sin^2(q/2)/m (negative), so the top is unchanged,
+    ! while with k_t it becomes 4 (k_t - F_n/l) sin^2(q/2)/m
+    call ring(scene, 8, 2.0_dp, 0.5_dp, 10.0_dp, 30.0_dp)
+    scene%effects(scene_effect%rotation) = .false.
+    call assembly_critical_steps(scene, c, status, prestress=.true.)
+    call check(error, status%stat, demstep_stat%ok, "prestress: "//status%message)
+    if (allocated(error)) return
+    ! F_n = k_n d, d = 2 r - 1.98 r, l = 1.98 r
+    fl = 10.0_dp*0.02_dp*0.5_dp/(1.98_dp*0.5_dp)
+    call check(error, c%omega_max**2, 4.0_dp*(30.0_dp - fl)/2.0_dp, rel=.true., thr=1.0e-12_dp, &
+      message="transverse with pre-stress")
+    if (allocated(error)) return
+    call check(error, c%prestress, "reported")
+  end subroutine test_prestress
+
+  subroutine test_refusals(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(demstep_status_type) :: status
+    real(dp) :: x(2, 3)
+    x = reshape([0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, 5.5_dp, 0.0_dp], [2, 3])
+    call new_scene(scene, 2, x, [1.0_dp, 1.0_dp, 1.0_dp], [0.6_dp, 0.6_dp, 0.6_dp], status)
+    call check(error, status%stat, demstep_stat%ok)
+    if (allocated(error)) return
+    ! a cell shorter than twice the longest contact (2 x 1.2)
+    call scene_set_cell(scene, [.true., .false., .false.], [0.0_dp, 0.0_dp, 0.0_dp], &
+      [2.0_dp, 0.0_dp, 0.0_dp], status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, "cell_hi:") == 1, &
+      "short cell: "//status%message)
+    if (allocated(error)) return
+    ! positions outside are wrapped
+    call scene_set_cell(scene, [.true., .false., .false.], [0.0_dp, 0.0_dp, 0.0_dp], &
+      [4.0_dp, 0.0_dp, 0.0_dp], status)
+    call check(error, status%stat, demstep_stat%ok, "cell: "//status%message)
+    if (allocated(error)) return
+    call check(error, scene%x(1, 3), 1.5_dp, thr=1.0e-15_dp, message="wrapped")
+    if (allocated(error)) return
+    call scene_set_contacts(scene, reshape([1, 4], [2, 1]), reshape([1.0_dp, 1.0_dp], [2, 1]), status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, "missing") > 0, &
+      "missing particle: "//status%message)
+    if (allocated(error)) return
+    call scene_set_contacts(scene, reshape([1, 2], [2, 1]), reshape([1.0_dp, -1.0_dp], [2, 1]), status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, "k_t") > 0, &
+      "negative k_t: "//status%message)
+    if (allocated(error)) return
+    call new_scene(scene, 2, x, [1.0_dp, 1.0_dp, 1.0_dp], [0.6_dp, 0.6_dp, 0.6_dp], status, &
+      inertia=[1.0_dp, 0.0_dp, 1.0_dp])
+    call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, "inertia:") == 1, &
+      "inertia 0: "//status%message)
+  end subroutine test_refusals
+
+  subroutine test_materials(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    real(dp) :: k(2, 2, 2), d, rs, e_star, g_star, kn, kt, mm, rot
+    ! three particles in a row: types 1, 2, 1; only the 1-2 pairs touch
+    call new_scene(scene, 2, reshape([0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, 2.0_dp, 0.0_dp], [2, 3]), &
+      [1.0_dp, 2.0_dp, 1.0_dp], [0.55_dp, 0.5_dp, 0.55_dp], status)
+    k(1, :, :) = reshape([1.0_dp, 40.0_dp, 40.0_dp, 9.0_dp], [2, 2])
+    k(2, :, :) = reshape([0.0_dp, 25.0_dp, 25.0_dp, 0.0_dp], [2, 2])
+    call scene_set_types(scene, [1, 2, 1], k, status)
+    call check(error, status%stat, demstep_stat%ok, "types: "//status%message)
+    if (allocated(error)) return
+    scene%effects(scene_effect%rotation) = .true.
+    call assembly_critical_steps(scene, c, status)
+    call check(error, status%stat, demstep_stat%ok, "analysis: "//status%message)
+    if (allocated(error)) return
+    ! a chain 1-2-1 with the pair's k_n = 40, k_t = 25 (the types' own values
+    ! would give other numbers): longitudinally the middle moves against both
+    ! ends, omega^2 = k_n (1/m_1 + 2/m_2) = 80; the transverse-rotational top
+    ! comes from its 6 x 6 problem, solved here independently
+    rot = tri_top(25.0_dp)
+    call check(error, c%omega_max**2, max(40.0_dp*(1.0_dp/1.0_dp + 2.0_dp/2.0_dp), rot), rel=.true., &
+      thr=1.0e-12_dp, message="linear types")
+    if (allocated(error)) return
+    ! Hertz: E*, G* of the pair from the types' E and nu
+    call new_scene(scene, 3, reshape([0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, 0.0_dp], [3, 2]), &
+      [1.0_dp, 2.0_dp], [0.52_dp, 0.5_dp], status)
+    scene%law = contact_law%hertz
+    call scene_set_hertz_types(scene, [1, 2], [70.0_dp, 210.0_dp], [0.3_dp, 0.25_dp], status)
+    call check(error, status%stat, demstep_stat%ok, "hertz types: "//status%message)
+    if (allocated(error)) return
+    scene%effects(scene_effect%rotation) = .true.
+    call assembly_critical_steps(scene, c, status)
+    d = 0.02_dp
+    rs = 0.52_dp*0.5_dp/1.02_dp
+    e_star = 1.0_dp/((1.0_dp - 0.09_dp)/70.0_dp + (1.0_dp - 0.0625_dp)/210.0_dp)
+    g_star = 1.0_dp/((2.0_dp - 0.3_dp)/(70.0_dp/2.6_dp) + (2.0_dp - 0.25_dp)/(210.0_dp/2.5_dp))
+    kn = 2.0_dp*e_star*sqrt(rs*d)
+    kt = 8.0_dp*g_star*sqrt(rs*d)
+    mm = 1.0_dp/1.0_dp + 1.0_dp/2.0_dp
+    call check(error, c%omega_max**2, max(kn*mm, kt*(mm + 1.0_dp/(0.4_dp*1.0_dp) + 1.0_dp/(0.4_dp*2.0_dp))), &
+      rel=.true., thr=1.0e-12_dp, message="Hertz types")
+    if (allocated(error)) return
+    call scene_set_types(scene, [1, 3], k, status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, "types:") == 1, &
+      "type out of range: "//status%message)
+  contains
+    !> The top of the rotational-transverse problem of the 1-2-1 chain along x:
+    !> dofs (u_y, theta) of each particle, s_c = u_j - u_i - r_i theta_i - r_j theta_j
+    !> per contact, by the largest eigenvalue of M^-1/2 K M^-1/2 (6 x 6), found
+    !> by power iteration on the shifted matrix (an independent small solver).
+    real(dp) function tri_top(kt) result(top)
+      real(dp), intent(in) :: kt
+      real(dp) :: kmat(6, 6), b(6), m(6), x(6), y(6)
+      integer :: e, it
+      integer, parameter :: pairs(2, 2) = reshape([1, 2, 2, 3], [2, 2])
+      real(dp), parameter :: r(3) = [0.55_dp, 0.5_dp, 0.55_dp], ms(3) = [1.0_dp, 2.0_dp, 1.0_dp]
+      kmat = 0.0_dp
+      do e = 1, 2
+        b = 0.0_dp
+        b(2*pairs(1, e) - 1) = -1.0_dp
+        b(2*pairs(1, e)) = -r(pairs(1, e))
+        b(2*pairs(2, e) - 1) = 1.0_dp
+        b(2*pairs(2, e)) = -r(pairs(2, e))
+        kmat = kmat + kt*spread(b, 2, 6)*spread(b, 1, 6)
+      end do
+      m = [(ms((e + 1)/2)*merge(1.0_dp, 0.4_dp*r((e + 1)/2)**2, mod(e, 2) == 1), e = 1, 6)]
+      kmat = kmat/sqrt(spread(m, 2, 6)*spread(m, 1, 6))
+      ! a start with no symmetry (the chain's mirror symmetry could hide the top)
+      x = [1.0_dp, 0.3_dp, -0.7_dp, 0.2_dp, 0.5_dp, -0.1_dp]
+      do it = 1, 20000
+        y = matmul(kmat, x)
+        x = y/norm2(y)
+      end do
+      top = dot_product(x, matmul(kmat, x))
+    end function tri_top
+  end subroutine test_materials
+
+  !> Runs with the full physics (rotations, tangential springs; per-contact
+  !> stiffness from a contact list) at 0.99 and 1.01 of dt_critical_eigen.
+  subroutine test_stability_full(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: start, scene
+    type(critical_step_type) :: c
+    type(scene_summary_type) :: summary
+    type(demstep_status_type) :: status
+    integer, allocatable :: ci(:), cj(:)
+    real(dp), allocatable :: cn(:, :), cd(:), k(:, :), v(:, :)
+    integer :: which
+    call random_seed_fixed(3)
+    do which = 1, 3
+      select case (which)
+      case (1)
+        call sc_lattice(start, 3, 1.0e3_dp, 300.0_dp)
+      case (2)
+        call fcc_lattice(start, 2, 1.0e3_dp, 300.0_dp)
+      case (3)
+        call random_packing(start, 30, 3, 0.3_dp, 0.9_dp)
+        call relax(start)
+        ! per-contact stiffness: the contacts of the relaxed packing with k_t
+        ! from 0.2 to 0.6 k_n (k_n as relaxed: the packing stays in equilibrium)
+        call contact_list(start, ci, cj, cn, cd, status)
+        allocate(k(2, size(ci)))
+        call random_number(k(2, :))
+        k(1, :) = start%k_normal
+        k(2, :) = (0.2_dp + 0.4_dp*k(2, :))*start%k_normal
+        call scene_set_contacts(start, reshape([ci, cj], [2, size(ci)], order=[2, 1]), k, status)
+        call check(error, status%stat, demstep_stat%ok, "contacts: "//status%message)
+        if (allocated(error)) return
+      end select
+      ! small random velocities and angular velocities: the run stays linear
+      allocate(v(3, start%n))
+      call random_number(v)
+      start%v(:start%dim, :) = 1.0e-9_dp*(v(:start%dim, :) - 0.5_dp)
+      call random_number(v)
+      start%w = 1.0e-9_dp*(v - 0.5_dp)
+      deallocate(v)
+      ! the stepper's normal force turns with the contact: pre-stress counted
+      call assembly_critical_steps(start, c, status, prestress=.true.)
+      call check(error, status%stat, demstep_stat%ok, "analysis: "//status%message)
+      if (allocated(error)) return
+      scene = start
+      ! the perturbation's energy is 1e-18 of the elastic energy: bounded, the
+      ! total stays to rounding (1e-15 measured); growing, it leaves 1e-6 within
+      ! a few hundred steps (it may then saturate as weak contacts open, short of
+      ! the stepper's blow-up)
+      call scene_run(scene, 0.99_dp*c%dt_critical_eigen, 100000_i8, summary, status)
+      call check(error, .not. summary%blew_up .and. summary%energy_drift < 1.0e-9_dp, &
+        "bounded at 0.99 (case "//real_str(real(which, dp))//"), drift "//real_str(summary%energy_drift))
+      if (allocated(error)) return
+      scene = start
+      call scene_run(scene, 1.01_dp*c%dt_critical_eigen, 5000_i8, summary, status)
+      call check(error, summary%blew_up .or. summary%energy_drift > 1.0e-6_dp, "grows at 1.01 (case "// &
+        real_str(real(which, dp))//")")
+      if (allocated(error)) return
+    end do
+  end subroutine test_stability_full
+
+  !> Relax a packing to equilibrium (normal springs only, local damping), then
+  !> stop it.
+  subroutine relax(scene)
+    type(scene_type), intent(inout) :: scene
+    type(scene_type) :: soft
+    type(critical_step_type) :: c
+    type(scene_summary_type) :: summary
+    type(demstep_status_type) :: status
+    soft = scene
+    soft%k_tangential = 0.0_dp
+    soft%effects = .false.
+    soft%effects(scene_effect%contacts) = .true.
+    soft%effects(scene_effect%local_damping) = .true.
+    soft%local_damping = 0.7_dp
+    call assembly_critical_steps(soft, c, status)
+    call scene_run(soft, 0.5_dp*c%dt_critical_eigen, 30000_i8, summary, status)
+    scene%x = soft%x
+    scene%v = 0.0_dp
+    scene%w = 0.0_dp
+  end subroutine relax
+
+  !> A periodic FCC lattice of 4 m^3 spheres (nearest-neighbour distance 1.98 r).
+  subroutine fcc_lattice(scene, m, kn, kt)
+    type(scene_type), intent(out) :: scene
+    integer, intent(in) :: m
+    real(dp), intent(in) :: kn, kt
+    real(dp), allocatable :: x(:, :)
+    real(dp), parameter :: basis(3, 4) = reshape([0.0_dp, 0.0_dp, 0.0_dp, 0.5_dp, 0.5_dp, 0.0_dp, &
+      0.5_dp, 0.0_dp, 0.5_dp, 0.0_dp, 0.5_dp, 0.5_dp], [3, 4])
+    real(dp) :: a
+    integer :: i, j, k, b, p
+    type(demstep_status_type) :: status
+    a = 1.98_dp*0.5_dp*sqrt(2.0_dp)
+    allocate(x(3, 4*m**3))
+    p = 0
+    do k = 0, m - 1
+      do j = 0, m - 1
+        do i = 0, m - 1
+          do b = 1, 4
+            p = p + 1
+            x(:, p) = a*([real(i, dp), real(j, dp), real(k, dp)] + basis(:, b))
+          end do
+        end do
+      end do
+    end do
+    call new_scene(scene, 3, x, spread(1.0_dp, 1, p), spread(0.5_dp, 1, p), status)
+    call scene_set_cell(scene, [.true., .true., .true.], spread(-0.25_dp*a, 1, 3), &
+      spread((m - 0.25_dp)*a, 1, 3), status)
+    scene%k_normal = kn
+    scene%k_tangential = kt
+    scene%effects(scene_effect%rotation) = .true.
+  end subroutine fcc_lattice
+
+end module test_interaction

@@ -1,0 +1,115 @@
+!> The Yade check (validation/yade): three periodic assemblies whose largest
+!> stable step was measured in Yade by bisection. The app runs the example decks
+!> on the exported particle and contact tables; its dt_critical_eigen must lie
+!> within 0.5 % of the measured limit and never above it by more than 0.1 %,
+!> and equal the independent numpy reference of the same model
+!> (reference_6dof.py, "sym6_radius_arms") to 1e-10, and its bound the
+!> reference's Gershgorin bound. Yade is not needed: the
+!> measurements and the reference are committed JSON files.
+module test_yade
+  use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
+  use demstep, only: dp, i8
+  use test_support, only: run_app, read_file, work_dir, real_str
+  implicit none
+  private
+  public :: collect_yade
+
+  character(len=*), parameter :: out = work_dir//"/yade_out.nml"
+
+contains
+
+  subroutine collect_yade(testsuite)
+    type(unittest_type), allocatable, intent(out) :: testsuite(:)
+    testsuite = [ &
+      new_unittest("simple cubic: Yade's measured limit and the numpy reference", test_sc), &
+      new_unittest("FCC: Yade's measured limit and the numpy reference", test_fcc), &
+      new_unittest("random packing: Yade's measured limit and the numpy reference", test_random) &
+      ]
+  end subroutine collect_yade
+
+  subroutine test_sc(error)
+    type(error_type), allocatable, intent(out) :: error
+    call check_case(error, "sc")
+  end subroutine test_sc
+
+  subroutine test_fcc(error)
+    type(error_type), allocatable, intent(out) :: error
+    call check_case(error, "fcc")
+  end subroutine test_fcc
+
+  subroutine test_random(error)
+    type(error_type), allocatable, intent(out) :: error
+    call check_case(error, "random")
+  end subroutine test_random
+
+  !> The number after `"key": ` in a JSON text, from position `from` on.
+  real(dp) function json_number(text, key, from) result(x)
+    character(len=*), intent(in) :: text, key
+    integer, intent(in) :: from
+    integer :: k, e, ios
+    x = -1.0_dp
+    k = index(text(from:), '"'//key//'":')
+    if (k == 0) return
+    k = from + k - 1 + len(key) + 3
+    e = scan(text(k:), ",}"//new_line("a"))
+    read(text(k:k + e - 2), *, iostat=ios) x
+    if (ios /= 0) x = -1.0_dp
+  end function json_number
+
+  subroutine check_case(error, name)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable :: stdout, stderr, summary, reference
+    real(dp) :: lo, hi, mid, ref, ref_bound
+    integer :: rc, unit, ios
+    integer :: n_particles, n_dof, n_springs, max_contacts, dof_per_particle
+    real(dp) :: omega_max, dt_critical_eigen, dt_critical_bound, dt_contact_rule, &
+      dt_critical_damped, damping_ratio_top, dt_used, energy_drift, max_overlap
+    integer(i8) :: steps
+    logical :: eigen_computed, blew_up, rotation, tangential, periodic, prestress
+    namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
+      periodic, prestress, omega_max, eigen_computed, dt_critical_eigen, dt_critical_bound, &
+      dt_contact_rule, dt_critical_damped, damping_ratio_top, dt_used, steps, energy_drift, &
+      max_overlap, max_contacts, blew_up
+    call execute_command_line("rm -f "//out, wait=.true.)
+    call run_app("-q example/yade_"//name//".nml -o "//out, rc, stdout, stderr)
+    call check(error, rc, 0, message="exit status; stderr: "//stderr)
+    if (allocated(error)) return
+    open(newunit=unit, file=out, status="old", action="read", iostat=ios)
+    call check(error, ios, 0, message="result file")
+    if (allocated(error)) return
+    read(unit, nml=scene_result, iostat=ios)
+    close(unit)
+    call check(error, ios, 0, message="read(nml=scene_result)")
+    if (allocated(error)) return
+    call read_file("validation/yade/data/"//name//"/summary.json", summary)
+    call read_file("validation/yade/data/"//name//"/reference.json", reference)
+    lo = json_number(summary, "measured_dt_lo", 1)
+    hi = json_number(summary, "measured_dt_hi", 1)
+    ref = json_number(reference, "dt", max(1, index(reference, '"sym6_radius_arms"')))
+    ref_bound = json_number(reference, "dt", max(1, index(reference, '"gershgorin_sym6"')))
+    call check(error, lo > 0.0_dp .and. hi > lo .and. ref > 0.0_dp, "the JSON files are read")
+    if (allocated(error)) return
+    mid = 0.5_dp*(lo + hi)
+    call check(error, eigen_computed .and. dof_per_particle == 6 .and. rotation .and. tangential .and. &
+      periodic .and. .not. prestress, "the 6-dof periodic model with tangential springs")
+    if (allocated(error)) return
+    ! the issue's goal: within 0.5 % of the measured limit, never above it by 0.1 %
+    call check(error, abs(dt_critical_eigen/mid - 1.0_dp) <= 5.0e-3_dp, name//": "// &
+      real_str(dt_critical_eigen)//" vs measured "//real_str(mid))
+    if (allocated(error)) return
+    call check(error, dt_critical_eigen <= 1.001_dp*hi, name//": above the measured bracket")
+    if (allocated(error)) return
+    ! the same model in numpy (dense eigvalsh, order up to 3600): both solvers
+    ! reach a few ulps of the matrix norm, far below 1e-10
+    call check(error, dt_critical_eigen, ref, rel=.true., thr=1.0e-10_dp, message=name//": vs reference_6dof.py")
+    if (allocated(error)) return
+    call check(error, dt_critical_bound <= dt_critical_eigen, name//": the bound is below the limit")
+    if (allocated(error)) return
+    ! the bound is the largest absolute row sum of the same matrix (each pair
+    ! touches once, so summing per spring off the diagonal loses nothing)
+    call check(error, dt_critical_bound, ref_bound, rel=.true., thr=1.0e-10_dp, message=name// &
+      ": bound vs reference_6dof.py's Gershgorin")
+  end subroutine check_case
+
+end module test_yade
