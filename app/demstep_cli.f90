@@ -12,7 +12,7 @@ module demstep_cli
   implicit none
   private
 
-  public :: var, given, read_group, check_real, fmt_real, fmt_int, write_template, cli_context, &
+  public :: recommended_line, var, given, read_group, check_real, fmt_real, fmt_int, write_template, cli_context, &
     fmt_real_column, default_text, capacity_of, &
     new_array, array_length, broadcast, common_length, new_int_array, int_array_length
 
@@ -689,5 +689,12 @@ contains
       text = text//specs(i)%name
     end do
   end function names_of
+
+  !> The line that ends every report yielding a time step.
+  subroutine recommended_line(unit, dt_recommended)
+    integer, intent(in) :: unit
+    real(dp), intent(in) :: dt_recommended
+    write(unit, '(a)') "recommended dt = "//fmt_real(dt_recommended)//" s"
+  end subroutine recommended_line
 
 end module demstep_cli

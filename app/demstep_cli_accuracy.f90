@@ -11,7 +11,7 @@ module demstep_cli_accuracy
   use demstep_namelist, only: lowercase
   use demstep_cost, only: default_cost_n_max
   use demstep_contact, only: check_contact_damping
-  use demstep_cli, only: var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
+  use demstep_cli, only: recommended_line, var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
     check_real, new_array, array_length, broadcast, common_length, default_text, max_values, &
     capacity_of
   use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &
@@ -402,7 +402,7 @@ contains
       write(ctx%report, '(2x, a, t28, a)') "governs", "stability ("//fmt_real(default_safety)// &
         " of the critical step)"
     end if
-    write(ctx%report, '(a)') "recommended dt = "//fmt_real(dt_recommended)//" s"
+    call recommended_line(ctx%report, dt_recommended)
     write(ctx%report, '(a)') ""
   contains
     subroutine read_item(text, ios)

@@ -12,7 +12,7 @@ module demstep_cli_material
   use demstep_cost, only: default_cost_n_max
   use demstep_status, only: set_status
   use demstep_namelist, only: lowercase
-  use demstep_cli, only: var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
+  use demstep_cli, only: recommended_line, var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
     new_array, array_length, common_length, broadcast, capacity_of
   implicit none
   private
@@ -256,7 +256,7 @@ contains
       call row(u, "governs", "stability ("//fmt_real(default_safety)//" of the smallest exact limit)")
       if (.not. have_tolerance) write(u, '(4x, a)') "(stability only: give tolerance for accuracy)"
     end if
-    write(u, '(a)') "recommended dt = "//fmt_real(dt_recommended)//" s"
+    call recommended_line(u, dt_recommended)
     write(u, '(a)') ""
     call write_result(ctx%results, [(convention_names(c), c = first, last)], peer_rule_names, type_i, type_j, &
       m_star, k_n, k_t, gamma_n, gamma_t, dt_code, rayleigh, hertz_duration, linear_duration, dt_critical, &

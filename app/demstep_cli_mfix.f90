@@ -5,7 +5,7 @@ module demstep_cli_mfix
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, mfix_deck_type, parse_mfix_deck, &
     mfix_input_type, mfix_result_type, mfix_assessment_type, mfix_input_from_deck, mfix_compute, &
     mfix_assess, mfix_units, mfix_model, mfix_integrator, step_governs, default_safety
-  use demstep_cli, only: cli_context, fmt_real, fmt_int
+  use demstep_cli, only: recommended_line, cli_context, fmt_real, fmt_int
   implicit none
   private
 
@@ -161,7 +161,7 @@ contains
       fmt_real(result%tcoll/a%dtsolid_factor)//" s):"
     if (input%integrator == mfix_integrator%adams_bashforth) write(u, '(a)') "des_intg_method = 'EULER'"
     write(u, '(a)') "dtsolid_factor = "//fmt_real(a%dtsolid_factor)
-    write(u, '(a)') "recommended dt = "//fmt_real(a%dt_recommended)//" s"
+    call recommended_line(u, a%dt_recommended)
     write(u, '(a)') ""
   end subroutine report
 

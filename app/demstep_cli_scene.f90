@@ -11,7 +11,8 @@ module demstep_cli_scene
     scene_set_contacts, scene_set_cell, scene_set_types, scene_set_hertz_types, n_effects, &
     effect_names, critical_step_type, assembly_critical_steps, hertz_modes => hertz_linearization, &
     default_max_eigen_dof, measure_step_cost, text_progress_type, assembly_step_for_n_per_period
-  use demstep_cli, only: var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
+  use demstep_recommend, only: recommended_step, default_safety
+  use demstep_cli, only: recommended_line, var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
     check_real, new_array, array_length, new_int_array, int_array_length, max_values, &
     capacity_of
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -148,7 +149,8 @@ contains
     logical, allocatable :: is_fixed(:)
     integer, allocatable :: pairs(:, :)
     integer :: i, n, np, nv, nm, nr, nf, nb, nw, mode
-    real(dp) :: dt_used
+    real(dp) :: dt_used, dt_recommended
+    integer :: governs
     integer(i8) :: steps
     type(text_progress_type) :: progress
 
@@ -466,8 +468,15 @@ contains
         return
       end if
     end if
-    call report(ctx%report, group, sc, crit, duration > 0.0_dp, dt_used, steps, summary)
-    call write_result(ctx%results, sc, crit, dt_used, summary)
+    ! the damped limit is that of the exact omega_max, or of the bound when the
+    ! dense solver was not run: the recommendation is safe either way
+    call recommended_step(crit%dt_critical_damped, dt_recommended, governs, status)
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "&"//g//": "//status%message
+      return
+    end if
+    call report(ctx%report, group, sc, crit, duration > 0.0_dp, dt_used, steps, summary, dt_recommended)
+    call write_result(ctx%results, sc, crit, dt_used, summary, dt_recommended)
 
   contains
 
@@ -682,7 +691,7 @@ contains
     text = path//": line "//fmt_int(int(lines(row), i8))//message(b+1:)
   end function row_to_line
 
-  subroutine report(u, group, sc, crit, ran, dt_used, steps, summary)
+  subroutine report(u, group, sc, crit, ran, dt_used, steps, summary, dt_recommended)
     integer, intent(in) :: u
     type(nml_group_type), intent(in) :: group
     type(scene_type), intent(in) :: sc
@@ -691,6 +700,7 @@ contains
     real(dp), intent(in) :: dt_used
     integer(i8), intent(in) :: steps
     type(scene_summary_type), intent(in) :: summary
+    real(dp), intent(in) :: dt_recommended
     integer :: i
     character(len=:), allocatable :: on
     on = ""
@@ -729,15 +739,24 @@ contains
         write(u, '(4x, a, t40, a)') "blew up", "no"
       end if
     end if
+    if (crit%eigen_computed) then
+      write(u, '(2x, a, t28, a)') "governs", "stability ("//fmt_real(default_safety)// &
+        " of the damped critical step of omega_max)"
+    else
+      write(u, '(2x, a, t28, a)') "governs", "stability ("//fmt_real(default_safety)// &
+        " of the damped step of the bound)"
+    end if
+    call recommended_line(u, dt_recommended)
     write(u, '(a)') ""
   end subroutine report
 
-  subroutine write_result(unit, sc, crit, dt_used, summary)
+  subroutine write_result(unit, sc, crit, dt_used, summary, dt_recommended)
     integer, intent(in) :: unit
     type(scene_type), intent(in) :: sc
     type(critical_step_type), intent(in) :: crit
     real(dp), intent(in) :: dt_used
     type(scene_summary_type), intent(in) :: summary
+    real(dp), intent(in) :: dt_recommended
     integer :: n_particles, n_dof, n_springs, max_contacts, dof_per_particle
     logical :: rotation, tangential, periodic, prestress
     real(dp) :: omega_max, dt_critical_eigen, dt_critical_bound, dt_contact_rule, &
@@ -747,7 +766,8 @@ contains
     namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
       periodic, prestress, omega_max, eigen_computed, &
       dt_critical_eigen, dt_critical_bound, dt_contact_rule, dt_critical_damped, &
-      damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, blew_up
+      damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, blew_up, &
+      dt_recommended
     n_particles = sc%n
     n_dof = crit%n_dof
     n_springs = crit%n_springs

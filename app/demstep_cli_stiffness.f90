@@ -10,7 +10,7 @@ module demstep_cli_stiffness
   use demstep_stiffness, only: default_n_max, default_resolution, n_scan_start
   use demstep_stiffness, only: procedure_cost, measure_evaluation_cost, max_procedure_evaluations
   use, intrinsic :: iso_fortran_env, only: error_unit
-  use demstep_cli, only: var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
+  use demstep_cli, only: recommended_line, var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
     check_real, new_array, array_length, default_text, max_values, capacity_of
   implicit none
   private
@@ -298,7 +298,7 @@ contains
         write(u, '(2x, a, t30, a)') "governs", "stability ("//fmt_real(default_safety)// &
           " of the critical step of K')"
       end if
-      write(u, '(a)') "recommended dt = "//fmt_real(dt_recommended)//" s"
+      call recommended_line(u, dt_recommended)
     end if
     write(u, '(a)') ""
   end subroutine report

@@ -7,7 +7,7 @@ module demstep_cli_system
   use demstep_kinds, only: pi
   use demstep_namelist, only: lowercase
   use demstep_status, only: set_status
-  use demstep_cli, only: var_spec, var, given, read_group, check_real, fmt_real, fmt_int, &
+  use demstep_cli, only: recommended_line, var_spec, var, given, read_group, check_real, fmt_real, fmt_int, &
     cli_context
   implicit none
   private
@@ -196,7 +196,7 @@ contains
     real(dp), intent(in) :: dt_recommended
     call row(u, "governs", "stability ("//fmt_real(default_safety)//" of the critical step; " &
       //"&accuracy_cost gives the step for a tolerance)")
-    write(u, '(a)') "recommended dt = "//fmt_real(dt_recommended)//" s"
+    call recommended_line(u, dt_recommended)
     write(u, '(a)') ""
   end subroutine recommend_line
 

@@ -467,7 +467,7 @@ contains
     character(len=:), allocatable :: stdout, stderr
     integer :: n_particles, n_dof, n_springs, max_contacts
     real(dp) :: omega_max, dt_critical_eigen, dt_critical_bound, dt_contact_rule, &
-      dt_critical_damped, damping_ratio_top, dt_used, energy_drift, max_overlap
+      dt_critical_damped, damping_ratio_top, dt_used, energy_drift, max_overlap, dt_recommended
     integer(i8) :: steps
     logical :: eigen_computed, blew_up
     integer :: dof_per_particle
@@ -475,7 +475,8 @@ contains
     namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
       periodic, prestress, omega_max, eigen_computed, &
       dt_critical_eigen, dt_critical_bound, dt_contact_rule, dt_critical_damped, &
-      damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, blew_up
+      damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, blew_up, &
+      dt_recommended
     call remove(out)
     call run_app("example/chain.nml -o "//out, rc, stdout, stderr)
     call check(error, rc, 0, message="exit status; stderr: "//stderr)
@@ -493,6 +494,12 @@ contains
       "bound below, contact rule above the exact limit")
     if (allocated(error)) return
     call check(error, dt_used, 2.0_dp*pi/omega_max/10.0_dp, thr=1.0e-14_dp, rel=.true., message="dt = T/10")
+    if (allocated(error)) return
+    ! undamped chain: 0.9 of the exact limit 2/omega_max (one multiplication)
+    call check(error, dt_recommended, 0.9_dp*(2.0_dp/omega_max), thr=4*epsilon(1.0_dp), rel=.true., &
+      message="dt_recommended")
+    if (allocated(error)) return
+    call check(error, index(stdout, "recommended dt = ") > 0, "the report ends with the recommended step")
     if (allocated(error)) return
     call check(error, .not. blew_up .and. energy_drift < 1.0e-9_dp, "a stable, conservative run")
     if (allocated(error)) return

@@ -71,7 +71,7 @@ contains
     character(len=:), allocatable :: stdout, stderr
     integer :: n_particles, n_dof, n_springs, max_contacts
     real(dp) :: omega_max, dt_critical_eigen, dt_critical_bound, dt_contact_rule, &
-      dt_critical_damped, damping_ratio_top, dt_used, energy_drift, max_overlap
+      dt_critical_damped, damping_ratio_top, dt_used, energy_drift, max_overlap, dt_recommended
     integer(i8) :: steps
     logical :: eigen_computed, blew_up
     integer :: dof_per_particle
@@ -79,7 +79,8 @@ contains
     namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
       periodic, prestress, omega_max, eigen_computed, &
       dt_critical_eigen, dt_critical_bound, dt_contact_rule, dt_critical_damped, &
-      damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, blew_up
+      damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, blew_up, &
+      dt_recommended
     call write_file(deck, [line])
     call execute_command_line("rm -f "//out, wait=.true.)
     if (present(env)) then

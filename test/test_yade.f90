@@ -64,13 +64,13 @@ contains
     integer :: rc, unit, ios
     integer :: n_particles, n_dof, n_springs, max_contacts, dof_per_particle
     real(dp) :: omega_max, dt_critical_eigen, dt_critical_bound, dt_contact_rule, &
-      dt_critical_damped, damping_ratio_top, dt_used, energy_drift, max_overlap
+      dt_critical_damped, damping_ratio_top, dt_used, energy_drift, max_overlap, dt_recommended
     integer(i8) :: steps
     logical :: eigen_computed, blew_up, rotation, tangential, periodic, prestress
     namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
       periodic, prestress, omega_max, eigen_computed, dt_critical_eigen, dt_critical_bound, &
       dt_contact_rule, dt_critical_damped, damping_ratio_top, dt_used, steps, energy_drift, &
-      max_overlap, max_contacts, blew_up
+      max_overlap, max_contacts, blew_up, dt_recommended
     call execute_command_line("rm -f "//out, wait=.true.)
     call run_app("-q example/yade_"//name//".nml -o "//out, rc, stdout, stderr)
     call check(error, rc, 0, message="exit status; stderr: "//stderr)
