@@ -110,12 +110,12 @@ module demstep_roots
       real(dp), intent(in) :: x
       real(dp) :: h
     end function scan_step_function
-    !> Bookkeeping of one sample of a scan; set `stop` to end the scan.
-    pure subroutine scan_visit_function(context, cell, stop)
+    !> Bookkeeping of one sample of a scan; set `halt` to end the scan.
+    pure subroutine scan_visit_function(context, cell, halt)
       import :: root_context_type, scan_cell_type
       class(root_context_type), intent(inout) :: context
       type(scan_cell_type), intent(in) :: cell
-      logical, intent(inout) :: stop
+      logical, intent(inout) :: halt
     end subroutine scan_visit_function
   end interface
 
@@ -353,7 +353,7 @@ contains
     real(dp) :: a, b, x, xb, h, rel, abst, r, r_lo, r_hi
     real(dp), allocatable :: found(:), jumps(:)
     integer :: a_kind, b_kind, n_found, n_jumps, stat
-    logical :: stop, have_prev, first_in_piece, first, jump
+    logical :: halt, have_prev, first_in_piece, first, jump
     allocate(roots(0), discontinuities(0))
     rel = 0.0_dp
     abst = 0.0_dp
@@ -375,11 +375,11 @@ contains
     allocate(found(8), jumps(8))
     n_found = 0
     n_jumps = 0
-    stop = .false.
+    halt = .false.
     have_prev = .false.
     a = lo
     a_kind = scan_break%start
-    do while (a < hi .and. .not. stop)
+    do while (a < hi .and. .not. halt)
       b = hi
       b_kind = scan_break%end
       if (present(next_break)) call next_break(context, a, b, b_kind)
@@ -429,11 +429,11 @@ contains
           end if
         end if
         cell%roots = n_found
-        if (present(visit)) call visit(context, cell, stop)
-        if (first .and. n_found > 0) stop = .true.
+        if (present(visit)) call visit(context, cell, halt)
+        if (first .and. n_found > 0) halt = .true.
         have_prev = .true.
         first_in_piece = .false.
-        if (stop .or. x >= xb) exit
+        if (halt .or. x >= xb) exit
         if (present(step)) then
           h = step(context, x)
         else

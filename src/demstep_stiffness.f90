@@ -349,10 +349,10 @@ contains
 
   !> The scan's bookkeeping of one sample (`scan_roots` found the roots): the
   !> admissible intervals, and the refusals (a blocked pick, the budget).
-  pure subroutine visit_sample(context, cell, stop)
+  pure subroutine visit_sample(context, cell, halt)
     class(root_context_type), intent(inout) :: context
     type(scan_cell_type), intent(in) :: cell
-    logical, intent(inout) :: stop
+    logical, intent(inout) :: halt
     type(sample_type) :: cur
     select type (s => context)
     class is (scan_state_type)
@@ -373,10 +373,10 @@ contains
         call within(s, cur, cell)
       end if
       s%prev = cur
-      if (s%options%first_only .and. s%n_roots > 0 .and. s%n_upper > 0) stop = .true.
+      if (s%options%first_only .and. s%n_roots > 0 .and. s%n_upper > 0) halt = .true.
       if (s%blocked .and. s%options%pick == pick_kind%largest_step) then
         call unresolvable(s%lambda, s%options, s%blocked_root, s%blocked_e, s%refusal)
-        stop = .true.
+        halt = .true.
       else if (real(s%evaluations, dp) > s%budget) then
         if (s%options%policy%kind == step_kind%fixed) then
           call set_status(s%refusal, demstep_stat%invalid_input, "n_steps: the scan of E for " &
@@ -387,7 +387,7 @@ contains
             //"lambda = "//real_text(s%lambda)//" took more than "//real_text(s%budget) &
             //" evaluations; use a coarser resolution or a smaller n_max")
         end if
-        stop = .true.
+        halt = .true.
       end if
     end select
   end subroutine visit_sample

@@ -112,7 +112,7 @@ contains
     if (present(in_work_dir)) then
       if (in_work_dir) prefix = "cd "//work_dir//" && "//prefix
     end if
-    call execute_command_line("mkdir -p "//work_dir, wait=.true.)
+    call execute_command_line("mkdir -p "//work_dir, wait=.true., cmdstat=cmdstat)
     call execute_command_line(prefix//root//app_path()//" "//args//" >"//root//work_dir// &
       "/stdout 2>"//root//work_dir//"/stderr", wait=.true., exitstat=exitstat, cmdstat=cmdstat)
     if (cmdstat /= 0) exitstat = -1000
@@ -124,8 +124,9 @@ contains
   subroutine write_file(path, lines)
     character(len=*), intent(in) :: path
     character(len=*), intent(in) :: lines(:)
-    integer :: unit, i
-    call execute_command_line("mkdir -p "//work_dir, wait=.true.)
+    integer :: unit, i, cmdstat
+    ! (cmdstat: a missing shell would otherwise end the test program)
+    call execute_command_line("mkdir -p "//work_dir, wait=.true., cmdstat=cmdstat)
     open(newunit=unit, file=path, status="replace", action="write")
     do i = 1, size(lines)
       write(unit, '(a)') trim(lines(i))
