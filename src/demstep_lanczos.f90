@@ -34,7 +34,7 @@ module demstep_lanczos
   implicit none
   private
 
-  public :: lanczos_operator, lanczos_largest, lanczos_start_vector
+  public :: lanczos_operator, lanczos_largest, lanczos_start_vector, check_lanczos_options
   public :: csr_matrix_type, csr_from_springs, csr_apply, csr_to_dense
 
   !> Default relative tolerance: the residual of the Ritz pair at most 1e-10 of
@@ -174,26 +174,8 @@ contains
         return
       end if
     end if
-    if (.not. (tol >= epsilon(1.0_dp) .and. tol <= 0.1_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "lanczos_largest: tolerance: " &
-        //real_text(tol)//" is outside [2.2e-16, 0.1]")
-      return
-    end if
-    if (k < 1) then
-      call set_status(status, demstep_stat%invalid_input, "lanczos_largest: nev: need at " &
-        //"least 1, not "//int_text(k))
-      return
-    end if
-    if (m <= k) then
-      call set_status(status, demstep_stat%invalid_input, "lanczos_largest: ncv: the " &
-        //"Krylov size "//int_text(m)//" must exceed nev = "//int_text(k))
-      return
-    end if
-    if (restarts < 1) then
-      call set_status(status, demstep_stat%invalid_input, "lanczos_largest: max_restarts: " &
-        //"need at least 1, not "//int_text(restarts))
-      return
-    end if
+    call check_lanczos_options("lanczos_largest", tol, k, m, restarts, status)
+    if (status%stat /= demstep_stat%ok) return
 
     allocate(y(n))
     if (n == 1) then
@@ -513,5 +495,30 @@ contains
       end do
     end do
   end subroutine csr_to_dense
+
+  !> The Lanczos options' rules, for the serial and the distributed driver: a
+  !> tolerance in [eps, 0.1], nev >= 1, ncv > nev, max_restarts >= 1. The message
+  !> starts with `caller: option:`; `status` is ok when all hold.
+  pure subroutine check_lanczos_options(caller, tol, nev, ncv, restarts, status)
+    !> The driver's name, for the message.
+    character(len=*), intent(in) :: caller
+    real(dp), intent(in) :: tol
+    integer, intent(in) :: nev, ncv, restarts
+    type(demstep_status_type), intent(out) :: status
+    status%stat = demstep_stat%ok
+    if (.not. (tol >= epsilon(1.0_dp) .and. tol <= 0.1_dp)) then
+      call set_status(status, demstep_stat%invalid_input, caller//": tolerance: " &
+        //real_text(tol)//" is outside [2.2e-16, 0.1]")
+    else if (nev < 1) then
+      call set_status(status, demstep_stat%invalid_input, caller//": nev: need at " &
+        //"least 1, not "//int_text(nev))
+    else if (ncv <= nev) then
+      call set_status(status, demstep_stat%invalid_input, caller//": ncv: the " &
+        //"Krylov size "//int_text(ncv)//" must exceed nev = "//int_text(nev))
+    else if (restarts < 1) then
+      call set_status(status, demstep_stat%invalid_input, caller//": max_restarts: " &
+        //"need at least 1, not "//int_text(restarts))
+    end if
+  end subroutine check_lanczos_options
 
 end module demstep_lanczos

@@ -25,7 +25,7 @@ module demstep_mpi_lanczos
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_arpack, only: arpack_iparam_size
   use demstep_parpack, only: pdsaupd, pdseupd, pdsaupd_status, pdseupd_status
-  use demstep_lanczos, only: eigen_result_type, lanczos_tolerance_default, &
+  use demstep_lanczos, only: check_lanczos_options, eigen_result_type, lanczos_tolerance_default, &
     lanczos_ncv_default, lanczos_nev_default, lanczos_restarts_default
   use demstep_double_double, only: two_sum, two_prod
   use demstep_text, only: int_text, real_text
@@ -343,26 +343,8 @@ contains
         return
       end if
     end if
-    if (.not. (tol >= epsilon(1.0_dp) .and. tol <= 0.1_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "parallel_lanczos_largest: " &
-        //"tolerance: "//real_text(tol)//" is outside [2.2e-16, 0.1]")
-      return
-    end if
-    if (k < 1) then
-      call set_status(status, demstep_stat%invalid_input, "parallel_lanczos_largest: nev: " &
-        //"need at least 1, not "//int_text(k))
-      return
-    end if
-    if (m <= k) then
-      call set_status(status, demstep_stat%invalid_input, "parallel_lanczos_largest: ncv: " &
-        //"the Krylov size "//int_text(m)//" must exceed nev = "//int_text(k))
-      return
-    end if
-    if (restarts < 1) then
-      call set_status(status, demstep_stat%invalid_input, "parallel_lanczos_largest: " &
-        //"max_restarts: need at least 1, not "//int_text(restarts))
-      return
-    end if
+    call check_lanczos_options("parallel_lanczos_largest", tol, k, m, restarts, status)
+    if (status%stat /= demstep_stat%ok) return
 
     allocate(y(n))
     if (matrix%n_global == 1) then
