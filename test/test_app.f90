@@ -3,7 +3,7 @@ module test_app
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed, skip_test
   use demstep
   use demstep_kinds, only: pi
-  use test_support, only: run_app, write_file, read_file, file_exists, work_dir, real_str
+  use test_support, only: count_lines, remove, run_app, write_file, read_file, file_exists, work_dir, real_str
   implicit none
   private
   public :: collect_app
@@ -862,21 +862,5 @@ contains
     call read_file(work_dir//"/listing", listing)
     call check(error, index(listing, ".tmp") == 0, "no temporary file left behind")
   end subroutine expect_failure
-
-  pure integer function count_lines(text)
-    character(len=*), intent(in) :: text
-    integer :: i
-    count_lines = 0
-    do i = 1, len(text)
-      if (text(i:i) == new_line("a")) count_lines = count_lines + 1
-    end do
-  end function count_lines
-
-  subroutine remove(path)
-    character(len=*), intent(in) :: path
-    integer :: unit, ios
-    open(newunit=unit, file=path, status="old", iostat=ios)
-    if (ios == 0) close(unit, status="delete")
-  end subroutine remove
 
 end module test_app

@@ -9,7 +9,7 @@ module test_app_stiffness
   use demstep
   use demstep_kinds, only: pi
   use demstep_namelist, only: lowercase
-  use test_support, only: run_app, write_file, read_file, file_exists, work_dir, real_str
+  use test_support, only: count_lines, remove, run_app, write_file, read_file, file_exists, work_dir, real_str
   implicit none
   private
   public :: collect_app_stiffness
@@ -230,21 +230,5 @@ contains
     if (allocated(error)) return
     call run_bad(error, g//"tolerance = 1e-3 /", "lambda: give either lambda or lambda_min, lambda_max and lambda_count")
   end subroutine test_messages
-
-  pure integer function count_lines(text)
-    character(len=*), intent(in) :: text
-    integer :: i
-    count_lines = 0
-    do i = 1, len(text)
-      if (text(i:i) == new_line("a")) count_lines = count_lines + 1
-    end do
-  end function count_lines
-
-  subroutine remove(path)
-    character(len=*), intent(in) :: path
-    integer :: unit, ios
-    open(newunit=unit, file=path, status="old", iostat=ios)
-    if (ios == 0) close(unit, status="delete")
-  end subroutine remove
 
 end module test_app_stiffness

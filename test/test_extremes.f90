@@ -7,7 +7,7 @@ module test_extremes
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
   use demstep_kinds, only: pi
-  use test_support, only: run_app, write_file, read_file, file_exists, work_dir, reference
+  use test_support, only: count_lines, remove, run_app, write_file, read_file, file_exists, work_dir, reference
   use, intrinsic :: iso_fortran_env, only: qp => real128
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
@@ -346,8 +346,8 @@ contains
     logical :: have_gnuplot
     call execute_command_line("command -v gnuplot > /dev/null 2>&1", exitstat=rc, cmdstat=cs)
     have_gnuplot = rc == 0 .and. cs == 0
-    call delete(work_dir//"/INJECTED")
-    call delete("INJECTED")
+    call remove(work_dir//"/INJECTED")
+    call remove("INJECTED")
     do i = 1, size(names)
       name = trim(names(i))
       ! in namelist text a quote inside quotes is doubled
@@ -370,9 +370,9 @@ contains
           file_exists(work_dir//"/"//name//".svg"), "figure written under its literal name: "//name)
         if (allocated(error)) return
       end if
-      call delete(work_dir//"/"//name//".png")
-      call delete(work_dir//"/"//name//".svg")
-      call delete(work_dir//"/<touch INJECTED "//achar(48 + i))
+      call remove(work_dir//"/"//name//".png")
+      call remove(work_dir//"/"//name//".svg")
+      call remove(work_dir//"/<touch INJECTED "//achar(48 + i))
     end do
     if (.not. have_gnuplot) write(*, '(a)') "    (gnuplot not found: the figure files were not checked)"
   contains
@@ -729,7 +729,7 @@ contains
     character(len=*), intent(in) :: line, expected
     integer :: rc, cs
     character(len=:), allocatable :: stdout, stderr, listing
-    call delete(out)
+    call remove(out)
     call write_file(deck, [character(len=len(line)) :: line])
     call run_app(deck//" -o "//out, rc, stdout, stderr)
     call check(error, rc, 2, message="exit status for '"//line//"'; stderr: "//stderr)
@@ -749,15 +749,6 @@ contains
     call check(error, index(listing, ".tmp") == 0, "no temporary file left behind")
   end subroutine expect_refusal
 
-  pure integer function count_lines(text)
-    character(len=*), intent(in) :: text
-    integer :: i
-    count_lines = 0
-    do i = 1, len(text)
-      if (text(i:i) == new_line("a")) count_lines = count_lines + 1
-    end do
-  end function count_lines
-
   pure function to_upper(text) result(upper)
     character(len=*), intent(in) :: text
     character(len=len(text)) :: upper
@@ -767,12 +758,5 @@ contains
       if (text(i:i) >= "a" .and. text(i:i) <= "z") upper(i:i) = achar(iachar(text(i:i)) - 32)
     end do
   end function to_upper
-
-  subroutine delete(path)
-    character(len=*), intent(in) :: path
-    integer :: unit, ios
-    open(newunit=unit, file=path, status="old", iostat=ios)
-    if (ios == 0) close(unit, status="delete")
-  end subroutine delete
 
 end module test_extremes

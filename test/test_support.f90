@@ -6,7 +6,7 @@ module test_support
   implicit none
   private
   public :: sinpi_q, reference, reference_steps, unit_contact
-  public :: ieee_nan, real_str, int_str, app_path, run_app, write_file, read_file, &
+  public :: count_lines, remove, ieee_nan, real_str, int_str, app_path, run_app, write_file, read_file, &
     file_exists, work_dir
 
   real(qp), parameter :: pi_q = 3.14159265358979323846264338327950288_qp
@@ -168,5 +168,23 @@ contains
     if (status%stat /= demstep_stat%ok) return
     call spring_contact(unit, h, contact, status)
   end subroutine unit_contact
+
+  !> Lines in a text: its line feeds.
+  pure integer function count_lines(text)
+    character(len=*), intent(in) :: text
+    integer :: i
+    count_lines = 0
+    do i = 1, len(text)
+      if (text(i:i) == new_line("a")) count_lines = count_lines + 1
+    end do
+  end function count_lines
+
+  !> Delete a file if it exists.
+  subroutine remove(path)
+    character(len=*), intent(in) :: path
+    integer :: unit, ios
+    open(newunit=unit, file=path, status="old", iostat=ios)
+    if (ios == 0) close(unit, status="delete")
+  end subroutine remove
 
 end module test_support
