@@ -96,36 +96,9 @@ contains
     case (3)
       call set_status(status, demstep_stat%not_converged, who//"no shifts could be " &
         //"applied during a restart; a larger Krylov size (ncv) may help")
-    case (-1)
-      call set_status(status, demstep_stat%invalid_input, who//"the dimension n must be positive")
-    case (-2)
-      call set_status(status, demstep_stat%invalid_input, who//"the number of wanted " &
-        //"eigenvalues (nev) must be positive")
-    case (-3)
-      call set_status(status, demstep_stat%invalid_input, who//"the Krylov size ncv must " &
-        //"be greater than nev and at most n")
     case (-4)
       call set_status(status, demstep_stat%invalid_input, who//"the maximum number of " &
         //"restarts must be positive")
-    case (-5)
-      call set_status(status, demstep_stat%invalid_input, who//"which must be one of " &
-        //"'LM', 'SM', 'LA', 'SA', 'BE'")
-    case (-6)
-      call set_status(status, demstep_stat%invalid_input, who//"bmat must be 'I' or 'G'")
-    case (-7)
-      call set_status(status, demstep_stat%invalid_input, who//"the work array workl is " &
-        //"shorter than ncv**2 + 8*ncv")
-    case (-8)
-      call set_status(status, demstep_stat%lapack_failure, who//"LAPACK dsteqr failed on " &
-        //"the tridiagonal eigenvalue problem")
-    case (-9)
-      call set_status(status, demstep_stat%invalid_input, who//"the starting vector is zero")
-    case (-10)
-      call set_status(status, demstep_stat%invalid_input, who//"the mode iparam(7) must be " &
-        //"1 to 5")
-    case (-11)
-      call set_status(status, demstep_stat%invalid_input, who//"mode 1 and bmat = 'G' are " &
-        //"incompatible")
     case (-12)
       call set_status(status, demstep_stat%invalid_input, who//"the shift choice iparam(1) " &
         //"must be 0 or 1")
@@ -135,8 +108,7 @@ contains
       call set_status(status, demstep_stat%eigensolver_failure, who//"no Lanczos " &
         //"factorization could be built")
     case default
-      call set_status(status, demstep_stat%eigensolver_failure, who//"undocumented info " &
-        //int_text(info))
+      status = shared_info_status(who, info)
     end select
   end function dsaupd_status
 
@@ -152,6 +124,32 @@ contains
     select case (info)
     case (0)
       status%stat = demstep_stat%ok
+    case (-12)
+      call set_status(status, demstep_stat%invalid_input, who//"which = 'BE' needs nev > 1")
+    case (-14)
+      call set_status(status, demstep_stat%not_converged, who//"dsaupd found no eigenvalue " &
+        //"to its tolerance")
+    case (-15)
+      call set_status(status, demstep_stat%invalid_input, who//"howmny must be 'A' or 'S' " &
+        //"when Ritz vectors are wanted")
+    case (-16)
+      call set_status(status, demstep_stat%invalid_input, who//"howmny = 'S' is not implemented")
+    case (-17)
+      call set_status(status, demstep_stat%eigensolver_failure, who//"it counted a different " &
+        //"number of converged Ritz values than dsaupd (dsaupd's data was changed between " &
+        //"the calls)")
+    case default
+      status = shared_info_status(who, info)
+    end select
+  end function dseupd_status
+
+  !> The `info` codes dsaupd and dseupd share (-1 to -11 but -4, one meaning
+  !> each), and any other as an undocumented code.
+  pure function shared_info_status(who, info) result(status)
+    character(len=*), intent(in) :: who
+    integer, intent(in) :: info
+    type(demstep_status_type) :: status
+    select case (info)
     case (-1)
       call set_status(status, demstep_stat%invalid_input, who//"the dimension n must be positive")
     case (-2)
@@ -179,24 +177,10 @@ contains
     case (-11)
       call set_status(status, demstep_stat%invalid_input, who//"mode 1 and bmat = 'G' are " &
         //"incompatible")
-    case (-12)
-      call set_status(status, demstep_stat%invalid_input, who//"which = 'BE' needs nev > 1")
-    case (-14)
-      call set_status(status, demstep_stat%not_converged, who//"dsaupd found no eigenvalue " &
-        //"to its tolerance")
-    case (-15)
-      call set_status(status, demstep_stat%invalid_input, who//"howmny must be 'A' or 'S' " &
-        //"when Ritz vectors are wanted")
-    case (-16)
-      call set_status(status, demstep_stat%invalid_input, who//"howmny = 'S' is not implemented")
-    case (-17)
-      call set_status(status, demstep_stat%eigensolver_failure, who//"it counted a different " &
-        //"number of converged Ritz values than dsaupd (dsaupd's data was changed between " &
-        //"the calls)")
     case default
       call set_status(status, demstep_stat%eigensolver_failure, who//"undocumented info " &
         //int_text(info))
     end select
-  end function dseupd_status
+  end function shared_info_status
 
 end module demstep_arpack
