@@ -10,7 +10,8 @@ module demstep_cli_scene
     scene_run, effect_index, restitution_to_damping_ratio, contact_law, scene_effect, &
     scene_set_contacts, scene_set_cell, scene_set_types, scene_set_hertz_types, n_effects, &
     effect_names, critical_step_type, assembly_critical_steps, hertz_modes => hertz_linearization, &
-    default_max_eigen_dof, measure_step_cost, text_progress_type, assembly_step_for_n_per_period
+    default_max_eigen_dof, measure_step_cost, text_progress_type, assembly_step_for_n_per_period, &
+    demstep_eigen_solver => eigen_solver, eigen_solver_name, lanczos_tolerance_default
   use demstep_recommend, only: recommended_step, default_safety
   use demstep_cli, only: recommended_line, var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
     check_real, new_array, array_length, new_int_array, int_array_length, max_values, &
@@ -111,8 +112,14 @@ contains
         excludes="n_per_period"), &
       var("n_per_period", "a real number", "steps per smallest period 2 pi/omega_max (> pi " &
         //"to be stable)", "20.0"), &
-      var("max_eigen_dof", "an integer", "largest problem for the dense eigensolver", "!"// &
-        fmt_int(int(default_max_eigen_dof, i8)), default=fmt_int(int(default_max_eigen_dof, i8))) ]
+      var("eigen_solver", "a quoted word", "exact omega_max by 'auto', 'dense' (LAPACK), " &
+        //"'lanczos' (ARPACK) or 'none' (the bound only)", "!'auto'", default="'auto'"), &
+      var("eigen_tolerance", "a real number", "Lanczos: relative residual on omega_max^2, " &
+        //"in [2.2e-16, 0.1]", "!"//fmt_real(lanczos_tolerance_default), &
+        default=fmt_real(lanczos_tolerance_default)), &
+      var("max_eigen_dof", "an integer", "with 'auto': largest problem for the dense solver " &
+        //"(Lanczos above)", "!"//fmt_int(int(default_max_eigen_dof, i8)), &
+        default=fmt_int(int(default_max_eigen_dof, i8))) ]
   end function scene_specs
 
   !> Read, check and evaluate one `&scene` group.
@@ -128,17 +135,18 @@ contains
     real(dp), allocatable :: type_k_normal(:), type_k_tangential(:), young(:), poisson(:), kk(:, :, :)
     integer :: nty, nkn, nkt, nt
     character(len=512) :: particles_file, bonds_file, contacts_file
-    character(len=32) :: law, hertz_linearization
+    character(len=32) :: law, hertz_linearization, eigen_solver
     character(len=32) :: effects(max_effects)
     real(dp) :: k_normal, e_star, k_bond, k_bond_tangential, damping_ratio, restitution, &
       local_damping, impact_velocity, duration, dt, n_per_period, k_tangential, kt_ratio, g_star, &
-      friction, cell_lo(3), cell_hi(3)
+      friction, cell_lo(3), cell_hi(3), eigen_tolerance
     logical :: periodic(3), prestress
     namelist /scene/ dim, position, velocity, mass, radius, fixed, bonds, particles_file, &
       bonds_file, law, k_normal, e_star, k_bond, k_bond_tangential, walls, effects, gravity, &
       damping_ratio, restitution, local_damping, hertz_linearization, impact_velocity, duration, &
       dt, n_per_period, max_eigen_dof, contacts_file, periodic, cell_lo, cell_hi, k_tangential, &
-      kt_ratio, g_star, friction, prestress, types, type_k_normal, type_k_tangential, young, poisson
+      kt_ratio, g_star, friction, prestress, types, type_k_normal, type_k_tangential, young, poisson, &
+      eigen_solver, eigen_tolerance
     type(var_spec), allocatable :: specs(:)
     character(len=*), parameter :: g = "scene"
     type(scene_type) :: sc
@@ -148,7 +156,7 @@ contains
     integer, allocatable :: contact_pairs(:, :), contact_lines(:)
     logical, allocatable :: is_fixed(:)
     integer, allocatable :: pairs(:, :)
-    integer :: i, n, np, nv, nm, nr, nf, nb, nw, mode
+    integer :: i, n, np, nv, nm, nr, nf, nb, nw, mode, solver
     real(dp) :: dt_used, dt_recommended
     integer :: governs
     integer(i8) :: steps
@@ -429,8 +437,28 @@ contains
       return
     end if
 
-    call assembly_critical_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
-      max_eigen_dof=max_eigen_dof, prestress=prestress)
+    select case (lowercase(eigen_solver))
+    case ("auto")
+      solver = demstep_eigen_solver%auto
+    case ("dense")
+      solver = demstep_eigen_solver%dense
+    case ("lanczos")
+      solver = demstep_eigen_solver%lanczos
+    case ("none")
+      solver = demstep_eigen_solver%none
+    case default
+      call fail("eigen_solver", "unknown word '"//trim(eigen_solver)//"' (auto, dense, lanczos, none)")
+      return
+    end select
+    if (ctx%quiet) then
+      call assembly_critical_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
+        max_eigen_dof=max_eigen_dof, prestress=prestress, solver=solver, tolerance=eigen_tolerance)
+    else
+      progress = text_progress_type(unit=error_unit, label="demstep: &"//g)
+      call assembly_critical_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
+        max_eigen_dof=max_eigen_dof, prestress=prestress, solver=solver, tolerance=eigen_tolerance, &
+        progress=progress)
+    end if
     if (status%stat /= demstep_stat%ok) then
       if (index(status%message, "effects:") == 1 .and. given(group, "bonds_file")) then
         ! the empty table is what left the scene without springs
@@ -720,12 +748,22 @@ contains
     write(u, '(4x, a, t40, a)') "per-contact rule 2 sqrt(m*/k)", fmt_real(crit%dt_contact_rule)// &
       "  (not safe in an assembly)"
     write(u, '(4x, a, t40, a)') "Gershgorin bound (safe)", fmt_real(crit%dt_critical_bound)
-    if (crit%eigen_computed) then
+    if (crit%solver == demstep_eigen_solver%dense) then
       write(u, '(4x, a, t40, a)') "exact, LAPACK dsyevr", fmt_real(crit%dt_critical_eigen)// &
         "  (omega_max = "//fmt_real(crit%omega_max)//")"
+    else if (crit%solver == demstep_eigen_solver%lanczos .and. crit%eigen_converged) then
+      write(u, '(4x, a, t40, a)') "exact, Lanczos (ARPACK)", fmt_real(crit%dt_critical_eigen)// &
+        "  (omega_max = "//fmt_real(crit%omega_max)//", "//fmt_int(crit%eigen_products)//" products)"
+    else if (crit%solver == demstep_eigen_solver%lanczos) then
+      write(u, '(4x, a, t40, a)') "Lanczos (ARPACK), not converged", "omega_max in ["// &
+        fmt_real(crit%omega_max)//", "//fmt_real(crit%omega_upper)//"] after "// &
+        fmt_int(crit%eigen_products)//" products"
     else
-      write(u, '(4x, a, t40, a)') "exact, LAPACK dsyevr", "not computed (more than max_eigen_dof)"
+      write(u, '(4x, a, t40, a)') "exact", "not computed (eigen_solver = 'none')"
     end if
+    if (crit%eigen_computed) write(u, '(4x, a, t40, a)') "safe to the error bar", &
+      fmt_real(crit%dt_critical_safe)//"  (residual "//fmt_real(crit%eigen_residual)// &
+      ", tolerance "//fmt_real(crit%eigen_tolerance)//")"
     write(u, '(4x, a, t40, a)') "damped (lagged dashpot)", fmt_real(crit%dt_critical_damped)// &
       "  (modal damping ratio "//fmt_real(crit%damping_ratio_top)//")"
     if (ran) then
@@ -763,11 +801,14 @@ contains
       dt_critical_damped, damping_ratio_top, energy_drift, max_overlap
     integer(i8) :: steps
     logical :: eigen_computed, blew_up
+    character(len=8) :: eigen_solver
+    real(dp) :: eigen_tolerance, eigen_residual, omega_upper, dt_critical_safe
+    logical :: eigen_converged
     namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
-      periodic, prestress, omega_max, eigen_computed, &
-      dt_critical_eigen, dt_critical_bound, dt_contact_rule, dt_critical_damped, &
-      damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, blew_up, &
-      dt_recommended
+      periodic, prestress, omega_max, eigen_computed, eigen_converged, eigen_solver, eigen_tolerance, eigen_residual, &
+      omega_upper, dt_critical_eigen, dt_critical_safe, dt_critical_bound, dt_contact_rule, &
+      dt_critical_damped, damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, &
+      blew_up, dt_recommended
     n_particles = sc%n
     n_dof = crit%n_dof
     n_springs = crit%n_springs
@@ -778,6 +819,12 @@ contains
     prestress = crit%prestress
     omega_max = crit%omega_max
     eigen_computed = crit%eigen_computed
+    eigen_solver = eigen_solver_name(crit%solver)
+    eigen_converged = crit%eigen_converged
+    eigen_tolerance = crit%eigen_tolerance
+    eigen_residual = crit%eigen_residual
+    omega_upper = crit%omega_upper
+    dt_critical_safe = crit%dt_critical_safe
     dt_critical_eigen = crit%dt_critical_eigen
     dt_critical_bound = crit%dt_critical_bound
     dt_contact_rule = crit%dt_contact_rule
