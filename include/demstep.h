@@ -163,9 +163,10 @@ typedef struct {
   double omega_max, dt_critical_eigen;   /* exact (LAPACK); 0 unless eigen_computed */
   double omega_bound, dt_critical_bound; /* Gershgorin bound: dt_bound <= exact */
   double dt_contact_rule;                /* min 2 sqrt(m* / k): NOT safe */
-  double damping_ratio_top;   /* modal damping ratio of the top mode (of the bound's
-                                 step when the eigenvector is not computed) */
-  double dt_critical_damped;  /* the lagged-dashpot limit */
+  double damping_ratio_top;   /* modal damping ratio of the top mode (the scene's
+                                 damping ratio when eigen_computed is 0) */
+  double dt_critical_damped;  /* the lagged-dashpot limit (from the bound when
+                                 eigen_computed is 0) */
   int n_dof;                  /* free particles times dof_per_particle */
   int n_springs;              /* bonds + particle contacts + wall contacts */
   int dof_per_particle;       /* dim translations (+ rotations with DEMSTEP_EFFECT_ROTATION) */

@@ -4,6 +4,13 @@
 !> `demstep_stat` otherwise) and, when `err` is not NULL, fills it with the code
 !> and a NUL-terminated message. Pointers to outputs must not be NULL; arrays
 !> are passed with their lengths; particle and bond numbers are 0-based.
+!>
+!> Scenes are opaque handles (`demstep_scene *`): a `capi_scene_type` allocated
+!> by demstep_scene_create and passed to C by `c_loc`, filled call by call
+!> through the library's builders (which check the values; this module checks
+!> pointers, counts and the enum values the library takes as plain integers, and
+!> maps statuses), computed by demstep_scene_compute and freed by
+!> demstep_scene_free, which also sets the caller's pointer to NULL.
 module demstep_capi
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_int64_t, c_char, c_ptr, c_null_char, &
     c_associated, c_f_pointer, c_loc, c_null_ptr, c_size_t, c_sizeof
@@ -101,8 +108,9 @@ module demstep_capi
   !> struct demstep_scene_result: fields are only ever appended (the caller
   !> passes the size it knows; see c_scene_compute).
   type, bind(C), public :: demstep_scene_result_c
-    real(c_double) :: omega_max = 0, dt_critical_eigen = 0, omega_bound = 0, dt_critical_bound = 0, &
-      dt_contact_rule = 0, damping_ratio_top = 0, dt_critical_damped = 0
+    real(c_double) :: omega_max = 0.0_dp, dt_critical_eigen = 0.0_dp, omega_bound = 0.0_dp, &
+      dt_critical_bound = 0.0_dp, dt_contact_rule = 0.0_dp, damping_ratio_top = 0.0_dp, &
+      dt_critical_damped = 0.0_dp
     integer(c_int) :: n_dof = 0, n_springs = 0, dof_per_particle = 0, eigen_computed = 0, rotation = 0, &
       tangential = 0, periodic = 0, prestress = 0
   end type demstep_scene_result_c
@@ -529,7 +537,7 @@ contains
     integer(c_int) :: code
     character(len=*), parameter :: name = "demstep_scene_set_particles"
     type(capi_scene_type), pointer :: h
-    real(c_double), pointer :: px(:, :), pm(:), pr(:), pi(:), pv(:, :)
+    real(c_double), pointer :: px(:, :), pm(:), pr(:), pin(:), pv(:, :)
     integer(c_int), pointer :: pf(:)
     logical, allocatable :: is_fixed(:)
     real(dp), allocatable :: v(:, :), inert(:)
@@ -563,8 +571,8 @@ contains
       v = pv
     end if
     if (c_associated(inertia)) then
-      call c_f_pointer(inertia, pi, [n])
-      inert = pi
+      call c_f_pointer(inertia, pin, [n])
+      inert = pin
       call new_scene(h%scene, dim, px, pm, pr, status, v=v, fixed=is_fixed, inertia=inert)
     else
       call new_scene(h%scene, dim, px, pm, pr, status, v=v, fixed=is_fixed)
