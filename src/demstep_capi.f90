@@ -19,7 +19,7 @@ module demstep_capi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_spring, only: spring_type, spring_state_type, new_spring, spring_step, &
     critical_time_step
-  use demstep_harmonic, only: harmonic_error, step_policy_type, new_step_policy
+  use demstep_harmonic, only: harmonic_error, step_policy_type, new_step_policy, step_kind
   use demstep_stiffness, only: nroots_options_type, nroots_type, n_roots, stiffness_input_type, &
     stiffness_result_type, simulated_stiffness
   use demstep_text, only: int_text
@@ -314,8 +314,15 @@ contains
     nroots_options = .false.
     call new_step_policy(options%policy, int(steps_kind), steps_value, status)
     if (status%stat /= demstep_stat%ok) then
-      code = invalid(err, "steps_value: step policy kind 1 (fixed, 1 <= n <= 1e12), 2 (fraction " &
-        //"f > 0) or 3 (rounded f > 0)")
+      ! the library names `steps:` for an unknown kind, the value's name otherwise
+      if (index(status%message, "steps:") == 1) then
+        code = invalid(err, "steps_kind: "//int_text(steps_kind)//" is not DEMSTEP_STEPS_FIXED (" &
+          //int_text(step_kind%fixed)//"), DEMSTEP_STEPS_FRACTION ("//int_text(step_kind%fraction) &
+          //") or DEMSTEP_STEPS_ROUNDED ("//int_text(step_kind%rounded)//")")
+      else
+        code = invalid(err, "steps_value: step policy kind 1 (fixed, 1 <= n <= 1e12), 2 (fraction " &
+          //"f > 0) or 3 (rounded f > 0)")
+      end if
       return
     end if
     options%tolerance = tolerance

@@ -30,6 +30,7 @@ contains
       new_unittest("n_roots and the procedure: NaN options, extreme weights and n, fine scans", &
         test_stiffness_limits), &
       new_unittest("include/demstep.h: every enum value equals the Fortran one", test_header_enums), &
+      new_unittest("every enum argument out of range: a status naming it", test_bad_enums), &
       new_unittest("scene handle: a chain bit for bit as Fortran and against the closed form", &
         test_scene_chain), &
       new_unittest("scene handle: wall, periodic cell, Hertz impact, types: closed forms", test_scene_models), &
@@ -701,5 +702,47 @@ contains
     if (allocated(error)) return
     code = c_scene_free(c_loc(handle), c_loc(e))
   end subroutine test_scene_bad_input
+
+  !> Every enum argument of the scalar functions, one below and one above its
+  !> range: DEMSTEP_INVALID_INPUT with a message, never a silent default.
+  subroutine test_bad_enums(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(demstep_error_c), target :: e
+    type(demstep_spring_c), target :: cs
+    type(demstep_nroots_c), target :: cr
+    type(demstep_stiffness_result_c), target :: res
+    real(c_double), target :: value, lambdas(2)
+    integer :: code, k, bad(2)
+    character(len=8) :: which
+    lambdas = [0.9_dp, 0.95_dp]
+    do k = 1, 2
+      write(which, '(i0)') k
+      bad = [dashpot_kind%lagged - 1, dashpot_kind%centred + 1]
+      code = c_spring_new(1.0_dp, 1.0_dp, 0.0_dp, 1, bad(k), c_loc(cs), c_loc(e))
+      call check(error, code == 1 .and. index(message_of(e), "dashpot") > 0, "dashpot "//which//": " &
+        //message_of(e))
+      if (allocated(error)) return
+      bad = [step_kind%fixed - 1, step_kind%rounded + 1]
+      code = c_n_roots(0.9_dp, 1.0e-3_dp, bad(k), 0.5_dp, 1, 0.0_dp, 0.0_dp, c_loc(cr), c_loc(e))
+      call check(error, code == 1 .and. index(message_of(e), "steps_kind: ") > 0, "steps_kind "//which//": " &
+        //message_of(e))
+      if (allocated(error)) return
+      bad = [pick_kind%largest_step - 1, pick_kind%zero + 1]
+      code = c_n_roots(0.9_dp, 1.0e-3_dp, 2, 0.5_dp, bad(k), 0.0_dp, 0.0_dp, c_loc(cr), c_loc(e))
+      call check(error, code == 1 .and. index(message_of(e), "pick") > 0, "pick "//which//": "//message_of(e))
+      if (allocated(error)) return
+      bad = [aggregate_kind%mean - 1, aggregate_kind%max + 1]
+      code = c_simulated_stiffness(0.01_dp, 1.0e5_dp, 1.0e-3_dp, c_loc(lambdas), 2, 2, 0.5_dp, 1, bad(k), &
+        c_null_ptr, c_null_ptr, c_null_ptr, c_loc(res), c_loc(e))
+      call check(error, code == 1 .and. index(message_of(e), "aggregate") > 0, "aggregate "//which//": " &
+        //message_of(e))
+      if (allocated(error)) return
+      bad = [quantity_kind%restitution - 1, quantity_kind%period + 1]
+      code = c_n_for_tolerance(bad(k), 1.0e-3_dp, 0.0_dp, 0.0_dp, c_loc(value), c_loc(e))
+      call check(error, code == 1 .and. index(message_of(e), "quantity") > 0, "quantity "//which//": " &
+        //message_of(e))
+      if (allocated(error)) return
+    end do
+  end subroutine test_bad_enums
 
 end module test_capi
