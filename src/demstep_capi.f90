@@ -681,13 +681,20 @@ contains
     integer, allocatable :: ptypes(:)
     real(dp), allocatable :: k(:, :, :)
     type(demstep_status_type) :: status
+    integer :: fail
     if (.not. live(scene, name, h, err, code, particles=.true.)) return
     if (.not. types_from_c(h, name, contact_law%linear, n_types, types, ptypes, err, code)) return
     if (.not. c_associated(k_normal)) then
       code = refused(h, name, "k_normal is NULL", err)
       return
     end if
-    allocate(k(2, n_types, n_types), source=0.0_dp)
+    ! n_types^2 pairs: a count beyond memory is refused, not a crash
+    allocate(k(2, n_types, n_types), source=0.0_dp, stat=fail)
+    if (fail /= 0) then
+      code = refused(h, name, "n_types: "//int_text(n_types)//" types need "//int_text(n_types)// &
+        "^2 type pairs: more than the memory holds", err)
+      return
+    end if
     call c_f_pointer(k_normal, kn, [n_types, n_types])
     k(1, :, :) = kn
     if (c_associated(k_tangential)) then

@@ -533,7 +533,7 @@ contains
     type(demstep_scene_result_c), target :: res
     type(capi_scene_type), target :: stranger
     real(c_double), target :: x(2), m(2), rad(2)
-    integer(c_int), target :: bonds(2), types(2)
+    integer(c_int), target :: bonds(2), chain_types(12)
     integer :: code, i
     character(len=:), allocatable :: first
     x = [0.0_dp, 1.0_dp]
@@ -680,9 +680,17 @@ contains
     ! a Hertz law, then linear per-type materials: refused, naming the law
     call chain_handle(handle, e, code)
     code = c_scene_set_contact_law(handle, contact_law%hertz, 1.0e7_dp, 0.0_dp, c_loc(e))
-    types = [0, 1]
-    code = c_scene_set_types(handle, 1, c_loc(types), c_loc(x), c_null_ptr, c_loc(e))
+    chain_types = 0
+    code = c_scene_set_types(handle, 1, c_loc(chain_types), c_loc(x), c_null_ptr, c_loc(e))
     call check(error, code == 1 .and. index(message_of(e), "law:") > 0, "Hertz law, linear types: " &
+      //message_of(e))
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    ! 2e9 types: 8e18 pair values, refused before any is read
+    call chain_handle(handle, e, code)
+    chain_types = 0
+    code = c_scene_set_types(handle, 2000000000, c_loc(chain_types), c_loc(x), c_null_ptr, c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "n_types: 2000000000") > 0, "2e9 types: " &
       //message_of(e))
     if (allocated(error)) return
     code = c_scene_free(c_loc(handle), c_loc(e))
