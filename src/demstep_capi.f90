@@ -13,7 +13,7 @@
 !> demstep_scene_free, which also sets the caller's pointer to NULL.
 module demstep_capi
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_int64_t, c_char, c_ptr, c_null_char, &
-    c_associated, c_f_pointer, c_loc, c_null_ptr, c_size_t, c_sizeof
+    c_associated, c_f_pointer, c_loc, c_null_ptr, c_size_t
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
@@ -889,8 +889,9 @@ contains
     type(capi_scene_type), pointer :: h
     type(critical_step_type) :: c
     type(demstep_status_type) :: status
-    type(demstep_scene_result_c), target :: row
-    character(kind=c_char), pointer :: to(:), from(:)
+    type(demstep_scene_result_c) :: row
+    character(kind=c_char), pointer :: to(:)
+    character(kind=c_char), allocatable :: bytes(:)
     integer :: limit, n_row
     if (.not. live(scene, name, h, err, code, particles=.true.)) return
     if (.not. c_associated(result)) then
@@ -925,11 +926,13 @@ contains
       c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped, c%n_dof, c%n_springs, &
       c%dof_per_particle, flag(c%eigen_computed), flag(c%rotation), flag(c%tangential), &
       flag(c%periodic), flag(c%prestress))
-    n_row = int(c_sizeof(row))
+    ! the struct's bytes by transfer (no pointer to a local of another type:
+    ! optimisers may drop stores they cannot see read)
+    bytes = transfer(row, [c_null_char])
+    n_row = size(bytes)
     call c_f_pointer(result, to, [result_size])
-    call c_f_pointer(c_loc(row), from, [n_row])
     to = c_null_char
-    to(:min(n_row, size(to))) = from(:min(n_row, size(to)))
+    to(:min(n_row, size(to))) = bytes(:min(n_row, size(to)))
   end function c_scene_compute
 
   !> A logical as a C int (1 or 0).
