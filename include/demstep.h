@@ -144,9 +144,9 @@ int demstep_simulated_stiffness(double mass, double stiffness, double tolerance,
  *   demstep_scene_compute(s, DEMSTEP_HERTZ_CURRENT, 0.0, 0, 0, &res, sizeof res, &err);
  *   demstep_scene_free(&s, &err);    (s is NULL again: a second free does nothing)
  *
- * Particles come first, once; then any of bonds, stiffnesses, law, per-type
- * materials, walls, an explicit contact list, effects, cell, damping, gravity.
- * Each call validates its arguments with the library's own rules. When a call
+ * The particles are set once, before the cell, bonds, per-type materials, walls
+ * and an explicit contact list; the stiffnesses, law, effects, damping and
+ * gravity may be set at any time (a later call replaces them). Each call validates its arguments with the library's own rules. When a call
  * that builds the scene fails, the scene is unusable: every later call on it but
  * demstep_scene_free returns DEMSTEP_INVALID_INPUT quoting that first failure
  * (free it and build it again). demstep_scene_compute does not change the scene:
@@ -189,8 +189,9 @@ int demstep_scene_set_particles(demstep_scene *scene, int n, const double *x, co
                                 const double *radius, const int *fixed, const double *inertia,
                                 const double *velocity, demstep_error *err);
 
-/* Bonds: 2 particle numbers per bond; rest lengths from the current positions.
-   Their stiffness is demstep_scene_set_bond_stiffness's. */
+/* Bonds: 2 particle numbers per bond; rest vectors from the current positions
+   (through the nearest periodic image: set a cell first). Their stiffness is
+   demstep_scene_set_bond_stiffness's. */
 int demstep_scene_add_bonds(demstep_scene *scene, int n_bonds, const int *bonds, demstep_error *err);
 
 /* Every bond's normal (> 0) and tangential (>= 0) stiffness. */
@@ -225,11 +226,13 @@ int demstep_scene_set_contacts(demstep_scene *scene, int n_contacts, const int *
                                const double *k, demstep_error *err);
 
 /* The effects switched on: a sum of DEMSTEP_EFFECT_* flags (0: none; default
-   DEMSTEP_EFFECT_CONTACTS); any other bit is refused, naming the known flags. */
+   DEMSTEP_EFFECT_CONTACTS); any other bit is refused, naming the known flags.
+   Rotations count only with DEMSTEP_EFFECT_ROTATION (tangential springs do not
+   switch it on). */
 int demstep_scene_set_effects(demstep_scene *scene, int effects, demstep_error *err);
 
 /* A periodic orthorhombic cell [lo, hi): periodic, lo and hi hold dim values
-   (periodic: 0 or 1 per axis); positions are wrapped into the cell. */
+   (periodic: nonzero for a periodic axis); positions are wrapped into the cell. */
 int demstep_scene_set_cell(demstep_scene *scene, const int *periodic, const double *lo,
                            const double *hi, demstep_error *err);
 

@@ -314,9 +314,15 @@ contains
   !> eps of ||A|| = 4 k/m.
   subroutine test_scene_chain(error)
     type(error_type), allocatable, intent(out) :: error
+    !> A result struct of a later version: this one's fields, then more.
+    type, bind(C) :: newer_result_c
+      type(demstep_scene_result_c) :: res
+      real(c_double) :: appended
+    end type newer_result_c
     type(c_ptr), target :: handle
     type(demstep_error_c), target :: e
     type(demstep_scene_result_c), target :: res
+    type(newer_result_c), target :: newer
     type(scene_type) :: scene
     type(critical_step_type) :: c
     type(demstep_status_type) :: status
@@ -346,6 +352,22 @@ contains
     if (allocated(error)) return
     exact = 2.0_dp*sqrt(100.0_dp)*sin(10.0_dp*pi/22.0_dp)
     call check(error, res%omega_max, exact, rel=.true., thr=1.0e-12_dp, message="omega_max closed form")
+    if (allocated(error)) return
+    ! above max_eigen_dof only the bound: the exact fields stay 0
+    code = c_scene_compute(handle, hertz_linearization%current, 0.0_dp, 0, 5, c_loc(res), c_sizeof(res), &
+      c_loc(e))
+    call check(error, code == 0 .and. res%eigen_computed == 0 .and. res%omega_max == 0.0_dp .and. &
+      res%dt_critical_bound == c%dt_critical_bound .and. res%dt_critical_damped == c%dt_critical_bound, &
+      "max_eigen_dof 5 < 10 dof: the bound only")
+    if (allocated(error)) return
+    ! a caller's struct with a field appended after this version's: filled up to
+    ! this version's size, the rest zeroed
+    newer%res%omega_max = -1.0_dp
+    newer%appended = -1.0_dp
+    code = c_scene_compute(handle, hertz_linearization%current, 0.0_dp, 0, 0, c_loc(newer), &
+      c_sizeof(newer), c_loc(e))
+    call check(error, code == 0 .and. newer%res%omega_max == c%omega_max .and. newer%appended == 0.0_dp, &
+      "a larger result_size")
     if (allocated(error)) return
     ! the dashpot effect through its flag and the ratio through its setter
     code = c_scene_set_damping(handle, 0.2_dp, c_loc(e))
