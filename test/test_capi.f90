@@ -716,6 +716,36 @@ contains
       //message_of(e))
     if (allocated(error)) return
     code = c_scene_free(c_loc(handle), c_loc(e))
+    ! a NULL array to each builder that takes one: refused, naming it
+    do i = 1, 6
+      call chain_handle(handle, e, code)
+      select case (i)
+      case (1)
+        code = c_scene_set_types(handle, 1, c_null_ptr, c_loc(x), c_null_ptr, c_loc(e))
+      case (2)
+        code = c_scene_set_hertz_types(handle, 1, c_loc(chain_types), c_null_ptr, c_loc(x), c_loc(e))
+      case (3)
+        code = c_scene_add_walls(handle, 1, c_null_ptr, c_loc(x), c_loc(e))
+      case (4)
+        code = c_scene_set_contacts(handle, 1, c_loc(bonds), c_null_ptr, c_loc(e))
+      case (5)
+        code = c_scene_set_cell(handle, c_loc(chain_types), c_null_ptr, c_loc(x), c_loc(e))
+      case (6)
+        code = c_scene_set_gravity(handle, c_null_ptr, c_loc(e))
+      end select
+      call check(error, code == 1 .and. index(message_of(e), "NULL") > 0, "a NULL array: "//message_of(e))
+      if (allocated(error)) return
+      code = c_scene_free(c_loc(handle), c_loc(e))
+    end do
+    ! an optional array with a bad value: the library's message
+    code = c_scene_create(1, c_loc(handle), c_loc(e))
+    rad = [0.3_dp, ieee_nan()]
+    code = c_scene_set_particles(handle, 2, c_loc(x), c_loc(m), c_loc(m), c_null_ptr, c_loc(rad), &
+      c_null_ptr, c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "inertia: particle 2") > 0, "NaN inertia: " &
+      //message_of(e))
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
     ! gravity and damping: the library's checks
     call chain_handle(handle, e, code)
     x = [ieee_nan(), 0.0_dp]
