@@ -83,7 +83,8 @@ module demstep
   ! assemblies (the scene modules' public names)
   use demstep_scene, only: scene_type, scene_summary_type, cubic_lattice, new_scene, scene_add_bonds, &
     scene_add_walls, scene_set_contacts, scene_set_cell, scene_set_types, scene_set_hertz_types, &
-    scene_run, contact_list, effect_index, restitution_to_damping_ratio, contact_law_enum, &
+    scene_set_law, scene_set_bond_stiffness, scene_set_gravity, scene_run, contact_list, effect_index, &
+    restitution_to_damping_ratio, contact_law_enum, &
     contact_law, scene_effect_enum, scene_effect, n_effects, effect_names, max_coordinate, &
     contact_limit, max_damping_ratio
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, hertz_linearization_enum, &

@@ -6,14 +6,14 @@ module demstep_scene_builders
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text
   use demstep_scene_data, only: scene_type, scene_effect, branch_vector
-  use demstep_interaction, only: hertz_e_star, mindlin_g_star
+  use demstep_interaction, only: hertz_e_star, mindlin_g_star, contact_law
   use demstep_neighbours, only: search_type, prepare_search, find_contacts, search_trouble
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
   public :: new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, scene_set_cell, &
-    scene_set_types, scene_set_hertz_types, &
+    scene_set_types, scene_set_hertz_types, scene_set_law, scene_set_bond_stiffness, scene_set_gravity, &
     cubic_lattice, restitution_to_damping_ratio, wrap_positions
 
   !> Largest |coordinate| and radius of a scene: squared distances stay finite.
@@ -475,6 +475,84 @@ contains
     scene%wall_normal = reshape([scene%wall_normal, unit], [3, size(scene%wall_normal, 2) + size(unit, 2)])
     status%stat = demstep_stat%ok
   end subroutine scene_add_walls
+
+  !> The contact law of detected particle contacts and of wall contacts:
+  !> `contact_law%linear` with normal = k_normal (> 0) and tangential =
+  !> k_tangential (>= 0), or `contact_law%hertz` with normal = e_star (E* > 0)
+  !> and tangential = g_star (Mindlin's G* >= 0). Status `invalid_input` naming
+  !> `law:` (not one of `contact_law`) or the parameter (not finite, out of range);
+  !> the scene is unchanged then.
+  subroutine scene_set_law(scene, law, normal, tangential, status)
+    type(scene_type), intent(inout) :: scene
+    integer, intent(in) :: law
+    real(dp), intent(in) :: normal, tangential
+    type(demstep_status_type), intent(out) :: status
+    character(len=:), allocatable :: name_n, name_t
+    if (law == contact_law%linear) then
+      name_n = "k_normal"
+      name_t = "k_tangential"
+    else if (law == contact_law%hertz) then
+      name_n = "e_star"
+      name_t = "g_star"
+    else
+      call set_status(status, demstep_stat%invalid_input, "law: "//int_text(law)//" is not a contact " &
+        //"law (linear "//int_text(contact_law%linear)//", hertz "//int_text(contact_law%hertz)//")")
+      return
+    end if
+    if (.not. (ieee_is_finite(normal) .and. normal > 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, name_n//": must be > 0 and finite")
+      return
+    end if
+    if (.not. (ieee_is_finite(tangential) .and. tangential >= 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, name_t//": must be >= 0 and finite")
+      return
+    end if
+    scene%law = law
+    if (law == contact_law%linear) then
+      scene%k_normal = normal
+      scene%k_tangential = tangential
+    else
+      scene%e_star = normal
+      scene%g_star = tangential
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine scene_set_law
+
+  !> The stiffness of every bond: normal k_bond (> 0) and tangential
+  !> k_bond_tangential (>= 0). Status `invalid_input` naming the one that is out
+  !> of range or not finite; the scene is unchanged then.
+  subroutine scene_set_bond_stiffness(scene, k_bond, k_bond_tangential, status)
+    type(scene_type), intent(inout) :: scene
+    real(dp), intent(in) :: k_bond, k_bond_tangential
+    type(demstep_status_type), intent(out) :: status
+    if (.not. (ieee_is_finite(k_bond) .and. k_bond > 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "k_bond: must be > 0 and finite")
+      return
+    end if
+    if (.not. (ieee_is_finite(k_bond_tangential) .and. k_bond_tangential >= 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "k_bond_tangential: must be >= 0 and finite")
+      return
+    end if
+    scene%k_bond = k_bond
+    scene%k_bond_tangential = k_bond_tangential
+    status%stat = demstep_stat%ok
+  end subroutine scene_set_bond_stiffness
+
+  !> The gravity vector: dim finite components (those beyond dim stay zero).
+  !> Status `invalid_input` starting `gravity:`; the scene is unchanged then.
+  subroutine scene_set_gravity(scene, gravity, status)
+    type(scene_type), intent(inout) :: scene
+    real(dp), intent(in) :: gravity(:)
+    type(demstep_status_type), intent(out) :: status
+    if (size(gravity) /= scene%dim .or. .not. all(ieee_is_finite(gravity))) then
+      call set_status(status, demstep_stat%invalid_input, "gravity: needs "//int_text(scene%dim)// &
+        " finite components")
+      return
+    end if
+    scene%gravity = 0.0_dp
+    scene%gravity(:scene%dim) = gravity
+    status%stat = demstep_stat%ok
+  end subroutine scene_set_gravity
 
   !> Damping ratio of a linear spring-dashpot whose restitution coefficient is e:
   !> zeta = -ln e / sqrt(pi^2 + ln^2 e).
