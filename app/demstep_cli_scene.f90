@@ -57,7 +57,7 @@ contains
       var("dim", "an integer", "dimension: 1, 2 or 3", "2", required=.true.), &
       var("position", "a list of real numbers", "dim coordinates per particle", &
         "0.0, 0.0,  1.0, 0.0,  2.0, 0.0", capacity=3*max_values, required=.true., &
-        excludes="particles_file snapshot_file"), &
+        excludes="particles_file"), &
       var("velocity", "a list of real numbers", "dim components per particle (default 0)", &
         "0.0, 0.0,  0.0, 0.0,  0.0, 0.1", capacity=3*max_values), &
       var("mass", "a list of real numbers", "one per particle, or one for all (> 0)", "1.0", &
@@ -73,7 +73,7 @@ contains
       var("snapshot_file", "a quoted file name", "particles (and the periodic box) from a DEM code's " &
         //"file: LAMMPS/LIGGGHTS dump or data file, Yade text export; masses from the file, else " &
         //"from a &material group's density per type", "!'dump.liggghts'", &
-        excludes="particles_file velocity mass radius fixed types"), &
+        excludes="position particles_file velocity mass radius fixed types"), &
       var("snapshot_format", "a quoted word", "'auto', 'lammps_dump', 'lammps_data' or 'yade_text'", &
         "!'auto'", default="'auto'", needs="snapshot_file"), &
       var("snapshot_frame", "an integer", "dump frame: 1, 2, ... from the first; 0 the last, -1 the " &

@@ -353,7 +353,8 @@ contains
     if (allocated(error)) return
     call write_file(deck, [character(len=80) :: "&scene", "dim = 3, snapshot_file = 'snap.dump',", &
       "position = 0, 0, 0, k_normal = 1.0e3 /"])
-    call expect_refusal(error, deck, [character(len=60) :: "&scene: position: give either position or snapshot_file"])
+    call expect_refusal(error, deck, [character(len=80) :: &
+      "&scene: snapshot_file: give either snapshot_file or position, not both"])
     if (allocated(error)) return
     ! no mass, no density, no &material
     call write_file(deck, [character(len=80) :: "&scene", "dim = 3, snapshot_file = 'snap.dump',", &
