@@ -44,6 +44,7 @@ contains
       new_unittest("the box's pp axes are the periodic cell; same numbers as inline", test_box_inline), &
       new_unittest("&material Hertz: same numbers as the inline types", test_hertz_inline), &
       new_unittest("&material liggghts_hooke: k_n of LIGGGHTS' formula (quad)", test_hooke_quad), &
+      new_unittest("LIGGGHTS' own Hooke k_n, recovered from a run, is liggghts_hooke's", test_liggghts_kn), &
       new_unittest("a bad file: one line naming the file and the line", test_bad_file), &
       new_unittest("exclusive inputs and missing materials refused naming the variable", test_refused) &
       ]
@@ -306,6 +307,39 @@ contains
       "effects = 'contacts', 'damping', 'rotation', restitution = 0.9 /"])
     call run_inline(error, a)
   end subroutine test_hooke_quad
+
+  !> test/data/liggghts/hooke_kn.local: LIGGGHTS' normal force and overlap of
+  !> two beads at rest (no dashpot force), so |F|/delta is its k_n.
+  subroutine test_liggghts_kn(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=:), allocatable :: text, stdout, stderr
+    real(dp) :: row(7), k_liggghts, k_demstep
+    integer :: k, ios, rc
+    call read_file("test/data/liggghts/hooke_kn.local", text)
+    k = index(text(:len(text) - 1), new_line("a"), back=.true.)
+    read(text(k+1:), *, iostat=ios) row
+    call check(error, ios == 0 .and. row(7) > 0.0_dp, "the fixture's contact row reads")
+    if (allocated(error)) return
+    k_liggghts = norm2(row(4:6))/row(7)
+    call write_file(deck, [character(len=90) :: "&material", "young = 1.0e7, poisson = 0.25, density = 2500,", &
+      "radius = 1.0e-3, restitution = 0.9, impact_velocity = 1.0, code = 'liggghts_hooke' /"])
+    call execute_command_line("rm -f "//out, cmdstat=ios)
+    call run_app(deck//" -o "//out, rc, stdout, stderr)
+    call check(error, rc == 0 .and. len(stderr) == 0, "runs cleanly: "//stderr)
+    if (allocated(error)) return
+    call read_file(out, text)
+    k_demstep = scalar(text, "K_N")
+    ! the same formula in double on both sides (LIGGGHTS' pow, demstep's
+    ! logarithms) and LIGGGHTS' own delta: a few roundings, far below 1e-12
+    call check(error, abs(k_demstep - k_liggghts) <= 1.0e-12_dp*k_liggghts, "k_n: LIGGGHTS "// &
+      trim(real_text(k_liggghts))//", demstep "//trim(real_text(k_demstep)))
+  contains
+    function real_text(x) result(t)
+      real(dp), intent(in) :: x
+      character(len=30) :: t
+      write(t, '(es25.17)') x
+    end function real_text
+  end subroutine test_liggghts_kn
 
   subroutine test_bad_file(error)
     type(error_type), allocatable, intent(out) :: error
