@@ -36,6 +36,9 @@ module demstep_cli_scene
   !> Most effects one group may list.
   integer, parameter :: max_effects = 16
 
+  !> Most particle types of a snapshot (per-type tables are nt x nt).
+  integer, parameter :: max_snapshot_types = 1000
+
   !> The deck's `&material` group, for a snapshot's particle types.
   type :: deck_material_type
     logical :: found = .false.
@@ -969,10 +972,11 @@ contains
       call set_status(status, demstep_stat%invalid_input, g//"snapshot_file: "//path//": no particles")
       return
     end if
-    if (minval(snap%type) < 1) then
-      k = minloc(snap%type, dim=1)
+    if (minval(snap%type) < 1 .or. maxval(snap%type) > max_snapshot_types) then
+      k = merge(minloc(snap%type, dim=1), maxloc(snap%type, dim=1), minval(snap%type) < 1)
       call set_status(status, demstep_stat%invalid_input, g//"snapshot_file: "//path//": particle "// &
-        fmt_int(snap%id(k))//" has type "//fmt_int(int(snap%type(k), i8))//"; types count from 1")
+        fmt_int(snap%id(k))//" has type "//fmt_int(int(snap%type(k), i8))//"; types count from 1 to at " &
+        //"most "//fmt_int(int(max_snapshot_types, i8)))
       return
     end if
     nt = maxval(snap%type)
@@ -1101,7 +1105,7 @@ contains
     real(dp) :: rayleigh, hertz, exact
     logical, allocatable :: present_type(:)
     integer :: nt, i, j, c, nl
-    character(len=:), allocatable :: where, axes, masses, frame
+    character(len=:), allocatable :: solver, axes, masses, frame
     peer_dt = 0.0_dp
     nt = maxval(snap%type)
     allocate(lines(20 + n_peer_rules))
@@ -1128,7 +1132,7 @@ contains
         ") for the peers' rules")
     end if
     exact = crit%dt_critical_damped
-    where = merge("LAPACK  ", "bound   ", crit%eigen_computed)
+    solver = merge("LAPACK  ", "bound   ", crit%eigen_computed)
     if (.not. mat%found) then
       call add("    peers' rules: add a &material group (young, poisson, density per type) to see them")
       call finish()
@@ -1170,7 +1174,7 @@ contains
       nl = nl + 1
     end do
     write(lines(nl + 1), '(4x, a22, a16, a)') "demstep exact limit", fmt_real(exact), &
-      "  (damped, "//trim(where)//")"
+      "  (damped, "//trim(solver)//")"
     nl = nl + 1
     call add("    (the limit of this packing; a &material report is for a single contact of each pair of types)")
     call finish()

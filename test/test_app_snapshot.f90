@@ -411,6 +411,13 @@ contains
     call expect_refusal(error, deck, [character(len=60) :: "&material: young: one value per particle type", &
       "types 1 to 5"])
     if (allocated(error)) return
+    ! an absurd type number
+    call write_file(dump, [character(len=60) :: "ITEM: TIMESTEP", "0", "ITEM: NUMBER OF ATOMS", "2", &
+      "ITEM: BOX BOUNDS ff ff ff", "-1 1", "-1 1", "-1 1", "ITEM: ATOMS id type x y z radius", &
+      "1 1 0.0 0.0 0.0 0.0010", "2 2000000000 0.00195 0.0 0.0 0.0010"])
+    call expect_refusal(error, deck, [character(len=60) :: "&scene: snapshot_file: ", &
+      "particle 2 has type 2000000000; types count from 1 to at most 1000"])
+    if (allocated(error)) return
     ! the linear law needs one code
     call write_file(dump, [character(len=60) :: "ITEM: TIMESTEP", "0", "ITEM: NUMBER OF ATOMS", "2", &
       "ITEM: BOX BOUNDS ff ff ff", "-1 1", "-1 1", "-1 1", "ITEM: ATOMS id type x y z radius", &
