@@ -52,6 +52,12 @@ enum {
    overlap of an impact at impact_velocity (demstep_scene_compute). */
 enum { DEMSTEP_HERTZ_CURRENT = 1, DEMSTEP_HERTZ_IMPACT = 2 };
 
+/* Eigensolvers for omega_max (demstep_scene_set_eigen_solver): AUTO takes DENSE
+   (LAPACK) up to max_eigen_dof and LANCZOS (ARPACK, matrix-free) above; NONE
+   gives the bound only. */
+enum { DEMSTEP_EIGEN_AUTO = 1, DEMSTEP_EIGEN_DENSE = 2, DEMSTEP_EIGEN_LANCZOS = 3,
+       DEMSTEP_EIGEN_NONE = 4 };
+
 /* A status and its message (NUL-terminated). */
 typedef struct {
   int stat;
@@ -170,8 +176,17 @@ typedef struct {
   int n_dof;                  /* free particles times dof_per_particle */
   int n_springs;              /* bonds + particle contacts + wall contacts */
   int dof_per_particle;       /* dim translations (+ rotations with DEMSTEP_EFFECT_ROTATION) */
-  int eigen_computed;         /* 1: n_dof <= max_eigen_dof, the exact fields are set */
+  int eigen_computed;         /* 1: an eigensolver ran, the exact fields are set */
   int rotation, tangential, periodic, prestress; /* 1: the model counted them */
+  /* appended in version 2: the eigensolver's report */
+  double eigen_tolerance;     /* relative tolerance (dense: the working precision) */
+  double eigen_residual;      /* measured ||A z - theta z|| / theta of the top mode */
+  double omega_upper;         /* upper end of omega_max's error bar */
+  double dt_critical_safe;    /* max(2/omega_upper, the bound): safe to the error bar */
+  int64_t eigen_products;     /* Lanczos operator products */
+  int eigen_solver;           /* which ran: DEMSTEP_EIGEN_DENSE, _LANCZOS or _NONE */
+  int eigen_converged;        /* 0: Lanczos ran out of restarts; omega_max is then in
+                                 [omega_max, omega_upper] */
 } demstep_scene_result;
 
 /* A scene without particles in dim (1 to 3) dimensions; *scene receives the handle
@@ -248,6 +263,11 @@ int demstep_scene_set_gravity(demstep_scene *scene, const double *gravity, demst
    otherwise); prestress: 0 or 1 (count the geometric stiffness of loaded contacts);
    max_eigen_dof: above it only the bound is computed (<= 0: the default 4000);
    result_size: sizeof(demstep_scene_result). */
+/* The eigensolver of later demstep_scene_compute calls (default DEMSTEP_EIGEN_AUTO)
+   and the Lanczos relative residual tolerance, in [2.2e-16, 0.1] (<= 0: 1e-10). */
+int demstep_scene_set_eigen_solver(demstep_scene *scene, int solver, double tolerance,
+                                   demstep_error *err);
+
 int demstep_scene_compute(const demstep_scene *scene, int hertz_linearization,
                           double impact_velocity, int prestress, int max_eigen_dof,
                           demstep_scene_result *result, size_t result_size, demstep_error *err);

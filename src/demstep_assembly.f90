@@ -638,7 +638,7 @@ contains
     integer, allocatable :: pi(:), pj(:), pc(:)
     real(dp), allocatable :: pn(:, :), pd(:)
     integer :: k, i, j, w, m, n_contacts, n_walls
-    real(dp) :: overlap, d, f_n, k_n, k_t, rs, l
+    real(dp) :: overlap, d, f_n, k_n, k_t, rs, l, e_pair
     m = size(scene%bonds, 2)
     n_contacts = 0
     n_walls = 0
@@ -668,7 +668,10 @@ contains
         j = pj(k)
         if (scene%fixed(i) .and. scene%fixed(j)) cycle
         rs = reduced_radius(scene%radius(i), scene%radius(j))
-        d = linearisation_overlap(scene, pc(k), pd(k), rs, effective_mass(scene, i, j), mode, v_impact)
+        ! the pair's E* (per-type materials) or the scene's
+        e_pair = scene%e_star
+        if (allocated(scene%ptype)) e_pair = scene%pair_law(3, scene%ptype(i), scene%ptype(j))
+        d = linearisation_overlap(scene, pc(k), pd(k), rs, effective_mass(scene, i, j), mode, v_impact, e_pair)
         call contact_values(scene, pc(k), i, j, d, f_n, k_n, k_t)
         if (.not. (ieee_is_finite(k_n) .and. ieee_is_finite(k_t))) then
           call stiffness_overflow(i, j)
@@ -691,7 +694,8 @@ contains
           if (scene%fixed(i)) cycle
           overlap = wall_overlap(scene%x(:, i), scene%radius(i), scene%wall_point(:, w), scene%wall_normal(:, w))
           if (.not. overlap > 0.0_dp) cycle
-          d = linearisation_overlap(scene, 0, overlap, scene%radius(i), scene%mass(i), mode, v_impact)
+          d = linearisation_overlap(scene, 0, overlap, scene%radius(i), scene%mass(i), mode, v_impact, &
+            scene%e_star)
           k_n = normal_stiffness(scene%law, scene%k_normal, scene%e_star, d, scene%radius(i))
           if (.not. ieee_is_finite(k_n)) then
             call stiffness_overflow(i, 0)
@@ -726,13 +730,14 @@ contains
   !> The overlap a contact is linearised at: the current one, or (Hertz, detected
   !> contacts) the largest overlap of an impact at v_impact,
   !> d = (15 m* v^2/(16 E* sqrt(R*)))^(2/5) (through logarithms: no overflow).
-  pure real(dp) function linearisation_overlap(scene, c, overlap, rs, m_eff, mode, v_impact) result(d)
+  pure real(dp) function linearisation_overlap(scene, c, overlap, rs, m_eff, mode, v_impact, e_star) result(d)
     type(scene_type), intent(in) :: scene
     integer, intent(in) :: c, mode
-    real(dp), intent(in) :: overlap, rs, m_eff, v_impact
+    !> E* of the pair (per-type materials) or of the scene.
+    real(dp), intent(in) :: overlap, rs, m_eff, v_impact, e_star
     d = overlap
     if (c == 0 .and. scene%law == contact_law%hertz .and. mode == hertz_linearization%impact) &
-      d = exp(0.4_dp*(log(15.0_dp/16.0_dp) + log(m_eff) + 2.0_dp*log(v_impact) - log(scene%e_star) &
+      d = exp(0.4_dp*(log(15.0_dp/16.0_dp) + log(m_eff) + 2.0_dp*log(v_impact) - log(e_star) &
         - 0.5_dp*log(rs)))
   end function linearisation_overlap
 

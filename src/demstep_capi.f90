@@ -27,7 +27,8 @@ module demstep_capi
     scene_set_cell, scene_set_types, scene_set_hertz_types, scene_set_law, scene_set_bond_stiffness, &
     scene_set_gravity, n_effects, scene_effect, effect_names, contact_law
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, hertz_linearization, &
-    default_max_eigen_dof
+    default_max_eigen_dof, eigen_solver
+  use demstep_lanczos, only: lanczos_tolerance_default, check_lanczos_options
   use demstep_contact, only: discrete_contact_type, contact_with_onset
   use demstep_cost, only: n_for_tolerance
   implicit none
@@ -85,6 +86,9 @@ module demstep_capi
     !> per-type materials (0: none yet): they must agree.
     integer :: law_given = 0, types_law = 0
     character(len=:), allocatable :: failure
+    !> The eigensolver and Lanczos tolerance of demstep_scene_set_eigen_solver.
+    integer :: solver = eigen_solver%auto
+    real(dp) :: tolerance = lanczos_tolerance_default
     !> The library scene every builder call goes to.
     type(scene_type) :: scene
   end type capi_scene_type
@@ -113,6 +117,11 @@ module demstep_capi
       dt_critical_damped = 0.0_dp
     integer(c_int) :: n_dof = 0, n_springs = 0, dof_per_particle = 0, eigen_computed = 0, rotation = 0, &
       tangential = 0, periodic = 0, prestress = 0
+    ! appended in version 2: the eigensolver's report
+    real(c_double) :: eigen_tolerance = 0.0_dp, eigen_residual = 0.0_dp, omega_upper = 0.0_dp, &
+      dt_critical_safe = 0.0_dp
+    integer(c_int64_t) :: eigen_products = 0
+    integer(c_int) :: eigen_solver = 0, eigen_converged = 0
   end type demstep_scene_result_c
 
   !> sizeof(demstep_scene_result) of the first version: the least result_size accepted.
@@ -124,7 +133,7 @@ module demstep_capi
   public :: c_scene_create, c_scene_free, c_scene_set_particles, c_scene_add_bonds, &
     c_scene_set_bond_stiffness, c_scene_set_contact_law, c_scene_set_types, c_scene_set_hertz_types, &
     c_scene_add_walls, c_scene_set_contacts, c_scene_set_effects, c_scene_set_cell, c_scene_set_damping, &
-    c_scene_set_gravity, c_scene_compute
+    c_scene_set_gravity, c_scene_compute, c_scene_set_eigen_solver
 
 contains
 
@@ -871,6 +880,40 @@ contains
     code = built(h, name, status, err)
   end function c_scene_set_gravity
 
+  !> int demstep_scene_set_eigen_solver(demstep_scene *scene, int solver, double tolerance,
+  !>   demstep_error *err)
+  !>
+  !> The eigensolver of later computes (DEMSTEP_EIGEN_AUTO, _DENSE, _LANCZOS,
+  !> _NONE) and the Lanczos relative tolerance (<= 0: the default 1e-10). A
+  !> refused option leaves the scene and its options as they were.
+  function c_scene_set_eigen_solver(scene, solver, tolerance, err) result(code) &
+      bind(C, name="demstep_scene_set_eigen_solver")
+    type(c_ptr), value :: scene, err
+    integer(c_int), value :: solver
+    real(c_double), value :: tolerance
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_scene_set_eigen_solver"
+    type(capi_scene_type), pointer :: h
+    type(demstep_status_type) :: status
+    real(dp) :: tol
+    if (.not. live(scene, name, h, err, code, particles=.false.)) return
+    if (solver < eigen_solver%auto .or. solver > eigen_solver%none) then
+      code = invalid(err, name//": solver: "//int_text(solver)//" is not DEMSTEP_EIGEN_AUTO (" &
+        //int_text(eigen_solver%auto)//"), _DENSE, _LANCZOS or _NONE ("//int_text(eigen_solver%none)//")")
+      return
+    end if
+    tol = lanczos_tolerance_default
+    if (tolerance > 0.0_dp .or. ieee_is_nan(tolerance)) tol = tolerance
+    call check_lanczos_options(name, tol, 1, 2, 1, status)
+    if (status%stat /= demstep_stat%ok) then
+      code = report(err, status)
+      return
+    end if
+    h%solver = solver
+    h%tolerance = tol
+    code = ok(err)
+  end function c_scene_set_eigen_solver
+
   !> int demstep_scene_compute(const demstep_scene *scene, int hertz_linearization,
   !>   double impact_velocity, int prestress, int max_eigen_dof, demstep_scene_result *result,
   !>   size_t result_size, demstep_error *err)
@@ -916,16 +959,19 @@ contains
     limit = default_max_eigen_dof
     if (max_eigen_dof > 0) limit = max_eigen_dof
     call assembly_critical_steps(h%scene, c, status, hertz_mode=int(hertz_mode), &
-      impact_velocity=impact_velocity, max_eigen_dof=limit, prestress=prestress == 1)
+      impact_velocity=impact_velocity, max_eigen_dof=limit, prestress=prestress == 1, &
+      solver=h%solver, tolerance=h%tolerance)
     if (status%stat /= demstep_stat%ok) status%message = name//": "//status%message
     code = report(err, status)
     call guard_finite([c%omega_max, c%dt_critical_eigen, c%omega_bound, c%dt_critical_bound, &
-      c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped], name, err, code)
+      c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped, c%omega_upper, c%dt_critical_safe, &
+      c%eigen_residual], name, err, code)
     if (code /= demstep_stat%ok) return
     row = demstep_scene_result_c(c%omega_max, c%dt_critical_eigen, c%omega_bound, c%dt_critical_bound, &
       c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped, c%n_dof, c%n_springs, &
       c%dof_per_particle, flag(c%eigen_computed), flag(c%rotation), flag(c%tangential), &
-      flag(c%periodic), flag(c%prestress))
+      flag(c%periodic), flag(c%prestress), c%eigen_tolerance, c%eigen_residual, c%omega_upper, &
+      c%dt_critical_safe, c%eigen_products, c%solver, flag(c%eigen_converged))
     ! the struct's bytes by transfer (no pointer to a local of another type:
     ! optimisers may drop stores they cannot see read)
     bytes = transfer(row, [c_null_char])

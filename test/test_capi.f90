@@ -14,7 +14,8 @@ module test_capi
     capi_effect_map, demstep_scene_result_c, capi_scene_result_size_v1, c_scene_create, c_scene_free, &
     c_scene_set_particles, c_scene_add_bonds, c_scene_set_bond_stiffness, c_scene_set_contact_law, &
     c_scene_set_types, c_scene_set_hertz_types, c_scene_add_walls, c_scene_set_contacts, &
-    c_scene_set_effects, c_scene_set_cell, c_scene_set_damping, c_scene_set_gravity, c_scene_compute
+    c_scene_set_effects, c_scene_set_cell, c_scene_set_damping, c_scene_set_gravity, c_scene_compute, &
+    c_scene_set_eigen_solver
   use test_support, only: ieee_nan, read_file
   implicit none
   private
@@ -58,7 +59,7 @@ contains
       "AGGREGATE_MIN", "AGGREGATE_MAX", "QUANTITY_RESTITUTION", "QUANTITY_CONTACT_TIME", &
       "QUANTITY_OVERLAP", "QUANTITY_PERIOD", "LAW_LINEAR", "LAW_HERTZ", "EFFECT_CONTACTS", &
       "EFFECT_GRAVITY", "EFFECT_DAMPING", "EFFECT_LOCAL_DAMPING", "EFFECT_WALLS", "EFFECT_ROTATION", &
-      "HERTZ_CURRENT", "HERTZ_IMPACT"]
+      "HERTZ_CURRENT", "HERTZ_IMPACT", "EIGEN_AUTO", "EIGEN_DENSE", "EIGEN_LANCZOS", "EIGEN_NONE"]
     values = [demstep_stat%ok, demstep_stat%invalid_input, demstep_stat%unstable, demstep_stat%pole, &
       demstep_stat%not_converged, demstep_stat%not_found, demstep_stat%lapack_failure, &
       demstep_stat%io_error, demstep_stat%blow_up, demstep_stat%at_stability_limit, &
@@ -69,7 +70,8 @@ contains
       quantity_kind%overlap, quantity_kind%period, contact_law%linear, contact_law%hertz, &
       ! effects are the C API's own bit flags (test_scene_effects checks their map)
       capi_effect%contacts, capi_effect%gravity, capi_effect%damping, capi_effect%local_damping, &
-      capi_effect%walls, capi_effect%rotation, hertz_linearization%current, hertz_linearization%impact]
+      capi_effect%walls, capi_effect%rotation, hertz_linearization%current, hertz_linearization%impact, &
+      eigen_solver%auto, eigen_solver%dense, eigen_solver%lanczos, eigen_solver%none]
     allocate(seen(size(names)), source=.false.)
     call read_file("include/demstep.h", text)
     call check(error, len(text) > 0, "include/demstep.h read")
@@ -353,12 +355,38 @@ contains
     exact = 2.0_dp*sqrt(100.0_dp)*sin(10.0_dp*pi/22.0_dp)
     call check(error, res%omega_max, exact, rel=.true., thr=1.0e-12_dp, message="omega_max closed form")
     if (allocated(error)) return
-    ! above max_eigen_dof only the bound: the exact fields stay 0
+    ! above max_eigen_dof Lanczos: the same omega_max to its tolerance
     code = c_scene_compute(handle, hertz_linearization%current, 0.0_dp, 0, 5, c_loc(res), c_sizeof(res), &
       c_loc(e))
+    call check(error, code == 0 .and. res%eigen_computed == 1 .and. res%eigen_solver == eigen_solver%lanczos &
+      .and. res%eigen_converged == 1 .and. res%eigen_tolerance == 1.0e-10_dp .and. &
+      res%eigen_residual <= 1.0e-10_dp .and. res%eigen_products > 0, "max_eigen_dof 5 < 10 dof: Lanczos")
+    if (allocated(error)) return
+    call check(error, res%omega_max, exact, rel=.true., thr=1.0e-10_dp, message="Lanczos omega_max")
+    if (allocated(error)) return
+    call check(error, res%omega_upper >= exact*(1.0_dp - 1.0e-15_dp) .and. &
+      res%dt_critical_safe <= 2.0_dp/exact*(1.0_dp + 1.0e-15_dp), "the error bar holds the closed form")
+    if (allocated(error)) return
+    ! eigen solver 'none': only the bound, the exact fields stay 0
+    code = c_scene_set_eigen_solver(handle, eigen_solver%none, 0.0_dp, c_loc(e))
+    call check(error, code, 0, message="set_eigen_solver none")
+    if (allocated(error)) return
+    code = c_scene_compute(handle, hertz_linearization%current, 0.0_dp, 0, 0, c_loc(res), c_sizeof(res), &
+      c_loc(e))
     call check(error, code == 0 .and. res%eigen_computed == 0 .and. res%omega_max == 0.0_dp .and. &
-      res%dt_critical_bound == c%dt_critical_bound .and. res%dt_critical_damped == c%dt_critical_bound, &
-      "max_eigen_dof 5 < 10 dof: the bound only")
+      res%eigen_solver == eigen_solver%none .and. res%dt_critical_bound == c%dt_critical_bound .and. &
+      res%dt_critical_damped == c%dt_critical_bound, "eigen solver none: the bound only")
+    if (allocated(error)) return
+    ! bad options refused by name, the options kept
+    code = c_scene_set_eigen_solver(handle, 5, 0.0_dp, c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "solver: 5") > 0, &
+      "solver 5 refused")
+    if (allocated(error)) return
+    code = c_scene_set_eigen_solver(handle, eigen_solver%lanczos, 0.5_dp, c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "tolerance") > 0, &
+      "tolerance 0.5 refused")
+    if (allocated(error)) return
+    code = c_scene_set_eigen_solver(handle, eigen_solver%auto, 0.0_dp, c_loc(e))
     if (allocated(error)) return
     ! a caller's struct with a field appended after this version's: filled up to
     ! this version's size, the rest zeroed
