@@ -195,7 +195,7 @@ contains
     real(dp), allocatable :: a(:, :), vec(:), rows(:), mdof(:, :), diag(:, :, :), av(:)
     real(dp) :: lam, zeta, k_scale, m_scale, rate, tol, err
     integer :: limit, i, p, choice, nc
-    logical :: geo
+    logical :: geo, converged
 
     limit = default_max_eigen_dof
     if (present(max_eigen_dof)) limit = max_eigen_dof
@@ -278,6 +278,7 @@ contains
     result%solver = choice
     if (choice /= eigen_solver%none) then
       allocate(vec(result%n_dof))
+      converged = .true.
       if (choice == eigen_solver%dense) then
         allocate(a(result%n_dof, result%n_dof), source=0.0_dp)
         do i = 1, size(springs)
@@ -294,34 +295,36 @@ contains
         result%eigen_products = lanczos%applications
         result%eigen_restarts = lanczos%iterations
         result%eigen_tolerance = tol
-        if (status%stat == demstep_stat%not_converged .and. .not. any(vec /= 0.0_dp)) then
-          ! the restarts ran out (a top crowded with nearly equal eigenvalues):
-          ! the Ritz value and ARPACK's estimate of its residual still bracket
-          ! omega_max; no mode, so the damping ratio is the nominal one
-          call not_converged(lanczos%eigenvalue, lanczos%residual)
-          return
-        end if
+        ! out of restarts without a vector (a top crowded with nearly equal
+        ! eigenvalues): the Ritz value and ARPACK's estimate of its residual
+        ! still bracket omega_max; without a mode the damping ratio is nominal
+        converged = .not. (status%stat == demstep_stat%not_converged .and. .not. any(vec /= 0.0_dp))
         if (status%stat == demstep_stat%not_converged) status%stat = demstep_stat%ok
         if (status%stat /= demstep_stat%ok) return
+        lam = lanczos%eigenvalue
+        err = lanczos%residual
       end if
-      ! the returned mode's Rayleigh quotient and residual, one product
-      allocate(av(result%n_dof))
-      call assembly_operator_apply(op, vec, av)
-      lam = dot_product(vec, av)
+      if (converged) then
+        ! the returned mode's Rayleigh quotient and residual, one product
+        allocate(av(result%n_dof))
+        call assembly_operator_apply(op, vec, av)
+        lam = dot_product(vec, av)
+        err = norm2(av - lam*vec)
+      end if
       if (.not. lam > 0.0_dp) then
         call set_status(status, demstep_stat%invalid_input, "position: the scene has no stiffness")
         return
       end if
-      err = norm2(av - lam*vec)
       result%eigen_residual = err/lam
-      err = err + 8.0_dp*epsilon(1.0_dp)*lam
+      result%eigen_converged = converged .and. (result%eigen_residual <= tol .or. &
+        choice == eigen_solver%dense)
       result%omega_max = rate*sqrt(lam)
-      result%omega_upper = rate*sqrt(lam + err)
+      ! [theta, theta + r] holds lambda_max; the bound caps it
+      result%omega_upper = min(rate*sqrt(lam + err + 8.0_dp*epsilon(1.0_dp)*lam), result%omega_bound)
       result%dt_critical_eigen = 2.0_dp/result%omega_max
-      result%dt_critical_safe = max(2.0_dp/result%omega_upper, result%dt_critical_bound)
+      result%dt_critical_safe = 2.0_dp/result%omega_upper
       result%eigen_computed = .true.
-      result%eigen_converged = result%eigen_residual <= tol .or. choice == eigen_solver%dense
-      if (scene%effects(scene_effect%damping)) then
+      if (scene%effects(scene_effect%damping) .and. converged) then
         zeta = zeta*modal_damping(scene, dof, mdof, springs, k_scale, m_scale, vec)/(2.0_dp*sqrt(lam))
       end if
       result%damping_ratio_top = zeta
@@ -337,31 +340,6 @@ contains
       return
     end if
     status%stat = demstep_stat%ok
-
-  contains
-
-    !> The result of a Lanczos solve that ran out of restarts: Ritz value theta
-    !> and residual estimate r, omega_max in [rate sqrt(theta), rate sqrt(theta + r)]
-    !> (and below the bound).
-    subroutine not_converged(theta, r)
-      real(dp), intent(in) :: theta, r
-      if (.not. theta > 0.0_dp) return
-      result%omega_max = rate*sqrt(theta)
-      result%omega_upper = min(rate*sqrt(theta + r + 8.0_dp*epsilon(1.0_dp)*theta), result%omega_bound)
-      result%eigen_residual = r/theta
-      result%dt_critical_eigen = 2.0_dp/result%omega_max
-      result%dt_critical_safe = 2.0_dp/result%omega_upper
-      result%eigen_computed = .true.
-      result%eigen_converged = .false.
-      result%damping_ratio_top = zeta
-      result%dt_critical_damped = damped_limit(result%dt_critical_safe, zeta)
-      if (.not. (ieee_is_finite(result%damping_ratio_top) .and. result%dt_critical_damped > 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "damping_ratio: the damped limit " &
-          //"dt/(sqrt(1 + z^2) + z) is not representable; use a smaller damping_ratio")
-        return
-      end if
-      status%stat = demstep_stat%ok
-    end subroutine not_converged
   end subroutine assembly_critical_steps
 
   !> The name of an `eigen_solver` value ('auto', 'dense', 'lanczos', 'none';
