@@ -76,10 +76,10 @@ module demstep_assembly
     "lanczos", "none"]
   !> Krylov size of the scene Lanczos solve: tiled packings have clusters of
   !> nearly equal top eigenvalues, which a larger basis separates in fewer restarts.
-  integer, parameter :: scene_lanczos_ncv = 32
+  integer, parameter, public :: scene_lanczos_ncv = 32
   !> Restarts of the scene Lanczos solve before it settles for the bracket the
   !> Ritz value and its residual estimate give (`eigen_converged` false).
-  integer, parameter :: scene_lanczos_restarts = 20
+  integer, parameter, public :: scene_lanczos_restarts = 20
   !> Below this many springs an operator product runs on one thread.
   integer, parameter :: parallel_springs = 4096
 
