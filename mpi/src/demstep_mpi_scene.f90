@@ -25,6 +25,7 @@ module demstep_mpi_scene
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text
+  use demstep_progress, only: progress_type
   use demstep_scene_data, only: scene_type, scene_effect
   use demstep_interaction, only: reduced_mass, dashpot_coefficient
   use demstep_spring, only: damped_limit
@@ -51,7 +52,7 @@ contains
   !> invalid_input `comm:` when there are fewer free particles than ranks;
   !> PARPACK's through `parallel_lanczos_largest`.
   subroutine mpi_scene_critical_steps(comm, scene, result, status, hertz_mode, impact_velocity, &
-      prestress, tolerance)
+      prestress, tolerance, progress)
     !> The ranks sharing the work.
     type(MPI_Comm), intent(in) :: comm
     !> The whole scene, the same on every rank.
@@ -66,6 +67,8 @@ contains
     !> Relative residual tolerance on omega_max^2, in [2.2e-16, 0.1]
     !> (default `lanczos_tolerance_default`).
     real(dp), intent(in), optional :: tolerance
+    !> Reports the Lanczos products (pass it on one rank, e.g. rank 0).
+    class(progress_type), intent(inout), optional :: progress
     type(assembly_operator_type) :: op
     type(dist_csr_type) :: matrix
     integer, allocatable :: order(:), new_index(:), bodies(:), col(:)
@@ -169,7 +172,7 @@ contains
 
       allocate(vec(matrix%n_local))
       call parallel_lanczos_largest(matrix, lanczos, status, eigenvector=vec, tolerance=tol, &
-        ncv=min(scene_lanczos_ncv, op%n), max_restarts=scene_lanczos_restarts)
+        ncv=min(scene_lanczos_ncv, op%n), max_restarts=scene_lanczos_restarts, progress=progress)
       result%eigen_products = lanczos%applications
       result%eigen_restarts = lanczos%iterations
       if (status%stat == demstep_stat%not_converged) then

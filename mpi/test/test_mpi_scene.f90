@@ -1,3 +1,45 @@
+!> A progress sink that counts what it is told (for test_mpi_scene).
+module test_mpi_scene_progress
+  use demstep_kinds, only: i8
+  use demstep_progress, only: progress_type
+  implicit none
+  private
+
+  !> Counts what it is told.
+  type, extends(progress_type), public :: counting_progress
+    integer :: starts = 0, finishes = 0
+    integer(i8) :: last = 0
+  contains
+    procedure :: start => counting_start
+    procedure :: update => counting_update
+    procedure :: finish => counting_finish
+  end type counting_progress
+
+contains
+
+  !> Count a start.
+  subroutine counting_start(self, what, total)
+    class(counting_progress), intent(inout) :: self
+    character(len=*), intent(in) :: what
+    integer(i8), intent(in) :: total
+    self%starts = self%starts + 1
+  end subroutine counting_start
+
+  !> Keep the count told.
+  subroutine counting_update(self, done)
+    class(counting_progress), intent(inout) :: self
+    integer(i8), intent(in) :: done
+    self%last = done
+  end subroutine counting_update
+
+  !> Count a finish.
+  subroutine counting_finish(self)
+    class(counting_progress), intent(inout) :: self
+    self%finishes = self%finishes + 1
+  end subroutine counting_finish
+
+end module test_mpi_scene_progress
+
 !> The MPI scene path (`mpi_scene_critical_steps`) against the serial
 !> `assembly_critical_steps` with the Lanczos and the dense solver, on every
 !> rank count (CI runs it under `mpirun -np 2`): random periodic packings with
@@ -13,7 +55,10 @@ program test_mpi_scene
   use demstep_scene_builders, only: new_scene, scene_set_cell, scene_add_walls, cubic_lattice
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, eigen_solver
   use demstep_mpi_scene, only: mpi_scene_critical_steps
+  use test_mpi_scene_progress, only: counting_progress
   implicit none
+
+
   integer :: rank, nranks, failures
   integer(i8) :: seed
   type(scene_type) :: scene
@@ -36,6 +81,7 @@ program test_mpi_scene
   call box_with_walls(scene)
   call compare("box with walls and fixed particles, damping", scene, .false.)
   call check_refusals()
+  call check_progress()
 
   if (rank == 0) then
     if (failures == 0) then
@@ -253,6 +299,23 @@ contains
       st_ser%stat .and. msg(st_par) == msg(st_ser) .and. st_par%stat /= demstep_stat%ok &
       .and. same_status(st_par), msg(st_par))
   end subroutine check_refusals
+
+  !> Progress on rank 0 only: one start, updates up to the products, one finish.
+  subroutine check_progress()
+    type(scene_type) :: scene
+    type(critical_step_type) :: par
+    type(demstep_status_type) :: st
+    type(counting_progress) :: counter
+    call random_packing(scene, 100, 3, 0.3_dp, 1.0_dp)
+    if (rank == 0) then
+      call mpi_scene_critical_steps(MPI_COMM_WORLD, scene, par, st, progress=counter)
+    else
+      call mpi_scene_critical_steps(MPI_COMM_WORLD, scene, par, st)
+    end if
+    call report("progress told on rank 0", st%stat == demstep_stat%ok .and. (rank /= 0 .or. &
+      (counter%starts == 1 .and. counter%finishes == 1 .and. counter%last == par%eigen_products &
+      .and. par%eigen_products > 0)), msg(st))
+  end subroutine check_progress
 
   !> The status's message, '' on success.
   function msg(st) result(text)
