@@ -32,7 +32,11 @@ program mpi_scene
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
   n = 10000
   call get_command_argument(1, arg, status=arg_status)
-  if (arg_status == 0 .and. len_trim(arg) > 0) read (arg, *) n
+  if (arg_status == 0 .and. len_trim(arg) > 0) read (arg, *, iostat=arg_status) n
+  if (arg_status /= 0 .or. n < 1) then
+    if (rank == 0) write (*, '(a)') "mpi_scene: N must be a whole number >= 1"
+    call MPI_Abort(MPI_COMM_WORLD, 2)
+  end if
   call get_command_argument(2, arg, status=arg_status)
   with_serial = arg_status == 0 .and. trim(arg) == "serial"
 
