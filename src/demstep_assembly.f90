@@ -42,7 +42,7 @@ module demstep_assembly
   private
 
   public :: assembly_critical_steps, assembly_step_for_n_per_period, assembly_operator, &
-    assembly_operator_apply, assembly_matrix, eigen_solver_name
+    assembly_operator_apply, assembly_matrix, assembly_matrix_rows, eigen_solver_name
 
   !> Hertz linearisation at the current overlap, or at an impact's largest
   !> overlap: `hertz_linearization%impact`.
@@ -76,10 +76,10 @@ module demstep_assembly
     "lanczos", "none"]
   !> Krylov size of the scene Lanczos solve: tiled packings have clusters of
   !> nearly equal top eigenvalues, which a larger basis separates in fewer restarts.
-  integer, parameter :: scene_lanczos_ncv = 32
+  integer, parameter, public :: scene_lanczos_ncv = 32
   !> Restarts of the scene Lanczos solve before it settles for the bracket the
   !> Ritz value and its residual estimate give (`eigen_converged` false).
-  integer, parameter :: scene_lanczos_restarts = 20
+  integer, parameter, public :: scene_lanczos_restarts = 20
   !> Below this many springs an operator product runs on one thread.
   integer, parameter :: parallel_springs = 4096
 
@@ -423,15 +423,50 @@ contains
   subroutine assembly_matrix(op, matrix)
     type(assembly_operator_type), intent(in) :: op
     type(csr_matrix_type), intent(out) :: matrix
-    real(dp) :: b(12, 12), d(6, 6), scale
-    integer :: i, s, e, o, j, r, q, nc
-    integer(i8) :: p, pos, width
-    integer(i8), allocatable :: fill(:)
-    nc = op%nc
+    type(demstep_status_type) :: status
+    integer :: i
     matrix%n = op%n
-    allocate(matrix%row_start(op%n + 1), fill(op%n_bodies))
-    matrix%row_start(1) = 1
-    do i = 1, op%n_bodies
+    ! every body in its own place: the rows cannot be refused
+    call assembly_matrix_rows(op, [(i, i = 1, op%n_bodies)], [(i, i = 1, op%n_bodies)], &
+      matrix%row_start, matrix%col, matrix%val, status)
+  end subroutine assembly_matrix
+
+  !> The rows of A' that belong to a list of free bodies, with the bodies
+  !> renumbered (e.g. to give each MPI rank the rows of its region): nc rows per
+  !> listed body, in list order; body j's component q is column
+  !> (new_index(j) - 1) nc + q. Each body's rows hold its diagonal block, then
+  !> one nc x nc block per spring to another free body in `incident` order
+  !> (columns may repeat). O(springs of the listed bodies).
+  !> Status invalid_input when a listed body is outside 1..n_bodies or
+  !> new_index does not map 1..n_bodies into 1..n_bodies.
+  subroutine assembly_matrix_rows(op, bodies, new_index, row_start, col, val, status)
+    type(assembly_operator_type), intent(in) :: op
+    !> Free bodies (operator numbering) whose rows are wanted.
+    integer, intent(in) :: bodies(:)
+    !> New number of each free body (n_bodies entries).
+    integer, intent(in) :: new_index(:)
+    !> Row k holds entries row_start(k) .. row_start(k+1)-1 (nc size(bodies) + 1 starts).
+    integer(i8), allocatable, intent(out) :: row_start(:)
+    !> Column (new numbering) and value of each entry.
+    integer, allocatable, intent(out) :: col(:)
+    real(dp), allocatable, intent(out) :: val(:)
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: b(12, 12), d(6, 6)
+    integer :: k, i, s, e, o, j, r, q, nc, row
+    integer(i8) :: p, pos, width
+    nc = op%nc
+    allocate(row_start(nc*size(bodies) + 1))
+    row_start(1) = 1
+    if (size(new_index) /= op%n_bodies .or. any(bodies < 1 .or. bodies > op%n_bodies) .or. &
+        any(new_index < 1 .or. new_index > op%n_bodies)) then
+      row_start = 1
+      allocate(col(0), val(0))
+      call set_status(status, demstep_stat%invalid_input, "bodies, new_index: need free bodies " &
+        //"in 1.."//int_text(op%n_bodies)//" and a new number in that range for each")
+      return
+    end if
+    do k = 1, size(bodies)
+      i = bodies(k)
       width = nc
       do p = op%first(i), op%first(i + 1) - 1
         s = (op%incident(p) + 1)/2
@@ -439,11 +474,13 @@ contains
         if (op%ends(3 - e, s) > 0) width = width + nc
       end do
       do r = 1, nc
-        matrix%row_start((i - 1)*nc + r + 1) = matrix%row_start((i - 1)*nc + r) + width
+        row_start((k - 1)*nc + r + 1) = row_start((k - 1)*nc + r) + width
       end do
     end do
-    allocate(matrix%col(matrix%row_start(op%n + 1) - 1), matrix%val(matrix%row_start(op%n + 1) - 1))
-    do i = 1, op%n_bodies
+    allocate(col(row_start(size(row_start)) - 1), val(row_start(size(row_start)) - 1))
+    do k = 1, size(bodies)
+      i = bodies(k)
+      row = (k - 1)*nc
       d = 0.0_dp
       ! column offset (within each of the body's rows) of the next block
       pos = nc
@@ -458,23 +495,23 @@ contains
         if (j == 0) cycle
         do r = 1, nc
           do q = 1, nc
-            scale = op%w(op%comp(r), i)*op%w(op%comp(q), j)
-            matrix%col(matrix%row_start((i - 1)*nc + r) + pos + q - 1) = (j - 1)*nc + q
-            matrix%val(matrix%row_start((i - 1)*nc + r) + pos + q - 1) = &
-              b(6*(e - 1) + op%comp(r), 6*(o - 1) + op%comp(q))*scale
+            col(row_start(row + r) + pos + q - 1) = (new_index(j) - 1)*nc + q
+            val(row_start(row + r) + pos + q - 1) = b(6*(e - 1) + op%comp(r), 6*(o - 1) + op%comp(q)) &
+              *(op%w(op%comp(r), i)*op%w(op%comp(q), j))
           end do
         end do
         pos = pos + nc
       end do
       do r = 1, nc
         do q = 1, nc
-          matrix%col(matrix%row_start((i - 1)*nc + r) + q - 1) = (i - 1)*nc + q
-          matrix%val(matrix%row_start((i - 1)*nc + r) + q - 1) = d(op%comp(r), op%comp(q)) &
+          col(row_start(row + r) + q - 1) = (new_index(i) - 1)*nc + q
+          val(row_start(row + r) + q - 1) = d(op%comp(r), op%comp(q)) &
             *op%w(op%comp(r), i)*op%w(op%comp(q), i)
         end do
       end do
     end do
-  end subroutine assembly_matrix
+    status%stat = demstep_stat%ok
+  end subroutine assembly_matrix_rows
 
   !> The common start of every assembly computation: options checked, degrees
   !> of freedom numbered, scaled masses, the springs linearised and the
