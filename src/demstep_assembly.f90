@@ -42,7 +42,8 @@ module demstep_assembly
   private
 
   public :: assembly_critical_steps, assembly_step_for_n_per_period, assembly_operator, &
-    assembly_operator_apply, assembly_matrix, assembly_matrix_rows, eigen_solver_name
+    assembly_operator_apply, assembly_matrix, assembly_matrix_rows, eigen_solver_name, &
+    assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_damped
 
   !> Hertz linearisation at the current overlap, or at an impact's largest
   !> overlap: `hertz_linearization%impact`.
@@ -210,17 +211,8 @@ contains
         //"'dense', 'lanczos' or 'none'")
       return
     end if
-    call check_lanczos_options("tolerance", tol, 1, 2, 1, status)
-    if (status%stat /= demstep_stat%ok) then
-      status%message = status%message(len("tolerance: ") + 1:)
-      return
-    end if
-    zeta = 0.0_dp
-    if (scene%effects(scene_effect%damping)) zeta = scene%damping_ratio
-    if (.not. (zeta >= 0.0_dp .and. zeta <= max_damping_ratio)) then
-      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be in [0, 1e100]")
-      return
-    end if
+    call assembly_check_options(scene, tol, zeta, status)
+    if (status%stat /= demstep_stat%ok) return
     call prepare(scene, hertz_mode, impact_velocity, geo, springs, dof, mdof, k_scale, m_scale, &
       op, status)
     if (status%stat /= demstep_stat%ok) return
@@ -261,13 +253,8 @@ contains
         rows((i - 1)*nc + p) = rows((i - 1)*nc + p) + sum(abs(diag(p, :, i)))
       end do
     end do
-    result%omega_bound = rate*sqrt(maxval(rows))
-    if (.not. ieee_is_finite(result%omega_bound)) then
-      call set_status(status, demstep_stat%invalid_input, "mass: the bound of omega_max = sqrt(k/m) " &
-        //"overflows: the largest stiffness over the smallest mass must stay below about 1e600")
-      return
-    end if
-    result%dt_critical_bound = 2.0_dp/result%omega_bound
+    call assembly_set_bound(result, rate, maxval(rows), status)
+    if (status%stat /= demstep_stat%ok) return
     deallocate(rows, diag)
 
     ! the exact omega_max: dense LAPACK or matrix-free Lanczos
@@ -311,36 +298,96 @@ contains
         lam = dot_product(vec, av)
         err = norm2(av - lam*vec)
       end if
-      if (.not. lam > 0.0_dp) then
-        call set_status(status, demstep_stat%invalid_input, "position: the scene has no stiffness")
-        return
-      end if
-      result%eigen_residual = err/lam
-      result%eigen_converged = converged .and. (result%eigen_residual <= tol .or. &
-        choice == eigen_solver%dense)
-      result%omega_max = rate*sqrt(lam)
-      ! [theta, theta + r] holds lambda_max; the bound caps it
-      result%omega_upper = min(rate*sqrt(lam + err + 8.0_dp*epsilon(1.0_dp)*lam), result%omega_bound)
-      result%dt_critical_eigen = 2.0_dp/result%omega_max
-      result%dt_critical_safe = 2.0_dp/result%omega_upper
-      result%eigen_computed = .true.
-      if (scene%effects(scene_effect%damping) .and. converged) then
+      if (scene%effects(scene_effect%damping) .and. converged .and. lam > 0.0_dp) then
         zeta = zeta*modal_damping(scene, dof, mdof, springs, k_scale, m_scale, vec)/(2.0_dp*sqrt(lam))
       end if
-      result%damping_ratio_top = zeta
-      result%dt_critical_damped = damped_limit(result%dt_critical_safe, zeta)
+      call assembly_set_estimates(result, rate, lam, err, converged .and. (err <= tol*lam .or. &
+        choice == eigen_solver%dense), zeta, status)
     else
       ! no eigensolver: the damped limit from the bound
-      result%damping_ratio_top = zeta
-      result%dt_critical_damped = damped_limit(result%dt_critical_bound, zeta)
+      call assembly_set_damped(result, result%dt_critical_bound, zeta, status)
     end if
+  end subroutine assembly_critical_steps
+
+  !> The options every assembly driver (serial, MPI) checks before it builds
+  !> anything: the Lanczos tolerance, and the scene's damping ratio, returned as
+  !> `zeta` (0 without the damping effect). Status invalid_input naming
+  !> `tolerance` or `damping_ratio`.
+  pure subroutine assembly_check_options(scene, tol, zeta, status)
+    type(scene_type), intent(in) :: scene
+    real(dp), intent(in) :: tol
+    real(dp), intent(out) :: zeta
+    type(demstep_status_type), intent(out) :: status
+    zeta = 0.0_dp
+    call check_lanczos_options("tolerance", tol, 1, 2, 1, status)
+    if (status%stat /= demstep_stat%ok) then
+      status%message = status%message(len("tolerance: ") + 1:)
+      return
+    end if
+    if (scene%effects(scene_effect%damping)) zeta = scene%damping_ratio
+    if (.not. (zeta >= 0.0_dp .and. zeta <= max_damping_ratio)) then
+      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be in [0, 1e100]")
+    end if
+  end subroutine assembly_check_options
+
+  !> The rigorous bound from the largest row sum of |A'| (scaled): omega_bound =
+  !> rate sqrt(row_max) and its step. Status invalid_input naming `mass` when it
+  !> overflows.
+  pure subroutine assembly_set_bound(result, rate, row_max, status)
+    type(critical_step_type), intent(inout) :: result
+    real(dp), intent(in) :: rate, row_max
+    type(demstep_status_type), intent(out) :: status
+    result%omega_bound = rate*sqrt(row_max)
+    if (.not. ieee_is_finite(result%omega_bound)) then
+      call set_status(status, demstep_stat%invalid_input, "mass: the bound of omega_max = sqrt(k/m) " &
+        //"overflows: the largest stiffness over the smallest mass must stay below about 1e600")
+      return
+    end if
+    result%dt_critical_bound = 2.0_dp/result%omega_bound
+    status%stat = demstep_stat%ok
+  end subroutine assembly_set_bound
+
+  !> The exact estimates from the top mode's Rayleigh quotient `lam` (scaled) and
+  !> residual `err` (measured, or ARPACK's estimate when the solve ran out of
+  !> restarts): [lam, lam + err] holds the largest eigenvalue, capped by the
+  !> bound (set first); omega = rate sqrt(.); the damped limit at the safe step
+  !> with the top mode's damping ratio `zeta`. Status invalid_input naming
+  !> `position` (lam <= 0) or `damping_ratio`.
+  pure subroutine assembly_set_estimates(result, rate, lam, err, converged, zeta, status)
+    type(critical_step_type), intent(inout) :: result
+    real(dp), intent(in) :: rate, lam, err, zeta
+    !> Whether the residual met the tolerance.
+    logical, intent(in) :: converged
+    type(demstep_status_type), intent(out) :: status
+    if (.not. lam > 0.0_dp) then
+      call set_status(status, demstep_stat%invalid_input, "position: the scene has no stiffness")
+      return
+    end if
+    result%eigen_residual = err/lam
+    result%eigen_converged = converged
+    result%omega_max = rate*sqrt(lam)
+    result%omega_upper = min(rate*sqrt(lam + err + 8.0_dp*epsilon(1.0_dp)*lam), result%omega_bound)
+    result%dt_critical_eigen = 2.0_dp/result%omega_max
+    result%dt_critical_safe = 2.0_dp/result%omega_upper
+    result%eigen_computed = .true.
+    call assembly_set_damped(result, result%dt_critical_safe, zeta, status)
+  end subroutine assembly_set_estimates
+
+  !> The damping ratio `zeta` of the top mode and the damped limit at `dt`.
+  !> Status invalid_input naming `damping_ratio` when it is not representable.
+  pure subroutine assembly_set_damped(result, dt, zeta, status)
+    type(critical_step_type), intent(inout) :: result
+    real(dp), intent(in) :: dt, zeta
+    type(demstep_status_type), intent(out) :: status
+    result%damping_ratio_top = zeta
+    result%dt_critical_damped = damped_limit(dt, zeta)
     if (.not. (ieee_is_finite(result%damping_ratio_top) .and. result%dt_critical_damped > 0.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, "damping_ratio: the damped limit " &
         //"dt/(sqrt(1 + z^2) + z) is not representable; use a smaller damping_ratio")
       return
     end if
     status%stat = demstep_stat%ok
-  end subroutine assembly_critical_steps
+  end subroutine assembly_set_damped
 
   !> The name of an `eigen_solver` value ('auto', 'dense', 'lanczos', 'none';
   !> '' for another value).

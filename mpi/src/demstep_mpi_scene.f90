@@ -28,14 +28,12 @@ module demstep_mpi_scene
   use demstep_progress, only: progress_type
   use demstep_scene_data, only: scene_type, scene_effect
   use demstep_interaction, only: reduced_mass, dashpot_coefficient
-  use demstep_spring, only: damped_limit
-  use demstep_stepper, only: max_damping_ratio
   use demstep_assembly, only: assembly_operator_type, assembly_operator, assembly_matrix_rows, &
+    assembly_check_options, assembly_set_bound, assembly_set_estimates, &
     critical_step_type, eigen_solver, scene_lanczos_ncv, scene_lanczos_restarts
-  use demstep_lanczos, only: eigen_result_type, lanczos_tolerance_default, check_lanczos_options
+  use demstep_lanczos, only: eigen_result_type, lanczos_tolerance_default
   use demstep_mpi_lanczos, only: dist_csr_type, dist_csr_create, dist_csr_apply, dist_csr_free, &
     dist_gershgorin_bound, parallel_lanczos_largest
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
@@ -84,17 +82,8 @@ contains
     if (present(prestress)) with_geo = prestress
     tol = lanczos_tolerance_default
     if (present(tolerance)) tol = tolerance
-    call check_lanczos_options("tolerance", tol, 1, 2, 1, status)
-    if (status%stat /= demstep_stat%ok) then
-      status%message = status%message(len("tolerance: ") + 1:)
-      return
-    end if
-    zeta = 0.0_dp
-    if (scene%effects(scene_effect%damping)) zeta = scene%damping_ratio
-    if (.not. (zeta >= 0.0_dp .and. zeta <= max_damping_ratio)) then
-      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be in [0, 1e100]")
-      return
-    end if
+    call assembly_check_options(scene, tol, zeta, status)
+    if (status%stat /= demstep_stat%ok) return
     ! replicated: every rank builds the same operator and gets the same status
     call assembly_operator(scene, op, rate, status, hertz_mode, impact_velocity, with_geo)
     if (status%stat /= demstep_stat%ok) return
@@ -149,14 +138,8 @@ contains
       logical :: has_mode
 
       call dist_gershgorin_bound(matrix, bound)
-      result%omega_bound = rate*sqrt(bound)
-      if (.not. ieee_is_finite(result%omega_bound)) then
-        call set_status(status, demstep_stat%invalid_input, "mass: the bound of omega_max = " &
-          //"sqrt(k/m) overflows: the largest stiffness over the smallest mass must stay below " &
-          //"about 1e600")
-        return
-      end if
-      result%dt_critical_bound = 2.0_dp/result%omega_bound
+      call assembly_set_bound(result, rate, bound, status)
+      if (status%stat /= demstep_stat%ok) return
       rule = contact_rule(op, bodies)
       call MPI_Allreduce(MPI_IN_PLACE, rule, 1, MPI_DOUBLE_PRECISION, MPI_MIN, comm)
       result%dt_contact_rule = rule/rate
@@ -181,7 +164,8 @@ contains
         if (.not. has_mode) then
           ! restarts ran out with no converged Ritz pair: the Ritz value and
           ! PARPACK's residual estimate bracket omega_max (as the serial path)
-          call not_converged(lanczos%eigenvalue, lanczos%residual)
+          call assembly_set_estimates(result, rate, lanczos%eigenvalue, lanczos%residual, .false., &
+            zeta, status)
           return
         end if
         status%stat = demstep_stat%ok
@@ -189,51 +173,12 @@ contains
       if (status%stat /= demstep_stat%ok) return
       ! the unit mode's Rayleigh quotient and residual, measured by the solver
       lam = lanczos%eigenvalue
-      if (.not. lam > 0.0_dp) then
-        call set_status(status, demstep_stat%invalid_input, "position: the scene has no stiffness")
-        return
-      end if
-      result%eigen_residual = lanczos%residual/lam
-      result%omega_max = rate*sqrt(lam)
-      result%omega_upper = rate*sqrt(lam + lanczos%error_bound)
-      result%dt_critical_eigen = 2.0_dp/result%omega_max
-      result%dt_critical_safe = max(2.0_dp/result%omega_upper, result%dt_critical_bound)
-      result%eigen_computed = .true.
-      result%eigen_converged = result%eigen_residual <= tol
-      if (scene%effects(scene_effect%damping)) then
+      if (scene%effects(scene_effect%damping) .and. lam > 0.0_dp) then
         zeta = zeta*modal_damping(vec)/(2.0_dp*sqrt(lam))
       end if
-      call set_damped(result%dt_critical_safe)
+      call assembly_set_estimates(result, rate, lam, lanczos%residual, lanczos%residual <= tol*lam, &
+        zeta, status)
     end subroutine estimates
-
-    !> The result of a solve that ran out of restarts: omega_max in
-    !> [rate sqrt(theta), rate sqrt(theta + r)] (and below the bound).
-    subroutine not_converged(theta, r)
-      real(dp), intent(in) :: theta, r
-      if (.not. theta > 0.0_dp) return
-      result%omega_max = rate*sqrt(theta)
-      result%omega_upper = min(rate*sqrt(theta + r + 8.0_dp*epsilon(1.0_dp)*theta), &
-        result%omega_bound)
-      result%eigen_residual = r/theta
-      result%dt_critical_eigen = 2.0_dp/result%omega_max
-      result%dt_critical_safe = 2.0_dp/result%omega_upper
-      result%eigen_computed = .true.
-      result%eigen_converged = .false.
-      call set_damped(result%dt_critical_safe)
-    end subroutine not_converged
-
-    !> The damping ratio of the top mode and the damped limit at dt.
-    subroutine set_damped(dt)
-      real(dp), intent(in) :: dt
-      result%damping_ratio_top = zeta
-      result%dt_critical_damped = damped_limit(dt, zeta)
-      if (.not. (ieee_is_finite(result%damping_ratio_top) .and. result%dt_critical_damped > 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "damping_ratio: the damped limit " &
-          //"dt/(sqrt(1 + z^2) + z) is not representable; use a smaller damping_ratio")
-        return
-      end if
-      status%stat = demstep_stat%ok
-    end subroutine set_damped
 
     !> v^T M'^-1/2 C' M'^-1/2 v per unit damping ratio for this rank's block
     !> of the unit mode v, summed over the ranks. Each spring is counted by the
