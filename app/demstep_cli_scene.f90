@@ -8,7 +8,8 @@ module demstep_cli_scene
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
     scene_type, scene_summary_type, new_scene, scene_add_bonds, scene_add_walls, &
     scene_run, effect_index, restitution_to_damping_ratio, contact_law, scene_effect, &
-    scene_set_contacts, scene_set_cell, scene_set_types, scene_set_hertz_types, n_effects, &
+    scene_set_contacts, scene_set_cell, scene_set_law, scene_set_bond_stiffness, scene_set_gravity, &
+    scene_set_types, scene_set_hertz_types, n_effects, &
     effect_names, critical_step_type, assembly_critical_steps, hertz_modes => hertz_linearization, &
     default_max_eigen_dof, measure_step_cost, text_progress_type, assembly_step_for_n_per_period, &
     demstep_eigen_solver => eigen_solver, eigen_solver_name, lanczos_tolerance_default
@@ -194,7 +195,9 @@ contains
     integer, allocatable :: contact_pairs(:, :), contact_lines(:)
     logical, allocatable :: is_fixed(:)
     integer, allocatable :: pairs(:, :)
-    integer :: i, n, np, nv, nm, nr, nf, nb, nw, mode, solver
+    integer :: i, n, np, nv, nm, nr, nf, nb, nw, mode, solver, law_id
+    real(dp) :: law_values(2)
+    logical :: law_given
     real(dp) :: dt_used, dt_recommended
     integer :: governs
     integer(i8) :: steps
@@ -290,14 +293,7 @@ contains
         is_fixed(fixed(i)) = .true.
       end do
     end if
-    ! check_real words the message; it is called only on a bad value (it formats
-    ! the value first, which is too slow for every one of 1e5 particles)
-    do i = 1, n
-      if (.not. (ieee_is_finite(m(i)) .and. m(i) > 0.0_dp)) call check_real(g, "mass", m(i), status, element=i)
-      if (status%stat /= demstep_stat%ok) return
-      if (.not. (ieee_is_finite(r(i)) .and. r(i) > 0.0_dp)) call check_real(g, "radius", r(i), status, element=i)
-      if (status%stat /= demstep_stat%ok) return
-    end do
+    ! new_scene checks the masses, radii, positions and inertias
     if (allocated(inertia)) then
       call new_scene(sc, dim, x, m, r, status, v=v, fixed=is_fixed, inertia=inertia)
     else
@@ -368,11 +364,11 @@ contains
         status%message = "&"//g//": bonds: "//status%message
         return
       end if
-      call check_real(g, "k_bond", k_bond, status)
-      call check_real(g, "k_bond_tangential", k_bond_tangential, status, inclusive=.true.)
-      if (status%stat /= demstep_stat%ok) return
-      sc%k_bond = k_bond
-      sc%k_bond_tangential = k_bond_tangential
+      call scene_set_bond_stiffness(sc, k_bond, k_bond_tangential, status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": "//status%message
+        return
+      end if
     end if
 
     ! effects
@@ -393,30 +389,38 @@ contains
       given(group, "type_k_normal") .or. given(group, "young")))
     select case (lowercase(trim(law)))
     case ("linear")
-      sc%law = contact_law%linear
-      if ((sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. typed)) &
-        .or. sc%effects(scene_effect%walls)) call check_real(g, "k_normal", k_normal, status)
-      sc%k_normal = k_normal
-      if (given(group, "k_tangential") .and. given(group, "kt_ratio")) call fail("kt_ratio", &
-        "give either k_tangential or kt_ratio, not both")
-      if (given(group, "k_tangential")) call check_real(g, "k_tangential", k_tangential, status, inclusive=.true.)
+      law_id = contact_law%linear
+      if (given(group, "k_tangential") .and. given(group, "kt_ratio")) then
+        call fail("kt_ratio", "give either k_tangential or kt_ratio, not both")
+        return
+      end if
       if (given(group, "kt_ratio")) then
+        ! the ratio is the app's way to give k_tangential: the library never sees it
         call check_real(g, "kt_ratio", kt_ratio, status, inclusive=.true.)
+        if (status%stat /= demstep_stat%ok) return
         k_tangential = kt_ratio*k_normal
       end if
-      sc%k_tangential = k_tangential
+      law_values = [k_normal, k_tangential]
+      law_given = given(group, "k_normal") .or. given(group, "k_tangential")
     case ("hertz")
-      sc%law = contact_law%hertz
-      if ((sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. typed)) &
-        .or. sc%effects(scene_effect%walls)) call check_real(g, "e_star", e_star, status)
-      sc%e_star = e_star
-      if (given(group, "g_star")) call check_real(g, "g_star", g_star, status, inclusive=.true.)
-      sc%g_star = g_star
+      law_id = contact_law%hertz
+      law_values = [e_star, g_star]
+      law_given = given(group, "e_star") .or. given(group, "g_star")
     case default
       call fail("law", "unknown word '"//trim(law)//"' (linear, hertz)")
       return
     end select
-    if (status%stat /= demstep_stat%ok) return
+    if (law_given .or. (sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. typed)) &
+      .or. sc%effects(scene_effect%walls)) then
+      call scene_set_law(sc, law_id, law_values(1), law_values(2), status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": "//status%message
+        return
+      end if
+    else
+      ! per-type or listed stiffness, or no contacts: the law's own values go unused
+      sc%law = law_id
+    end if
     if (from_material) then
       call material_springs(sc, deck_mat, ptypes, status)
       if (status%stat /= demstep_stat%ok) return
@@ -453,18 +457,16 @@ contains
     if (sc%effects(scene_effect%gravity)) then
       call array_length(g, "gravity", gravity, nv, status)
       if (status%stat /= demstep_stat%ok) return
-      sc%gravity = 0.0_dp
       if (nv == 0) then
-        sc%gravity(dim) = -9.81_dp
-      else if (nv /= dim) then
-        call fail("gravity", "needs "//fmt_int(int(dim, i8))//" components")
+        ! the default: standard gravity along the last axis
+        gravity(:dim) = 0.0_dp
+        gravity(dim) = -9.81_dp
+        nv = dim
+      end if
+      call scene_set_gravity(sc, gravity(:nv), status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": "//status%message
         return
-      else
-        sc%gravity(:dim) = gravity(:dim)
-        if (.not. all(ieee_is_finite(gravity(:dim)))) then
-          call fail("gravity", "must be finite")
-          return
-        end if
       end if
     end if
     if (sc%effects(scene_effect%damping)) then
@@ -479,8 +481,7 @@ contains
         if (status%stat /= demstep_stat%ok) return
         damping_ratio = restitution_to_damping_ratio(restitution)
       end if
-      call check_real(g, "damping_ratio", damping_ratio, status, inclusive=.true.)
-      if (status%stat /= demstep_stat%ok) return
+      ! the library checks the range (assembly_critical_steps, scene_run)
       sc%damping_ratio = damping_ratio
     end if
     if (from_material .and. .not. (given(group, "effects") .or. given(group, "damping_ratio") .or. &
@@ -508,16 +509,14 @@ contains
     case ("current")
       mode = hertz_modes%current
     case ("impact")
+      ! the library checks impact_velocity
       mode = hertz_modes%impact
-      call check_real(g, "impact_velocity", impact_velocity, status)
-      if (status%stat /= demstep_stat%ok) return
     case default
       call fail("hertz_linearization", "unknown word '"//trim(hertz_linearization)//"' (current, impact)")
       return
     end select
     call check_real(g, "duration", duration, status, inclusive=.true.)
     if (given(group, "dt")) call check_real(g, "dt", dt, status)
-    if (given(group, "n_per_period")) call check_real(g, "n_per_period", n_per_period, status)
     if (status%stat /= demstep_stat%ok) return
     if (duration > 0.0_dp .and. .not. (given(group, "dt") .or. given(group, "n_per_period"))) then
       call fail("dt", "a run (duration > 0) needs dt or n_per_period")

@@ -523,10 +523,45 @@ contains
       "&scene: effects: unknown effect 'magnetism'")
     if (allocated(error)) return
     call expect_bad(error, g//"mass = 1.0, -2.0, bonds = 1, 2, k_bond = 1 /", &
-      "&scene: mass: element 2 is -2; must be > 0")
+      "&scene: mass: particle 2: must be > 0")
     if (allocated(error)) return
     call expect_bad(error, "&scene dim = 1, position = 0.0, 1.0, radius = -0.3, mass = 1 /", &
-      "&scene: radius: element 1 is -0.3; must be > 0")
+      "&scene: radius: particle 1: must be > 0")
+    if (allocated(error)) return
+    ! the library's scene builders check the law, the bonds and gravity; the app names the variable
+    call expect_bad(error, g//"mass = 1.0, k_normal = -1e4 /", "&scene: k_normal: must be > 0 and finite")
+    if (allocated(error)) return
+    call expect_bad(error, g//"mass = 1.0 /", "&scene: k_normal: must be > 0 and finite")
+    if (allocated(error)) return
+    call expect_bad(error, g//"mass = 1.0, k_normal = 1e4, k_tangential = -1.0 /", &
+      "&scene: k_tangential: must be >= 0 and finite")
+    if (allocated(error)) return
+    call expect_bad(error, g//"mass = 1.0, k_normal = 1e4, kt_ratio = -0.5 /", &
+      "&scene: kt_ratio: must be >= 0, got -0.5")
+    if (allocated(error)) return
+    call expect_bad(error, g//"mass = 1.0, law = 'hertz', e_star = 0.0 /", "&scene: e_star: must be > 0 and finite")
+    if (allocated(error)) return
+    call expect_bad(error, g//"mass = 1.0, law = 'hertz', e_star = 1e8, g_star = -1e7 /", &
+      "&scene: g_star: must be >= 0 and finite")
+    if (allocated(error)) return
+    call expect_bad(error, g//"mass = 1.0, bonds = 1, 2, k_bond = 0, effects = 'none' /", &
+      "&scene: k_bond: must be > 0 and finite")
+    if (allocated(error)) return
+    call expect_bad(error, g//"mass = 1.0, bonds = 1, 2, k_bond = 1, k_bond_tangential = -1, effects = 'none' /", &
+      "&scene: k_bond_tangential: must be >= 0 and finite")
+    if (allocated(error)) return
+    call expect_bad(error, g//"mass = 1.0, bonds = 1, 2, k_bond = 1, effects = 'gravity', gravity = 1, 2 /", &
+      "&scene: gravity: needs 1 finite components")
+    if (allocated(error)) return
+    call expect_bad(error, g//"mass = 1.0, k_normal = 1e4, hertz_linearization = 'impact', impact_velocity = -1 /", &
+      "&scene: impact_velocity: the Hertz linearisation at impact needs a finite impact velocity > 0")
+    if (allocated(error)) return
+    call expect_bad(error, g//"mass = 1.0, bonds = 1, 2, k_bond = 1, effects = 'none', duration = 1, " &
+      //"n_per_period = -5 /", &
+      "&scene: n_per_period: must be finite and > 0")
+    if (allocated(error)) return
+    call expect_bad(error, g//"mass = 1.0, k_normal = 1e4, effects = 'contacts', 'damping', damping_ratio = -0.1 /", &
+      "&scene: damping_ratio: must be in [0, 1e100]")
     if (allocated(error)) return
     call expect_bad(error, g//"mass = 1.0, bonds = 1, 3, k_bond = 1 /", &
       "&scene: bonds: bond 1 names a missing particle")
