@@ -33,6 +33,10 @@ module demstep_cli
     logical :: quiet = .false.
     !> The input deck's name (relative table files are read beside it).
     character(len=:), allocatable :: deck
+    !> A `&scene` of the deck takes its particle types' materials from the
+    !> `&material` group: that group then reports single contacts, and the
+    !> recommended dt is the packing's alone.
+    logical :: material_in_scene = .false.
   end type cli_context
 
   !> One input variable of a group: name, what its value must be (its type, in

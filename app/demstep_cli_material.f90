@@ -178,6 +178,8 @@ contains
     write(u, '(a)') "&material (line "//fmt_int(int(group%line, i8))//"): "//fmt_int(int(n, i8))// &
       " particle type"//trim(merge("s", " ", n > 1))//", restitution "//fmt_real(restitution)// &
       ", impact velocity "//fmt_real(velocity)
+    if (ctx%material_in_scene) write(u, '(2x, a)') "(single contacts of each pair of types; the " &
+      //"&scene packing made of them gives the recommended dt)"
     p = 0
     do i = 1, n
       do j = i, n
@@ -274,7 +276,12 @@ contains
       call row(u, "governs", "stability ("//fmt_real(default_safety)//" of the smallest exact limit)")
       if (.not. have_tolerance) write(u, '(4x, a)') "(stability only: give tolerance for accuracy)"
     end if
-    call recommended_line(u, dt_recommended)
+    if (ctx%material_in_scene) then
+      ! one recommended dt per deck: the packing's (&scene)
+      call row(u, "single-contact dt", fmt_real(dt_recommended)//"  (not for the packing)")
+    else
+      call recommended_line(u, dt_recommended)
+    end if
     write(u, '(a)') ""
     call write_result(ctx%results, [(convention_names(c), c = first, last)], peer_rule_names, type_i, type_j, &
       m_star, k_n, k_t, gamma_n, gamma_t, dt_code, rayleigh, hertz_duration, linear_duration, dt_critical, &

@@ -29,7 +29,7 @@ module demstep_cli_scene
   implicit none
   private
 
-  public :: scene_specs, scene_doc, handle_scene
+  public :: scene_specs, scene_doc, handle_scene, scene_takes_material
 
   character(len=*), parameter :: scene_doc = &
     "A particle assembly: its critical time step by the per-contact rule, a rigorous bound, " &
@@ -237,10 +237,8 @@ contains
       allocate(is_fixed(n), source=.false.)
       ptypes = snap%type
       ! the materials: the scene's own stiffness variables, else the &material group
-      from_material = deck_mat%found .and. .not. (given(group, "k_normal") .or. given(group, "e_star") .or. &
-        given(group, "type_k_normal") .or. given(group, "young"))
-      if (.not. (from_material .or. given(group, "k_normal") .or. given(group, "e_star") .or. &
-        given(group, "type_k_normal") .or. given(group, "young"))) then
+      from_material = deck_mat%found .and. .not. own_stiffness(group)
+      if (.not. (from_material .or. own_stiffness(group))) then
         call fail("k_normal", "required with snapshot_file (or e_star, type_k_normal, young and poisson " &
           //"per type, or a &material group in the deck)")
         return
@@ -663,6 +661,25 @@ contains
     end subroutine materials
 
   end subroutine handle_scene
+
+  !> Whether a `&scene` among `groups` takes its particle types' materials
+  !> from the deck's `&material` group: a snapshot without stiffness of its own.
+  pure logical function scene_takes_material(groups) result(takes)
+    type(nml_group_type), intent(in) :: groups(:)
+    integer :: k
+    takes = .false.
+    do k = 1, size(groups)
+      if (groups(k)%name /= "scene") cycle
+      if (given(groups(k), "snapshot_file") .and. .not. own_stiffness(groups(k))) takes = .true.
+    end do
+  end function scene_takes_material
+
+  !> Whether a `&scene` group gives the contact stiffness itself (one law, or per type).
+  pure logical function own_stiffness(group)
+    type(nml_group_type), intent(in) :: group
+    own_stiffness = given(group, "k_normal") .or. given(group, "e_star") .or. &
+      given(group, "type_k_normal") .or. given(group, "young")
+  end function own_stiffness
 
   !> The step count of a run, refused when it is absurd, and announced on stderr
   !> (unless quiet) when the run is big enough to matter: the cost per
