@@ -51,12 +51,10 @@ contains
 
     call read_group(group, system_specs(), read_item, status)
     if (status%stat /= demstep_stat%ok) return
-    call check_real(g, "mass", mass, status)
-    call check_real(g, "stiffness", stiffness, status)
-    call check_real(g, "damping_ratio", damping_ratio, status, inclusive=.true.)
+    ! mass, stiffness, damping_ratio (new_spring), dt and n_per_period
+    ! (check_time_step, step_for_n_per_period) are the library's to check;
+    ! the impact velocity is the report's own
     call check_real(g, "velocity", velocity, status)
-    if (given(group, "dt")) call check_real(g, "dt", dt, status)
-    if (given(group, "n_per_period")) call check_real(g, "n_per_period", n_per_period, status)
     if (status%stat /= demstep_stat%ok) return
     select case (lowercase(trim(adjustl(dashpot))))
     case ("lagged")
