@@ -337,16 +337,18 @@ contains
     type(error_type), allocatable, intent(out) :: error
     character(len=*), parameter :: g = "&harmonic_error "
     call expect_bad(error, g//"n_per_period = 10, lambda = 0.0, steps_fraction = 0.5 /", &
-      "&harmonic_error: lambda: element 1 is 0; must be > 0")
+      "&harmonic_error: lambda: element 1 (n_per_period = 10, lambda = 0, n = 5): must be finite and > 0")
     if (allocated(error)) return
     call expect_bad(error, g//"n_per_period = 10, 20, lambda = 0.9, -0.9, n_steps = 5 /", &
-      "&harmonic_error: lambda: element 2 is -0.9")
+      "&harmonic_error: lambda: element 2 (n_per_period = 20, lambda = -0.9, n = 5): must be finite and > 0")
     if (allocated(error)) return
     call expect_bad(error, g//"n_per_period = 0, lambda = 0.9, steps_fraction = 0.5 /", &
-      "&harmonic_error: n_per_period: element 1 is 0")
+      "&harmonic_error: n_per_period: element 1 (n_per_period = 0, lambda = 0.9, n = 0): must be finite " &
+      //"and > 0")
     if (allocated(error)) return
     call expect_bad(error, g//"n_per_period = 10, lambda = 0.9, n_steps = 0.5 /", &
-      "&harmonic_error: n_steps: element 1 is 0.5")
+      "&harmonic_error: n_steps: element 1 (n_per_period = 10, lambda = 0.9, n = 0.5): n must be in " &
+      //"[1, 1e12], got 0.5")
     if (allocated(error)) return
     call expect_bad(error, g//"n_per_period = 10, 20, 30, lambda = 0.9, 0.8, n_steps = 5 /", &
       "&harmonic_error: lambda: arrays of different lengths (n_per_period: 3, lambda: 2")
@@ -363,10 +365,11 @@ contains
     call expect_bad(error, g//"lambda = 0.9, n_steps = 5 /", "&harmonic_error: n_per_period: required")
     if (allocated(error)) return
     call expect_bad(error, g//"n_per_period = 10, lambda = 0.9, steps_fraction = 0.01 /", &
-      "&harmonic_error: steps_fraction: gives n = 0.1 steps")
+      "&harmonic_error: steps_fraction: element 1 (n_per_period = 10, lambda = 0.9, n = 0.1): n must be " &
+      //"in [1, 1e12], got 0.1")
     if (allocated(error)) return
     call expect_bad(error, g//"n_per_period = 10, lambda = NaN, steps_fraction = 0.5 /", &
-      "&harmonic_error: lambda: element 1 is NaN")
+      "&harmonic_error: lambda: element 1 (n_per_period = 10, lambda = NaN, n = 5): must be finite and > 0")
     if (allocated(error)) return
     call expect_bad(error, g//"n_per_period = 10, lambda = abc, steps_fraction = 0.5 /", &
       "&harmonic_error: lambda: cannot read 'abc' as a list of real numbers")
