@@ -738,16 +738,16 @@ contains
       "&contact_error: onset: element 1 is 0; must be in (0, 1]")
     if (allocated(error)) return
     call expect_bad(error, "&contact_error n_per_period = 0 /", &
-      "&contact_error: n_per_period: element 1 is 0; must be > 0")
+      "&contact_error: n_per_period: element 1 is 0; must be finite and >= 6.289e-50")
     if (allocated(error)) return
     call expect_bad(error, g//"quantity = 'speed', tolerances = 1e-3 /", &
       "&accuracy_cost: quantity: unknown word 'speed'")
     if (allocated(error)) return
     call expect_bad(error, g//"quantity = 'period', tolerances = 1e-3, 0 /", &
-      "&accuracy_cost: tolerances: element 2 is 0; must be > 0")
+      "&accuracy_cost: tolerances: element 2 is 0; must be finite and > 0")
     if (allocated(error)) return
     call expect_bad(error, g//"quantity = 'period', tolerances = -1e-3 /", &
-      "&accuracy_cost: tolerances: element 1 is -0.001; must be > 0")
+      "&accuracy_cost: tolerances: element 1 is -0.001; must be finite and > 0")
   end subroutine test_accuracy_bad
 
   !> Run on a one-line deck with -o; expect exit 2, one stderr line
