@@ -23,7 +23,7 @@ module demstep_cli_scene
   use demstep_cli_material, only: read_material
   use demstep_cli, only: recommended_line, var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
     check_real, new_array, array_length, new_int_array, int_array_length, max_values, &
-    capacity_of
+    capacity_of, word_list
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use, intrinsic :: iso_fortran_env, only: error_unit
   implicit none
@@ -377,7 +377,8 @@ contains
         if (len_trim(effects(i)) == 0) cycle
         if (lowercase(trim(effects(i))) == "none") cycle
         if (effect_index(lowercase(trim(effects(i)))) == 0) then
-          call fail("effects", "unknown effect '"//trim(effects(i))//"' ("//effect_list()//", none)")
+          call fail("effects", "unknown effect '"//trim(effects(i))//"' ("//word_list(effect_names(:n_effects))// &
+            ", none)")
           return
         end if
         sc%effects(effect_index(lowercase(trim(effects(i))))) = .true.
@@ -745,16 +746,6 @@ contains
       path = deck(:k)//name
     end if
   end function beside
-
-  pure function effect_list() result(text)
-    character(len=:), allocatable :: text
-    integer :: i
-    text = ""
-    do i = 1, n_effects
-      if (i > 1) text = text//", "
-      text = text//trim(effect_names(i))
-    end do
-  end function effect_list
 
   !> A particles table: per row dim positions, dim velocities, mass, radius and
   !> fixed (0 or 1), optionally the moment of inertia (the same columns on every
