@@ -8,6 +8,8 @@ module demstep_cli
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_namelist, only: nml_group_type, nml_item_type, excerpt
+  ! integers as text: the library's (`fmt_int` beside `fmt_real` in the app)
+  use demstep_text, only: fmt_int => int_text
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
   implicit none
   private
@@ -567,15 +569,6 @@ contains
     if (text(last:last) == ".") last = last - 1
     text = text(1:last)
   end function drop_zeros
-
-  !> An integer as text.
-  pure function fmt_int(i) result(text)
-    integer(i8), intent(in) :: i
-    character(len=:), allocatable :: text
-    character(len=24) :: buf
-    write(buf, '(i0)') i
-    text = trim(buf)
-  end function fmt_int
 
   !> Write a commented input group for the template, from the group's table: its
   !> documentation, and per variable the example, the documentation and the
