@@ -42,7 +42,7 @@ module demstep_assembly
   private
 
   public :: assembly_critical_steps, assembly_step_for_n_per_period, assembly_operator, &
-    assembly_operator_apply, assembly_matrix, eigen_solver_name
+    assembly_operator_apply, assembly_matrix, assembly_matrix_rows, eigen_solver_name
 
   !> Hertz linearisation at the current overlap, or at an impact's largest
   !> overlap: `hertz_linearization%impact`.
@@ -76,10 +76,10 @@ module demstep_assembly
     "lanczos", "none"]
   !> Krylov size of the scene Lanczos solve: tiled packings have clusters of
   !> nearly equal top eigenvalues, which a larger basis separates in fewer restarts.
-  integer, parameter :: scene_lanczos_ncv = 32
+  integer, parameter, public :: scene_lanczos_ncv = 32
   !> Restarts of the scene Lanczos solve before it settles for the bracket the
   !> Ritz value and its residual estimate give (`eigen_converged` false).
-  integer, parameter :: scene_lanczos_restarts = 20
+  integer, parameter, public :: scene_lanczos_restarts = 20
   !> Below this many springs an operator product runs on one thread.
   integer, parameter :: parallel_springs = 4096
 
@@ -195,7 +195,7 @@ contains
     real(dp), allocatable :: a(:, :), vec(:), rows(:), mdof(:, :), diag(:, :, :), av(:)
     real(dp) :: lam, zeta, k_scale, m_scale, rate, tol, err
     integer :: limit, i, p, choice, nc
-    logical :: geo
+    logical :: geo, converged
 
     limit = default_max_eigen_dof
     if (present(max_eigen_dof)) limit = max_eigen_dof
@@ -278,6 +278,7 @@ contains
     result%solver = choice
     if (choice /= eigen_solver%none) then
       allocate(vec(result%n_dof))
+      converged = .true.
       if (choice == eigen_solver%dense) then
         allocate(a(result%n_dof, result%n_dof), source=0.0_dp)
         do i = 1, size(springs)
@@ -294,34 +295,36 @@ contains
         result%eigen_products = lanczos%applications
         result%eigen_restarts = lanczos%iterations
         result%eigen_tolerance = tol
-        if (status%stat == demstep_stat%not_converged .and. .not. any(vec /= 0.0_dp)) then
-          ! the restarts ran out (a top crowded with nearly equal eigenvalues):
-          ! the Ritz value and ARPACK's estimate of its residual still bracket
-          ! omega_max; no mode, so the damping ratio is the nominal one
-          call not_converged(lanczos%eigenvalue, lanczos%residual)
-          return
-        end if
+        ! out of restarts without a vector (a top crowded with nearly equal
+        ! eigenvalues): the Ritz value and ARPACK's estimate of its residual
+        ! still bracket omega_max; without a mode the damping ratio is nominal
+        converged = .not. (status%stat == demstep_stat%not_converged .and. .not. any(vec /= 0.0_dp))
         if (status%stat == demstep_stat%not_converged) status%stat = demstep_stat%ok
         if (status%stat /= demstep_stat%ok) return
+        lam = lanczos%eigenvalue
+        err = lanczos%residual
       end if
-      ! the returned mode's Rayleigh quotient and residual, one product
-      allocate(av(result%n_dof))
-      call assembly_operator_apply(op, vec, av)
-      lam = dot_product(vec, av)
+      if (converged) then
+        ! the returned mode's Rayleigh quotient and residual, one product
+        allocate(av(result%n_dof))
+        call assembly_operator_apply(op, vec, av)
+        lam = dot_product(vec, av)
+        err = norm2(av - lam*vec)
+      end if
       if (.not. lam > 0.0_dp) then
         call set_status(status, demstep_stat%invalid_input, "position: the scene has no stiffness")
         return
       end if
-      err = norm2(av - lam*vec)
       result%eigen_residual = err/lam
-      err = err + 8.0_dp*epsilon(1.0_dp)*lam
+      result%eigen_converged = converged .and. (result%eigen_residual <= tol .or. &
+        choice == eigen_solver%dense)
       result%omega_max = rate*sqrt(lam)
-      result%omega_upper = rate*sqrt(lam + err)
+      ! [theta, theta + r] holds lambda_max; the bound caps it
+      result%omega_upper = min(rate*sqrt(lam + err + 8.0_dp*epsilon(1.0_dp)*lam), result%omega_bound)
       result%dt_critical_eigen = 2.0_dp/result%omega_max
-      result%dt_critical_safe = max(2.0_dp/result%omega_upper, result%dt_critical_bound)
+      result%dt_critical_safe = 2.0_dp/result%omega_upper
       result%eigen_computed = .true.
-      result%eigen_converged = result%eigen_residual <= tol .or. choice == eigen_solver%dense
-      if (scene%effects(scene_effect%damping)) then
+      if (scene%effects(scene_effect%damping) .and. converged) then
         zeta = zeta*modal_damping(scene, dof, mdof, springs, k_scale, m_scale, vec)/(2.0_dp*sqrt(lam))
       end if
       result%damping_ratio_top = zeta
@@ -337,31 +340,6 @@ contains
       return
     end if
     status%stat = demstep_stat%ok
-
-  contains
-
-    !> The result of a Lanczos solve that ran out of restarts: Ritz value theta
-    !> and residual estimate r, omega_max in [rate sqrt(theta), rate sqrt(theta + r)]
-    !> (and below the bound).
-    subroutine not_converged(theta, r)
-      real(dp), intent(in) :: theta, r
-      if (.not. theta > 0.0_dp) return
-      result%omega_max = rate*sqrt(theta)
-      result%omega_upper = min(rate*sqrt(theta + r + 8.0_dp*epsilon(1.0_dp)*theta), result%omega_bound)
-      result%eigen_residual = r/theta
-      result%dt_critical_eigen = 2.0_dp/result%omega_max
-      result%dt_critical_safe = 2.0_dp/result%omega_upper
-      result%eigen_computed = .true.
-      result%eigen_converged = .false.
-      result%damping_ratio_top = zeta
-      result%dt_critical_damped = damped_limit(result%dt_critical_safe, zeta)
-      if (.not. (ieee_is_finite(result%damping_ratio_top) .and. result%dt_critical_damped > 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "damping_ratio: the damped limit " &
-          //"dt/(sqrt(1 + z^2) + z) is not representable; use a smaller damping_ratio")
-        return
-      end if
-      status%stat = demstep_stat%ok
-    end subroutine not_converged
   end subroutine assembly_critical_steps
 
   !> The name of an `eigen_solver` value ('auto', 'dense', 'lanczos', 'none';
@@ -445,15 +423,50 @@ contains
   subroutine assembly_matrix(op, matrix)
     type(assembly_operator_type), intent(in) :: op
     type(csr_matrix_type), intent(out) :: matrix
-    real(dp) :: b(12, 12), d(6, 6), scale
-    integer :: i, s, e, o, j, r, q, nc
-    integer(i8) :: p, pos, width
-    integer(i8), allocatable :: fill(:)
-    nc = op%nc
+    type(demstep_status_type) :: status
+    integer :: i
     matrix%n = op%n
-    allocate(matrix%row_start(op%n + 1), fill(op%n_bodies))
-    matrix%row_start(1) = 1
-    do i = 1, op%n_bodies
+    ! every body in its own place: the rows cannot be refused
+    call assembly_matrix_rows(op, [(i, i = 1, op%n_bodies)], [(i, i = 1, op%n_bodies)], &
+      matrix%row_start, matrix%col, matrix%val, status)
+  end subroutine assembly_matrix
+
+  !> The rows of A' that belong to a list of free bodies, with the bodies
+  !> renumbered (e.g. to give each MPI rank the rows of its region): nc rows per
+  !> listed body, in list order; body j's component q is column
+  !> (new_index(j) - 1) nc + q. Each body's rows hold its diagonal block, then
+  !> one nc x nc block per spring to another free body in `incident` order
+  !> (columns may repeat). O(springs of the listed bodies).
+  !> Status invalid_input when a listed body is outside 1..n_bodies or
+  !> new_index does not map 1..n_bodies into 1..n_bodies.
+  subroutine assembly_matrix_rows(op, bodies, new_index, row_start, col, val, status)
+    type(assembly_operator_type), intent(in) :: op
+    !> Free bodies (operator numbering) whose rows are wanted.
+    integer, intent(in) :: bodies(:)
+    !> New number of each free body (n_bodies entries).
+    integer, intent(in) :: new_index(:)
+    !> Row k holds entries row_start(k) .. row_start(k+1)-1 (nc size(bodies) + 1 starts).
+    integer(i8), allocatable, intent(out) :: row_start(:)
+    !> Column (new numbering) and value of each entry.
+    integer, allocatable, intent(out) :: col(:)
+    real(dp), allocatable, intent(out) :: val(:)
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: b(12, 12), d(6, 6)
+    integer :: k, i, s, e, o, j, r, q, nc, row
+    integer(i8) :: p, pos, width
+    nc = op%nc
+    allocate(row_start(nc*size(bodies) + 1))
+    row_start(1) = 1
+    if (size(new_index) /= op%n_bodies .or. any(bodies < 1 .or. bodies > op%n_bodies) .or. &
+        any(new_index < 1 .or. new_index > op%n_bodies)) then
+      row_start = 1
+      allocate(col(0), val(0))
+      call set_status(status, demstep_stat%invalid_input, "bodies, new_index: need free bodies " &
+        //"in 1.."//int_text(op%n_bodies)//" and a new number in that range for each")
+      return
+    end if
+    do k = 1, size(bodies)
+      i = bodies(k)
       width = nc
       do p = op%first(i), op%first(i + 1) - 1
         s = (op%incident(p) + 1)/2
@@ -461,11 +474,13 @@ contains
         if (op%ends(3 - e, s) > 0) width = width + nc
       end do
       do r = 1, nc
-        matrix%row_start((i - 1)*nc + r + 1) = matrix%row_start((i - 1)*nc + r) + width
+        row_start((k - 1)*nc + r + 1) = row_start((k - 1)*nc + r) + width
       end do
     end do
-    allocate(matrix%col(matrix%row_start(op%n + 1) - 1), matrix%val(matrix%row_start(op%n + 1) - 1))
-    do i = 1, op%n_bodies
+    allocate(col(row_start(size(row_start)) - 1), val(row_start(size(row_start)) - 1))
+    do k = 1, size(bodies)
+      i = bodies(k)
+      row = (k - 1)*nc
       d = 0.0_dp
       ! column offset (within each of the body's rows) of the next block
       pos = nc
@@ -480,23 +495,23 @@ contains
         if (j == 0) cycle
         do r = 1, nc
           do q = 1, nc
-            scale = op%w(op%comp(r), i)*op%w(op%comp(q), j)
-            matrix%col(matrix%row_start((i - 1)*nc + r) + pos + q - 1) = (j - 1)*nc + q
-            matrix%val(matrix%row_start((i - 1)*nc + r) + pos + q - 1) = &
-              b(6*(e - 1) + op%comp(r), 6*(o - 1) + op%comp(q))*scale
+            col(row_start(row + r) + pos + q - 1) = (new_index(j) - 1)*nc + q
+            val(row_start(row + r) + pos + q - 1) = b(6*(e - 1) + op%comp(r), 6*(o - 1) + op%comp(q)) &
+              *(op%w(op%comp(r), i)*op%w(op%comp(q), j))
           end do
         end do
         pos = pos + nc
       end do
       do r = 1, nc
         do q = 1, nc
-          matrix%col(matrix%row_start((i - 1)*nc + r) + q - 1) = (i - 1)*nc + q
-          matrix%val(matrix%row_start((i - 1)*nc + r) + q - 1) = d(op%comp(r), op%comp(q)) &
+          col(row_start(row + r) + q - 1) = (new_index(i) - 1)*nc + q
+          val(row_start(row + r) + q - 1) = d(op%comp(r), op%comp(q)) &
             *op%w(op%comp(r), i)*op%w(op%comp(q), i)
         end do
       end do
     end do
-  end subroutine assembly_matrix
+    status%stat = demstep_stat%ok
+  end subroutine assembly_matrix_rows
 
   !> The common start of every assembly computation: options checked, degrees
   !> of freedom numbered, scaled masses, the springs linearised and the

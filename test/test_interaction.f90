@@ -34,7 +34,8 @@ contains
       new_unittest("matrix-free operator = its matrix; its top = the dense omega_max", test_operator), &
       new_unittest("Lanczos vs dense on packings, lattices, rings; the error bar", test_lanczos_vs_dense), &
       new_unittest("eigen_solver: auto, dense, lanczos, none; bad values", test_solver_choice), &
-      new_unittest("operator product: 1 and 2 threads agree bit for bit", test_threads) &
+      new_unittest("operator product: 1 and 2 threads agree bit for bit", test_threads), &
+      new_unittest("Lanczos out of restarts: the bracket holds the chain's closed form", test_not_converged) &
       ]
   end subroutine collect_interaction
 
@@ -730,5 +731,35 @@ contains
     !$ call omp_set_num_threads(threads)
     call check(error, all(y1 == y2), "1 and 2 threads agree bit for bit")
   end subroutine test_threads
+
+  !> Lanczos out of restarts (an open chain of 3000: its top eigenvalues are
+  !> 1e-6 apart relative, far below a 1e-13 tolerance): not an error, the bracket
+  !> [omega_max, omega_upper] holds the closed form 2 sqrt(k/m) sin(pi (N-1)/(2N)).
+  subroutine test_not_converged(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    integer, parameter :: n = 3000
+    real(dp) :: x(1, n), exact
+    integer :: i
+    do i = 1, n
+      x(1, i) = real(i - 1, dp)
+    end do
+    call new_scene(scene, 1, x, spread(1.0_dp, 1, n), spread(0.55_dp, 1, n), status)
+    scene%k_normal = 1.0e4_dp
+    call assembly_critical_steps(scene, c, status, solver=eigen_solver%lanczos, tolerance=1.0e-13_dp)
+    call check(error, status%stat, demstep_stat%ok, "not converged is not an error: "//status%message)
+    if (allocated(error)) return
+    exact = 2.0_dp*sqrt(1.0e4_dp)*sin(pi*(n - 1)/(2.0_dp*n))
+    call check(error, .not. c%eigen_converged .and. c%eigen_computed .and. c%eigen_residual > 1.0e-13_dp, &
+      "reported as not converged")
+    if (allocated(error)) return
+    call check(error, c%omega_max <= exact*(1.0_dp + 1.0e-14_dp) .and. c%omega_upper >= exact*(1.0_dp - 1.0e-14_dp), &
+      "the bracket ["//real_str(c%omega_max)//", "//real_str(c%omega_upper)//"] holds "//real_str(exact))
+    if (allocated(error)) return
+    call check(error, c%dt_critical_safe <= 2.0_dp/exact .and. c%dt_critical_damped == c%dt_critical_safe .and. &
+      c%dt_critical_safe >= c%dt_critical_bound, "the safe step")
+  end subroutine test_not_converged
 
 end module test_interaction

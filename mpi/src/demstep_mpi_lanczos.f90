@@ -29,6 +29,7 @@ module demstep_mpi_lanczos
     lanczos_ncv_default, lanczos_nev_default, lanczos_restarts_default
   use demstep_double_double, only: two_sum, two_prod
   use demstep_text, only: int_text, real_text
+  use demstep_progress, only: progress_type
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -297,7 +298,7 @@ contains
   !> `lanczos_largest`; PARPACK's failures through `pdsaupd_status`,
   !> `pdseupd_status`). Collective; the result is the same on every rank.
   subroutine parallel_lanczos_largest(matrix, result, status, eigenvector, tolerance, ncv, &
-      nev, max_restarts)
+      nev, max_restarts, progress)
     type(dist_csr_type), intent(inout) :: matrix
     type(eigen_result_type), intent(out) :: result
     type(demstep_status_type), intent(out) :: status
@@ -311,6 +312,8 @@ contains
     integer, intent(in), optional :: nev
     !> Maximum implicit restarts (>= 1). Default `lanczos_restarts_default`.
     integer, intent(in), optional :: max_restarts
+    !> Told the products done on this rank (pass it on one rank, e.g. rank 0).
+    class(progress_type), intent(inout), optional :: progress
     real(dp) :: tol, theta, rnorm, znorm
     integer :: k, m, restarts, ido, info, lworkl, nconv, n, itop, fcomm
     integer :: iparam(arpack_iparam_size), ipntr(arpack_iparam_size)
@@ -345,104 +348,110 @@ contains
     end if
     call check_lanczos_options("parallel_lanczos_largest", tol, k, m, restarts, status)
     if (status%stat /= demstep_stat%ok) return
-
-    allocate(y(n))
-    if (matrix%n_global == 1) then
-      ! one rank, one row: the operator is its own eigenvalue
-      call product([1.0_dp], y, status)
-      if (status%stat /= demstep_stat%ok) return
-      result%eigenvalue = y(1)
-      result%converged = .true.
-      result%error_bound = rounding_ulps*epsilon(1.0_dp)*abs(y(1))
-      if (present(eigenvector)) eigenvector = 1.0_dp
-      return
-    end if
-    m = min(m, matrix%n_global)
-    k = min(k, m - 1)
-    result%ncv = m
-    result%nev = k
-    lworkl = m*(m + 8)
-    allocate(v(n, m), workd(3*n), workl(lworkl), resid(n), d(k), select(m), z(n, k))
-    call dist_start_vector(matrix%first_row, resid)
-    fcomm = matrix%graph%MPI_VAL
-    iparam = 0
-    iparam(1) = 1         ! exact shifts
-    iparam(3) = restarts
-    iparam(7) = 1         ! mode 1: OP = A, B = I
-    ido = 0
-    info = 1              ! start from resid
-    do
-      call pdsaupd(fcomm, ido, "I", n, "LA", k, tol, resid, m, v, n, iparam, ipntr, workd, &
-        workl, lworkl, info)
-      if (ido /= -1 .and. ido /= 1) exit
-      call product(workd(ipntr(1):ipntr(1) + n - 1), workd(ipntr(2):ipntr(2) + n - 1), status)
-      ! every rank leaves the loop together: PARPACK waits on all of them
-      if (status%stat /= demstep_stat%ok) return
-    end do
-    result%iterations = iparam(3)
-    if (info == -9) then
-      ! A x0 = 0 for the start vector: the zero operator (see lanczos_largest)
-      result%converged = .true.
-      if (present(eigenvector)) then
-        call dist_start_vector(matrix%first_row, eigenvector)
-        eigenvector = eigenvector/sqrt(global_dot(eigenvector, eigenvector))
-      end if
-      status%stat = demstep_stat%ok
-      return
-    end if
-    step_status = pdsaupd_status(info)
-    nconv = iparam(5)
-    if (step_status%stat /= demstep_stat%ok .and. step_status%stat /= demstep_stat%not_converged) then
-      status = step_status
-      return
-    end if
-    if (nconv < 1) then
-      itop = maxloc(workl(ipntr(6):ipntr(6) + k - 1), 1) - 1
-      result%eigenvalue = workl(ipntr(6) + itop)
-      result%residual = abs(workl(ipntr(7) + itop))
-      result%error_bound = result%residual + rounding_ulps*epsilon(1.0_dp)*abs(result%eigenvalue)
-      if (step_status%stat == demstep_stat%ok) then
-        call set_status(status, demstep_stat%not_converged, "PARPACK pdsaupd: no Ritz value " &
-          //"met the tolerance")
-      else
-        status = step_status
-      end if
-      status%message = status%message//" (largest Ritz value "//real_text(result%eigenvalue) &
-        //" after "//int_text(result%iterations)//" restarts, tolerance "//real_text(tol) &
-        //"; raise max_restarts or ncv)"
-      return
-    end if
-
-    call pdseupd(fcomm, .true., "A", select, d, z, n, 0.0_dp, "I", n, "LA", k, tol, resid, m, &
-      v, n, iparam, ipntr, workd, workl, lworkl, info)
-    if (info /= 0) then
-      status = pdseupd_status(info)
-      return
-    end if
-    z(:, 1) = z(:, min(nconv, k))
-    znorm = sqrt(global_dot(z(:, 1), z(:, 1)))
-    if (.not. (znorm > 0.0_dp)) then
-      call set_status(status, demstep_stat%eigensolver_failure, "PARPACK pdseupd: returned " &
-        //"a zero Ritz vector")
-      return
-    end if
-    z(:, 1) = z(:, 1)/znorm
-    call product(z(:, 1), y, status)
-    if (status%stat /= demstep_stat%ok) return
-    theta = global_dot(z(:, 1), y)/global_dot(z(:, 1), z(:, 1))
-    y = y - theta*z(:, 1)
-    rnorm = sqrt(global_dot(y, y))
-    result%eigenvalue = theta
-    result%residual = rnorm
-    result%error_bound = rnorm + rounding_ulps*epsilon(1.0_dp)*abs(theta)
-    result%converged = step_status%stat == demstep_stat%ok
-    if (present(eigenvector)) eigenvector = z(:, 1)
-    status = step_status
-    if (status%stat /= demstep_stat%ok) status%message = status%message//" (largest Ritz value " &
-      //real_text(theta)//", relative residual "//real_text(rnorm/max(abs(theta), tiny(1.0_dp))) &
-      //" after "//int_text(result%iterations)//" restarts, tolerance "//real_text(tol)//")"
+    if (present(progress)) call progress%start("Lanczos products", 0_i8)
+    call iterate()
+    if (present(progress)) call progress%finish()
 
   contains
+
+    !> The iteration, the eigenvector and the error bar.
+    subroutine iterate()
+      allocate(y(n))
+      if (matrix%n_global == 1) then
+        ! one rank, one row: the operator is its own eigenvalue
+        call product([1.0_dp], y, status)
+        if (status%stat /= demstep_stat%ok) return
+        result%eigenvalue = y(1)
+        result%converged = .true.
+        result%error_bound = rounding_ulps*epsilon(1.0_dp)*abs(y(1))
+        if (present(eigenvector)) eigenvector = 1.0_dp
+        return
+      end if
+      m = min(m, matrix%n_global)
+      k = min(k, m - 1)
+      result%ncv = m
+      result%nev = k
+      lworkl = m*(m + 8)
+      allocate(v(n, m), workd(3*n), workl(lworkl), resid(n), d(k), select(m), z(n, k))
+      call dist_start_vector(matrix%first_row, resid)
+      fcomm = matrix%graph%MPI_VAL
+      iparam = 0
+      iparam(1) = 1         ! exact shifts
+      iparam(3) = restarts
+      iparam(7) = 1         ! mode 1: OP = A, B = I
+      ido = 0
+      info = 1              ! start from resid
+      do
+        call pdsaupd(fcomm, ido, "I", n, "LA", k, tol, resid, m, v, n, iparam, ipntr, workd, &
+          workl, lworkl, info)
+        if (ido /= -1 .and. ido /= 1) exit
+        call product(workd(ipntr(1):ipntr(1) + n - 1), workd(ipntr(2):ipntr(2) + n - 1), status)
+        ! every rank leaves the loop together: PARPACK waits on all of them
+        if (status%stat /= demstep_stat%ok) return
+      end do
+      result%iterations = iparam(3)
+      if (info == -9) then
+        ! A x0 = 0 for the start vector: the zero operator (see lanczos_largest)
+        result%converged = .true.
+        if (present(eigenvector)) then
+          call dist_start_vector(matrix%first_row, eigenvector)
+          eigenvector = eigenvector/sqrt(global_dot(eigenvector, eigenvector))
+        end if
+        status%stat = demstep_stat%ok
+        return
+      end if
+      step_status = pdsaupd_status(info)
+      nconv = iparam(5)
+      if (step_status%stat /= demstep_stat%ok .and. step_status%stat /= demstep_stat%not_converged) then
+        status = step_status
+        return
+      end if
+      if (nconv < 1) then
+        itop = maxloc(workl(ipntr(6):ipntr(6) + k - 1), 1) - 1
+        result%eigenvalue = workl(ipntr(6) + itop)
+        result%residual = abs(workl(ipntr(7) + itop))
+        result%error_bound = result%residual + rounding_ulps*epsilon(1.0_dp)*abs(result%eigenvalue)
+        if (step_status%stat == demstep_stat%ok) then
+          call set_status(status, demstep_stat%not_converged, "PARPACK pdsaupd: no Ritz value " &
+            //"met the tolerance")
+        else
+          status = step_status
+        end if
+        status%message = status%message//" (largest Ritz value "//real_text(result%eigenvalue) &
+          //" after "//int_text(result%iterations)//" restarts, tolerance "//real_text(tol) &
+          //"; raise max_restarts or ncv)"
+        return
+      end if
+
+      call pdseupd(fcomm, .true., "A", select, d, z, n, 0.0_dp, "I", n, "LA", k, tol, resid, m, &
+        v, n, iparam, ipntr, workd, workl, lworkl, info)
+      if (info /= 0) then
+        status = pdseupd_status(info)
+        return
+      end if
+      z(:, 1) = z(:, min(nconv, k))
+      znorm = sqrt(global_dot(z(:, 1), z(:, 1)))
+      if (.not. (znorm > 0.0_dp)) then
+        call set_status(status, demstep_stat%eigensolver_failure, "PARPACK pdseupd: returned " &
+          //"a zero Ritz vector")
+        return
+      end if
+      z(:, 1) = z(:, 1)/znorm
+      call product(z(:, 1), y, status)
+      if (status%stat /= demstep_stat%ok) return
+      theta = global_dot(z(:, 1), y)/global_dot(z(:, 1), z(:, 1))
+      y = y - theta*z(:, 1)
+      rnorm = sqrt(global_dot(y, y))
+      result%eigenvalue = theta
+      result%residual = rnorm
+      result%error_bound = rnorm + rounding_ulps*epsilon(1.0_dp)*abs(theta)
+      result%converged = step_status%stat == demstep_stat%ok
+      if (present(eigenvector)) eigenvector = z(:, 1)
+      status = step_status
+      if (status%stat /= demstep_stat%ok) status%message = status%message//" (largest Ritz value " &
+        //real_text(theta)//", relative residual "//real_text(rnorm/max(abs(theta), tiny(1.0_dp))) &
+        //" after "//int_text(result%iterations)//" restarts, tolerance "//real_text(tol)//")"
+    end subroutine iterate
 
     !> One product, counted; a non-finite value on any rank fails all of them.
     subroutine product(x, ax, stat)
@@ -451,6 +460,7 @@ contains
       type(demstep_status_type), intent(out) :: stat
       call dist_csr_apply(matrix, x, ax)
       result%applications = result%applications + 1
+      if (present(progress)) call progress%update(result%applications)
       if (.not. all_ranks(all(ieee_is_finite(ax)))) then
         call set_status(stat, demstep_stat%invalid_input, "parallel_lanczos_largest: the " &
           //"operator returned a non-finite value (product "//int_text(result%applications)//")")

@@ -1,0 +1,399 @@
+!> The critical time steps of a scene on MPI ranks: the distributed
+!> counterpart of `assembly_critical_steps` with `eigen_solver%lanczos`.
+!>
+!> Input. Every rank holds the whole scene (replicated input) and builds the
+!> matrix-free operator from it (`assembly_operator`: O(particles + springs)
+!> per rank). What grows with the work is distributed: each rank assembles only
+!> the rows of its own bodies (`assembly_matrix_rows`), and holds only its block
+!> of every Lanczos vector and its halo.
+!>
+!> Partition by space. The free bodies are sorted by their coordinate along the
+!> axis on which they spread furthest (ties by body number) and cut into
+!> contiguous slabs, one per rank in rank order, balanced by count. They are
+!> renumbered in that order, so each rank owns a contiguous block of rows and
+!> its halo is the bodies across the slab faces.
+!>
+!> Estimates, as in the serial path: omega_max from PARPACK (the Rayleigh
+!> quotient of the returned unit mode, its residual and the error bar
+!> `omega_upper`, `dt_critical_safe`); Gershgorin's bound from the rows without
+!> pre-stress (`dist_gershgorin_bound`); the per-contact rule as a minimum
+!> over each rank's springs; the modal damping ratio of the top mode from the
+!> mode's entries at both ends of each spring (the halo supplies the other
+!> rank's end), summed over the ranks.
+module demstep_mpi_scene
+  use mpi_f08
+  use demstep_kinds, only: dp, i8
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_text, only: int_text
+  use demstep_progress, only: progress_type
+  use demstep_scene_data, only: scene_type, scene_effect
+  use demstep_interaction, only: reduced_mass, dashpot_coefficient
+  use demstep_spring, only: damped_limit
+  use demstep_stepper, only: max_damping_ratio
+  use demstep_assembly, only: assembly_operator_type, assembly_operator, assembly_matrix_rows, &
+    critical_step_type, eigen_solver, scene_lanczos_ncv, scene_lanczos_restarts
+  use demstep_lanczos, only: eigen_result_type, lanczos_tolerance_default, check_lanczos_options
+  use demstep_mpi_lanczos, only: dist_csr_type, dist_csr_create, dist_csr_apply, dist_csr_free, &
+    dist_gershgorin_bound, parallel_lanczos_largest
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  implicit none
+  private
+
+  public :: mpi_scene_critical_steps, scene_slabs
+
+contains
+
+  !> The critical time steps of a scene, computed on the ranks of `comm`.
+  !> Collective: every rank passes the same scene and options, and gets the
+  !> same result and status. The result is `assembly_critical_steps`' with
+  !> `solver = eigen_solver%lanczos` (same Krylov size, restarts, tolerance and
+  !> error bar); the bound is the tight Gershgorin bound (diagonal blocks summed)
+  !> at every size. Statuses: those of `assembly_critical_steps`, and
+  !> invalid_input `comm:` when there are fewer free particles than ranks;
+  !> PARPACK's through `parallel_lanczos_largest`.
+  subroutine mpi_scene_critical_steps(comm, scene, result, status, hertz_mode, impact_velocity, &
+      prestress, tolerance, progress)
+    !> The ranks sharing the work.
+    type(MPI_Comm), intent(in) :: comm
+    !> The whole scene, the same on every rank.
+    type(scene_type), intent(in) :: scene
+    type(critical_step_type), intent(out) :: result
+    type(demstep_status_type), intent(out) :: status
+    !> `hertz_linearization%current` (default) or `%impact` with impact_velocity > 0.
+    integer, intent(in), optional :: hertz_mode
+    real(dp), intent(in), optional :: impact_velocity
+    !> Count the pre-stress (geometric) stiffness of loaded contacts (default no).
+    logical, intent(in), optional :: prestress
+    !> Relative residual tolerance on omega_max^2, in [2.2e-16, 0.1]
+    !> (default `lanczos_tolerance_default`).
+    real(dp), intent(in), optional :: tolerance
+    !> Reports the Lanczos products (pass it on one rank, e.g. rank 0).
+    class(progress_type), intent(inout), optional :: progress
+    type(assembly_operator_type) :: op
+    type(dist_csr_type) :: matrix
+    integer, allocatable :: order(:), new_index(:), bodies(:), col(:)
+    integer(i8), allocatable :: row_start(:)
+    real(dp), allocatable :: val(:), geo(:)
+    real(dp) :: rate, tol, zeta
+    integer :: nranks, rank, lo, hi, nc
+    logical :: with_geo
+
+    call MPI_Comm_size(comm, nranks)
+    call MPI_Comm_rank(comm, rank)
+    with_geo = .false.
+    if (present(prestress)) with_geo = prestress
+    tol = lanczos_tolerance_default
+    if (present(tolerance)) tol = tolerance
+    call check_lanczos_options("tolerance", tol, 1, 2, 1, status)
+    if (status%stat /= demstep_stat%ok) then
+      status%message = status%message(len("tolerance: ") + 1:)
+      return
+    end if
+    zeta = 0.0_dp
+    if (scene%effects(scene_effect%damping)) zeta = scene%damping_ratio
+    if (.not. (zeta >= 0.0_dp .and. zeta <= max_damping_ratio)) then
+      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be in [0, 1e100]")
+      return
+    end if
+    ! replicated: every rank builds the same operator and gets the same status
+    call assembly_operator(scene, op, rate, status, hertz_mode, impact_velocity, with_geo)
+    if (status%stat /= demstep_stat%ok) return
+    if (op%n_bodies < nranks) then
+      call set_status(status, demstep_stat%invalid_input, "comm: each MPI rank needs a " &
+        //"free particle: the scene has "//int_text(op%n_bodies)//" for "//int_text(nranks) &
+        //" ranks (run it on at most "//int_text(op%n_bodies)//")")
+      return
+    end if
+    nc = op%nc
+    result%rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
+    result%periodic = any(scene%periodic)
+    result%prestress = with_geo
+    result%dof_per_particle = nc
+    result%n_dof = op%n
+    result%n_springs = op%n_springs
+    result%tangential = any(op%coef(2, :) > 0.0_dp)
+    result%solver = eigen_solver%lanczos
+    result%eigen_tolerance = tol
+
+    ! the slabs, and this rank's rows (without pre-stress first: the bound)
+    call scene_slabs(scene, op, nranks, order, new_index)
+    lo = slab_start(rank)
+    hi = slab_start(rank + 1) - 1
+    bodies = order(lo:hi)
+    deallocate(order)
+    if (with_geo) then
+      geo = op%coef(5, :)
+      op%coef(5, :) = 0.0_dp
+    end if
+    call assembly_matrix_rows(op, bodies, new_index, row_start, col, val, status)
+    if (status%stat /= demstep_stat%ok) return
+    call dist_csr_create(comm, op%n, (lo - 1)*nc + 1, row_start, col, val, matrix, status)
+    if (status%stat /= demstep_stat%ok) return
+    deallocate(col, val)
+    call estimates()
+    call dist_csr_free(matrix)
+
+  contains
+
+    !> First sorted position of rank r's slab (r = nranks: one past the end).
+    integer function slab_start(r)
+      integer, intent(in) :: r
+      slab_start = int(int(r, i8)*op%n_bodies/nranks) + 1
+    end function slab_start
+
+    !> Bound, contact rule, Lanczos and damping on the distributed rows.
+    subroutine estimates()
+      type(eigen_result_type) :: lanczos
+      real(dp), allocatable :: vec(:)
+      real(dp) :: bound, rule, lam
+      logical :: has_mode
+
+      call dist_gershgorin_bound(matrix, bound)
+      result%omega_bound = rate*sqrt(bound)
+      if (.not. ieee_is_finite(result%omega_bound)) then
+        call set_status(status, demstep_stat%invalid_input, "mass: the bound of omega_max = " &
+          //"sqrt(k/m) overflows: the largest stiffness over the smallest mass must stay below " &
+          //"about 1e600")
+        return
+      end if
+      result%dt_critical_bound = 2.0_dp/result%omega_bound
+      rule = contact_rule(op, bodies)
+      call MPI_Allreduce(MPI_IN_PLACE, rule, 1, MPI_DOUBLE_PRECISION, MPI_MIN, comm)
+      result%dt_contact_rule = rule/rate
+      if (with_geo) then
+        ! the operator's rows with pre-stress: same pattern, other values
+        op%coef(5, :) = geo
+        deallocate(geo)
+        call assembly_matrix_rows(op, bodies, new_index, row_start, col, val, status)
+        if (status%stat /= demstep_stat%ok) return
+        matrix%val = val
+        deallocate(col, val)
+      end if
+
+      allocate(vec(matrix%n_local))
+      call parallel_lanczos_largest(matrix, lanczos, status, eigenvector=vec, tolerance=tol, &
+        ncv=min(scene_lanczos_ncv, op%n), max_restarts=scene_lanczos_restarts, progress=progress)
+      result%eigen_products = lanczos%applications
+      result%eigen_restarts = lanczos%iterations
+      if (status%stat == demstep_stat%not_converged) then
+        has_mode = any(vec /= 0.0_dp)
+        call MPI_Allreduce(MPI_IN_PLACE, has_mode, 1, MPI_LOGICAL, MPI_LOR, comm)
+        if (.not. has_mode) then
+          ! restarts ran out with no converged Ritz pair: the Ritz value and
+          ! PARPACK's residual estimate bracket omega_max (as the serial path)
+          call not_converged(lanczos%eigenvalue, lanczos%residual)
+          return
+        end if
+        status%stat = demstep_stat%ok
+      end if
+      if (status%stat /= demstep_stat%ok) return
+      ! the unit mode's Rayleigh quotient and residual, measured by the solver
+      lam = lanczos%eigenvalue
+      if (.not. lam > 0.0_dp) then
+        call set_status(status, demstep_stat%invalid_input, "position: the scene has no stiffness")
+        return
+      end if
+      result%eigen_residual = lanczos%residual/lam
+      result%omega_max = rate*sqrt(lam)
+      result%omega_upper = rate*sqrt(lam + lanczos%error_bound)
+      result%dt_critical_eigen = 2.0_dp/result%omega_max
+      result%dt_critical_safe = max(2.0_dp/result%omega_upper, result%dt_critical_bound)
+      result%eigen_computed = .true.
+      result%eigen_converged = result%eigen_residual <= tol
+      if (scene%effects(scene_effect%damping)) then
+        zeta = zeta*modal_damping(vec)/(2.0_dp*sqrt(lam))
+      end if
+      call set_damped(result%dt_critical_safe)
+    end subroutine estimates
+
+    !> The result of a solve that ran out of restarts: omega_max in
+    !> [rate sqrt(theta), rate sqrt(theta + r)] (and below the bound).
+    subroutine not_converged(theta, r)
+      real(dp), intent(in) :: theta, r
+      if (.not. theta > 0.0_dp) return
+      result%omega_max = rate*sqrt(theta)
+      result%omega_upper = min(rate*sqrt(theta + r + 8.0_dp*epsilon(1.0_dp)*theta), &
+        result%omega_bound)
+      result%eigen_residual = r/theta
+      result%dt_critical_eigen = 2.0_dp/result%omega_max
+      result%dt_critical_safe = 2.0_dp/result%omega_upper
+      result%eigen_computed = .true.
+      result%eigen_converged = .false.
+      call set_damped(result%dt_critical_safe)
+    end subroutine not_converged
+
+    !> The damping ratio of the top mode and the damped limit at dt.
+    subroutine set_damped(dt)
+      real(dp), intent(in) :: dt
+      result%damping_ratio_top = zeta
+      result%dt_critical_damped = damped_limit(dt, zeta)
+      if (.not. (ieee_is_finite(result%damping_ratio_top) .and. result%dt_critical_damped > 0.0_dp)) then
+        call set_status(status, demstep_stat%invalid_input, "damping_ratio: the damped limit " &
+          //"dt/(sqrt(1 + z^2) + z) is not representable; use a smaller damping_ratio")
+        return
+      end if
+      status%stat = demstep_stat%ok
+    end subroutine set_damped
+
+    !> v^T M'^-1/2 C' M'^-1/2 v per unit damping ratio for this rank's block
+    !> of the unit mode v, summed over the ranks. Each spring is counted by the
+    !> rank owning its second free end; the other end's entries are read from
+    !> the halo that one product brings.
+    function modal_damping(v) result(q)
+      real(dp), intent(in) :: v(:)
+      real(dp) :: q
+      real(dp), allocatable :: av(:)
+      real(dp) :: rel, m(2), u
+      integer :: k, i, s, e, j, nt, row, c, t, end_index(2)
+      integer(i8) :: p, pos, at(2)
+      allocate(av(size(v)))
+      call dist_csr_apply(matrix, v, av)
+      nt = min(scene%dim, 3)
+      q = 0.0_dp
+      do k = 1, size(bodies)
+        i = bodies(k)
+        row = (k - 1)*nc + 1
+        pos = nc
+        do p = op%first(i), op%first(i + 1) - 1
+          s = (op%incident(p) + 1)/2
+          e = op%incident(p) - 2*(s - 1)
+          j = op%ends(3 - e, s)
+          ! the entries of x_ext holding each end's translations (0: ground)
+          at(e) = matrix%row_start(row)
+          at(3 - e) = 0
+          if (j > 0) at(3 - e) = matrix%row_start(row) + pos
+          if (j > 0) pos = pos + nc
+          if (e == 1 .and. j > 0) cycle
+          end_index = op%ends(:, s)
+          rel = 0.0_dp
+          m = huge(1.0_dp)
+          do c = 1, 2
+            if (end_index(c) == 0) cycle
+            ! n . (the end's scaled translation), its sign from the spring's direction
+            u = 0.0_dp
+            do t = 1, nt
+              u = u + op%normal(t, s)*matrix%x_ext(matrix%col(at(c) + t - 1))
+            end do
+            rel = rel + real(2*c - 3, dp)*u*op%w(1, end_index(c))
+            m(c) = (1.0_dp/op%w(1, end_index(c)))**2
+          end do
+          q = q + dashpot_coefficient(1.0_dp, reduced_mass(m(2), m(1)), op%coef(1, s))*rel**2
+        end do
+      end do
+      call MPI_Allreduce(MPI_IN_PLACE, q, 1, MPI_DOUBLE_PRECISION, MPI_SUM, comm)
+    end function modal_damping
+
+  end subroutine mpi_scene_critical_steps
+
+  !> The slabs: free bodies sorted by their coordinate along the axis of their
+  !> widest spread (ties by body number). `order(k)` is the k-th body in that
+  !> order, `new_index` its inverse; rank r takes sorted positions
+  !> r n/nranks + 1 .. (r + 1) n/nranks. The same on every rank. O(n log n).
+  pure subroutine scene_slabs(scene, op, nranks, order, new_index)
+    type(scene_type), intent(in) :: scene
+    type(assembly_operator_type), intent(in) :: op
+    !> Number of slabs.
+    integer, intent(in) :: nranks
+    integer, allocatable, intent(out) :: order(:), new_index(:)
+    real(dp), allocatable :: key(:)
+    real(dp) :: lo(3), hi(3)
+    integer :: i, b, ax
+    allocate(key(op%n_bodies), order(op%n_bodies), new_index(op%n_bodies))
+    lo = huge(1.0_dp)
+    hi = -huge(1.0_dp)
+    b = 0
+    do i = 1, scene%n
+      if (scene%fixed(i)) cycle
+      b = b + 1
+      lo = min(lo, scene%x(:, i))
+      hi = max(hi, scene%x(:, i))
+    end do
+    ax = maxloc(hi(:scene%dim) - lo(:scene%dim), 1)
+    b = 0
+    do i = 1, scene%n
+      if (scene%fixed(i)) cycle
+      b = b + 1
+      key(b) = scene%x(ax, i)
+      order(b) = b
+    end do
+    call sort_by_key(key, order)
+    do b = 1, op%n_bodies
+      new_index(order(b)) = b
+    end do
+  end subroutine scene_slabs
+
+  !> The per-contact rule min 2 sqrt(m*/k) over the springs of the listed
+  !> bodies, in the operator's scaled units (divide by its rate); huge when
+  !> they touch none.
+  pure function contact_rule(op, bodies) result(rule)
+    type(assembly_operator_type), intent(in) :: op
+    integer, intent(in) :: bodies(:)
+    real(dp) :: rule
+    real(dp) :: m(2)
+    integer :: k, s, e
+    integer(i8) :: p
+    rule = huge(1.0_dp)
+    do k = 1, size(bodies)
+      do p = op%first(bodies(k)), op%first(bodies(k) + 1) - 1
+        s = (op%incident(p) + 1)/2
+        do e = 1, 2
+          m(e) = huge(1.0_dp)
+          if (op%ends(e, s) > 0) m(e) = (1.0_dp/op%w(1, op%ends(e, s)))**2
+        end do
+        rule = min(rule, 2.0_dp*sqrt(reduced_mass(m(2), m(1)))/sqrt(max(op%coef(1, s), op%coef(2, s))))
+      end do
+    end do
+  end function contact_rule
+
+  !> Sort `order` by ascending key, ties by ascending `order` (heap sort: the
+  !> same permutation on every rank, O(n log n)). `key` is permuted with it.
+  pure subroutine sort_by_key(key, order)
+    real(dp), intent(inout) :: key(:)
+    integer, intent(inout) :: order(:)
+    integer :: n, i
+    n = size(key)
+    do i = n/2, 1, -1
+      call sift(key, order, i, n)
+    end do
+    do i = n, 2, -1
+      call swap(key, order, 1, i)
+      call sift(key, order, 1, i - 1)
+    end do
+  end subroutine sort_by_key
+
+  !> Entry a comes before entry b: smaller key, or equal keys and smaller order.
+  pure logical function before(key, order, a, b)
+    real(dp), intent(in) :: key(:)
+    integer, intent(in) :: order(:), a, b
+    before = key(a) < key(b) .or. (.not. key(a) > key(b) .and. order(a) < order(b))
+  end function before
+
+  !> Exchange entries a and b of both arrays.
+  pure subroutine swap(key, order, a, b)
+    real(dp), intent(inout) :: key(:)
+    integer, intent(inout) :: order(:)
+    integer, intent(in) :: a, b
+    key([a, b]) = key([b, a])
+    order([a, b]) = order([b, a])
+  end subroutine swap
+
+  !> Move entry `start` down the heap start..last to its place.
+  pure subroutine sift(key, order, start, last)
+    real(dp), intent(inout) :: key(:)
+    integer, intent(inout) :: order(:)
+    integer, intent(in) :: start, last
+    integer :: root, child
+    root = start
+    do
+      child = 2*root
+      if (child > last) exit
+      if (child < last) then
+        if (before(key, order, child, child + 1)) child = child + 1
+      end if
+      if (.not. before(key, order, root, child)) exit
+      call swap(key, order, root, child)
+      root = child
+    end do
+  end subroutine sift
+
+end module demstep_mpi_scene
