@@ -8,13 +8,16 @@ module demstep_cli
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_namelist, only: nml_group_type, nml_item_type, excerpt
+  ! integers as text: the library's (`fmt_int` beside `fmt_real` in the app)
+  use demstep_text, only: fmt_int => int_text
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
   implicit none
   private
 
   public :: recommended_line, var, given, read_group, check_real, fmt_real, fmt_int, write_template, cli_context, &
     fmt_real_column, default_text, capacity_of, &
-    new_array, array_length, broadcast, common_length, new_int_array, int_array_length
+    new_array, array_length, broadcast, common_length, new_int_array, int_array_length, word_list, &
+    report_row
 
   !> Most values a list variable holds unless its table row says otherwise.
   integer, parameter, public :: max_values = 100000
@@ -33,6 +36,10 @@ module demstep_cli
     logical :: quiet = .false.
     !> The input deck's name (relative table files are read beside it).
     character(len=:), allocatable :: deck
+    !> A `&scene` of the deck takes its particle types' materials from the
+    !> `&material` group: that group then reports single contacts, and the
+    !> recommended dt is the packing's alone.
+    logical :: material_in_scene = .false.
   end type cli_context
 
   !> One input variable of a group: name, what its value must be (its type, in
@@ -563,15 +570,6 @@ contains
     text = text(1:last)
   end function drop_zeros
 
-  !> An integer as text.
-  pure function fmt_int(i) result(text)
-    integer(i8), intent(in) :: i
-    character(len=:), allocatable :: text
-    character(len=24) :: buf
-    write(buf, '(i0)') i
-    text = trim(buf)
-  end function fmt_int
-
   !> Write a commented input group for the template, from the group's table: its
   !> documentation, and per variable the example, the documentation and the
   !> default or the rule.
@@ -701,13 +699,48 @@ contains
   pure function names_of(specs) result(text)
     type(var_spec), intent(in) :: specs(:)
     character(len=:), allocatable :: text
+    character(len=64) :: names(size(specs))
     integer :: i
-    text = ""
     do i = 1, size(specs)
-      if (i > 1) text = text//", "
-      text = text//specs(i)%name
+      names(i) = specs(i)%name
     end do
+    text = word_list(names)
   end function names_of
+
+  !> The words, trimmed, as `a, b, c`; each between `quote` when given.
+  pure function word_list(words, quote) result(text)
+    character(len=*), intent(in) :: words(:)
+    character(len=*), intent(in), optional :: quote
+    character(len=:), allocatable :: text, q
+    integer :: i, n, at
+    q = ""
+    if (present(quote)) q = quote
+    ! the length first, then one fill (no growing concatenation)
+    n = max(0, 2*(size(words) - 1))
+    do i = 1, size(words)
+      n = n + len_trim(words(i)) + 2*len(q)
+    end do
+    allocate(character(len=n) :: text)
+    at = 0
+    do i = 1, size(words)
+      if (i > 1) then
+        text(at+1:at+2) = ", "
+        at = at + 2
+      end if
+      text(at+1:) = q//trim(words(i))//q
+      at = at + len_trim(words(i)) + 2*len(q)
+    end do
+  end function word_list
+
+  !> One labelled row of a report: `indent` blanks, the label, the value from
+  !> column indent + 26 on.
+  subroutine report_row(unit, indent, label, value)
+    integer, intent(in) :: unit, indent
+    character(len=*), intent(in) :: label, value
+    character(len=32) :: form
+    write(form, '("(", i0, "x, a, t", i0, ", a)")') indent, indent + 26
+    write(unit, form) label, trim(value)
+  end subroutine report_row
 
   !> The line that ends every report yielding a time step.
   subroutine recommended_line(unit, dt_recommended)

@@ -98,15 +98,11 @@ contains
     call array_length(g, "onset", onset, lengths(2), status)
     if (status%stat /= demstep_stat%ok) return
     call common_length(g, [character(len=12) :: "n_per_period", "onset"], lengths, length, status)
-    call check_real(g, "damping_ratio", damping_ratio, status, inclusive=.true.)
     if (status%stat /= demstep_stat%ok) return
+    ! n_per_period, onset and damping_ratio: the library checks them (name_element)
     worst = lengths(2) == 0
     big_n = broadcast(n_per_period, lengths(1), length)
     if (.not. worst) s = broadcast(onset, lengths(2), length)
-    do i = 1, length
-      call check_real(g, "n_per_period", big_n(i), status, element=i)
-      if (status%stat /= demstep_stat%ok) return
-    end do
 
     ! value(:, q): steps-in-contact time, restitution, overlap; onset_q: where
     allocate(value(length, 3), onset_q(length, 3), steps(length), stable(length), saturated(length))
@@ -295,15 +291,11 @@ contains
     end select
     call array_length(g, "tolerances", tolerances, nt, status)
     if (status%stat /= demstep_stat%ok) return
-    do i = 1, nt
-      call check_real(g, "tolerances", tolerances(i), status, element=i)
-    end do
+    ! tolerances, n_max (n_needed), mass, stiffness (new_spring) and damping_ratio
+    ! (check_contact_damping) are the library's to check; predict_run takes the
+    ! run's sizes as given, so their signs are checked here
     call check_real(g, "duration", duration, status)
     call check_real(g, "n_particles", n_particles, status, lower=1.0_dp, inclusive=.true.)
-    call check_real(g, "mass", mass, status)
-    call check_real(g, "stiffness", stiffness, status)
-    call check_real(g, "damping_ratio", damping_ratio, status, inclusive=.true.)
-    call check_real(g, "n_max", n_max, status, lower=10.0_dp)
     if (given(group, "cost_per_particle_step")) call check_real(g, "cost_per_particle_step", &
       cost_per_particle_step, status)
     if (status%stat /= demstep_stat%ok) return
@@ -338,7 +330,7 @@ contains
     allocate(n(nt), dt(nt), steps(nt), predicted_seconds(nt), stat(nt), saturated(nt))
     saturated = .false.
     do i = 1, nt
-      call n_needed(q, tolerances(i), damping_ratio, lambda, n_max, n(i), stat(i), status)
+      call n_needed(q, tolerances(i), i, damping_ratio, lambda, n_max, n(i), stat(i), status)
       if (status%stat /= demstep_stat%ok) then
         status%message = "&"//g//": "//status%message
         return
@@ -415,8 +407,10 @@ contains
   !> N for one tolerance from the library (a contact quantity's worst case, or the
   !> paper's E at lambda); `stat` is the library's code, and bad input comes back
   !> in `status` with the message naming the deck's variable.
-  subroutine n_needed(q, tolerance, zeta, lambda, n_max, n, stat, status)
+  subroutine n_needed(q, tolerance, element, zeta, lambda, n_max, n, stat, status)
     integer, intent(in) :: q
+    !> The tolerance's place in `tolerances`, for the message.
+    integer, intent(in) :: element
     real(dp), intent(in) :: tolerance, zeta, lambda, n_max
     real(dp), intent(out) :: n
     integer, intent(out) :: stat
@@ -431,8 +425,8 @@ contains
     stat = st%stat
     if (stat == demstep_stat%invalid_input) then
       status = st
-      if (index(status%message, "tolerance: ") == 1) status%message = "tolerances: "// &
-        status%message(12:)
+      if (index(status%message, "tolerance: ") == 1) status%message = "tolerances: element "// &
+        fmt_int(int(element, i8))//" is "//fmt_real(tolerance)//"; "//status%message(12:)
       return
     end if
     status%stat = demstep_stat%ok

@@ -3,11 +3,9 @@ module demstep_cli_harmonic
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
     evaluate_error => harmonic_error, harmonic_error_check
   use demstep_status, only: set_status
-  use demstep_harmonic, only: harmonic_n_max
   use demstep_cli, only: var_spec, var, given, read_group, fmt_real, fmt_real_column, fmt_int, &
-    cli_context, check_real, new_array, array_length, broadcast, common_length, max_values, &
+    cli_context, new_array, array_length, broadcast, common_length, max_values, &
     capacity_of
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
@@ -71,32 +69,11 @@ contains
     big_n = broadcast(n_per_period, lengths(1), length)
     lam = broadcast(lambda, lengths(2), length)
     if (fraction) then
-      n = broadcast(steps_fraction, lengths(3), length)
+      ! a fraction of the period: n = steps_fraction N steps
+      n = broadcast(steps_fraction, lengths(3), length)*big_n
     else
       n = broadcast(n_steps, lengths(3), length)
     end if
-    do i = 1, length
-      call check_real(g, "n_per_period", big_n(i), status, element=i)
-      call check_real(g, "lambda", lam(i), status, element=i)
-      if (fraction) then
-        call check_real(g, "steps_fraction", n(i), status, element=i)
-        if (status%stat /= demstep_stat%ok) return
-        n(i) = n(i)*big_n(i)
-        if (n(i) < 1.0_dp .or. n(i) > harmonic_n_max) then
-          call set_status(status, demstep_stat%invalid_input, "&"//g//": steps_fraction: gives " &
-            //"n = "//fmt_real(n(i))//" steps at element "//fmt_int(int(i, i8))// &
-            " (n must be in [1, 1e12])")
-          return
-        end if
-      else if (status%stat == demstep_stat%ok) then
-        if (.not. (ieee_is_finite(n(i)) .and. n(i) >= 1.0_dp .and. n(i) <= harmonic_n_max)) then
-          call set_status(status, demstep_stat%invalid_input, "&"//g//": n_steps: element " &
-            //fmt_int(int(i, i8))//" is "//fmt_real(n(i))//"; n must be in [1, 1e12]")
-          return
-        end if
-      end if
-      if (status%stat /= demstep_stat%ok) return
-    end do
 
     allocate(e(length), stat(length))
     call evaluate_error(big_n, lam, n, e, stat)

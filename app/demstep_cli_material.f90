@@ -13,7 +13,7 @@ module demstep_cli_material
   use demstep_status, only: set_status
   use demstep_namelist, only: lowercase
   use demstep_cli, only: recommended_line, var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
-    new_array, array_length, common_length, broadcast, capacity_of
+    new_array, array_length, common_length, broadcast, capacity_of, word_list, report_row
   implicit none
   private
 
@@ -52,12 +52,7 @@ contains
 
   pure function names_list() result(text)
     character(len=:), allocatable :: text
-    integer :: k
-    text = ""
-    do k = 1, n_conventions
-      if (k > 1) text = text//", "
-      text = text//"'"//trim(convention_names(k))//"'"
-    end do
+    text = word_list(convention_names(:n_conventions), quote="'")
   end function names_list
 
   !> Read, check and evaluate one `&material` group.
@@ -178,6 +173,8 @@ contains
     write(u, '(a)') "&material (line "//fmt_int(int(group%line, i8))//"): "//fmt_int(int(n, i8))// &
       " particle type"//trim(merge("s", " ", n > 1))//", restitution "//fmt_real(restitution)// &
       ", impact velocity "//fmt_real(velocity)
+    if (ctx%material_in_scene) write(u, '(2x, a)') "(single contacts of each pair of types; the " &
+      //"&scene packing made of them gives the recommended dt)"
     p = 0
     do i = 1, n
       do j = i, n
@@ -236,12 +233,12 @@ contains
         end do
         write(u, '(4x, a)') "(Hertz conventions: secant k_n, k_t and gamma at the impact's largest " &
           //"overlap; their limit uses the tangent stiffness, 3/2 k_n)"
-        call row(u, "Rayleigh time", fmt_real(steps%rayleigh)//"  (0.8766 factor; Yade's: " &
+        call report_row(u, 4, "Rayleigh time", fmt_real(steps%rayleigh)//"  (0.8766 factor; Yade's: " &
           //fmt_real(steps%rayleigh_yade)//")")
-        call row(u, "Hertz contact duration", fmt_real(steps%hertz_duration)//"  (at the impact velocity; " &
+        call report_row(u, 4, "Hertz contact duration", fmt_real(steps%hertz_duration)//"  (at the impact velocity; " &
           //"LIGGGHTS' estimate "//fmt_real(steps%hertz_liggghts)//")")
-        call row(u, "linear contact duration", fmt_real(linear_duration(p))//"  (LIGGGHTS Hooke spring)")
-        call row(u, "demstep exact limit", fmt_real(exact%dt_critical)//"  (Hertz linearised at the " &
+        call report_row(u, 4, "linear contact duration", fmt_real(linear_duration(p))//"  (LIGGGHTS Hooke spring)")
+        call report_row(u, 4, "demstep exact limit", fmt_real(exact%dt_critical)//"  (Hertz linearised at the " &
           //"impact's largest overlap, k = "//fmt_real(k_linear(p))//", lagged dashpot, damping ratio " &
           //fmt_real(exact%damping_ratio)//")")
         write(u, '(4x, a22, 2a16)') "peer rule", "dt", "dt/exact limit"
@@ -249,7 +246,7 @@ contains
           write(u, '(4x, a22, 2a16)') trim(peer_rule_names(c)), fmt_real(steps%dt(c)), &
             fmt_real(steps%dt(c)/exact%dt_critical)
         end do
-        if (have_tolerance) call row(u, "accuracy step", fmt_real(exact%dt_accuracy)// &
+        if (have_tolerance) call report_row(u, 4, "accuracy step", fmt_real(exact%dt_accuracy)// &
           "  (restitution error <= "//fmt_real(tolerance)//", linearised contact)")
       end do
     end do
@@ -257,10 +254,10 @@ contains
     dt_stability = minval(dt_critical)
     if (first == last) dt_stability = min(dt_stability, minval(dt_code))
     if (first == last) then
-      call row(u, "stability limit", fmt_real(dt_stability)//"  (smallest over the pairs, with " &
+      call report_row(u, 4, "stability limit", fmt_real(dt_stability)//"  (smallest over the pairs, with " &
         //trim(convention_names(first))//"'s own contact)")
     else
-      call row(u, "stability limit", fmt_real(dt_stability)//"  (smallest over the pairs)")
+      call report_row(u, 4, "stability limit", fmt_real(dt_stability)//"  (smallest over the pairs)")
     end if
     if (have_tolerance) then
       call recommended_step(dt_stability, dt_recommended, governs, status, dt_accuracy=minval(dt_accuracy))
@@ -269,12 +266,17 @@ contains
     end if
     if (status%stat /= demstep_stat%ok) return
     if (governs == step_governs%accuracy) then
-      call row(u, "governs", "accuracy (tolerance "//fmt_real(tolerance)//" on the restitution)")
+      call report_row(u, 4, "governs", "accuracy (tolerance "//fmt_real(tolerance)//" on the restitution)")
     else
-      call row(u, "governs", "stability ("//fmt_real(default_safety)//" of the smallest exact limit)")
+      call report_row(u, 4, "governs", "stability ("//fmt_real(default_safety)//" of the smallest exact limit)")
       if (.not. have_tolerance) write(u, '(4x, a)') "(stability only: give tolerance for accuracy)"
     end if
-    call recommended_line(u, dt_recommended)
+    if (ctx%material_in_scene) then
+      ! one recommended dt per deck: the packing's (&scene)
+      call report_row(u, 4, "single-contact dt", fmt_real(dt_recommended)//"  (not for the packing)")
+    else
+      call recommended_line(u, dt_recommended)
+    end if
     write(u, '(a)') ""
     call write_result(ctx%results, [(convention_names(c), c = first, last)], peer_rule_names, type_i, type_j, &
       m_star, k_n, k_t, gamma_n, gamma_t, dt_code, rayleigh, hertz_duration, linear_duration, dt_critical, &
@@ -296,11 +298,6 @@ contains
     if (k > 0) text = text(:k-1)//"(particle type "//fmt_int(int(j, i8))//")"//text(k+17:)
   end function fix_label
 
-  subroutine row(unit, label, value)
-    integer, intent(in) :: unit
-    character(len=*), intent(in) :: label, value
-    write(unit, '(4x, a, t30, a)') label, trim(value)
-  end subroutine row
 
   subroutine write_result(unit, conventions, peer_rules, type_i, type_j, m_star, k_n, k_t, gamma_n, &
       gamma_t, dt_code, rayleigh_time, hertz_duration, linear_duration, dt_critical, peer_dt, &

@@ -5,7 +5,7 @@ module demstep_cli_mfix
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, mfix_deck_type, parse_mfix_deck, &
     mfix_input_type, mfix_result_type, mfix_assessment_type, mfix_input_from_deck, mfix_compute, &
     mfix_assess, mfix_units, mfix_model, mfix_integrator, step_governs, default_safety
-  use demstep_cli, only: recommended_line, cli_context, fmt_real, fmt_int
+  use demstep_cli, only: report_row, recommended_line, cli_context, fmt_real, fmt_int
   implicit none
   private
 
@@ -84,9 +84,9 @@ contains
       write(u, '(2x, a8, 4a18)') pair_label(result, p), fmt_real(result%m_eff(p)), fmt_real(result%k_n(p)), &
         fmt_real(result%eta_n(p)), fmt_real(result%t_coll(p))
     end do
-    call row(u, "TCOLL", fmt_real(result%tcoll)//" s  (smallest particle pair; walls left out)")
-    call row(u, "DTSOLID_FACTOR", fmt_real(input%dtsolid_factor))
-    call row(u, "DTSOLID", fmt_real(result%dtsolid)//" s  (TCOLL/DTSOLID_FACTOR)")
+    call report_row(u, 2, "TCOLL", fmt_real(result%tcoll)//" s  (smallest particle pair; walls left out)")
+    call report_row(u, 2, "DTSOLID_FACTOR", fmt_real(input%dtsolid_factor))
+    call report_row(u, 2, "DTSOLID", fmt_real(result%dtsolid)//" s  (TCOLL/DTSOLID_FACTOR)")
 
     if (input%integrator == mfix_integrator%adams_bashforth) then
       write(u, '(2x, a)') "ADAMS_BASHFORTH: an undamped contact gains energy at every step (amplitude " &
@@ -150,12 +150,12 @@ contains
     do p = 1, np + result%n_walls
       write(u, '(2x, a8, a18)') pair_label(result, p), fmt_real(a%dt_accuracy(p))
     end do
-    call row(u, "exact limit", fmt_real(a%dt_stability)//" s  (smallest over the pairs)")
-    call row(u, "accuracy step", fmt_real(a%dt_accuracy_min)//" s")
+    call report_row(u, 2, "exact limit", fmt_real(a%dt_stability)//" s  (smallest over the pairs)")
+    call report_row(u, 2, "accuracy step", fmt_real(a%dt_accuracy_min)//" s")
     if (a%governs == step_governs%accuracy) then
-      call row(u, "governs", "accuracy (tolerance "//fmt_real(a%tolerance)//" on the restitution)")
+      call report_row(u, 2, "governs", "accuracy (tolerance "//fmt_real(a%tolerance)//" on the restitution)")
     else
-      call row(u, "governs", "stability ("//fmt_real(default_safety)//" of the exact limit)")
+      call report_row(u, 2, "governs", "stability ("//fmt_real(default_safety)//" of the exact limit)")
     end if
     write(u, '(2x, a)') "for MFiX (DTSOLID = TCOLL/DTSOLID_FACTOR = "// &
       fmt_real(result%tcoll/a%dtsolid_factor)//" s):"
@@ -178,11 +178,6 @@ contains
     end if
   end function pair_label
 
-  subroutine row(unit, label, value)
-    integer, intent(in) :: unit
-    character(len=*), intent(in) :: label, value
-    write(unit, '(2x, a, t28, a)') label, trim(value)
-  end subroutine row
 
   !> The result group `&mfix_result`, per pair in MFiX's order (particle pairs
   !> 11, 12, ..., then phase-wall pairs; `phase_j = 0` for a wall).

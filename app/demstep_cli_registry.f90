@@ -4,7 +4,7 @@
 module demstep_cli_registry
   use demstep_status, only: demstep_status_type
   use demstep_namelist, only: nml_group_type
-  use demstep_cli, only: group_spec, cli_context
+  use demstep_cli, only: group_spec, cli_context, word_list
   use demstep_cli_system, only: handle_system, system_specs, system_doc
   use demstep_cli_harmonic, only: handle_harmonic_error, harmonic_specs, harmonic_doc
   use demstep_cli_stiffness, only: handle_simulated_stiffness, stiffness_specs, stiffness_doc
@@ -46,12 +46,12 @@ contains
   pure function group_list(groups) result(text)
     type(group_spec), intent(in) :: groups(:)
     character(len=:), allocatable :: text
+    character(len=64) :: names(size(groups))
     integer :: k
-    text = ""
     do k = 1, size(groups)
-      if (k > 1) text = text//", "
-      text = text//"&"//groups(k)%name
+      names(k) = "&"//groups(k)%name
     end do
+    text = word_list(names)
   end function group_list
 
   !> `&scene` reads its table files beside the deck.

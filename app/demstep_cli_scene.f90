@@ -8,7 +8,8 @@ module demstep_cli_scene
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
     scene_type, scene_summary_type, new_scene, scene_add_bonds, scene_add_walls, &
     scene_run, effect_index, restitution_to_damping_ratio, contact_law, scene_effect, &
-    scene_set_contacts, scene_set_cell, scene_set_types, scene_set_hertz_types, n_effects, &
+    scene_set_contacts, scene_set_cell, scene_set_law, scene_set_bond_stiffness, scene_set_gravity, &
+    scene_set_types, scene_set_hertz_types, n_effects, &
     effect_names, critical_step_type, assembly_critical_steps, hertz_modes => hertz_linearization, &
     default_max_eigen_dof, measure_step_cost, text_progress_type, assembly_step_for_n_per_period, &
     demstep_eigen_solver => eigen_solver, eigen_solver_name, lanczos_tolerance_default
@@ -22,13 +23,13 @@ module demstep_cli_scene
   use demstep_cli_material, only: read_material
   use demstep_cli, only: recommended_line, var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
     check_real, new_array, array_length, new_int_array, int_array_length, max_values, &
-    capacity_of
+    capacity_of, word_list
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use, intrinsic :: iso_fortran_env, only: error_unit
   implicit none
   private
 
-  public :: scene_specs, scene_doc, handle_scene
+  public :: scene_specs, scene_doc, handle_scene, scene_takes_material
 
   character(len=*), parameter :: scene_doc = &
     "A particle assembly: its critical time step by the per-contact rule, a rigorous bound, " &
@@ -195,7 +196,9 @@ contains
     integer, allocatable :: contact_pairs(:, :), contact_lines(:)
     logical, allocatable :: is_fixed(:)
     integer, allocatable :: pairs(:, :)
-    integer :: i, n, np, nv, nm, nr, nf, nb, nw, mode, solver
+    integer :: i, n, np, nv, nm, nr, nf, nb, nw, mode, solver, law_id
+    real(dp) :: law_values(2)
+    logical :: law_given
     real(dp) :: dt_used, dt_recommended
     integer :: governs
     integer(i8) :: steps
@@ -235,10 +238,8 @@ contains
       allocate(is_fixed(n), source=.false.)
       ptypes = snap%type
       ! the materials: the scene's own stiffness variables, else the &material group
-      from_material = deck_mat%found .and. .not. (given(group, "k_normal") .or. given(group, "e_star") .or. &
-        given(group, "type_k_normal") .or. given(group, "young"))
-      if (.not. (from_material .or. given(group, "k_normal") .or. given(group, "e_star") .or. &
-        given(group, "type_k_normal") .or. given(group, "young"))) then
+      from_material = deck_mat%found .and. .not. own_stiffness(group)
+      if (.not. (from_material .or. own_stiffness(group))) then
         call fail("k_normal", "required with snapshot_file (or e_star, type_k_normal, young and poisson " &
           //"per type, or a &material group in the deck)")
         return
@@ -291,14 +292,7 @@ contains
         is_fixed(fixed(i)) = .true.
       end do
     end if
-    ! check_real words the message; it is called only on a bad value (it formats
-    ! the value first, which is too slow for every one of 1e5 particles)
-    do i = 1, n
-      if (.not. (ieee_is_finite(m(i)) .and. m(i) > 0.0_dp)) call check_real(g, "mass", m(i), status, element=i)
-      if (status%stat /= demstep_stat%ok) return
-      if (.not. (ieee_is_finite(r(i)) .and. r(i) > 0.0_dp)) call check_real(g, "radius", r(i), status, element=i)
-      if (status%stat /= demstep_stat%ok) return
-    end do
+    ! new_scene checks the masses, radii, positions and inertias
     if (allocated(inertia)) then
       call new_scene(sc, dim, x, m, r, status, v=v, fixed=is_fixed, inertia=inertia)
     else
@@ -369,11 +363,11 @@ contains
         status%message = "&"//g//": bonds: "//status%message
         return
       end if
-      call check_real(g, "k_bond", k_bond, status)
-      call check_real(g, "k_bond_tangential", k_bond_tangential, status, inclusive=.true.)
-      if (status%stat /= demstep_stat%ok) return
-      sc%k_bond = k_bond
-      sc%k_bond_tangential = k_bond_tangential
+      call scene_set_bond_stiffness(sc, k_bond, k_bond_tangential, status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": "//status%message
+        return
+      end if
     end if
 
     ! effects
@@ -383,7 +377,8 @@ contains
         if (len_trim(effects(i)) == 0) cycle
         if (lowercase(trim(effects(i))) == "none") cycle
         if (effect_index(lowercase(trim(effects(i)))) == 0) then
-          call fail("effects", "unknown effect '"//trim(effects(i))//"' ("//effect_list()//", none)")
+          call fail("effects", "unknown effect '"//trim(effects(i))//"' ("//word_list(effect_names(:n_effects))// &
+            ", none)")
           return
         end if
         sc%effects(effect_index(lowercase(trim(effects(i))))) = .true.
@@ -394,30 +389,38 @@ contains
       given(group, "type_k_normal") .or. given(group, "young")))
     select case (lowercase(trim(law)))
     case ("linear")
-      sc%law = contact_law%linear
-      if ((sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. typed)) &
-        .or. sc%effects(scene_effect%walls)) call check_real(g, "k_normal", k_normal, status)
-      sc%k_normal = k_normal
-      if (given(group, "k_tangential") .and. given(group, "kt_ratio")) call fail("kt_ratio", &
-        "give either k_tangential or kt_ratio, not both")
-      if (given(group, "k_tangential")) call check_real(g, "k_tangential", k_tangential, status, inclusive=.true.)
+      law_id = contact_law%linear
+      if (given(group, "k_tangential") .and. given(group, "kt_ratio")) then
+        call fail("kt_ratio", "give either k_tangential or kt_ratio, not both")
+        return
+      end if
       if (given(group, "kt_ratio")) then
+        ! the ratio is the app's way to give k_tangential: the library never sees it
         call check_real(g, "kt_ratio", kt_ratio, status, inclusive=.true.)
+        if (status%stat /= demstep_stat%ok) return
         k_tangential = kt_ratio*k_normal
       end if
-      sc%k_tangential = k_tangential
+      law_values = [k_normal, k_tangential]
+      law_given = given(group, "k_normal") .or. given(group, "k_tangential")
     case ("hertz")
-      sc%law = contact_law%hertz
-      if ((sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. typed)) &
-        .or. sc%effects(scene_effect%walls)) call check_real(g, "e_star", e_star, status)
-      sc%e_star = e_star
-      if (given(group, "g_star")) call check_real(g, "g_star", g_star, status, inclusive=.true.)
-      sc%g_star = g_star
+      law_id = contact_law%hertz
+      law_values = [e_star, g_star]
+      law_given = given(group, "e_star") .or. given(group, "g_star")
     case default
       call fail("law", "unknown word '"//trim(law)//"' (linear, hertz)")
       return
     end select
-    if (status%stat /= demstep_stat%ok) return
+    if (law_given .or. (sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. typed)) &
+      .or. sc%effects(scene_effect%walls)) then
+      call scene_set_law(sc, law_id, law_values(1), law_values(2), status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": "//status%message
+        return
+      end if
+    else
+      ! per-type or listed stiffness, or no contacts: the law's own values go unused
+      sc%law = law_id
+    end if
     if (from_material) then
       call material_springs(sc, deck_mat, ptypes, status)
       if (status%stat /= demstep_stat%ok) return
@@ -454,18 +457,16 @@ contains
     if (sc%effects(scene_effect%gravity)) then
       call array_length(g, "gravity", gravity, nv, status)
       if (status%stat /= demstep_stat%ok) return
-      sc%gravity = 0.0_dp
       if (nv == 0) then
-        sc%gravity(dim) = -9.81_dp
-      else if (nv /= dim) then
-        call fail("gravity", "needs "//fmt_int(int(dim, i8))//" components")
+        ! the default: standard gravity along the last axis
+        gravity(:dim) = 0.0_dp
+        gravity(dim) = -9.81_dp
+        nv = dim
+      end if
+      call scene_set_gravity(sc, gravity(:nv), status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": "//status%message
         return
-      else
-        sc%gravity(:dim) = gravity(:dim)
-        if (.not. all(ieee_is_finite(gravity(:dim)))) then
-          call fail("gravity", "must be finite")
-          return
-        end if
       end if
     end if
     if (sc%effects(scene_effect%damping)) then
@@ -480,8 +481,7 @@ contains
         if (status%stat /= demstep_stat%ok) return
         damping_ratio = restitution_to_damping_ratio(restitution)
       end if
-      call check_real(g, "damping_ratio", damping_ratio, status, inclusive=.true.)
-      if (status%stat /= demstep_stat%ok) return
+      ! the library checks the range (assembly_critical_steps, scene_run)
       sc%damping_ratio = damping_ratio
     end if
     if (from_material .and. .not. (given(group, "effects") .or. given(group, "damping_ratio") .or. &
@@ -509,16 +509,14 @@ contains
     case ("current")
       mode = hertz_modes%current
     case ("impact")
+      ! the library checks impact_velocity
       mode = hertz_modes%impact
-      call check_real(g, "impact_velocity", impact_velocity, status)
-      if (status%stat /= demstep_stat%ok) return
     case default
       call fail("hertz_linearization", "unknown word '"//trim(hertz_linearization)//"' (current, impact)")
       return
     end select
     call check_real(g, "duration", duration, status, inclusive=.true.)
     if (given(group, "dt")) call check_real(g, "dt", dt, status)
-    if (given(group, "n_per_period")) call check_real(g, "n_per_period", n_per_period, status)
     if (status%stat /= demstep_stat%ok) return
     if (duration > 0.0_dp .and. .not. (given(group, "dt") .or. given(group, "n_per_period"))) then
       call fail("dt", "a run (duration > 0) needs dt or n_per_period")
@@ -666,6 +664,25 @@ contains
 
   end subroutine handle_scene
 
+  !> Whether a `&scene` among `groups` takes its particle types' materials
+  !> from the deck's `&material` group: a snapshot without stiffness of its own.
+  pure logical function scene_takes_material(groups) result(takes)
+    type(nml_group_type), intent(in) :: groups(:)
+    integer :: k
+    takes = .false.
+    do k = 1, size(groups)
+      if (groups(k)%name /= "scene") cycle
+      if (given(groups(k), "snapshot_file") .and. .not. own_stiffness(groups(k))) takes = .true.
+    end do
+  end function scene_takes_material
+
+  !> Whether a `&scene` group gives the contact stiffness itself (one law, or per type).
+  pure logical function own_stiffness(group)
+    type(nml_group_type), intent(in) :: group
+    own_stiffness = given(group, "k_normal") .or. given(group, "e_star") .or. &
+      given(group, "type_k_normal") .or. given(group, "young")
+  end function own_stiffness
+
   !> The step count of a run, refused when it is absurd, and announced on stderr
   !> (unless quiet) when the run is big enough to matter: the cost per
   !> particle-step is then measured (`measure_step_cost`, about 0.2 s) and the
@@ -729,16 +746,6 @@ contains
       path = deck(:k)//name
     end if
   end function beside
-
-  pure function effect_list() result(text)
-    character(len=:), allocatable :: text
-    integer :: i
-    text = ""
-    do i = 1, n_effects
-      if (i > 1) text = text//", "
-      text = text//trim(effect_names(i))
-    end do
-  end function effect_list
 
   !> A particles table: per row dim positions, dim velocities, mass, radius and
   !> fixed (0 or 1), optionally the moment of inertia (the same columns on every

@@ -7,11 +7,11 @@ module demstep_cli_stiffness
     new_spring, critical_time_step, recommended_step, step_governs, default_safety
   use demstep_status, only: set_status
   use demstep_namelist, only: lowercase
-  use demstep_stiffness, only: default_n_max, default_resolution, n_scan_start
+  use demstep_stiffness, only: default_n_max, default_resolution
   use demstep_stiffness, only: procedure_cost, measure_evaluation_cost, max_procedure_evaluations
   use, intrinsic :: iso_fortran_env, only: error_unit
   use demstep_cli, only: recommended_line, var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
-    check_real, new_array, array_length, default_text, max_values, capacity_of
+    new_array, array_length, default_text, max_values, capacity_of
   implicit none
   private
 
@@ -86,12 +86,8 @@ contains
     weights = new_array(capacity_of(specs, "weights"))
     call read_group(group, specs, read_item, status)
     if (status%stat /= demstep_stat%ok) return
-    call check_real(g, "mass", mass, status)
-    call check_real(g, "stiffness", stiffness, status)
-    call check_real(g, "tolerance", tolerance, status)
-    call check_real(g, "n_max", n_max, status, lower=2.0_dp*n_scan_start)
-    call check_real(g, "resolution", resolution, status)
-    if (status%stat /= demstep_stat%ok) return
+    ! mass, stiffness, tolerance, n_max, resolution, the lambdas and weights:
+    ! run_procedure checks them all before the scan
 
     ! the lambda set: a list, or an even set from min, max and count
     call array_length(g, "lambda", lambda, n_lambda, status)
@@ -122,16 +118,12 @@ contains
       call new_step_policy(input%options%policy, step_kind%fraction, 0.5_dp, status)
     case ("fraction", "rounded")
       kind = merge(step_kind%fraction, step_kind%rounded, lowercase(trim(adjustl(steps))) == "fraction")
-      call check_real(g, "steps_fraction", steps_fraction, status)
-      if (status%stat /= demstep_stat%ok) return
       call new_step_policy(input%options%policy, kind, steps_fraction, status)
     case ("fixed")
       if (.not. given(group, "n_steps")) then
         call set_status(status, demstep_stat%invalid_input, "&"//g//": n_steps: required with steps = 'fixed'")
         return
       end if
-      call check_real(g, "n_steps", n_steps, status)
-      if (status%stat /= demstep_stat%ok) return
       call new_step_policy(input%options%policy, step_kind%fixed, n_steps, status)
     case default
       call set_status(status, demstep_stat%invalid_input, "&"//g//": steps: unknown word '"// &
@@ -171,15 +163,6 @@ contains
     call array_length(g, "weights", weights, n_weights, status)
     if (status%stat /= demstep_stat%ok) return
     if (input%aggregate == aggregate_kind%weighted) then
-      if (n_weights /= size(input%lambdas)) then
-        call set_status(status, demstep_stat%invalid_input, "&"//g//": weights: "// &
-          fmt_int(int(n_weights, i8))//" given for "//fmt_int(int(size(input%lambdas), i8))//" lambdas")
-        return
-      end if
-      do i = 1, n_weights
-        call check_real(g, "weights", weights(i), status, inclusive=.true., element=i)
-      end do
-      if (status%stat /= demstep_stat%ok) return
       input%weights = weights(:n_weights)
     else if (n_weights > 0) then
       call set_status(status, demstep_stat%invalid_input, "&"//g//": weights: only used with " &

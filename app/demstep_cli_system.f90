@@ -7,7 +7,8 @@ module demstep_cli_system
   use demstep_kinds, only: pi
   use demstep_namelist, only: lowercase
   use demstep_status, only: set_status
-  use demstep_cli, only: recommended_line, var_spec, var, given, read_group, check_real, fmt_real, fmt_int, &
+  use demstep_cli, only: report_row, recommended_line, var_spec, var, given, read_group, check_real, &
+    fmt_real, fmt_int, &
     cli_context
   implicit none
   private
@@ -51,12 +52,10 @@ contains
 
     call read_group(group, system_specs(), read_item, status)
     if (status%stat /= demstep_stat%ok) return
-    call check_real(g, "mass", mass, status)
-    call check_real(g, "stiffness", stiffness, status)
-    call check_real(g, "damping_ratio", damping_ratio, status, inclusive=.true.)
+    ! mass, stiffness, damping_ratio (new_spring), dt and n_per_period
+    ! (check_time_step, step_for_n_per_period) are the library's to check;
+    ! the impact velocity is the report's own
     call check_real(g, "velocity", velocity, status)
-    if (given(group, "dt")) call check_real(g, "dt", dt, status)
-    if (given(group, "n_per_period")) call check_real(g, "n_per_period", n_per_period, status)
     if (status%stat /= demstep_stat%ok) return
     select case (lowercase(trim(adjustl(dashpot))))
     case ("lagged")
@@ -117,13 +116,13 @@ contains
     dt_critical = critical_time_step(spring)
     zeta = spring_damping_ratio(spring)
     write(u, '(a)') "&system (line "//fmt_int(int(group%line, i8))//")"
-    call row(u, "mass M", fmt_real(spring%mass))
-    call row(u, "stiffness K", fmt_real(spring%stiffness))
-    if (zeta > 0.0_dp) call row(u, "damping ratio", fmt_real(zeta)//merge(" (lagged dashpot) ", &
+    call report_row(u, 2, "mass M", fmt_real(spring%mass))
+    call report_row(u, 2, "stiffness K", fmt_real(spring%stiffness))
+    if (zeta > 0.0_dp) call report_row(u, 2, "damping ratio", fmt_real(zeta)//merge(" (lagged dashpot) ", &
       " (centred dashpot)", spring%dashpot == dashpot_kind%lagged))
-    call row(u, "natural period T", fmt_real(period)//"  (2 pi sqrt(M/K))")
-    call row(u, "omega", fmt_real(omega))
-    call row(u, "critical step", fmt_real(dt_critical)//"  (T/"//fmt_real(period/dt_critical)//")")
+    call report_row(u, 2, "natural period T", fmt_real(period)//"  (2 pi sqrt(M/K))")
+    call report_row(u, 2, "omega", fmt_real(omega))
+    call report_row(u, 2, "critical step", fmt_real(dt_critical)//"  (T/"//fmt_real(period/dt_critical)//")")
     call recommended_step(dt_critical, dt_recommended, governs, status)
     if (status%stat /= demstep_stat%ok) then
       status%message = "&system: "//status%message
@@ -138,9 +137,9 @@ contains
     n_per_period = period/dt
     stable = dt < dt_critical
     rho = growth_factor(spring, dt)
-    call row(u, "time step dt", fmt_real(dt)//"  (N = T/dt = "//fmt_real(n_per_period)//")")
+    call report_row(u, 2, "time step dt", fmt_real(dt)//"  (N = T/dt = "//fmt_real(n_per_period)//")")
     if (.not. stable) then
-      call row(u, "stable", "NO: dt >= critical step; amplitude grows by "//fmt_real(rho)// &
+      call report_row(u, 2, "stable", "NO: dt >= critical step; amplitude grows by "//fmt_real(rho)// &
         " per step")
       call write_unstable(ctx%results, period, omega, dt_critical, dt, n_per_period, rho, dt_recommended)
       call recommend_line(u, dt_recommended)
@@ -168,21 +167,21 @@ contains
         //" must stay in the double range), got "//fmt_real(velocity))
       return
     end if
-    call row(u, "stable", "yes (dt/dt_critical = "//fmt_real(dt/dt_critical)//")")
-    call row(u, "phase per step theta", fmt_real(theta)//"  (2 asin(omega dt/2), undamped)")
-    call row(u, "numerical period", fmt_real(period_numerical)//"  (error " &
+    call report_row(u, 2, "stable", "yes (dt/dt_critical = "//fmt_real(dt/dt_critical)//")")
+    call report_row(u, 2, "phase per step theta", fmt_real(theta)//"  (2 asin(omega dt/2), undamped)")
+    call report_row(u, 2, "numerical period", fmt_real(period_numerical)//"  (error " &
       //fmt_real(100.0_dp*(period_numerical/period - 1.0_dp))//" %)")
     write(u, '(2x, a)') "discrete contact, onset at a step, impact speed "//fmt_real(velocity)//":"
     if (contact%steps_saturated) then
-      call row(u, "  steps in contact", "more than "//fmt_int(contact%steps)//" (saturated at 2^63 - 1)")
+      call report_row(u, 2, "  steps in contact", "more than "//fmt_int(contact%steps)//" (saturated at 2^63 - 1)")
     else
-      call row(u, "  steps in contact", fmt_int(contact%steps))
+      call report_row(u, 2, "  steps in contact", fmt_int(contact%steps))
     end if
-    call row(u, "  contact time", fmt_real(contact%contact_time*(0.5_dp*period))//"  (exact T/2 = " &
+    call report_row(u, 2, "  contact time", fmt_real(contact%contact_time*(0.5_dp*period))//"  (exact T/2 = " &
       //fmt_real(0.5_dp*period)//")")
-    call row(u, "  restitution", fmt_real(contact%restitution)//merge(" (gains energy)", &
+    call report_row(u, 2, "  restitution", fmt_real(contact%restitution)//merge(" (gains energy)", &
       "               ", contact%restitution > 1.0_dp))
-    call row(u, "  max overlap", fmt_real(overlap)// &
+    call report_row(u, 2, "  max overlap", fmt_real(overlap)// &
       "  (exact v0/omega = "//fmt_real(velocity/omega)//")")
     call recommend_line(u, dt_recommended)
     call write_stable(ctx%results, period, omega, dt_critical, dt, n_per_period, rho, theta, &
@@ -194,17 +193,12 @@ contains
   subroutine recommend_line(u, dt_recommended)
     integer, intent(in) :: u
     real(dp), intent(in) :: dt_recommended
-    call row(u, "governs", "stability ("//fmt_real(default_safety)//" of the critical step; " &
+    call report_row(u, 2, "governs", "stability ("//fmt_real(default_safety)//" of the critical step; " &
       //"&accuracy_cost gives the step for a tolerance)")
     call recommended_line(u, dt_recommended)
     write(u, '(a)') ""
   end subroutine recommend_line
 
-  subroutine row(unit, label, value)
-    integer, intent(in) :: unit
-    character(len=*), intent(in) :: label, value
-    write(unit, '(2x, a, t28, a)') label, trim(value)
-  end subroutine row
 
   !> Result without a time step.
   subroutine write_basic(unit, period, omega, dt_critical, dt_recommended)

@@ -11,6 +11,7 @@ program demstep_main
     same_file
   use demstep_cli_registry, only: cli_groups, find_group, group_list
   use demstep_cli_mfix, only: run_mfix, mfix_default_tolerance
+  use demstep_cli_scene, only: scene_takes_material
   implicit none
 
   character(len=:), allocatable :: input, output, arg, text, skipped, format, value
@@ -124,6 +125,8 @@ program demstep_main
     if (allocated(groups)) deallocate(groups)
     allocate(groups(0))
   end if
+  ! a packing's &material reports single contacts (whichever group comes first)
+  ctx%material_in_scene = scene_takes_material(groups)
   do i = 1, size(groups)
     k = find_group(registry, groups(i)%name)
     if (k == 0) then

@@ -15,6 +15,7 @@ module demstep_material
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: real_text
   use demstep_spring, only: damped_limit
+  use demstep_interaction, only: hertz_e_star, mindlin_g_star
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -248,9 +249,8 @@ contains
     ! forms that never overflow: x y/(x + y) = x/(1 + x/y)
     eff%m_star = eff%m_a/(1.0_dp + eff%m_a/eff%m_b)
     eff%r_star = a%radius/(1.0_dp + a%radius/b%radius)
-    eff%e_star = 1.0_dp/((1.0_dp - a%poisson**2)/a%young + (1.0_dp - b%poisson**2)/b%young)
-    eff%g_star = 1.0_dp/(2.0_dp*(2.0_dp - a%poisson)*(1.0_dp + a%poisson)/a%young &
-      + 2.0_dp*(2.0_dp - b%poisson)*(1.0_dp + b%poisson)/b%young)
+    eff%e_star = hertz_e_star(a%young, a%poisson, b%young, b%poisson)
+    eff%g_star = mindlin_g_star(a%young, a%poisson, b%young, b%poisson)
     if (.not. (ieee_is_finite(eff%e_star) .and. ieee_is_finite(eff%g_star) .and. &
       eff%e_star > 0.0_dp .and. eff%g_star > 0.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, &

@@ -1091,9 +1091,12 @@ contains
       if (.not. allocated(input%weights)) then
         call set_status(status, demstep_stat%invalid_input, "weights: weighted aggregation needs weights")
       else if (size(input%weights) /= n) then
-        call set_status(status, demstep_stat%invalid_input, "weights: one weight per lambda is needed")
-      else if (any(.not. (input%weights >= 0.0_dp)) .or. .not. all(ieee_is_finite(input%weights))) then
-        call set_status(status, demstep_stat%invalid_input, "weights: must be finite and >= 0")
+        call set_status(status, demstep_stat%invalid_input, "weights: "//int_text(size(input%weights))// &
+          " given for "//int_text(n)//" lambdas (one weight per lambda)")
+      else if (any(.not. (input%weights >= 0.0_dp .and. input%weights <= huge(1.0_dp)))) then
+        i = findloc(input%weights >= 0.0_dp .and. input%weights <= huge(1.0_dp), .false., dim=1)
+        call set_status(status, demstep_stat%invalid_input, "weights: element "//int_text(i)//" is " &
+          //value_text(input%weights(i))//"; must be finite and >= 0")
       else if (.not. any(input%weights > 0.0_dp)) then
         call set_status(status, demstep_stat%invalid_input, "weights: must not all be 0")
       end if

@@ -46,7 +46,9 @@ contains
       new_unittest("&material liggghts_hooke: k_n of LIGGGHTS' formula (quad)", test_hooke_quad), &
       new_unittest("LIGGGHTS' own Hooke k_n, recovered from a run, is liggghts_hooke's", test_liggghts_kn), &
       new_unittest("a bad file: one line naming the file and the line", test_bad_file), &
-      new_unittest("exclusive inputs and missing materials refused naming the variable", test_refused) &
+      new_unittest("exclusive inputs and missing materials refused naming the variable", test_refused), &
+      new_unittest("a packing's &material reports single contacts: one recommended dt, either order", &
+        test_one_recommended) &
       ]
   end subroutine collect_app_snapshot
 
@@ -126,6 +128,62 @@ contains
       if (allocated(error)) return
     end do
   end subroutine same_numbers
+
+  !> How often `piece` stands in `text`.
+  pure integer function occurrences(text, piece) result(n)
+    character(len=*), intent(in) :: text, piece
+    integer :: k, at
+    n = 0
+    at = 1
+    do
+      k = index(text(at:), piece)
+      if (k == 0) return
+      n = n + 1
+      at = at + k + len(piece) - 1
+    end do
+  end function occurrences
+
+  !> A deck whose &scene takes its materials from &material prints one
+  !> recommended dt (the packing's), whichever group comes first; the &material
+  !> report is marked as single contacts. A &scene with stiffness of its own
+  !> leaves the &material group its own recommendation.
+  subroutine test_one_recommended(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(snapshot_result_type) :: res
+    character(len=:), allocatable :: text, stdout, first
+    character(len=80), parameter :: scene(3) = [character(len=80) :: "&scene", &
+      "dim = 3, snapshot_file = '../../example/liggghts_pour.dump' /", ""]
+    character(len=80), parameter :: material(4) = [character(len=80) :: "&material", &
+      "young = 1.0e7, poisson = 0.25, density = 2500.0, radius = 1.0e-3, 0.8e-3,", &
+      "restitution = 0.9, impact_velocity = 1.0, code = 'liggghts_hertz' /", ""]
+    character(len=*), parameter :: line = "recommended dt = "
+    call expect_run(error, "example/snapshot_liggghts.nml", out, res, text, stdout)
+    if (allocated(error)) return
+    call check(error, occurrences(stdout, line) == 1 .and. occurrences(stdout, "single-contact dt") == 1 &
+      .and. index(stdout, "(single contacts of each pair of types;") > 0, &
+      "the example: one recommended dt, the &material marked single-contact: "//stdout)
+    if (allocated(error)) return
+    ! the packing's recommendation is 0.9 of its damped limit, as in test_dump
+    call check(error, scalar(text, "DT_RECOMMENDED") == 0.9_dp*scalar(text, "DT_CRITICAL_DAMPED"), &
+      "the first DT_RECOMMENDED is the packing's")
+    if (allocated(error)) return
+    first = stdout(index(stdout, line):)
+    first = first(:index(first, new_line("a")))
+    ! &material before &scene: the same single recommended dt
+    call write_file(deck, [material, scene])
+    call expect_run(error, deck, out, res, text, stdout)
+    if (allocated(error)) return
+    call check(error, occurrences(stdout, line) == 1 .and. occurrences(stdout, "single-contact dt") == 1 &
+      .and. index(stdout, first) > 0, "&material first: one recommended dt, the packing's: "//stdout)
+    if (allocated(error)) return
+    ! the scene's own k_normal: the &material group is not the packing's, it recommends its own dt
+    call write_file(deck, [character(len=80) :: scene(1), &
+      "dim = 3, snapshot_file = '../../example/liggghts_pour.dump', k_normal = 1.0e3 /", "", material])
+    call expect_run(error, deck, out, res, text, stdout)
+    if (allocated(error)) return
+    call check(error, occurrences(stdout, line) == 2 .and. occurrences(stdout, "single-contact dt") == 0, &
+      "a scene with its own stiffness: each group recommends: "//stdout)
+  end subroutine test_one_recommended
 
   !> Rayleigh time pi r sqrt(rho/G)/(0.1631 nu + 0.8766), G = E/(2 (1 + nu)), in quad.
   pure real(qp) function rayleigh_q(e, nu, rho, r) result(t)

@@ -206,7 +206,7 @@ contains
     if (allocated(error)) return
     ! 1e6 digits overflow the double range: refused naming the variable
     call expect_one_line(error, "&system mass = 1"//repeat("3", mega)//","//system_tail, &
-      "&system: mass: must be a finite number")
+      "&system: mass: must be finite and > 0")
     if (allocated(error)) return
     ! a 1 MB list for a scalar: the value is quoted in short
     call expect_one_line(error, "&system mass = "//repeat("1.0, ", mega/5)//system_tail, &
