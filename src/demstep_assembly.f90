@@ -119,7 +119,7 @@ module demstep_assembly
     logical :: eigen_computed = .false.
     !> Which solver ran (`eigen_solver%dense`, `%lanczos`, or `%none`).
     integer :: solver = 4
-    !> The solver's relative tolerance (Lanczos: residual <= tolerance * omega^2;
+    !> The solver's relative tolerance (for Lanczos, residual <= tolerance * omega^2;
     !> dense: the working precision), and the measured relative residual
     !> ||A z - theta z||/theta of the returned mode z (one more product).
     real(dp) :: eigen_tolerance = 0.0_dp, eigen_residual = 0.0_dp
@@ -184,7 +184,7 @@ contains
     logical, intent(in), optional :: prestress
     !> `eigen_solver%auto` (default), `%dense`, `%lanczos` or `%none`.
     integer, intent(in), optional :: solver
-    !> Lanczos: relative residual tolerance on omega_max^2, in [2.2e-16, 0.1]
+    !> The Lanczos relative residual tolerance on omega_max^2, in [2.2e-16, 0.1]
     !> (default `lanczos_tolerance_default`).
     real(dp), intent(in), optional :: tolerance
     !> Reports the Lanczos products.
