@@ -213,6 +213,8 @@ contains
             end if
           end do
         end if
+        ! a given variable that excludes this one replaces it too
+        if (s%required .and. .not. (given(group, s%name) .or. any_other)) any_other = replaced(s%name)
         if (s%required .and. .not. (given(group, s%name) .or. any_other)) then
           if (len_trim(s%excludes) == 0) then
             call set_status(status, demstep_stat%invalid_input, "&"//group%name//": "//s%name// &
@@ -226,6 +228,23 @@ contains
       end associate
     end do
     status%stat = demstep_stat%ok
+  contains
+    !> Whether a given variable lists `name` among the ones it excludes.
+    pure logical function replaced(name)
+      character(len=*), intent(in) :: name
+      integer :: j, start
+      character(len=:), allocatable :: word
+      replaced = .false.
+      do j = 1, size(specs)
+        if (.not. given(group, specs(j)%name)) cycle
+        start = 1
+        do while (start <= len(specs(j)%excludes))
+          call next_word(specs(j)%excludes, start, word)
+          if (len(word) == 0) exit
+          if (word == name) replaced = .true.
+        end do
+      end do
+    end function replaced
   end subroutine check_rules
 
   !> The next blank-separated word of `list` from `start` ('' at the end).

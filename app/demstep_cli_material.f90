@@ -17,7 +17,7 @@ module demstep_cli_material
   implicit none
   private
 
-  public :: material_specs, material_doc, handle_material
+  public :: material_specs, material_doc, handle_material, read_material
 
   character(len=*), parameter :: material_doc = &
     "Particle types (E, nu, density, radius): per pair the contact parameters in each code's " &
@@ -65,16 +65,37 @@ contains
     type(cli_context), intent(in) :: ctx
     type(nml_group_type), intent(in) :: group
     type(demstep_status_type), intent(out) :: status
-    real(dp), allocatable :: young(:), poisson(:), density(:), radius(:)
+    type(material_type), allocatable :: types(:)
     real(dp) :: restitution, restitution_t, impact_velocity, tolerance
+    integer :: first, last
+    call read_material(group, types, restitution, restitution_t, impact_velocity, first, last, &
+      tolerance, status)
+    if (status%stat /= demstep_stat%ok) return
+    call evaluate(ctx, group, types, restitution, restitution_t, impact_velocity, first, last, &
+      given(group, "tolerance"), tolerance, status)
+    if (status%stat /= demstep_stat%ok) status%message = "&material: "//status%message
+  end subroutine handle_material
+
+  !> Read and check one `&material` group: the types, the loading, the
+  !> conventions `first` to `last` (`code`) and the tolerance (0 when not given).
+  !> Messages start with `&material: `. Also used by `&scene` for a snapshot's types.
+  subroutine read_material(group, types, restitution, restitution_t, impact_velocity, first, last, &
+      tolerance, status)
+    type(nml_group_type), intent(in) :: group
+    type(material_type), allocatable, intent(out) :: types(:)
+    real(dp), intent(out) :: restitution, restitution_t, impact_velocity, tolerance
+    integer, intent(out) :: first, last
+    type(demstep_status_type), intent(out) :: status
+    real(dp), allocatable :: young(:), poisson(:), density(:), radius(:)
     character(len=32) :: code
     namelist /material/ young, poisson, density, radius, restitution, restitution_t, impact_velocity, &
       code, tolerance
     type(var_spec), allocatable :: specs(:)
-    type(material_type), allocatable :: types(:)
-    integer :: lengths(4), n, k, first, last
+    integer :: lengths(4), n, k
     character(len=*), parameter :: g = "material"
 
+    first = 0
+    last = -1
     specs = material_specs()
     young = new_array(capacity_of(specs, "young"))
     poisson = new_array(capacity_of(specs, "poisson"))
@@ -115,16 +136,13 @@ contains
         return
       end if
     end if
-    call evaluate(ctx, group, types, restitution, restitution_t, impact_velocity, first, last, &
-      given(group, "tolerance"), tolerance, status)
-    if (status%stat /= demstep_stat%ok) status%message = "&material: "//status%message
   contains
     subroutine read_item(text, ios)
       character(len=*), intent(in) :: text
       integer, intent(out) :: ios
       read(text, nml=material, iostat=ios)
     end subroutine read_item
-  end subroutine handle_material
+  end subroutine read_material
 
   !> Per pair of types: conventions, time scales, rules and limits; then the
   !> recommended step over all pairs.

@@ -10,8 +10,16 @@ module demstep_cli_scene
     scene_run, effect_index, restitution_to_damping_ratio, contact_law, scene_effect, &
     scene_set_contacts, scene_set_cell, scene_set_types, scene_set_hertz_types, n_effects, &
     effect_names, critical_step_type, assembly_critical_steps, hertz_modes => hertz_linearization, &
-    default_max_eigen_dof, measure_step_cost, text_progress_type, assembly_step_for_n_per_period
+    default_max_eigen_dof, measure_step_cost, text_progress_type, assembly_step_for_n_per_period, &
+    demstep_eigen_solver => eigen_solver, eigen_solver_name, lanczos_tolerance_default
   use demstep_recommend, only: recommended_step, default_safety
+  use demstep_snapshot, only: snapshot_type, read_snapshot, snapshot_format, snapshot_format_names, &
+    snapshot_masses_from_types
+  use demstep_material, only: material_type, material_pair_type, contact_parameters_type, &
+    peer_steps_type, contact_parameters, peer_time_steps, convention_names, peer_rule_names, &
+    n_conventions, n_peer_rules
+  use demstep_namelist, only: read_text_file, scan_namelist
+  use demstep_cli_material, only: read_material
   use demstep_cli, only: recommended_line, var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
     check_real, new_array, array_length, new_int_array, int_array_length, max_values, &
     capacity_of
@@ -28,6 +36,21 @@ module demstep_cli_scene
 
   !> Most effects one group may list.
   integer, parameter :: max_effects = 16
+
+  !> Most particle types of a snapshot (per-type tables are nt x nt).
+  integer, parameter :: max_snapshot_types = 1000
+
+  !> The deck's `&material` group, for a snapshot's particle types.
+  type :: deck_material_type
+    logical :: found = .false.
+    !> Line of the group in the deck.
+    integer :: line = 0
+    !> One material per particle type (broadcast to the snapshot's types).
+    type(material_type), allocatable :: types(:)
+    real(dp) :: restitution = 1.0_dp, restitution_t = 0.0_dp, impact_velocity = 0.0_dp, tolerance = 0.0_dp
+    !> The conventions named by `code` (first = last: one code).
+    integer :: first = 0, last = -1
+  end type deck_material_type
 
 contains
 
@@ -51,6 +74,14 @@ contains
       var("particles_file", "a quoted file name", "table instead of the arrays: per row dim " &
         //"positions, dim velocities, mass, radius, fixed (0/1), optionally the moment of inertia; " &
         //"# comments", "!'particles.txt'", excludes="velocity mass radius fixed"), &
+      var("snapshot_file", "a quoted file name", "particles (and the periodic box) from a DEM code's " &
+        //"file: LAMMPS/LIGGGHTS dump or data file, Yade text export; masses from the file, else " &
+        //"from a &material group's density per type", "!'dump.liggghts'", &
+        excludes="position particles_file velocity mass radius fixed types"), &
+      var("snapshot_format", "a quoted word", "'auto', 'lammps_dump', 'lammps_data' or 'yade_text'", &
+        "!'auto'", default="'auto'", needs="snapshot_file"), &
+      var("snapshot_frame", "an integer", "dump frame: 1, 2, ... from the first; 0 the last, -1 the " &
+        //"one before, ...", "!0", default="0", needs="snapshot_file"), &
       var("contacts_file", "a quoted file name", "explicit contacts instead of detection: per row " &
         //"i j k_n k_t (particle numbers as in the particle table)", "!'contacts.txt'"), &
       var("periodic", "a list of logicals", "periodic axes", "!T, T, T", capacity=3, &
@@ -111,8 +142,14 @@ contains
         excludes="n_per_period"), &
       var("n_per_period", "a real number", "steps per smallest period 2 pi/omega_max (> pi " &
         //"to be stable)", "20.0"), &
-      var("max_eigen_dof", "an integer", "largest problem for the dense eigensolver", "!"// &
-        fmt_int(int(default_max_eigen_dof, i8)), default=fmt_int(int(default_max_eigen_dof, i8))) ]
+      var("eigen_solver", "a quoted word", "exact omega_max by 'auto', 'dense' (LAPACK), " &
+        //"'lanczos' (ARPACK) or 'none' (the bound only)", "!'auto'", default="'auto'"), &
+      var("eigen_tolerance", "a real number", "Lanczos: relative residual on omega_max^2, " &
+        //"in [2.2e-16, 0.1]", "!"//fmt_real(lanczos_tolerance_default), &
+        default=fmt_real(lanczos_tolerance_default)), &
+      var("max_eigen_dof", "an integer", "'auto' takes Lanczos above this, the largest problem " &
+        //"for the dense eigensolver", "!"//fmt_int(int(default_max_eigen_dof, i8)), &
+        default=fmt_int(int(default_max_eigen_dof, i8))) ]
   end function scene_specs
 
   !> Read, check and evaluate one `&scene` group.
@@ -127,18 +164,27 @@ contains
     integer, allocatable :: fixed(:), bonds(:), types(:)
     real(dp), allocatable :: type_k_normal(:), type_k_tangential(:), young(:), poisson(:), kk(:, :, :)
     integer :: nty, nkn, nkt, nt
-    character(len=512) :: particles_file, bonds_file, contacts_file
-    character(len=32) :: law, hertz_linearization
+    character(len=512) :: particles_file, bonds_file, contacts_file, snapshot_file
+    character(len=32) :: snapshot_format
+    integer :: snapshot_frame
+    type(snapshot_type) :: snap
+    type(deck_material_type) :: deck_mat
+    integer, allocatable :: ptypes(:)
+    logical :: from_material, typed
+    character(len=200), allocatable :: snapshot_lines(:)
+    real(dp) :: peer_dt(n_peer_rules)
+    character(len=32) :: law, hertz_linearization, eigen_solver
     character(len=32) :: effects(max_effects)
     real(dp) :: k_normal, e_star, k_bond, k_bond_tangential, damping_ratio, restitution, &
       local_damping, impact_velocity, duration, dt, n_per_period, k_tangential, kt_ratio, g_star, &
-      friction, cell_lo(3), cell_hi(3)
+      friction, cell_lo(3), cell_hi(3), eigen_tolerance
     logical :: periodic(3), prestress
     namelist /scene/ dim, position, velocity, mass, radius, fixed, bonds, particles_file, &
       bonds_file, law, k_normal, e_star, k_bond, k_bond_tangential, walls, effects, gravity, &
       damping_ratio, restitution, local_damping, hertz_linearization, impact_velocity, duration, &
       dt, n_per_period, max_eigen_dof, contacts_file, periodic, cell_lo, cell_hi, k_tangential, &
-      kt_ratio, g_star, friction, prestress, types, type_k_normal, type_k_tangential, young, poisson
+      kt_ratio, g_star, friction, prestress, types, type_k_normal, type_k_tangential, young, poisson, &
+      eigen_solver, eigen_tolerance, snapshot_file, snapshot_format, snapshot_frame
     type(var_spec), allocatable :: specs(:)
     character(len=*), parameter :: g = "scene"
     type(scene_type) :: sc
@@ -148,7 +194,7 @@ contains
     integer, allocatable :: contact_pairs(:, :), contact_lines(:)
     logical, allocatable :: is_fixed(:)
     integer, allocatable :: pairs(:, :)
-    integer :: i, n, np, nv, nm, nr, nf, nb, nw, mode
+    integer :: i, n, np, nv, nm, nr, nf, nb, nw, mode, solver
     real(dp) :: dt_used, dt_recommended
     integer :: governs
     integer(i8) :: steps
@@ -176,8 +222,28 @@ contains
       return
     end if
 
-    ! particles: a table file or the arrays
-    if (given(group, "particles_file")) then
+    ! particles: a snapshot, a table file or the arrays
+    from_material = .false.
+    if (given(group, "snapshot_file")) then
+      call find_deck_material(file, deck_mat, status)
+      if (status%stat /= demstep_stat%ok) return
+      call snapshot_particles(beside(file, trim(snapshot_file)), snapshot_format, snapshot_frame, dim, &
+        deck_mat, snap, x, v, m, r, status)
+      if (status%stat /= demstep_stat%ok) return
+      n = size(m)
+      allocate(is_fixed(n), source=.false.)
+      ptypes = snap%type
+      ! the materials: the scene's own stiffness variables, else the &material group
+      from_material = deck_mat%found .and. .not. (given(group, "k_normal") .or. given(group, "e_star") .or. &
+        given(group, "type_k_normal") .or. given(group, "young"))
+      if (.not. (from_material .or. given(group, "k_normal") .or. given(group, "e_star") .or. &
+        given(group, "type_k_normal") .or. given(group, "young"))) then
+        call fail("k_normal", "required with snapshot_file (or e_star, type_k_normal, young and poisson " &
+          //"per type, or a &material group in the deck)")
+        return
+      end if
+      if (from_material .and. .not. given(group, "law")) law = material_law(deck_mat)
+    else if (given(group, "particles_file")) then
       call read_particles(beside(file, trim(particles_file)), dim, x, v, m, r, is_fixed, inertia, status)
       if (status%stat /= demstep_stat%ok) then
         status%message = "&"//g//": particles_file: "//status%message
@@ -248,8 +314,17 @@ contains
     end if
 
     ! the periodic cell (before bonds: their rest vectors go through the nearest image)
+    if (given(group, "snapshot_file")) then
+      ! the file's box and periodic axes, unless the deck gives them
+      if (.not. given(group, "periodic")) periodic = snap%periodic
+      periodic(dim+1:) = .false.
+      if (snap%has_box .and. .not. given(group, "cell_hi")) then
+        cell_lo = snap%lo
+        cell_hi = snap%hi
+      end if
+    end if
     if (any(periodic)) then
-      if (.not. given(group, "cell_hi")) then
+      if (.not. (given(group, "cell_hi") .or. (given(group, "snapshot_file") .and. snap%has_box))) then
         call fail("cell_hi", "required with periodic axes")
         return
       end if
@@ -313,10 +388,13 @@ contains
         sc%effects(effect_index(lowercase(trim(effects(i))))) = .true.
       end do
     end if
+    ! per-type materials: the types array, or a snapshot's types with per-type stiffness
+    typed = given(group, "types") .or. (given(group, "snapshot_file") .and. (from_material .or. &
+      given(group, "type_k_normal") .or. given(group, "young")))
     select case (lowercase(trim(law)))
     case ("linear")
       sc%law = contact_law%linear
-      if ((sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. given(group, "types"))) &
+      if ((sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. typed)) &
         .or. sc%effects(scene_effect%walls)) call check_real(g, "k_normal", k_normal, status)
       sc%k_normal = k_normal
       if (given(group, "k_tangential") .and. given(group, "kt_ratio")) call fail("kt_ratio", &
@@ -329,7 +407,7 @@ contains
       sc%k_tangential = k_tangential
     case ("hertz")
       sc%law = contact_law%hertz
-      if ((sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. given(group, "types"))) &
+      if ((sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. typed)) &
         .or. sc%effects(scene_effect%walls)) call check_real(g, "e_star", e_star, status)
       sc%e_star = e_star
       if (given(group, "g_star")) call check_real(g, "g_star", g_star, status, inclusive=.true.)
@@ -339,7 +417,10 @@ contains
       return
     end select
     if (status%stat /= demstep_stat%ok) return
-    if (given(group, "types")) then
+    if (from_material) then
+      call material_springs(sc, deck_mat, ptypes, status)
+      if (status%stat /= demstep_stat%ok) return
+    else if (typed) then
       call materials()
       if (status%stat /= demstep_stat%ok) return
     end if
@@ -402,12 +483,26 @@ contains
       if (status%stat /= demstep_stat%ok) return
       sc%damping_ratio = damping_ratio
     end if
+    if (from_material .and. .not. (given(group, "effects") .or. given(group, "damping_ratio") .or. &
+      given(group, "restitution"))) then
+      ! the code damps its contacts to the &material's restitution (unless its
+      ! convention has no contact damping, as Yade's FrictPhys)
+      if (material_damped(deck_mat)) then
+        sc%effects(scene_effect%damping) = .true.
+        sc%damping_ratio = restitution_to_damping_ratio(deck_mat%restitution)
+      end if
+    end if
     if (sc%effects(scene_effect%local_damping)) then
       call check_real(g, "local_damping", local_damping, status, inclusive=.true.)
       if (status%stat == demstep_stat%ok .and. .not. local_damping < 1.0_dp) call fail("local_damping", &
         "must be in [0, 1), got "//fmt_real(local_damping))
       if (status%stat /= demstep_stat%ok) return
       sc%local_damping = local_damping
+    end if
+    if (from_material .and. .not. given(group, "hertz_linearization")) then
+      ! a &material gives the impact velocity: linearise at the impact's overlap
+      hertz_linearization = "impact"
+      if (.not. given(group, "impact_velocity")) impact_velocity = deck_mat%impact_velocity
     end if
     select case (lowercase(trim(hertz_linearization)))
     case ("current")
@@ -429,8 +524,28 @@ contains
       return
     end if
 
-    call assembly_critical_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
-      max_eigen_dof=max_eigen_dof, prestress=prestress)
+    select case (lowercase(eigen_solver))
+    case ("auto")
+      solver = demstep_eigen_solver%auto
+    case ("dense")
+      solver = demstep_eigen_solver%dense
+    case ("lanczos")
+      solver = demstep_eigen_solver%lanczos
+    case ("none")
+      solver = demstep_eigen_solver%none
+    case default
+      call fail("eigen_solver", "unknown word '"//trim(eigen_solver)//"' (auto, dense, lanczos, none)")
+      return
+    end select
+    if (ctx%quiet) then
+      call assembly_critical_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
+        max_eigen_dof=max_eigen_dof, prestress=prestress, solver=solver, tolerance=eigen_tolerance)
+    else
+      progress = text_progress_type(unit=error_unit, label="demstep: &"//g)
+      call assembly_critical_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
+        max_eigen_dof=max_eigen_dof, prestress=prestress, solver=solver, tolerance=eigen_tolerance, &
+        progress=progress)
+    end if
     if (status%stat /= demstep_stat%ok) then
       if (index(status%message, "effects:") == 1 .and. given(group, "bonds_file")) then
         ! the empty table is what left the scene without springs
@@ -475,8 +590,17 @@ contains
       status%message = "&"//g//": "//status%message
       return
     end if
-    call report(ctx%report, group, sc, crit, duration > 0.0_dp, dt_used, steps, summary, dt_recommended)
+    if (given(group, "snapshot_file")) then
+      call snapshot_summary(beside(file, trim(snapshot_file)), snap, deck_mat, from_material, sc, crit, &
+        snapshot_lines, peer_dt, status)
+      if (status%stat /= demstep_stat%ok) return
+      call report(ctx%report, group, sc, crit, duration > 0.0_dp, dt_used, steps, summary, dt_recommended, &
+        snapshot_lines)
+    else
+      call report(ctx%report, group, sc, crit, duration > 0.0_dp, dt_used, steps, summary, dt_recommended)
+    end if
     call write_result(ctx%results, sc, crit, dt_used, summary, dt_recommended)
+    if (given(group, "snapshot_file")) call write_snapshot_result(ctx%results, snap, deck_mat, crit, peer_dt)
 
   contains
 
@@ -493,12 +617,15 @@ contains
 
     !> Materials per particle type: the tables read, the library checks them.
     subroutine materials()
-      call int_array_length(g, "types", types, nty, status)
-      if (status%stat /= demstep_stat%ok) return
-      if (nty /= n) then
-        call fail("types", "needs one type per particle ("//fmt_int(int(n, i8))//"), got "// &
-          fmt_int(int(nty, i8)))
-        return
+      if (.not. given(group, "snapshot_file")) then
+        call int_array_length(g, "types", types, nty, status)
+        if (status%stat /= demstep_stat%ok) return
+        if (nty /= n) then
+          call fail("types", "needs one type per particle ("//fmt_int(int(n, i8))//"), got "// &
+            fmt_int(int(nty, i8)))
+          return
+        end if
+        ptypes = types(:n)
       end if
       if (sc%law == contact_law%linear) then
         call array_length(g, "type_k_normal", type_k_normal, nkn, status)
@@ -522,7 +649,7 @@ contains
         else if (given(group, "kt_ratio")) then
           kk(2, :, :) = kt_ratio*kk(1, :, :)
         end if
-        call scene_set_types(sc, types(:n), kk, status)
+        call scene_set_types(sc, ptypes, kk, status)
       else
         call array_length(g, "young", young, nkn, status)
         call array_length(g, "poisson", poisson, nkt, status)
@@ -531,7 +658,7 @@ contains
           call fail("young", "required with types and the Hertz law (one per type)")
           return
         end if
-        call scene_set_hertz_types(sc, types(:n), young(:nkn), poisson(:nkt), status)
+        call scene_set_hertz_types(sc, ptypes, young(:nkn), poisson(:nkt), status)
       end if
       if (status%stat /= demstep_stat%ok) status%message = "&"//g//": "//status%message
     end subroutine materials
@@ -691,7 +818,7 @@ contains
     text = path//": line "//fmt_int(int(lines(row), i8))//message(b+1:)
   end function row_to_line
 
-  subroutine report(u, group, sc, crit, ran, dt_used, steps, summary, dt_recommended)
+  subroutine report(u, group, sc, crit, ran, dt_used, steps, summary, dt_recommended, extra)
     integer, intent(in) :: u
     type(nml_group_type), intent(in) :: group
     type(scene_type), intent(in) :: sc
@@ -701,6 +828,8 @@ contains
     integer(i8), intent(in) :: steps
     type(scene_summary_type), intent(in) :: summary
     real(dp), intent(in) :: dt_recommended
+    !> Lines written before the recommendation (a snapshot's peers' rules).
+    character(len=*), intent(in), optional :: extra(:)
     integer :: i
     character(len=:), allocatable :: on
     on = ""
@@ -720,12 +849,22 @@ contains
     write(u, '(4x, a, t40, a)') "per-contact rule 2 sqrt(m*/k)", fmt_real(crit%dt_contact_rule)// &
       "  (not safe in an assembly)"
     write(u, '(4x, a, t40, a)') "Gershgorin bound (safe)", fmt_real(crit%dt_critical_bound)
-    if (crit%eigen_computed) then
+    if (crit%solver == demstep_eigen_solver%dense) then
       write(u, '(4x, a, t40, a)') "exact, LAPACK dsyevr", fmt_real(crit%dt_critical_eigen)// &
         "  (omega_max = "//fmt_real(crit%omega_max)//")"
+    else if (crit%solver == demstep_eigen_solver%lanczos .and. crit%eigen_converged) then
+      write(u, '(4x, a, t40, a)') "exact, Lanczos (ARPACK)", fmt_real(crit%dt_critical_eigen)// &
+        "  (omega_max = "//fmt_real(crit%omega_max)//", "//fmt_int(crit%eigen_products)//" products)"
+    else if (crit%solver == demstep_eigen_solver%lanczos) then
+      write(u, '(4x, a, t40, a)') "Lanczos (ARPACK), not converged", "omega_max in ["// &
+        fmt_real(crit%omega_max)//", "//fmt_real(crit%omega_upper)//"] after "// &
+        fmt_int(crit%eigen_products)//" products"
     else
-      write(u, '(4x, a, t40, a)') "exact, LAPACK dsyevr", "not computed (more than max_eigen_dof)"
+      write(u, '(4x, a, t40, a)') "exact", "not computed (eigen_solver = 'none')"
     end if
+    if (crit%eigen_computed) write(u, '(4x, a, t40, a)') "safe to the error bar", &
+      fmt_real(crit%dt_critical_safe)//"  (residual "//fmt_real(crit%eigen_residual)// &
+      ", tolerance "//fmt_real(crit%eigen_tolerance)//")"
     write(u, '(4x, a, t40, a)') "damped (lagged dashpot)", fmt_real(crit%dt_critical_damped)// &
       "  (modal damping ratio "//fmt_real(crit%damping_ratio_top)//")"
     if (ran) then
@@ -738,6 +877,11 @@ contains
       else
         write(u, '(4x, a, t40, a)') "blew up", "no"
       end if
+    end if
+    if (present(extra)) then
+      do i = 1, size(extra)
+        write(u, '(a)') trim(extra(i))
+      end do
     end if
     if (crit%eigen_computed) then
       write(u, '(2x, a, t28, a)') "governs", "stability ("//fmt_real(default_safety)// &
@@ -763,11 +907,14 @@ contains
       dt_critical_damped, damping_ratio_top, energy_drift, max_overlap
     integer(i8) :: steps
     logical :: eigen_computed, blew_up
+    character(len=8) :: eigen_solver
+    real(dp) :: eigen_tolerance, eigen_residual, omega_upper, dt_critical_safe
+    logical :: eigen_converged
     namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
-      periodic, prestress, omega_max, eigen_computed, &
-      dt_critical_eigen, dt_critical_bound, dt_contact_rule, dt_critical_damped, &
-      damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, blew_up, &
-      dt_recommended
+      periodic, prestress, omega_max, eigen_computed, eigen_converged, eigen_solver, eigen_tolerance, eigen_residual, &
+      omega_upper, dt_critical_eigen, dt_critical_safe, dt_critical_bound, dt_contact_rule, &
+      dt_critical_damped, damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, &
+      blew_up, dt_recommended
     n_particles = sc%n
     n_dof = crit%n_dof
     n_springs = crit%n_springs
@@ -778,6 +925,12 @@ contains
     prestress = crit%prestress
     omega_max = crit%omega_max
     eigen_computed = crit%eigen_computed
+    eigen_solver = eigen_solver_name(crit%solver)
+    eigen_converged = crit%eigen_converged
+    eigen_tolerance = crit%eigen_tolerance
+    eigen_residual = crit%eigen_residual
+    omega_upper = crit%omega_upper
+    dt_critical_safe = crit%dt_critical_safe
     dt_critical_eigen = crit%dt_critical_eigen
     dt_critical_bound = crit%dt_critical_bound
     dt_contact_rule = crit%dt_contact_rule
@@ -790,5 +943,336 @@ contains
     blew_up = summary%blew_up
     write(unit, nml=scene_result)
   end subroutine write_result
+
+  ! ------------------------------------------------------------ snapshots
+
+  !> The deck's `&material` group, if it has one (read as `&material` reads it).
+  subroutine find_deck_material(deck, mat, status)
+    character(len=*), intent(in) :: deck
+    type(deck_material_type), intent(out) :: mat
+    type(demstep_status_type), intent(out) :: status
+    character(len=:), allocatable :: text
+    type(nml_group_type), allocatable :: groups(:)
+    integer :: k, found
+    call read_text_file(deck, text, status)
+    if (status%stat == demstep_stat%ok) call scan_namelist(text, groups, status)
+    if (status%stat /= demstep_stat%ok) return
+    found = 0
+    do k = 1, size(groups)
+      if (groups(k)%name /= "material") cycle
+      found = found + 1
+      if (found > 1) then
+        call set_status(status, demstep_stat%invalid_input, "&scene: snapshot_file: the deck has more " &
+          //"than one &material group (lines "//fmt_int(int(mat%line, i8))//" and "// &
+          fmt_int(int(groups(k)%line, i8))//"): the snapshot's types take one; merge them")
+        return
+      end if
+      mat%found = .true.
+      mat%line = groups(k)%line
+      call read_material(groups(k), mat%types, mat%restitution, mat%restitution_t, mat%impact_velocity, &
+        mat%first, mat%last, mat%tolerance, status)
+      if (status%stat /= demstep_stat%ok) return
+    end do
+    status%stat = demstep_stat%ok
+  end subroutine find_deck_material
+
+  !> Read a snapshot; its particles as the scene's arrays. Masses from the
+  !> file, else from the `&material` densities per type.
+  subroutine snapshot_particles(path, format_word, frame, dim, mat, snap, x, v, m, r, status)
+    character(len=*), intent(in) :: path, format_word
+    integer, intent(in) :: frame, dim
+    type(deck_material_type), intent(inout) :: mat
+    type(snapshot_type), intent(out) :: snap
+    real(dp), allocatable, intent(out) :: x(:, :), v(:, :), m(:), r(:)
+    type(demstep_status_type), intent(out) :: status
+    integer :: code, k, nt
+    real(dp), allocatable :: rho(:)
+    character(len=*), parameter :: g = "&scene: "
+    select case (lowercase(trim(adjustl(format_word))))
+    case ("auto")
+      code = snapshot_format%auto
+    case default
+      code = findloc([(lowercase(trim(adjustl(format_word))) == trim(snapshot_format_names(k)), &
+        k = 1, size(snapshot_format_names))], .true., dim=1)
+      if (code == 0) then
+        call set_status(status, demstep_stat%invalid_input, g//"snapshot_format: unknown word '"// &
+          trim(format_word)//"' (auto, lammps_dump, lammps_data, yade_text)")
+        return
+      end if
+    end select
+    if (dim < 2) then
+      call set_status(status, demstep_stat%invalid_input, g//"dim: a snapshot holds 3D positions: dim " &
+        //"must be 3 (or 2, the z coordinates dropped)")
+      return
+    end if
+    call read_snapshot(path, snap, status, format=code, frame=frame)
+    if (status%stat /= demstep_stat%ok) then
+      if (index(status%message, path//": frame: ") == 1) then
+        status%message = g//"snapshot_frame: "//path//": "//status%message(len(path)+10:)
+      else
+        status%message = g//"snapshot_file: "//status%message
+      end if
+      return
+    end if
+    if (snap%n == 0) then
+      call set_status(status, demstep_stat%invalid_input, g//"snapshot_file: "//path//": no particles")
+      return
+    end if
+    if (minval(snap%type) < 1 .or. maxval(snap%type) > max_snapshot_types) then
+      k = merge(minloc(snap%type, dim=1), maxloc(snap%type, dim=1), minval(snap%type) < 1)
+      call set_status(status, demstep_stat%invalid_input, g//"snapshot_file: "//path//": particle "// &
+        fmt_int(snap%id(k))//" has type "//fmt_int(int(snap%type(k), i8))//"; types count from 1 to at " &
+        //"most "//fmt_int(int(max_snapshot_types, i8)))
+      return
+    end if
+    nt = maxval(snap%type)
+    if (mat%found) then
+      ! one material for all types, or one per type
+      if (size(mat%types) == 1) then
+        mat%types = spread(mat%types(1), 1, nt)
+      else if (size(mat%types) < nt) then
+        call set_status(status, demstep_stat%invalid_input, "&material: young: one value per particle " &
+          //"type (or one for all): "//path//" has types 1 to "//fmt_int(int(nt, i8))//", the group (line " &
+          //fmt_int(int(mat%line, i8))//") gives "//fmt_int(int(size(mat%types), i8)))
+        return
+      end if
+      rho = mat%types%density
+      call snapshot_masses_from_types(snap, rho, status)
+    else
+      call snapshot_masses_from_types(snap, [real(dp) ::], status)
+    end if
+    if (status%stat /= demstep_stat%ok) then
+      status%message = g//"snapshot_file: "//path//": "//status%message
+      return
+    end if
+    if (.not. snap%has_mass) then
+      call set_status(status, demstep_stat%invalid_input, g//"snapshot_file: "//path//" gives no masses " &
+        //"(no mass or density column): add a &material group with density (one per type)")
+      return
+    end if
+    x = snap%x(:dim, :)
+    v = snap%v(:dim, :)
+    m = snap%mass
+    r = snap%radius
+    status%stat = demstep_stat%ok
+  end subroutine snapshot_particles
+
+  !> The contact law a `&material` code implies: 'hertz' for all codes or a
+  !> Hertz convention (one evaluated at an overlap), else 'linear'.
+  function material_law(mat) result(law)
+    type(deck_material_type), intent(in) :: mat
+    character(len=32) :: law
+    type(contact_parameters_type) :: params
+    type(demstep_status_type) :: status
+    law = "hertz"
+    if (mat%first /= mat%last) return
+    call contact_parameters(material_pair_type(mat%types(1), mat%types(1), mat%restitution, &
+      mat%restitution_t, mat%impact_velocity), mat%first, params, status)
+    if (status%stat == demstep_stat%ok .and. params%overlap == 0.0_dp) law = "linear"
+  end function material_law
+
+  !> Whether the `&material`'s code damps its contacts: all codes, or one whose
+  !> convention gives a normal dashpot.
+  logical function material_damped(mat) result(damped)
+    type(deck_material_type), intent(in) :: mat
+    type(contact_parameters_type) :: params
+    type(demstep_status_type) :: status
+    damped = .true.
+    if (mat%first /= mat%last) return
+    call contact_parameters(material_pair_type(mat%types(1), mat%types(1), mat%restitution, &
+      mat%restitution_t, mat%impact_velocity), mat%first, params, status)
+    if (status%stat == demstep_stat%ok) damped = params%gamma_n > 0.0_dp
+  end function material_damped
+
+  !> Per-type springs from the `&material` group: Hertz E* and G* from young
+  !> and poisson, or the linear k_n, k_t of one code's convention per type pair.
+  subroutine material_springs(sc, mat, ptypes, status)
+    type(scene_type), intent(inout) :: sc
+    type(deck_material_type), intent(in) :: mat
+    integer, intent(in) :: ptypes(:)
+    type(demstep_status_type), intent(out) :: status
+    type(contact_parameters_type) :: params
+    real(dp), allocatable :: kk(:, :, :), young(:), poisson(:)
+    integer :: nt, i, j
+    nt = size(mat%types)
+    if (sc%law == contact_law%hertz) then
+      young = mat%types%young
+      poisson = mat%types%poisson
+      call scene_set_hertz_types(sc, ptypes, young, poisson, status)
+      if (status%stat /= demstep_stat%ok) status%message = "&material: "//status%message
+      return
+    end if
+    if (mat%first /= mat%last) then
+      call set_status(status, demstep_stat%invalid_input, "&material: code: the linear law of &scene " &
+        //"takes k_n and k_t from one code's convention: name it (liggghts_hooke, yade_frictphys, " &
+        //"yade_viscelphys, mfix_lsd, mercurydpm_linear, lammps_hooke)")
+      return
+    end if
+    allocate(kk(2, nt, nt))
+    do i = 1, nt
+      do j = i, nt
+        call contact_parameters(material_pair_type(mat%types(i), mat%types(j), mat%restitution, &
+          mat%restitution_t, mat%impact_velocity), mat%first, params, status)
+        if (status%stat /= demstep_stat%ok) then
+          status%message = "&material: types "//fmt_int(int(i, i8))//" and "//fmt_int(int(j, i8))//": "// &
+            status%message
+          return
+        end if
+        if (params%overlap > 0.0_dp) then
+          call set_status(status, demstep_stat%invalid_input, "&material: code: '"// &
+            trim(convention_names(mat%first))//"' is a Hertz convention: give law = 'hertz' in &scene, " &
+            //"or a linear code")
+          return
+        end if
+        kk(:, i, j) = [params%k_n, params%k_t]
+        kk(:, j, i) = kk(:, i, j)
+      end do
+    end do
+    call scene_set_types(sc, ptypes, kk, status)
+    if (status%stat /= demstep_stat%ok) status%message = "&scene: "//status%message
+  end subroutine material_springs
+
+  !> A snapshot's part of the report: what was read, and with a `&material`
+  !> group the peers' rules beside demstep's exact limit (as ratios). The
+  !> peers' rules take each type's smallest radius in the file (their codes
+  !> check every particle); `peer_dt` 0 without a `&material` group.
+  subroutine snapshot_summary(path, snap, mat, from_material, sc, crit, lines, peer_dt, status)
+    character(len=*), intent(in) :: path
+    type(snapshot_type), intent(in) :: snap
+    type(deck_material_type), intent(in) :: mat
+    logical, intent(in) :: from_material
+    type(scene_type), intent(in) :: sc
+    type(critical_step_type), intent(in) :: crit
+    character(len=200), allocatable, intent(out) :: lines(:)
+    real(dp), intent(out) :: peer_dt(n_peer_rules)
+    type(demstep_status_type), intent(out) :: status
+    type(material_type), allocatable :: kinds(:)
+    type(peer_steps_type) :: steps
+    real(dp) :: rayleigh, hertz, exact
+    logical, allocatable :: present_type(:)
+    integer :: nt, i, j, c, nl
+    character(len=:), allocatable :: solver, axes, masses, frame
+    peer_dt = 0.0_dp
+    nt = maxval(snap%type)
+    allocate(lines(20 + n_peer_rules))
+    nl = 0
+    frame = ""
+    if (snap%format == snapshot_format%lammps_dump) frame = ", frame "//fmt_int(int(snap%frame, i8))//" of " &
+      //fmt_int(int(snap%n_frames, i8))//", timestep "//fmt_int(snap%timestep)
+    call add("  snapshot: "//path//" ("//trim(snapshot_format_names(snap%format))//frame//"), "// &
+      fmt_int(int(nt, i8))//" particle type"//trim(merge("s", " ", nt > 1)))
+    axes = ""
+    do i = 1, sc%dim
+      if (sc%periodic(i)) axes = axes//" "//achar(iachar("x") + i - 1)
+    end do
+    if (len(axes) == 0) axes = " none"
+    masses = "from the file"
+    if (.not. any(snap%mass > 0.0_dp .and. snap%density == 0.0_dp)) masses = "from the densities"
+    call add("    periodic axes:"//axes//"; masses "//masses//"; radii "//fmt_real(minval(snap%radius))// &
+      " to "//fmt_real(maxval(snap%radius)))
+    if (from_material) then
+      call add("    materials: &material (line "//fmt_int(int(mat%line, i8))//"), "//trim(material_note())// &
+        ", restitution "//fmt_real(mat%restitution))
+    else if (mat%found) then
+      call add("    materials: the &scene's stiffness; &material (line "//fmt_int(int(mat%line, i8))// &
+        ") for the peers' rules")
+    end if
+    exact = crit%dt_critical_damped
+    solver = merge("LAPACK  ", "bound   ", crit%eigen_computed)
+    if (.not. mat%found) then
+      call add("    peers' rules: add a &material group (young, poisson, density per type) to see them")
+      call finish()
+      return
+    end if
+    ! each type present, at its smallest radius in the file
+    allocate(kinds(nt), present_type(nt))
+    do i = 1, nt
+      present_type(i) = any(snap%type == i)
+      kinds(i) = mat%types(i)
+      if (present_type(i)) kinds(i)%radius = minval(snap%radius, mask=snap%type == i)
+    end do
+    peer_dt = huge(1.0_dp)
+    rayleigh = huge(1.0_dp)
+    hertz = huge(1.0_dp)
+    do i = 1, nt
+      if (.not. present_type(i)) cycle
+      do j = i, nt
+        if (.not. present_type(j)) cycle
+        call peer_time_steps(material_pair_type(kinds(i), kinds(j), mat%restitution, mat%restitution_t, &
+          mat%impact_velocity), steps, status)
+        if (status%stat /= demstep_stat%ok) then
+          status%message = "&material: types "//fmt_int(int(i, i8))//" and "//fmt_int(int(j, i8))//": "// &
+            status%message
+          return
+        end if
+        peer_dt = min(peer_dt, steps%dt)
+        rayleigh = min(rayleigh, steps%rayleigh)
+        hertz = min(hertz, steps%hertz_duration)
+      end do
+    end do
+    call add("    Rayleigh time "//fmt_real(rayleigh)//", Hertz contact duration "//fmt_real(hertz)// &
+      " (smallest particle of each type, impact velocity "//fmt_real(mat%impact_velocity)//")")
+    write(lines(nl + 1), '(4x, a22, 2a16)') "peer rule", "dt", "dt/exact limit"
+    nl = nl + 1
+    do c = 1, n_peer_rules
+      write(lines(nl + 1), '(4x, a22, 2a16)') trim(peer_rule_names(c)), fmt_real(peer_dt(c)), &
+        fmt_real(peer_dt(c)/exact)
+      nl = nl + 1
+    end do
+    write(lines(nl + 1), '(4x, a22, a16, a)') "demstep exact limit", fmt_real(exact), &
+      "  (damped, "//trim(solver)//")"
+    nl = nl + 1
+    call add("    (the limit of this packing; a &material report is for a single contact of each pair of types)")
+    call finish()
+  contains
+    subroutine add(line)
+      character(len=*), intent(in) :: line
+      nl = nl + 1
+      lines(nl) = line
+    end subroutine add
+    subroutine finish()
+      lines = lines(:nl)
+      status%stat = demstep_stat%ok
+    end subroutine finish
+    function material_note() result(text)
+      character(len=:), allocatable :: text
+      if (sc%law == contact_law%hertz) then
+        text = "Hertz E*, G* from young and poisson"
+      else
+        text = "linear k_n, k_t of "//trim(convention_names(mat%first))//" at each type's radius"
+      end if
+    end function material_note
+  end subroutine snapshot_summary
+
+  !> The `&snapshot_result` group: what was read and the peers' rules.
+  subroutine write_snapshot_result(unit, snap, mat, crit, peer_dt)
+    integer, intent(in) :: unit
+    type(snapshot_type), intent(in) :: snap
+    type(deck_material_type), intent(in) :: mat
+    type(critical_step_type), intent(in) :: crit
+    real(dp), intent(in) :: peer_dt(n_peer_rules)
+    character(len=11) :: format
+    integer :: n_particles, n_types, frame, n_frames
+    integer(i8) :: timestep
+    logical :: periodic(3), have_materials
+    real(dp) :: box_lo(3), box_hi(3), dt_exact, peer_ratio(n_peer_rules)
+    character(len=20) :: peer_rules(n_peer_rules)
+    namelist /snapshot_result/ format, n_particles, n_types, frame, n_frames, timestep, periodic, &
+      box_lo, box_hi, have_materials, peer_rules, peer_dt, peer_ratio, dt_exact
+    format = snapshot_format_names(snap%format)
+    n_particles = snap%n
+    n_types = maxval(snap%type)
+    frame = snap%frame
+    n_frames = snap%n_frames
+    timestep = snap%timestep
+    periodic = snap%periodic
+    box_lo = snap%lo
+    box_hi = snap%hi
+    have_materials = mat%found
+    peer_rules = peer_rule_names
+    dt_exact = crit%dt_critical_damped
+    peer_ratio = peer_dt/dt_exact
+    write(unit, nml=snapshot_result)
+  end subroutine write_snapshot_result
 
 end module demstep_cli_scene

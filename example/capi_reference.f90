@@ -46,12 +46,23 @@ program capi_reference
     fixed=[.true., (.false., i = 2, 11), .true.])
   pairs = reshape([(i, i + 1, i = 1, 11)], [2, 11])
   call scene_add_bonds(scene, pairs, status)
-  scene%k_bond = 100.0_dp
+  call scene_set_bond_stiffness(scene, 100.0_dp, 0.0_dp, status)
   scene%effects = .false.
   call assembly_critical_steps(scene, c, status)
   call put("omega_max", c%omega_max)
   call put("dt_critical_bound", c%dt_critical_bound)
   call put("dt_contact_rule", c%dt_contact_rule)
+  ! a 2D sphere pressed into the floor, Hertz, linearised at an impact at 2 m/s, damped
+  call new_scene(scene, 2, reshape([0.0_dp, 0.0099_dp], [2, 1]), [0.01_dp], [0.01_dp], status)
+  call scene_add_walls(scene, reshape([0.0_dp, 0.0_dp], [2, 1]), reshape([0.0_dp, 1.0_dp], [2, 1]), status)
+  call scene_set_law(scene, contact_law%hertz, 1.0e8_dp, 4.0e7_dp, status)
+  scene%damping_ratio = 0.1_dp
+  scene%effects = .false.
+  scene%effects([scene_effect%walls, scene_effect%damping]) = .true.
+  call assembly_critical_steps(scene, c, status, hertz_mode=hertz_linearization%impact, &
+    impact_velocity=2.0_dp)
+  call put("wall_omega_max", c%omega_max)
+  call put("wall_dt_critical_damped", c%dt_critical_damped)
   call contact_with_onset(20.0_dp, 0.5_dp, contact, status, 0.1_dp)
   call put("contact_restitution", contact%restitution)
   call n_for_tolerance(quantity_kind%restitution, 1.0e-3_dp, e, status)

@@ -12,6 +12,7 @@
 #ifndef DEMSTEP_H
 #define DEMSTEP_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #ifdef __cplusplus
@@ -47,6 +48,15 @@ enum {
   DEMSTEP_EFFECT_CONTACTS = 1, DEMSTEP_EFFECT_GRAVITY = 2, DEMSTEP_EFFECT_DAMPING = 4,
   DEMSTEP_EFFECT_LOCAL_DAMPING = 8, DEMSTEP_EFFECT_WALLS = 16, DEMSTEP_EFFECT_ROTATION = 32
 };
+/* Where a Hertz contact is linearised: at its current overlap, or at the largest
+   overlap of an impact at impact_velocity (demstep_scene_compute). */
+enum { DEMSTEP_HERTZ_CURRENT = 1, DEMSTEP_HERTZ_IMPACT = 2 };
+
+/* Eigensolvers for omega_max (demstep_scene_set_eigen_solver): AUTO takes DENSE
+   (LAPACK) up to max_eigen_dof and LANCZOS (ARPACK, matrix-free) above; NONE
+   gives the bound only. */
+enum { DEMSTEP_EIGEN_AUTO = 1, DEMSTEP_EIGEN_DENSE = 2, DEMSTEP_EIGEN_LANCZOS = 3,
+       DEMSTEP_EIGEN_NONE = 4 };
 
 /* A status and its message (NUL-terminated). */
 typedef struct {
@@ -85,15 +95,6 @@ typedef struct {
                            or DEMSTEP_NOT_FOUND (N* outside the picks of the set) */
   int excluded;         /* lambdas without an admissible N */
 } demstep_stiffness_result;
-
-/* Critical time steps of a scene (undamped central differences: 2/omega). */
-typedef struct {
-  double omega_max, dt_critical_eigen;  /* exact (LAPACK) */
-  double omega_bound, dt_critical_bound; /* Gershgorin bound: dt_bound <= exact */
-  double dt_contact_rule;               /* min 2 sqrt(m* / k): not safe */
-  double damping_ratio_top, dt_critical_damped;
-  int n_dof, n_springs, eigen_computed;
-} demstep_critical_step;
 
 /* The exact discrete contact at N = T/dt and onset s in (0, 1] (lagged dashpot with
    damping_ratio); contact time in T/2, overlap in v0/omega, restitution -v_out/v0. */
@@ -140,15 +141,136 @@ int demstep_simulated_stiffness(double mass, double stiffness, double tolerance,
                                 const double *weights, double *n_pick, int *row_status,
                                 demstep_stiffness_result *result, demstep_error *err);
 
-/* Critical steps of a scene: x holds dim coordinates per particle (n particles);
-   fixed (n flags) may be NULL; bonds holds 2 particle numbers per bond (0-based);
-   effects is a sum of DEMSTEP_EFFECT_* flags. */
-int demstep_scene_critical_step(int dim, int n, const double *x, const double *mass,
-                                const double *radius, const int *fixed, int n_bonds,
-                                const int *bonds, double k_bond, double k_bond_tangential,
-                                int law, double k_normal, double e_star, int effects,
-                                double damping_ratio, demstep_critical_step *result,
-                                demstep_error *err);
+/* ---- Scenes: an opaque handle built call by call ----
+ *
+ *   demstep_scene *s = NULL;
+ *   demstep_scene_create(3, &s, &err);
+ *   demstep_scene_set_particles(s, n, x, mass, radius, NULL, NULL, NULL, &err);
+ *   demstep_scene_set_contact_law(s, DEMSTEP_LAW_LINEAR, 1.0e5, 0.0, &err);
+ *   demstep_scene_compute(s, DEMSTEP_HERTZ_CURRENT, 0.0, 0, 0, &res, sizeof res, &err);
+ *   demstep_scene_free(&s, &err);    (s is NULL again: a second free does nothing)
+ *
+ * The particles are set once, before the cell, bonds, per-type materials, walls
+ * and an explicit contact list; the stiffnesses, law, effects, damping and
+ * gravity may be set at any time (a later call replaces them). Each call validates its arguments with the library's own rules. When a call
+ * that builds the scene fails, the scene is unusable: every later call on it but
+ * demstep_scene_free returns DEMSTEP_INVALID_INPUT quoting that first failure
+ * (free it and build it again). demstep_scene_compute does not change the scene:
+ * it may be called again with other options. Particle, bond, type and contact
+ * numbers passed in are 0-based; messages count particles, bonds, rows and types
+ * from 1. A scene handle must not be used by two threads at once. */
+typedef struct demstep_scene demstep_scene;
+
+/* Critical time steps of a scene (undamped central differences: 2/omega).
+   Fields are only ever appended in later versions: pass sizeof(demstep_scene_result)
+   as result_size, and a program built against an older header gets the fields
+   it knows. */
+typedef struct {
+  double omega_max, dt_critical_eigen;   /* exact (LAPACK); 0 unless eigen_computed */
+  double omega_bound, dt_critical_bound; /* Gershgorin bound: dt_bound <= exact */
+  double dt_contact_rule;                /* min 2 sqrt(m* / k): NOT safe */
+  double damping_ratio_top;   /* modal damping ratio of the top mode (the scene's
+                                 damping ratio when eigen_computed is 0) */
+  double dt_critical_damped;  /* the lagged-dashpot limit (from the bound when
+                                 eigen_computed is 0) */
+  int n_dof;                  /* free particles times dof_per_particle */
+  int n_springs;              /* bonds + particle contacts + wall contacts */
+  int dof_per_particle;       /* dim translations (+ rotations with DEMSTEP_EFFECT_ROTATION) */
+  int eigen_computed;         /* 1: an eigensolver ran, the exact fields are set */
+  int rotation, tangential, periodic, prestress; /* 1: the model counted them */
+  /* appended in version 2: the eigensolver's report */
+  double eigen_tolerance;     /* relative tolerance (dense: the working precision) */
+  double eigen_residual;      /* measured ||A z - theta z|| / theta of the top mode */
+  double omega_upper;         /* upper end of omega_max's error bar */
+  double dt_critical_safe;    /* max(2/omega_upper, the bound): safe to the error bar */
+  int64_t eigen_products;     /* Lanczos operator products */
+  int eigen_solver;           /* which ran: DEMSTEP_EIGEN_DENSE, _LANCZOS or _NONE */
+  int eigen_converged;        /* 0: Lanczos ran out of restarts; omega_max is then in
+                                 [omega_max, omega_upper] */
+} demstep_scene_result;
+
+/* A scene without particles in dim (1 to 3) dimensions; *scene receives the handle
+   (NULL on failure). */
+int demstep_scene_create(int dim, demstep_scene **scene, demstep_error *err);
+
+/* Free the scene *scene and set *scene to NULL; scene == NULL or *scene == NULL:
+   nothing to do (DEMSTEP_OK). Copies of the handle are dangling afterwards. */
+int demstep_scene_free(demstep_scene **scene, demstep_error *err);
+
+/* The n particles (once per scene): x holds dim coordinates per particle; fixed (n
+   flags), inertia (n moments, default 2/5 m r^2) and velocity (dim per particle,
+   default 0) may be NULL. */
+int demstep_scene_set_particles(demstep_scene *scene, int n, const double *x, const double *mass,
+                                const double *radius, const int *fixed, const double *inertia,
+                                const double *velocity, demstep_error *err);
+
+/* Bonds: 2 particle numbers per bond; rest vectors from the current positions
+   (through the nearest periodic image: set a cell first). Their stiffness is
+   demstep_scene_set_bond_stiffness's. */
+int demstep_scene_add_bonds(demstep_scene *scene, int n_bonds, const int *bonds, demstep_error *err);
+
+/* Every bond's normal (> 0) and tangential (>= 0) stiffness. */
+int demstep_scene_set_bond_stiffness(demstep_scene *scene, double k_bond, double k_bond_tangential,
+                                     demstep_error *err);
+
+/* The contact law of particle and wall contacts: DEMSTEP_LAW_LINEAR with normal = k_n
+   (> 0), tangential = k_t (>= 0); DEMSTEP_LAW_HERTZ with normal = E* (> 0),
+   tangential = Mindlin's G* (>= 0). Default: linear, no stiffness. */
+int demstep_scene_set_contact_law(demstep_scene *scene, int law, double normal, double tangential,
+                                  demstep_error *err);
+
+/* Linear materials per particle type: types (n, 0 to n_types - 1), k_normal and
+   k_tangential (n_types x n_types, symmetric; k_tangential may be NULL: 0). They
+   replace the law's k_n, k_t for particle contacts; the law becomes linear (a Hertz
+   law set before is refused). */
+int demstep_scene_set_types(demstep_scene *scene, int n_types, const int *types,
+                            const double *k_normal, const double *k_tangential, demstep_error *err);
+
+/* Hertz materials per particle type: Young's modulus (> 0) and Poisson's ratio
+   (-1, 0.5] per type; E* and G* of each pair follow; the law becomes Hertz. */
+int demstep_scene_set_hertz_types(demstep_scene *scene, int n_types, const int *types,
+                                  const double *young, const double *poisson, demstep_error *err);
+
+/* Walls: per wall a point and a normal into the domain, dim values each. */
+int demstep_scene_add_walls(demstep_scene *scene, int n_walls, const double *points,
+                            const double *normals, demstep_error *err);
+
+/* An explicit contact list instead of detection: pairs (2 particle numbers per
+   contact) and k (k_n > 0, k_t >= 0 per contact, linear). */
+int demstep_scene_set_contacts(demstep_scene *scene, int n_contacts, const int *pairs,
+                               const double *k, demstep_error *err);
+
+/* The effects switched on: a sum of DEMSTEP_EFFECT_* flags (0: none; default
+   DEMSTEP_EFFECT_CONTACTS); any other bit is refused, naming the known flags.
+   Rotations count only with DEMSTEP_EFFECT_ROTATION (tangential springs do not
+   switch it on). */
+int demstep_scene_set_effects(demstep_scene *scene, int effects, demstep_error *err);
+
+/* A periodic orthorhombic cell [lo, hi): periodic, lo and hi hold dim values
+   (periodic: nonzero for a periodic axis); positions are wrapped into the cell. */
+int demstep_scene_set_cell(demstep_scene *scene, const int *periodic, const double *lo,
+                           const double *hi, demstep_error *err);
+
+/* The viscous damping ratio of DEMSTEP_EFFECT_DAMPING (checked by
+   demstep_scene_compute when that effect is on: 0 to 1e100). */
+int demstep_scene_set_damping(demstep_scene *scene, double damping_ratio, demstep_error *err);
+
+/* The gravity vector of DEMSTEP_EFFECT_GRAVITY: dim finite components. */
+int demstep_scene_set_gravity(demstep_scene *scene, const double *gravity, demstep_error *err);
+
+/* The critical steps of the scene at its current configuration. hertz_linearization:
+   DEMSTEP_HERTZ_CURRENT or DEMSTEP_HERTZ_IMPACT (with impact_velocity > 0; ignored
+   otherwise); prestress: 0 or 1 (count the geometric stiffness of loaded contacts);
+   max_eigen_dof: above it only the bound is computed (<= 0: the default 4000);
+   result_size: sizeof(demstep_scene_result). */
+/* The eigensolver of later demstep_scene_compute calls (default DEMSTEP_EIGEN_AUTO)
+   and the Lanczos relative residual tolerance, in [2.2e-16, 0.1] (<= 0: 1e-10). */
+int demstep_scene_set_eigen_solver(demstep_scene *scene, int solver, double tolerance,
+                                   demstep_error *err);
+
+int demstep_scene_compute(const demstep_scene *scene, int hertz_linearization,
+                          double impact_velocity, int prestress, int max_eigen_dof,
+                          demstep_scene_result *result, size_t result_size, demstep_error *err);
 
 /* The discrete contact at one onset. */
 int demstep_contact_with_onset(double n_per_period, double onset, double damping_ratio,

@@ -19,8 +19,9 @@
 !> - The paper's error and the simulated-stiffness method: `harmonic_error`,
 !>   `step_policy_type`, `new_step_policy`, `n_roots`, `simulated_stiffness`.
 !> - Roots of any function: `find_root`, `scan_roots` (extend `root_context_type`).
-!> - Assemblies: `scene_type`, `new_scene`, `assembly_critical_steps`, `scene_run`,
-!>   `assembly_step_for_n_per_period`.
+!> - Assemblies: `scene_type`, `new_scene`, `assembly_critical_steps` (dense or
+!>   Lanczos: `eigen_solver%...`), `scene_run`, `assembly_step_for_n_per_period`;
+!>   the matrix-free operator `assembly_operator` and its matrix `assembly_matrix`.
 !> - The largest eigenvalue of a large symmetric operator, matrix-free, with an
 !>   error bar: `lanczos_largest` (extend `lanczos_context_type`), `eigen_result_type`,
 !>   a sparse operator from springs (`csr_from_springs`, `csr_apply`).
@@ -82,11 +83,14 @@ module demstep
   ! assemblies (the scene modules' public names)
   use demstep_scene, only: scene_type, scene_summary_type, cubic_lattice, new_scene, scene_add_bonds, &
     scene_add_walls, scene_set_contacts, scene_set_cell, scene_set_types, scene_set_hertz_types, &
-    scene_run, contact_list, effect_index, restitution_to_damping_ratio, contact_law_enum, &
+    scene_set_law, scene_set_bond_stiffness, scene_set_gravity, scene_run, contact_list, effect_index, &
+    restitution_to_damping_ratio, contact_law_enum, &
     contact_law, scene_effect_enum, scene_effect, n_effects, effect_names, max_coordinate, &
     contact_limit, max_damping_ratio
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, hertz_linearization_enum, &
-    hertz_linearization, default_max_eigen_dof, assembly_step_for_n_per_period
+    hertz_linearization, default_max_eigen_dof, assembly_step_for_n_per_period, eigen_solver_enum, &
+    eigen_solver, eigen_solver_name, assembly_operator_type, assembly_operator, &
+    assembly_operator_apply, assembly_matrix
   ! the largest eigenvalue of a large operator, matrix-free (Lanczos, ARPACK)
   use demstep_lanczos, only: lanczos_context_type, lanczos_operator, lanczos_largest, &
     eigen_result_type, lanczos_tolerance_default, lanczos_ncv_default, lanczos_nev_default, &

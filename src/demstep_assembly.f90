@@ -24,21 +24,25 @@
 !> impact at a given speed would reach, d = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5).
 !> The spring list is counted, allocated once and filled: linear in interactions.
 module demstep_assembly
-  use demstep_kinds, only: dp, pi
+  use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text, real_text
   use demstep_spring, only: damped_limit
-  use demstep_interaction, only: contact_law, contact_block, dashpot_coefficient, &
+  use demstep_interaction, only: contact_law, contact_block, contact_product, dashpot_coefficient, &
     normal_stiffness, wall_overlap, reduced_radius, dof_components
   use demstep_scene_data, only: scene_type, scene_effect, effective_mass, contact_values
   use demstep_neighbours, only: contact_list
   use demstep_stepper, only: max_damping_ratio
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use demstep_lapack, only: largest_eigenpair
+  use demstep_lanczos, only: lanczos_context_type, lanczos_largest, eigen_result_type, &
+    csr_matrix_type, lanczos_tolerance_default, check_lanczos_options
+  use demstep_progress, only: progress_type
   implicit none
   private
 
-  public :: assembly_critical_steps, assembly_step_for_n_per_period
+  public :: assembly_critical_steps, assembly_step_for_n_per_period, assembly_operator, &
+    assembly_operator_apply, assembly_matrix, eigen_solver_name
 
   !> Hertz linearisation at the current overlap, or at an impact's largest
   !> overlap: `hertz_linearization%impact`.
@@ -52,8 +56,55 @@ module demstep_assembly
   !> for the diagonal blocks (160 MB); above, it sums absolute values of each
   !> spring's entries (looser, equally rigorous).
   real(dp), parameter :: max_bound_memory = 2.0e7_dp
-  !> Largest number of degrees of freedom given to the dense eigensolver by default.
+  !> Largest number of degrees of freedom given to the dense eigensolver by
+  !> `eigen_solver%auto` (above it: Lanczos). Measured crossover, see the README.
   integer, parameter, public :: default_max_eigen_dof = 4000
+
+  !> Which eigensolver gives the exact omega_max: `eigen_solver%auto` (dense up to
+  !> max_eigen_dof, Lanczos above), `%dense` (LAPACK dsyevr), `%lanczos` (ARPACK,
+  !> matrix-free), `%none` (the bound only).
+  type, public :: eigen_solver_enum
+    integer :: auto = 1
+    integer :: dense = 2
+    integer :: lanczos = 3
+    integer :: none = 4
+  end type eigen_solver_enum
+  !> The eigensolvers by name.
+  type(eigen_solver_enum), parameter, public :: eigen_solver = eigen_solver_enum()
+  !> Their names, indexed by value.
+  character(len=*), parameter :: solver_names(4) = [character(len=7) :: "auto", "dense", &
+    "lanczos", "none"]
+  !> Krylov size of the scene Lanczos solve: tiled packings have clusters of
+  !> nearly equal top eigenvalues, which a larger basis separates in fewer restarts.
+  integer, parameter :: scene_lanczos_ncv = 32
+  !> Restarts of the scene Lanczos solve before it settles for the bracket the
+  !> Ritz value and its residual estimate give (`eigen_converged` false).
+  integer, parameter :: scene_lanczos_restarts = 20
+  !> Below this many springs an operator product runs on one thread.
+  integer, parameter :: parallel_springs = 4096
+
+  !> The mass-scaled stiffness A' = M'^-1/2 K' M'^-1/2 of a scene as a matrix-free
+  !> operator (a Lanczos context): the linearised springs and, per free body, the
+  !> springs it touches. A product costs O(springs), never a matrix.
+  type, extends(lanczos_context_type), public :: assembly_operator_type
+    !> Order (degrees of freedom), dof per free body, free bodies, springs.
+    integer :: n = 0, nc = 0, n_bodies = 0, n_springs = 0
+    !> The components (of u(1:3), r theta(4:6)) that are degrees of freedom.
+    integer, allocatable :: comp(:)
+    !> Free-body index of each end of each spring (0: ground, a wall or fixed).
+    integer, allocatable :: ends(:, :)
+    !> Unit normal and (k_n, k_t, arm_a, arm_b, geo) of each spring, scaled
+    !> (stiffness over k_scale, arms over the body's radius).
+    real(dp), allocatable :: normal(:, :), coef(:, :)
+    !> M'^-1/2 per component (1..6) and free body.
+    real(dp), allocatable :: w(:, :)
+    !> Spring ends at each free body: entries first(i) .. first(i+1)-1 of
+    !> `incident`, each 2(s-1)+e for end e of spring s, in spring order.
+    integer(i8), allocatable :: first(:)
+    integer, allocatable :: incident(:)
+    !> Each spring end's generalised force (6, 2 springs), filled per product.
+    real(dp), allocatable :: work(:, :)
+  end type assembly_operator_type
 
   !> The four estimates and what they rest on.
   type, public :: critical_step_type
@@ -65,6 +116,22 @@ module demstep_assembly
     !> Exact: omega_max and 2/omega_max (0 when not computed).
     real(dp) :: omega_max = 0.0_dp, dt_critical_eigen = 0.0_dp
     logical :: eigen_computed = .false.
+    !> Which solver ran (`eigen_solver%dense`, `%lanczos`, or `%none`).
+    integer :: solver = 4
+    !> The solver's relative tolerance (Lanczos: residual <= tolerance * omega^2;
+    !> dense: the working precision), and the measured relative residual
+    !> ||A z - theta z||/theta of the returned mode z (one more product).
+    real(dp) :: eigen_tolerance = 0.0_dp, eigen_residual = 0.0_dp
+    !> Upper end of omega_max's error bar (from the residual, Weinstein's bound)
+    !> and the step safe to it, max(2/omega_upper, dt_critical_bound) <=
+    !> dt_critical_eigen.
+    real(dp) :: omega_upper = 0.0_dp, dt_critical_safe = 0.0_dp
+    !> Whether the residual met the tolerance (false: Lanczos ran out of restarts;
+    !> omega_max is then bracketed by [omega_max, omega_upper], wider).
+    logical :: eigen_converged = .false.
+    !> Operator products and restarts of the Lanczos solve.
+    integer(i8) :: eigen_products = 0
+    integer :: eigen_restarts = 0
     !> Gershgorin bound: omega_bound >= omega_max, 2/omega_bound <= the limit.
     real(dp) :: omega_bound = 0.0_dp, dt_critical_bound = 0.0_dp
     !> The per-contact rule min 2 sqrt(m*/k) (unsafe).
@@ -88,43 +155,64 @@ contains
   !> The eigenproblem is solved in scaled units (stiffness over the largest
   !> spring stiffness, masses over the smallest free mass or I/r^2, rotations as
   !> r theta), so any finite stiffness and any mass with a finite inverse give
-  !> finite results unless omega_max itself overflows.
+  !> finite results unless omega_max itself overflows. Whatever solver runs, the
+  !> returned mode's residual is measured with one matrix-free product and
+  !> reported with the error bar it gives (`omega_upper`, `dt_critical_safe`);
+  !> the damped limit is taken at the safe end.
   !> Status invalid_input, the message starting with the variable to change:
   !> `fixed:` (every particle fixed), `effects:` (no bonds and no contact effect),
   !> `position:` (no free particle touches a spring; coincident particles; too
   !> many contacts), `e_star:` (a Hertz stiffness overflows), `damping_ratio:`
   !> (above `max_damping_ratio`, or a damped limit that underflows), `mass:`
-  !> (omega_max overflows), bad Hertz options; lapack_failure.
+  !> (omega_max overflows), `eigen_solver:`, `tolerance:`, bad Hertz options;
+  !> lapack_failure; the Lanczos solver's statuses (not_converged names
+  !> `tolerance`).
   subroutine assembly_critical_steps(scene, result, status, hertz_mode, impact_velocity, &
-      max_eigen_dof, prestress)
+      max_eigen_dof, prestress, solver, tolerance, progress)
     type(scene_type), intent(in) :: scene
     type(critical_step_type), intent(out) :: result
     type(demstep_status_type), intent(out) :: status
     !> `hertz_linearization%current` (default) or `%impact` with impact_velocity > 0.
     integer, intent(in), optional :: hertz_mode
     real(dp), intent(in), optional :: impact_velocity
-    !> Above this many degrees of freedom the eigensolver is skipped (default 4000).
+    !> With `eigen_solver%auto`: the largest problem given to the dense solver
+    !> (default `default_max_eigen_dof`); Lanczos above.
     integer, intent(in), optional :: max_eigen_dof
     !> Count the pre-stress (geometric) stiffness -(F_n/l)(I - n n^T) of the
     !> loaded contacts (default no).
     logical, intent(in), optional :: prestress
+    !> `eigen_solver%auto` (default), `%dense`, `%lanczos` or `%none`.
+    integer, intent(in), optional :: solver
+    !> Lanczos: relative residual tolerance on omega_max^2, in [2.2e-16, 0.1]
+    !> (default `lanczos_tolerance_default`).
+    real(dp), intent(in), optional :: tolerance
+    !> Reports the Lanczos products.
+    class(progress_type), intent(inout), optional :: progress
     type(spring_block_type), allocatable :: springs(:)
-    integer, allocatable :: dof(:), comp(:)
-    real(dp), allocatable :: a(:, :), vec(:), rows(:), mdof(:, :), diag(:, :, :)
-    real(dp) :: lam, zeta, v_impact, k_scale, m_scale, rate
-    integer :: mode, limit, i, nfree, nc, p
-    logical :: touches, geo
-    mode = hertz_linearization%current
-    if (present(hertz_mode)) mode = hertz_mode
-    v_impact = 0.0_dp
-    if (present(impact_velocity)) v_impact = impact_velocity
+    type(assembly_operator_type) :: op
+    type(eigen_result_type) :: lanczos
+    integer, allocatable :: dof(:)
+    real(dp), allocatable :: a(:, :), vec(:), rows(:), mdof(:, :), diag(:, :, :), av(:)
+    real(dp) :: lam, zeta, k_scale, m_scale, rate, tol, err
+    integer :: limit, i, p, choice, nc
+    logical :: geo
+
     limit = default_max_eigen_dof
     if (present(max_eigen_dof)) limit = max_eigen_dof
     geo = .false.
     if (present(prestress)) geo = prestress
-    if (mode == hertz_linearization%impact .and. .not. (v_impact > 0.0_dp .and. ieee_is_finite(v_impact))) then
-      call set_status(status, demstep_stat%invalid_input, "impact_velocity: the Hertz linearisation " &
-        //"at impact needs a finite impact velocity > 0")
+    choice = eigen_solver%auto
+    if (present(solver)) choice = solver
+    tol = lanczos_tolerance_default
+    if (present(tolerance)) tol = tolerance
+    if (choice < eigen_solver%auto .or. choice > eigen_solver%none) then
+      call set_status(status, demstep_stat%invalid_input, "eigen_solver: must be 'auto', " &
+        //"'dense', 'lanczos' or 'none'")
+      return
+    end if
+    call check_lanczos_options("tolerance", tol, 1, 2, 1, status)
+    if (status%stat /= demstep_stat%ok) then
+      status%message = status%message(len("tolerance: ") + 1:)
       return
     end if
     zeta = 0.0_dp
@@ -133,55 +221,17 @@ contains
       call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be in [0, 1e100]")
       return
     end if
+    call prepare(scene, hertz_mode, impact_velocity, geo, springs, dof, mdof, k_scale, m_scale, &
+      op, status)
+    if (status%stat /= demstep_stat%ok) return
+    nc = op%nc
     result%rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
     result%periodic = any(scene%periodic)
     result%prestress = geo
-    comp = dof_components(scene%dim, result%rotation)
-    nc = size(comp)
     result%dof_per_particle = nc
-    ! degrees of freedom: nc per free particle, scaled masses per component
-    allocate(dof(scene%n), source=0)
-    allocate(mdof(6, scene%n), source=1.0_dp)
-    nfree = 0
-    m_scale = huge(1.0_dp)
-    do i = 1, scene%n
-      if (scene%fixed(i)) cycle
-      nfree = nfree + 1
-      dof(i) = (nfree - 1)*nc
-      mdof(1:3, i) = scene%mass(i)
-      ! a rotation counts as r theta: its mass is I/r^2
-      mdof(4:6, i) = (scene%inertia(i)/scene%radius(i))/scene%radius(i)
-      m_scale = min(m_scale, minval(mdof(comp, i)))
-    end do
-    result%n_dof = nfree*nc
-    if (nfree == 0) then
-      call set_status(status, demstep_stat%invalid_input, "fixed: every particle is fixed: the " &
-        //"scene has no stiffness")
-      return
-    end if
-    mdof = mdof/m_scale
-    call linearise(scene, mode, v_impact, geo, springs, status)
-    if (status%stat /= demstep_stat%ok) return
+    result%n_dof = op%n
     result%n_springs = size(springs)
-    touches = .false.
-    k_scale = 0.0_dp
-    do i = 1, size(springs)
-      if (springs(i)%a > 0) touches = touches .or. .not. scene%fixed(springs(i)%a)
-      touches = touches .or. .not. scene%fixed(springs(i)%b)
-      k_scale = max(k_scale, springs(i)%k_n, springs(i)%k_t)
-      result%tangential = result%tangential .or. springs(i)%k_t > 0.0_dp
-    end do
-    if (.not. (touches .and. k_scale > 0.0_dp)) then
-      if (size(scene%bonds, 2) == 0 .and. .not. (scene%effects(scene_effect%contacts) .or. &
-          scene%effects(scene_effect%walls))) then
-        call set_status(status, demstep_stat%invalid_input, "effects: the scene has no stiffness: " &
-          //"no bonds, and neither 'contacts' nor 'walls' is switched on")
-      else
-        call set_status(status, demstep_stat%invalid_input, "position: the scene has no stiffness: " &
-          //"no free particle touches a bond, a contact or a wall")
-      end if
-      return
-    end if
+    result%tangential = any(springs%k_t > 0.0_dp)
     ! omega = rate sqrt(lambda'), lambda' an eigenvalue of the scaled problem
     rate = sqrt(k_scale)/sqrt(m_scale)
 
@@ -190,8 +240,8 @@ contains
     ! (contacts of one particle cancel there) when they fit in max_bound_memory
     result%dt_contact_rule = huge(1.0_dp)
     allocate(rows(result%n_dof), source=0.0_dp)
-    if (real(nfree, dp)*nc*nc <= max_bound_memory) then
-      allocate(diag(nc, nc, nfree), source=0.0_dp)
+    if (real(op%n_bodies, dp)*nc*nc <= max_bound_memory) then
+      allocate(diag(nc, nc, op%n_bodies), source=0.0_dp)
     else
       allocate(diag(0, 0, 0))
     end if
@@ -200,9 +250,9 @@ contains
         result%dt_contact_rule = min(result%dt_contact_rule, &
           2.0_dp*sqrt(effective_mass(scene, s%b, s%a))/sqrt(max(s%k_n, s%k_t)))
         if (size(diag) > 0) then
-          call add_spring(scene, dof, comp, mdof, s, k_scale, .false., rows=rows, diag=diag)
+          call add_spring(scene, dof, op%comp, mdof, s, k_scale, .false., rows=rows, diag=diag)
         else
-          call add_spring(scene, dof, comp, mdof, s, k_scale, .false., rows=rows)
+          call add_spring(scene, dof, op%comp, mdof, s, k_scale, .false., rows=rows)
         end if
       end associate
     end do
@@ -218,30 +268,66 @@ contains
       return
     end if
     result%dt_critical_bound = 2.0_dp/result%omega_bound
+    deallocate(rows, diag)
 
-    ! exact omega_max from the dense scaled stiffness matrix
-    if (result%n_dof <= limit) then
-      allocate(a(result%n_dof, result%n_dof), source=0.0_dp)
-      do i = 1, size(springs)
-        call add_spring(scene, dof, comp, mdof, springs(i), k_scale, geo, a=a)
-      end do
+    ! the exact omega_max: dense LAPACK or matrix-free Lanczos
+    if (choice == eigen_solver%auto) then
+      choice = eigen_solver%lanczos
+      if (result%n_dof <= limit) choice = eigen_solver%dense
+    end if
+    result%solver = choice
+    if (choice /= eigen_solver%none) then
       allocate(vec(result%n_dof))
-      call largest_eigenpair(a, lam, vec, status)
-      if (status%stat /= demstep_stat%ok) return
+      if (choice == eigen_solver%dense) then
+        allocate(a(result%n_dof, result%n_dof), source=0.0_dp)
+        do i = 1, size(springs)
+          call add_spring(scene, dof, op%comp, mdof, springs(i), k_scale, geo, a=a)
+        end do
+        call largest_eigenpair(a, lam, vec, status)
+        if (status%stat /= demstep_stat%ok) return
+        deallocate(a)
+        result%eigen_tolerance = epsilon(1.0_dp)
+      else
+        call lanczos_largest(assembly_operator_apply, op, op%n, lanczos, status, eigenvector=vec, &
+          tolerance=tol, ncv=min(scene_lanczos_ncv, op%n), max_restarts=scene_lanczos_restarts, &
+          progress=progress)
+        result%eigen_products = lanczos%applications
+        result%eigen_restarts = lanczos%iterations
+        result%eigen_tolerance = tol
+        if (status%stat == demstep_stat%not_converged .and. .not. any(vec /= 0.0_dp)) then
+          ! the restarts ran out (a top crowded with nearly equal eigenvalues):
+          ! the Ritz value and ARPACK's estimate of its residual still bracket
+          ! omega_max; no mode, so the damping ratio is the nominal one
+          call not_converged(lanczos%eigenvalue, lanczos%residual)
+          return
+        end if
+        if (status%stat == demstep_stat%not_converged) status%stat = demstep_stat%ok
+        if (status%stat /= demstep_stat%ok) return
+      end if
+      ! the returned mode's Rayleigh quotient and residual, one product
+      allocate(av(result%n_dof))
+      call assembly_operator_apply(op, vec, av)
+      lam = dot_product(vec, av)
       if (.not. lam > 0.0_dp) then
         call set_status(status, demstep_stat%invalid_input, "position: the scene has no stiffness")
         return
       end if
+      err = norm2(av - lam*vec)
+      result%eigen_residual = err/lam
+      err = err + 8.0_dp*epsilon(1.0_dp)*lam
       result%omega_max = rate*sqrt(lam)
+      result%omega_upper = rate*sqrt(lam + err)
       result%dt_critical_eigen = 2.0_dp/result%omega_max
+      result%dt_critical_safe = max(2.0_dp/result%omega_upper, result%dt_critical_bound)
       result%eigen_computed = .true.
+      result%eigen_converged = result%eigen_residual <= tol .or. choice == eigen_solver%dense
       if (scene%effects(scene_effect%damping)) then
         zeta = zeta*modal_damping(scene, dof, mdof, springs, k_scale, m_scale, vec)/(2.0_dp*sqrt(lam))
       end if
       result%damping_ratio_top = zeta
-      result%dt_critical_damped = damped_limit(result%dt_critical_eigen, zeta)
+      result%dt_critical_damped = damped_limit(result%dt_critical_safe, zeta)
     else
-      ! too large for the dense solver: the damped limit from the bound
+      ! no eigensolver: the damped limit from the bound
       result%damping_ratio_top = zeta
       result%dt_critical_damped = damped_limit(result%dt_critical_bound, zeta)
     end if
@@ -251,7 +337,294 @@ contains
       return
     end if
     status%stat = demstep_stat%ok
+
+  contains
+
+    !> The result of a Lanczos solve that ran out of restarts: Ritz value theta
+    !> and residual estimate r, omega_max in [rate sqrt(theta), rate sqrt(theta + r)]
+    !> (and below the bound).
+    subroutine not_converged(theta, r)
+      real(dp), intent(in) :: theta, r
+      if (.not. theta > 0.0_dp) return
+      result%omega_max = rate*sqrt(theta)
+      result%omega_upper = min(rate*sqrt(theta + r + 8.0_dp*epsilon(1.0_dp)*theta), result%omega_bound)
+      result%eigen_residual = r/theta
+      result%dt_critical_eigen = 2.0_dp/result%omega_max
+      result%dt_critical_safe = 2.0_dp/result%omega_upper
+      result%eigen_computed = .true.
+      result%eigen_converged = .false.
+      result%damping_ratio_top = zeta
+      result%dt_critical_damped = damped_limit(result%dt_critical_safe, zeta)
+      if (.not. (ieee_is_finite(result%damping_ratio_top) .and. result%dt_critical_damped > 0.0_dp)) then
+        call set_status(status, demstep_stat%invalid_input, "damping_ratio: the damped limit " &
+          //"dt/(sqrt(1 + z^2) + z) is not representable; use a smaller damping_ratio")
+        return
+      end if
+      status%stat = demstep_stat%ok
+    end subroutine not_converged
   end subroutine assembly_critical_steps
+
+  !> The name of an `eigen_solver` value ('auto', 'dense', 'lanczos', 'none';
+  !> '' for another value).
+  pure function eigen_solver_name(solver) result(name)
+    integer, intent(in) :: solver
+    character(len=:), allocatable :: name
+    name = ""
+    if (solver >= 1 .and. solver <= size(solver_names)) name = trim(solver_names(solver))
+  end function eigen_solver_name
+
+  !> The scene's mass-scaled stiffness as a matrix-free operator (see
+  !> `assembly_operator_apply`), with `rate`: omega = rate sqrt(lambda) for an
+  !> eigenvalue lambda of the operator. Same options and statuses as
+  !> `assembly_critical_steps`.
+  subroutine assembly_operator(scene, op, rate, status, hertz_mode, impact_velocity, prestress)
+    type(scene_type), intent(in) :: scene
+    type(assembly_operator_type), intent(out) :: op
+    real(dp), intent(out) :: rate
+    type(demstep_status_type), intent(out) :: status
+    integer, intent(in), optional :: hertz_mode
+    real(dp), intent(in), optional :: impact_velocity
+    logical, intent(in), optional :: prestress
+    type(spring_block_type), allocatable :: springs(:)
+    integer, allocatable :: dof(:)
+    real(dp), allocatable :: mdof(:, :)
+    real(dp) :: k_scale, m_scale
+    logical :: geo
+    geo = .false.
+    if (present(prestress)) geo = prestress
+    rate = 0.0_dp
+    call prepare(scene, hertz_mode, impact_velocity, geo, springs, dof, mdof, k_scale, m_scale, &
+      op, status)
+    if (status%stat /= demstep_stat%ok) return
+    rate = sqrt(k_scale)/sqrt(m_scale)
+  end subroutine assembly_operator
+
+  !> y = A' x for an `assembly_operator_type` (a `lanczos_operator`): each
+  !> spring's generalised forces from the interaction kernel (`contact_product`),
+  !> then each body's sum over its springs in spring order. Both loops run in
+  !> parallel under OpenMP and every sum has a fixed order: the result is the
+  !> same for every thread count, bit for bit. O(springs + dof).
+  subroutine assembly_operator_apply(context, x, y)
+    class(lanczos_context_type), intent(inout) :: context
+    real(dp), intent(in) :: x(:)
+    real(dp), intent(out) :: y(:)
+    integer :: s, e, i, nc
+    integer(i8) :: p
+    real(dp) :: v(6, 2), acc(6)
+    y = 0.0_dp
+    select type (op => context)
+    class is (assembly_operator_type)
+      nc = op%nc
+      !$omp parallel do private(s, e, i, v) schedule(static) if(op%n_springs >= parallel_springs)
+      do s = 1, op%n_springs
+        do e = 1, 2
+          v(:, e) = 0.0_dp
+          i = op%ends(e, s)
+          if (i > 0) v(op%comp, e) = x((i - 1)*nc + 1:i*nc)*op%w(op%comp, i)
+        end do
+        call contact_product(op%normal(:, s), op%coef(1, s), op%coef(2, s), op%coef(3, s), &
+          op%coef(4, s), op%coef(5, s), v(1:3, 1), v(4:6, 1), v(1:3, 2), v(4:6, 2), &
+          op%work(1:3, 2*s - 1), op%work(4:6, 2*s - 1), op%work(1:3, 2*s), op%work(4:6, 2*s))
+      end do
+      !$omp end parallel do
+      !$omp parallel do private(i, p, acc) schedule(static) if(op%n_springs >= parallel_springs)
+      do i = 1, op%n_bodies
+        acc = 0.0_dp
+        do p = op%first(i), op%first(i + 1) - 1
+          acc = acc + op%work(:, op%incident(p))
+        end do
+        y((i - 1)*nc + 1:i*nc) = acc(op%comp)*op%w(op%comp, i)
+      end do
+      !$omp end parallel do
+    end select
+  end subroutine assembly_operator_apply
+
+  !> The operator's matrix A' in compressed rows (each body's diagonal block
+  !> once, then one block per spring to another free body; columns may repeat),
+  !> e.g. to hand the same problem to another eigensolver. O(springs) entries.
+  subroutine assembly_matrix(op, matrix)
+    type(assembly_operator_type), intent(in) :: op
+    type(csr_matrix_type), intent(out) :: matrix
+    real(dp) :: b(12, 12), d(6, 6), scale
+    integer :: i, s, e, o, j, r, q, nc
+    integer(i8) :: p, pos, width
+    integer(i8), allocatable :: fill(:)
+    nc = op%nc
+    matrix%n = op%n
+    allocate(matrix%row_start(op%n + 1), fill(op%n_bodies))
+    matrix%row_start(1) = 1
+    do i = 1, op%n_bodies
+      width = nc
+      do p = op%first(i), op%first(i + 1) - 1
+        s = (op%incident(p) + 1)/2
+        e = op%incident(p) - 2*(s - 1)
+        if (op%ends(3 - e, s) > 0) width = width + nc
+      end do
+      do r = 1, nc
+        matrix%row_start((i - 1)*nc + r + 1) = matrix%row_start((i - 1)*nc + r) + width
+      end do
+    end do
+    allocate(matrix%col(matrix%row_start(op%n + 1) - 1), matrix%val(matrix%row_start(op%n + 1) - 1))
+    do i = 1, op%n_bodies
+      d = 0.0_dp
+      ! column offset (within each of the body's rows) of the next block
+      pos = nc
+      do p = op%first(i), op%first(i + 1) - 1
+        s = (op%incident(p) + 1)/2
+        e = op%incident(p) - 2*(s - 1)
+        b = contact_block(op%normal(:, s), op%coef(1, s), op%coef(2, s), op%coef(3, s), &
+          op%coef(4, s), op%coef(5, s))
+        d = d + b(6*(e - 1) + 1:6*e, 6*(e - 1) + 1:6*e)
+        o = 3 - e
+        j = op%ends(o, s)
+        if (j == 0) cycle
+        do r = 1, nc
+          do q = 1, nc
+            scale = op%w(op%comp(r), i)*op%w(op%comp(q), j)
+            matrix%col(matrix%row_start((i - 1)*nc + r) + pos + q - 1) = (j - 1)*nc + q
+            matrix%val(matrix%row_start((i - 1)*nc + r) + pos + q - 1) = &
+              b(6*(e - 1) + op%comp(r), 6*(o - 1) + op%comp(q))*scale
+          end do
+        end do
+        pos = pos + nc
+      end do
+      do r = 1, nc
+        do q = 1, nc
+          matrix%col(matrix%row_start((i - 1)*nc + r) + q - 1) = (i - 1)*nc + q
+          matrix%val(matrix%row_start((i - 1)*nc + r) + q - 1) = d(op%comp(r), op%comp(q)) &
+            *op%w(op%comp(r), i)*op%w(op%comp(q), i)
+        end do
+      end do
+    end do
+  end subroutine assembly_matrix
+
+  !> The common start of every assembly computation: options checked, degrees
+  !> of freedom numbered, scaled masses, the springs linearised and the
+  !> matrix-free operator built. O(particles + springs).
+  subroutine prepare(scene, hertz_mode, impact_velocity, geo, springs, dof, mdof, k_scale, m_scale, &
+      op, status)
+    type(scene_type), intent(in) :: scene
+    integer, intent(in), optional :: hertz_mode
+    real(dp), intent(in), optional :: impact_velocity
+    logical, intent(in) :: geo
+    type(spring_block_type), allocatable, intent(out) :: springs(:)
+    integer, allocatable, intent(out) :: dof(:)
+    real(dp), allocatable, intent(out) :: mdof(:, :)
+    real(dp), intent(out) :: k_scale, m_scale
+    type(assembly_operator_type), intent(out) :: op
+    type(demstep_status_type), intent(out) :: status
+    integer, allocatable :: body(:)
+    integer :: mode, i, nfree, nc, s, e
+    integer(i8) :: p
+    real(dp) :: v_impact
+    logical :: touches, rotation
+    mode = hertz_linearization%current
+    if (present(hertz_mode)) mode = hertz_mode
+    v_impact = 0.0_dp
+    if (present(impact_velocity)) v_impact = impact_velocity
+    k_scale = 0.0_dp
+    m_scale = 0.0_dp
+    if (mode == hertz_linearization%impact .and. .not. (v_impact > 0.0_dp .and. ieee_is_finite(v_impact))) then
+      call set_status(status, demstep_stat%invalid_input, "impact_velocity: the Hertz linearisation " &
+        //"at impact needs a finite impact velocity > 0")
+      return
+    end if
+    rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
+    op%comp = dof_components(scene%dim, rotation)
+    nc = size(op%comp)
+    op%nc = nc
+    ! degrees of freedom: nc per free particle, scaled masses per component
+    allocate(dof(scene%n), body(scene%n), source=0)
+    allocate(mdof(6, scene%n), source=1.0_dp)
+    nfree = 0
+    m_scale = huge(1.0_dp)
+    do i = 1, scene%n
+      if (scene%fixed(i)) cycle
+      nfree = nfree + 1
+      body(i) = nfree
+      dof(i) = (nfree - 1)*nc
+      mdof(1:3, i) = scene%mass(i)
+      ! a rotation counts as r theta: its mass is I/r^2
+      mdof(4:6, i) = (scene%inertia(i)/scene%radius(i))/scene%radius(i)
+      m_scale = min(m_scale, minval(mdof(op%comp, i)))
+    end do
+    op%n_bodies = nfree
+    op%n = nfree*nc
+    if (nfree == 0) then
+      call set_status(status, demstep_stat%invalid_input, "fixed: every particle is fixed: the " &
+        //"scene has no stiffness")
+      return
+    end if
+    mdof = mdof/m_scale
+    call linearise(scene, mode, v_impact, geo, springs, status)
+    if (status%stat /= demstep_stat%ok) return
+    touches = .false.
+    do i = 1, size(springs)
+      if (springs(i)%a > 0) touches = touches .or. .not. scene%fixed(springs(i)%a)
+      touches = touches .or. .not. scene%fixed(springs(i)%b)
+      k_scale = max(k_scale, springs(i)%k_n, springs(i)%k_t)
+    end do
+    if (.not. (touches .and. k_scale > 0.0_dp)) then
+      if (size(scene%bonds, 2) == 0 .and. .not. (scene%effects(scene_effect%contacts) .or. &
+          scene%effects(scene_effect%walls))) then
+        call set_status(status, demstep_stat%invalid_input, "effects: the scene has no stiffness: " &
+          //"no bonds, and neither 'contacts' nor 'walls' is switched on")
+      else
+        call set_status(status, demstep_stat%invalid_input, "position: the scene has no stiffness: " &
+          //"no free particle touches a bond, a contact or a wall")
+      end if
+      return
+    end if
+
+    ! the operator: scaled springs, and each free body's spring ends in order
+    op%n_springs = size(springs)
+    allocate(op%ends(2, op%n_springs), op%normal(3, op%n_springs), op%coef(5, op%n_springs))
+    allocate(op%w(6, nfree), op%first(nfree + 1), op%work(6, 2*op%n_springs))
+    do i = 1, scene%n
+      if (body(i) > 0) op%w(:, body(i)) = 1.0_dp/sqrt(mdof(:, i))
+    end do
+    op%first = 0
+    do s = 1, op%n_springs
+      associate(sp => springs(s))
+        op%ends(:, s) = 0
+        op%coef(3:4, s) = 0.0_dp
+        if (sp%a > 0) then
+          op%ends(1, s) = body(sp%a)
+          op%coef(3, s) = sp%arm_a/scene%radius(sp%a)
+        end if
+        op%ends(2, s) = body(sp%b)
+        op%coef(4, s) = sp%arm_b/scene%radius(sp%b)
+        op%normal(:, s) = sp%n
+        op%coef(1, s) = sp%k_n/k_scale
+        op%coef(2, s) = sp%k_t/k_scale
+        op%coef(5, s) = 0.0_dp
+        if (geo) op%coef(5, s) = sp%geo/k_scale
+        do e = 1, 2
+          if (op%ends(e, s) > 0) op%first(op%ends(e, s) + 1) = op%first(op%ends(e, s) + 1) + 1
+        end do
+      end associate
+    end do
+    op%first(1) = 1
+    do i = 1, nfree
+      op%first(i + 1) = op%first(i + 1) + op%first(i)
+    end do
+    allocate(op%incident(op%first(nfree + 1) - 1))
+    do s = 1, op%n_springs
+      do e = 1, 2
+        i = op%ends(e, s)
+        if (i == 0) cycle
+        p = op%first(i)
+        op%incident(p) = 2*(s - 1) + e
+        op%first(i) = p + 1
+      end do
+    end do
+    ! first(i) now points past body i's entries: shift back
+    do i = nfree, 1, -1
+      op%first(i + 1) = op%first(i)
+    end do
+    op%first(1) = 1
+    status%stat = demstep_stat%ok
+  end subroutine prepare
 
   !> Every interaction of the scene, linearised at the current configuration:
   !> counted, allocated once and filled (linear in interactions).
@@ -265,7 +638,7 @@ contains
     integer, allocatable :: pi(:), pj(:), pc(:)
     real(dp), allocatable :: pn(:, :), pd(:)
     integer :: k, i, j, w, m, n_contacts, n_walls
-    real(dp) :: overlap, d, f_n, k_n, k_t, rs, l
+    real(dp) :: overlap, d, f_n, k_n, k_t, rs, l, e_pair
     m = size(scene%bonds, 2)
     n_contacts = 0
     n_walls = 0
@@ -295,7 +668,10 @@ contains
         j = pj(k)
         if (scene%fixed(i) .and. scene%fixed(j)) cycle
         rs = reduced_radius(scene%radius(i), scene%radius(j))
-        d = linearisation_overlap(scene, pc(k), pd(k), rs, effective_mass(scene, i, j), mode, v_impact)
+        ! the pair's E* (per-type materials) or the scene's
+        e_pair = scene%e_star
+        if (allocated(scene%ptype)) e_pair = scene%pair_law(3, scene%ptype(i), scene%ptype(j))
+        d = linearisation_overlap(scene, pc(k), pd(k), rs, effective_mass(scene, i, j), mode, v_impact, e_pair)
         call contact_values(scene, pc(k), i, j, d, f_n, k_n, k_t)
         if (.not. (ieee_is_finite(k_n) .and. ieee_is_finite(k_t))) then
           call stiffness_overflow(i, j)
@@ -318,7 +694,8 @@ contains
           if (scene%fixed(i)) cycle
           overlap = wall_overlap(scene%x(:, i), scene%radius(i), scene%wall_point(:, w), scene%wall_normal(:, w))
           if (.not. overlap > 0.0_dp) cycle
-          d = linearisation_overlap(scene, 0, overlap, scene%radius(i), scene%mass(i), mode, v_impact)
+          d = linearisation_overlap(scene, 0, overlap, scene%radius(i), scene%mass(i), mode, v_impact, &
+            scene%e_star)
           k_n = normal_stiffness(scene%law, scene%k_normal, scene%e_star, d, scene%radius(i))
           if (.not. ieee_is_finite(k_n)) then
             call stiffness_overflow(i, 0)
@@ -353,13 +730,14 @@ contains
   !> The overlap a contact is linearised at: the current one, or (Hertz, detected
   !> contacts) the largest overlap of an impact at v_impact,
   !> d = (15 m* v^2/(16 E* sqrt(R*)))^(2/5) (through logarithms: no overflow).
-  pure real(dp) function linearisation_overlap(scene, c, overlap, rs, m_eff, mode, v_impact) result(d)
+  pure real(dp) function linearisation_overlap(scene, c, overlap, rs, m_eff, mode, v_impact, e_star) result(d)
     type(scene_type), intent(in) :: scene
     integer, intent(in) :: c, mode
-    real(dp), intent(in) :: overlap, rs, m_eff, v_impact
+    !> E* of the pair (per-type materials) or of the scene.
+    real(dp), intent(in) :: overlap, rs, m_eff, v_impact, e_star
     d = overlap
     if (c == 0 .and. scene%law == contact_law%hertz .and. mode == hertz_linearization%impact) &
-      d = exp(0.4_dp*(log(15.0_dp/16.0_dp) + log(m_eff) + 2.0_dp*log(v_impact) - log(scene%e_star) &
+      d = exp(0.4_dp*(log(15.0_dp/16.0_dp) + log(m_eff) + 2.0_dp*log(v_impact) - log(e_star) &
         - 0.5_dp*log(rs)))
   end function linearisation_overlap
 
@@ -458,6 +836,7 @@ contains
     end if
     omega = crit%omega_bound
     if (crit%eigen_computed) omega = crit%omega_max
+    if (crit%eigen_computed .and. .not. crit%eigen_converged) omega = crit%omega_upper
     dt = 2.0_dp*pi/omega/n_per_period
     if (.not. ieee_is_finite(dt)) then
       dt = 0.0_dp

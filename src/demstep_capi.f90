@@ -4,19 +4,31 @@
 !> `demstep_stat` otherwise) and, when `err` is not NULL, fills it with the code
 !> and a NUL-terminated message. Pointers to outputs must not be NULL; arrays
 !> are passed with their lengths; particle and bond numbers are 0-based.
+!>
+!> Scenes are opaque handles (`demstep_scene *`): a `capi_scene_type` allocated
+!> by demstep_scene_create and passed to C by `c_loc`, filled call by call
+!> through the library's builders (which check the values; this module checks
+!> pointers, counts and the enum values the library takes as plain integers, and
+!> maps statuses), computed by demstep_scene_compute and freed by
+!> demstep_scene_free, which also sets the caller's pointer to NULL.
 module demstep_capi
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_int64_t, c_char, c_ptr, c_null_char, &
-    c_associated, c_f_pointer
+    c_associated, c_f_pointer, c_loc, c_null_ptr, c_size_t
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_spring, only: spring_type, spring_state_type, new_spring, spring_step, &
     critical_time_step
-  use demstep_harmonic, only: harmonic_error, step_policy_type, new_step_policy
+  use demstep_harmonic, only: harmonic_error, step_policy_type, new_step_policy, step_kind
   use demstep_stiffness, only: nroots_options_type, nroots_type, n_roots, stiffness_input_type, &
     stiffness_result_type, simulated_stiffness
-  use demstep_scene, only: scene_type, new_scene, scene_add_bonds, n_effects
-  use demstep_assembly, only: critical_step_type, assembly_critical_steps
+  use demstep_text, only: int_text
+  use demstep_scene, only: scene_type, new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, &
+    scene_set_cell, scene_set_types, scene_set_hertz_types, scene_set_law, scene_set_bond_stiffness, &
+    scene_set_gravity, n_effects, scene_effect, effect_names, contact_law
+  use demstep_assembly, only: critical_step_type, assembly_critical_steps, hertz_linearization, &
+    default_max_eigen_dof, eigen_solver
+  use demstep_lanczos, only: lanczos_tolerance_default, check_lanczos_options
   use demstep_contact, only: discrete_contact_type, contact_with_onset
   use demstep_cost, only: n_for_tolerance
   implicit none
@@ -55,13 +67,6 @@ module demstep_capi
     integer(c_int) :: lambda_star_stat, excluded
   end type demstep_stiffness_result_c
 
-  !> struct demstep_critical_step.
-  type, bind(C), public :: demstep_critical_step_c
-    real(c_double) :: omega_max, dt_critical_eigen, omega_bound, dt_critical_bound, &
-      dt_contact_rule, damping_ratio_top, dt_critical_damped
-    integer(c_int) :: n_dof, n_springs, eigen_computed
-  end type demstep_critical_step_c
-
   !> struct demstep_contact.
   type, bind(C), public :: demstep_contact_c
     real(c_double) :: onset, contact_time, restitution, max_overlap
@@ -69,9 +74,66 @@ module demstep_capi
     integer(c_int) :: stable
   end type demstep_contact_c
 
+  !> The scene behind a `demstep_scene *` handle. Live from demstep_scene_create
+  !> to demstep_scene_free; `failure` holds the message of the first builder call
+  !> that failed (the handle is unusable from then on).
+  type, public :: capi_scene_type
+    !> `scene_tag` while the handle is live.
+    integer :: tag = 0
+    !> Whether demstep_scene_set_particles succeeded.
+    logical :: has_particles = .false.
+    !> The law named by demstep_scene_set_contact_law and the law of the
+    !> per-type materials (0: none yet): they must agree.
+    integer :: law_given = 0, types_law = 0
+    character(len=:), allocatable :: failure
+    !> The eigensolver and Lanczos tolerance of demstep_scene_set_eigen_solver.
+    integer :: solver = eigen_solver%auto
+    real(dp) :: tolerance = lanczos_tolerance_default
+    !> The library scene every builder call goes to.
+    type(scene_type) :: scene
+  end type capi_scene_type
+
+  !> Marks a live handle (a pointer that is not one is refused, not followed further).
+  integer, parameter :: scene_tag = 31415926
+
+  !> The C effect flags (powers of two, fixed by the header): `capi_effect%walls`.
+  type, public :: capi_effect_enum
+    integer(c_int) :: contacts = 1, gravity = 2, damping = 4, local_damping = 8, walls = 16, rotation = 32
+  end type capi_effect_enum
+  !> The C effect flags by name.
+  type(capi_effect_enum), parameter, public :: capi_effect = capi_effect_enum()
+  !> Each C flag and the library effect it switches on (independent of the
+  !> library's index order).
+  integer, parameter, public :: capi_effect_map(2, n_effects) = reshape([ &
+    capi_effect%contacts, scene_effect%contacts, capi_effect%gravity, scene_effect%gravity, &
+    capi_effect%damping, scene_effect%damping, capi_effect%local_damping, scene_effect%local_damping, &
+    capi_effect%walls, scene_effect%walls, capi_effect%rotation, scene_effect%rotation], [2, n_effects])
+
+  !> struct demstep_scene_result: fields are only ever appended (the caller
+  !> passes the size it knows; see c_scene_compute).
+  type, bind(C), public :: demstep_scene_result_c
+    real(c_double) :: omega_max = 0.0_dp, dt_critical_eigen = 0.0_dp, omega_bound = 0.0_dp, &
+      dt_critical_bound = 0.0_dp, dt_contact_rule = 0.0_dp, damping_ratio_top = 0.0_dp, &
+      dt_critical_damped = 0.0_dp
+    integer(c_int) :: n_dof = 0, n_springs = 0, dof_per_particle = 0, eigen_computed = 0, rotation = 0, &
+      tangential = 0, periodic = 0, prestress = 0
+    ! appended in version 2: the eigensolver's report
+    real(c_double) :: eigen_tolerance = 0.0_dp, eigen_residual = 0.0_dp, omega_upper = 0.0_dp, &
+      dt_critical_safe = 0.0_dp
+    integer(c_int64_t) :: eigen_products = 0
+    integer(c_int) :: eigen_solver = 0, eigen_converged = 0
+  end type demstep_scene_result_c
+
+  !> sizeof(demstep_scene_result) of the first version: the least result_size accepted.
+  integer(c_size_t), parameter, public :: capi_scene_result_size_v1 = 7*8 + 8*4
+
   public :: c_contact_with_onset, c_n_for_tolerance
   public :: c_spring_new, c_spring_step, c_critical_time_step, c_harmonic_error, c_n_roots, &
-    c_simulated_stiffness, c_scene_critical_step
+    c_simulated_stiffness
+  public :: c_scene_create, c_scene_free, c_scene_set_particles, c_scene_add_bonds, &
+    c_scene_set_bond_stiffness, c_scene_set_contact_law, c_scene_set_types, c_scene_set_hertz_types, &
+    c_scene_add_walls, c_scene_set_contacts, c_scene_set_effects, c_scene_set_cell, c_scene_set_damping, &
+    c_scene_set_gravity, c_scene_compute, c_scene_set_eigen_solver
 
 contains
 
@@ -261,8 +323,15 @@ contains
     nroots_options = .false.
     call new_step_policy(options%policy, int(steps_kind), steps_value, status)
     if (status%stat /= demstep_stat%ok) then
-      code = invalid(err, "steps_value: step policy kind 1 (fixed, 1 <= n <= 1e12), 2 (fraction " &
-        //"f > 0) or 3 (rounded f > 0)")
+      ! the library names `steps:` for an unknown kind, the value's name otherwise
+      if (index(status%message, "steps:") == 1) then
+        code = invalid(err, "steps_kind: "//int_text(steps_kind)//" is not DEMSTEP_STEPS_FIXED (" &
+          //int_text(step_kind%fixed)//"), DEMSTEP_STEPS_FRACTION ("//int_text(step_kind%fraction) &
+          //") or DEMSTEP_STEPS_ROUNDED ("//int_text(step_kind%rounded)//")")
+      else
+        code = invalid(err, "steps_value: step policy kind 1 (fixed, 1 <= n <= 1e12), 2 (fraction " &
+          //"f > 0) or 3 (rounded f > 0)")
+      end if
       return
     end if
     options%tolerance = tolerance
@@ -365,77 +434,558 @@ contains
     end if
   end function c_simulated_stiffness
 
-  !> int demstep_scene_critical_step(int dim, int n, const double *x, const double *mass,
-  !>   const double *radius, const int *fixed, int n_bonds, const int *bonds, double k_bond,
-  !>   double k_bond_tangential, int law, double k_normal, double e_star, int effects,
-  !>   double damping_ratio, demstep_critical_step *result, demstep_error *err)
-  function c_scene_critical_step(dim, n, x, mass, radius, fixed, n_bonds, bonds, k_bond, &
-      k_bond_tangential, law, k_normal, e_star, effects, damping_ratio, result, err) result(code) &
-      bind(C, name="demstep_scene_critical_step")
-    integer(c_int), value :: dim, n, n_bonds, law, effects
-    real(c_double), value :: k_bond, k_bond_tangential, k_normal, e_star, damping_ratio
-    type(c_ptr), value :: x, mass, radius, fixed, bonds, result, err
+  !> The live handle behind `scene`, or .false. with the error reported: NULL,
+  !> not a handle, a handle left unusable by a failed builder call, or (when
+  !> `particles`) no particles yet.
+  logical function live(scene, name, h, err, code, particles)
+    type(c_ptr), intent(in) :: scene, err
+    character(len=*), intent(in) :: name
+    type(capi_scene_type), pointer, intent(out) :: h
+    integer(c_int), intent(out) :: code
+    logical, intent(in) :: particles
+    live = .false.
+    h => null()
+    code = demstep_stat%ok
+    if (.not. c_associated(scene)) then
+      code = invalid(err, name//": scene is NULL")
+      return
+    end if
+    call c_f_pointer(scene, h)
+    if (h%tag /= scene_tag) then
+      code = invalid(err, name//": scene is not a live handle of demstep_scene_create")
+      h => null()
+      return
+    end if
+    if (allocated(h%failure)) then
+      code = invalid(err, name//": the scene is unusable since a call failed ("//h%failure// &
+        "): free it and build it again")
+      return
+    end if
+    if (particles .and. .not. h%has_particles) then
+      code = invalid(err, name//": the scene has no particles yet: call demstep_scene_set_particles first")
+      return
+    end if
+    live = .true.
+  end function live
+
+  !> Report the status of a builder call on `h`; a failure leaves the handle unusable.
+  function built(h, name, status, err) result(code)
+    type(capi_scene_type), intent(inout) :: h
+    character(len=*), intent(in) :: name
+    type(demstep_status_type), intent(inout) :: status
+    type(c_ptr), intent(in) :: err
     integer(c_int) :: code
-    real(c_double), pointer :: px(:, :), pm(:), pr(:)
-    integer(c_int), pointer :: pf(:), pb(:, :)
-    type(scene_type) :: scene
-    type(critical_step_type) :: c
+    if (status%stat /= demstep_stat%ok) then
+      status%message = name//": "//status%message
+      h%failure = status%message
+    end if
+    code = report(err, status)
+  end function built
+
+  !> A builder's own refusal (a NULL array, a bad count): reported, and the handle unusable.
+  function refused(h, name, message, err) result(code)
+    type(capi_scene_type), intent(inout) :: h
+    character(len=*), intent(in) :: name, message
+    type(c_ptr), intent(in) :: err
+    integer(c_int) :: code
     type(demstep_status_type) :: status
-    type(demstep_critical_step_c), pointer :: out
-    integer :: k
-    if (dim < 1 .or. dim > 3 .or. n < 1 .or. n_bonds < 0) then
-      code = invalid(err, "demstep_scene_critical_step: need 1 <= dim <= 3, n >= 1, n_bonds >= 0")
+    call set_status(status, demstep_stat%invalid_input, message)
+    code = built(h, name, status, err)
+  end function refused
+
+  !> int demstep_scene_create(int dim, demstep_scene **scene, demstep_error *err)
+  function c_scene_create(dim, scene, err) result(code) bind(C, name="demstep_scene_create")
+    integer(c_int), value :: dim
+    type(c_ptr), value :: scene, err
+    integer(c_int) :: code
+    type(c_ptr), pointer :: out
+    type(capi_scene_type), pointer :: h
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: none(:, :)
+    if (.not. c_associated(scene)) then
+      code = invalid(err, "demstep_scene_create: scene is NULL")
       return
     end if
-    if (.not. (c_associated(x) .and. c_associated(mass) .and. c_associated(radius) .and. &
-        c_associated(result))) then
-      code = invalid(err, "demstep_scene_critical_step: x, mass, radius or result is NULL")
+    call c_f_pointer(scene, out)
+    out = c_null_ptr
+    ! the library checks dim (a scene without particles)
+    allocate(none(max(0, int(dim)), 0))
+    allocate(h)
+    call new_scene(h%scene, int(dim), none, [real(dp) ::], [real(dp) ::], status)
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "demstep_scene_create: "//status%message
+      code = report(err, status)
+      deallocate(h)
       return
     end if
-    if (n_bonds > 0 .and. .not. c_associated(bonds)) then
-      code = invalid(err, "demstep_scene_critical_step: bonds is NULL")
+    h%tag = scene_tag
+    out = c_loc(h)
+    code = ok(err)
+  end function c_scene_create
+
+  !> int demstep_scene_free(demstep_scene **scene, demstep_error *err)
+  function c_scene_free(scene, err) result(code) bind(C, name="demstep_scene_free")
+    type(c_ptr), value :: scene, err
+    integer(c_int) :: code
+    type(c_ptr), pointer :: handle
+    type(capi_scene_type), pointer :: h
+    code = ok(err)
+    if (.not. c_associated(scene)) return
+    call c_f_pointer(scene, handle)
+    if (.not. c_associated(handle)) return
+    call c_f_pointer(handle, h)
+    if (h%tag /= scene_tag) then
+      code = invalid(err, "demstep_scene_free: *scene is not a live handle of demstep_scene_create")
       return
     end if
-    call c_f_pointer(x, px, [dim, n])
+    h%tag = 0
+    deallocate(h)
+    handle = c_null_ptr
+  end function c_scene_free
+
+  !> int demstep_scene_set_particles(demstep_scene *scene, int n, const double *x,
+  !>   const double *mass, const double *radius, const int *fixed, const double *inertia,
+  !>   const double *velocity, demstep_error *err)
+  function c_scene_set_particles(scene, n, x, mass, radius, fixed, inertia, velocity, err) result(code) &
+      bind(C, name="demstep_scene_set_particles")
+    type(c_ptr), value :: scene, x, mass, radius, fixed, inertia, velocity, err
+    integer(c_int), value :: n
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_scene_set_particles"
+    type(capi_scene_type), pointer :: h
+    real(c_double), pointer :: px(:, :), pm(:), pr(:), pin(:), pv(:, :)
+    integer(c_int), pointer :: pf(:)
+    logical, allocatable :: is_fixed(:)
+    real(dp), allocatable :: v(:, :), inert(:)
+    type(demstep_status_type) :: status
+    integer :: dim
+    if (.not. live(scene, name, h, err, code, particles=.false.)) return
+    if (h%has_particles) then
+      code = refused(h, name, "the particles are already set (once per scene)", err)
+      return
+    end if
+    if (n < 1) then
+      code = refused(h, name, "n: must be >= 1", err)
+      return
+    end if
+    if (.not. (c_associated(x) .and. c_associated(mass) .and. c_associated(radius))) then
+      code = refused(h, name, "x, mass or radius is NULL", err)
+      return
+    end if
+    dim = h%scene%dim
+    call c_f_pointer(x, px, [dim, int(n)])
     call c_f_pointer(mass, pm, [n])
     call c_f_pointer(radius, pr, [n])
+    allocate(is_fixed(n), source=.false.)
     if (c_associated(fixed)) then
       call c_f_pointer(fixed, pf, [n])
-      call new_scene(scene, int(dim), px, pm, pr, status, fixed=pf /= 0)
+      is_fixed = pf /= 0
+    end if
+    allocate(v(dim, n), source=0.0_dp)
+    if (c_associated(velocity)) then
+      call c_f_pointer(velocity, pv, [dim, int(n)])
+      v = pv
+    end if
+    if (c_associated(inertia)) then
+      call c_f_pointer(inertia, pin, [n])
+      inert = pin
+      call new_scene(h%scene, dim, px, pm, pr, status, v=v, fixed=is_fixed, inertia=inert)
     else
-      call new_scene(scene, int(dim), px, pm, pr, status)
+      call new_scene(h%scene, dim, px, pm, pr, status, v=v, fixed=is_fixed)
     end if
-    code = report(err, status)
-    if (code /= demstep_stat%ok) return
-    if (n_bonds > 0) then
-      call c_f_pointer(bonds, pb, [2, n_bonds])
-      call scene_add_bonds(scene, pb + 1, status)
-      code = report(err, status)
-      if (code /= demstep_stat%ok) return
-    end if
-    if (.not. all(ieee_is_finite([k_bond, k_bond_tangential, k_normal, e_star, damping_ratio]))) then
-      code = invalid(err, "demstep_scene_critical_step: stiffnesses and damping must be finite")
+    h%has_particles = status%stat == demstep_stat%ok
+    code = built(h, name, status, err)
+  end function c_scene_set_particles
+
+  !> int demstep_scene_add_bonds(demstep_scene *scene, int n_bonds, const int *bonds,
+  !>   demstep_error *err)
+  function c_scene_add_bonds(scene, n_bonds, bonds, err) result(code) bind(C, name="demstep_scene_add_bonds")
+    type(c_ptr), value :: scene, bonds, err
+    integer(c_int), value :: n_bonds
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_scene_add_bonds"
+    type(capi_scene_type), pointer :: h
+    integer(c_int), pointer :: pb(:, :)
+    type(demstep_status_type) :: status
+    if (.not. live(scene, name, h, err, code, particles=.true.)) return
+    if (n_bonds < 1 .or. .not. c_associated(bonds)) then
+      code = refused(h, name, "n_bonds must be >= 1 and bonds not NULL", err)
       return
     end if
-    scene%k_bond = k_bond
-    scene%k_bond_tangential = k_bond_tangential
-    scene%law = int(law)
-    scene%k_normal = k_normal
-    scene%e_star = e_star
-    scene%damping_ratio = damping_ratio
-    do k = 1, n_effects
-      scene%effects(k) = btest(effects, k - 1)
+    call c_f_pointer(bonds, pb, [2, int(n_bonds)])
+    call scene_add_bonds(h%scene, pb + 1, status)
+    code = built(h, name, status, err)
+  end function c_scene_add_bonds
+
+  !> int demstep_scene_set_bond_stiffness(demstep_scene *scene, double k_bond,
+  !>   double k_bond_tangential, demstep_error *err)
+  function c_scene_set_bond_stiffness(scene, k_bond, k_bond_tangential, err) result(code) &
+      bind(C, name="demstep_scene_set_bond_stiffness")
+    type(c_ptr), value :: scene, err
+    real(c_double), value :: k_bond, k_bond_tangential
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_scene_set_bond_stiffness"
+    type(capi_scene_type), pointer :: h
+    type(demstep_status_type) :: status
+    if (.not. live(scene, name, h, err, code, particles=.false.)) return
+    call scene_set_bond_stiffness(h%scene, k_bond, k_bond_tangential, status)
+    code = built(h, name, status, err)
+  end function c_scene_set_bond_stiffness
+
+  !> int demstep_scene_set_contact_law(demstep_scene *scene, int law, double normal,
+  !>   double tangential, demstep_error *err)
+  function c_scene_set_contact_law(scene, law, normal, tangential, err) result(code) &
+      bind(C, name="demstep_scene_set_contact_law")
+    type(c_ptr), value :: scene, err
+    integer(c_int), value :: law
+    real(c_double), value :: normal, tangential
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_scene_set_contact_law"
+    type(capi_scene_type), pointer :: h
+    type(demstep_status_type) :: status
+    if (.not. live(scene, name, h, err, code, particles=.false.)) return
+    call scene_set_law(h%scene, int(law), normal, tangential, status)
+    if (status%stat == demstep_stat%ok .and. h%types_law /= 0 .and. h%types_law /= law) &
+      call set_status(status, demstep_stat%invalid_input, "law: must be the law of the per-type materials")
+    if (status%stat == demstep_stat%ok) h%law_given = int(law)
+    code = built(h, name, status, err)
+  end function c_scene_set_contact_law
+
+  !> Per-type materials from C: `law` for the types of n particles (0-based).
+  logical function types_from_c(h, name, law, n_types, types, ptypes, err, code)
+    type(capi_scene_type), intent(inout) :: h
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: law
+    integer(c_int), intent(in) :: n_types
+    type(c_ptr), intent(in) :: types, err
+    integer, allocatable, intent(out) :: ptypes(:)
+    integer(c_int), intent(out) :: code
+    integer(c_int), pointer :: pt(:)
+    types_from_c = .false.
+    code = demstep_stat%ok
+    if (h%law_given /= 0 .and. h%law_given /= law) then
+      code = refused(h, name, "law: the scene's contact law (demstep_scene_set_contact_law) is " &
+        //"another one", err)
+      return
+    end if
+    if (n_types < 1 .or. .not. c_associated(types)) then
+      code = refused(h, name, "n_types must be >= 1 and types not NULL", err)
+      return
+    end if
+    call c_f_pointer(types, pt, [h%scene%n])
+    ptypes = pt + 1
+    types_from_c = .true.
+  end function types_from_c
+
+  !> int demstep_scene_set_types(demstep_scene *scene, int n_types, const int *types,
+  !>   const double *k_normal, const double *k_tangential, demstep_error *err)
+  function c_scene_set_types(scene, n_types, types, k_normal, k_tangential, err) result(code) &
+      bind(C, name="demstep_scene_set_types")
+    type(c_ptr), value :: scene, types, k_normal, k_tangential, err
+    integer(c_int), value :: n_types
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_scene_set_types"
+    type(capi_scene_type), pointer :: h
+    real(c_double), pointer :: kn(:, :), kt(:, :)
+    integer, allocatable :: ptypes(:)
+    real(dp), allocatable :: k(:, :, :)
+    type(demstep_status_type) :: status
+    integer :: fail
+    if (.not. live(scene, name, h, err, code, particles=.true.)) return
+    if (.not. types_from_c(h, name, contact_law%linear, n_types, types, ptypes, err, code)) return
+    if (.not. c_associated(k_normal)) then
+      code = refused(h, name, "k_normal is NULL", err)
+      return
+    end if
+    ! n_types^2 pairs: a count beyond memory is refused, not a crash
+    allocate(k(2, n_types, n_types), source=0.0_dp, stat=fail)
+    if (fail /= 0) then
+      code = refused(h, name, "n_types: "//int_text(n_types)//" types need "//int_text(n_types)// &
+        "^2 type pairs: more than the memory holds", err)
+      return
+    end if
+    call c_f_pointer(k_normal, kn, [n_types, n_types])
+    k(1, :, :) = kn
+    if (c_associated(k_tangential)) then
+      call c_f_pointer(k_tangential, kt, [n_types, n_types])
+      k(2, :, :) = kt
+    end if
+    call scene_set_types(h%scene, ptypes, k, status)
+    if (status%stat == demstep_stat%ok) then
+      h%scene%law = contact_law%linear
+      h%types_law = contact_law%linear
+    end if
+    code = built(h, name, status, err)
+  end function c_scene_set_types
+
+  !> int demstep_scene_set_hertz_types(demstep_scene *scene, int n_types, const int *types,
+  !>   const double *young, const double *poisson, demstep_error *err)
+  function c_scene_set_hertz_types(scene, n_types, types, young, poisson, err) result(code) &
+      bind(C, name="demstep_scene_set_hertz_types")
+    type(c_ptr), value :: scene, types, young, poisson, err
+    integer(c_int), value :: n_types
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_scene_set_hertz_types"
+    type(capi_scene_type), pointer :: h
+    real(c_double), pointer :: py(:), pp(:)
+    integer, allocatable :: ptypes(:)
+    type(demstep_status_type) :: status
+    if (.not. live(scene, name, h, err, code, particles=.true.)) return
+    if (.not. types_from_c(h, name, contact_law%hertz, n_types, types, ptypes, err, code)) return
+    if (.not. (c_associated(young) .and. c_associated(poisson))) then
+      code = refused(h, name, "young or poisson is NULL", err)
+      return
+    end if
+    call c_f_pointer(young, py, [n_types])
+    call c_f_pointer(poisson, pp, [n_types])
+    call scene_set_hertz_types(h%scene, ptypes, py, pp, status)
+    if (status%stat == demstep_stat%ok) then
+      h%scene%law = contact_law%hertz
+      h%types_law = contact_law%hertz
+    end if
+    code = built(h, name, status, err)
+  end function c_scene_set_hertz_types
+
+  !> int demstep_scene_add_walls(demstep_scene *scene, int n_walls, const double *points,
+  !>   const double *normals, demstep_error *err)
+  function c_scene_add_walls(scene, n_walls, points, normals, err) result(code) &
+      bind(C, name="demstep_scene_add_walls")
+    type(c_ptr), value :: scene, points, normals, err
+    integer(c_int), value :: n_walls
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_scene_add_walls"
+    type(capi_scene_type), pointer :: h
+    real(c_double), pointer :: pp(:, :), pn(:, :)
+    type(demstep_status_type) :: status
+    if (.not. live(scene, name, h, err, code, particles=.true.)) return
+    if (n_walls < 1 .or. .not. (c_associated(points) .and. c_associated(normals))) then
+      code = refused(h, name, "n_walls must be >= 1 and points, normals not NULL", err)
+      return
+    end if
+    call c_f_pointer(points, pp, [h%scene%dim, int(n_walls)])
+    call c_f_pointer(normals, pn, [h%scene%dim, int(n_walls)])
+    call scene_add_walls(h%scene, pp, pn, status)
+    code = built(h, name, status, err)
+  end function c_scene_add_walls
+
+  !> int demstep_scene_set_contacts(demstep_scene *scene, int n_contacts, const int *pairs,
+  !>   const double *k, demstep_error *err)
+  function c_scene_set_contacts(scene, n_contacts, pairs, k, err) result(code) &
+      bind(C, name="demstep_scene_set_contacts")
+    type(c_ptr), value :: scene, pairs, k, err
+    integer(c_int), value :: n_contacts
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_scene_set_contacts"
+    type(capi_scene_type), pointer :: h
+    integer(c_int), pointer :: pp(:, :)
+    real(c_double), pointer :: pk(:, :)
+    type(demstep_status_type) :: status
+    if (.not. live(scene, name, h, err, code, particles=.true.)) return
+    if (n_contacts < 1 .or. .not. (c_associated(pairs) .and. c_associated(k))) then
+      code = refused(h, name, "n_contacts must be >= 1 and pairs, k not NULL", err)
+      return
+    end if
+    call c_f_pointer(pairs, pp, [2, int(n_contacts)])
+    call c_f_pointer(k, pk, [2, int(n_contacts)])
+    call scene_set_contacts(h%scene, pp + 1, pk, status)
+    code = built(h, name, status, err)
+  end function c_scene_set_contacts
+
+  !> int demstep_scene_set_effects(demstep_scene *scene, int effects, demstep_error *err)
+  function c_scene_set_effects(scene, effects, err) result(code) bind(C, name="demstep_scene_set_effects")
+    type(c_ptr), value :: scene, err
+    integer(c_int), value :: effects
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_scene_set_effects"
+    type(capi_scene_type), pointer :: h
+    character(len=:), allocatable :: known
+    integer :: b, k
+    if (.not. live(scene, name, h, err, code, particles=.false.)) return
+    do b = 0, bit_size(effects) - 1
+      if (.not. btest(effects, b)) cycle
+      if (any(capi_effect_map(1, :) == ishft(1_i8, b))) cycle
+      known = ""
+      do k = 1, n_effects
+        known = known//", "//trim(effect_names(capi_effect_map(2, k)))//" "//int_text(capi_effect_map(1, k))
+      end do
+      code = refused(h, name, "effects: bit "//int_text(b)//" (value "//int_text(ishft(1_i8, b))// &
+        ") is not a DEMSTEP_EFFECT_* flag ("//known(3:)//")", err)
+      return
     end do
-    call assembly_critical_steps(scene, c, status)
+    do k = 1, n_effects
+      h%scene%effects(capi_effect_map(2, k)) = iand(effects, capi_effect_map(1, k)) /= 0
+    end do
+    code = ok(err)
+  end function c_scene_set_effects
+
+  !> int demstep_scene_set_cell(demstep_scene *scene, const int *periodic, const double *lo,
+  !>   const double *hi, demstep_error *err)
+  function c_scene_set_cell(scene, periodic, lo, hi, err) result(code) bind(C, name="demstep_scene_set_cell")
+    type(c_ptr), value :: scene, periodic, lo, hi, err
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_scene_set_cell"
+    type(capi_scene_type), pointer :: h
+    integer(c_int), pointer :: pp(:)
+    real(c_double), pointer :: plo(:), phi(:)
+    logical :: axes(3)
+    real(dp) :: cell_lo(3), cell_hi(3)
+    type(demstep_status_type) :: status
+    integer :: dim
+    if (.not. live(scene, name, h, err, code, particles=.true.)) return
+    if (.not. (c_associated(periodic) .and. c_associated(lo) .and. c_associated(hi))) then
+      code = refused(h, name, "periodic, lo or hi is NULL", err)
+      return
+    end if
+    dim = h%scene%dim
+    call c_f_pointer(periodic, pp, [dim])
+    call c_f_pointer(lo, plo, [dim])
+    call c_f_pointer(hi, phi, [dim])
+    axes = .false.
+    cell_lo = 0.0_dp
+    cell_hi = 0.0_dp
+    axes(:dim) = pp /= 0
+    cell_lo(:dim) = plo
+    cell_hi(:dim) = phi
+    call scene_set_cell(h%scene, axes, cell_lo, cell_hi, status)
+    code = built(h, name, status, err)
+  end function c_scene_set_cell
+
+  !> int demstep_scene_set_damping(demstep_scene *scene, double damping_ratio, demstep_error *err)
+  function c_scene_set_damping(scene, damping_ratio, err) result(code) bind(C, name="demstep_scene_set_damping")
+    type(c_ptr), value :: scene, err
+    real(c_double), value :: damping_ratio
+    integer(c_int) :: code
+    type(capi_scene_type), pointer :: h
+    if (.not. live(scene, "demstep_scene_set_damping", h, err, code, particles=.false.)) return
+    ! checked by demstep_scene_compute (the library's range) when the damping effect is on
+    h%scene%damping_ratio = damping_ratio
+    code = ok(err)
+  end function c_scene_set_damping
+
+  !> int demstep_scene_set_gravity(demstep_scene *scene, const double *gravity, demstep_error *err)
+  function c_scene_set_gravity(scene, gravity, err) result(code) bind(C, name="demstep_scene_set_gravity")
+    type(c_ptr), value :: scene, gravity, err
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_scene_set_gravity"
+    type(capi_scene_type), pointer :: h
+    real(c_double), pointer :: pg(:)
+    type(demstep_status_type) :: status
+    if (.not. live(scene, name, h, err, code, particles=.false.)) return
+    if (.not. c_associated(gravity)) then
+      code = refused(h, name, "gravity is NULL", err)
+      return
+    end if
+    call c_f_pointer(gravity, pg, [h%scene%dim])
+    call scene_set_gravity(h%scene, pg, status)
+    code = built(h, name, status, err)
+  end function c_scene_set_gravity
+
+  !> int demstep_scene_set_eigen_solver(demstep_scene *scene, int solver, double tolerance,
+  !>   demstep_error *err)
+  !>
+  !> The eigensolver of later computes (DEMSTEP_EIGEN_AUTO, _DENSE, _LANCZOS,
+  !> _NONE) and the Lanczos relative tolerance (<= 0: the default 1e-10). A
+  !> refused option leaves the scene and its options as they were.
+  function c_scene_set_eigen_solver(scene, solver, tolerance, err) result(code) &
+      bind(C, name="demstep_scene_set_eigen_solver")
+    type(c_ptr), value :: scene, err
+    integer(c_int), value :: solver
+    real(c_double), value :: tolerance
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_scene_set_eigen_solver"
+    type(capi_scene_type), pointer :: h
+    type(demstep_status_type) :: status
+    real(dp) :: tol
+    if (.not. live(scene, name, h, err, code, particles=.false.)) return
+    if (solver < eigen_solver%auto .or. solver > eigen_solver%none) then
+      code = invalid(err, name//": solver: "//int_text(solver)//" is not DEMSTEP_EIGEN_AUTO (" &
+        //int_text(eigen_solver%auto)//"), _DENSE, _LANCZOS or _NONE ("//int_text(eigen_solver%none)//")")
+      return
+    end if
+    tol = lanczos_tolerance_default
+    if (tolerance > 0.0_dp .or. ieee_is_nan(tolerance)) tol = tolerance
+    call check_lanczos_options(name, tol, 1, 2, 1, status)
+    if (status%stat /= demstep_stat%ok) then
+      code = report(err, status)
+      return
+    end if
+    h%solver = solver
+    h%tolerance = tol
+    code = ok(err)
+  end function c_scene_set_eigen_solver
+
+  !> int demstep_scene_compute(const demstep_scene *scene, int hertz_linearization,
+  !>   double impact_velocity, int prestress, int max_eigen_dof, demstep_scene_result *result,
+  !>   size_t result_size, demstep_error *err)
+  !>
+  !> The first min(result_size, sizeof) bytes of the result are written (any
+  !> more are zeroed), so a program built against an older header, whose struct
+  !> lacks fields appended since, gets the fields it knows.
+  function c_scene_compute(scene, hertz_mode, impact_velocity, prestress, max_eigen_dof, result, &
+      result_size, err) result(code) bind(C, name="demstep_scene_compute")
+    type(c_ptr), value :: scene, result, err
+    integer(c_int), value :: hertz_mode, prestress, max_eigen_dof
+    real(c_double), value :: impact_velocity
+    integer(c_size_t), value :: result_size
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_scene_compute"
+    type(capi_scene_type), pointer :: h
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    type(demstep_scene_result_c) :: row
+    character(kind=c_char), pointer :: to(:)
+    character(kind=c_char), allocatable :: bytes(:)
+    integer :: limit, n_row
+    if (.not. live(scene, name, h, err, code, particles=.true.)) return
+    if (.not. c_associated(result)) then
+      code = invalid(err, name//": result is NULL")
+      return
+    end if
+    if (result_size < capi_scene_result_size_v1) then
+      code = invalid(err, name//": result_size: must be sizeof(demstep_scene_result), at least "// &
+        int_text(int(capi_scene_result_size_v1, i8)))
+      return
+    end if
+    if (hertz_mode /= hertz_linearization%current .and. hertz_mode /= hertz_linearization%impact) then
+      code = invalid(err, name//": hertz_linearization: "//int_text(hertz_mode)//" is not " &
+        //"DEMSTEP_HERTZ_CURRENT ("//int_text(hertz_linearization%current)//") or DEMSTEP_HERTZ_IMPACT (" &
+        //int_text(hertz_linearization%impact)//")")
+      return
+    end if
+    if (prestress /= 0 .and. prestress /= 1) then
+      code = invalid(err, name//": prestress: "//int_text(prestress)//" is not 0 (no) or 1 (yes)")
+      return
+    end if
+    limit = default_max_eigen_dof
+    if (max_eigen_dof > 0) limit = max_eigen_dof
+    call assembly_critical_steps(h%scene, c, status, hertz_mode=int(hertz_mode), &
+      impact_velocity=impact_velocity, max_eigen_dof=limit, prestress=prestress == 1, &
+      solver=h%solver, tolerance=h%tolerance)
+    if (status%stat /= demstep_stat%ok) status%message = name//": "//status%message
     code = report(err, status)
     call guard_finite([c%omega_max, c%dt_critical_eigen, c%omega_bound, c%dt_critical_bound, &
-      c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped], "demstep_scene_critical_step", err, code)
+      c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped, c%omega_upper, c%dt_critical_safe, &
+      c%eigen_residual], name, err, code)
     if (code /= demstep_stat%ok) return
-    call c_f_pointer(result, out)
-    out = demstep_critical_step_c(c%omega_max, c%dt_critical_eigen, c%omega_bound, c%dt_critical_bound, &
+    row = demstep_scene_result_c(c%omega_max, c%dt_critical_eigen, c%omega_bound, c%dt_critical_bound, &
       c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped, c%n_dof, c%n_springs, &
-      merge(1, 0, c%eigen_computed))
-  end function c_scene_critical_step
+      c%dof_per_particle, flag(c%eigen_computed), flag(c%rotation), flag(c%tangential), &
+      flag(c%periodic), flag(c%prestress), c%eigen_tolerance, c%eigen_residual, c%omega_upper, &
+      c%dt_critical_safe, c%eigen_products, c%solver, flag(c%eigen_converged))
+    ! the struct's bytes by transfer (no pointer to a local of another type:
+    ! optimisers may drop stores they cannot see read)
+    bytes = transfer(row, [c_null_char])
+    n_row = size(bytes)
+    call c_f_pointer(result, to, [result_size])
+    to = c_null_char
+    to(:min(n_row, size(to))) = bytes(:min(n_row, size(to)))
+  end function c_scene_compute
+
+  !> A logical as a C int (1 or 0).
+  elemental integer(c_int) function flag(value)
+    logical, intent(in) :: value
+    flag = merge(1_c_int, 0_c_int, value)
+  end function flag
 
   !> int demstep_contact_with_onset(double n_per_period, double onset, double damping_ratio,
   !>   demstep_contact *contact, demstep_error *err)

@@ -23,7 +23,7 @@ module demstep_interaction
   private
 
   public :: reduced_radius, reduced_mass, normal_force, normal_stiffness, tangential_stiffness, &
-    normal_energy, dashpot_coefficient, wall_overlap, contact_block, contact_forces, &
+    normal_energy, dashpot_coefficient, wall_overlap, contact_block, contact_product, contact_forces, &
     add_bond_forces, dof_components, hertz_e_star, mindlin_g_star
 
   !> Contact laws, as components of a parameter: `contact_law%hertz`.
@@ -128,32 +128,45 @@ contains
     d = r - dot_product(x - p, n)
   end function wall_overlap
 
+  !> The tangent stiffness of one interaction applied to a displacement
+  !> (u_i, theta_i, u_j, theta_j): normal k_n along n (from i to j), tangential
+  !> k_t on the contact point's slip s = P du + arm_i n x theta_i + arm_j n x theta_j
+  !> (du = u_j - u_i, P = I - n n^T), and the pre-stress term -geo P du (geo =
+  !> F_n/l, 0 to leave it out). With f = k_n (n.du) n + k_t s - geo P du and
+  !> g = k_t s x n: y_i = -f, t_i = arm_i g, y_j = f, t_j = arm_j g. This is
+  !> the one linearised interaction kernel: `contact_block` is built from it.
+  pure subroutine contact_product(n, k_n, k_t, arm_i, arm_j, geo, u_i, theta_i, u_j, theta_j, &
+      y_i, t_i, y_j, t_j)
+    real(dp), intent(in) :: n(3), k_n, k_t, arm_i, arm_j, geo
+    real(dp), intent(in) :: u_i(3), theta_i(3), u_j(3), theta_j(3)
+    real(dp), intent(out) :: y_i(3), t_i(3), y_j(3), t_j(3)
+    real(dp) :: du(3), dn, pdu(3), s(3), f(3), g(3)
+    du = u_j - u_i
+    dn = n(1)*du(1) + n(2)*du(2) + n(3)*du(3)
+    pdu = du - dn*n
+    s = pdu + arm_i*cross(n, theta_i) + arm_j*cross(n, theta_j)
+    f = (k_n*dn)*n + k_t*s - geo*pdu
+    g = k_t*cross(s, n)
+    y_i = -f
+    y_j = f
+    t_i = arm_i*g
+    t_j = arm_j*g
+  end subroutine contact_product
+
   !> The 12 x 12 tangent stiffness of one interaction on (u_i, theta_i, u_j,
-  !> theta_j): normal k_n, tangential k_t with lever arms arm_i, arm_j, and the
-  !> pre-stress term -geo (I - n n^T) on the relative translation (geo = F_n/l,
-  !> 0 to leave it out). K f = -dF/dq for the forces and torques of `contact_forces`.
+  !> theta_j), column by column from `contact_product` (same arguments).
+  !> K f = -dF/dq for the forces and torques of `contact_forces`.
   pure function contact_block(n, k_n, k_t, arm_i, arm_j, geo) result(k)
     real(dp), intent(in) :: n(3), k_n, k_t, arm_i, arm_j, geo
     real(dp) :: k(12, 12)
-    real(dp) :: bt(3, 12), bn(12), p(3, 3), nx(3, 3), bp(3, 12)
-    integer :: a
-    p = -spread(n, 2, 3)*spread(n, 1, 3)
-    do a = 1, 3
-      p(a, a) = p(a, a) + 1.0_dp
+    real(dp) :: e(12)
+    integer :: c
+    do c = 1, 12
+      e = 0.0_dp
+      e(c) = 1.0_dp
+      call contact_product(n, k_n, k_t, arm_i, arm_j, geo, e(1:3), e(4:6), e(7:9), e(10:12), &
+        k(1:3, c), k(4:6, c), k(7:9, c), k(10:12, c))
     end do
-    nx = reshape([0.0_dp, n(3), -n(2), -n(3), 0.0_dp, n(1), n(2), -n(1), 0.0_dp], [3, 3])
-    bn = 0.0_dp
-    bn(1:3) = -n
-    bn(7:9) = n
-    bt(:, 1:3) = -p
-    bt(:, 4:6) = arm_i*nx
-    bt(:, 7:9) = p
-    bt(:, 10:12) = arm_j*nx
-    bp = 0.0_dp
-    bp(:, 1:3) = -p
-    bp(:, 7:9) = p
-    k = k_n*spread(bn, 2, 12)*spread(bn, 1, 12) + k_t*matmul(transpose(bt), bt)
-    if (geo /= 0.0_dp) k = k - geo*matmul(transpose(bp), bp)
   end function contact_block
 
   !> Forces and torques of one interaction in the stepper. The shear displacement

@@ -13,7 +13,7 @@ module demstep_scene_builders
   private
 
   public :: new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, scene_set_cell, &
-    scene_set_types, scene_set_hertz_types, &
+    scene_set_types, scene_set_hertz_types, scene_set_law, scene_set_bond_stiffness, scene_set_gravity, &
     cubic_lattice, restitution_to_damping_ratio, wrap_positions, random_periodic_packing, tile_scene
 
   !> Largest |coordinate| and radius of a scene: squared distances stay finite.
@@ -488,6 +488,84 @@ contains
     status%stat = demstep_stat%ok
   end subroutine scene_add_walls
 
+  !> The contact law of detected particle contacts and of wall contacts:
+  !> `contact_law%linear` with normal = k_normal (> 0) and tangential =
+  !> k_tangential (>= 0), or `contact_law%hertz` with normal = e_star (E* > 0)
+  !> and tangential = g_star (Mindlin's G* >= 0). Status `invalid_input` naming
+  !> `law:` (not one of `contact_law`) or the parameter (not finite, out of range);
+  !> the scene is unchanged then.
+  subroutine scene_set_law(scene, law, normal, tangential, status)
+    type(scene_type), intent(inout) :: scene
+    integer, intent(in) :: law
+    real(dp), intent(in) :: normal, tangential
+    type(demstep_status_type), intent(out) :: status
+    character(len=:), allocatable :: name_n, name_t
+    if (law == contact_law%linear) then
+      name_n = "k_normal"
+      name_t = "k_tangential"
+    else if (law == contact_law%hertz) then
+      name_n = "e_star"
+      name_t = "g_star"
+    else
+      call set_status(status, demstep_stat%invalid_input, "law: "//int_text(law)//" is not a contact " &
+        //"law (linear "//int_text(contact_law%linear)//", hertz "//int_text(contact_law%hertz)//")")
+      return
+    end if
+    if (.not. (ieee_is_finite(normal) .and. normal > 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, name_n//": must be > 0 and finite")
+      return
+    end if
+    if (.not. (ieee_is_finite(tangential) .and. tangential >= 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, name_t//": must be >= 0 and finite")
+      return
+    end if
+    scene%law = law
+    if (law == contact_law%linear) then
+      scene%k_normal = normal
+      scene%k_tangential = tangential
+    else
+      scene%e_star = normal
+      scene%g_star = tangential
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine scene_set_law
+
+  !> The stiffness of every bond: normal k_bond (> 0) and tangential
+  !> k_bond_tangential (>= 0). Status `invalid_input` naming the one that is out
+  !> of range or not finite; the scene is unchanged then.
+  subroutine scene_set_bond_stiffness(scene, k_bond, k_bond_tangential, status)
+    type(scene_type), intent(inout) :: scene
+    real(dp), intent(in) :: k_bond, k_bond_tangential
+    type(demstep_status_type), intent(out) :: status
+    if (.not. (ieee_is_finite(k_bond) .and. k_bond > 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "k_bond: must be > 0 and finite")
+      return
+    end if
+    if (.not. (ieee_is_finite(k_bond_tangential) .and. k_bond_tangential >= 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "k_bond_tangential: must be >= 0 and finite")
+      return
+    end if
+    scene%k_bond = k_bond
+    scene%k_bond_tangential = k_bond_tangential
+    status%stat = demstep_stat%ok
+  end subroutine scene_set_bond_stiffness
+
+  !> The gravity vector: dim finite components (those beyond dim stay zero).
+  !> Status `invalid_input` starting `gravity:`; the scene is unchanged then.
+  subroutine scene_set_gravity(scene, gravity, status)
+    type(scene_type), intent(inout) :: scene
+    real(dp), intent(in) :: gravity(:)
+    type(demstep_status_type), intent(out) :: status
+    if (size(gravity) /= scene%dim .or. .not. all(ieee_is_finite(gravity))) then
+      call set_status(status, demstep_stat%invalid_input, "gravity: needs "//int_text(scene%dim)// &
+        " finite components")
+      return
+    end if
+    scene%gravity = 0.0_dp
+    scene%gravity(:scene%dim) = gravity
+    status%stat = demstep_stat%ok
+  end subroutine scene_set_gravity
+
   !> Damping ratio of a linear spring-dashpot whose restitution coefficient is e:
   !> zeta = -ln e / sqrt(pi^2 + ln^2 e).
   elemental real(dp) function restitution_to_damping_ratio(e) result(zeta)
@@ -540,6 +618,7 @@ contains
     real(dp) :: r_mean, poly, rho, kn, kt, zeta, box
     real(dp), allocatable :: x(:, :), r(:)
     integer(i8) :: state
+    type(scene_type) :: law_only
     r_mean = 1.0_dp
     if (present(radius)) r_mean = radius
     poly = 0.15_dp
@@ -570,14 +649,9 @@ contains
       call set_status(status, demstep_stat%invalid_input, "density: must be > 0 and finite")
       return
     end if
-    if (.not. (ieee_is_finite(kn) .and. kn > 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "k_normal: must be > 0 and finite")
-      return
-    end if
-    if (.not. (ieee_is_finite(kt) .and. kt >= 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "k_tangential: must be >= 0 and finite")
-      return
-    end if
+    ! the law's own check, before the relaxation
+    call scene_set_law(law_only, contact_law%linear, kn, kt, status)
+    if (status%stat /= demstep_stat%ok) return
     if (.not. (zeta >= 0.0_dp .and. zeta <= 1.0e100_dp)) then
       call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be in [0, 1e100]")
       return
@@ -591,9 +665,8 @@ contains
     call scene_set_cell(scene, [.true., .true., .true.], [0.0_dp, 0.0_dp, 0.0_dp], &
       spread(r_mean*box, 1, 3), status)
     if (status%stat /= demstep_stat%ok) return
-    scene%law = contact_law%linear
-    scene%k_normal = kn
-    scene%k_tangential = kt
+    call scene_set_law(scene, contact_law%linear, kn, kt, status)
+    if (status%stat /= demstep_stat%ok) return
     scene%effects = .false.
     scene%effects(scene_effect%contacts) = .true.
     scene%effects(scene_effect%rotation) = .true.

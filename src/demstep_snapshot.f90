@@ -16,8 +16,8 @@
 !>   wx wy wz`); other sections are skipped. A data file does not say which axes
 !>   are periodic (the input script does): all are marked non-periodic.
 !> - Yade text (`yade_text`): `#format x_y_z_r` (the default), `x_y_z_r_matId`
-!>   (the material id becomes the type) or `x_y_z_r_attrs` (extra columns
-!>   skipped); `#` lines are comments.
+!>   (the type is the material id plus 1: Yade counts its materials from 0) or
+!>   `x_y_z_r_attrs` (extra columns skipped); `#` lines are comments.
 !>
 !> Masses: a `mass` column, else `4/3 pi r^3 density` from a `density` column
 !> (or the data file's), else from a density per type given by the caller; with
@@ -33,7 +33,7 @@ module demstep_snapshot
   implicit none
   private
 
-  public :: read_snapshot, parse_snapshot, snapshot_format_of
+  public :: read_snapshot, parse_snapshot, snapshot_format_of, snapshot_masses_from_types
 
   !> The formats, as components of a parameter.
   type, public :: snapshot_format_codes
@@ -179,8 +179,27 @@ contains
     end select
     if (status%stat /= demstep_stat%ok) return
     snapshot%format = f
-    ! masses from the densities, or from a density per type
-    if (.not. snapshot%has_mass .and. .not. snapshot%has_density .and. present(type_density)) then
+    if (present(type_density)) then
+      call snapshot_masses_from_types(snapshot, type_density, status)
+    else
+      call snapshot_masses_from_types(snapshot, [real(dp) ::], status)
+    end if
+  end subroutine parse_snapshot
+
+  !> Masses of a snapshot that has none: `4/3 pi r^3 density` from its density
+  !> column, else from `type_density` (index = type) when that is not empty.
+  !> Leaves `has_mass` false when neither is there. Status `invalid_input`:
+  !> `type_density: no density for particle type T (particle ID)`, or
+  !> `density: must be > 0 for every particle`.
+  pure subroutine snapshot_masses_from_types(snapshot, type_density, status)
+    type(snapshot_type), intent(inout) :: snapshot
+    !> Density of each particle type; empty: none.
+    real(dp), intent(in) :: type_density(:)
+    type(demstep_status_type), intent(out) :: status
+    integer :: i
+    status%stat = demstep_stat%ok
+    if (snapshot%has_mass) return
+    if (.not. snapshot%has_density .and. size(type_density) > 0) then
       do i = 1, snapshot%n
         if (snapshot%type(i) < 1 .or. snapshot%type(i) > size(type_density)) then
           call set_status(status, demstep_stat%invalid_input, "type_density: no density for particle " &
@@ -191,7 +210,7 @@ contains
       end do
       snapshot%has_density = .true.
     end if
-    if (.not. snapshot%has_mass .and. snapshot%has_density) then
+    if (snapshot%has_density) then
       if (.not. all(snapshot%density > 0.0_dp)) then
         call set_status(status, demstep_stat%invalid_input, "density: must be > 0 for every particle")
         return
@@ -199,7 +218,7 @@ contains
       snapshot%mass = (4.0_dp*pi/3.0_dp)*snapshot%radius**3*snapshot%density
       snapshot%has_mass = .true.
     end if
-  end subroutine parse_snapshot
+  end subroutine snapshot_masses_from_types
 
   ! ---------------------------------------------------------------- dump files
 
@@ -751,7 +770,8 @@ contains
       s%x(:, i) = vals(1:3)
       s%radius(i) = vals(4)
       s%type(i) = 1
-      if (with_mat) s%type(i) = nint(vals(5))
+      ! Yade numbers its materials from 0 (O.materials ids): type = matId + 1
+      if (with_mat) s%type(i) = nint(vals(5)) + 1
       if (.not. s%radius(i) > 0.0_dp) then
         call fail_at(status, k, "r must be > 0")
         return

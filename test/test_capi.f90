@@ -2,14 +2,20 @@
 !> Fortran API, and bad input (NULL pointers, empty arrays, NaN) as statuses with
 !> messages, never a crash.
 module test_capi
-  use, intrinsic :: iso_c_binding, only: c_int, c_double, c_loc, c_null_ptr, c_null_char, c_ptr
+  use, intrinsic :: iso_c_binding, only: c_int, c_double, c_loc, c_null_ptr, c_null_char, c_ptr, &
+    c_associated, c_f_pointer, c_sizeof, c_size_t
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
   use demstep_kinds, only: pi
   use demstep_capi, only: demstep_error_c, demstep_spring_c, demstep_spring_state_c, &
-    demstep_nroots_c, demstep_stiffness_result_c, demstep_critical_step_c, c_spring_new, &
+    demstep_nroots_c, demstep_stiffness_result_c, c_spring_new, &
     c_spring_step, c_critical_time_step, c_harmonic_error, c_n_roots, c_simulated_stiffness, &
-    c_scene_critical_step, demstep_contact_c, c_contact_with_onset, c_n_for_tolerance
+    demstep_contact_c, c_contact_with_onset, c_n_for_tolerance, capi_scene_type, capi_effect, &
+    capi_effect_map, demstep_scene_result_c, capi_scene_result_size_v1, c_scene_create, c_scene_free, &
+    c_scene_set_particles, c_scene_add_bonds, c_scene_set_bond_stiffness, c_scene_set_contact_law, &
+    c_scene_set_types, c_scene_set_hertz_types, c_scene_add_walls, c_scene_set_contacts, &
+    c_scene_set_effects, c_scene_set_cell, c_scene_set_damping, c_scene_set_gravity, c_scene_compute, &
+    c_scene_set_eigen_solver
   use test_support, only: ieee_nan, read_file
   implicit none
   private
@@ -24,7 +30,14 @@ contains
       new_unittest("NULL pointers, empty arrays, NaN: statuses and messages", test_bad_input), &
       new_unittest("n_roots and the procedure: NaN options, extreme weights and n, fine scans", &
         test_stiffness_limits), &
-      new_unittest("include/demstep.h: every enum value equals the Fortran one", test_header_enums) &
+      new_unittest("include/demstep.h: every enum value equals the Fortran one", test_header_enums), &
+      new_unittest("every enum argument out of range: a status naming it", test_bad_enums), &
+      new_unittest("scene handle: a chain bit for bit as Fortran and against the closed form", &
+        test_scene_chain), &
+      new_unittest("scene handle: wall, periodic cell, Hertz impact, types: closed forms", test_scene_models), &
+      new_unittest("scene handle: each C effect flag switches its library effect", test_scene_effects), &
+      new_unittest("scene handle: NULL pointers, bad enums, use after a failed call, free", &
+        test_scene_bad_input) &
       ]
   end subroutine collect_capi
 
@@ -45,7 +58,8 @@ contains
       "PICK_LARGEST_STEP", "PICK_ZERO", "AGGREGATE_MEAN", "AGGREGATE_WEIGHTED", "AGGREGATE_MEDIAN", &
       "AGGREGATE_MIN", "AGGREGATE_MAX", "QUANTITY_RESTITUTION", "QUANTITY_CONTACT_TIME", &
       "QUANTITY_OVERLAP", "QUANTITY_PERIOD", "LAW_LINEAR", "LAW_HERTZ", "EFFECT_CONTACTS", &
-      "EFFECT_GRAVITY", "EFFECT_DAMPING", "EFFECT_LOCAL_DAMPING", "EFFECT_WALLS", "EFFECT_ROTATION"]
+      "EFFECT_GRAVITY", "EFFECT_DAMPING", "EFFECT_LOCAL_DAMPING", "EFFECT_WALLS", "EFFECT_ROTATION", &
+      "HERTZ_CURRENT", "HERTZ_IMPACT", "EIGEN_AUTO", "EIGEN_DENSE", "EIGEN_LANCZOS", "EIGEN_NONE"]
     values = [demstep_stat%ok, demstep_stat%invalid_input, demstep_stat%unstable, demstep_stat%pole, &
       demstep_stat%not_converged, demstep_stat%not_found, demstep_stat%lapack_failure, &
       demstep_stat%io_error, demstep_stat%blow_up, demstep_stat%at_stability_limit, &
@@ -54,9 +68,10 @@ contains
       aggregate_kind%mean, aggregate_kind%weighted, aggregate_kind%median, aggregate_kind%min, &
       aggregate_kind%max, quantity_kind%restitution, quantity_kind%contact_time, &
       quantity_kind%overlap, quantity_kind%period, contact_law%linear, contact_law%hertz, &
-      ! effects are bit flags: bit (index - 1) of the Fortran effect index
-      2**(scene_effect%contacts - 1), 2**(scene_effect%gravity - 1), 2**(scene_effect%damping - 1), &
-      2**(scene_effect%local_damping - 1), 2**(scene_effect%walls - 1), 2**(scene_effect%rotation - 1)]
+      ! effects are the C API's own bit flags (test_scene_effects checks their map)
+      capi_effect%contacts, capi_effect%gravity, capi_effect%damping, capi_effect%local_damping, &
+      capi_effect%walls, capi_effect%rotation, hertz_linearization%current, hertz_linearization%impact, &
+      eigen_solver%auto, eigen_solver%dense, eigen_solver%lanczos, eigen_solver%none]
     allocate(seen(size(names)), source=.false.)
     call read_file("include/demstep.h", text)
     call check(error, len(text) > 0, "include/demstep.h read")
@@ -169,10 +184,8 @@ contains
     type(demstep_error_c), target :: e
     type(demstep_spring_c), target :: cs
     type(demstep_stiffness_result_c), target :: res
-    type(demstep_critical_step_c), target :: crit
     type(demstep_contact_c), target :: contact
-    real(c_double), target :: value, lambdas(2), x(2), m(2), rad(2)
-    integer(c_int), target :: bonds(2)
+    real(c_double), target :: value, lambdas(2)
     integer :: code
     code = c_spring_new(1.0_dp, 1.0_dp, 0.0_dp, 1, 1, c_null_ptr, c_loc(e))
     call check(error, code == 1 .and. e%stat == 1 .and. index(message_of(e), "NULL") > 0, &
@@ -203,23 +216,6 @@ contains
     code = c_simulated_stiffness(0.01_dp, 1.0e5_dp, 1.0e-3_dp, c_loc(lambdas), 2, 2, 0.5_dp, 1, 1, &
       c_null_ptr, c_null_ptr, c_null_ptr, c_loc(res), c_loc(e))
     call check(error, code, 1, message="NaN lambda in the set")
-    if (allocated(error)) return
-    x = [0.0_dp, 1.0_dp]
-    m = [1.0_dp, 1.0_dp]
-    rad = [0.3_dp, 0.3_dp]
-    bonds = [0, 5]
-    code = c_scene_critical_step(1, 2, c_loc(x), c_loc(m), c_loc(rad), c_null_ptr, 1, c_loc(bonds), &
-      1.0_dp, 0.0_dp, 1, 0.0_dp, 0.0_dp, 0, 0.0_dp, c_loc(crit), c_loc(e))
-    call check(error, code == 1 .and. index(message_of(e), "missing") > 0, "bond to a missing particle: " &
-      //message_of(e))
-    if (allocated(error)) return
-    code = c_scene_critical_step(1, 0, c_loc(x), c_loc(m), c_loc(rad), c_null_ptr, 0, c_null_ptr, &
-      1.0_dp, 0.0_dp, 1, 0.0_dp, 0.0_dp, 0, 0.0_dp, c_loc(crit), c_loc(e))
-    call check(error, code, 1, message="no particles")
-    if (allocated(error)) return
-    code = c_scene_critical_step(1, 2, c_null_ptr, c_loc(m), c_loc(rad), c_null_ptr, 0, c_null_ptr, &
-      1.0_dp, 0.0_dp, 1, 0.0_dp, 0.0_dp, 0, 0.0_dp, c_loc(crit), c_loc(e))
-    call check(error, code, 1, message="NULL positions")
     if (allocated(error)) return
     code = c_contact_with_onset(20.0_dp, 1.5_dp, 0.0_dp, c_loc(contact), c_loc(e))
     call check(error, code == 1 .and. index(message_of(e), "onset") > 0, "onset 1.5: "//message_of(e))
@@ -276,5 +272,565 @@ contains
     call check(error, code == 1 .and. cst%x == 1.0e300_dp .and. index(message_of(e), "not finite") > 0, &
       "overflowing step: "//message_of(e))
   end subroutine test_stiffness_limits
+
+  !> A 1D chain through the handle: 12 unit masses at x = 1..12 (radius 0.3, no
+  !> contacts), ends fixed, 11 bonds k = 100, no effects.
+  subroutine chain_handle(handle, e, code)
+    type(c_ptr), intent(out), target :: handle
+    type(demstep_error_c), intent(inout), target :: e
+    integer, intent(out) :: code
+    real(c_double), target :: x(12), m(12), r(12)
+    integer(c_int), target :: fixed(12), bonds(2, 11)
+    integer :: i
+    x = [(real(i, dp), i = 1, 12)]
+    m = 1.0_dp
+    r = 0.3_dp
+    fixed = 0
+    fixed([1, 12]) = 1
+    bonds = reshape([(i - 1, i, i = 1, 11)], [2, 11])
+    code = c_scene_create(1, c_loc(handle), c_loc(e))
+    if (code /= 0) return
+    code = c_scene_set_particles(handle, 12, c_loc(x), c_loc(m), c_loc(r), c_loc(fixed), c_null_ptr, &
+      c_null_ptr, c_loc(e))
+    if (code /= 0) return
+    code = c_scene_add_bonds(handle, 11, c_loc(bonds), c_loc(e))
+    if (code /= 0) return
+    code = c_scene_set_bond_stiffness(handle, 100.0_dp, 0.0_dp, c_loc(e))
+    if (code /= 0) return
+    code = c_scene_set_effects(handle, 0, c_loc(e))
+  end subroutine chain_handle
+
+  !> Compute with the defaults (current overlap, no pre-stress, default eigen limit).
+  integer function compute(handle, res, e) result(code)
+    type(c_ptr), intent(in) :: handle
+    type(demstep_scene_result_c), intent(inout), target :: res
+    type(demstep_error_c), intent(inout), target :: e
+    code = c_scene_compute(handle, hertz_linearization%current, 0.0_dp, 0, 0, c_loc(res), &
+      c_sizeof(res), c_loc(e))
+  end function compute
+
+  !> The chain built through the handle gives the Fortran API's numbers bit for
+  !> bit, and omega_max of the fixed-fixed chain of 10 free masses is
+  !> 2 sqrt(k/m) sin(10 pi/22) (the largest of 2 sqrt(k/m) sin(j pi/(2 (N+1))));
+  !> 1e-12 relative: dsyevr's eigenvalue of this 10 x 10 matrix is within a few
+  !> eps of ||A|| = 4 k/m.
+  subroutine test_scene_chain(error)
+    type(error_type), allocatable, intent(out) :: error
+    !> A result struct of a later version: this one's fields, then more.
+    type, bind(C) :: newer_result_c
+      type(demstep_scene_result_c) :: res
+      real(c_double) :: appended
+    end type newer_result_c
+    type(c_ptr), target :: handle
+    type(demstep_error_c), target :: e
+    type(demstep_scene_result_c), target :: res
+    type(newer_result_c), target :: newer
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    real(dp) :: x(1, 12), exact
+    integer :: i, code
+    call chain_handle(handle, e, code)
+    call check(error, code == 0 .and. c_associated(handle), "chain built: "//message_of(e))
+    if (allocated(error)) return
+    code = compute(handle, res, e)
+    call check(error, code, 0, message="compute: "//message_of(e))
+    if (allocated(error)) return
+    x(1, :) = [(real(i, dp), i = 1, 12)]
+    call new_scene(scene, 1, x, spread(1.0_dp, 1, 12), spread(0.3_dp, 1, 12), status, &
+      fixed=[.true., (.false., i = 2, 11), .true.])
+    call scene_add_bonds(scene, reshape([(i, i + 1, i = 1, 11)], [2, 11]), status)
+    scene%k_bond = 100.0_dp
+    scene%effects = .false.
+    call assembly_critical_steps(scene, c, status)
+    call check(error, res%omega_max == c%omega_max .and. res%dt_critical_eigen == c%dt_critical_eigen &
+      .and. res%omega_bound == c%omega_bound .and. res%dt_critical_bound == c%dt_critical_bound .and. &
+      res%dt_contact_rule == c%dt_contact_rule .and. res%damping_ratio_top == c%damping_ratio_top .and. &
+      res%dt_critical_damped == c%dt_critical_damped, "the Fortran numbers bit for bit")
+    if (allocated(error)) return
+    call check(error, res%n_dof == 10 .and. res%n_springs == 11 .and. res%dof_per_particle == 1 .and. &
+      res%eigen_computed == 1 .and. res%rotation == 0 .and. res%tangential == 0 .and. res%periodic == 0 &
+      .and. res%prestress == 0, "counts and flags")
+    if (allocated(error)) return
+    exact = 2.0_dp*sqrt(100.0_dp)*sin(10.0_dp*pi/22.0_dp)
+    call check(error, res%omega_max, exact, rel=.true., thr=1.0e-12_dp, message="omega_max closed form")
+    if (allocated(error)) return
+    ! above max_eigen_dof Lanczos: the same omega_max to its tolerance
+    code = c_scene_compute(handle, hertz_linearization%current, 0.0_dp, 0, 5, c_loc(res), c_sizeof(res), &
+      c_loc(e))
+    call check(error, code == 0 .and. res%eigen_computed == 1 .and. res%eigen_solver == eigen_solver%lanczos &
+      .and. res%eigen_converged == 1 .and. res%eigen_tolerance == 1.0e-10_dp .and. &
+      res%eigen_residual <= 1.0e-10_dp .and. res%eigen_products > 0, "max_eigen_dof 5 < 10 dof: Lanczos")
+    if (allocated(error)) return
+    call check(error, res%omega_max, exact, rel=.true., thr=1.0e-10_dp, message="Lanczos omega_max")
+    if (allocated(error)) return
+    call check(error, res%omega_upper >= exact*(1.0_dp - 1.0e-15_dp) .and. &
+      res%dt_critical_safe <= 2.0_dp/exact*(1.0_dp + 1.0e-15_dp), "the error bar holds the closed form")
+    if (allocated(error)) return
+    ! eigen solver 'none': only the bound, the exact fields stay 0
+    code = c_scene_set_eigen_solver(handle, eigen_solver%none, 0.0_dp, c_loc(e))
+    call check(error, code, 0, message="set_eigen_solver none")
+    if (allocated(error)) return
+    code = c_scene_compute(handle, hertz_linearization%current, 0.0_dp, 0, 0, c_loc(res), c_sizeof(res), &
+      c_loc(e))
+    call check(error, code == 0 .and. res%eigen_computed == 0 .and. res%omega_max == 0.0_dp .and. &
+      res%eigen_solver == eigen_solver%none .and. res%dt_critical_bound == c%dt_critical_bound .and. &
+      res%dt_critical_damped == c%dt_critical_bound, "eigen solver none: the bound only")
+    if (allocated(error)) return
+    ! bad options refused by name, the options kept
+    code = c_scene_set_eigen_solver(handle, 5, 0.0_dp, c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "solver: 5") > 0, &
+      "solver 5 refused")
+    if (allocated(error)) return
+    code = c_scene_set_eigen_solver(handle, eigen_solver%lanczos, 0.5_dp, c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "tolerance") > 0, &
+      "tolerance 0.5 refused")
+    if (allocated(error)) return
+    code = c_scene_set_eigen_solver(handle, eigen_solver%auto, 0.0_dp, c_loc(e))
+    if (allocated(error)) return
+    ! a caller's struct with a field appended after this version's: filled up to
+    ! this version's size, the rest zeroed
+    newer%res%omega_max = -1.0_dp
+    newer%appended = -1.0_dp
+    code = c_scene_compute(handle, hertz_linearization%current, 0.0_dp, 0, 0, c_loc(newer), &
+      c_sizeof(newer), c_loc(e))
+    call check(error, code == 0 .and. newer%res%omega_max == c%omega_max .and. newer%appended == 0.0_dp, &
+      "a larger result_size")
+    if (allocated(error)) return
+    ! the dashpot effect through its flag and the ratio through its setter
+    code = c_scene_set_damping(handle, 0.2_dp, c_loc(e))
+    code = c_scene_set_effects(handle, capi_effect%damping, c_loc(e))
+    code = compute(handle, res, e)
+    call check(error, code == 0 .and. res%damping_ratio_top > 0.0_dp .and. &
+      res%dt_critical_damped < res%dt_critical_eigen, "damped chain: "//message_of(e))
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    call check(error, code == 0 .and. .not. c_associated(handle), "free sets the handle to NULL")
+  end subroutine test_scene_chain
+
+  !> Closed forms, 1e-12 relative (eigenvalues of 1 x 1 to 2 x 2 matrices, a few
+  !> eps): a particle of mass m pressed on a wall, omega = sqrt(k/m); two unit
+  !> masses touching through a periodic boundary, omega = sqrt(2 k); a Hertz
+  !> wall contact linearised at the current overlap d0, k = 2 E* sqrt(R d0), and
+  !> at an impact at v, d = (15 m v^2/(16 E* sqrt(R)))^(2/5); per-type materials.
+  subroutine test_scene_models(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(c_ptr), target :: handle
+    type(demstep_error_c), target :: e
+    type(demstep_scene_result_c), target :: res
+    real(c_double), target :: x2(2), m2(2), r2(2), p1(1), one(1), lo(1), hi(1), pt(2), nm(2), &
+      kk(2, 2), young(2), poisson(2)
+    integer(c_int), target :: periodic(1), types(2)
+    real(dp) :: d, k, e_star
+    integer :: code
+    ! a 2D particle of mass 2 on the wall y = 0: overlap 0.1, k = 1e4
+    x2 = [0.0_dp, 0.9_dp]
+    m2(1) = 2.0_dp
+    r2(1) = 1.0_dp
+    pt = 0.0_dp
+    nm = [0.0_dp, 1.0_dp]
+    code = c_scene_create(2, c_loc(handle), c_loc(e))
+    code = c_scene_set_particles(handle, 1, c_loc(x2), c_loc(m2), c_loc(r2), c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_loc(e))
+    code = c_scene_add_walls(handle, 1, c_loc(pt), c_loc(nm), c_loc(e))
+    code = c_scene_set_contact_law(handle, contact_law%linear, 1.0e4_dp, 0.0_dp, c_loc(e))
+    code = c_scene_set_effects(handle, capi_effect%walls, c_loc(e))
+    code = compute(handle, res, e)
+    call check(error, code == 0 .and. res%n_dof == 2 .and. res%n_springs == 1, "wall: "//message_of(e))
+    if (allocated(error)) return
+    call check(error, res%omega_max, sqrt(1.0e4_dp/2.0_dp), rel=.true., thr=1.0e-12_dp, message="wall omega")
+    if (allocated(error)) return
+    call check(error, res%dt_contact_rule, 2.0_dp*sqrt(2.0_dp/1.0e4_dp), rel=.true., thr=1.0e-12_dp, &
+      message="wall contact rule")
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+
+    ! 1D, cell [0, 4): particles at 0.5 and 3.6 (radius 0.5) touch through the
+    ! boundary, overlap 0.1; without the cell they are 3.1 apart
+    x2 = [0.5_dp, 3.6_dp]
+    m2 = 1.0_dp
+    r2 = 0.5_dp
+    code = c_scene_create(1, c_loc(handle), c_loc(e))
+    code = c_scene_set_particles(handle, 2, c_loc(x2), c_loc(m2), c_loc(r2), c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_loc(e))
+    code = c_scene_set_contact_law(handle, contact_law%linear, 1.0e4_dp, 0.0_dp, c_loc(e))
+    code = compute(handle, res, e)
+    call check(error, code == 1 .and. index(message_of(e), "position:") > 0, "no cell, no contact: " &
+      //message_of(e))
+    if (allocated(error)) return
+    periodic = 1
+    lo = 0.0_dp
+    hi = 4.0_dp
+    code = c_scene_set_cell(handle, c_loc(periodic), c_loc(lo), c_loc(hi), c_loc(e))
+    call check(error, code, 0, message="cell: "//message_of(e))
+    if (allocated(error)) return
+    code = compute(handle, res, e)
+    call check(error, code == 0 .and. res%periodic == 1 .and. res%n_springs == 1, "periodic: "//message_of(e))
+    if (allocated(error)) return
+    call check(error, res%omega_max, sqrt(2.0e4_dp), rel=.true., thr=1.0e-12_dp, message="periodic omega")
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+
+    ! Hertz on a wall in 1D: mass 1, R 0.5, overlap 0.05, E* = 1e7
+    p1 = 0.45_dp
+    one = 1.0_dp
+    r2(1) = 0.5_dp
+    code = c_scene_create(1, c_loc(handle), c_loc(e))
+    code = c_scene_set_particles(handle, 1, c_loc(p1), c_loc(one), c_loc(r2), c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_loc(e))
+    lo = 0.0_dp
+    hi = 1.0_dp
+    code = c_scene_add_walls(handle, 1, c_loc(lo), c_loc(hi), c_loc(e))
+    code = c_scene_set_contact_law(handle, contact_law%hertz, 1.0e7_dp, 0.0_dp, c_loc(e))
+    code = c_scene_set_effects(handle, capi_effect%walls, c_loc(e))
+    code = compute(handle, res, e)
+    k = 2.0e7_dp*sqrt(0.5_dp*0.05_dp)
+    call check(error, code, 0, message="Hertz current: "//message_of(e))
+    if (allocated(error)) return
+    call check(error, res%omega_max, sqrt(k), rel=.true., thr=1.0e-12_dp, message="Hertz current omega")
+    if (allocated(error)) return
+    code = c_scene_compute(handle, hertz_linearization%impact, 2.0_dp, 0, 0, c_loc(res), c_sizeof(res), &
+      c_loc(e))
+    d = (15.0_dp*4.0_dp/(16.0_dp*1.0e7_dp*sqrt(0.5_dp)))**0.4_dp
+    k = 2.0e7_dp*sqrt(0.5_dp*d)
+    call check(error, code, 0, message="Hertz impact: "//message_of(e))
+    if (allocated(error)) return
+    call check(error, res%omega_max, sqrt(k), rel=.true., thr=1.0e-12_dp, message="Hertz impact omega")
+    if (allocated(error)) return
+    code = c_scene_compute(handle, hertz_linearization%impact, 0.0_dp, 0, 0, c_loc(res), c_sizeof(res), &
+      c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "impact_velocity") > 0, "impact at v = 0: " &
+      //message_of(e))
+    if (allocated(error)) return
+    code = c_scene_compute(handle, hertz_linearization%current, 0.0_dp, 1, 0, c_loc(res), c_sizeof(res), &
+      c_loc(e))
+    call check(error, code == 0 .and. res%prestress == 1, "prestress flag: "//message_of(e))
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+
+    ! per-type materials, 1D: particles 0 and 0.9 (radius 0.5) of types 0 and 1,
+    ! overlap 0.1; linear k(0, 1) = 3e4, omega^2 = 2 k; Hertz with E = 1e9, nu = 0.25
+    ! for both: E* = E/(2 (1 - nu^2)), k = 2 E* sqrt(R* d) with R* = 0.25
+    x2 = [0.0_dp, 0.9_dp]
+    types = [0, 1]
+    kk = reshape([1.0e4_dp, 3.0e4_dp, 3.0e4_dp, 5.0e4_dp], [2, 2])
+    code = c_scene_create(1, c_loc(handle), c_loc(e))
+    code = c_scene_set_particles(handle, 2, c_loc(x2), c_loc(m2), c_loc(r2), c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_loc(e))
+    code = c_scene_set_types(handle, 2, c_loc(types), c_loc(kk), c_null_ptr, c_loc(e))
+    call check(error, code, 0, message="types: "//message_of(e))
+    if (allocated(error)) return
+    code = compute(handle, res, e)
+    call check(error, code, 0, message="types compute: "//message_of(e))
+    if (allocated(error)) return
+    call check(error, res%omega_max, sqrt(6.0e4_dp), rel=.true., thr=1.0e-12_dp, message="types omega")
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    young = 1.0e9_dp
+    poisson = 0.25_dp
+    code = c_scene_create(1, c_loc(handle), c_loc(e))
+    code = c_scene_set_particles(handle, 2, c_loc(x2), c_loc(m2), c_loc(r2), c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_loc(e))
+    code = c_scene_set_hertz_types(handle, 2, c_loc(types), c_loc(young), c_loc(poisson), c_loc(e))
+    call check(error, code, 0, message="Hertz types: "//message_of(e))
+    if (allocated(error)) return
+    code = compute(handle, res, e)
+    e_star = 1.0e9_dp/(2.0_dp*(1.0_dp - 0.25_dp**2))
+    k = 2.0_dp*e_star*sqrt(0.25_dp*0.1_dp)
+    call check(error, code, 0, message="Hertz types compute: "//message_of(e))
+    if (allocated(error)) return
+    call check(error, res%omega_max, sqrt(2.0_dp*k), rel=.true., thr=1.0e-12_dp, message="Hertz types omega")
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+  end subroutine test_scene_models
+
+  !> Each DEMSTEP_EFFECT_* flag, by name, switches on exactly the library effect
+  !> of that name; 0 switches all off; the sum all on.
+  subroutine test_scene_effects(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(c_ptr), target :: handle
+    type(demstep_error_c), target :: e
+    type(capi_scene_type), pointer :: h
+    integer :: pairs(2, 6), k, code
+    pairs = reshape([capi_effect%contacts, scene_effect%contacts, capi_effect%gravity, scene_effect%gravity, &
+      capi_effect%damping, scene_effect%damping, capi_effect%local_damping, scene_effect%local_damping, &
+      capi_effect%walls, scene_effect%walls, capi_effect%rotation, scene_effect%rotation], [2, 6])
+    call check(error, n_effects, 6, message="every library effect has a C flag here")
+    if (allocated(error)) return
+    call check(error, size(capi_effect_map, 2), n_effects, message="the C API maps every effect")
+    if (allocated(error)) return
+    code = c_scene_create(2, c_loc(handle), c_loc(e))
+    call c_f_pointer(handle, h)
+    do k = 1, 6
+      code = c_scene_set_effects(handle, pairs(1, k), c_loc(e))
+      call check(error, code == 0 .and. h%scene%effects(pairs(2, k)) .and. count(h%scene%effects) == 1, &
+        "flag "//trim(effect_names(pairs(2, k))))
+      if (allocated(error)) return
+    end do
+    code = c_scene_set_effects(handle, 0, c_loc(e))
+    call check(error, code == 0 .and. .not. any(h%scene%effects), "0: no effect")
+    if (allocated(error)) return
+    code = c_scene_set_effects(handle, sum(pairs(1, :)), c_loc(e))
+    call check(error, code == 0 .and. all(h%scene%effects), "every flag: every effect")
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+  end subroutine test_scene_effects
+
+  subroutine test_scene_bad_input(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(c_ptr), target :: handle, none
+    type(demstep_error_c), target :: e
+    type(demstep_scene_result_c), target :: res
+    type(capi_scene_type), target :: stranger
+    real(c_double), target :: x(2), m(2), rad(2)
+    integer(c_int), target :: bonds(2), chain_types(12)
+    integer :: code, i
+    character(len=:), allocatable :: first
+    x = [0.0_dp, 1.0_dp]
+    m = [1.0_dp, 1.0_dp]
+    rad = [0.3_dp, 0.3_dp]
+    ! create: NULL out pointer, dim out of range (the library's message)
+    code = c_scene_create(1, c_null_ptr, c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "NULL") > 0, "create into NULL")
+    if (allocated(error)) return
+    do i = 0, 4, 4
+      handle = c_loc(e)
+      code = c_scene_create(i, c_loc(handle), c_loc(e))
+      call check(error, code == 1 .and. index(message_of(e), "dim:") > 0 .and. .not. c_associated(handle), &
+        "dim out of range: "//message_of(e))
+      if (allocated(error)) return
+    end do
+    ! a NULL or foreign handle
+    code = c_scene_set_effects(c_null_ptr, 1, c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "scene is NULL") > 0, "NULL handle")
+    if (allocated(error)) return
+    code = c_scene_compute(c_loc(stranger), 1, 0.0_dp, 0, 0, c_loc(res), c_sizeof(res), c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "not a live handle") > 0, "foreign handle: " &
+      //message_of(e))
+    if (allocated(error)) return
+    ! no particles (n = 0), NULL positions; a scene without particles computes nothing
+    code = c_scene_create(1, c_loc(handle), c_loc(e))
+    code = compute(handle, res, e)
+    call check(error, code == 1 .and. index(message_of(e), "no particles") > 0, "compute without particles")
+    if (allocated(error)) return
+    code = c_scene_set_particles(handle, 0, c_loc(x), c_loc(m), c_loc(rad), c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_loc(e))
+    call check(error, code, 1, message="no particles")
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    code = c_scene_create(1, c_loc(handle), c_loc(e))
+    code = c_scene_set_particles(handle, 2, c_null_ptr, c_loc(m), c_loc(rad), c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_loc(e))
+    call check(error, code, 1, message="NULL positions")
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    ! a bond to a missing particle; then the scene is unusable, quoting it
+    code = c_scene_create(1, c_loc(handle), c_loc(e))
+    code = c_scene_set_particles(handle, 2, c_loc(x), c_loc(m), c_loc(rad), c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_loc(e))
+    call check(error, code, 0, message="two particles: "//message_of(e))
+    if (allocated(error)) return
+    code = c_scene_set_particles(handle, 2, c_loc(x), c_loc(m), c_loc(rad), c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "already") > 0, "particles twice: "//message_of(e))
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    code = c_scene_create(1, c_loc(handle), c_loc(e))
+    code = c_scene_set_particles(handle, 2, c_loc(x), c_loc(m), c_loc(rad), c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_loc(e))
+    code = c_scene_add_bonds(handle, 1, c_null_ptr, c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "NULL") > 0, "NULL bonds")
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    code = c_scene_create(1, c_loc(handle), c_loc(e))
+    code = c_scene_set_particles(handle, 2, c_loc(x), c_loc(m), c_loc(rad), c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_loc(e))
+    bonds = [0, 5]
+    code = c_scene_add_bonds(handle, 1, c_loc(bonds), c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "missing") > 0, "bond to a missing particle: " &
+      //message_of(e))
+    if (allocated(error)) return
+    first = message_of(e)
+    code = c_scene_set_bond_stiffness(handle, 1.0_dp, 0.0_dp, c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "unusable") > 0 .and. index(message_of(e), &
+      "missing") > 0, "a builder after the failure: "//message_of(e))
+    if (allocated(error)) return
+    code = compute(handle, res, e)
+    call check(error, code == 1 .and. index(message_of(e), first) > 0, "compute after the failure quotes it: " &
+      //message_of(e))
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    call check(error, code == 0 .and. .not. c_associated(handle), "free after the failure")
+    if (allocated(error)) return
+    ! free: NULL, a NULL handle, twice
+    code = c_scene_free(c_null_ptr, c_null_ptr)
+    call check(error, code, 0, message="free(NULL)")
+    if (allocated(error)) return
+    none = c_null_ptr
+    code = c_scene_free(c_loc(none), c_loc(e))
+    call check(error, code, 0, message="free of a NULL handle (a second free)")
+    if (allocated(error)) return
+
+    ! bad enums and flags, each named; a scene that computes without them
+    call chain_handle(handle, e, code)
+    code = c_scene_compute(handle, 0, 0.0_dp, 0, 0, c_loc(res), c_sizeof(res), c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "hertz_linearization: 0") > 0, &
+      "hertz_linearization 0: "//message_of(e))
+    if (allocated(error)) return
+    code = c_scene_compute(handle, 3, 1.0_dp, 0, 0, c_loc(res), c_sizeof(res), c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "hertz_linearization: 3") > 0, &
+      "hertz_linearization 3")
+    if (allocated(error)) return
+    code = c_scene_compute(handle, 1, 0.0_dp, 2, 0, c_loc(res), c_sizeof(res), c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "prestress: 2") > 0, "prestress 2")
+    if (allocated(error)) return
+    code = c_scene_compute(handle, 1, 0.0_dp, 0, 0, c_null_ptr, c_sizeof(res), c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "result is NULL") > 0, "NULL result")
+    if (allocated(error)) return
+    code = c_scene_compute(handle, 1, 0.0_dp, 0, 0, c_loc(res), capi_scene_result_size_v1 - 1_c_size_t, c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "result_size") > 0, "result_size too small")
+    if (allocated(error)) return
+    call check(error, c_sizeof(res) >= capi_scene_result_size_v1, "the struct holds the first version")
+    if (allocated(error)) return
+    ! compute failures leave the scene usable
+    code = compute(handle, res, e)
+    call check(error, code, 0, message="compute after refused options: "//message_of(e))
+    if (allocated(error)) return
+    code = c_scene_set_contact_law(handle, 3, 1.0_dp, 0.0_dp, c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "law: 3") > 0 .and. index(message_of(e), &
+      "hertz") > 0, "law 3: "//message_of(e))
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    call chain_handle(handle, e, code)
+    code = c_scene_set_contact_law(handle, 0, 1.0_dp, 0.0_dp, c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "law: 0") > 0, "law 0")
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    call chain_handle(handle, e, code)
+    code = c_scene_set_contact_law(handle, contact_law%linear, ieee_nan(), 0.0_dp, c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "k_normal") > 0, "NaN k_normal")
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    call chain_handle(handle, e, code)
+    code = c_scene_set_effects(handle, capi_effect%walls + 64, c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "bit 6 (value 64)") > 0 .and. &
+      index(message_of(e), "walls 16") > 0, "effect bit 64: "//message_of(e))
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    call chain_handle(handle, e, code)
+    code = c_scene_set_effects(handle, -1, c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "bit 6") > 0, "effects -1: "//message_of(e))
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    call chain_handle(handle, e, code)
+    code = c_scene_set_bond_stiffness(handle, -1.0_dp, 0.0_dp, c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "k_bond:") > 0, "negative k_bond")
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    ! a Hertz law, then linear per-type materials: refused, naming the law
+    call chain_handle(handle, e, code)
+    code = c_scene_set_contact_law(handle, contact_law%hertz, 1.0e7_dp, 0.0_dp, c_loc(e))
+    chain_types = 0
+    code = c_scene_set_types(handle, 1, c_loc(chain_types), c_loc(x), c_null_ptr, c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "law:") > 0, "Hertz law, linear types: " &
+      //message_of(e))
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    ! 2e9 types: 8e18 pair values, refused before any is read
+    call chain_handle(handle, e, code)
+    chain_types = 0
+    code = c_scene_set_types(handle, 2000000000, c_loc(chain_types), c_loc(x), c_null_ptr, c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "n_types: 2000000000") > 0, "2e9 types: " &
+      //message_of(e))
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    ! a NULL array to each builder that takes one: refused, naming it
+    do i = 1, 6
+      call chain_handle(handle, e, code)
+      select case (i)
+      case (1)
+        code = c_scene_set_types(handle, 1, c_null_ptr, c_loc(x), c_null_ptr, c_loc(e))
+      case (2)
+        code = c_scene_set_hertz_types(handle, 1, c_loc(chain_types), c_null_ptr, c_loc(x), c_loc(e))
+      case (3)
+        code = c_scene_add_walls(handle, 1, c_null_ptr, c_loc(x), c_loc(e))
+      case (4)
+        code = c_scene_set_contacts(handle, 1, c_loc(bonds), c_null_ptr, c_loc(e))
+      case (5)
+        code = c_scene_set_cell(handle, c_loc(chain_types), c_null_ptr, c_loc(x), c_loc(e))
+      case (6)
+        code = c_scene_set_gravity(handle, c_null_ptr, c_loc(e))
+      end select
+      call check(error, code == 1 .and. index(message_of(e), "NULL") > 0, "a NULL array: "//message_of(e))
+      if (allocated(error)) return
+      code = c_scene_free(c_loc(handle), c_loc(e))
+    end do
+    ! an optional array with a bad value: the library's message
+    code = c_scene_create(1, c_loc(handle), c_loc(e))
+    rad = [0.3_dp, ieee_nan()]
+    code = c_scene_set_particles(handle, 2, c_loc(x), c_loc(m), c_loc(m), c_null_ptr, c_loc(rad), &
+      c_null_ptr, c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "inertia: particle 2") > 0, "NaN inertia: " &
+      //message_of(e))
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    ! gravity and damping: the library's checks
+    call chain_handle(handle, e, code)
+    x = [ieee_nan(), 0.0_dp]
+    code = c_scene_set_gravity(handle, c_loc(x), c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "gravity:") > 0, "NaN gravity")
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    call chain_handle(handle, e, code)
+    code = c_scene_set_damping(handle, -1.0_dp, c_loc(e))
+    code = c_scene_set_effects(handle, capi_effect%damping, c_loc(e))
+    code = compute(handle, res, e)
+    call check(error, code == 1 .and. index(message_of(e), "damping_ratio:") > 0, "negative damping: " &
+      //message_of(e))
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+  end subroutine test_scene_bad_input
+
+  !> Every enum argument of the scalar functions, one below and one above its
+  !> range: DEMSTEP_INVALID_INPUT with a message, never a silent default.
+  subroutine test_bad_enums(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(demstep_error_c), target :: e
+    type(demstep_spring_c), target :: cs
+    type(demstep_nroots_c), target :: cr
+    type(demstep_stiffness_result_c), target :: res
+    real(c_double), target :: value, lambdas(2)
+    integer :: code, k, bad(2)
+    character(len=8) :: which
+    lambdas = [0.9_dp, 0.95_dp]
+    do k = 1, 2
+      write(which, '(i0)') k
+      bad = [dashpot_kind%lagged - 1, dashpot_kind%centred + 1]
+      code = c_spring_new(1.0_dp, 1.0_dp, 0.0_dp, 1, bad(k), c_loc(cs), c_loc(e))
+      call check(error, code == 1 .and. index(message_of(e), "dashpot") > 0, "dashpot "//which//": " &
+        //message_of(e))
+      if (allocated(error)) return
+      bad = [step_kind%fixed - 1, step_kind%rounded + 1]
+      code = c_n_roots(0.9_dp, 1.0e-3_dp, bad(k), 0.5_dp, 1, 0.0_dp, 0.0_dp, c_loc(cr), c_loc(e))
+      call check(error, code == 1 .and. index(message_of(e), "steps_kind: ") > 0, "steps_kind "//which//": " &
+        //message_of(e))
+      if (allocated(error)) return
+      bad = [pick_kind%largest_step - 1, pick_kind%zero + 1]
+      code = c_n_roots(0.9_dp, 1.0e-3_dp, 2, 0.5_dp, bad(k), 0.0_dp, 0.0_dp, c_loc(cr), c_loc(e))
+      call check(error, code == 1 .and. index(message_of(e), "pick") > 0, "pick "//which//": "//message_of(e))
+      if (allocated(error)) return
+      bad = [aggregate_kind%mean - 1, aggregate_kind%max + 1]
+      code = c_simulated_stiffness(0.01_dp, 1.0e5_dp, 1.0e-3_dp, c_loc(lambdas), 2, 2, 0.5_dp, 1, bad(k), &
+        c_null_ptr, c_null_ptr, c_null_ptr, c_loc(res), c_loc(e))
+      call check(error, code == 1 .and. index(message_of(e), "aggregate") > 0, "aggregate "//which//": " &
+        //message_of(e))
+      if (allocated(error)) return
+      bad = [quantity_kind%restitution - 1, quantity_kind%period + 1]
+      code = c_n_for_tolerance(bad(k), 1.0e-3_dp, 0.0_dp, 0.0_dp, c_loc(value), c_loc(e))
+      call check(error, code == 1 .and. index(message_of(e), "quantity") > 0, "quantity "//which//": " &
+        //message_of(e))
+      if (allocated(error)) return
+    end do
+  end subroutine test_bad_enums
 
 end module test_capi

@@ -8,7 +8,10 @@ module test_interaction
   use demstep_kinds, only: pi
   use demstep_interaction, only: contact_block, contact_forces, normal_force, normal_stiffness, &
     tangential_stiffness, reduced_radius
+  use demstep_lanczos, only: csr_matrix_type, csr_to_dense
+  use demstep_lapack, only: largest_eigenpair
   use test_support, only: real_str
+  !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
   implicit none
   private
   public :: collect_interaction
@@ -27,7 +30,11 @@ contains
       new_unittest("pre-stress: -(F_n/l)(I - n n^T) on a loaded ring", test_prestress), &
       new_unittest("periodic cell and contact list refusals", test_refusals), &
       new_unittest("materials per type: linear k_n, k_t per pair; Hertz E, nu", test_materials), &
-      new_unittest("stepper at 0.99/1.01 of the 6-dof limit: periodic packings", test_stability_full) &
+      new_unittest("stepper at 0.99/1.01 of the 6-dof limit: periodic packings", test_stability_full), &
+      new_unittest("matrix-free operator = its matrix; its top = the dense omega_max", test_operator), &
+      new_unittest("Lanczos vs dense on packings, lattices, rings; the error bar", test_lanczos_vs_dense), &
+      new_unittest("eigen_solver: auto, dense, lanczos, none; bad values", test_solver_choice), &
+      new_unittest("operator product: 1 and 2 threads agree bit for bit", test_threads) &
       ]
   end subroutine collect_interaction
 
@@ -563,5 +570,165 @@ contains
     scene%k_tangential = kt
     scene%effects(scene_effect%rotation) = .true.
   end subroutine fcc_lattice
+
+
+  !> The matrix-free operator against the dense path: its matrix (assembly_matrix)
+  !> equals its products with unit vectors, and its largest eigenvalue (times
+  !> rate^2) is the dense solver's omega_max^2.
+  subroutine test_operator(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(assembly_operator_type) :: op
+    type(csr_matrix_type) :: matrix
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: a(:, :), e(:), y(:), z(:)
+    real(dp) :: rate, lam
+    integer :: trial, j
+    call random_seed_fixed(5)
+    do trial = 1, 6
+      call random_packing(scene, 20 + 3*trial, 2 + mod(trial, 2), 0.3_dp, 1.0_dp)
+      if (trial == 3) scene%fixed(1:2) = .true.
+      call assembly_operator(scene, op, rate, status, prestress=mod(trial, 2) == 0)
+      call check(error, status%stat, demstep_stat%ok, "operator: "//status%message)
+      if (allocated(error)) return
+      call assembly_matrix(op, matrix)
+      call csr_to_dense(matrix, a)
+      allocate(e(op%n), y(op%n), z(op%n))
+      do j = 1, op%n
+        e = 0.0_dp
+        e(j) = 1.0_dp
+        call assembly_operator_apply(op, e, y)
+        ! the same sums in another order: rounding of the entries only
+        call check(error, maxval(abs(y - a(:, j))) <= 1.0e-14_dp*maxval(abs(a)), &
+          "column "//real_str(real(j, dp))//" of the matrix")
+        if (allocated(error)) return
+      end do
+      call check(error, maxval(abs(a - transpose(a))) <= 1.0e-14_dp*maxval(abs(a)), "symmetric")
+      if (allocated(error)) return
+      call largest_eigenpair(a, lam, z, status)
+      call assembly_critical_steps(scene, c, status, prestress=mod(trial, 2) == 0, &
+        solver=eigen_solver%dense)
+      ! both are LAPACK on the same numbers up to summation order: a few ulps
+      ! of the norm (eigenvalues are well conditioned)
+      call check(error, rate**2*lam, c%omega_max**2, rel=.true., thr=1.0e-12_dp, &
+        message="operator eigenvalue, trial "//real_str(real(trial, dp)))
+      if (allocated(error)) return
+      deallocate(e, y, z)
+    end do
+  end subroutine test_operator
+
+  !> Lanczos against dense on random periodic packings (2D, 3D, rotations,
+  !> pre-stress, damping), a degenerate lattice top and a ring: 1e-10 relative,
+  !> and the error bar holds the dense value.
+  subroutine test_lanczos_vs_dense(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: d, l
+    type(demstep_status_type) :: status
+    integer :: trial
+    call random_seed_fixed(7)
+    do trial = 1, 8
+      select case (trial)
+      case (7)
+        ! the simple cubic top is 4 k_n + 8 k_t at the checkerboard: degenerate
+        ! with its rotations and three polarisations
+        call sc_lattice(scene, 6, 1.0e3_dp, 300.0_dp)
+      case (8)
+        call ring(scene, 15, 2.0_dp, 0.5_dp, 50.0_dp, 30.0_dp)
+      case default
+        call random_packing(scene, 60 + 20*trial, 2 + mod(trial, 2), 0.2_dp + 0.05_dp*trial, 1.0_dp)
+        scene%effects(scene_effect%damping) = trial > 4
+        scene%damping_ratio = 0.1_dp
+      end select
+      call assembly_critical_steps(scene, d, status, prestress=trial == 2, solver=eigen_solver%dense)
+      call check(error, status%stat, demstep_stat%ok, "dense: "//status%message)
+      if (allocated(error)) return
+      call assembly_critical_steps(scene, l, status, prestress=trial == 2, solver=eigen_solver%lanczos)
+      call check(error, status%stat, demstep_stat%ok, "lanczos: "//status%message)
+      if (allocated(error)) return
+      ! the default tolerance 1e-10 bounds the residual; the Rayleigh quotient's
+      ! error is below it
+      call check(error, l%omega_max**2, d%omega_max**2, rel=.true., thr=1.0e-10_dp, &
+        message="lanczos vs dense, trial "//real_str(real(trial, dp)))
+      if (allocated(error)) return
+      ! the Rayleigh quotient is below lambda_max (up to rounding), the bar above
+      call check(error, l%omega_max <= d%omega_max*(1.0_dp + 1.0e-14_dp) .and. &
+        l%omega_upper >= d%omega_max*(1.0_dp - 1.0e-14_dp), "the error bar [" // &
+        real_str(l%omega_max)//", "//real_str(l%omega_upper)//"] holds "//real_str(d%omega_max))
+      if (allocated(error)) return
+      call check(error, l%solver == eigen_solver%lanczos .and. d%solver == eigen_solver%dense .and. &
+        l%eigen_residual <= 1.0e-10_dp .and. l%eigen_tolerance == 1.0e-10_dp .and. &
+        l%eigen_products > 0 .and. l%dt_critical_safe <= l%dt_critical_eigen, "the report")
+      if (allocated(error)) return
+      ! the damped limit from the top mode: its damping ratio is a smooth function
+      ! of the mode (first-order error in the vector, 1e-5 at a 1e-10 residual)
+      call check(error, l%dt_critical_damped, d%dt_critical_damped, rel=.true., thr=1.0e-6_dp, &
+        message="damped limit, trial "//real_str(real(trial, dp)))
+      if (allocated(error)) return
+    end do
+  end subroutine test_lanczos_vs_dense
+
+  !> The solver choice: auto takes dense up to max_eigen_dof, Lanczos above; none
+  !> gives the bound only; bad values are refused by name.
+  subroutine test_solver_choice(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: c, d
+    type(demstep_status_type) :: status
+    call random_seed_fixed(9)
+    call random_packing(scene, 50, 3, 0.3_dp, 1.0_dp)
+    call assembly_critical_steps(scene, d, status)
+    call check(error, d%solver == eigen_solver%dense .and. d%eigen_computed .and. &
+      d%eigen_tolerance == epsilon(1.0_dp), "auto: dense for 300 dof")
+    if (allocated(error)) return
+    call assembly_critical_steps(scene, c, status, max_eigen_dof=100, tolerance=1.0e-6_dp)
+    call check(error, c%solver == eigen_solver%lanczos .and. c%eigen_computed .and. &
+      c%eigen_tolerance == 1.0e-6_dp .and. c%eigen_residual <= 1.0e-6_dp, "auto: Lanczos above max_eigen_dof")
+    if (allocated(error)) return
+    ! a residual r of the unit mode puts lambda_max within r of theta
+    call check(error, c%omega_upper >= d%omega_max*(1.0_dp - 1.0e-14_dp), "1e-6 error bar holds it")
+    if (allocated(error)) return
+    call check(error, eigen_solver_name(c%solver), "lanczos", "name")
+    if (allocated(error)) return
+    call assembly_critical_steps(scene, c, status, solver=eigen_solver%none)
+    call check(error, status%stat == demstep_stat%ok .and. c%solver == eigen_solver%none .and. &
+      .not. c%eigen_computed .and. c%dt_critical_bound == d%dt_critical_bound, "none: the bound only")
+    if (allocated(error)) return
+    call assembly_critical_steps(scene, c, status, solver=7)
+    call check(error, status%stat == demstep_stat%invalid_input .and. &
+      index(status%message, "eigen_solver:") == 1, "bad solver: "//status%message)
+    if (allocated(error)) return
+    call assembly_critical_steps(scene, c, status, solver=eigen_solver%lanczos, tolerance=1.0_dp)
+    call check(error, status%stat == demstep_stat%invalid_input .and. &
+      index(status%message, "tolerance:") == 1, "bad tolerance: "//status%message)
+  end subroutine test_solver_choice
+
+  !> The operator's product is the same for 1 and 2 threads, bit for bit (above
+  !> the size where it runs in parallel).
+  subroutine test_threads(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(assembly_operator_type) :: op
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: x(:), y1(:), y2(:)
+    real(dp) :: rate
+    integer :: threads
+    call random_seed_fixed(13)
+    call random_packing(scene, 3000, 3, 0.3_dp, 1.0_dp)
+    call assembly_operator(scene, op, rate, status)
+    call check(error, status%stat == demstep_stat%ok .and. op%n_springs > 4096, "a large operator")
+    if (allocated(error)) return
+    allocate(x(op%n), y1(op%n), y2(op%n))
+    call random_number(x)
+    threads = 1
+    !$ threads = omp_get_max_threads()
+    !$ call omp_set_num_threads(1)
+    call assembly_operator_apply(op, x, y1)
+    !$ call omp_set_num_threads(2)
+    call assembly_operator_apply(op, x, y2)
+    !$ call omp_set_num_threads(threads)
+    call check(error, all(y1 == y2), "1 and 2 threads agree bit for bit")
+  end subroutine test_threads
 
 end module test_interaction

@@ -12,7 +12,10 @@ module test_packing
     scene_add_bonds, scene_set_contacts, packing_min_particles, packing_max_particles
   use demstep_neighbours, only: contact_list
   use demstep_interaction, only: contact_law
-  use demstep_assembly, only: assembly_critical_steps, critical_step_type
+  use demstep_assembly, only: assembly_critical_steps, critical_step_type, eigen_solver, &
+    assembly_operator, assembly_operator_type, assembly_matrix
+  use demstep_lanczos, only: csr_matrix_type, csr_to_dense
+  use demstep_lapack, only: largest_eigenpair
   use test_support, only: real_str, ieee_nan
   implicit none
   private
@@ -28,7 +31,7 @@ contains
       new_unittest("the packing's scene: law, springs, effects, cell", test_scene_settings), &
       new_unittest("tiled: reps product times the contacts, copies shifted", test_tiled_contacts), &
       new_unittest("tiled: bonds and explicit contacts through the images", test_tiled_pairs), &
-      new_unittest("tiled 2x1x1: the original's limit among its modes", test_tiled_limit), &
+      new_unittest("tiled 2x1x1: the original's modes; its limit the in- or anti-phase top", test_tiled_limit), &
       new_unittest("bad arguments are refused by name", test_bad_arguments) &
       ]
   end subroutine collect_packing
@@ -237,16 +240,25 @@ contains
     call check(error, size(i), 4*nc, "every explicit contact of the tiled scene overlaps")
   end subroutine test_tiled_pairs
 
-  !> A tiled periodic system has the original's modes (each repeated in every
-  !> copy), plus modes with a sign flip across copies; so the tiled limit is at
-  !> least the original's, and equal to it to rounding unless such a mode is
-  !> higher.
+  !> A tiled periodic system has the original's modes: with the 2x1x1 tiled
+  !> matrix in blocks [[B11, B12], [B21, B22]] (copy 0, copy 1), translation
+  !> makes B22 = B11 and B21 = B12, so its spectrum is that of B11 + B12
+  !> (in-phase modes (u, u)) and of B11 - B12 (anti-phase (u, -u)). The test
+  !> checks that B11 + B12 is the original's matrix, that the tiled top is the
+  !> larger of the two tops, and that assembly_critical_steps reports these
+  !> (dense) limits; the tiled limit equals the original's exactly when the
+  !> in-phase top is the larger (seeds 2 and 3 here), and exceeds it otherwise
+  !> (seed 1: an anti-phase mode 2.5e-5 higher).
   subroutine test_tiled_limit(error)
     type(error_type), allocatable, intent(out) :: error
     type(scene_type) :: scene, tiled
     type(demstep_status_type) :: status
     type(critical_step_type) :: r1, r2
-    integer :: seed
+    type(assembly_operator_type) :: op
+    type(csr_matrix_type) :: m
+    real(dp), allocatable :: a1(:, :), a2(:, :), work(:, :), v(:)
+    real(dp) :: rate1, rate2, lam1, lam2, lam_in, lam_anti, scale
+    integer :: seed, nd
     do seed = 1, 3
       call random_periodic_packing(scene, 100, status, seed=seed)
       call check(error, status%stat, demstep_stat%ok, status%message)
@@ -254,21 +266,67 @@ contains
       call tile_scene(scene, [2, 1, 1], tiled, status)
       call check(error, status%stat, demstep_stat%ok, status%message)
       if (allocated(error)) return
-      call assembly_critical_steps(scene, r1, status, max_eigen_dof=600)
+      call assembly_operator(scene, op, rate1, status)
       call check(error, status%stat, demstep_stat%ok, status%message)
       if (allocated(error)) return
-      call assembly_critical_steps(tiled, r2, status, max_eigen_dof=1200)
+      call assembly_matrix(op, m)
+      call csr_to_dense(m, a1)
+      call assembly_operator(tiled, op, rate2, status)
       call check(error, status%stat, demstep_stat%ok, status%message)
       if (allocated(error)) return
-      call check(error, r1%eigen_computed .and. r2%eigen_computed .and. r2%n_dof == 2*r1%n_dof, &
-        "dense limits of 600 and 1200 dof")
+      call assembly_matrix(op, m)
+      call csr_to_dense(m, a2)
+      nd = size(a1, 1)
+      call check(error, nd == 600 .and. size(a2, 1) == 2*nd, "600 and 1200 dof")
+      if (allocated(error)) return
+      call check(error, rate1 == rate2, "the same scaling")
+      if (allocated(error)) return
+      ! coordinates up to 2 cells (17 radii) carry 17 eps of rounding into branch
+      ! vectors of length ~2, normals and entries to ~1e-15 of the largest entry
+      scale = maxval(abs(a1))
+      call check(error, maxval(abs(a2(nd+1:, nd+1:) - a2(:nd, :nd))) <= 1.0e-13_dp*scale .and. &
+        maxval(abs(a2(nd+1:, :nd) - a2(:nd, nd+1:))) <= 1.0e-13_dp*scale, "copies are translates")
+      if (allocated(error)) return
+      call check(error, maxval(abs(a2(:nd, :nd) + a2(:nd, nd+1:) - a1)) <= 1.0e-13_dp*scale, &
+        "in-phase modes: B11 + B12 is the original's matrix")
+      if (allocated(error)) return
+      allocate(v(2*nd))
+      work = a1
+      call largest_eigenpair(work, lam1, v(:nd), status)
+      work = a2(:nd, :nd) + a2(:nd, nd+1:)
+      call largest_eigenpair(work, lam_in, v(:nd), status)
+      work = a2(:nd, :nd) - a2(:nd, nd+1:)
+      call largest_eigenpair(work, lam_anti, v(:nd), status)
+      work = a2
+      call largest_eigenpair(work, lam2, v, status)
+      deallocate(v)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      ! dsyevr: eigenvalues to a few eps of the norm
+      call check(error, abs(lam_in/lam1 - 1.0_dp) <= 1.0e-12_dp, "original's top is an in-phase mode")
+      if (allocated(error)) return
+      call check(error, abs(lam2/max(lam_in, lam_anti) - 1.0_dp) <= 1.0e-12_dp, &
+        "tiled top is the larger of the in-phase and anti-phase tops")
+      if (allocated(error)) return
+      call assembly_critical_steps(scene, r1, status, solver=eigen_solver%dense)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      call assembly_critical_steps(tiled, r2, status, solver=eigen_solver%dense)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      call check(error, abs(r1%omega_max/(rate1*sqrt(lam1)) - 1.0_dp) <= 1.0e-12_dp .and. &
+        abs(r2%omega_max/(rate2*sqrt(lam2)) - 1.0_dp) <= 1.0e-12_dp, "reported limits are these tops")
+      if (allocated(error)) return
+      if (lam_in >= lam_anti) then
+        call check(error, abs(r2%omega_max/r1%omega_max - 1.0_dp) <= 1.0e-12_dp, "in-phase top: " &
+          //"the tiled limit is the original's, "//real_str(r2%omega_max)//" vs "//real_str(r1%omega_max))
+      else
+        call check(error, r2%omega_max > r1%omega_max, "anti-phase top: the tiled limit is higher")
+      end if
       if (allocated(error)) return
       call check(error, r2%n_springs, 2*r1%n_springs, "twice the springs")
       if (allocated(error)) return
-      call check(error, r2%omega_max >= r1%omega_max*(1.0_dp - 1.0e-12_dp), "tiled omega_max " &
-        //real_str(r2%omega_max)//" below the original's "//real_str(r1%omega_max))
-      if (allocated(error)) return
-      ! the bound takes the largest row: the same rows in every copy
+      ! the bound takes the largest row sum: the same rows in both copies
       call check(error, abs(r2%omega_bound/r1%omega_bound - 1.0_dp) <= 1.0e-12_dp, "same bound")
       if (allocated(error)) return
     end do

@@ -242,9 +242,11 @@ contains
     call check(error, status%stat == demstep_stat%ok .and. s%format == snapshot_format%yade_text .and. &
       s%n == 2 .and. s%x(1, 2) == 1.0_dp .and. all(s%radius == 0.5_dp) .and. .not. s%has_box, "x_y_z_r")
     if (allocated(error)) return
+    ! Yade's material ids count from 0 (a real export of two materials holds 0 and 1)
     call parse_snapshot("#format x_y_z_r_matId"//nl//"# a comment"//nl//"0 0 0 0.5 3"//nl, s, status, &
-      type_density=[1.0_dp, 1.0_dp, 3000.0_dp])
-    call check(error, status%stat == demstep_stat%ok .and. s%type(1) == 3 .and. s%has_mass, "matId is the type")
+      type_density=[1.0_dp, 1.0_dp, 1.0_dp, 3000.0_dp])
+    call check(error, status%stat == demstep_stat%ok .and. s%type(1) == 4 .and. s%has_mass, &
+      "matId + 1 is the type")
     if (allocated(error)) return
     call parse_snapshot("#format x_y_z_r_attrs"//nl//"# x y z r attr1 attr2"//nl//"0 0 0 0.5 7 8"//nl// &
       "1 1 1 0.25 7 8"//nl, s, status)

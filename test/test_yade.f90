@@ -67,8 +67,12 @@ contains
       dt_critical_damped, damping_ratio_top, dt_used, energy_drift, max_overlap, dt_recommended
     integer(i8) :: steps
     logical :: eigen_computed, blew_up, rotation, tangential, periodic, prestress
+    logical :: eigen_converged
+    character(len=8) :: eigen_solver
+    real(dp) :: eigen_tolerance, eigen_residual, omega_upper, dt_critical_safe
     namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
-      periodic, prestress, omega_max, eigen_computed, dt_critical_eigen, dt_critical_bound, &
+      periodic, prestress, omega_max, eigen_computed, eigen_converged, eigen_solver, eigen_tolerance, &
+      eigen_residual, omega_upper, dt_critical_safe, dt_critical_eigen, dt_critical_bound, &
       dt_contact_rule, dt_critical_damped, damping_ratio_top, dt_used, steps, energy_drift, &
       max_overlap, max_contacts, blew_up, dt_recommended
     call execute_command_line("rm -f "//out, wait=.true.)

@@ -1,5 +1,6 @@
 /* A C program using demstep: a contact spring stepped in a loop, the paper's
- * error E, the simulated-stiffness procedure and a chain's critical step; then
+ * error E, the simulated-stiffness procedure, the critical steps of two scenes
+ * built through a scene handle (a bonded chain; a Hertz sphere on a wall); then
  * bad input, which returns a status and a message. Each result is printed as
  * "name value" with 17 significant digits, for comparison with Fortran. */
 #include <math.h>
@@ -53,18 +54,59 @@ int main(void) {
   }
 
   {
-    /* a 1D chain of 12 unit masses, ends fixed, bonds k = 100 */
+    /* a 1D chain of 12 unit masses, ends fixed, bonds k = 100, no contacts */
     double x[12], m[12], r[12];
     int fixed[12] = {0}, bonds[22];
-    demstep_critical_step c;
+    demstep_scene *s = NULL;
+    demstep_scene_result c;
     for (i = 0; i < 12; ++i) { x[i] = i + 1.0; m[i] = 1.0; r[i] = 0.3; }
     fixed[0] = fixed[11] = 1;
     for (i = 0; i < 11; ++i) { bonds[2 * i] = i; bonds[2 * i + 1] = i + 1; }
-    demstep_scene_critical_step(1, 12, x, m, r, fixed, 11, bonds, 100.0, 0.0, DEMSTEP_LAW_LINEAR,
-                                0.0, 0.0, 0, 0.0, &c, &err);
+    if (demstep_scene_create(1, &s, &err) != DEMSTEP_OK ||
+        demstep_scene_set_particles(s, 12, x, m, r, fixed, NULL, NULL, &err) != DEMSTEP_OK ||
+        demstep_scene_add_bonds(s, 11, bonds, &err) != DEMSTEP_OK ||
+        demstep_scene_set_bond_stiffness(s, 100.0, 0.0, &err) != DEMSTEP_OK ||
+        demstep_scene_set_effects(s, 0, &err) != DEMSTEP_OK ||
+        demstep_scene_compute(s, DEMSTEP_HERTZ_CURRENT, 0.0, 0, 0, &c, sizeof c, &err) != DEMSTEP_OK) {
+      fprintf(stderr, "chain: %s\n", err.message);
+      demstep_scene_free(&s, NULL);
+      return 1;
+    }
     put("omega_max", c.omega_max);
     put("dt_critical_bound", c.dt_critical_bound);
     put("dt_contact_rule", c.dt_contact_rule);
+    demstep_scene_free(&s, &err);
+    demstep_scene_free(&s, &err); /* s is NULL: nothing to do */
+  }
+
+  {
+    /* a 2D sphere pressed into the floor y = 0, Hertz (E* = 1e8, G* = 4e7),
+       linearised at an impact at 2 m/s, with dashpots (zeta = 0.1) */
+    double x[2] = {0.0, 0.0099}, m = 0.01, r = 0.01;
+    double point[2] = {0.0, 0.0}, normal[2] = {0.0, 1.0};
+    demstep_scene *s = NULL;
+    demstep_scene_result c;
+    if (demstep_scene_create(2, &s, &err) != DEMSTEP_OK ||
+        demstep_scene_set_particles(s, 1, x, &m, &r, NULL, NULL, NULL, &err) != DEMSTEP_OK ||
+        demstep_scene_add_walls(s, 1, point, normal, &err) != DEMSTEP_OK ||
+        demstep_scene_set_contact_law(s, DEMSTEP_LAW_HERTZ, 1.0e8, 4.0e7, &err) != DEMSTEP_OK ||
+        demstep_scene_set_damping(s, 0.1, &err) != DEMSTEP_OK ||
+        demstep_scene_set_effects(s, DEMSTEP_EFFECT_WALLS | DEMSTEP_EFFECT_DAMPING, &err) != DEMSTEP_OK ||
+        demstep_scene_compute(s, DEMSTEP_HERTZ_IMPACT, 2.0, 0, 0, &c, sizeof c, &err) != DEMSTEP_OK) {
+      fprintf(stderr, "wall: %s\n", err.message);
+      demstep_scene_free(&s, NULL);
+      return 1;
+    }
+    put("wall_omega_max", c.omega_max);
+    put("wall_dt_critical_damped", c.dt_critical_damped);
+    /* bad input on a scene: an unknown Hertz mode (the scene stays usable), an
+       unknown effect bit (a failed builder call: the scene is unusable after it) */
+    printf("bad_hertz_mode %d %s\n", demstep_scene_compute(s, 7, 0.0, 0, 0, &c, sizeof c, &err),
+           err.message);
+    printf("bad_effect %d %s\n", demstep_scene_set_effects(s, 64, &err), err.message);
+    printf("bad_after_failure %d %s\n",
+           demstep_scene_compute(s, DEMSTEP_HERTZ_CURRENT, 0.0, 0, 0, &c, sizeof c, &err), err.message);
+    demstep_scene_free(&s, &err);
   }
 
   {
