@@ -4,12 +4,14 @@ stiffness matrix A' that bench_scene_eigen wrote in Matrix Market format.
 
 Reading the file (scipy.io.mmread) is not timed; only the eigsh call is:
 the largest algebraic eigenvalue (which='LA', k=1) to tolerance TOL (default
-1e-6), no eigenvector. Prints one line:
+1e-6), no eigenvector. Prints one line, with the process's peak resident
+memory (reading included):
 
-    eigsh <order> <seconds> <eigenvalue>
+    eigsh <order> <seconds> <eigenvalue> <peak MB>
 
 Usage: python3 bench/eigsh_scene.py FILE.mtx [TOL]
 """
+import resource
 import sys
 import time
 
@@ -25,7 +27,8 @@ def main():
     start = time.perf_counter()
     top = scipy.sparse.linalg.eigsh(a, k=1, which="LA", tol=tol, return_eigenvectors=False)
     seconds = time.perf_counter() - start
-    print(f"eigsh {a.shape[0]} {seconds:.3f} {top[0]:.16e}")
+    peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    print(f"eigsh {a.shape[0]} {seconds:.3f} {top[0]:.16e} {peak_mb:.0f}")
 
 
 if __name__ == "__main__":
