@@ -32,7 +32,8 @@ module demstep_cli_scene
 
   character(len=*), parameter :: scene_doc = &
     "A particle assembly: its critical time step by the per-contact rule, a rigorous bound, " &
-    //"LAPACK and the damped limit; and a run with only the effects switched on."
+    //"the exact limit (LAPACK or Lanczos) and the damped limit; and a run with only the effects " &
+    //"switched on."
 
   !> Most effects one group may list.
   integer, parameter :: max_effects = 16
@@ -1178,7 +1179,9 @@ contains
         ") for the peers' rules")
     end if
     exact = crit%dt_critical_damped
-    solver = merge("LAPACK  ", "bound   ", crit%eigen_computed)
+    solver = "bound"
+    if (crit%solver == demstep_eigen_solver%dense) solver = "LAPACK"
+    if (crit%solver == demstep_eigen_solver%lanczos) solver = "Lanczos"
     if (.not. mat%found) then
       call add("    peers' rules: add a &material group (young, poisson, density per type) to see them")
       call finish()
