@@ -31,6 +31,7 @@ program tester
   use test_recommend, only: collect_recommend
   use test_snapshot, only: collect_snapshot
   use test_app_snapshot, only: collect_app_snapshot
+  use test_packing, only: collect_packing
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -64,7 +65,8 @@ program tester
     new_testsuite("app_material", collect_app_material), &
     new_testsuite("recommend", collect_recommend), &
     new_testsuite("snapshot", collect_snapshot), &
-    new_testsuite("app_snapshot", collect_app_snapshot) &
+    new_testsuite("app_snapshot", collect_app_snapshot), &
+    new_testsuite("packing", collect_packing) &
     ]
   stat = 0
   total = 0

@@ -1,0 +1,363 @@
+!> Benchmark of a scene's exact stability limit at DEM scale: random periodic
+!> packings (`random_periodic_packing`, rotations and tangential springs, 6 DOF
+!> per particle) tiled up (`tile_scene`) to 1e3 .. 1e6 particles. Per size, one
+!> run each: the Gershgorin bound, Lanczos to 1e-6 with 1 and 2 OpenMP
+!> threads, dense LAPACK where it fits (<= 4000 DOF), and SciPy's eigsh
+!> (bench/eigsh_scene.py, tolerance 1e-6, eigsh alone timed) on the same scaled
+!> matrix A', which this program writes in Matrix Market format to a temporary
+!> file (removed afterwards). The base packing's limit (Lanczos to 1e-10) is a
+!> floor for the tiled one: its modes, repeated in phase in every copy, are
+!> modes of the tiled scene (test_packing checks this on the matrices). Memory: the peak resident size (VmHWM of
+!> /proc/self/status) after the Lanczos runs, and over the particles, for the
+!> cases that raised the process's peak (the file and eigsh's memory are not
+!> counted: they come after, and eigsh runs in its own process).
+!>
+!>   fpm run --example bench_scene_eigen --profile release [-- MAX_PARTICLES [noscipy]]
+program bench_scene_eigen
+  use, intrinsic :: iso_fortran_env, only: output_unit
+  use demstep_kinds, only: dp, i8
+  use demstep_status, only: demstep_status_type, demstep_stat
+  use demstep_progress, only: progress_seconds
+  use demstep_scene_data, only: scene_type
+  use demstep_scene_builders, only: random_periodic_packing, tile_scene
+  use demstep_neighbours, only: contact_list
+  use demstep_assembly, only: assembly_critical_steps, critical_step_type, eigen_solver, &
+    assembly_operator, assembly_operator_type, assembly_matrix
+  use demstep_lanczos, only: csr_matrix_type
+  !$ use omp_lib, only: omp_set_num_threads
+  implicit none
+
+  !> The cases: base packing size and repetitions (base times product(reps) particles).
+  integer, parameter :: n_cases = 5
+  !> (the dense-sized case last: its dense matrix would dominate the small
+  !> cases' peak memory)
+  integer, parameter :: base(n_cases) = [1000, 1250, 800, 1000, 500]
+  integer, parameter :: reps(3, n_cases) = reshape([1, 1, 1, 2, 2, 2, 5, 5, 5, 10, 10, 10, 1, 1, 1], [3, n_cases])
+  integer, parameter :: dense_limit = 4000
+  real(dp), parameter :: tol = 1.0e-6_dp
+  character(len=*), parameter :: mtx = "/tmp/demstep_bench_scene_eigen.mtx"
+  character(len=*), parameter :: eigsh_out = "/tmp/demstep_bench_scene_eigen.out"
+  type(scene_type) :: packing, scene
+  type(critical_step_type) :: r_bound, r_lanczos(2), r_dense, r_base
+  type(demstep_status_type) :: status
+  character(len=32) :: arg
+  integer :: c, n_max, ios, threads
+  logical :: scipy
+  real(dp) :: t_build, t_tile, t_bound, t_lanczos(2), t_dense, t_write, t_eigsh, lam_eigsh, omega_eigsh
+  real(dp) :: t0, z, overlap, mb, peak_before
+  character(len=48) :: memory
+
+  n_max = huge(1)
+  call get_command_argument(1, arg)
+  if (arg /= "") read(arg, *, iostat=ios) n_max
+  call get_command_argument(2, arg)
+  scipy = arg /= "noscipy"
+  peak_before = 0.0_dp
+
+  write(output_unit, '(a)') "# random periodic packings (seed 1) tiled up; 6 DOF per particle; one run each;"
+  write(output_unit, '(a)') "# times in seconds; dt bound/limit = omega_max/omega_bound; the last columns compare " &
+    //"omega_max: eigsh's (SciPy on A' from the file) and the base packing's against Lanczos'"
+  write(output_unit, '(a)') "| particles | DOF | base x reps | z | mean overlap/r | build s | tile s | bound s " &
+    //"| Lanczos 1 thr s | Lanczos 2 thr s | dense s | eigsh s | dt bound/limit | rel. residual " &
+    //"| eigsh vs Lanczos | Lanczos vs base | MB peak | bytes/particle |"
+  write(output_unit, '(a)') "|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+  do c = 1, n_cases
+    if (base(c)*product(reps(:, c)) > n_max) cycle
+    t0 = progress_seconds()
+    call random_periodic_packing(packing, base(c), status, seed=1)
+    call require("random_periodic_packing")
+    t_build = progress_seconds() - t0
+    t0 = progress_seconds()
+    call tile_scene(packing, reps(:, c), scene, status)
+    call require("tile_scene")
+    t_tile = progress_seconds() - t0
+    call network_statistics(packing, z, overlap)
+    ! every mode of the base packing is a mode of the tiled scene (in phase in
+    ! every copy): the base's limit (Lanczos to 1e-10) is a floor for omega_max
+    call assembly_critical_steps(packing, r_base, status, solver=eigen_solver%lanczos, tolerance=1.0e-10_dp)
+    call require("base limit")
+
+    t0 = progress_seconds()
+    call assembly_critical_steps(scene, r_bound, status, solver=eigen_solver%none)
+    call require("bound")
+    t_bound = progress_seconds() - t0
+    do threads = 1, 2
+      !$ call omp_set_num_threads(threads)
+      t0 = progress_seconds()
+      call assembly_critical_steps(scene, r_lanczos(threads), status, solver=eigen_solver%lanczos, &
+        tolerance=tol)
+      call require("lanczos")
+      t_lanczos(threads) = progress_seconds() - t0
+    end do
+    ! the peak is the process's: it tells this case's memory when this case raised it
+    mb = peak_megabytes()
+    memory = "- | -"
+    if (mb > peak_before) memory = trim(fixed(mb, 0))//" | "//trim(fixed(mb*1.0e6_dp/scene%n, 0))
+    peak_before = mb
+    t_dense = -1.0_dp
+    if (r_bound%n_dof <= dense_limit) then
+      t0 = progress_seconds()
+      call assembly_critical_steps(scene, r_dense, status, solver=eigen_solver%dense)
+      call require("dense")
+      t_dense = progress_seconds() - t0
+      if (abs(r_dense%omega_max/r_lanczos(2)%omega_max - 1.0_dp) > 1.0e-5_dp) &
+        write(output_unit, '(a, 2es24.16)') "# dense and Lanczos differ: ", r_dense%omega_max, &
+          r_lanczos(2)%omega_max
+    end if
+    t_eigsh = -1.0_dp
+    omega_eigsh = 0.0_dp
+    if (scipy) then
+      call run_eigsh(scene, t_write, t_eigsh, lam_eigsh, omega_eigsh)
+      write(output_unit, '(a, i0, a, a, a)') "# ", scene%n, " particles: A' assembled and written " &
+        //"(Matrix Market) in ", trim(fixed(t_write, 1)), " s"
+    end if
+    write(output_unit, '(a)') "| "//int_text(scene%n)//" | "//int_text(r_bound%n_dof)//" | "// &
+      int_text(base(c))//"x"//int_text(reps(1, c))//"x"//int_text(reps(2, c))//"x"//int_text(reps(3, c)) &
+      //" | "//trim(fixed(z, 2))//" | "//trim(sci(overlap))//" | "//trim(fixed(t_build, 3))//" | " &
+      //trim(fixed(t_tile, 3))//" | "//trim(fixed(t_bound, 3))//" | "//trim(fixed(t_lanczos(1), 3)) &
+      //" | "//trim(fixed(t_lanczos(2), 3))//" | "//trim(fixed(t_dense, 3))//" | " &
+      //trim(fixed(t_eigsh, 3))//" | "//trim(fixed(r_lanczos(2)%omega_max/r_bound%omega_bound, 3)) &
+      //" | "//trim(sci(r_lanczos(2)%eigen_residual))//" | "//trim(relative(omega_eigsh, &
+      r_lanczos(2)%omega_max))//" | "//trim(relative(r_lanczos(2)%omega_max, r_base%omega_max)) &
+      //" | "//trim(memory)//" |"
+    if (r_lanczos(2)%omega_max < r_base%omega_max*(1.0_dp - 1.0e-6_dp)) write(output_unit, '(a)') &
+      "# Lanczos omega_max below the base packing's: it missed the top of the spectrum"
+    flush(output_unit)
+  end do
+
+contains
+
+  !> Mean coordination and mean overlap over the pair's mean radius.
+  subroutine network_statistics(s, z, overlap)
+    type(scene_type), intent(in) :: s
+    real(dp), intent(out) :: z, overlap
+    integer, allocatable :: i(:), j(:)
+    real(dp), allocatable :: n(:, :), d(:)
+    call contact_list(s, i, j, n, d, status)
+    call require("contact_list")
+    z = 2.0_dp*size(i)/s%n
+    overlap = sum(d/(0.5_dp*(s%radius(i) + s%radius(j))))/size(i)
+  end subroutine network_statistics
+
+  !> Write A' (lower triangle, Matrix Market symmetric), run eigsh on it,
+  !> remove the files; omega = rate sqrt(lambda).
+  subroutine run_eigsh(s, t_write, t_eigsh, lam, omega)
+    type(scene_type), intent(in) :: s
+    real(dp), intent(out) :: t_write, t_eigsh, lam, omega
+    type(assembly_operator_type) :: op
+    type(csr_matrix_type) :: a
+    real(dp) :: rate
+    integer :: unit, exitstat, cmdstat, order
+    character(len=256) :: msg
+    character(len=8) :: word
+    real(dp) :: eigsh_mb
+    t0 = progress_seconds()
+    call assembly_operator(s, op, rate, status)
+    call require("assembly_operator")
+    call assembly_matrix(op, a)
+    call write_matrix_market(a, mtx)
+    t_write = progress_seconds() - t0
+    msg = ""
+    ! (at most 20 minutes: a stalled eigsh is reported, not waited for)
+    call execute_command_line("timeout 1200 python3 bench/eigsh_scene.py "//mtx//" 1e-6 > "//eigsh_out, &
+      exitstat=exitstat, cmdstat=cmdstat, cmdmsg=msg)
+    call delete_file(mtx)
+    t_eigsh = -1.0_dp
+    lam = 0.0_dp
+    omega = 0.0_dp
+    if (cmdstat /= 0 .or. exitstat /= 0) then
+      write(output_unit, '(a, 2(1x, i0), 1x, a)') "# eigsh failed:", cmdstat, exitstat, trim(msg)
+      call delete_file(eigsh_out)
+      return
+    end if
+    open(newunit=unit, file=eigsh_out, status="old", action="read", iostat=ios)
+    if (ios == 0) read(unit, *, iostat=ios) word, order, t_eigsh, lam, eigsh_mb
+    if (ios == 0) close(unit, status="delete")
+    if (ios /= 0 .or. order /= a%n) then
+      write(output_unit, '(a)') "# eigsh: unreadable output"
+      t_eigsh = -1.0_dp
+      return
+    end if
+    omega = rate*sqrt(lam)
+    write(output_unit, '(a, i0, a, a, a)') "# ", s%n, " particles: eigsh's peak memory (reading the " &
+      //"file included) ", trim(fixed(eigsh_mb, 0)), " MB"
+  end subroutine run_eigsh
+
+  !> The lower triangle of a symmetric CSR matrix as a Matrix Market file
+  !> ("coordinate real symmetric"), 17 significant digits, formatted by hand
+  !> into a buffer (list-directed output of 1e8 entries would take minutes).
+  subroutine write_matrix_market(a, path)
+    type(csr_matrix_type), intent(in) :: a
+    character(len=*), intent(in) :: path
+    integer, parameter :: chunk = 4000000
+    character(len=chunk + 128) :: buf
+    character(len=64) :: header
+    integer :: unit, i, pos
+    integer(i8) :: p, entries
+    entries = 0
+    do i = 1, a%n
+      do p = a%row_start(i), a%row_start(i + 1) - 1
+        if (a%col(p) <= i) entries = entries + 1
+      end do
+    end do
+    open(newunit=unit, file=path, access="stream", form="unformatted", status="replace", action="write")
+    write(header, '(i0, 1x, i0, 1x, i0)') a%n, a%n, entries
+    write(unit) "%%MatrixMarket matrix coordinate real symmetric"//new_line("a")//trim(header)//new_line("a")
+    pos = 0
+    do i = 1, a%n
+      do p = a%row_start(i), a%row_start(i + 1) - 1
+        if (a%col(p) > i) cycle
+        call put_integer(buf, pos, i)
+        pos = pos + 1
+        buf(pos:pos) = " "
+        call put_integer(buf, pos, a%col(p))
+        pos = pos + 1
+        buf(pos:pos) = " "
+        call put_real(buf, pos, a%val(p))
+        pos = pos + 1
+        buf(pos:pos) = new_line("a")
+        if (pos > chunk) then
+          write(unit) buf(:pos)
+          pos = 0
+        end if
+      end do
+    end do
+    if (pos > 0) write(unit) buf(:pos)
+    close(unit)
+  end subroutine write_matrix_market
+
+  !> Append the decimal digits of k >= 0 at buf(pos+1:).
+  subroutine put_integer(buf, pos, k)
+    character(len=*), intent(inout) :: buf
+    integer, intent(inout) :: pos
+    integer, intent(in) :: k
+    character(len=12) :: digits
+    integer :: m, nd
+    m = k
+    nd = 0
+    do
+      nd = nd + 1
+      digits(nd:nd) = achar(48 + mod(m, 10))
+      m = m/10
+      if (m == 0) exit
+    end do
+    do m = nd, 1, -1
+      pos = pos + 1
+      buf(pos:pos) = digits(m:m)
+    end do
+  end subroutine put_integer
+
+  !> Append x as d.dddddddddddddddde+XXX (17 significant digits; the mantissa
+  !> from x/10^e, good to a few units of the 17th digit).
+  subroutine put_real(buf, pos, x)
+    character(len=*), intent(inout) :: buf
+    integer, intent(inout) :: pos
+    real(dp), intent(in) :: x
+    integer(i8) :: digits
+    integer :: e, k
+    character(len=17) :: text
+    if (x == 0.0_dp) then
+      buf(pos + 1:pos + 1) = "0"
+      pos = pos + 1
+      return
+    end if
+    if (x < 0.0_dp) then
+      pos = pos + 1
+      buf(pos:pos) = "-"
+    end if
+    e = floor(log10(abs(x)))
+    digits = nint(abs(x)/10.0_dp**e*1.0e16_dp, i8)
+    if (digits >= 100000000000000000_i8) then
+      digits = digits/10_i8
+      e = e + 1
+    else if (digits < 10000000000000000_i8) then
+      digits = digits*10_i8
+      e = e - 1
+    end if
+    do k = 17, 1, -1
+      text(k:k) = achar(48 + int(mod(digits, 10_i8)))
+      digits = digits/10_i8
+    end do
+    buf(pos + 1:pos + 18) = text(1:1)//"."//text(2:17)
+    pos = pos + 18
+    pos = pos + 1
+    buf(pos:pos) = "e"
+    if (e < 0) then
+      pos = pos + 1
+      buf(pos:pos) = "-"
+    end if
+    call put_integer(buf, pos, abs(e))
+  end subroutine put_real
+
+  subroutine delete_file(path)
+    character(len=*), intent(in) :: path
+    integer :: unit, stat
+    open(newunit=unit, file=path, status="old", iostat=stat)
+    if (stat == 0) close(unit, status="delete")
+  end subroutine delete_file
+
+  !> Peak resident memory (VmHWM) in MB, 0 where /proc is missing.
+  real(dp) function peak_megabytes() result(mb)
+    integer :: unit, stat, kb
+    character(len=128) :: line
+    mb = 0.0_dp
+    open(newunit=unit, file="/proc/self/status", status="old", action="read", iostat=stat)
+    if (stat /= 0) return
+    do
+      read(unit, '(a)', iostat=stat) line
+      if (stat /= 0) exit
+      if (line(1:6) == "VmHWM:") then
+        read(line(7:), *, iostat=stat) kb
+        if (stat == 0) mb = kb/1024.0_dp
+        exit
+      end if
+    end do
+    close(unit)
+  end function peak_megabytes
+
+  !> x in fixed notation with d decimals (a leading 0 kept), "-" when negative.
+  function fixed(x, d) result(text)
+    real(dp), intent(in) :: x
+    integer, intent(in) :: d
+    character(len=24) :: text, form
+    text = "-"
+    if (x < 0.0_dp) return
+    write(form, '(a, i0, a)') "(f24.", d, ")"
+    write(text, form) x
+    text = adjustl(text)
+    if (d == 0) text = text(:len_trim(text) - 1)
+  end function fixed
+
+  function sci(x) result(text)
+    real(dp), intent(in) :: x
+    character(len=16) :: text
+    write(text, '(es9.2)') x
+    text = adjustl(text)
+  end function sci
+
+  !> a/b - 1, "-" when a was not computed.
+  function relative(a, b) result(text)
+    real(dp), intent(in) :: a, b
+    character(len=16) :: text
+    text = "-"
+    if (a > 0.0_dp) write(text, '(es9.1)') a/b - 1.0_dp
+    text = adjustl(text)
+  end function relative
+
+  function int_text(i) result(text)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: text
+    character(len=16) :: buf
+    write(buf, '(i0)') i
+    text = trim(buf)
+  end function int_text
+
+  subroutine require(what)
+    character(len=*), intent(in) :: what
+    if (status%stat /= demstep_stat%ok) then
+      write(output_unit, '(a)') "bench_scene_eigen: "//what//": "//trim(status%message)
+      error stop 1
+    end if
+  end subroutine require
+
+end program bench_scene_eigen
