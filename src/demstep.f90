@@ -21,6 +21,7 @@
 !> - Roots of any function: `find_root`, `scan_roots` (extend `root_context_type`).
 !> - Assemblies: `scene_type`, `new_scene`, `assembly_critical_steps` (dense or
 !>   Lanczos: `eigen_solver%...`), `scene_run`, `assembly_step_for_n_per_period`;
+!>   test packings: `random_periodic_packing`, `tile_scene`;
 !>   the matrix-free operator `assembly_operator` and its matrix `assembly_matrix`.
 !> - The largest eigenvalue of a large symmetric operator, matrix-free, with an
 !>   error bar: `lanczos_largest` (extend `lanczos_context_type`), `eigen_result_type`,
@@ -84,6 +85,7 @@ module demstep
   use demstep_scene, only: scene_type, scene_summary_type, cubic_lattice, new_scene, scene_add_bonds, &
     scene_add_walls, scene_set_contacts, scene_set_cell, scene_set_types, scene_set_hertz_types, &
     scene_set_law, scene_set_bond_stiffness, scene_set_gravity, scene_run, contact_list, effect_index, &
+    random_periodic_packing, tile_scene, &
     restitution_to_damping_ratio, contact_law_enum, &
     contact_law, scene_effect_enum, scene_effect, n_effects, effect_names, max_coordinate, &
     contact_limit, max_damping_ratio

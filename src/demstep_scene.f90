@@ -6,7 +6,8 @@ module demstep_scene
     n_effects, effect_names, effect_index, effective_mass, branch_vector, has_tangential
   use demstep_scene_builders, only: new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, &
     scene_set_cell, scene_set_types, scene_set_hertz_types, scene_set_law, &
-    scene_set_bond_stiffness, scene_set_gravity, cubic_lattice, restitution_to_damping_ratio, max_coordinate
+    scene_set_bond_stiffness, scene_set_gravity, cubic_lattice, restitution_to_damping_ratio, max_coordinate, &
+    random_periodic_packing, tile_scene
   use demstep_neighbours, only: contact_list, contact_limit
   use demstep_stepper, only: scene_run, max_damping_ratio
   use demstep_interaction, only: contact_law_enum, contact_law
@@ -15,7 +16,7 @@ module demstep_scene
   public :: scene_type, scene_summary_type, scene_effect_enum, scene_effect, n_effects, effect_names, &
     effect_index, effective_mass, branch_vector, has_tangential, new_scene, scene_add_bonds, &
     scene_add_walls, scene_set_contacts, scene_set_cell, scene_set_types, scene_set_hertz_types, &
-    scene_set_law, scene_set_bond_stiffness, scene_set_gravity, &
+    scene_set_law, scene_set_bond_stiffness, scene_set_gravity, random_periodic_packing, tile_scene, &
     cubic_lattice, restitution_to_damping_ratio, max_coordinate, contact_list, contact_limit, &
     scene_run, max_damping_ratio, contact_law_enum, contact_law
 end module demstep_scene
