@@ -36,7 +36,7 @@ module demstep_assembly
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use demstep_lapack, only: largest_eigenpair
   use demstep_lanczos, only: lanczos_context_type, lanczos_largest, eigen_result_type, &
-    csr_matrix_type, lanczos_tolerance_default, check_lanczos_options
+    csr_matrix_type, csr_to_dense, lanczos_tolerance_default, check_lanczos_options
   use demstep_progress, only: progress_type
   implicit none
   private
@@ -53,10 +53,6 @@ module demstep_assembly
   end type hertz_linearization_enum
   !> The Hertz linearisations by name.
   type(hertz_linearization_enum), parameter, public :: hertz_linearization = hertz_linearization_enum()
-  !> Most numbers (dof per particle squared times free particles) the bound keeps
-  !> for the diagonal blocks (160 MB); above, it sums absolute values of each
-  !> spring's entries (looser, equally rigorous).
-  real(dp), parameter :: max_bound_memory = 2.0e7_dp
   !> Largest number of degrees of freedom given to the dense eigensolver by
   !> `eigen_solver%auto` (above it: Lanczos). Measured crossover, see the README.
   integer, parameter, public :: default_max_eigen_dof = 4000
@@ -77,7 +73,7 @@ module demstep_assembly
     "lanczos", "none"]
   !> Krylov size of the scene Lanczos solve: tiled packings have clusters of
   !> nearly equal top eigenvalues, which a larger basis separates in fewer restarts.
-  integer, parameter, public :: scene_lanczos_ncv = 32
+  integer, parameter, public :: scene_lanczos_ncv = 16
   !> Restarts of the scene Lanczos solve before it settles for the bracket the
   !> Ritz value and its residual estimate give (`eigen_converged` false).
   integer, parameter, public :: scene_lanczos_restarts = 20
@@ -103,8 +99,9 @@ module demstep_assembly
     !> `incident`, each 2(s-1)+e for end e of spring s, in spring order.
     integer(i8), allocatable :: first(:)
     integer, allocatable :: incident(:)
-    !> Each spring end's generalised force (6, 2 springs), filled per product.
-    real(dp), allocatable :: work(:, :)
+    !> Each spring end's generalised force (6, 2 springs) and each body's scaled
+    !> displacement (6, 0:bodies; 0 the ground), filled per product.
+    real(dp), allocatable :: work(:, :), xs(:, :)
   end type assembly_operator_type
 
   !> The four estimates and what they rest on.
@@ -192,10 +189,11 @@ contains
     type(spring_block_type), allocatable :: springs(:)
     type(assembly_operator_type) :: op
     type(eigen_result_type) :: lanczos
+    type(csr_matrix_type) :: sparse
     integer, allocatable :: dof(:)
-    real(dp), allocatable :: a(:, :), vec(:), rows(:), mdof(:, :), diag(:, :, :), av(:)
+    real(dp), allocatable :: a(:, :), vec(:), mdof(:, :), av(:)
     real(dp) :: lam, zeta, k_scale, m_scale, rate, tol, err
-    integer :: limit, i, p, choice, nc
+    integer :: limit, i, choice
     logical :: geo, converged
 
     limit = default_max_eigen_dof
@@ -216,46 +214,26 @@ contains
     call prepare(scene, hertz_mode, impact_velocity, geo, springs, dof, mdof, k_scale, m_scale, &
       op, status)
     if (status%stat /= demstep_stat%ok) return
-    nc = op%nc
     result%rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
     result%periodic = any(scene%periodic)
     result%prestress = geo
-    result%dof_per_particle = nc
+    result%dof_per_particle = op%nc
     result%n_dof = op%n
     result%n_springs = size(springs)
     result%tangential = any(springs%k_t > 0.0_dp)
     ! omega = rate sqrt(lambda'), lambda' an eigenvalue of the scaled problem
     rate = sqrt(k_scale)/sqrt(m_scale)
 
-    ! per-contact rule and the Gershgorin bound (scaled, without pre-stress):
-    ! the diagonal blocks are summed before their absolute values are taken
-    ! (contacts of one particle cancel there) when they fit in max_bound_memory
+    ! per-contact rule and the Gershgorin bound (scaled, without pre-stress)
     result%dt_contact_rule = huge(1.0_dp)
-    allocate(rows(result%n_dof), source=0.0_dp)
-    if (real(op%n_bodies, dp)*nc*nc <= max_bound_memory) then
-      allocate(diag(nc, nc, op%n_bodies), source=0.0_dp)
-    else
-      allocate(diag(0, 0, 0))
-    end if
     do i = 1, size(springs)
       associate(s => springs(i))
         result%dt_contact_rule = min(result%dt_contact_rule, &
           2.0_dp*sqrt(effective_mass(scene, s%b, s%a))/sqrt(max(s%k_n, s%k_t)))
-        if (size(diag) > 0) then
-          call add_spring(scene, dof, op%comp, mdof, s, k_scale, .false., rows=rows, diag=diag)
-        else
-          call add_spring(scene, dof, op%comp, mdof, s, k_scale, .false., rows=rows)
-        end if
       end associate
     end do
-    do i = 1, size(diag, 3)
-      do p = 1, nc
-        rows((i - 1)*nc + p) = rows((i - 1)*nc + p) + sum(abs(diag(p, :, i)))
-      end do
-    end do
-    call assembly_set_bound(result, rate, maxval(rows), status)
+    call assembly_set_bound(result, rate, operator_row_bound(op), status)
     if (status%stat /= demstep_stat%ok) return
-    deallocate(rows, diag)
 
     ! the exact omega_max: dense LAPACK or matrix-free Lanczos
     if (choice == eigen_solver%auto) then
@@ -267,10 +245,9 @@ contains
       allocate(vec(result%n_dof))
       converged = .true.
       if (choice == eigen_solver%dense) then
-        allocate(a(result%n_dof, result%n_dof), source=0.0_dp)
-        do i = 1, size(springs)
-          call add_spring(scene, dof, op%comp, mdof, springs(i), k_scale, geo, a=a)
-        end do
+        ! the operator's own matrix, dense
+        call assembly_matrix(op, sparse)
+        call csr_to_dense(sparse, a)
         call largest_eigenpair(a, lam, vec, status)
         if (status%stat /= demstep_stat%ok) return
         deallocate(a)
@@ -389,6 +366,55 @@ contains
     status%stat = demstep_stat%ok
   end subroutine assembly_set_damped
 
+  !> Gershgorin's bound of the operator without its pre-stress: the largest row
+  !> sum of |A'|, each body's diagonal block summed over its springs before the
+  !> absolute values are taken (the contacts of one body cancel there). Per body,
+  !> in parallel, from the kernel (`contact_product`, the columns of the body's
+  !> end of each spring = its rows, by symmetry): O(springs), no storage.
+  function operator_row_bound(op) result(row_max)
+    type(assembly_operator_type), intent(in) :: op
+    real(dp) :: row_max
+    real(dp) :: d(6, 6), off(6), col(12, 6), e(12), row
+    integer :: i, s, en, o, j, c, q, nc
+    integer(i8) :: p
+    nc = op%nc
+    row_max = 0.0_dp
+    !$omp parallel do private(i, s, en, o, j, c, q, p, d, off, col, e, row) reduction(max:row_max) &
+    !$omp schedule(static) if(op%n_springs >= parallel_springs)
+    do i = 1, op%n_bodies
+      d = 0.0_dp
+      off = 0.0_dp
+      do p = op%first(i), op%first(i + 1) - 1
+        s = (op%incident(p) + 1)/2
+        en = op%incident(p) - 2*(s - 1)
+        o = 3 - en
+        do c = 1, nc
+          e = 0.0_dp
+          e(6*(en - 1) + op%comp(c)) = 1.0_dp
+          call contact_product(op%normal(:, s), op%coef(1, s), op%coef(2, s), op%coef(3, s), &
+            op%coef(4, s), 0.0_dp, e(1:3), e(4:6), e(7:9), e(10:12), col(1:3, c), col(4:6, c), &
+            col(7:9, c), col(10:12, c))
+          d(:, c) = d(:, c) + col(6*(en - 1) + 1:6*en, c)
+        end do
+        j = op%ends(o, s)
+        if (j == 0) cycle
+        do c = 1, nc
+          do q = 1, nc
+            off(c) = off(c) + abs(col(6*(o - 1) + op%comp(q), c))*op%w(op%comp(q), j)
+          end do
+        end do
+      end do
+      do c = 1, nc
+        row = off(c)
+        do q = 1, nc
+          row = row + abs(d(op%comp(q), c))*op%w(op%comp(q), i)
+        end do
+        row_max = max(row_max, row*op%w(op%comp(c), i))
+      end do
+    end do
+    !$omp end parallel do
+  end function operator_row_bound
+
   !> The name of an `eigen_solver` value ('auto', 'dense', 'lanczos', 'none';
   !> '' for another value).
   pure function eigen_solver_name(solver) result(name)
@@ -433,32 +459,41 @@ contains
     class(lanczos_context_type), intent(inout) :: context
     real(dp), intent(in) :: x(:)
     real(dp), intent(out) :: y(:)
-    integer :: s, e, i, nc
+    integer :: s, a, b, i, c, nc
     integer(i8) :: p
-    real(dp) :: v(6, 2), acc(6)
+    real(dp) :: acc(6)
     y = 0.0_dp
     select type (op => context)
     class is (assembly_operator_type)
       nc = op%nc
-      !$omp parallel do private(s, e, i, v) schedule(static) if(op%n_springs >= parallel_springs)
-      do s = 1, op%n_springs
-        do e = 1, 2
-          v(:, e) = 0.0_dp
-          i = op%ends(e, s)
-          if (i > 0) v(op%comp, e) = x((i - 1)*nc + 1:i*nc)*op%w(op%comp, i)
+      ! every body's scaled displacement, six components (0 where not a dof);
+      ! column 0 is the ground
+      !$omp parallel do private(i, c) schedule(static) if(op%n_springs >= parallel_springs)
+      do i = 1, op%n_bodies
+        op%xs(:, i) = 0.0_dp
+        do c = 1, nc
+          op%xs(op%comp(c), i) = x((i - 1)*nc + c)*op%w(op%comp(c), i)
         end do
+      end do
+      !$omp end parallel do
+      !$omp parallel do private(s, a, b) schedule(static) if(op%n_springs >= parallel_springs)
+      do s = 1, op%n_springs
+        a = op%ends(1, s)
+        b = op%ends(2, s)
         call contact_product(op%normal(:, s), op%coef(1, s), op%coef(2, s), op%coef(3, s), &
-          op%coef(4, s), op%coef(5, s), v(1:3, 1), v(4:6, 1), v(1:3, 2), v(4:6, 2), &
+          op%coef(4, s), op%coef(5, s), op%xs(1:3, a), op%xs(4:6, a), op%xs(1:3, b), op%xs(4:6, b), &
           op%work(1:3, 2*s - 1), op%work(4:6, 2*s - 1), op%work(1:3, 2*s), op%work(4:6, 2*s))
       end do
       !$omp end parallel do
-      !$omp parallel do private(i, p, acc) schedule(static) if(op%n_springs >= parallel_springs)
+      !$omp parallel do private(i, p, c, acc) schedule(static) if(op%n_springs >= parallel_springs)
       do i = 1, op%n_bodies
         acc = 0.0_dp
         do p = op%first(i), op%first(i + 1) - 1
           acc = acc + op%work(:, op%incident(p))
         end do
-        y((i - 1)*nc + 1:i*nc) = acc(op%comp)*op%w(op%comp, i)
+        do c = 1, nc
+          y((i - 1)*nc + c) = acc(op%comp(c))*op%w(op%comp(c), i)
+        end do
       end do
       !$omp end parallel do
     end select
@@ -642,6 +677,7 @@ contains
     op%n_springs = size(springs)
     allocate(op%ends(2, op%n_springs), op%normal(3, op%n_springs), op%coef(5, op%n_springs))
     allocate(op%w(6, nfree), op%first(nfree + 1), op%work(6, 2*op%n_springs))
+    allocate(op%xs(6, 0:nfree), source=0.0_dp)
     do i = 1, scene%n
       if (body(i) > 0) op%w(:, body(i)) = 1.0_dp/sqrt(mdof(:, i))
     end do
@@ -802,54 +838,6 @@ contains
       d = exp(0.4_dp*(log(15.0_dp/16.0_dp) + log(m_eff) + 2.0_dp*log(v_impact) - log(e_star) &
         - 0.5_dp*log(rs)))
   end function linearisation_overlap
-
-  !> Add a spring's scaled block A' = M'^-1/2 K' M'^-1/2 (K' = K/k_scale, rotations
-  !> as r theta) to the lower triangle of `a`, or the absolute values of its
-  !> entries to the row sums `rows` (an upper bound of |A'|'s row sums); with
-  !> `diag`, the diagonal blocks go there (by free particle) instead of to `rows`.
-  subroutine add_spring(scene, dof, comp, mdof, s, k_scale, geo, a, rows, diag)
-    type(scene_type), intent(in) :: scene
-    integer, intent(in) :: dof(:), comp(:)
-    real(dp), intent(in) :: mdof(:, :)
-    type(spring_block_type), intent(in) :: s
-    real(dp), intent(in) :: k_scale
-    logical, intent(in) :: geo
-    real(dp), intent(inout), optional :: a(:, :), rows(:), diag(:, :, :)
-    real(dp) :: b(12, 12), arm(2), value, g
-    integer :: body(2), sa, sb, p, q, row, col
-    logical :: free(2)
-    body = [s%a, s%b]
-    arm = 0.0_dp
-    do sa = 1, 2
-      free(sa) = body(sa) > 0
-      if (free(sa)) free(sa) = .not. scene%fixed(body(sa))
-    end do
-    if (s%a > 0) arm(1) = s%arm_a/scene%radius(s%a)
-    arm(2) = s%arm_b/scene%radius(s%b)
-    g = 0.0_dp
-    if (geo) g = s%geo/k_scale
-    b = contact_block(s%n, s%k_n/k_scale, s%k_t/k_scale, arm(1), arm(2), g)
-    do sa = 1, 2
-      if (.not. free(sa)) cycle
-      do sb = 1, 2
-        if (.not. free(sb)) cycle
-        do q = 1, size(comp)
-          col = dof(body(sb)) + q
-          do p = 1, size(comp)
-            row = dof(body(sa)) + p
-            value = b(6*(sa - 1) + comp(p), 6*(sb - 1) + comp(q)) &
-              /(sqrt(mdof(comp(p), body(sa)))*sqrt(mdof(comp(q), body(sb))))
-            if (present(diag) .and. sa == sb) then
-              diag(p, q, dof(body(sa))/size(comp) + 1) = diag(p, q, dof(body(sa))/size(comp) + 1) + value
-            else if (present(rows)) then
-              rows(row) = rows(row) + abs(value)
-            end if
-            if (present(a) .and. row >= col) a(row, col) = a(row, col) + value
-          end do
-        end do
-      end do
-    end do
-  end subroutine add_spring
 
   !> The top mode's damping per unit damping ratio, in scaled units: with the
   !> dashpots 2 zeta sqrt(m* k_n) along n and v a unit vector of the scaled
