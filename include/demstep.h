@@ -261,7 +261,7 @@ int demstep_scene_set_gravity(demstep_scene *scene, const double *gravity, demst
 /* The critical steps of the scene at its current configuration. hertz_linearization:
    DEMSTEP_HERTZ_CURRENT or DEMSTEP_HERTZ_IMPACT (with impact_velocity > 0; ignored
    otherwise); prestress: 0 or 1 (count the geometric stiffness of loaded contacts);
-   max_eigen_dof: above it only the bound is computed (<= 0: the default 4000);
+   max_eigen_dof: under DEMSTEP_EIGEN_AUTO, dense LAPACK up to it and Lanczos above (<= 0: the default 1000);
    result_size: sizeof(demstep_scene_result). */
 /* The eigensolver of later demstep_scene_compute calls (default DEMSTEP_EIGEN_AUTO)
    and the Lanczos relative residual tolerance, in [2.2e-16, 0.1] (<= 0: 1e-10). */

@@ -770,8 +770,8 @@ contains
     call check(error, index(template, "largest N scanned (default 1e8)") > 0, &
       "n_max: the template says the library's default 1e8")
     if (allocated(error)) return
-    call check(error, index(template, "dense eigensolver (default 4000)") > 0, &
-      "max_eigen_dof: the template says the library's default 4000")
+    call check(error, index(template, "dense eigensolver (default 1000)") > 0, &
+      "max_eigen_dof: the template says the library's default 1000")
     if (allocated(error)) return
     call write_file(deck, [g//" /"])
     call run_app(deck//" -q --namelist", rc, implicit, stderr)
