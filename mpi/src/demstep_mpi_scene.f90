@@ -15,8 +15,9 @@
 !>
 !> Estimates, as in the serial path: omega_max from PARPACK (the Rayleigh
 !> quotient of the returned unit mode, its residual and the error bar
-!> `omega_upper`, `dt_critical_safe`); Gershgorin's bound from the rows without
-!> pre-stress (`dist_gershgorin_bound`); the per-contact rule as a minimum
+!> `omega_upper`, `dt_critical_safe`); the bound from the rows without
+!> pre-stress (`dist_collatz_bound`, the serial bound's Collatz-Wielandt steps);
+!> the per-contact rule as a minimum
 !> over each rank's springs; the modal damping ratio of the top mode from the
 !> mode's entries at both ends of each spring (the halo supplies the other
 !> rank's end), summed over the ranks.
@@ -30,10 +31,10 @@ module demstep_mpi_scene
   use demstep_interaction, only: reduced_mass, dashpot_coefficient
   use demstep_assembly, only: assembly_operator_type, assembly_operator, assembly_matrix_rows, &
     assembly_check_options, assembly_set_bound, assembly_set_estimates, &
-    critical_step_type, eigen_solver, scene_lanczos_ncv, scene_lanczos_restarts
+    critical_step_type, eigen_solver, scene_lanczos_ncv, scene_lanczos_restarts, bound_iterations
   use demstep_lanczos, only: eigen_result_type, lanczos_tolerance_default
   use demstep_mpi_lanczos, only: dist_csr_type, dist_csr_create, dist_csr_apply, dist_csr_free, &
-    dist_gershgorin_bound, parallel_lanczos_largest
+    dist_collatz_bound, parallel_lanczos_largest
   implicit none
   private
 
@@ -137,7 +138,7 @@ contains
       real(dp) :: bound, rule, lam
       logical :: has_mode
 
-      call dist_gershgorin_bound(matrix, bound)
+      call dist_collatz_bound(matrix, bound_iterations, bound)
       call assembly_set_bound(result, rate, bound, status)
       if (status%stat /= demstep_stat%ok) return
       rule = contact_rule(op, bodies)
