@@ -34,7 +34,8 @@ module demstep_lanczos
   implicit none
   private
 
-  public :: lanczos_operator, lanczos_largest, lanczos_start_vector, check_lanczos_options
+  public :: lanczos_operator, lanczos_largest, lanczos_start_vector, check_lanczos_options, &
+    lanczos_finish
   public :: csr_matrix_type, csr_from_springs, csr_apply, csr_to_dense
 
   !> Default relative tolerance: the residual of the Ritz pair at most 1e-10 of
@@ -52,7 +53,7 @@ module demstep_lanczos
 
   !> Rounding allowance of the error bar, in units of epsilon * |theta|: the
   !> residual and the Rayleigh quotient are sums of rounded products.
-  real(dp), parameter :: rounding_ulps = 8.0_dp
+  real(dp), parameter, public :: rounding_ulps = 8.0_dp
 
   !> Below this many rows a product runs on one thread: a parallel region costs
   !> more than the ~10 flops per row it would share.
@@ -288,15 +289,8 @@ contains
     theta = accurate_dot(z(:, 1), y)/accurate_dot(z(:, 1), z(:, 1))
     y = y - theta*z(:, 1)
     rnorm = sqrt(accurate_dot(y, y))
-    result%eigenvalue = theta
-    result%residual = rnorm
-    result%error_bound = rnorm + rounding_ulps*epsilon(1.0_dp)*abs(theta)
-    result%converged = step_status%stat == demstep_stat%ok
     if (present(eigenvector)) eigenvector = z(:, 1)
-    status = step_status
-    if (status%stat /= demstep_stat%ok) status%message = status%message//" (largest Ritz value " &
-      //real_text(theta)//", relative residual "//real_text(rnorm/max(abs(theta), tiny(1.0_dp))) &
-      //" after "//int_text(result%iterations)//" restarts, tolerance "//real_text(tol)//")"
+    call lanczos_finish(theta, rnorm, tol, step_status, result, status)
 
   contains
 
@@ -316,6 +310,26 @@ contains
     end subroutine product
 
   end subroutine lanczos_largest
+
+  !> The end of a Lanczos solve, serial or distributed: the result from the
+  !> measured Rayleigh quotient `theta` and residual `rnorm` of the returned unit
+  !> vector (error bar `rnorm` plus the rounding allowance), and ARPACK's status
+  !> with the numbers that say how far it got when it is not ok.
+  pure subroutine lanczos_finish(theta, rnorm, tol, step_status, result, status)
+    real(dp), intent(in) :: theta, rnorm, tol
+    !> The status of the iteration (ok or not_converged).
+    type(demstep_status_type), intent(in) :: step_status
+    type(eigen_result_type), intent(inout) :: result
+    type(demstep_status_type), intent(out) :: status
+    result%eigenvalue = theta
+    result%residual = rnorm
+    result%error_bound = rnorm + rounding_ulps*epsilon(1.0_dp)*abs(theta)
+    result%converged = step_status%stat == demstep_stat%ok
+    status = step_status
+    if (status%stat /= demstep_stat%ok) status%message = status%message//" (largest Ritz value " &
+      //real_text(theta)//", relative residual "//real_text(rnorm/max(abs(theta), tiny(1.0_dp))) &
+      //" after "//int_text(result%iterations)//" restarts, tolerance "//real_text(tol)//")"
+  end subroutine lanczos_finish
 
   !> x.y by compensated summation (Ogita, Rump and Oishi's Dot2): as accurate
   !> as a sum in twice the working precision, then rounded.

@@ -26,7 +26,7 @@ module demstep_mpi_lanczos
   use demstep_arpack, only: arpack_iparam_size
   use demstep_parpack, only: pdsaupd, pdseupd, pdsaupd_status, pdseupd_status
   use demstep_lanczos, only: check_lanczos_options, eigen_result_type, lanczos_tolerance_default, &
-    lanczos_ncv_default, lanczos_nev_default, lanczos_restarts_default
+    lanczos_ncv_default, lanczos_nev_default, lanczos_restarts_default, lanczos_finish, rounding_ulps
   use demstep_double_double, only: two_sum, two_prod
   use demstep_text, only: int_text, real_text
   use demstep_progress, only: progress_type
@@ -41,10 +41,6 @@ module demstep_mpi_lanczos
   !> The solver's name in a result.
   character(len=*), parameter, public :: parallel_lanczos_solver_name = &
     "lanczos (PARPACK pdsaupd, MPI)"
-
-  !> Rounding allowance of the error bar in units of epsilon * |theta| (as the
-  !> serial path).
-  real(dp), parameter :: rounding_ulps = 8.0_dp
 
   !> A row block of a sparse symmetric matrix with its halo-exchange pattern.
   type, public :: dist_csr_type
@@ -477,15 +473,8 @@ contains
       theta = global_dot(z(:, 1), y)/global_dot(z(:, 1), z(:, 1))
       y = y - theta*z(:, 1)
       rnorm = sqrt(global_dot(y, y))
-      result%eigenvalue = theta
-      result%residual = rnorm
-      result%error_bound = rnorm + rounding_ulps*epsilon(1.0_dp)*abs(theta)
-      result%converged = step_status%stat == demstep_stat%ok
       if (present(eigenvector)) eigenvector = z(:, 1)
-      status = step_status
-      if (status%stat /= demstep_stat%ok) status%message = status%message//" (largest Ritz value " &
-        //real_text(theta)//", relative residual "//real_text(rnorm/max(abs(theta), tiny(1.0_dp))) &
-        //" after "//int_text(result%iterations)//" restarts, tolerance "//real_text(tol)//")"
+      call lanczos_finish(theta, rnorm, tol, step_status, result, status)
     end subroutine iterate
 
     !> One product, counted; a non-finite value on any rank fails all of them.
