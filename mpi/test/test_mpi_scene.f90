@@ -82,6 +82,7 @@ program test_mpi_scene
   call compare("box with walls and fixed particles, damping", scene, .false.)
   call check_refusals()
   call check_progress()
+  call check_not_converged()
 
   if (rank == 0) then
     if (failures == 0) then
@@ -194,6 +195,34 @@ contains
     scene%effects(scene_effect%damping) = .true.
     scene%damping_ratio = 0.3_dp
   end subroutine box_with_walls
+
+  !> Out of restarts (an open chain of 3000: top eigenvalues 1e-6 apart
+  !> relative, far below a 1e-13 tolerance): not an error, on every rank; the
+  !> bracket [omega_max, omega_upper] holds the closed form
+  !> 2 sqrt(k/m) sin(pi (N-1)/(2N)), as the serial path's.
+  subroutine check_not_converged()
+    integer, parameter :: n = 3000
+    type(scene_type) :: chain
+    type(critical_step_type) :: par
+    type(demstep_status_type) :: st
+    real(dp) :: x(1, n), exact
+    integer :: i
+    do i = 1, n
+      x(1, i) = real(i - 1, dp)
+    end do
+    call new_scene(chain, 1, x, spread(1.0_dp, 1, n), spread(0.55_dp, 1, n), st)
+    chain%k_normal = 1.0e4_dp
+    call mpi_scene_critical_steps(MPI_COMM_WORLD, chain, par, st, tolerance=1.0e-13_dp)
+    exact = 2.0_dp*sqrt(1.0e4_dp)*sin(acos(-1.0_dp)*(n - 1)/(2.0_dp*n))
+    call report("out of restarts: ok and not converged", st%stat == demstep_stat%ok .and. &
+      par%eigen_computed .and. .not. par%eigen_converged .and. par%eigen_residual > 1.0e-13_dp, msg(st))
+    call report("out of restarts: the bracket holds the closed form", &
+      par%omega_max <= exact*(1.0_dp + 1.0e-14_dp) .and. par%omega_upper >= exact*(1.0_dp - 1.0e-14_dp) &
+      .and. par%dt_critical_safe <= 2.0_dp/exact .and. par%dt_critical_safe >= par%dt_critical_bound, &
+      num(par%omega_max)//num(par%omega_upper)//num(exact))
+    call report("out of restarts: the same on every rank", same_everywhere(par%omega_max) .and. &
+      same_everywhere(par%omega_upper), "")
+  end subroutine check_not_converged
 
   !> The MPI result against the serial Lanczos and dense results.
   subroutine compare(name, scene, prestress)
