@@ -29,7 +29,7 @@ module demstep_assembly
   use demstep_text, only: int_text, real_text
   use demstep_spring, only: damped_limit
   use demstep_interaction, only: contact_law, contact_block, contact_product, dashpot_coefficient, &
-    normal_stiffness, wall_overlap, reduced_radius, dof_components
+    normal_stiffness, wall_overlap, reduced_radius, reduced_mass, dof_components
   use demstep_scene_data, only: scene_type, scene_effect, effective_mass, contact_values
   use demstep_neighbours, only: contact_list
   use demstep_stepper, only: max_damping_ratio
@@ -43,7 +43,8 @@ module demstep_assembly
 
   public :: assembly_critical_steps, assembly_step_for_n_per_period, assembly_operator, &
     assembly_operator_apply, assembly_matrix, assembly_matrix_rows, eigen_solver_name, &
-    assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_damped
+    assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_damped, &
+    spring_damping
 
   !> Hertz linearisation at the current overlap, or at an impact's largest
   !> overlap: `hertz_linearization%impact`.
@@ -195,11 +196,10 @@ contains
     type(assembly_operator_type) :: op
     type(eigen_result_type) :: lanczos
     type(csr_matrix_type) :: sparse
-    integer, allocatable :: dof(:)
-    real(dp), allocatable :: a(:, :), vec(:), mdof(:, :), av(:)
-    real(dp) :: lam, zeta, k_scale, m_scale, rate, tol, err
+    real(dp), allocatable :: a(:, :), vec(:), av(:)
+    real(dp) :: lam, zeta, rate, tol, err
     integer :: limit, i, choice
-    logical :: geo, converged
+    logical :: geo, has_mode
 
     limit = default_max_eigen_dof
     if (present(max_eigen_dof)) limit = max_eigen_dof
@@ -216,8 +216,7 @@ contains
     end if
     call assembly_check_options(scene, tol, zeta, status)
     if (status%stat /= demstep_stat%ok) return
-    call prepare(scene, hertz_mode, impact_velocity, geo, springs, dof, mdof, k_scale, m_scale, &
-      op, status)
+    call prepare(scene, hertz_mode, impact_velocity, geo, springs, op, rate, status)
     if (status%stat /= demstep_stat%ok) return
     result%rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
     result%periodic = any(scene%periodic)
@@ -226,9 +225,6 @@ contains
     result%n_dof = op%n
     result%n_springs = size(springs)
     result%tangential = any(springs%k_t > 0.0_dp)
-    ! omega = rate sqrt(lambda'), lambda' an eigenvalue of the scaled problem
-    rate = sqrt(k_scale)/sqrt(m_scale)
-
     ! per-contact rule and the Gershgorin bound (scaled, without pre-stress)
     result%dt_contact_rule = huge(1.0_dp)
     do i = 1, size(springs)
@@ -248,7 +244,7 @@ contains
     result%solver = choice
     if (choice /= eigen_solver%none) then
       allocate(vec(result%n_dof))
-      converged = .true.
+      has_mode = .true.
       if (choice == eigen_solver%dense) then
         ! the operator's own matrix, dense
         call assembly_matrix(op, sparse)
@@ -257,6 +253,11 @@ contains
         if (status%stat /= demstep_stat%ok) return
         deallocate(a)
         result%eigen_tolerance = epsilon(1.0_dp)
+        ! the mode's Rayleigh quotient and residual, one matrix-free product
+        allocate(av(result%n_dof))
+        call assembly_operator_apply(op, vec, av)
+        lam = dot_product(vec, av)
+        err = norm2(av - lam*vec)
       else
         call lanczos_largest(assembly_operator_apply, op, op%n, lanczos, status, eigenvector=vec, &
           tolerance=tol, ncv=min(scene_lanczos_ncv, op%n), max_restarts=scene_lanczos_restarts, &
@@ -264,27 +265,21 @@ contains
         result%eigen_products = lanczos%applications
         result%eigen_restarts = lanczos%iterations
         result%eigen_tolerance = tol
-        ! out of restarts without a vector (a top crowded with nearly equal
-        ! eigenvalues): the Ritz value and ARPACK's estimate of its residual
-        ! still bracket omega_max; without a mode the damping ratio is nominal
-        converged = .not. (status%stat == demstep_stat%not_converged .and. .not. any(vec /= 0.0_dp))
+        ! the Rayleigh quotient and residual lanczos_largest measured on its
+        ! unit mode; out of restarts without a mode (a top crowded with nearly
+        ! equal eigenvalues), the Ritz value and ARPACK's estimate of its
+        ! residual, which still bracket omega_max, and the nominal damping ratio
+        has_mode = any(vec /= 0.0_dp)
         if (status%stat == demstep_stat%not_converged) status%stat = demstep_stat%ok
         if (status%stat /= demstep_stat%ok) return
         lam = lanczos%eigenvalue
         err = lanczos%residual
       end if
-      if (converged) then
-        ! the returned mode's Rayleigh quotient and residual, one product
-        allocate(av(result%n_dof))
-        call assembly_operator_apply(op, vec, av)
-        lam = dot_product(vec, av)
-        err = norm2(av - lam*vec)
+      if (scene%effects(scene_effect%damping) .and. has_mode .and. lam > 0.0_dp) then
+        zeta = zeta*modal_damping(op, vec)/(2.0_dp*sqrt(lam))
       end if
-      if (scene%effects(scene_effect%damping) .and. converged .and. lam > 0.0_dp) then
-        zeta = zeta*modal_damping(scene, dof, mdof, springs, k_scale, m_scale, vec)/(2.0_dp*sqrt(lam))
-      end if
-      call assembly_set_estimates(result, rate, lam, err, converged .and. (err <= tol*lam .or. &
-        choice == eigen_solver%dense), zeta, status)
+      call assembly_set_estimates(result, rate, lam, err, choice == eigen_solver%dense .or. &
+        (has_mode .and. err <= tol*lam), zeta, status)
     else
       ! no eigensolver: the damped limit from the bound
       call assembly_set_damped(result, result%dt_critical_bound, zeta, status)
@@ -471,17 +466,10 @@ contains
     real(dp), intent(in), optional :: impact_velocity
     logical, intent(in), optional :: prestress
     type(spring_block_type), allocatable :: springs(:)
-    integer, allocatable :: dof(:)
-    real(dp), allocatable :: mdof(:, :)
-    real(dp) :: k_scale, m_scale
     logical :: geo
     geo = .false.
     if (present(prestress)) geo = prestress
-    rate = 0.0_dp
-    call prepare(scene, hertz_mode, impact_velocity, geo, springs, dof, mdof, k_scale, m_scale, &
-      op, status)
-    if (status%stat /= demstep_stat%ok) return
-    rate = sqrt(k_scale)/sqrt(m_scale)
+    call prepare(scene, hertz_mode, impact_velocity, geo, springs, op, rate, status)
   end subroutine assembly_operator
 
   !> y = A' x for an `assembly_operator_type` (a `lanczos_operator`): each
@@ -632,19 +620,20 @@ contains
   !> The common start of every assembly computation: options checked, degrees
   !> of freedom numbered, scaled masses, the springs linearised and the
   !> matrix-free operator built. O(particles + springs).
-  subroutine prepare(scene, hertz_mode, impact_velocity, geo, springs, dof, mdof, k_scale, m_scale, &
-      op, status)
+  subroutine prepare(scene, hertz_mode, impact_velocity, geo, springs, op, rate, status)
     type(scene_type), intent(in) :: scene
     integer, intent(in), optional :: hertz_mode
     real(dp), intent(in), optional :: impact_velocity
     logical, intent(in) :: geo
     type(spring_block_type), allocatable, intent(out) :: springs(:)
-    integer, allocatable, intent(out) :: dof(:)
-    real(dp), allocatable, intent(out) :: mdof(:, :)
-    real(dp), intent(out) :: k_scale, m_scale
     type(assembly_operator_type), intent(out) :: op
+    !> omega = rate sqrt(lambda) for an eigenvalue lambda of the scaled operator
+    !> (0 on failure).
+    real(dp), intent(out) :: rate
     type(demstep_status_type), intent(out) :: status
     integer, allocatable :: body(:)
+    real(dp), allocatable :: mdof(:, :)
+    real(dp) :: k_scale, m_scale
     integer :: mode, i, nfree, nc, s, e
     integer(i8) :: p
     real(dp) :: v_impact
@@ -653,8 +642,8 @@ contains
     if (present(hertz_mode)) mode = hertz_mode
     v_impact = 0.0_dp
     if (present(impact_velocity)) v_impact = impact_velocity
+    rate = 0.0_dp
     k_scale = 0.0_dp
-    m_scale = 0.0_dp
     if (mode == hertz_linearization%impact .and. .not. (v_impact > 0.0_dp .and. ieee_is_finite(v_impact))) then
       call set_status(status, demstep_stat%invalid_input, "impact_velocity: the Hertz linearisation " &
         //"at impact needs a finite impact velocity > 0")
@@ -665,7 +654,7 @@ contains
     nc = size(op%comp)
     op%nc = nc
     ! degrees of freedom: nc per free particle, scaled masses per component
-    allocate(dof(scene%n), body(scene%n), source=0)
+    allocate(body(scene%n), source=0)
     allocate(mdof(6, scene%n), source=1.0_dp)
     nfree = 0
     m_scale = huge(1.0_dp)
@@ -673,7 +662,6 @@ contains
       if (scene%fixed(i)) cycle
       nfree = nfree + 1
       body(i) = nfree
-      dof(i) = (nfree - 1)*nc
       mdof(1:3, i) = scene%mass(i)
       ! a rotation counts as r theta: its mass is I/r^2
       mdof(4:6, i) = (scene%inertia(i)/scene%radius(i))/scene%radius(i)
@@ -755,6 +743,7 @@ contains
       op%first(i + 1) = op%first(i)
     end do
     op%first(1) = 1
+    rate = sqrt(k_scale)/sqrt(m_scale)
     status%stat = demstep_stat%ok
   end subroutine prepare
 
@@ -875,30 +864,45 @@ contains
 
   !> The top mode's damping per unit damping ratio, in scaled units: with the
   !> dashpots 2 zeta sqrt(m* k_n) along n and v a unit vector of the scaled
-  !> problem, v^T M^-1/2 C M^-1/2 v = zeta sqrt(k_scale/m_scale) times this sum.
-  pure real(dp) function modal_damping(scene, dof, mdof, springs, k_scale, m_scale, v) result(q)
-    type(scene_type), intent(in) :: scene
-    integer, intent(in) :: dof(:)
-    real(dp), intent(in) :: mdof(:, :)
-    type(spring_block_type), intent(in) :: springs(:)
-    real(dp), intent(in) :: k_scale, m_scale, v(:)
-    real(dp) :: rel
-    integer :: k, nt
-    nt = min(scene%dim, 3)
+  !> problem, v^T M^-1/2 C M^-1/2 v = zeta sqrt(k_scale/m_scale) times this sum
+  !> of `spring_damping` over the springs. O(springs).
+  pure real(dp) function modal_damping(op, v) result(q)
+    type(assembly_operator_type), intent(in) :: op
+    real(dp), intent(in) :: v(:)
+    real(dp) :: nu(2)
+    integer :: s, e, i, nt
+    ! the translations are the first components of a body's dof
+    nt = count(op%comp <= 3)
     q = 0.0_dp
-    do k = 1, size(springs)
-      associate(s => springs(k))
-        rel = 0.0_dp
-        if (s%a > 0) then
-          if (.not. scene%fixed(s%a)) rel = -dot_product(s%n(:nt), v(dof(s%a)+1:dof(s%a)+nt)) &
-            /sqrt(mdof(1, s%a))
-        end if
-        if (.not. scene%fixed(s%b)) rel = rel + dot_product(s%n(:nt), v(dof(s%b)+1:dof(s%b)+nt)) &
-          /sqrt(mdof(1, s%b))
-        q = q + dashpot_coefficient(1.0_dp, effective_mass(scene, s%b, s%a)/m_scale, s%k_n/k_scale)*rel**2
-      end associate
+    do s = 1, op%n_springs
+      nu = 0.0_dp
+      do e = 1, 2
+        i = op%ends(e, s)
+        if (i > 0) nu(e) = dot_product(op%normal(:nt, s), v((i - 1)*op%nc + 1:(i - 1)*op%nc + nt))
+      end do
+      q = q + spring_damping(op, s, nu)
     end do
   end function modal_damping
+
+  !> One spring's term of `modal_damping`: its dashpot c = 2 sqrt(m* k_n) (scaled,
+  !> per unit damping ratio) times the squared rate of its normal stretch,
+  !> (w_b n.v_b - w_a n.v_a)^2, from `nu` = n.v at each end (0 at the ground);
+  !> the serial and the distributed drivers both sum it.
+  pure real(dp) function spring_damping(op, s, nu) result(q)
+    type(assembly_operator_type), intent(in) :: op
+    integer, intent(in) :: s
+    real(dp), intent(in) :: nu(2)
+    real(dp) :: m(2), rel
+    integer :: e
+    rel = 0.0_dp
+    m = huge(1.0_dp)
+    do e = 1, 2
+      if (op%ends(e, s) == 0) cycle
+      rel = rel + real(2*e - 3, dp)*nu(e)*op%w(1, op%ends(e, s))
+      m(e) = (1.0_dp/op%w(1, op%ends(e, s)))**2
+    end do
+    q = dashpot_coefficient(1.0_dp, reduced_mass(m(2), m(1)), op%coef(1, s))*rel**2
+  end function spring_damping
 
   !> The time step of a run at `n_per_period` steps per smallest period
   !> 2 pi/omega_max: the exact omega_max when it was computed, else the safe bound

@@ -28,9 +28,9 @@ module demstep_mpi_scene
   use demstep_text, only: int_text
   use demstep_progress, only: progress_type
   use demstep_scene_data, only: scene_type, scene_effect
-  use demstep_interaction, only: reduced_mass, dashpot_coefficient
+  use demstep_interaction, only: reduced_mass
   use demstep_assembly, only: assembly_operator_type, assembly_operator, assembly_matrix_rows, &
-    assembly_check_options, assembly_set_bound, assembly_set_estimates, &
+    assembly_check_options, assembly_set_bound, assembly_set_estimates, spring_damping, &
     critical_step_type, eigen_solver, scene_lanczos_ncv, scene_lanczos_restarts, bound_iterations
   use demstep_lanczos, only: eigen_result_type, lanczos_tolerance_default
   use demstep_mpi_lanczos, only: dist_csr_type, dist_csr_create, dist_csr_apply, dist_csr_free, &
@@ -189,8 +189,8 @@ contains
       real(dp), intent(in) :: v(:)
       real(dp) :: q
       real(dp), allocatable :: av(:)
-      real(dp) :: rel, m(2), u
-      integer :: k, i, s, e, j, nt, row, c, t, end_index(2)
+      real(dp) :: nu(2)
+      integer :: k, i, s, e, j, nt, row, c, t
       integer(i8) :: p, pos, at(2)
       allocate(av(size(v)))
       call dist_csr_apply(matrix, v, av)
@@ -210,20 +210,15 @@ contains
           if (j > 0) at(3 - e) = matrix%row_start(row) + pos
           if (j > 0) pos = pos + nc
           if (e == 1 .and. j > 0) cycle
-          end_index = op%ends(:, s)
-          rel = 0.0_dp
-          m = huge(1.0_dp)
+          ! n . (each end's mode entries), read through this row's columns
+          nu = 0.0_dp
           do c = 1, 2
-            if (end_index(c) == 0) cycle
-            ! n . (the end's scaled translation), its sign from the spring's direction
-            u = 0.0_dp
+            if (op%ends(c, s) == 0) cycle
             do t = 1, nt
-              u = u + op%normal(t, s)*matrix%x_ext(matrix%col(at(c) + t - 1))
+              nu(c) = nu(c) + op%normal(t, s)*matrix%x_ext(matrix%col(at(c) + t - 1))
             end do
-            rel = rel + real(2*c - 3, dp)*u*op%w(1, end_index(c))
-            m(c) = (1.0_dp/op%w(1, end_index(c)))**2
           end do
-          q = q + dashpot_coefficient(1.0_dp, reduced_mass(m(2), m(1)), op%coef(1, s))*rel**2
+          q = q + spring_damping(op, s, nu)
         end do
       end do
       call MPI_Allreduce(MPI_IN_PLACE, q, 1, MPI_DOUBLE_PRECISION, MPI_SUM, comm)
