@@ -35,7 +35,7 @@ module demstep_lanczos
   private
 
   public :: lanczos_operator, lanczos_largest, lanczos_start_vector, check_lanczos_options, &
-    lanczos_finish
+    lanczos_finish, lanczos_options
   public :: csr_matrix_type, csr_from_springs, csr_apply, csr_to_dense
 
   !> Default relative tolerance: the residual of the Ritz pair at most 1e-10 of
@@ -151,14 +151,7 @@ contains
     logical, allocatable :: select(:)
     type(demstep_status_type) :: step_status
 
-    tol = lanczos_tolerance_default
-    if (present(tolerance)) tol = tolerance
-    m = lanczos_ncv_default
-    if (present(ncv)) m = ncv
-    k = lanczos_nev_default
-    if (present(nev)) k = nev
-    restarts = lanczos_restarts_default
-    if (present(max_restarts)) restarts = max_restarts
+    call lanczos_options(tol, m, k, restarts, tolerance, ncv, nev, max_restarts)
     result%solver = lanczos_solver_name
     result%tolerance = tol
     if (present(eigenvector)) eigenvector = 0.0_dp
@@ -509,6 +502,24 @@ contains
       end do
     end do
   end subroutine csr_to_dense
+
+  !> The Lanczos options a driver was given, the defaults where it was not (one
+  !> place for the serial and the distributed driver; `check_lanczos_options`
+  !> then checks them).
+  pure subroutine lanczos_options(tol, ncv_used, nev_used, restarts, tolerance, ncv, nev, max_restarts)
+    real(dp), intent(out) :: tol
+    integer, intent(out) :: ncv_used, nev_used, restarts
+    real(dp), intent(in), optional :: tolerance
+    integer, intent(in), optional :: ncv, nev, max_restarts
+    tol = lanczos_tolerance_default
+    if (present(tolerance)) tol = tolerance
+    ncv_used = lanczos_ncv_default
+    if (present(ncv)) ncv_used = ncv
+    nev_used = lanczos_nev_default
+    if (present(nev)) nev_used = nev
+    restarts = lanczos_restarts_default
+    if (present(max_restarts)) restarts = max_restarts
+  end subroutine lanczos_options
 
   !> The Lanczos options' rules, for the serial and the distributed driver: a
   !> tolerance in [eps, 0.1], nev >= 1, ncv > nev, max_restarts >= 1. The message

@@ -25,8 +25,8 @@ module demstep_mpi_lanczos
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_arpack, only: arpack_iparam_size
   use demstep_parpack, only: pdsaupd, pdseupd, pdsaupd_status, pdseupd_status
-  use demstep_lanczos, only: check_lanczos_options, eigen_result_type, lanczos_tolerance_default, &
-    lanczos_ncv_default, lanczos_nev_default, lanczos_restarts_default, lanczos_finish, rounding_ulps
+  use demstep_lanczos, only: check_lanczos_options, eigen_result_type, lanczos_options, &
+    lanczos_finish, rounding_ulps
   use demstep_double_double, only: two_sum, two_prod
   use demstep_text, only: int_text, real_text
   use demstep_progress, only: progress_type
@@ -352,14 +352,7 @@ contains
     logical, allocatable :: select(:)
     type(demstep_status_type) :: step_status
 
-    tol = lanczos_tolerance_default
-    if (present(tolerance)) tol = tolerance
-    m = lanczos_ncv_default
-    if (present(ncv)) m = ncv
-    k = lanczos_nev_default
-    if (present(nev)) k = nev
-    restarts = lanczos_restarts_default
-    if (present(max_restarts)) restarts = max_restarts
+    call lanczos_options(tol, m, k, restarts, tolerance, ncv, nev, max_restarts)
     result%solver = parallel_lanczos_solver_name
     result%tolerance = tol
     n = matrix%n_local
