@@ -12,7 +12,8 @@ module demstep_cli_scene
     scene_set_types, scene_set_hertz_types, n_effects, &
     effect_names, critical_step_type, assembly_critical_steps, hertz_modes => hertz_linearization, &
     default_max_eigen_dof, measure_step_cost, text_progress_type, assembly_step_for_n_per_period, &
-    demstep_eigen_solver => eigen_solver, eigen_solver_name, lanczos_tolerance_default
+    demstep_eigen_solver => eigen_solver, eigen_solver_name, eigen_solver_value, eigen_solver_names, &
+    lanczos_tolerance_default
   use demstep_recommend, only: recommended_step, default_safety
   use demstep_snapshot, only: snapshot_type, read_snapshot, snapshot_format, snapshot_format_names, &
     snapshot_masses_from_types
@@ -523,19 +524,12 @@ contains
       return
     end if
 
-    select case (lowercase(eigen_solver))
-    case ("auto")
-      solver = demstep_eigen_solver%auto
-    case ("dense")
-      solver = demstep_eigen_solver%dense
-    case ("lanczos")
-      solver = demstep_eigen_solver%lanczos
-    case ("none")
-      solver = demstep_eigen_solver%none
-    case default
-      call fail("eigen_solver", "unknown word '"//trim(eigen_solver)//"' (auto, dense, lanczos, none)")
+    solver = eigen_solver_value(lowercase(eigen_solver))
+    if (solver == 0) then
+      call fail("eigen_solver", "unknown word '"//trim(eigen_solver)//"' ("// &
+        word_list(eigen_solver_names)//")")
       return
-    end select
+    end if
     if (ctx%quiet) then
       call assembly_critical_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
         max_eigen_dof=max_eigen_dof, prestress=prestress, solver=solver, tolerance=eigen_tolerance)
@@ -550,6 +544,9 @@ contains
         ! the empty table is what left the scene without springs
         call fail("bonds_file", beside(file, trim(bonds_file))//": holds no bonds, and neither " &
           //"'contacts' nor 'walls' is in effects: the scene has no stiffness")
+      else if (index(status%message, "tolerance:") == 1) then
+        ! the library's Lanczos tolerance is this group's eigen_tolerance
+        status%message = "&"//g//": eigen_"//status%message
       else
         status%message = "&"//g//": "//status%message
       end if

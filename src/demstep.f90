@@ -91,7 +91,7 @@ module demstep
     contact_limit, max_damping_ratio
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, hertz_linearization_enum, &
     hertz_linearization, default_max_eigen_dof, assembly_step_for_n_per_period, eigen_solver_enum, &
-    eigen_solver, eigen_solver_name, assembly_operator_type, assembly_operator, &
+    eigen_solver, eigen_solver_name, eigen_solver_value, eigen_solver_names, assembly_operator_type, assembly_operator, &
     assembly_operator_apply, assembly_matrix, assembly_matrix_rows
   ! the largest eigenvalue of a large operator, matrix-free (Lanczos, ARPACK)
   use demstep_lanczos, only: lanczos_context_type, lanczos_operator, lanczos_largest, &

@@ -42,7 +42,7 @@ module demstep_assembly
   private
 
   public :: assembly_critical_steps, assembly_step_for_n_per_period, assembly_operator, &
-    assembly_operator_apply, assembly_matrix, assembly_matrix_rows, eigen_solver_name, &
+    assembly_operator_apply, assembly_matrix, assembly_matrix_rows, eigen_solver_name, eigen_solver_value, &
     assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_damped, &
     spring_damping
 
@@ -73,8 +73,8 @@ module demstep_assembly
   !> The eigensolvers by name.
   type(eigen_solver_enum), parameter, public :: eigen_solver = eigen_solver_enum()
   !> Their names, indexed by value.
-  character(len=*), parameter :: solver_names(4) = [character(len=7) :: "auto", "dense", &
-    "lanczos", "none"]
+  character(len=*), parameter, public :: eigen_solver_names(4) = [character(len=7) :: "auto", &
+    "dense", "lanczos", "none"]
   !> Krylov size of the scene Lanczos solve: tiled packings have clusters of
   !> nearly equal top eigenvalues, which a larger basis separates in fewer restarts.
   integer, parameter, public :: scene_lanczos_ncv = 16
@@ -450,8 +450,15 @@ contains
     integer, intent(in) :: solver
     character(len=:), allocatable :: name
     name = ""
-    if (solver >= 1 .and. solver <= size(solver_names)) name = trim(solver_names(solver))
+    if (solver >= 1 .and. solver <= size(eigen_solver_names)) name = trim(eigen_solver_names(solver))
   end function eigen_solver_name
+
+  !> The `eigen_solver` value of a name in `eigen_solver_names` (lower case), 0
+  !> for another word.
+  pure integer function eigen_solver_value(name) result(solver)
+    character(len=*), intent(in) :: name
+    solver = findloc(eigen_solver_names, trim(name), 1)
+  end function eigen_solver_value
 
   !> The scene's mass-scaled stiffness as a matrix-free operator (see
   !> `assembly_operator_apply`), with `rate`: omega = rate sqrt(lambda) for an

@@ -37,6 +37,7 @@ contains
       new_unittest("a row with an extra or hidden column is refused", test_extra_column), &
       new_unittest("extreme radius, damping, mass and stiffness", test_extremes), &
       new_unittest("no stiffness: the message names the variable", test_no_stiffness), &
+      new_unittest("eigen_solver and eigen_tolerance: computed or refused by name", test_eigen_solver), &
       new_unittest("long runs: announced with progress, absurd ones refused", test_long_runs), &
       new_unittest("inertia column, contacts_file, periodic cell: computed or refused", test_assembly_inputs) &
       ]
@@ -431,5 +432,35 @@ contains
     call run_app("-q "//deck, rc, stdout, stderr, env="timeout 2")
     call check(error, rc == 124 .and. len(stderr) == 0, "quiet: nothing on stderr: "//stderr)
   end subroutine test_long_runs
+
+  !> The solver choice through the deck: 'none' gives the bound only, 'lanczos'
+  !> the dense value (1e-10: the tolerance bounds the residual, the Rayleigh
+  !> quotient's error is below it); a word outside the list and a tolerance
+  !> outside [2.2e-16, 0.1] are refused naming the deck's variable.
+  subroutine test_eigen_solver(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_result_type) :: dense, lanczos, none
+    character(len=*), parameter :: pair = "&scene dim = 2, position = 0,0, 1.9,0, 3.8,0, mass = 1,1,1, " &
+      //"radius = 1,1,1, k_normal = 100, "
+    call expect_result(error, pair//"eigen_solver = 'dense' /", dense)
+    if (allocated(error)) return
+    call expect_result(error, pair//"eigen_solver = 'Lanczos' /", lanczos)
+    if (allocated(error)) return
+    call check(error, lanczos%omega_max, dense%omega_max, rel=.true., thr=1.0e-10_dp, message="lanczos")
+    if (allocated(error)) return
+    ! a chain of three: omega_max^2 = 3 k/m
+    call check(error, dense%omega_max, sqrt(300.0_dp), rel=.true., thr=1.0e-14_dp, message="dense")
+    if (allocated(error)) return
+    call expect_result(error, pair//"eigen_solver = 'none' /", none)
+    if (allocated(error)) return
+    call check(error, .not. none%eigen_computed .and. none%dt_critical_bound == dense%dt_critical_bound, &
+      "'none': the bound only")
+    if (allocated(error)) return
+    call expect_refusal(error, pair//"eigen_solver = 'fast' /", &
+      "&scene: eigen_solver: unknown word 'fast' (auto, dense, lanczos, none)")
+    if (allocated(error)) return
+    call expect_refusal(error, pair//"eigen_solver = 'lanczos', eigen_tolerance = 1.0 /", &
+      "&scene: eigen_tolerance: 1 is outside [2.2e-16, 0.1]")
+  end subroutine test_eigen_solver
 
 end module test_app_scene
