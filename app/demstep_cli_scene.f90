@@ -9,7 +9,8 @@ module demstep_cli_scene
     scene_type, scene_summary_type, new_scene, scene_add_bonds, scene_add_walls, &
     scene_run, effect_index, restitution_to_damping_ratio, contact_law, scene_effect, &
     scene_set_contacts, scene_set_cell, scene_set_law, scene_set_bond_stiffness, scene_set_gravity, &
-    scene_set_types, scene_set_hertz_types, n_effects, &
+    scene_set_types, scene_set_hertz_types, n_effects, scene_set_damping, scene_set_friction, &
+    scene_set_rolling, scene_set_local_damping, dashpot_names, scene_set_materials, &
     effect_names, critical_step_type, assembly_critical_steps, hertz_modes => hertz_linearization, &
     default_max_eigen_dof, measure_step_cost, text_progress_type, assembly_step_for_n_per_period, &
     demstep_eigen_solver => eigen_solver, eigen_solver_name, eigen_solver_value, eigen_solver_names, &
@@ -136,6 +137,24 @@ contains
         excludes="damping_ratio"), &
       var("local_damping", "a real number", "Cundall's alpha in [0, 1) for 'local_damping'", "!0.7", &
         default="0"), &
+      var("damping_ratio_tangential", "a real number", "tangential dashpots c_t = 2 zeta_t sqrt(m* k_t) " &
+        //"(0 to 1e100; default the normal ratio, as LIGGGHTS' tangential_damping on)", "!0.1", &
+        default="!-1"), &
+      var("damping_ratio_rolling", "a real number", "rolling and twisting dashpots c = 2 zeta_r " &
+        //"sqrt(I* k_r) (0 to 1e100)", "!0.0", default="0"), &
+      var("drag", "a real number", "drag of every particle to the ground, F = -drag v (>= 0; " &
+        //"LIGGGHTS/LAMMPS fix viscous gamma) with 'damping'", "!0.0", default="0"), &
+      var("rolling_ratio", "a real number", "rolling springs k_r = rolling_ratio k_t R*^2 (>= 0; " &
+        //"LIGGGHTS epsd2: 1)", &
+        "!0.0", default="0"), &
+      var("twisting_ratio", "a real number", "twisting springs k_w = twisting_ratio k_t R*^2 (>= 0)", &
+        "!0.0", default="0"), &
+      var("tangential_damping", "a logical", "with a &material: the code's tangential dashpots " &
+        //"(LIGGGHTS' tangential_damping)", "!F", default="T"), &
+      var("wall_type", "an integer", "with a &material: the type (1, 2, ...) of the walls' material; " &
+        //"0 each particle's own", "!1", default="0"), &
+      var("rolling_friction", "a real number", "the rolling moment's cap rolling_friction R* F_n in " &
+        //"a run (>= 0; default none)", "!0.1", default="!-1"), &
       var("hertz_linearization", "a quoted word", "'current' overlap or 'impact' " &
         //"(with impact_velocity)", "!'current'", default="'current'"), &
       var("impact_velocity", "a real number", "impact speed for the 'impact' linearization (> 0)", &
@@ -162,7 +181,7 @@ contains
     !> The input deck's name: relative table file names are relative to its directory.
     character(len=*), intent(in) :: file
     type(demstep_status_type), intent(out) :: status
-    integer :: dim, max_eigen_dof
+    integer :: dim, max_eigen_dof, wall_type
     real(dp), allocatable :: position(:), velocity(:), mass(:), radius(:), walls(:), gravity(:)
     integer, allocatable :: fixed(:), bonds(:), types(:)
     real(dp), allocatable :: type_k_normal(:), type_k_tangential(:), young(:), poisson(:), kk(:, :, :)
@@ -173,21 +192,24 @@ contains
     type(snapshot_type) :: snap
     type(deck_material_type) :: deck_mat
     integer, allocatable :: ptypes(:)
-    logical :: from_material, typed
+    logical :: from_material, typed, effects_given(n_effects)
     character(len=200), allocatable :: snapshot_lines(:)
     real(dp) :: peer_dt(n_peer_rules)
     character(len=32) :: law, hertz_linearization, eigen_solver
     character(len=32) :: effects(max_effects)
     real(dp) :: k_normal, e_star, k_bond, k_bond_tangential, damping_ratio, restitution, &
       local_damping, impact_velocity, duration, dt, n_per_period, k_tangential, kt_ratio, g_star, &
-      friction, cell_lo(3), cell_hi(3), eigen_tolerance
-    logical :: periodic(3), prestress
+      friction, cell_lo(3), cell_hi(3), eigen_tolerance, damping_ratio_tangential, &
+      damping_ratio_rolling, drag, rolling_ratio, twisting_ratio, rolling_friction
+    logical :: periodic(3), prestress, tangential_damping
     namelist /scene/ dim, position, velocity, mass, radius, fixed, bonds, particles_file, &
       bonds_file, law, k_normal, e_star, k_bond, k_bond_tangential, walls, effects, gravity, &
       damping_ratio, restitution, local_damping, hertz_linearization, impact_velocity, duration, &
       dt, n_per_period, max_eigen_dof, contacts_file, periodic, cell_lo, cell_hi, k_tangential, &
       kt_ratio, g_star, friction, prestress, types, type_k_normal, type_k_tangential, young, poisson, &
-      eigen_solver, eigen_tolerance, snapshot_file, snapshot_format, snapshot_frame
+      eigen_solver, eigen_tolerance, snapshot_file, snapshot_format, snapshot_frame, &
+      damping_ratio_tangential, damping_ratio_rolling, drag, rolling_ratio, twisting_ratio, rolling_friction, &
+      wall_type, tangential_damping
     type(var_spec), allocatable :: specs(:)
     character(len=*), parameter :: g = "scene"
     type(scene_type) :: sc
@@ -412,7 +434,7 @@ contains
       return
     end select
     if (law_given .or. (sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. typed)) &
-      .or. sc%effects(scene_effect%walls)) then
+      .or. (sc%effects(scene_effect%walls) .and. .not. from_material)) then
       call scene_set_law(sc, law_id, law_values(1), law_values(2), status)
       if (status%stat /= demstep_stat%ok) then
         status%message = "&"//g//": "//status%message
@@ -423,8 +445,11 @@ contains
       sc%law = law_id
     end if
     if (from_material) then
-      call material_springs(sc, deck_mat, ptypes, status)
+      effects_given = sc%effects
+      call material_springs(sc, deck_mat, ptypes, wall_type, tangential_damping, status)
       if (status%stat /= demstep_stat%ok) return
+      ! the deck's effects list, where given, has the last word
+      if (given(group, "effects")) sc%effects = effects_given
     else if (typed) then
       call materials()
       if (status%stat /= demstep_stat%ok) return
@@ -432,7 +457,16 @@ contains
     if (given(group, "friction")) then
       call check_real(g, "friction", friction, status, inclusive=.true.)
       if (status%stat /= demstep_stat%ok) return
-      sc%friction = friction
+    end if
+    if (given(group, "rolling_friction")) then
+      call check_real(g, "rolling_friction", rolling_friction, status, inclusive=.true.)
+      if (status%stat /= demstep_stat%ok) return
+    end if
+    call scene_set_friction(sc, friction, status, rolling_friction=rolling_friction)
+    if (status%stat == demstep_stat%ok) call scene_set_rolling(sc, rolling_ratio, twisting_ratio, status)
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "&"//g//": "//status%message
+      return
     end if
     ! rotations come with tangential springs unless the effects say otherwise
     if (.not. given(group, "effects") .and. has_tangential(sc)) sc%effects(scene_effect%rotation) = .true.
@@ -470,7 +504,9 @@ contains
         return
       end if
     end if
-    if (sc%effects(scene_effect%damping)) then
+    if (sc%effects(scene_effect%damping) .and. (given(group, "damping_ratio") .or. &
+        given(group, "restitution") .or. .not. allocated(sc%pair_damping))) then
+      ! (a code's &material gives its own dashpots: nothing more is needed)
       if (.not. (given(group, "damping_ratio") .or. given(group, "restitution"))) then
         call fail("damping_ratio", "the 'damping' effect needs damping_ratio or restitution (one)")
         return
@@ -482,24 +518,40 @@ contains
         if (status%stat /= demstep_stat%ok) return
         damping_ratio = restitution_to_damping_ratio(restitution)
       end if
-      ! the library checks the range (assembly_critical_steps, scene_run)
-      sc%damping_ratio = damping_ratio
+      if (.not. given(group, "damping_ratio_tangential")) damping_ratio_tangential = damping_ratio
+      call scene_set_damping(sc, damping_ratio, status, tangential=damping_ratio_tangential, &
+        rolling=damping_ratio_rolling, drag=drag)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": "//status%message
+        return
+      end if
+    else if (given(group, "damping_ratio_tangential") .or. given(group, "damping_ratio_rolling") .or. &
+        given(group, "drag")) then
+      call fail("effects", "dashpots (damping_ratio_tangential, damping_ratio_rolling, drag) need " &
+        //"the 'damping' effect")
+      return
     end if
     if (from_material .and. .not. (given(group, "effects") .or. given(group, "damping_ratio") .or. &
       given(group, "restitution"))) then
       ! the code damps its contacts to the &material's restitution (unless its
       ! convention has no contact damping, as Yade's FrictPhys)
       if (material_damped(deck_mat)) then
-        sc%effects(scene_effect%damping) = .true.
-        sc%damping_ratio = restitution_to_damping_ratio(deck_mat%restitution)
+        call scene_set_damping(sc, restitution_to_damping_ratio(deck_mat%restitution), status)
+        if (status%stat /= demstep_stat%ok) then
+          status%message = "&material: restitution: "//status%message
+          return
+        end if
       end if
     end if
     if (sc%effects(scene_effect%local_damping)) then
       call check_real(g, "local_damping", local_damping, status, inclusive=.true.)
-      if (status%stat == demstep_stat%ok .and. .not. local_damping < 1.0_dp) call fail("local_damping", &
-        "must be in [0, 1), got "//fmt_real(local_damping))
       if (status%stat /= demstep_stat%ok) return
-      sc%local_damping = local_damping
+      call scene_set_local_damping(sc, local_damping, status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": "//status%message
+        return
+      end if
+      sc%effects(scene_effect%local_damping) = .true.
     end if
     if (from_material .and. .not. given(group, "hertz_linearization")) then
       ! a &material gives the impact velocity: linearise at the impact's overlap
@@ -870,8 +922,22 @@ contains
     if (crit%eigen_computed) write(u, '(4x, a, t40, a)') "safe to the error bar", &
       fmt_real(crit%dt_critical_safe)//"  (residual "//fmt_real(crit%eigen_residual)// &
       ", tolerance "//fmt_real(crit%eigen_tolerance)//")"
-    write(u, '(4x, a, t40, a)') "damped (lagged dashpot)", fmt_real(crit%dt_critical_damped)// &
-      "  (modal damping ratio "//fmt_real(crit%damping_ratio_top)//")"
+    if (crit%damped_exact) then
+      write(u, '(4x, a, t40, a)') "damped, exact (lagged dashpots)", fmt_real(crit%dt_critical_damped)// &
+        "  (as one spring of damping ratio "//fmt_real(crit%damping_ratio_top)//"; "// &
+        fmt_int(int(crit%damped_solves, i8))//" solves)"
+    else
+      write(u, '(4x, a, t40, a)') "damped (lagged dashpots)", fmt_real(crit%dt_critical_damped)// &
+        "  (the rigorous lower bound)"
+    end if
+    if (any(crit%dashpots)) then
+      on = ""
+      do i = 1, size(crit%dashpots)
+        if (crit%dashpots(i)) on = on//" "//trim(dashpot_names(i))
+      end do
+      write(u, '(4x, a, t40, a)') "dashpots in C", on(2:)//"; lower bound "// &
+        fmt_real(crit%dt_critical_damped_bound)
+    end if
     if (ran) then
       write(u, '(2x, a)') "run: "//fmt_int(steps)//" steps of "//fmt_real(dt_used)//":"
       write(u, '(4x, a, t40, a)') "energy drift (relative)", fmt_real(summary%energy_drift)
@@ -913,13 +979,13 @@ contains
     integer(i8) :: steps
     logical :: eigen_computed, blew_up
     character(len=8) :: eigen_solver
-    real(dp) :: eigen_tolerance, eigen_residual, omega_upper, dt_critical_safe
-    logical :: eigen_converged
+    real(dp) :: eigen_tolerance, eigen_residual, omega_upper, dt_critical_safe, dt_critical_damped_bound
+    logical :: eigen_converged, damped_exact
     namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
       periodic, prestress, omega_max, eigen_computed, eigen_converged, eigen_solver, eigen_tolerance, eigen_residual, &
       omega_upper, dt_critical_eigen, dt_critical_safe, dt_critical_bound, dt_contact_rule, &
       dt_critical_damped, damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, &
-      blew_up, dt_recommended
+      blew_up, dt_recommended, damped_exact, dt_critical_damped_bound
     n_particles = sc%n
     n_dof = crit%n_dof
     n_springs = crit%n_springs
@@ -941,6 +1007,8 @@ contains
     dt_contact_rule = crit%dt_contact_rule
     dt_critical_damped = crit%dt_critical_damped
     damping_ratio_top = crit%damping_ratio_top
+    damped_exact = crit%damped_exact
+    dt_critical_damped_bound = crit%dt_critical_damped_bound
     steps = summary%steps
     energy_drift = summary%energy_drift
     max_overlap = summary%max_overlap
@@ -1089,17 +1157,30 @@ contains
     if (status%stat == demstep_stat%ok) damped = params%gamma_n > 0.0_dp
   end function material_damped
 
-  !> Per-type springs from the `&material` group: Hertz E* and G* from young
-  !> and poisson, or the linear k_n, k_t of one code's convention per type pair.
-  subroutine material_springs(sc, mat, ptypes, status)
+  !> Per-type springs and dashpots from the `&material` group: one code named,
+  !> its own convention through the library (`scene_set_materials`: the law,
+  !> the per-pair springs and dashpots, the walls' as contacts of type
+  !> `wall_type`); all codes, Hertz E* and G* from young and poisson.
+  subroutine material_springs(sc, mat, ptypes, wall_type, tangential_damping, status)
     type(scene_type), intent(inout) :: sc
     type(deck_material_type), intent(in) :: mat
-    integer, intent(in) :: ptypes(:)
+    integer, intent(in) :: ptypes(:), wall_type
+    logical, intent(in) :: tangential_damping
     type(demstep_status_type), intent(out) :: status
-    type(contact_parameters_type) :: params
-    real(dp), allocatable :: kk(:, :, :), young(:), poisson(:)
-    integer :: nt, i, j
-    nt = size(mat%types)
+    real(dp), allocatable :: young(:), poisson(:)
+    if (mat%first == mat%last) then
+      call scene_set_materials(sc, ptypes, mat%types, mat%first, mat%restitution, status, &
+        restitution_t=mat%restitution_t, impact_velocity=mat%impact_velocity, wall_type=wall_type, &
+        tangential_damping=tangential_damping)
+      if (status%stat /= demstep_stat%ok) then
+        if (index(status%message, "wall_type:") == 1 .or. index(status%message, "types:") == 1) then
+          status%message = "&scene: "//status%message
+        else
+          status%message = "&material: "//status%message
+        end if
+      end if
+      return
+    end if
     if (sc%law == contact_law%hertz) then
       young = mat%types%young
       poisson = mat%types%poisson
@@ -1107,34 +1188,9 @@ contains
       if (status%stat /= demstep_stat%ok) status%message = "&material: "//status%message
       return
     end if
-    if (mat%first /= mat%last) then
-      call set_status(status, demstep_stat%invalid_input, "&material: code: the linear law of &scene " &
-        //"takes k_n and k_t from one code's convention: name it (liggghts_hooke, yade_frictphys, " &
-        //"yade_viscelphys, mfix_lsd, mercurydpm_linear, lammps_hooke)")
-      return
-    end if
-    allocate(kk(2, nt, nt))
-    do i = 1, nt
-      do j = i, nt
-        call contact_parameters(material_pair_type(mat%types(i), mat%types(j), mat%restitution, &
-          mat%restitution_t, mat%impact_velocity), mat%first, params, status)
-        if (status%stat /= demstep_stat%ok) then
-          status%message = "&material: types "//fmt_int(int(i, i8))//" and "//fmt_int(int(j, i8))//": "// &
-            status%message
-          return
-        end if
-        if (params%overlap > 0.0_dp) then
-          call set_status(status, demstep_stat%invalid_input, "&material: code: '"// &
-            trim(convention_names(mat%first))//"' is a Hertz convention: give law = 'hertz' in &scene, " &
-            //"or a linear code")
-          return
-        end if
-        kk(:, i, j) = [params%k_n, params%k_t]
-        kk(:, j, i) = kk(:, i, j)
-      end do
-    end do
-    call scene_set_types(sc, ptypes, kk, status)
-    if (status%stat /= demstep_stat%ok) status%message = "&scene: "//status%message
+    call set_status(status, demstep_stat%invalid_input, "&material: code: the linear law of &scene " &
+      //"takes k_n and k_t from one code's convention: name it (liggghts_hooke, yade_frictphys, " &
+      //"yade_viscelphys, mfix_lsd, mercurydpm_linear, lammps_hooke)")
   end subroutine material_springs
 
   !> A snapshot's part of the report: what was read, and with a `&material`

@@ -251,8 +251,10 @@ int demstep_scene_set_effects(demstep_scene *scene, int effects, demstep_error *
 int demstep_scene_set_cell(demstep_scene *scene, const int *periodic, const double *lo,
                            const double *hi, demstep_error *err);
 
-/* The viscous damping ratio of DEMSTEP_EFFECT_DAMPING (checked by
-   demstep_scene_compute when that effect is on: 0 to 1e100). */
+/* The viscous damping ratio of DEMSTEP_EFFECT_DAMPING, 0 to 1e100 (checked
+   here; NaN is refused): normal dashpots c_n = 2 zeta sqrt(m* k_n) and
+   tangential ones c_t = 2 zeta sqrt(m* k_t), as LIGGGHTS' tangential_damping
+   on. The effect itself is switched by demstep_scene_set_effects. */
 int demstep_scene_set_damping(demstep_scene *scene, double damping_ratio, demstep_error *err);
 
 /* The gravity vector of DEMSTEP_EFFECT_GRAVITY: dim finite components. */

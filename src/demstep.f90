@@ -85,14 +85,14 @@ module demstep
   use demstep_scene, only: scene_type, scene_summary_type, cubic_lattice, new_scene, scene_add_bonds, &
     scene_add_walls, scene_set_contacts, scene_set_cell, scene_set_types, scene_set_hertz_types, &
     scene_set_law, scene_set_bond_stiffness, scene_set_gravity, scene_run, contact_list, effect_index, &
-    random_periodic_packing, tile_scene, &
-    restitution_to_damping_ratio, contact_law_enum, &
+    random_periodic_packing, tile_scene, scene_set_damping, scene_set_friction, scene_set_local_damping, &
+    scene_set_rolling, scene_set_effects, restitution_to_damping_ratio, contact_law_enum, &
     contact_law, scene_effect_enum, scene_effect, n_effects, effect_names, max_coordinate, &
     contact_limit, max_damping_ratio
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, hertz_linearization_enum, &
     hertz_linearization, default_max_eigen_dof, assembly_step_for_n_per_period, eigen_solver_enum, &
     eigen_solver, eigen_solver_name, eigen_solver_value, eigen_solver_names, assembly_operator_type, assembly_operator, &
-    assembly_operator_apply, assembly_matrix, assembly_matrix_rows
+    assembly_operator_apply, assembly_matrix, assembly_matrix_rows, dashpot_names
   ! the largest eigenvalue of a large operator, matrix-free (Lanczos, ARPACK)
   use demstep_lanczos, only: lanczos_context_type, lanczos_operator, lanczos_largest, &
     eigen_result_type, lanczos_tolerance_default, lanczos_ncv_default, lanczos_nev_default, &
@@ -101,7 +101,8 @@ module demstep
   use demstep_progress, only: progress_type, text_progress_type
   use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, scan_namelist
   use demstep_table_io, only: read_table
-  ! materials in each code's convention and the peers' time-step rules
+  ! materials in each code's convention, into a scene's contacts, and the peers' time-step rules
+  use demstep_scene_materials, only: scene_set_materials
   use demstep_material, only: code_convention, convention_names, peer_rule, peer_rule_names, &
     material_type, material_pair_type, effective_pair_type, contact_parameters_type, &
     peer_steps_type, effective_pair, contact_parameters, rayleigh_time, hertz_max_overlap, &

@@ -16,9 +16,20 @@
 !>   pre-stress of compressed contacts only softens K, so the bound (taken
 !>   without it) holds for the integrated system as well;
 !> - the exact omega_max from LAPACK (dsyevr, largest eigenpair only);
-!> - the damped limit of the lagged dashpot, (2/omega)(sqrt(1 + z^2) - z), with z
-!>   the modal damping ratio of the top mode (its eigenvector's Rayleigh quotient
-!>   of the dashpot matrix).
+!> - the exact damped limit of the scheme with every dashpot on the lagged
+!>   half-step velocity (v' = v - h M^-1 (K x + C v), x' = x + h v'): with K and
+!>   C symmetric positive semi-definite an eigenvalue of the one-step map can
+!>   leave the unit circle only through -1, so the limit is the smallest h with
+!>   lambda_max(h^2 A + 2 h B) = 4, B = M^-1/2 C M^-1/2 (for one spring
+!>   (2/omega)(sqrt(1 + z^2) - z)). lambda_max of h^2 A + 2 h B is convex and
+!>   increasing in h: Newton's method from the top undamped mode's estimate
+!>   (above the root) converges from above, each step one eigensolve of the
+!>   same matrix-free operator with mixed coefficients (warm-started); the
+!>   reported step is then verified below the root. C holds the normal,
+!>   tangential, rolling and twisting dashpots of contacts and walls, the
+!>   bonds' normal dashpots and the drag to ground. Its rigorous lower bound:
+!>   (2/a)(sqrt(1 + z^2) - z) with a^2 >= lambda_max(A), z = b/a and b >=
+!>   lambda_max(B) (the Collatz-Wielandt bound of B).
 !> Hertz contacts are linearised with their tangent stiffness 2 E* sqrt(R* d)
 !> (tangential 8 G* sqrt(R* d)), at the current overlap d or at the overlap an
 !> impact at a given speed would reach, d = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5).
@@ -29,10 +40,10 @@ module demstep_assembly
   use demstep_text, only: int_text, real_text
   use demstep_spring, only: damped_limit
   use demstep_interaction, only: contact_law, contact_block, contact_product, dashpot_coefficient, &
-    normal_stiffness, wall_overlap, reduced_radius, reduced_mass, dof_components
-  use demstep_scene_data, only: scene_type, scene_effect, effective_mass, contact_values
+    wall_overlap, reduced_radius, dof_components
+  use demstep_scene_data, only: scene_type, scene_effect, effective_mass, contact_values, wall_values, &
+    contact_dashpots, check_scene_damping
   use demstep_neighbours, only: contact_list
-  use demstep_stepper, only: max_damping_ratio
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use demstep_lapack, only: largest_eigenpair
   use demstep_lanczos, only: lanczos_context_type, lanczos_largest, eigen_result_type, &
@@ -44,7 +55,7 @@ module demstep_assembly
   public :: assembly_critical_steps, assembly_step_for_n_per_period, assembly_operator, &
     assembly_operator_apply, assembly_matrix, assembly_matrix_rows, eigen_solver_name, eigen_solver_value, &
     assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_damped, &
-    spring_damping
+    damped_lower_bound, dashpot_names, damped_newton, assembly_dashpot_bound
 
   !> Hertz linearisation at the current overlap, or at an impact's largest
   !> overlap: `hertz_linearization%impact`.
@@ -83,6 +94,11 @@ module demstep_assembly
   integer, parameter, public :: scene_lanczos_restarts = 20
   !> Collatz-Wielandt steps of the bound after Gershgorin's (see operator_bound).
   integer, parameter, public :: bound_iterations = 2
+  !> Newton steps of the exact damped limit (it converges in 3 to 6).
+  integer, parameter, public :: damped_newton_steps = 40
+  !> The dashpots C may hold, as `critical_step_type%dashpots` flags them.
+  character(len=*), parameter :: dashpot_names(6) = [character(len=10) :: "normal", "tangential", &
+    "rolling", "twisting", "bond", "drag"]
   !> Below this many springs an operator product runs on one thread.
   integer, parameter :: parallel_springs = 4096
 
@@ -96,9 +112,14 @@ module demstep_assembly
     integer, allocatable :: comp(:)
     !> Free-body index of each end of each spring (0: ground, a wall or fixed).
     integer, allocatable :: ends(:, :)
-    !> Unit normal and (k_n, k_t, arm_a, arm_b, geo) of each spring, scaled
-    !> (stiffness over k_scale, arms over the body's radius).
-    real(dp), allocatable :: normal(:, :), coef(:, :)
+    !> Unit normal and (k_n, k_t, arm_a, arm_b, geo, k_r, k_w) of each spring,
+    !> scaled (stiffness over k_scale, arms over the body's radius), and its
+    !> dashpots (c_n, c_t, c_r, c_w) over sqrt(k_scale m_scale) (none: size 0).
+    real(dp), allocatable :: normal(:, :), coef(:, :), dcoef(:, :)
+    !> 1/r per free body (0: the ground), the rotation scale of r theta.
+    real(dp), allocatable :: rinv(:)
+    !> The operator is alpha A' + beta B' (B' the scaled dashpots): A' by default.
+    real(dp) :: alpha = 1.0_dp, beta = 0.0_dp
     !> M'^-1/2 per component (1..6) and free body.
     real(dp), allocatable :: w(:, :)
     !> Spring ends at each free body: entries first(i) .. first(i+1)-1 of
@@ -140,16 +161,66 @@ module demstep_assembly
     real(dp) :: omega_bound = 0.0_dp, dt_critical_bound = 0.0_dp
     !> The per-contact rule min 2 sqrt(m*/k) (unsafe).
     real(dp) :: dt_contact_rule = 0.0_dp
-    !> Modal damping ratio of the top mode and the damped limit (lagged dashpot).
+    !> The damped limit (lagged dashpots): exact (`damped_exact`, verified
+    !> below the smallest h with lambda_max(h^2 A + 2 h B) = 4, to the
+    !> eigensolver's tolerance) or its rigorous lower bound (no eigensolver);
+    !> the damping ratio z of one spring with the same limit,
+    !> (2/omega_upper)(sqrt(1 + z^2) - z); the rigorous lower bound itself.
     real(dp) :: damping_ratio_top = 0.0_dp, dt_critical_damped = 0.0_dp
+    real(dp) :: dt_critical_damped_bound = 0.0_dp
+    logical :: damped_exact = .false.
+    !> Eigensolves of the damped limit's Newton steps.
+    integer :: damped_solves = 0
+    !> Which dashpots entered C (`dashpot_names`: normal, tangential, rolling,
+    !> twisting, bond, drag).
+    logical :: dashpots(6) = .false.
   end type critical_step_type
+
+  !> A damped-limit problem for `damped_newton`: the top eigenpair of
+  !> tau^2 A' + 2 tau B' at a given tau (serial or distributed).
+  type, abstract, public :: damped_problem_type
+  contains
+    procedure(damped_top), deferred :: top
+  end type damped_problem_type
+
+  abstract interface
+    !> theta: the Rayleigh quotient of the top unit mode v of tau^2 A' + 2 tau
+    !> B'; err: its error bar (residual and rounding; [theta, theta + err]
+    !> holds lambda_max); va = v'A'v; has_mode false when no mode came back.
+    !> Counts its solves and products in `result`.
+    subroutine damped_top(problem, tau, theta, err, va, has_mode, result, status, progress)
+      import :: damped_problem_type, dp, critical_step_type, demstep_status_type, progress_type
+      class(damped_problem_type), intent(inout) :: problem
+      real(dp), intent(in) :: tau
+      real(dp), intent(out) :: theta, err, va
+      logical, intent(out) :: has_mode
+      type(critical_step_type), intent(inout) :: result
+      type(demstep_status_type), intent(out) :: status
+      class(progress_type), intent(inout), optional :: progress
+    end subroutine damped_top
+  end interface
+
+  !> The serial damped-limit problem: the scene's operator (mixed per tau),
+  !> the eigensolver and the last mode (the next solve's warm start).
+  type, extends(damped_problem_type) :: serial_damped_type
+    type(assembly_operator_type), pointer :: op => null()
+    integer :: choice = 0
+    real(dp) :: tol = 0.0_dp
+    real(dp), allocatable :: vec(:)
+  contains
+    procedure :: top => serial_damped_top
+  end type serial_damped_type
 
   !> A linearised interaction between bodies a and b (a = 0: the ground), n from
   !> a to b; lever arms and the pre-stress F_n/l (0 when not asked for).
   type :: spring_block_type
     integer :: a = 0, b = 0
-    real(dp) :: k_n = 0.0_dp, k_t = 0.0_dp, arm_a = 0.0_dp, arm_b = 0.0_dp, geo = 0.0_dp
+    !> (k_n, k_t, k_r, k_w) and the dashpots (c_n, c_t, c_r, c_w).
+    real(dp) :: k(4) = 0.0_dp, c(4) = 0.0_dp
+    real(dp) :: arm_a = 0.0_dp, arm_b = 0.0_dp, geo = 0.0_dp
     real(dp) :: n(3) = 0.0_dp
+    !> Which entry of `dashpot_names` a bond (5) or drag (6) spring is (0: contact).
+    integer :: kind = 0
   end type spring_block_type
 
 contains
@@ -193,11 +264,9 @@ contains
     !> Reports the Lanczos products.
     class(progress_type), intent(inout), optional :: progress
     type(spring_block_type), allocatable :: springs(:)
-    type(assembly_operator_type) :: op
-    type(eigen_result_type) :: lanczos
-    type(csr_matrix_type) :: sparse
-    real(dp), allocatable :: a(:, :), vec(:), av(:)
-    real(dp) :: lam, zeta, rate, tol, err
+    type(assembly_operator_type), target :: op
+    real(dp), allocatable :: vec(:)
+    real(dp) :: lam, zeta, rate, tol, err, b_bound
     integer :: limit, i, choice
     logical :: geo, has_mode
 
@@ -223,18 +292,24 @@ contains
     result%prestress = geo
     result%dof_per_particle = op%nc
     result%n_dof = op%n
-    result%n_springs = size(springs)
-    result%tangential = any(springs%k_t > 0.0_dp)
+    result%n_springs = count(springs%kind /= 6)
+    result%tangential = any(springs%k(2) > 0.0_dp)
+    do i = 1, 4
+      result%dashpots(i) = any(springs%c(i) > 0.0_dp .and. springs%kind == 0)
+    end do
+    result%dashpots(5) = any(springs%c(1) > 0.0_dp .and. springs%kind == 5)
+    result%dashpots(6) = any(springs%kind == 6)
     ! per-contact rule and the Gershgorin bound (scaled, without pre-stress)
     result%dt_contact_rule = huge(1.0_dp)
     do i = 1, size(springs)
-      associate(s => springs(i))
-        result%dt_contact_rule = min(result%dt_contact_rule, &
-          2.0_dp*sqrt(effective_mass(scene, s%b, s%a))/sqrt(max(s%k_n, s%k_t)))
+      associate(sp => springs(i))
+        if (max(sp%k(1), sp%k(2)) > 0.0_dp) result%dt_contact_rule = min(result%dt_contact_rule, &
+          2.0_dp*sqrt(effective_mass(scene, sp%b, sp%a))/sqrt(max(sp%k(1), sp%k(2))))
       end associate
     end do
     call assembly_set_bound(result, rate, operator_bound(op), status)
     if (status%stat /= demstep_stat%ok) return
+    b_bound = assembly_dashpot_bound(op)
 
     ! the exact omega_max: dense LAPACK or matrix-free Lanczos
     if (choice == eigen_solver%auto) then
@@ -244,52 +319,29 @@ contains
     result%solver = choice
     if (choice /= eigen_solver%none) then
       allocate(vec(result%n_dof))
-      has_mode = .true.
-      if (choice == eigen_solver%dense) then
-        ! the operator's own matrix, dense
-        call assembly_matrix(op, sparse)
-        call csr_to_dense(sparse, a)
-        call largest_eigenpair(a, lam, vec, status)
-        if (status%stat /= demstep_stat%ok) return
-        deallocate(a)
-        result%eigen_tolerance = epsilon(1.0_dp)
-        ! the mode's Rayleigh quotient and residual, one matrix-free product
-        allocate(av(result%n_dof))
-        call assembly_operator_apply(op, vec, av)
-        lam = dot_product(vec, av)
-        err = norm2(av - lam*vec)
-      else
-        call lanczos_largest(assembly_operator_apply, op, op%n, lanczos, status, eigenvector=vec, &
-          tolerance=tol, ncv=min(scene_lanczos_ncv, op%n), max_restarts=scene_lanczos_restarts, &
-          progress=progress)
-        result%eigen_products = lanczos%applications
-        result%eigen_restarts = lanczos%iterations
-        result%eigen_tolerance = tol
-        ! the Rayleigh quotient and residual lanczos_largest measured on its
-        ! unit mode; out of restarts without a mode (a top crowded with nearly
-        ! equal eigenvalues), the Ritz value and ARPACK's estimate of its
-        ! residual, which still bracket omega_max, and the nominal damping ratio
-        has_mode = any(vec /= 0.0_dp)
-        if (status%stat == demstep_stat%not_converged) status%stat = demstep_stat%ok
-        if (status%stat /= demstep_stat%ok) return
-        lam = lanczos%eigenvalue
-        err = lanczos%residual
-      end if
-      if (scene%effects(scene_effect%damping) .and. has_mode .and. lam > 0.0_dp) then
-        zeta = zeta*modal_damping(op, vec)/(2.0_dp*sqrt(lam))
-      end if
+      call top_eigenpair(op, choice, tol, vec, lam, err, has_mode, result%eigen_products, &
+        result%eigen_restarts, status, progress)
+      if (status%stat /= demstep_stat%ok) return
+      result%eigen_tolerance = tol
+      if (choice == eigen_solver%dense) result%eigen_tolerance = epsilon(1.0_dp)
       call assembly_set_estimates(result, rate, lam, err, choice == eigen_solver%dense .or. &
-        (has_mode .and. err <= tol*lam), zeta, status)
+        (has_mode .and. err <= tol*lam), b_bound, status)
+      if (status%stat /= demstep_stat%ok) return
+      if (b_bound > 0.0_dp .and. has_mode) then
+        call damped_exact(op, choice, tol, rate, vec, result, status, progress)
+        if (status%stat /= demstep_stat%ok) return
+      end if
     else
-      ! no eigensolver: the damped limit from the bound
-      call assembly_set_damped(result, result%dt_critical_bound, zeta, status)
+      ! no eigensolver: the damped limit's rigorous lower bound from the bound
+      call assembly_set_damped(result, result%dt_critical_bound, b_bound, rate, status)
     end if
   end subroutine assembly_critical_steps
 
   !> The options every assembly driver (serial, MPI) checks before it builds
-  !> anything: the Lanczos tolerance, and the scene's damping ratio, returned as
-  !> `zeta` (0 without the damping effect). Status invalid_input naming
-  !> `tolerance` or `damping_ratio`.
+  !> anything: the Lanczos tolerance, and the scene's damping values
+  !> (`check_scene_damping`); `zeta` is the normal damping ratio (0 without the
+  !> damping effect). Status invalid_input naming `tolerance` or the damping
+  !> value.
   pure subroutine assembly_check_options(scene, tol, zeta, status)
     type(scene_type), intent(in) :: scene
     real(dp), intent(in) :: tol
@@ -301,10 +353,9 @@ contains
       status%message = status%message(len("tolerance: ") + 1:)
       return
     end if
+    call check_scene_damping(scene, status)
+    if (status%stat /= demstep_stat%ok) return
     if (scene%effects(scene_effect%damping)) zeta = scene%damping_ratio
-    if (.not. (zeta >= 0.0_dp .and. zeta <= max_damping_ratio)) then
-      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be in [0, 1e100]")
-    end if
   end subroutine assembly_check_options
 
   !> The rigorous bound from a bound `row_max` of lambda_max(A') (scaled; a
@@ -328,12 +379,13 @@ contains
   !> The exact estimates from the top mode's Rayleigh quotient `lam` (scaled) and
   !> residual `err` (measured, or ARPACK's estimate when the solve ran out of
   !> restarts): [lam, lam + err] holds the largest eigenvalue, capped by the
-  !> bound (set first); omega = rate sqrt(.); the damped limit at the safe step
-  !> with the top mode's damping ratio `zeta`. Status invalid_input naming
-  !> `position` (lam <= 0) or `damping_ratio`.
-  pure subroutine assembly_set_estimates(result, rate, lam, err, converged, zeta, status)
+  !> bound (set first); omega = rate sqrt(.); and the damped limit's rigorous
+  !> lower bound at the safe step from `b_bound` >= lambda_max(B') (scaled
+  !> dashpots; 0: undamped). Status invalid_input naming `position` (lam <= 0)
+  !> or `damping_ratio`.
+  pure subroutine assembly_set_estimates(result, rate, lam, err, converged, b_bound, status)
     type(critical_step_type), intent(inout) :: result
-    real(dp), intent(in) :: rate, lam, err, zeta
+    real(dp), intent(in) :: rate, lam, err, b_bound
     !> Whether the residual met the tolerance.
     logical, intent(in) :: converged
     type(demstep_status_type), intent(out) :: status
@@ -348,17 +400,32 @@ contains
     result%dt_critical_eigen = 2.0_dp/result%omega_max
     result%dt_critical_safe = 2.0_dp/result%omega_upper
     result%eigen_computed = .true.
-    call assembly_set_damped(result, result%dt_critical_safe, zeta, status)
+    call assembly_set_damped(result, result%dt_critical_safe, b_bound, rate, status)
   end subroutine assembly_set_estimates
 
-  !> The damping ratio `zeta` of the top mode and the damped limit at `dt`.
-  !> Status invalid_input naming `damping_ratio` when it is not representable.
-  pure subroutine assembly_set_damped(result, dt, zeta, status)
+  !> The damped limit's rigorous lower bound, in scaled time tau = h rate, from
+  !> an undamped limit tau_u <= 2/sqrt(lambda_max(A')) and b >= lambda_max(B'):
+  !> lambda_max(tau^2 A' + 2 tau B') <= tau^2 (2/tau_u)^2 + 2 tau b = 4 at
+  !> tau = tau_u (sqrt(1 + z^2) - z), z = b tau_u/2.
+  elemental real(dp) function damped_lower_bound(tau_u, b) result(tau)
+    real(dp), intent(in) :: tau_u, b
+    tau = damped_limit(tau_u, 0.5_dp*b*tau_u)
+  end function damped_lower_bound
+
+  !> The damped limit set to its rigorous lower bound (`damped_lower_bound`)
+  !> from an undamped limit dt_u (at or below the exact one) and b >=
+  !> lambda_max(B') (scaled; 0: undamped, the limit is dt_u), with the
+  !> equivalent damping ratio. Status invalid_input naming `damping_ratio`
+  !> when it is not representable.
+  pure subroutine assembly_set_damped(result, dt_u, b, rate, status)
     type(critical_step_type), intent(inout) :: result
-    real(dp), intent(in) :: dt, zeta
+    real(dp), intent(in) :: dt_u, b, rate
     type(demstep_status_type), intent(out) :: status
-    result%damping_ratio_top = zeta
-    result%dt_critical_damped = damped_limit(dt, zeta)
+    result%damping_ratio_top = 0.5_dp*b*(dt_u*rate)
+    result%dt_critical_damped_bound = dt_u
+    if (b > 0.0_dp) result%dt_critical_damped_bound = damped_lower_bound(dt_u*rate, b)/rate
+    result%dt_critical_damped = result%dt_critical_damped_bound
+    result%damped_exact = .false.
     if (.not. (ieee_is_finite(result%damping_ratio_top) .and. result%dt_critical_damped > 0.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, "damping_ratio: the damped limit " &
         //"dt/(sqrt(1 + z^2) + z) is not representable; use a smaller damping_ratio")
@@ -367,8 +434,190 @@ contains
     status%stat = demstep_stat%ok
   end subroutine assembly_set_damped
 
+  !> The top eigenpair of the operator as it is mixed now: dense (LAPACK on
+  !> its matrix) or Lanczos (warm-started from `vec` when it is non-zero); the
+  !> Rayleigh quotient `lam` of the returned unit mode and its residual `err`
+  !> (measured; ARPACK's estimate when Lanczos ran out of restarts without a
+  !> mode, `has_mode` false). Products and restarts are added to the counts.
+  subroutine top_eigenpair(op, choice, tol, vec, lam, err, has_mode, products, restarts, status, progress)
+    type(assembly_operator_type), intent(inout) :: op
+    integer, intent(in) :: choice
+    real(dp), intent(in) :: tol
+    real(dp), intent(inout) :: vec(:)
+    real(dp), intent(out) :: lam, err
+    logical, intent(out) :: has_mode
+    integer(i8), intent(inout) :: products
+    integer, intent(inout) :: restarts
+    type(demstep_status_type), intent(out) :: status
+    class(progress_type), intent(inout), optional :: progress
+    type(eigen_result_type) :: lanczos
+    type(csr_matrix_type) :: sparse
+    real(dp), allocatable :: a(:, :), av(:), start(:)
+    has_mode = .true.
+    if (choice == eigen_solver%dense) then
+      ! the operator's own matrix, dense
+      call assembly_matrix(op, sparse)
+      call csr_to_dense(sparse, a)
+      call largest_eigenpair(a, lam, vec, status)
+      if (status%stat /= demstep_stat%ok) return
+      deallocate(a)
+      ! the mode's Rayleigh quotient and residual, one matrix-free product
+      allocate(av(op%n))
+      call assembly_operator_apply(op, vec, av)
+      lam = dot_product(vec, av)
+      err = norm2(av - lam*vec)
+    else
+      start = vec
+      call lanczos_largest(assembly_operator_apply, op, op%n, lanczos, status, eigenvector=vec, &
+        tolerance=tol, ncv=scene_lanczos_ncv, max_restarts=scene_lanczos_restarts, &
+        progress=progress, start=start)
+      products = products + lanczos%applications
+      restarts = restarts + lanczos%iterations
+      ! the Rayleigh quotient and residual lanczos_largest measured on its
+      ! unit mode; out of restarts without a mode (a top crowded with nearly
+      ! equal eigenvalues), the Ritz value and ARPACK's estimate of its
+      ! residual, which still bracket omega_max
+      has_mode = any(vec /= 0.0_dp)
+      if (status%stat == demstep_stat%not_converged) status%stat = demstep_stat%ok
+      if (status%stat /= demstep_stat%ok) return
+      lam = lanczos%eigenvalue
+      err = lanczos%residual
+    end if
+  end subroutine top_eigenpair
+
+  !> The exact damped limit (see the module's notes), in place of the lower
+  !> bound when it is larger: `damped_newton` on the serial operator, from the
+  !> top undamped unit mode `vec`.
+  subroutine damped_exact(op, choice, tol, rate, vec, result, status, progress)
+    type(assembly_operator_type), intent(inout), target :: op
+    integer, intent(in) :: choice
+    real(dp), intent(in) :: tol, rate
+    real(dp), intent(in) :: vec(:)
+    type(critical_step_type), intent(inout) :: result
+    type(demstep_status_type), intent(out) :: status
+    class(progress_type), intent(inout), optional :: progress
+    type(serial_damped_type) :: problem
+    real(dp), allocatable :: y(:)
+    real(dp) :: lam_a, vb
+    allocate(y(op%n))
+    call operator_mix(op, 1.0_dp, 0.0_dp)
+    call assembly_operator_apply(op, vec, y)
+    lam_a = dot_product(vec, y)
+    call operator_mix(op, 0.0_dp, 1.0_dp)
+    call assembly_operator_apply(op, vec, y)
+    vb = dot_product(vec, y)
+    problem%op => op
+    problem%choice = choice
+    problem%tol = tol
+    problem%vec = vec
+    call damped_newton(problem, lam_a, vb, rate, result, status, progress)
+    call operator_mix(op, 1.0_dp, 0.0_dp)
+  end subroutine damped_exact
+
+  !> Newton's method on lambda_max(tau^2 A' + 2 tau B') = 4 (tau = h rate)
+  !> for any `damped_problem_type`, from the top undamped mode's estimate (its
+  !> Rayleigh quotients lam_a of A' and vb of B' put lambda_max at or above 4
+  !> there); the slope from the current mode, (theta + tau^2 v'A'v)/tau. The
+  !> converged step is then moved below the root by the error bar's share and
+  !> verified (the upper end of lambda_max's error bar at most 4); the result
+  !> takes the largest verified step when it beats the lower bound.
+  subroutine damped_newton(problem, lam_a, vb, rate, result, status, progress)
+    class(damped_problem_type), intent(inout) :: problem
+    real(dp), intent(in) :: lam_a, vb, rate
+    type(critical_step_type), intent(inout) :: result
+    type(demstep_status_type), intent(out) :: status
+    class(progress_type), intent(inout), optional :: progress
+    real(dp) :: tau, tau_safe, theta, err, va, slope, step, q
+    integer :: it, tries
+    logical :: has_mode
+    tau = damped_lower_bound(2.0_dp/sqrt(lam_a), vb)
+    tau_safe = result%dt_critical_damped_bound*rate
+    status%stat = demstep_stat%ok
+    do it = 1, damped_newton_steps
+      call problem%top(tau, theta, err, va, has_mode, result, status, progress)
+      if (status%stat /= demstep_stat%ok) return
+      if (theta + err <= 4.0_dp .and. has_mode) tau_safe = max(tau_safe, tau)
+      if (.not. has_mode) exit
+      slope = (theta + tau**2*va)/tau
+      step = (theta - 4.0_dp)/slope
+      if (abs(step) <= max(4.0_dp*epsilon(1.0_dp), 2.0_dp*err/theta)*tau) exit
+      tau = max(tau - step, tau_safe)
+    end do
+    ! below the root by the error bar's share (lambda grows at least as fast
+    ! as tau near it), verified; else the best step verified so far
+    do tries = 1, 3
+      if (.not. has_mode .or. theta + err <= 4.0_dp) exit
+      tau = tau*(1.0_dp - 10.0_dp**(tries - 1)*((theta + err - 4.0_dp)/4.0_dp + 32.0_dp*epsilon(1.0_dp)))
+      call problem%top(tau, theta, err, va, has_mode, result, status, progress)
+      if (status%stat /= demstep_stat%ok) return
+      if (theta + err <= 4.0_dp .and. has_mode) tau_safe = max(tau_safe, tau)
+    end do
+    if (tau_safe > result%dt_critical_damped_bound*rate) then
+      result%dt_critical_damped = tau_safe/rate
+      result%damped_exact = .true.
+      ! the one-spring damping ratio with the same limit at omega_upper
+      q = result%dt_critical_damped*result%omega_upper/2.0_dp
+      result%damping_ratio_top = max(0.0_dp, (1.0_dp - q**2)/(2.0_dp*q))
+    end if
+  end subroutine damped_newton
+
+  !> Top eigenpair of the serial operator mixed as tau^2 A' + 2 tau B'
+  !> (warm start from the previous mode), and v'A'v of that mode.
+  subroutine serial_damped_top(problem, tau, theta, err, va, has_mode, result, status, progress)
+    class(serial_damped_type), intent(inout) :: problem
+    real(dp), intent(in) :: tau
+    real(dp), intent(out) :: theta, err, va
+    logical, intent(out) :: has_mode
+    type(critical_step_type), intent(inout) :: result
+    type(demstep_status_type), intent(out) :: status
+    class(progress_type), intent(inout), optional :: progress
+    real(dp), allocatable :: y(:)
+    call operator_mix(problem%op, tau**2, 2.0_dp*tau)
+    call top_eigenpair(problem%op, problem%choice, problem%tol, problem%vec, theta, err, has_mode, &
+      result%eigen_products, result%eigen_restarts, status, progress)
+    if (status%stat /= demstep_stat%ok) return
+    err = err + 8.0_dp*epsilon(1.0_dp)*theta
+    result%damped_solves = result%damped_solves + 1
+    allocate(y(problem%op%n))
+    call operator_mix(problem%op, 1.0_dp, 0.0_dp)
+    call assembly_operator_apply(problem%op, problem%vec, y)
+    va = dot_product(problem%vec, y)
+  end subroutine serial_damped_top
+
+  !> The rigorous bound b >= lambda_max(B') of the operator's scaled dashpots
+  !> (`operator_bound` of B'; 0 without dashpots), for the damped limit's
+  !> lower bound. O(springs).
+  function assembly_dashpot_bound(op) result(b)
+    type(assembly_operator_type), intent(inout) :: op
+    real(dp) :: b
+    b = 0.0_dp
+    if (size(op%dcoef, 2) == 0) return
+    call operator_mix(op, 0.0_dp, 1.0_dp)
+    b = operator_bound(op)
+    call operator_mix(op, 1.0_dp, 0.0_dp)
+  end function assembly_dashpot_bound
+
+  !> Set the operator to alpha A' + beta B'.
+  pure subroutine operator_mix(op, alpha, beta)
+    type(assembly_operator_type), intent(inout) :: op
+    real(dp), intent(in) :: alpha, beta
+    op%alpha = alpha
+    op%beta = beta
+  end subroutine operator_mix
+
+  !> The coefficients (k_n, k_t, k_r, k_w) of spring s in the mixed operator
+  !> alpha A' + beta B', and its pre-stress.
+  pure subroutine mixed_coefficients(op, s, k, geo)
+    type(assembly_operator_type), intent(in) :: op
+    integer, intent(in) :: s
+    real(dp), intent(out) :: k(4), geo
+    k = op%alpha*[op%coef(1, s), op%coef(2, s), op%coef(6, s), op%coef(7, s)]
+    if (op%beta /= 0.0_dp) k = k + op%beta*op%dcoef(:, s)
+    geo = op%alpha*op%coef(5, s)
+  end subroutine mixed_coefficients
+
   !> r = |A'| v (each entry raised by its rounding allowance) for the operator
-  !> without its pre-stress (|A'| the assembled
+  !> as it is mixed (alpha A' + beta B'), without its pre-stress (|A'| the assembled
   !> matrix's absolute values: each body's diagonal block summed over its springs
   !> before they are taken, so the contacts of one body cancel there). Per body,
   !> in parallel, from the kernel (`contact_product`; the columns of the body's
@@ -378,11 +627,11 @@ contains
     !> size n, >= 0.
     real(dp), intent(in) :: v(:)
     real(dp), intent(out) :: r(:)
-    real(dp) :: d(6, 6), off(6), col(12, 6), e(12), row
+    real(dp) :: d(6, 6), off(6), col(12, 6), e(12), row, k(4), geo
     integer :: i, s, en, o, j, c, q, nc
     integer(i8) :: p
     nc = op%nc
-    !$omp parallel do private(i, s, en, o, j, c, q, p, d, off, col, e, row) &
+    !$omp parallel do private(i, s, en, o, j, c, q, p, d, off, col, e, row, k, geo) &
     !$omp schedule(static) if(op%n_springs >= parallel_springs)
     do i = 1, op%n_bodies
       d = 0.0_dp
@@ -391,12 +640,13 @@ contains
         s = (op%incident(p) + 1)/2
         en = op%incident(p) - 2*(s - 1)
         o = 3 - en
+        call mixed_coefficients(op, s, k, geo)
         do c = 1, nc
           e = 0.0_dp
           e(6*(en - 1) + op%comp(c)) = 1.0_dp
-          call contact_product(op%normal(:, s), op%coef(1, s), op%coef(2, s), op%coef(3, s), &
-            op%coef(4, s), 0.0_dp, e(1:3), e(4:6), e(7:9), e(10:12), col(1:3, c), col(4:6, c), &
-            col(7:9, c), col(10:12, c))
+          call contact_product(op%normal(:, s), k, op%coef(3, s), op%coef(4, s), &
+            op%rinv(op%ends(1, s)), op%rinv(op%ends(2, s)), 0.0_dp, e(1:3), e(4:6), e(7:9), e(10:12), &
+            col(1:3, c), col(4:6, c), col(7:9, c), col(10:12, c))
           d(:, c) = d(:, c) + col(6*(en - 1) + 1:6*en, c)
         end do
         j = op%ends(o, s)
@@ -479,7 +729,8 @@ contains
     call prepare(scene, hertz_mode, impact_velocity, geo, springs, op, rate, status)
   end subroutine assembly_operator
 
-  !> y = A' x for an `assembly_operator_type` (a `lanczos_operator`): each
+  !> y = A' x (or, mixed, (alpha A' + beta B') x) for an
+  !> `assembly_operator_type` (a `lanczos_operator`): each
   !> spring's generalised forces from the interaction kernel (`contact_product`),
   !> then each body's sum over its springs in spring order. Both loops run in
   !> parallel under OpenMP and every sum has a fixed order: the result is the
@@ -490,7 +741,7 @@ contains
     real(dp), intent(out) :: y(:)
     integer :: s, a, b, i, c, nc
     integer(i8) :: p
-    real(dp) :: acc(6)
+    real(dp) :: acc(6), k(4), geo
     y = 0.0_dp
     select type (op => context)
     class is (assembly_operator_type)
@@ -505,12 +756,13 @@ contains
         end do
       end do
       !$omp end parallel do
-      !$omp parallel do private(s, a, b) schedule(static) if(op%n_springs >= parallel_springs)
+      !$omp parallel do private(s, a, b, k, geo) schedule(static) if(op%n_springs >= parallel_springs)
       do s = 1, op%n_springs
         a = op%ends(1, s)
         b = op%ends(2, s)
-        call contact_product(op%normal(:, s), op%coef(1, s), op%coef(2, s), op%coef(3, s), &
-          op%coef(4, s), op%coef(5, s), op%xs(1:3, a), op%xs(4:6, a), op%xs(1:3, b), op%xs(4:6, b), &
+        call mixed_coefficients(op, s, k, geo)
+        call contact_product(op%normal(:, s), k, op%coef(3, s), op%coef(4, s), op%rinv(a), op%rinv(b), &
+          geo, op%xs(1:3, a), op%xs(4:6, a), op%xs(1:3, b), op%xs(4:6, b), &
           op%work(1:3, 2*s - 1), op%work(4:6, 2*s - 1), op%work(1:3, 2*s), op%work(4:6, 2*s))
       end do
       !$omp end parallel do
@@ -562,7 +814,7 @@ contains
     integer, allocatable, intent(out) :: col(:)
     real(dp), allocatable, intent(out) :: val(:)
     type(demstep_status_type), intent(out) :: status
-    real(dp) :: b(12, 12), d(6, 6)
+    real(dp) :: b(12, 12), d(6, 6), kk(4), geo
     integer :: k, i, s, e, o, j, r, q, nc, row
     integer(i8) :: p, pos, width
     nc = op%nc
@@ -598,8 +850,9 @@ contains
       do p = op%first(i), op%first(i + 1) - 1
         s = (op%incident(p) + 1)/2
         e = op%incident(p) - 2*(s - 1)
-        b = contact_block(op%normal(:, s), op%coef(1, s), op%coef(2, s), op%coef(3, s), &
-          op%coef(4, s), op%coef(5, s))
+        call mixed_coefficients(op, s, kk, geo)
+        b = contact_block(op%normal(:, s), kk, op%coef(3, s), op%coef(4, s), geo, &
+          op%rinv(op%ends(1, s)), op%rinv(op%ends(2, s)))
         d = d + b(6*(e - 1) + 1:6*e, 6*(e - 1) + 1:6*e)
         o = 3 - e
         j = op%ends(o, s)
@@ -640,7 +893,7 @@ contains
     type(demstep_status_type), intent(out) :: status
     integer, allocatable :: body(:)
     real(dp), allocatable :: mdof(:, :)
-    real(dp) :: k_scale, m_scale
+    real(dp) :: k_scale, m_scale, c_scale
     integer :: mode, i, nfree, nc, s, e
     integer(i8) :: p
     real(dp) :: v_impact
@@ -686,9 +939,10 @@ contains
     if (status%stat /= demstep_stat%ok) return
     touches = .false.
     do i = 1, size(springs)
+      if (.not. maxval(springs(i)%k) > 0.0_dp) cycle
       if (springs(i)%a > 0) touches = touches .or. .not. scene%fixed(springs(i)%a)
       touches = touches .or. .not. scene%fixed(springs(i)%b)
-      k_scale = max(k_scale, springs(i)%k_n, springs(i)%k_t)
+      k_scale = max(k_scale, springs(i)%k(1), springs(i)%k(2))
     end do
     if (.not. (touches .and. k_scale > 0.0_dp)) then
       if (size(scene%bonds, 2) == 0 .and. .not. (scene%effects(scene_effect%contacts) .or. &
@@ -704,11 +958,22 @@ contains
 
     ! the operator: scaled springs, and each free body's spring ends in order
     op%n_springs = size(springs)
-    allocate(op%ends(2, op%n_springs), op%normal(3, op%n_springs), op%coef(5, op%n_springs))
+    allocate(op%ends(2, op%n_springs), op%normal(3, op%n_springs), op%coef(7, op%n_springs))
     allocate(op%w(6, nfree), op%first(nfree + 1), op%work(6, 2*op%n_springs))
     allocate(op%xs(6, 0:nfree), source=0.0_dp)
+    allocate(op%rinv(0:nfree), source=0.0_dp)
+    c_scale = sqrt(k_scale)*sqrt(m_scale)
+    if (any(springs%c(1) > 0.0_dp .or. springs%c(2) > 0.0_dp .or. springs%c(3) > 0.0_dp .or. &
+        springs%c(4) > 0.0_dp)) then
+      allocate(op%dcoef(4, op%n_springs))
+    else
+      allocate(op%dcoef(4, 0))
+    end if
     do i = 1, scene%n
-      if (body(i) > 0) op%w(:, body(i)) = 1.0_dp/sqrt(mdof(:, i))
+      if (body(i) > 0) then
+        op%w(:, body(i)) = 1.0_dp/sqrt(mdof(:, i))
+        op%rinv(body(i)) = 1.0_dp/scene%radius(i)
+      end if
     end do
     op%first = 0
     do s = 1, op%n_springs
@@ -722,10 +987,12 @@ contains
         op%ends(2, s) = body(sp%b)
         op%coef(4, s) = sp%arm_b/scene%radius(sp%b)
         op%normal(:, s) = sp%n
-        op%coef(1, s) = sp%k_n/k_scale
-        op%coef(2, s) = sp%k_t/k_scale
+        op%coef(1, s) = sp%k(1)/k_scale
+        op%coef(2, s) = sp%k(2)/k_scale
+        op%coef(6:7, s) = sp%k(3:4)/k_scale
         op%coef(5, s) = 0.0_dp
         if (geo) op%coef(5, s) = sp%geo/k_scale
+        if (size(op%dcoef, 2) > 0) op%dcoef(:, s) = sp%c/c_scale
         do e = 1, 2
           if (op%ends(e, s) > 0) op%first(op%ends(e, s) + 1) = op%first(op%ends(e, s) + 1) + 1
         end do
@@ -754,8 +1021,10 @@ contains
     status%stat = demstep_stat%ok
   end subroutine prepare
 
-  !> Every interaction of the scene, linearised at the current configuration:
-  !> counted, allocated once and filled (linear in interactions).
+  !> Every interaction of the scene, linearised at the current configuration,
+  !> with its dashpots: bonds, particle contacts, wall contacts and (with
+  !> damping and a drag) one drag spring to the ground per free particle.
+  !> Counted, allocated once and filled (linear in interactions).
   subroutine linearise(scene, mode, v_impact, geo, springs, status)
     type(scene_type), intent(in) :: scene
     integer, intent(in) :: mode
@@ -765,11 +1034,14 @@ contains
     type(demstep_status_type), intent(out) :: status
     integer, allocatable :: pi(:), pj(:), pc(:)
     real(dp), allocatable :: pn(:, :), pd(:)
-    integer :: k, i, j, w, m, n_contacts, n_walls
-    real(dp) :: overlap, d, f_n, k_n, k_t, rs, l, e_pair
+    integer :: k, i, j, w, m, n_contacts, n_walls, n_drag
+    real(dp) :: overlap, d, f_n, kc(4), rs, l, e_pair, f_now, k_now(4)
+    logical :: damped
+    damped = scene%effects(scene_effect%damping)
     m = size(scene%bonds, 2)
     n_contacts = 0
     n_walls = 0
+    n_drag = 0
     if (scene%effects(scene_effect%contacts)) then
       call contact_list(scene, pi, pj, pn, pd, status, pc)
       if (status%stat /= demstep_stat%ok) return
@@ -785,10 +1057,15 @@ contains
         end do
       end do
     end if
-    allocate(springs(m + n_contacts + n_walls))
+    if (damped .and. scene%drag > 0.0_dp) n_drag = count(.not. scene%fixed)
+    allocate(springs(m + n_contacts + n_walls + n_drag))
     do k = 1, m
-      springs(k) = spring_block_type(a=scene%bonds(1, k), b=scene%bonds(2, k), k_n=scene%k_bond, &
-        k_t=scene%k_bond_tangential, n=scene%bond_normal(:, k))
+      i = scene%bonds(1, k)
+      j = scene%bonds(2, k)
+      springs(k) = spring_block_type(a=i, b=j, k=[scene%k_bond, scene%k_bond_tangential, 0.0_dp, 0.0_dp], &
+        n=scene%bond_normal(:, k), kind=5)
+      if (damped) springs(k)%c(1) = dashpot_coefficient(scene%damping_ratio, effective_mass(scene, i, j), &
+        scene%k_bond)
     end do
     if (scene%effects(scene_effect%contacts)) then
       do k = 1, size(pi)
@@ -800,19 +1077,19 @@ contains
         e_pair = scene%e_star
         if (allocated(scene%ptype)) e_pair = scene%pair_law(3, scene%ptype(i), scene%ptype(j))
         d = linearisation_overlap(scene, pc(k), pd(k), rs, effective_mass(scene, i, j), mode, v_impact, e_pair)
-        call contact_values(scene, pc(k), i, j, d, f_n, k_n, k_t)
-        if (.not. (ieee_is_finite(k_n) .and. ieee_is_finite(k_t))) then
+        call contact_values(scene, pc(k), i, j, d, f_n, kc)
+        if (.not. all(ieee_is_finite(kc))) then
           call stiffness_overflow(i, j)
           return
         end if
         m = m + 1
-        springs(m) = spring_block_type(a=i, b=j, k_n=k_n, k_t=k_t, n=pn(:, k), &
-          arm_a=scene%radius(i), arm_b=scene%radius(j))
+        springs(m) = spring_block_type(a=i, b=j, k=kc, c=contact_dashpots(scene, pc(k), i, j, kc), &
+          n=pn(:, k), arm_a=scene%radius(i), arm_b=scene%radius(j))
         if (geo) then
           ! F_n at the current overlap over the branch length
-          call contact_values(scene, pc(k), i, j, pd(k), f_n, k_n, k_t)
+          call contact_values(scene, pc(k), i, j, pd(k), f_now, k_now)
           l = scene%radius(i) + scene%radius(j) - pd(k)
-          springs(m)%geo = f_n/l
+          springs(m)%geo = f_now/l
         end if
       end do
     end if
@@ -824,15 +1101,24 @@ contains
           if (.not. overlap > 0.0_dp) cycle
           d = linearisation_overlap(scene, 0, overlap, scene%radius(i), scene%mass(i), mode, v_impact, &
             scene%e_star)
-          k_n = normal_stiffness(scene%law, scene%k_normal, scene%e_star, d, scene%radius(i))
-          if (.not. ieee_is_finite(k_n)) then
+          call wall_values(scene, i, d, f_n, kc)
+          if (.not. all(ieee_is_finite(kc))) then
             call stiffness_overflow(i, 0)
             return
           end if
           m = m + 1
-          springs(m) = spring_block_type(a=0, b=i, k_n=k_n, k_t=0.0_dp, n=scene%wall_normal(:, w), &
-            arm_b=scene%radius(i))
+          springs(m) = spring_block_type(a=0, b=i, k=kc, c=contact_dashpots(scene, 0, i, 0, kc), &
+            n=scene%wall_normal(:, w), arm_b=scene%radius(i))
         end do
+      end do
+    end if
+    if (n_drag > 0) then
+      do i = 1, scene%n
+        if (scene%fixed(i)) cycle
+        m = m + 1
+        ! F = -drag v on the translations: a dashpot to the ground in every direction
+        springs(m) = spring_block_type(a=0, b=i, c=[scene%drag, scene%drag, 0.0_dp, 0.0_dp], &
+          n=[1.0_dp, 0.0_dp, 0.0_dp], kind=6)
       end do
     end if
     status%stat = demstep_stat%ok
@@ -868,48 +1154,6 @@ contains
       d = exp(0.4_dp*(log(15.0_dp/16.0_dp) + log(m_eff) + 2.0_dp*log(v_impact) - log(e_star) &
         - 0.5_dp*log(rs)))
   end function linearisation_overlap
-
-  !> The top mode's damping per unit damping ratio, in scaled units: with the
-  !> dashpots 2 zeta sqrt(m* k_n) along n and v a unit vector of the scaled
-  !> problem, v^T M^-1/2 C M^-1/2 v = zeta sqrt(k_scale/m_scale) times this sum
-  !> of `spring_damping` over the springs. O(springs).
-  pure real(dp) function modal_damping(op, v) result(q)
-    type(assembly_operator_type), intent(in) :: op
-    real(dp), intent(in) :: v(:)
-    real(dp) :: nu(2)
-    integer :: s, e, i, nt
-    ! the translations are the first components of a body's dof
-    nt = count(op%comp <= 3)
-    q = 0.0_dp
-    do s = 1, op%n_springs
-      nu = 0.0_dp
-      do e = 1, 2
-        i = op%ends(e, s)
-        if (i > 0) nu(e) = dot_product(op%normal(:nt, s), v((i - 1)*op%nc + 1:(i - 1)*op%nc + nt))
-      end do
-      q = q + spring_damping(op, s, nu)
-    end do
-  end function modal_damping
-
-  !> One spring's term of `modal_damping`: its dashpot c = 2 sqrt(m* k_n) (scaled,
-  !> per unit damping ratio) times the squared rate of its normal stretch,
-  !> (w_b n.v_b - w_a n.v_a)^2, from `nu` = n.v at each end (0 at the ground);
-  !> the serial and the distributed drivers both sum it.
-  pure real(dp) function spring_damping(op, s, nu) result(q)
-    type(assembly_operator_type), intent(in) :: op
-    integer, intent(in) :: s
-    real(dp), intent(in) :: nu(2)
-    real(dp) :: m(2), rel
-    integer :: e
-    rel = 0.0_dp
-    m = huge(1.0_dp)
-    do e = 1, 2
-      if (op%ends(e, s) == 0) cycle
-      rel = rel + real(2*e - 3, dp)*nu(e)*op%w(1, op%ends(e, s))
-      m(e) = (1.0_dp/op%w(1, op%ends(e, s)))**2
-    end do
-    q = dashpot_coefficient(1.0_dp, reduced_mass(m(2), m(1)), op%coef(1, s))*rel**2
-  end function spring_damping
 
   !> The time step of a run at `n_per_period` steps per smallest period
   !> 2 pi/omega_max: the exact omega_max when it was computed, else the safe bound

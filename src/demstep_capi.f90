@@ -25,7 +25,7 @@ module demstep_capi
   use demstep_text, only: int_text
   use demstep_scene, only: scene_type, new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, &
     scene_set_cell, scene_set_types, scene_set_hertz_types, scene_set_law, scene_set_bond_stiffness, &
-    scene_set_gravity, n_effects, scene_effect, effect_names, contact_law
+    scene_set_gravity, n_effects, scene_effect, effect_names, contact_law, scene_set_damping
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, hertz_linearization, &
     default_max_eigen_dof, eigen_solver
   use demstep_lanczos, only: lanczos_tolerance_default, check_lanczos_options
@@ -856,10 +856,14 @@ contains
     real(c_double), value :: damping_ratio
     integer(c_int) :: code
     type(capi_scene_type), pointer :: h
+    type(demstep_status_type) :: status
+    logical :: on
     if (.not. live(scene, "demstep_scene_set_damping", h, err, code, particles=.false.)) return
-    ! checked by demstep_scene_compute (the library's range) when the damping effect is on
-    h%scene%damping_ratio = damping_ratio
-    code = ok(err)
+    ! the library's setter checks the range; the effect stays as the effects bits set it
+    on = h%scene%effects(scene_effect%damping)
+    call scene_set_damping(h%scene, damping_ratio, status)
+    h%scene%effects(scene_effect%damping) = on
+    code = built(h, "demstep_scene_set_damping", status, err)
   end function c_scene_set_damping
 
   !> int demstep_scene_set_gravity(demstep_scene *scene, const double *gravity, demstep_error *err)

@@ -24,6 +24,7 @@ module demstep_interaction
 
   public :: reduced_radius, reduced_mass, normal_force, normal_stiffness, tangential_stiffness, &
     normal_energy, dashpot_coefficient, wall_overlap, contact_block, contact_product, contact_forces, &
+    rolling_moments, &
     add_bond_forces, dof_components, hertz_e_star, mindlin_g_star
 
   !> Contact laws, as components of a parameter: `contact_law%hertz`.
@@ -129,43 +130,63 @@ contains
   end function wall_overlap
 
   !> The tangent stiffness of one interaction applied to a displacement
-  !> (u_i, theta_i, u_j, theta_j): normal k_n along n (from i to j), tangential
-  !> k_t on the contact point's slip s = P du + arm_i n x theta_i + arm_j n x theta_j
-  !> (du = u_j - u_i, P = I - n n^T), and the pre-stress term -geo P du (geo =
-  !> F_n/l, 0 to leave it out). With f = k_n (n.du) n + k_t s - geo P du and
-  !> g = k_t s x n: y_i = -f, t_i = arm_i g, y_j = f, t_j = arm_j g. This is
-  !> the one linearised interaction kernel: `contact_block` is built from it.
-  pure subroutine contact_product(n, k_n, k_t, arm_i, arm_j, geo, u_i, theta_i, u_j, theta_j, &
+  !> (u_i, theta_i, u_j, theta_j). k = (k_n, k_t, k_r, k_w): normal k_n along n
+  !> (from i to j); tangential k_t on the contact point's slip
+  !> s = P du + arm_i n x theta_i + arm_j n x theta_j (du = u_j - u_i,
+  !> P = I - n n^T); rolling k_r on the tangential part and twisting k_w on the
+  !> normal part of the relative rotation dr = rot_j theta_j - rot_i theta_i;
+  !> and the pre-stress term -geo P du (geo = F_n/l, 0 to leave it out). With
+  !> f = k_n (n.du) n + k_t s - geo P du, g = k_t s x n and
+  !> m = k_r P dr + k_w n (n.dr): y_i = -f, t_i = arm_i g - rot_i m, y_j = f,
+  !> t_j = arm_j g + rot_j m. `rot` is 1 for rotations in radians and 1/r for
+  !> the scaled coordinate r theta. The same kernel with dashpot coefficients
+  !> (c_n, c_t, c_r, c_w) in k and velocities in place of displacements gives
+  !> the dashpot forces. This is the one linearised interaction kernel.
+  pure subroutine contact_product(n, k, arm_i, arm_j, rot_i, rot_j, geo, u_i, theta_i, u_j, theta_j, &
       y_i, t_i, y_j, t_j)
-    real(dp), intent(in) :: n(3), k_n, k_t, arm_i, arm_j, geo
+    real(dp), intent(in) :: n(3), k(4), arm_i, arm_j, rot_i, rot_j, geo
     real(dp), intent(in) :: u_i(3), theta_i(3), u_j(3), theta_j(3)
     real(dp), intent(out) :: y_i(3), t_i(3), y_j(3), t_j(3)
-    real(dp) :: du(3), dn, pdu(3), s(3), f(3), g(3)
+    real(dp) :: du(3), dn, pdu(3), s(3), f(3), g(3), dr(3), rn, m(3)
     du = u_j - u_i
     dn = n(1)*du(1) + n(2)*du(2) + n(3)*du(3)
     pdu = du - dn*n
     s = pdu + arm_i*cross(n, theta_i) + arm_j*cross(n, theta_j)
-    f = (k_n*dn)*n + k_t*s - geo*pdu
-    g = k_t*cross(s, n)
+    f = (k(1)*dn)*n + k(2)*s - geo*pdu
+    g = k(2)*cross(s, n)
     y_i = -f
     y_j = f
     t_i = arm_i*g
     t_j = arm_j*g
+    if (k(3) /= 0.0_dp .or. k(4) /= 0.0_dp) then
+      dr = rot_j*theta_j - rot_i*theta_i
+      rn = n(1)*dr(1) + n(2)*dr(2) + n(3)*dr(3)
+      m = k(3)*(dr - rn*n) + (k(4)*rn)*n
+      t_i = t_i - rot_i*m
+      t_j = t_j + rot_j*m
+    end if
   end subroutine contact_product
 
   !> The 12 x 12 tangent stiffness of one interaction on (u_i, theta_i, u_j,
-  !> theta_j), column by column from `contact_product` (same arguments).
-  !> K f = -dF/dq for the forces and torques of `contact_forces`.
-  pure function contact_block(n, k_n, k_t, arm_i, arm_j, geo) result(k)
-    real(dp), intent(in) :: n(3), k_n, k_t, arm_i, arm_j, geo
-    real(dp) :: k(12, 12)
-    real(dp) :: e(12)
+  !> theta_j), column by column from `contact_product` (same arguments;
+  !> rot_i, rot_j default 1: rotations in radians): k = (k_n, k_t, k_r, k_w).
+  !> K f = -dF/dq for the forces and torques of `contact_forces` and
+  !> `rolling_moments`.
+  pure function contact_block(n, k, arm_i, arm_j, geo, rot_i, rot_j) result(kb)
+    real(dp), intent(in) :: n(3), k(4), arm_i, arm_j, geo
+    real(dp), intent(in), optional :: rot_i, rot_j
+    real(dp) :: kb(12, 12)
+    real(dp) :: e(12), ri, rj
     integer :: c
+    ri = 1.0_dp
+    rj = 1.0_dp
+    if (present(rot_i)) ri = rot_i
+    if (present(rot_j)) rj = rot_j
     do c = 1, 12
       e = 0.0_dp
       e(c) = 1.0_dp
-      call contact_product(n, k_n, k_t, arm_i, arm_j, geo, e(1:3), e(4:6), e(7:9), e(10:12), &
-        k(1:3, c), k(4:6, c), k(7:9, c), k(10:12, c))
+      call contact_product(n, k, arm_i, arm_j, ri, rj, geo, e(1:3), e(4:6), e(7:9), e(10:12), &
+        kb(1:3, c), kb(4:6, c), kb(7:9, c), kb(10:12, c))
     end do
   end function contact_block
 
@@ -205,6 +226,31 @@ contains
       t_j = 0.0_dp
     end if
   end subroutine contact_forces
+
+  !> Rolling and twisting moments of one interaction in the stepper (the
+  !> elastic-plastic spring of LIGGGHTS' `epsd2` and Yade's `CohFrictPhys`
+  !> moment law). The relative rotation u_r (history, inout) is split into its
+  !> twisting part along the current n and its rolling part in the plane normal
+  !> to n (a turn of n moves a second-order amount between them); both are
+  !> incremented by the relative rotation dtheta = dtheta_j - dtheta_i since
+  !> the last step; the rolling moment k_r |u_roll| is capped at `cap` (< 0: no
+  !> cap). Returns the moment m on i (-m on j): m = k_r u_roll + k_w u_twist.
+  pure subroutine rolling_moments(n, k_r, k_w, cap, dtheta, u_r, m)
+    real(dp), intent(in) :: n(3), k_r, k_w, cap, dtheta(3)
+    real(dp), intent(inout) :: u_r(3)
+    real(dp), intent(out) :: m(3)
+    real(dp) :: twist, roll(3), mr
+    twist = dot_product(u_r, n)
+    roll = u_r - twist*n
+    twist = twist + dot_product(dtheta, n)
+    roll = roll + (dtheta - dot_product(dtheta, n)*n)
+    if (cap >= 0.0_dp .and. k_r > 0.0_dp) then
+      mr = k_r*norm2(roll)
+      if (mr > cap) roll = roll*(cap/mr)
+    end if
+    u_r = roll + twist*n
+    m = k_r*roll + (k_w*twist)*n
+  end subroutine rolling_moments
 
   !> Add the forces of nb bonds at positions x to f (the stepper's hot loop for
   !> bonds, on plain contiguous arrays). A bond (i, j) with rest vector r0 and

@@ -123,7 +123,7 @@ contains
   !> Ritz value and ARPACK's estimate of its residual, the vector is zero),
   !> otherwise ARPACK's own failures (`dsaupd_status`, `dseupd_status`).
   subroutine lanczos_largest(apply, context, n, result, status, eigenvector, tolerance, ncv, &
-      nev, max_restarts, progress)
+      nev, max_restarts, progress, start)
     !> y = A x.
     procedure(lanczos_operator) :: apply
     !> The operator's data, passed to `apply`.
@@ -144,6 +144,10 @@ contains
     integer, intent(in), optional :: max_restarts
     !> Reports the products made (no total: convergence is not known ahead).
     class(progress_type), intent(inout), optional :: progress
+    !> A start vector (size n; e.g. the previous solve's mode, a warm start):
+    !> a thousandth of the default start vector is added, so that no
+    !> eigenvector is missing from it.
+    real(dp), intent(in), optional :: start(:)
     real(dp) :: tol, theta, rnorm, znorm
     integer :: k, m, restarts, ido, info, lworkl, nconv, ldv, itop
     integer :: iparam(arpack_iparam_size), ipntr(arpack_iparam_size)
@@ -192,6 +196,10 @@ contains
     lworkl = m*(m + 8)
     allocate(v(n, m), workd(3*n), workl(lworkl), resid(n), d(k), select(m), z(n, k))
     call lanczos_start_vector(resid)
+    if (present(start)) then
+      if (size(start) == n .and. sum(start**2) > 0.0_dp) &
+        resid = start/norm2(start) + 1.0e-3_dp*resid/norm2(resid)
+    end if
     iparam = 0
     iparam(1) = 1         ! exact shifts
     iparam(3) = restarts

@@ -1,12 +1,14 @@
 !> LAPACK through explicit interfaces, in one place, with `info` turned into a
-!> message. Only what demstep needs: the largest eigenpair of a symmetric matrix.
+!> message. Only what demstep needs: the largest eigenpair of a symmetric
+!> matrix, and the spectral radius of a general one (a one-step map's, the
+!> reference for the damped stability limit).
 module demstep_lapack
   use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   implicit none
   private
 
-  public :: largest_eigenpair
+  public :: largest_eigenpair, spectral_radius
 
   interface
     !> LAPACK dsyevr: selected eigenvalues (and vectors) of a real symmetric matrix
@@ -24,6 +26,17 @@ module demstep_lapack
       real(dp), intent(inout) :: work(*)
       integer, intent(inout) :: iwork(*)
     end subroutine dsyevr
+
+    !> LAPACK dgeev: eigenvalues (and optionally vectors) of a general real matrix.
+    pure subroutine dgeev(jobvl, jobvr, n, a, lda, wr, wi, vl, ldvl, vr, ldvr, work, lwork, info)
+      import :: dp
+      character(len=1), intent(in) :: jobvl, jobvr
+      integer, intent(in) :: n, lda, ldvl, ldvr, lwork
+      real(dp), intent(inout) :: a(lda, *)
+      real(dp), intent(out) :: wr(*), wi(*), vl(ldvl, *), vr(ldvr, *)
+      real(dp), intent(inout) :: work(*)
+      integer, intent(out) :: info
+    end subroutine dgeev
   end interface
 
 contains
@@ -82,16 +95,50 @@ contains
     status%stat = demstep_stat%ok
   end subroutine largest_eigenpair
 
-  !> dsyevr's info as words.
-  pure function info_message(info) result(message)
+  !> The spectral radius max |z| of the general n-by-n matrix `a` (destroyed),
+  !> by dgeev (eigenvalues only). Status `lapack_failure` with LAPACK's info
+  !> explained.
+  subroutine spectral_radius(a, rho, status)
+    real(dp), intent(inout) :: a(:, :)
+    real(dp), intent(out) :: rho
+    type(demstep_status_type), intent(out) :: status
+    real(dp), allocatable :: wr(:), wi(:), work(:)
+    real(dp) :: vl(1, 1), vr(1, 1), work_query(1)
+    integer :: n, info
+    n = size(a, 1)
+    rho = 0.0_dp
+    if (n < 1 .or. size(a, 2) /= n) then
+      call set_status(status, demstep_stat%invalid_input, "spectral_radius: need an n-by-n matrix, n >= 1")
+      return
+    end if
+    allocate(wr(n), wi(n))
+    call dgeev("N", "N", n, a, n, wr, wi, vl, 1, vr, 1, work_query, -1, info)
+    if (info == 0) then
+      allocate(work(max(1, int(work_query(1)))))
+      call dgeev("N", "N", n, a, n, wr, wi, vl, 1, vr, 1, work, size(work), info)
+    end if
+    if (info /= 0) then
+      call set_status(status, demstep_stat%lapack_failure, info_message(info, "dgeev"))
+      return
+    end if
+    rho = maxval(hypot(wr, wi))
+    status%stat = demstep_stat%ok
+  end subroutine spectral_radius
+
+  !> A LAPACK routine's info as words.
+  pure function info_message(info, routine) result(message)
     integer, intent(in) :: info
-    character(len=:), allocatable :: message
+    !> The routine's name (default dsyevr).
+    character(len=*), intent(in), optional :: routine
+    character(len=:), allocatable :: message, name
     character(len=16) :: buf
+    name = "dsyevr"
+    if (present(routine)) name = routine
     write(buf, '(i0)') abs(info)
     if (info < 0) then
-      message = "dsyevr: argument "//trim(buf)//" had an illegal value"
+      message = name//": argument "//trim(buf)//" had an illegal value"
     else
-      message = "dsyevr: internal error "//trim(buf)//" (the eigenvalue computation did not converge)"
+      message = name//": internal error "//trim(buf)//" (the eigenvalue computation did not converge)"
     end if
   end function info_message
 

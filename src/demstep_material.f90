@@ -529,7 +529,7 @@ contains
   !> [[code_convention_codes]]). `invalid_input`, the message starting with
   !> the variable, for inputs out of their domain, an unknown convention, or
   !> results that leave the double range.
-  pure subroutine contact_parameters(pair, convention, params, status)
+  pure subroutine contact_parameters(pair, convention, params, status, wall)
     !> The pair and its loading.
     type(material_pair_type), intent(in) :: pair
     !> One of `code_convention%...`.
@@ -537,6 +537,10 @@ contains
     !> The parameters.
     type(contact_parameters_type), intent(out) :: params
     type(demstep_status_type), intent(out) :: status
+    !> A particle of type `pair%a` on a wall of material `pair%b` (default
+    !> no): the wall is flat and immovable, R* = R_a and m* = m_a, as the
+    !> codes' wall contacts take them.
+    logical, intent(in), optional :: wall
     type(effective_pair_type) :: eff
     real(dp) :: e, et, le, let, v, tc, delta, a, beta, kl, t_hertz, w
     real(dp) :: damp, hert_kn, hert_kt, eta_n, eta_t, g_eff, e_mfix, ra, rb
@@ -545,6 +549,12 @@ contains
     if (status%stat /= demstep_stat%ok) return
     call effective_pair(pair%a, pair%b, eff, status)
     if (status%stat /= demstep_stat%ok) return
+    if (present(wall)) then
+      if (wall) then
+        eff%r_star = pair%a%radius
+        eff%m_star = eff%m_a
+      end if
+    end if
     e = pair%restitution
     et = merge(pair%restitution_t, e, pair%restitution_t > 0.0_dp)
     le = log(e)

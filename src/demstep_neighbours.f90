@@ -23,10 +23,14 @@ module demstep_neighbours
   integer, parameter :: n_giants = 16
 
   !> The contact lists of one configuration and the search's scratch.
+  !> Values of a contact's history: shear displacement and relative rotation.
+  integer, parameter, public :: history_size = 6
+
   type, public :: search_type
     !> Particle contacts: i < j (or the explicit list's order), unit normal i to j
     !> (minimum image), overlap, branch length, row of the explicit list (0:
-    !> detected), shear displacement (the stepper's history).
+    !> detected), the stepper's history: shear displacement (1:3) and relative
+    !> rotation (4:6).
     integer :: n_pairs = 0
     integer, allocatable :: pair_i(:), pair_j(:), pair_c(:)
     real(dp), allocatable :: pair_n(:, :), pair_d(:), pair_l(:), pair_us(:, :)
@@ -57,7 +61,7 @@ contains
     real(dp) :: top(n_giants + 1)
     integer :: i, k, m
     allocate(s%pair_i(64), s%pair_j(64), s%pair_c(64), s%pair_n(3, 64), s%pair_d(64), &
-      s%pair_l(64), s%pair_us(3, 64))
+      s%pair_l(64), s%pair_us(history_size, 64))
     allocate(s%wall_i(16), s%wall_k(16), s%wall_d(16))
     ! the m largest radii, descending (insertion into a short list: linear in n)
     m = min(scene%n, n_giants + 1)
@@ -301,7 +305,7 @@ contains
     if (s%n_pairs == size(s%pair_i)) then
       ! double the capacity: amortised constant cost per pair
       m = min(2*size(s%pair_i), contact_limit)
-      allocate(ti(m), tj(m), tc(m), td(m), tl(m), tn(3, m), tu(3, m))
+      allocate(ti(m), tj(m), tc(m), td(m), tl(m), tn(3, m), tu(history_size, m))
       ti(:s%n_pairs) = s%pair_i
       tj(:s%n_pairs) = s%pair_j
       tc(:s%n_pairs) = s%pair_c

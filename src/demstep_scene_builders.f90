@@ -5,7 +5,8 @@ module demstep_scene_builders
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text
-  use demstep_scene_data, only: scene_type, scene_effect, branch_vector
+  use demstep_scene_data, only: scene_type, scene_effect, branch_vector, effect_index, n_effects, &
+    max_damping_ratio
   use demstep_interaction, only: hertz_e_star, mindlin_g_star, contact_law
   use demstep_neighbours, only: search_type, prepare_search, find_contacts, search_trouble
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -14,6 +15,7 @@ module demstep_scene_builders
 
   public :: new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, scene_set_cell, &
     scene_set_types, scene_set_hertz_types, scene_set_law, scene_set_bond_stiffness, scene_set_gravity, &
+    scene_set_damping, scene_set_friction, scene_set_local_damping, scene_set_rolling, scene_set_effects, &
     cubic_lattice, restitution_to_damping_ratio, wrap_positions, random_periodic_packing, tile_scene
 
   !> Largest |coordinate| and radius of a scene: squared distances stay finite.
@@ -33,7 +35,11 @@ module demstep_scene_builders
 
 contains
 
-  !> Build a scene from particle arrays. Status `invalid_input` names the first
+  !> Build a scene from particle arrays. Defaults: only the `contacts` effect
+  !> on, no damping, no friction cap, no gravity, inertia 2/5 m r^2; the
+  !> builders then switch on what they add (`rotation` with any tangential,
+  !> rolling or twisting stiffness, `walls` with walls, `damping` with
+  !> dashpots). Status `invalid_input` names the first
   !> bad value, its message starting with the variable (`mass:`, `radius:`,
   !> `inertia:`, `position:`, `velocity:`, `fixed:`): non-positive or too small
   !> mass (1/m must be finite), non-positive inertia, radius or coordinates
@@ -137,7 +143,7 @@ contains
       where (scene%fixed) scene%v(i, :) = 0.0_dp
     end do
     allocate(scene%bonds(2, 0), scene%bond_rest(3, 0), scene%bond_normal(3, 0), &
-      scene%wall_point(3, 0), scene%wall_normal(3, 0), scene%contact_pairs(2, 0), scene%contact_k(2, 0))
+      scene%wall_point(3, 0), scene%wall_normal(3, 0), scene%contact_pairs(2, 0), scene%contact_k(8, 0))
     call check_contacts(scene, status)
   end subroutine new_scene
 
@@ -183,11 +189,16 @@ contains
     longest = 2.0_dp*maxval(scene%radius)
     if (size(scene%bonds, 2) > 0) longest = max(longest, maxval(norm2(scene%bond_rest, dim=1)))
     do ax = 1, 3
+      if (.not. (ieee_is_finite(lo(ax)) .and. ieee_is_finite(hi(ax)) .and. &
+          abs(lo(ax)) <= max_coordinate .and. abs(hi(ax)) <= max_coordinate)) then
+        call set_status(status, demstep_stat%invalid_input, "cell_hi: axis "//int_text(ax)//": cell_lo " &
+          //"and cell_hi must be finite within +-1e150")
+        return
+      end if
       if (.not. periodic(ax)) cycle
-      if (.not. (ieee_is_finite(lo(ax)) .and. ieee_is_finite(hi(ax)) .and. hi(ax) - lo(ax) > 0.0_dp &
-          .and. abs(lo(ax)) <= max_coordinate .and. abs(hi(ax)) <= max_coordinate)) then
+      if (.not. hi(ax) - lo(ax) > 0.0_dp) then
         call set_status(status, demstep_stat%invalid_input, "cell_hi: axis "//int_text(ax)//": cell_hi " &
-          //"must be above cell_lo, both finite within +-1e150")
+          //"must be above cell_lo")
         return
       end if
       if (hi(ax) - lo(ax) < 2.0_dp*longest) then
@@ -225,19 +236,25 @@ contains
   end function real_text
 
   !> Replace contact detection by an explicit list: pairs (2, nc) of particle
-  !> numbers and their stiffness k (2, nc) = (k_n, k_t) (linear springs; a pair
-  !> acts while it overlaps, through the nearest periodic image). Status
+  !> numbers and per contact k (m, nc) with m = 2 (k_n, k_t), 4 (and the
+  !> rolling and twisting stiffness k_r, k_w) or 8 (and the dashpots c_n, c_t,
+  !> c_r, c_w, which then replace those of the damping ratios); linear springs,
+  !> a pair acts while it overlaps, through the nearest periodic image.
+  !> Switches `rotation` on when any k_t, k_r or k_w is > 0. Status
   !> `invalid_input` starting `contacts: row K:` for a missing particle, a
-  !> particle paired with itself, k_n <= 0 or k_t < 0 (or not finite).
+  !> particle paired with itself, k_n <= 0, another value < 0 or not finite.
   subroutine scene_set_contacts(scene, pairs, k, status)
     type(scene_type), intent(inout) :: scene
     integer, intent(in) :: pairs(:, :)
     real(dp), intent(in) :: k(:, :)
     type(demstep_status_type), intent(out) :: status
-    integer :: c
-    if (size(pairs, 1) /= 2 .or. size(k, 1) /= 2 .or. size(k, 2) /= size(pairs, 2)) then
+    character(len=*), parameter :: names(8) = [character(len=3) :: "k_n", "k_t", "k_r", "k_w", &
+      "c_n", "c_t", "c_r", "c_w"]
+    integer :: c, m, q
+    m = size(k, 1)
+    if (size(pairs, 1) /= 2 .or. .not. (m == 2 .or. m == 4 .or. m == 8) .or. size(k, 2) /= size(pairs, 2)) then
       call set_status(status, demstep_stat%invalid_input, "contacts: each contact is two particle " &
-        //"numbers and two stiffnesses")
+        //"numbers and 2, 4 or 8 values (k_n, k_t, k_r, k_w, c_n, c_t, c_r, c_w)")
       return
     end if
     do c = 1, size(pairs, 2)
@@ -257,20 +274,27 @@ contains
           //"must be > 0 and finite")
         return
       end if
-      if (.not. (ieee_is_finite(k(2, c)) .and. k(2, c) >= 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "contacts: row "//int_text(c)//": k_t " &
-          //"must be >= 0 and finite")
-        return
-      end if
+      do q = 2, m
+        if (.not. (ieee_is_finite(k(q, c)) .and. k(q, c) >= 0.0_dp)) then
+          call set_status(status, demstep_stat%invalid_input, "contacts: row "//int_text(c)//": " &
+            //trim(names(q))//" must be >= 0 and finite")
+          return
+        end if
+      end do
     end do
     scene%contact_pairs = pairs
-    scene%contact_k = k
+    deallocate(scene%contact_k)
+    allocate(scene%contact_k(8, size(pairs, 2)), source=0.0_dp)
+    scene%contact_k(:m, :) = k
+    scene%given_dashpots = m == 8
     scene%given_contacts = .true.
+    if (any(scene%contact_k(2:4, :) > 0.0_dp)) scene%effects(scene_effect%rotation) = .true.
     status%stat = demstep_stat%ok
   end subroutine scene_set_contacts
 
   !> Linear materials per particle type: the type of each particle (1 to nt) and
-  !> per type pair k(:, a, b) = (k_n, k_t), symmetric. Status `invalid_input`:
+  !> per type pair k(:, a, b) = (k_n, k_t), symmetric; `rotation` on when any
+  !> k_t > 0. Status `invalid_input`:
   !> `types:` a type outside 1 to nt, a count other than one per particle;
   !> `type_k_normal:` k_n <= 0 or not symmetric; `type_k_tangential:` k_t < 0 or
   !> not symmetric.
@@ -304,13 +328,15 @@ contains
       return
     end if
     scene%ptype = types
+    call clear_types(scene)
     allocate(scene%pair_law(4, nt, nt), source=0.0_dp)
     scene%pair_law(1:2, :, :) = k
+    if (any(k(2, :, :) > 0.0_dp)) scene%effects(scene_effect%rotation) = .true.
     status%stat = demstep_stat%ok
   end subroutine scene_set_types
 
   !> Hertz materials per particle type: Young's modulus and Poisson's ratio per
-  !> type; E* and Mindlin's G* of each type pair follow. Status `invalid_input`:
+  !> type; E* and Mindlin's G* of each type pair follow (`rotation` on). Status `invalid_input`:
   !> `types:` as `scene_set_types`; `young:` not > 0 and finite; `poisson:`
   !> outside (-1, 0.5].
   subroutine scene_set_hertz_types(scene, types, young, poisson, status)
@@ -335,13 +361,25 @@ contains
       return
     end if
     scene%ptype = types
+    call clear_types(scene)
     allocate(scene%pair_law(4, nt, nt), source=0.0_dp)
     do a = 1, nt
       scene%pair_law(3, :, a) = hertz_e_star(young, poisson, young(a), poisson(a))
       scene%pair_law(4, :, a) = mindlin_g_star(young, poisson, young(a), poisson(a))
     end do
+    ! Mindlin's tangential springs
+    scene%effects(scene_effect%rotation) = .true.
     status%stat = demstep_stat%ok
   end subroutine scene_set_hertz_types
+
+  !> Drop the per-type tables of an earlier call (materials included).
+  pure subroutine clear_types(scene)
+    type(scene_type), intent(inout) :: scene
+    if (allocated(scene%pair_law)) deallocate(scene%pair_law)
+    if (allocated(scene%pair_damping)) deallocate(scene%pair_damping)
+    if (allocated(scene%wall_law)) deallocate(scene%wall_law)
+    if (allocated(scene%wall_damping)) deallocate(scene%wall_damping)
+  end subroutine clear_types
 
   !> One type in 1 to nt per particle.
   subroutine check_types(scene, types, nt, status)
@@ -462,7 +500,9 @@ contains
     status%stat = demstep_stat%ok
   end subroutine scene_add_bonds
 
-  !> Add walls: points (dim, nw) and normals (dim, nw) pointing into the domain.
+  !> Add walls: points (dim, nw) and normals (dim, nw) pointing into the
+  !> domain; switches the `walls` effect on. Walls take the scene's law
+  !> (normal, tangential, rolling springs and dashpots with R* = r, m* = m).
   subroutine scene_add_walls(scene, points, normals, status)
     type(scene_type), intent(inout) :: scene
     real(dp), intent(in) :: points(:, :), normals(:, :)
@@ -485,13 +525,15 @@ contains
     end do
     scene%wall_point = reshape([scene%wall_point, point], [3, size(scene%wall_point, 2) + size(point, 2)])
     scene%wall_normal = reshape([scene%wall_normal, unit], [3, size(scene%wall_normal, 2) + size(unit, 2)])
+    scene%effects(scene_effect%walls) = .true.
     status%stat = demstep_stat%ok
   end subroutine scene_add_walls
 
   !> The contact law of detected particle contacts and of wall contacts:
   !> `contact_law%linear` with normal = k_normal (> 0) and tangential =
   !> k_tangential (>= 0), or `contact_law%hertz` with normal = e_star (E* > 0)
-  !> and tangential = g_star (Mindlin's G* >= 0). Status `invalid_input` naming
+  !> and tangential = g_star (Mindlin's G* >= 0); `rotation` on when
+  !> tangential > 0. Status `invalid_input` naming
   !> `law:` (not one of `contact_law`) or the parameter (not finite, out of range);
   !> the scene is unchanged then.
   subroutine scene_set_law(scene, law, normal, tangential, status)
@@ -527,6 +569,7 @@ contains
       scene%e_star = normal
       scene%g_star = tangential
     end if
+    if (tangential > 0.0_dp) scene%effects(scene_effect%rotation) = .true.
     status%stat = demstep_stat%ok
   end subroutine scene_set_law
 
@@ -565,6 +608,141 @@ contains
     scene%gravity(:scene%dim) = gravity
     status%stat = demstep_stat%ok
   end subroutine scene_set_gravity
+
+  !> Viscous damping: the normal damping ratio (c_n = 2 zeta sqrt(m* k_n)), and
+  !> optionally the tangential one (c_t = 2 zeta_t sqrt(m* k_t); default: the
+  !> normal ratio, as LIGGGHTS' `tangential_damping on`; 0 for none), the
+  !> rolling and twisting one (c = 2 zeta_r sqrt(I* k), default 0) and a drag of
+  !> every particle to the ground (F = -drag v, default 0). Switches the
+  !> `damping` effect on. Status `invalid_input` naming `damping_ratio`,
+  !> `damping_ratio_tangential`, `damping_ratio_rolling` (each in [0, 1e100])
+  !> or `drag` (>= 0, finite); the scene is unchanged then.
+  subroutine scene_set_damping(scene, ratio, status, tangential, rolling, drag)
+    type(scene_type), intent(inout) :: scene
+    real(dp), intent(in) :: ratio
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: tangential, rolling, drag
+    real(dp) :: zt, zr, g
+    zt = ratio
+    if (present(tangential)) zt = tangential
+    zr = 0.0_dp
+    if (present(rolling)) zr = rolling
+    g = 0.0_dp
+    if (present(drag)) g = drag
+    if (.not. damping_ratio_ok(ratio)) then
+      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be in [0, 1e100]")
+    else if (.not. damping_ratio_ok(zt)) then
+      call set_status(status, demstep_stat%invalid_input, "damping_ratio_tangential: must be in [0, 1e100]")
+    else if (.not. damping_ratio_ok(zr)) then
+      call set_status(status, demstep_stat%invalid_input, "damping_ratio_rolling: must be in [0, 1e100]")
+    else if (.not. (ieee_is_finite(g) .and. g >= 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "drag: must be >= 0 and finite")
+    else
+      scene%damping_ratio = ratio
+      scene%damping_ratio_tangential = zt
+      scene%damping_ratio_rolling = zr
+      scene%drag = g
+      scene%effects(scene_effect%damping) = .true.
+      status%stat = demstep_stat%ok
+    end if
+  end subroutine scene_set_damping
+
+  !> Whether a damping ratio is in [0, max_damping_ratio].
+  elemental logical function damping_ratio_ok(zeta)
+    real(dp), intent(in) :: zeta
+    damping_ratio_ok = zeta >= 0.0_dp .and. zeta <= max_damping_ratio
+  end function damping_ratio_ok
+
+  !> Coulomb friction of the tangential springs (>= 0; a negative value: no
+  !> sliding) and optionally the rolling friction that caps the rolling moment
+  !> at rolling_friction R* F_n (>= 0; negative: no cap). Status
+  !> `invalid_input` naming `friction` or `rolling_friction` (not finite).
+  subroutine scene_set_friction(scene, friction, status, rolling_friction)
+    type(scene_type), intent(inout) :: scene
+    real(dp), intent(in) :: friction
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: rolling_friction
+    if (.not. ieee_is_finite(friction)) then
+      call set_status(status, demstep_stat%invalid_input, "friction: must be finite")
+      return
+    end if
+    if (present(rolling_friction)) then
+      if (.not. ieee_is_finite(rolling_friction)) then
+        call set_status(status, demstep_stat%invalid_input, "rolling_friction: must be finite")
+        return
+      end if
+      scene%rolling_friction = rolling_friction
+    end if
+    scene%friction = friction
+    status%stat = demstep_stat%ok
+  end subroutine scene_set_friction
+
+  !> Cundall's local damping coefficient alpha in [0, 1); switches the
+  !> `local_damping` effect on (off for alpha = 0). Status `invalid_input`
+  !> naming `local_damping`.
+  subroutine scene_set_local_damping(scene, alpha, status)
+    type(scene_type), intent(inout) :: scene
+    real(dp), intent(in) :: alpha
+    type(demstep_status_type), intent(out) :: status
+    if (.not. (alpha >= 0.0_dp .and. alpha < 1.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "local_damping: must be in [0, 1)")
+      return
+    end if
+    scene%local_damping = alpha
+    scene%effects(scene_effect%local_damping) = alpha > 0.0_dp
+    status%stat = demstep_stat%ok
+  end subroutine scene_set_local_damping
+
+  !> Rolling and twisting springs of detected and wall contacts:
+  !> k_r = rolling_ratio k_t R*^2, k_w = twisting_ratio k_t R*^2 (each >= 0,
+  !> finite); `rotation` on when either is > 0. Status `invalid_input` naming
+  !> `rolling_ratio` or `twisting_ratio`.
+  subroutine scene_set_rolling(scene, rolling_ratio, twisting_ratio, status)
+    type(scene_type), intent(inout) :: scene
+    real(dp), intent(in) :: rolling_ratio, twisting_ratio
+    type(demstep_status_type), intent(out) :: status
+    if (.not. (ieee_is_finite(rolling_ratio) .and. rolling_ratio >= 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "rolling_ratio: must be >= 0 and finite")
+      return
+    end if
+    if (.not. (ieee_is_finite(twisting_ratio) .and. twisting_ratio >= 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "twisting_ratio: must be >= 0 and finite")
+      return
+    end if
+    scene%rolling_ratio = rolling_ratio
+    scene%twisting_ratio = twisting_ratio
+    if (rolling_ratio > 0.0_dp .or. twisting_ratio > 0.0_dp) scene%effects(scene_effect%rotation) = .true.
+    status%stat = demstep_stat%ok
+  end subroutine scene_set_rolling
+
+  !> Switch effects on or off by name (`effect_names`: 'contacts', 'gravity',
+  !> 'damping', 'local_damping', 'walls', 'rotation'), each `on(k)` for
+  !> `names(k)`. Status `invalid_input` naming `effects` for an unknown name or
+  !> sizes that differ; the scene is unchanged then.
+  subroutine scene_set_effects(scene, names, on, status)
+    type(scene_type), intent(inout) :: scene
+    character(len=*), intent(in) :: names(:)
+    logical, intent(in) :: on(:)
+    type(demstep_status_type), intent(out) :: status
+    logical :: effects(n_effects)
+    integer :: k, e
+    if (size(on) /= size(names)) then
+      call set_status(status, demstep_stat%invalid_input, "effects: one on/off flag per name")
+      return
+    end if
+    effects = scene%effects
+    do k = 1, size(names)
+      e = effect_index(trim(names(k)))
+      if (e == 0) then
+        call set_status(status, demstep_stat%invalid_input, "effects: '"//trim(names(k))//"' is not " &
+          //"an effect")
+        return
+      end if
+      effects(e) = on(k)
+    end do
+    scene%effects = effects
+    status%stat = demstep_stat%ok
+  end subroutine scene_set_effects
 
   !> Damping ratio of a linear spring-dashpot whose restitution coefficient is e:
   !> zeta = -ln e / sqrt(pi^2 + ln^2 e).
@@ -1016,7 +1194,7 @@ contains
     call tile_pairs(scene, reps, scene%contact_pairs, tiled%contact_pairs)
     deallocate(tiled%contact_k)
     k = size(scene%contact_pairs, 2)
-    allocate(tiled%contact_k(2, k*copies))
+    allocate(tiled%contact_k(8, k*copies))
     do t = 0, copies - 1
       tiled%contact_k(:, t*k + 1:(t + 1)*k) = scene%contact_k
     end do

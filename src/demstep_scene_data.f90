@@ -9,12 +9,14 @@
 !> about z (the third component of the angular velocity).
 module demstep_scene_data
   use demstep_kinds, only: dp, i8
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_interaction, only: contact_law, reduced_mass, reduced_radius, normal_force, &
-    normal_stiffness, tangential_stiffness
+    normal_stiffness, tangential_stiffness, dashpot_coefficient
   implicit none
   private
 
-  public :: effective_mass, branch_vector, contact_values, has_tangential, effect_index
+  public :: effective_mass, effective_inertia, branch_vector, contact_values, wall_values, contact_dashpots, &
+    has_tangential, has_rolling, effect_index, check_scene_damping
 
   !> Effects, by index into `scene_type`%effects: `scene_effect%gravity`.
   type, public :: scene_effect_enum
@@ -22,7 +24,8 @@ module demstep_scene_data
     integer :: contacts = 1
     !> A uniform gravity field.
     integer :: gravity = 2
-    !> Viscous dashpots on every contact, wall contact and bond.
+    !> Viscous dashpots on every contact, wall contact and bond (normal,
+    !> tangential, rolling and twisting), and the drag to ground.
     integer :: damping = 3
     !> Cundall's local damping.
     integer :: local_damping = 4
@@ -33,6 +36,10 @@ module demstep_scene_data
   end type scene_effect_enum
   !> The effects by name.
   type(scene_effect_enum), parameter, public :: scene_effect = scene_effect_enum()
+  !> Largest viscous damping ratio: the damped limit, about dt/(2 zeta), stays a
+  !> normal number for every dt above 1e-200.
+  real(dp), parameter, public :: max_damping_ratio = 1.0e100_dp
+
   !> Number of effects.
   integer, parameter, public :: n_effects = 6
   !> Their names, as the namelist input spells them.
@@ -62,6 +69,12 @@ module demstep_scene_data
     !> k_normal, k_tangential, e_star, g_star for particle contacts.
     integer, allocatable :: ptype(:)
     real(dp), allocatable :: pair_law(:, :, :)
+    !> With materials per type (`scene_set_materials`): per type pair the
+    !> normal damping ratio and the tangential dashpot over the normal one,
+    !> pair_damping(:, a, b) = (zeta_n, c_t/c_n); for a particle of type t on a
+    !> wall the law's parameters wall_law(:, t) (as pair_law) and
+    !> wall_damping(:, t). They replace the scene's values where allocated.
+    real(dp), allocatable :: pair_damping(:, :, :), wall_law(:, :), wall_damping(:, :)
     !> Coulomb friction coefficient of the tangential springs (< 0: no sliding).
     real(dp) :: friction = -1.0_dp
     !> Bonds (2, nb): particle pairs; rest(3, nb) = initial x_j - x_i and its
@@ -72,9 +85,12 @@ module demstep_scene_data
     real(dp) :: k_bond = 0.0_dp, k_bond_tangential = 0.0_dp
     !> Walls: a point and the unit normal pointing into the domain (3, nw).
     real(dp), allocatable :: wall_point(:, :), wall_normal(:, :)
-    !> An explicit contact list (2, nc) with its stiffness (k_n, k_t) per contact:
-    !> it replaces the detection of contacts when `given_contacts`.
-    logical :: given_contacts = .false.
+    !> An explicit contact list (2, nc) with per contact its stiffness
+    !> contact_k(1:4, c) = (k_n, k_t, k_r, k_w) and, when `given_dashpots`, its
+    !> dashpots contact_k(5:8, c) = (c_n, c_t, c_r, c_w) (else they follow from
+    !> the damping ratios): it replaces the detection of contacts when
+    !> `given_contacts`.
+    logical :: given_contacts = .false., given_dashpots = .false.
     integer, allocatable :: contact_pairs(:, :)
     real(dp), allocatable :: contact_k(:, :)
     !> Periodic axes and the cell [cell_lo, cell_hi) (orthorhombic).
@@ -84,8 +100,23 @@ module demstep_scene_data
     logical :: effects(n_effects) = [.true., .false., .false., .false., .false., .false.]
     !> Gravity vector; components beyond dim must be zero.
     real(dp) :: gravity(3) = [0.0_dp, 0.0_dp, 0.0_dp]
-    !> Viscous damping ratio zeta and local damping coefficient alpha.
+    !> Viscous damping ratio zeta (normal dashpots c_n = 2 zeta sqrt(m* k_n)) and
+    !> local damping coefficient alpha.
     real(dp) :: damping_ratio = 0.0_dp, local_damping = 0.0_dp
+    !> Tangential damping ratio: c_t = 2 zeta_t sqrt(m* k_t); < 0 (default): the
+    !> normal ratio, as LIGGGHTS' default `tangential_damping on` (Hertz).
+    real(dp) :: damping_ratio_tangential = -1.0_dp
+    !> Rolling and twisting springs of detected contacts and wall contacts,
+    !> k_r = rolling_ratio k_t R*^2 and k_w = twisting_ratio k_t R*^2 (0: none;
+    !> LIGGGHTS' `epsd2`: rolling_ratio 1, rolling_model_epsd2.h:193),
+    !> with the dashpots c = 2 zeta_r sqrt(I* k) (I* the pair's reduced moment of
+    !> inertia; a wall: the particle's) and the rolling moment capped at
+    !> rolling_friction R* F_n in the stepper (< 0: no cap).
+    real(dp) :: rolling_ratio = 0.0_dp, twisting_ratio = 0.0_dp, damping_ratio_rolling = 0.0_dp
+    real(dp) :: rolling_friction = -1.0_dp
+    !> Viscous drag of every free particle to the ground, F = -drag v (force per
+    !> velocity; LIGGGHTS/LAMMPS `fix viscous` gamma), with the damping effect.
+    real(dp) :: drag = 0.0_dp
   end type scene_type
 
   !> What a run reports.
@@ -138,32 +169,105 @@ contains
     end do
   end function branch_vector
 
-  !> The law's values for a particle contact (i, j) at overlap d: normal force,
-  !> normal and tangential tangent stiffness. `c` > 0 names a row of the explicit
-  !> contact list (its k_n, k_t, linear); 0 a detected contact (the scene's law).
-  pure subroutine contact_values(scene, c, i, j, d, f_n, k_n, k_t)
+  !> m* I-analogue of a pair: the reduced moment of inertia (j = 0 or fixed:
+  !> infinitely heavy).
+  pure real(dp) function effective_inertia(scene, i, j) result(m)
+    type(scene_type), intent(in) :: scene
+    integer, intent(in) :: i, j
+    real(dp) :: mi, mj
+    mi = huge(1.0_dp)
+    mj = huge(1.0_dp)
+    if (.not. scene%fixed(i)) mi = scene%inertia(i)
+    if (j > 0) then
+      if (.not. scene%fixed(j)) mj = scene%inertia(j)
+    end if
+    if (mi >= huge(1.0_dp) .and. mj >= huge(1.0_dp)) mi = scene%inertia(i)
+    m = reduced_mass(mi, mj)
+  end function effective_inertia
+
+  !> The law's values for a particle contact (i, j) at overlap d: normal force
+  !> and the stiffnesses k = (k_n, k_t, k_r, k_w) (normal and tangential tangent
+  !> stiffness, rolling and twisting). `c` > 0 names a row of the explicit
+  !> contact list (its values, linear); 0 a detected contact (the scene's law).
+  pure subroutine contact_values(scene, c, i, j, d, f_n, k)
     type(scene_type), intent(in) :: scene
     integer, intent(in) :: c, i, j
     real(dp), intent(in) :: d
-    real(dp), intent(out) :: f_n, k_n, k_t
+    real(dp), intent(out) :: f_n, k(4)
     real(dp) :: rs, p(4)
     if (c > 0) then
-      k_n = scene%contact_k(1, c)
-      k_t = scene%contact_k(2, c)
-      f_n = k_n*d
-    else if (allocated(scene%ptype)) then
-      p = scene%pair_law(:, scene%ptype(i), scene%ptype(j))
-      rs = reduced_radius(scene%radius(i), scene%radius(j))
-      f_n = normal_force(scene%law, p(1), p(3), d, rs)
-      k_n = normal_stiffness(scene%law, p(1), p(3), d, rs)
-      k_t = tangential_stiffness(scene%law, p(2), p(4), d, rs)
-    else
-      rs = reduced_radius(scene%radius(i), scene%radius(j))
-      f_n = normal_force(scene%law, scene%k_normal, scene%e_star, d, rs)
-      k_n = normal_stiffness(scene%law, scene%k_normal, scene%e_star, d, rs)
-      k_t = tangential_stiffness(scene%law, scene%k_tangential, scene%g_star, d, rs)
+      k = scene%contact_k(1:4, c)
+      f_n = k(1)*d
+      return
     end if
+    rs = reduced_radius(scene%radius(i), scene%radius(j))
+    if (allocated(scene%ptype)) then
+      p = scene%pair_law(:, scene%ptype(i), scene%ptype(j))
+    else
+      p = [scene%k_normal, scene%k_tangential, scene%e_star, scene%g_star]
+    end if
+    f_n = normal_force(scene%law, p(1), p(3), d, rs)
+    k(1) = normal_stiffness(scene%law, p(1), p(3), d, rs)
+    k(2) = tangential_stiffness(scene%law, p(2), p(4), d, rs)
+    k(3) = scene%rolling_ratio*k(2)*rs**2
+    k(4) = scene%twisting_ratio*k(2)*rs**2
   end subroutine contact_values
+
+  !> The law's values for particle i on a wall at overlap d (R* = r_i, the
+  !> scene's law): normal force and k = (k_n, k_t, k_r, k_w).
+  pure subroutine wall_values(scene, i, d, f_n, k)
+    type(scene_type), intent(in) :: scene
+    integer, intent(in) :: i
+    real(dp), intent(in) :: d
+    real(dp), intent(out) :: f_n, k(4)
+    real(dp) :: r, p(4)
+    r = scene%radius(i)
+    p = [scene%k_normal, scene%k_tangential, scene%e_star, scene%g_star]
+    if (allocated(scene%wall_law)) p = scene%wall_law(:, scene%ptype(i))
+    f_n = normal_force(scene%law, p(1), p(3), d, r)
+    k(1) = normal_stiffness(scene%law, p(1), p(3), d, r)
+    k(2) = tangential_stiffness(scene%law, p(2), p(4), d, r)
+    k(3) = scene%rolling_ratio*k(2)*r**2
+    k(4) = scene%twisting_ratio*k(2)*r**2
+  end subroutine wall_values
+
+  !> The dashpots (c_n, c_t, c_r, c_w) of an interaction between i and j (0: a
+  !> wall) of stiffness k (0 without the damping effect): the explicit list's
+  !> row `c` > 0 when it gives them, else the materials' per-pair (per-wall)
+  !> values where set, else the scene's damping ratios.
+  pure function contact_dashpots(scene, c, i, j, k) result(cd)
+    type(scene_type), intent(in) :: scene
+    integer, intent(in) :: c, i, j
+    real(dp), intent(in) :: k(4)
+    real(dp) :: cd(4)
+    real(dp) :: m, mi, zt, p(2)
+    cd = 0.0_dp
+    if (.not. scene%effects(scene_effect%damping)) return
+    if (c > 0 .and. scene%given_dashpots) then
+      cd = scene%contact_k(5:8, c)
+      return
+    end if
+    m = effective_mass(scene, i, j)
+    mi = effective_inertia(scene, i, j)
+    zt = scene%damping_ratio_tangential
+    if (zt < 0.0_dp) zt = scene%damping_ratio
+    if (c == 0 .and. (allocated(scene%pair_damping) .and. j > 0 .or. allocated(scene%wall_damping) &
+        .and. j == 0)) then
+      ! the code's own dashpots: zeta_n on the normal spring, c_t a multiple of c_n
+      if (j > 0) then
+        p = scene%pair_damping(:, scene%ptype(i), scene%ptype(j))
+      else
+        p = scene%wall_damping(:, scene%ptype(i))
+      end if
+      cd(1) = dashpot_coefficient(p(1), m, k(1))
+      cd(2) = p(2)*cd(1)
+    else
+      cd(1) = dashpot_coefficient(scene%damping_ratio, m, k(1))
+      cd(2) = dashpot_coefficient(zt, m, k(2))
+    end if
+    cd(3) = dashpot_coefficient(scene%damping_ratio_rolling, mi, k(3))
+    cd(4) = dashpot_coefficient(scene%damping_ratio_rolling, mi, k(4))
+  end function contact_dashpots
 
   !> Whether the scene's contacts have tangential springs.
   pure logical function has_tangential(scene)
@@ -178,6 +282,41 @@ contains
       has_tangential = scene%g_star > 0.0_dp
     end if
   end function has_tangential
+
+  !> Whether the scene's contacts have rolling or twisting springs.
+  pure logical function has_rolling(scene)
+    type(scene_type), intent(in) :: scene
+    if (scene%given_contacts) then
+      has_rolling = any(scene%contact_k(3:4, :) > 0.0_dp)
+    else
+      has_rolling = scene%rolling_ratio > 0.0_dp .or. scene%twisting_ratio > 0.0_dp
+    end if
+  end function has_rolling
+
+  !> The scene's damping values, as every user of a scene checks them: the
+  !> ratios in [0, max_damping_ratio] (the tangential one < 0: as the normal
+  !> one) and the drag >= 0, with the damping effect on. Status invalid_input
+  !> naming `damping_ratio`, `damping_ratio_tangential`, `damping_ratio_rolling`
+  !> or `drag`.
+  pure subroutine check_scene_damping(scene, status)
+    type(scene_type), intent(in) :: scene
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: zt
+    status%stat = demstep_stat%ok
+    if (.not. scene%effects(scene_effect%damping)) return
+    zt = scene%damping_ratio_tangential
+    if (zt < 0.0_dp) zt = 0.0_dp
+    if (.not. (scene%damping_ratio >= 0.0_dp .and. scene%damping_ratio <= max_damping_ratio)) then
+      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be in [0, 1e100]")
+    else if (.not. (zt >= 0.0_dp .and. zt <= max_damping_ratio)) then
+      call set_status(status, demstep_stat%invalid_input, "damping_ratio_tangential: must be in [0, 1e100]")
+    else if (.not. (scene%damping_ratio_rolling >= 0.0_dp .and. &
+        scene%damping_ratio_rolling <= max_damping_ratio)) then
+      call set_status(status, demstep_stat%invalid_input, "damping_ratio_rolling: must be in [0, 1e100]")
+    else if (.not. (scene%drag >= 0.0_dp .and. scene%drag <= huge(1.0_dp))) then
+      call set_status(status, demstep_stat%invalid_input, "drag: must be >= 0 and finite")
+    end if
+  end subroutine check_scene_damping
 
   !> Index of an effect by name, 0 if unknown.
   pure integer function effect_index(name)

@@ -15,9 +15,14 @@
 !>   turned with the contact plane, Coulomb cap when friction >= 0);
 !> - bonds: linear about the initial configuration (small strain), normal stiffness
 !>   k_n along the initial direction and optional tangential stiffness k_t;
-!> - viscous damping: a dashpot c = 2 zeta sqrt(m* k) on every contact, wall contact
-!>   and bond (normal direction), acting on the relative normal velocity of the
-!>   previous half step (lagged: the limit becomes (2/omega)(sqrt(1 + zeta^2) - zeta));
+!> - rolling and twisting springs (contacts and walls): incremental on the
+!>   relative rotation, the rolling moment capped at rolling_friction R* F_n;
+!> - viscous damping: dashpots on every contact and wall contact (normal,
+!>   tangential on the contact point's slip velocity, rolling and twisting on
+!>   the relative angular velocity; `contact_dashpots`), on bonds (normal), and
+!>   a drag of each particle to the ground, all acting on the velocities of the
+!>   previous half step (lagged: one spring's limit becomes
+!>   (2/omega)(sqrt(1 + zeta^2) - zeta); an assembly's is `assembly_critical_steps`');
 !> - local (Cundall) damping: F <- F - alpha |F| sign(v_{n-1/2}) per component
 !>   (torques likewise).
 module demstep_stepper
@@ -25,22 +30,18 @@ module demstep_stepper
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text
   use demstep_progress, only: progress_type
-  use demstep_interaction, only: contact_law, reduced_radius, normal_force, normal_stiffness, &
-    normal_energy, dashpot_coefficient, contact_forces, add_bond_forces
+  use demstep_interaction, only: contact_law, reduced_radius, normal_force, &
+    normal_energy, dashpot_coefficient, contact_forces, rolling_moments, contact_product, add_bond_forces
   use demstep_scene_data, only: scene_type, scene_summary_type, scene_effect, effective_mass, &
-    contact_values, has_tangential
+    contact_values, wall_values, contact_dashpots, has_tangential, has_rolling, check_scene_damping
   use demstep_neighbours, only: search_type, prepare_search, find_contacts, find_wall_contacts, &
-    contact_limit
+    contact_limit, history_size
   use demstep_scene_builders, only: wrap_positions
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
   public :: scene_run
-
-  !> Largest viscous damping ratio: the damped limit, about dt/(2 zeta), stays a
-  !> normal number for every dt above 1e-200.
-  real(dp), parameter, public :: max_damping_ratio = 1.0e100_dp
 
   !> Scratch of a run: forces, torques, inverse masses, contact lists, shear history.
   type :: work_type
@@ -50,6 +51,10 @@ module demstep_stepper
     !> (CSR: hist_start(i) to hist_start(i+1) - 1), and of the explicit list's rows.
     integer, allocatable :: hist_start(:), hist_j(:)
     real(dp), allocatable :: hist_us(:, :), row_us(:, :)
+    !> History of each (wall, particle) pair (history_size, walls, n) and
+    !> whether it was in contact at the last step.
+    real(dp), allocatable :: wall_us(:, :, :)
+    logical, allocatable :: wall_on(:, :)
     !> Time over which the velocities moved the contacts since the last force
     !> evaluation (0 at the first).
     real(dp) :: shear_dt = 0.0_dp
@@ -98,15 +103,13 @@ contains
       call set_status(status, demstep_stat%invalid_input, "dt must be > 0 and steps >= 0")
       return
     end if
-    if (scene%effects(scene_effect%damping) .and. .not. (scene%damping_ratio >= 0.0_dp .and. &
-        scene%damping_ratio <= max_damping_ratio)) then
-      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be in [0, 1e100]")
-      return
-    end if
+    call check_scene_damping(scene, status)
+    if (status%stat /= demstep_stat%ok) return
     rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
     periodic = any(scene%periodic)
-    ! only tangential springs make torques
-    torques = has_tangential(scene) .and. scene%effects(scene_effect%contacts)
+    ! only tangential, rolling and twisting springs make torques
+    torques = (has_tangential(scene) .or. has_rolling(scene)) .and. (scene%effects(scene_effect%contacts) &
+      .or. scene%effects(scene_effect%walls))
     every = max(1_i8, steps/1000_i8)
     if (present(sample_every)) every = max(1_i8, sample_every)
     ! progress every 1e5 particle-steps or so: a clock read is then negligible
@@ -224,8 +227,8 @@ contains
   function potential_energy(scene, work) result(u)
     type(scene_type), intent(in) :: scene
     type(work_type), intent(in) :: work
-    real(dp) :: u, d(3), f_n, k_n, k_t, dn
-    integer :: k, i, j
+    real(dp) :: u, d(3), f_n, kc(4), dn
+    integer :: k, i, j, w
     u = 0.0_dp
     do k = 1, size(scene%bonds, 2)
       i = scene%bonds(1, k)
@@ -240,21 +243,19 @@ contains
         do k = 1, s%n_pairs
           i = s%pair_i(k)
           j = s%pair_j(k)
-          call contact_values(scene, s%pair_c(k), i, j, s%pair_d(k), f_n, k_n, k_t)
-          if (s%pair_c(k) > 0) then
-            u = u + normal_energy(contact_law%linear, k_n, 0.0_dp, s%pair_d(k), 0.0_dp)
-          else
-            u = u + normal_energy(scene%law, scene%k_normal, scene%e_star, s%pair_d(k), &
-              reduced_radius(scene%radius(i), scene%radius(j)))
-          end if
-          u = u + 0.5_dp*k_t*dot_product(s%pair_us(:, k), s%pair_us(:, k))
+          call contact_values(scene, s%pair_c(k), i, j, s%pair_d(k), f_n, kc)
+          u = u + pair_energy(scene, s%pair_c(k), i, j, s%pair_d(k)) + history_energy(kc, s%pair_n(:, k), &
+            s%pair_us(:, k))
         end do
       end associate
     end if
     if (scene%effects(scene_effect%walls)) then
       do k = 1, work%s%n_walls
+        i = work%s%wall_i(k)
+        w = work%s%wall_k(k)
+        call wall_values(scene, i, work%s%wall_d(k), f_n, kc)
         u = u + normal_energy(scene%law, scene%k_normal, scene%e_star, work%s%wall_d(k), &
-          scene%radius(work%s%wall_i(k)))
+          scene%radius(i)) + history_energy(kc, scene%wall_normal(:, w), work%wall_us(:, w, i))
       end do
     end if
     if (scene%effects(scene_effect%gravity)) then
@@ -263,6 +264,31 @@ contains
       end do
     end if
   end function potential_energy
+
+  !> Elastic energy of a particle contact's normal spring at overlap d.
+  pure real(dp) function pair_energy(scene, c, i, j, d) result(u)
+    type(scene_type), intent(in) :: scene
+    integer, intent(in) :: c, i, j
+    real(dp), intent(in) :: d
+    real(dp) :: p(4)
+    if (c > 0) then
+      u = normal_energy(contact_law%linear, scene%contact_k(1, c), 0.0_dp, d, 0.0_dp)
+      return
+    end if
+    p = [scene%k_normal, scene%k_tangential, scene%e_star, scene%g_star]
+    if (allocated(scene%ptype)) p = scene%pair_law(:, scene%ptype(i), scene%ptype(j))
+    u = normal_energy(scene%law, p(1), p(3), d, reduced_radius(scene%radius(i), scene%radius(j)))
+  end function pair_energy
+
+  !> Elastic energy of a contact's history: shear (k_t), rolling (k_r) and
+  !> twisting (k_w) springs; kc = (k_n, k_t, k_r, k_w), n the normal.
+  pure real(dp) function history_energy(kc, n, us) result(u)
+    real(dp), intent(in) :: kc(4), n(3), us(history_size)
+    real(dp) :: tw
+    tw = dot_product(us(4:6), n)
+    u = 0.5_dp*(kc(2)*dot_product(us(1:3), us(1:3)) + kc(3)*(dot_product(us(4:6), us(4:6)) - tw**2) &
+      + kc(4)*tw**2)
+  end function history_energy
 
   !> x_j - x_i - rest of bond k (nearest image).
   pure function bond_stretch(scene, k) result(u)
@@ -322,7 +348,7 @@ contains
       end if
       if (size(work%hist_j) < s%n_pairs) then
         deallocate(work%hist_j, work%hist_us)
-        allocate(work%hist_j(size(s%pair_i)), work%hist_us(3, size(s%pair_i)))
+        allocate(work%hist_j(size(s%pair_i)), work%hist_us(history_size, size(s%pair_i)))
       end if
       work%hist_start = 0
       do k = 1, s%n_pairs
@@ -352,12 +378,12 @@ contains
     type(scene_type), intent(in) :: scene
     type(work_type), intent(inout) :: work
     integer :: k, i, j
-    real(dp) :: f(3), f_n, k_n, k_t
+    real(dp) :: f(3), f_n, kc(4)
     associate(s => work%s)
       do k = 1, s%n_pairs
         i = s%pair_i(k)
         j = s%pair_j(k)
-        call contact_values(scene, s%pair_c(k), i, j, s%pair_d(k), f_n, k_n, k_t)
+        call contact_values(scene, s%pair_c(k), i, j, s%pair_d(k), f_n, kc)
         f = f_n*s%pair_n(:, k)
         work%f(:, i) = work%f(:, i) - f
         work%f(:, j) = work%f(:, j) + f
@@ -365,23 +391,23 @@ contains
     end associate
   end subroutine contacts_normal
 
-  !> Normal and tangential springs with torques, from the kernel; then the
-  !> shear history is kept.
+  !> Normal, tangential, rolling and twisting springs with torques, from the
+  !> kernel; then the history is kept.
   subroutine contacts_full(scene, work)
     type(scene_type), intent(in) :: scene
     type(work_type), intent(inout) :: work
     integer :: k, i, j
-    real(dp) :: f(3), t_i(3), t_j(3), f_n, k_n, k_t, us(3), h
+    real(dp) :: f(3), t_i(3), t_j(3), f_n, kc(4), us(history_size), h
     h = work%shear_dt
     associate(s => work%s)
       do k = 1, s%n_pairs
         i = s%pair_i(k)
         j = s%pair_j(k)
-        call contact_values(scene, s%pair_c(k), i, j, s%pair_d(k), f_n, k_n, k_t)
+        call contact_values(scene, s%pair_c(k), i, j, s%pair_d(k), f_n, kc)
         us = s%pair_us(:, k)
-        call contact_forces(s%pair_n(:, k), f_n, k_t, scene%friction, scene%radius(i), &
-          scene%radius(j), (scene%v(:, j) - scene%v(:, i))*h, scene%w(:, i)*h, scene%w(:, j)*h, &
-          us, f, t_i, t_j)
+        call interaction_forces(scene, s%pair_n(:, k), f_n, kc, scene%radius(i), scene%radius(j), &
+          reduced_radius(scene%radius(i), scene%radius(j)), (scene%v(:, j) - scene%v(:, i))*h, &
+          scene%w(:, i)*h, scene%w(:, j)*h, us, f, t_i, t_j)
         s%pair_us(:, k) = us
         work%f(:, i) = work%f(:, i) - f
         work%f(:, j) = work%f(:, j) + f
@@ -392,62 +418,118 @@ contains
     call save_history(scene, work)
   end subroutine contacts_full
 
-  !> Dashpot on the relative normal velocity of the previous half step.
+  !> One interaction's elastic force on j (-f on i) and torques, history us
+  !> (shear, relative rotation) updated: the kernel's tangential spring with
+  !> Coulomb's cap, and the rolling and twisting springs with the rolling cap
+  !> rolling_friction R* F_n. dx, dtheta_i, dtheta_j: increments since the
+  !> last step (i = 0, the ground, passes zeros).
+  pure subroutine interaction_forces(scene, n, f_n, kc, arm_i, arm_j, rs, dx, dtheta_i, dtheta_j, &
+      us, f, t_i, t_j)
+    type(scene_type), intent(in) :: scene
+    real(dp), intent(in) :: n(3), f_n, kc(4), arm_i, arm_j, rs, dx(3), dtheta_i(3), dtheta_j(3)
+    real(dp), intent(inout) :: us(history_size)
+    real(dp), intent(out) :: f(3), t_i(3), t_j(3)
+    real(dp) :: m(3), cap
+    call contact_forces(n, f_n, kc(2), scene%friction, arm_i, arm_j, dx, dtheta_i, dtheta_j, us(1:3), &
+      f, t_i, t_j)
+    if (kc(3) > 0.0_dp .or. kc(4) > 0.0_dp) then
+      cap = -1.0_dp
+      if (scene%rolling_friction >= 0.0_dp) cap = scene%rolling_friction*rs*max(f_n, 0.0_dp)
+      call rolling_moments(n, kc(3), kc(4), cap, dtheta_j - dtheta_i, us(4:6), m)
+      t_i = t_i + m
+      t_j = t_j - m
+    end if
+  end subroutine interaction_forces
+
+  !> Dashpots (`contact_dashpots`: normal, tangential, rolling, twisting) on the
+  !> relative velocities of the previous half step, through the kernel.
   subroutine contacts_damping(scene, work)
     type(scene_type), intent(in) :: scene
     type(work_type), intent(inout) :: work
     integer :: k, i, j
-    real(dp) :: fd(3), c, vn, f_n, k_n, k_t
+    real(dp) :: f_n, kc(4), cd(4), y_i(3), y_j(3), t_i(3), t_j(3)
     associate(s => work%s)
       do k = 1, s%n_pairs
         i = s%pair_i(k)
         j = s%pair_j(k)
-        call contact_values(scene, s%pair_c(k), i, j, s%pair_d(k), f_n, k_n, k_t)
-        c = dashpot_coefficient(scene%damping_ratio, effective_mass(scene, i, j), k_n)
-        vn = dot_product(scene%v(:, j) - scene%v(:, i), s%pair_n(:, k))
-        fd = c*vn*s%pair_n(:, k)
-        work%f(:, i) = work%f(:, i) + fd
-        work%f(:, j) = work%f(:, j) - fd
+        call contact_values(scene, s%pair_c(k), i, j, s%pair_d(k), f_n, kc)
+        cd = contact_dashpots(scene, s%pair_c(k), i, j, kc)
+        call contact_product(s%pair_n(:, k), cd, scene%radius(i), scene%radius(j), 1.0_dp, 1.0_dp, &
+          0.0_dp, scene%v(:, i), scene%w(:, i), scene%v(:, j), scene%w(:, j), y_i, t_i, y_j, t_j)
+        work%f(:, i) = work%f(:, i) - y_i
+        work%f(:, j) = work%f(:, j) - y_j
+        work%t(:, i) = work%t(:, i) - t_i
+        work%t(:, j) = work%t(:, j) - t_j
       end do
     end associate
   end subroutine contacts_damping
 
-  !> The wall contact list: particles overlapping a wall.
+  !> The wall contact list: particles overlapping a wall, with the history of
+  !> each continuing (wall, particle) contact (a new one starts from zero).
   subroutine detect_walls(scene, work)
     type(scene_type), intent(in) :: scene
     type(work_type), intent(inout) :: work
+    integer :: k
     call find_wall_contacts(scene, work%s)
+    associate(s => work%s)
+      do k = 1, s%n_walls
+        if (.not. work%wall_on(s%wall_k(k), s%wall_i(k))) work%wall_us(:, s%wall_k(k), s%wall_i(k)) = 0.0_dp
+      end do
+      work%wall_on = .false.
+      do k = 1, s%n_walls
+        work%wall_on(s%wall_k(k), s%wall_i(k)) = .true.
+      end do
+    end associate
   end subroutine detect_walls
 
-  !> Normal wall forces from the law (R* = r).
-  subroutine walls_normal(scene, work)
+  !> Wall forces (the wall is the ground end, n into the domain, R* = r): the
+  !> law's normal force, and the tangential, rolling and twisting springs.
+  subroutine walls_full(scene, work)
     type(scene_type), intent(in) :: scene
     type(work_type), intent(inout) :: work
-    integer :: k, i
+    integer :: k, i, w
+    real(dp) :: f(3), t_i(3), t_j(3), f_n, kc(4), h
+    real(dp), parameter :: zero(3) = 0.0_dp
+    h = work%shear_dt
     associate(s => work%s)
       do k = 1, s%n_walls
         i = s%wall_i(k)
-        work%f(:, i) = work%f(:, i) + normal_force(scene%law, scene%k_normal, scene%e_star, &
-          s%wall_d(k), scene%radius(i))*scene%wall_normal(:, s%wall_k(k))
+        w = s%wall_k(k)
+        call wall_values(scene, i, s%wall_d(k), f_n, kc)
+        call interaction_forces(scene, scene%wall_normal(:, w), f_n, kc, 0.0_dp, scene%radius(i), &
+          scene%radius(i), scene%v(:, i)*h, zero, scene%w(:, i)*h, work%wall_us(:, w, i), f, t_i, t_j)
+        work%f(:, i) = work%f(:, i) + f
+        work%t(:, i) = work%t(:, i) + t_j
       end do
     end associate
-  end subroutine walls_normal
+  end subroutine walls_full
 
+  !> Wall dashpots, through the kernel with the wall as the ground end.
   subroutine walls_damping(scene, work)
     type(scene_type), intent(in) :: scene
     type(work_type), intent(inout) :: work
     integer :: k, i
-    real(dp) :: c, vn
+    real(dp) :: f_n, kc(4), cd(4), y_i(3), y_j(3), t_i(3), t_j(3)
+    real(dp), parameter :: zero(3) = 0.0_dp
     associate(s => work%s)
       do k = 1, s%n_walls
         i = s%wall_i(k)
-        c = dashpot_coefficient(scene%damping_ratio, scene%mass(i), normal_stiffness(scene%law, &
-          scene%k_normal, scene%e_star, s%wall_d(k), scene%radius(i)))
-        vn = dot_product(scene%v(:, i), scene%wall_normal(:, s%wall_k(k)))
-        work%f(:, i) = work%f(:, i) - c*vn*scene%wall_normal(:, s%wall_k(k))
+        call wall_values(scene, i, s%wall_d(k), f_n, kc)
+        cd = contact_dashpots(scene, 0, i, 0, kc)
+        call contact_product(scene%wall_normal(:, s%wall_k(k)), cd, 0.0_dp, scene%radius(i), 1.0_dp, &
+          1.0_dp, 0.0_dp, zero, zero, scene%v(:, i), scene%w(:, i), y_i, t_i, y_j, t_j)
+        work%f(:, i) = work%f(:, i) - y_j
+        work%t(:, i) = work%t(:, i) - t_j
       end do
     end associate
   end subroutine walls_damping
+
+  !> Drag of every free particle to the ground, F = -drag v (previous half step).
+  subroutine drag_term(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    work%f = work%f - scene%drag*scene%v
+  end subroutine drag_term
 
   !> Bonds: the kernel's bond forces (nearest image in a periodic cell).
   subroutine bonds_term(scene, work)
@@ -463,7 +545,7 @@ contains
     end if
   end subroutine bonds_term
 
-  !> Bond dashpots along the bond's initial direction.
+  !> Bond dashpots along the bond's initial direction (normal ratio).
   subroutine bonds_damping(scene, work)
     type(scene_type), intent(in) :: scene
     type(work_type), intent(inout) :: work
@@ -514,7 +596,7 @@ contains
     end if
     if (scene%effects(scene_effect%contacts)) then
       call push(detect_contacts)
-      if (has_tangential(scene)) then
+      if (has_tangential(scene) .or. has_rolling(scene)) then
         call push(contacts_full)
       else
         call push(contacts_normal)
@@ -523,9 +605,10 @@ contains
     end if
     if (scene%effects(scene_effect%walls)) then
       call push(detect_walls)
-      call push(walls_normal)
+      call push(walls_full)
       if (scene%effects(scene_effect%damping)) call push(walls_damping)
     end if
+    if (scene%effects(scene_effect%damping) .and. scene%drag > 0.0_dp) call push(drag_term)
     if (scene%effects(scene_effect%gravity)) call push(gravity_term)
     if (scene%effects(scene_effect%local_damping)) call push(local_damping_term)
     terms = list(:n)
@@ -547,8 +630,10 @@ contains
     work%inv_mass = merge(0.0_dp, 1.0_dp/scene%mass, scene%fixed)
     work%inv_inertia = merge(0.0_dp, 1.0_dp/scene%inertia, scene%fixed)
     allocate(work%hist_start(scene%n + 1), source=1)
-    allocate(work%hist_j(64), work%hist_us(3, 64))
-    allocate(work%row_us(3, size(scene%contact_pairs, 2)), source=0.0_dp)
+    allocate(work%hist_j(64), work%hist_us(history_size, 64))
+    allocate(work%row_us(history_size, size(scene%contact_pairs, 2)), source=0.0_dp)
+    allocate(work%wall_us(history_size, size(scene%wall_normal, 2), scene%n), source=0.0_dp)
+    allocate(work%wall_on(size(scene%wall_normal, 2), scene%n), source=.false.)
     call prepare_search(scene, work%s)
   end subroutine prepare
 

@@ -32,6 +32,7 @@ program tester
   use test_snapshot, only: collect_snapshot
   use test_app_snapshot, only: collect_app_snapshot
   use test_packing, only: collect_packing
+  use test_damping, only: collect_damping
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -47,6 +48,7 @@ program tester
     new_testsuite("stiffness", collect_stiffness), &
     new_testsuite("scene", collect_scene), &
     new_testsuite("interaction", collect_interaction), &
+    new_testsuite("damping", collect_damping), &
     new_testsuite("yade", collect_yade), &
     new_testsuite("contact", collect_contact), &
     new_testsuite("cost", collect_cost), &

@@ -327,9 +327,17 @@ contains
       "mass = "//mass(2500.0_qp)//", "//mass(7800.0_qp)//", "//mass(2500.0_qp)//",", &
       "types = 1, 2, 1, law = 'hertz', young = 1.0e7, 2.0e7, poisson = 0.25, 0.3,", &
       "hertz_linearization = 'impact', impact_velocity = 0.5,", &
-      "effects = 'contacts', 'damping', 'rotation', restitution = 0.8 /"])
+      "effects = 'contacts', 'damping', 'rotation', damping_ratio = "//zeta()//" /"])
     call run_inline(error, a)
   contains
+    !> LIGGGHTS Hertz's damping ratio on the tangent stiffness, normal and
+    !> tangential alike: sqrt(5/6) |ln e|/sqrt(ln^2 e + pi^2) (normal_model_hertz.h).
+    function zeta() result(text)
+      character(len=:), allocatable :: text
+      character(len=40) :: buffer
+      write(buffer, '(es25.17)') real(sqrt(5.0_qp/6)*(-log(0.8_qp))/sqrt(log(0.8_qp)**2 + pq**2), dp)
+      text = trim(adjustl(buffer))
+    end function zeta
     function mass(rho) result(text)
       real(qp), intent(in) :: rho
       character(len=:), allocatable :: text

@@ -79,8 +79,8 @@ contains
       l = norm2(xj - xi)
       d = ri + rj - l
       rs = reduced_radius(ri, rj)
-      kb = contact_block((xj - xi)/l, normal_stiffness(law, 1.0e3_dp, 2.0e4_dp, d, rs), &
-        tangential_stiffness(law, 400.0_dp, 9.0e3_dp, d, rs), ri, rj, &
+      kb = contact_block((xj - xi)/l, [normal_stiffness(law, 1.0e3_dp, 2.0e4_dp, d, rs), &
+        tangential_stiffness(law, 400.0_dp, 9.0e3_dp, d, rs), 0.0_dp, 0.0_dp], ri, rj, &
         normal_force(law, 1.0e3_dp, 2.0e4_dp, d, rs)/l)
       ! central differences, step 1e-6 of the size: truncation ~1e-12, rounding ~1e-10
       h = 1.0e-6_dp*l

@@ -329,7 +329,7 @@ contains
   !> `lanczos_largest`; PARPACK's failures through `pdsaupd_status`,
   !> `pdseupd_status`). Collective; the result is the same on every rank.
   subroutine parallel_lanczos_largest(matrix, result, status, eigenvector, tolerance, ncv, &
-      nev, max_restarts, progress)
+      nev, max_restarts, progress, start)
     type(dist_csr_type), intent(inout) :: matrix
     type(eigen_result_type), intent(out) :: result
     type(demstep_status_type), intent(out) :: status
@@ -345,6 +345,9 @@ contains
     integer, intent(in), optional :: max_restarts
     !> Told the products done on this rank (pass it on one rank, e.g. rank 0).
     class(progress_type), intent(inout), optional :: progress
+    !> This rank's block of a start vector (n_local; a warm start, as the
+    !> serial `lanczos_largest`'s), the same on every rank or absent on every rank.
+    real(dp), intent(in), optional :: start(:)
     real(dp) :: tol, theta, rnorm, znorm
     integer :: k, m, restarts, ido, info, lworkl, nconv, n, itop, fcomm
     integer :: iparam(arpack_iparam_size), ipntr(arpack_iparam_size)
@@ -378,6 +381,20 @@ contains
 
   contains
 
+    !> resid = start/|start| + 1e-3 resid/|resid| (global norms), when start
+    !> is non-zero on some rank and has n_local entries on every rank.
+    subroutine warm_start()
+      real(dp) :: norms(2)
+      logical :: fits
+      fits = size(start) == n
+      call MPI_Allreduce(MPI_IN_PLACE, fits, 1, MPI_LOGICAL, MPI_LAND, matrix%graph)
+      if (.not. fits) return
+      norms = [sum(start**2), sum(resid**2)]
+      call MPI_Allreduce(MPI_IN_PLACE, norms, 2, MPI_DOUBLE_PRECISION, MPI_SUM, matrix%graph)
+      if (.not. norms(1) > 0.0_dp) return
+      resid = start/sqrt(norms(1)) + 1.0e-3_dp*resid/sqrt(norms(2))
+    end subroutine warm_start
+
     !> The iteration, the eigenvector and the error bar.
     subroutine iterate()
       allocate(y(n))
@@ -398,6 +415,7 @@ contains
       lworkl = m*(m + 8)
       allocate(v(n, m), workd(3*n), workl(lworkl), resid(n), d(k), select(m), z(n, k))
       call dist_start_vector(matrix%first_row, resid)
+      if (present(start)) call warm_start()
       fcomm = matrix%graph%MPI_VAL
       iparam = 0
       iparam(1) = 1         ! exact shifts

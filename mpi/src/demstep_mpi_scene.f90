@@ -18,9 +18,10 @@
 !> `omega_upper`, `dt_critical_safe`); the bound from the rows without
 !> pre-stress (`dist_collatz_bound`, the serial bound's Collatz-Wielandt steps);
 !> the per-contact rule as a minimum
-!> over each rank's springs; the modal damping ratio of the top mode from the
-!> mode's entries at both ends of each spring (the halo supplies the other
-!> rank's end), summed over the ranks.
+!> over each rank's springs; the exact damped limit by the serial path's
+!> Newton steps (`damped_newton`), each a distributed Lanczos solve of
+!> tau^2 A' + 2 tau B' (this rank's rows rebuilt per step, warm-started), its
+!> lower bound from the dashpots' bound (replicated, O(springs) per rank).
 module demstep_mpi_scene
   use mpi_f08
   use demstep_kinds, only: dp, i8
@@ -30,8 +31,9 @@ module demstep_mpi_scene
   use demstep_scene_data, only: scene_type, scene_effect
   use demstep_interaction, only: reduced_mass
   use demstep_assembly, only: assembly_operator_type, assembly_operator, assembly_matrix_rows, &
-    assembly_check_options, assembly_set_bound, assembly_set_estimates, spring_damping, &
-    critical_step_type, eigen_solver, scene_lanczos_ncv, scene_lanczos_restarts, bound_iterations
+    assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_dashpot_bound, &
+    critical_step_type, eigen_solver, scene_lanczos_ncv, scene_lanczos_restarts, bound_iterations, &
+    damped_problem_type, damped_newton, dashpot_names
   use demstep_lanczos, only: eigen_result_type, lanczos_tolerance_default
   use demstep_mpi_lanczos, only: dist_csr_type, dist_csr_create, dist_csr_apply, dist_csr_free, &
     dist_collatz_bound, parallel_lanczos_largest
@@ -39,6 +41,18 @@ module demstep_mpi_scene
   private
 
   public :: mpi_scene_critical_steps, scene_slabs
+
+  !> The distributed damped-limit problem: this rank's rows of the operator
+  !> (mixed per tau, same pattern), the matrix and the last mode's block.
+  type, extends(damped_problem_type) :: mpi_damped_type
+    type(assembly_operator_type), pointer :: op => null()
+    type(dist_csr_type), pointer :: matrix => null()
+    integer, allocatable :: bodies(:), new_index(:)
+    real(dp), allocatable :: a_val(:), vec(:)
+    real(dp) :: tol = 0.0_dp
+  contains
+    procedure :: top => mpi_damped_top
+  end type mpi_damped_type
 
 contains
 
@@ -68,12 +82,13 @@ contains
     real(dp), intent(in), optional :: tolerance
     !> Reports the Lanczos products (pass it on one rank, e.g. rank 0).
     class(progress_type), intent(inout), optional :: progress
-    type(assembly_operator_type) :: op
-    type(dist_csr_type) :: matrix
+    type(assembly_operator_type), target :: op
+    type(dist_csr_type), target :: matrix
     integer, allocatable :: order(:), new_index(:), bodies(:), col(:)
     integer(i8), allocatable :: row_start(:)
     real(dp), allocatable :: val(:), geo(:)
-    real(dp) :: rate, tol, zeta
+    real(dp) :: rate, tol, zeta, b_bound
+    integer :: i
     integer :: nranks, rank, lo, hi, nc
     logical :: with_geo
 
@@ -102,6 +117,16 @@ contains
     result%n_dof = op%n
     result%n_springs = op%n_springs
     result%tangential = any(op%coef(2, :) > 0.0_dp)
+    result%n_springs = op%n_springs - merge(count(op%ends(1, :) == 0 .and. op%coef(1, :) == 0.0_dp .and. &
+      op%coef(2, :) == 0.0_dp), 0, scene%drag > 0.0_dp .and. scene%effects(scene_effect%damping))
+    if (size(op%dcoef, 2) > 0) then
+      do i = 1, 4
+        result%dashpots(i) = any(op%dcoef(i, :) > 0.0_dp)
+      end do
+    end if
+    result%dashpots(5) = size(scene%bonds, 2) > 0 .and. result%dashpots(1)
+    result%dashpots(6) = scene%drag > 0.0_dp .and. scene%effects(scene_effect%damping)
+    b_bound = assembly_dashpot_bound(op)
     result%solver = eigen_solver%lanczos
     result%eigen_tolerance = tol
 
@@ -166,7 +191,7 @@ contains
           ! restarts ran out with no converged Ritz pair: the Ritz value and
           ! PARPACK's residual estimate bracket omega_max (as the serial path)
           call assembly_set_estimates(result, rate, lanczos%eigenvalue, lanczos%residual, .false., &
-            zeta, status)
+            b_bound, status)
           return
         end if
         status%stat = demstep_stat%ok
@@ -174,55 +199,40 @@ contains
       if (status%stat /= demstep_stat%ok) return
       ! the unit mode's Rayleigh quotient and residual, measured by the solver
       lam = lanczos%eigenvalue
-      if (scene%effects(scene_effect%damping) .and. lam > 0.0_dp) then
-        zeta = zeta*modal_damping(vec)/(2.0_dp*sqrt(lam))
-      end if
       call assembly_set_estimates(result, rate, lam, lanczos%residual, lanczos%residual <= tol*lam, &
-        zeta, status)
+        b_bound, status)
+      if (status%stat /= demstep_stat%ok .or. .not. b_bound > 0.0_dp) return
+      call exact_damped(vec, lam)
     end subroutine estimates
 
-    !> v^T M'^-1/2 C' M'^-1/2 v per unit damping ratio for this rank's block
-    !> of the unit mode v, summed over the ranks. Each spring is counted by the
-    !> rank owning its second free end; the other end's entries are read from
-    !> the halo that one product brings.
-    function modal_damping(v) result(q)
-      real(dp), intent(in) :: v(:)
-      real(dp) :: q
-      real(dp), allocatable :: av(:)
-      real(dp) :: nu(2)
-      integer :: k, i, s, e, j, nt, row, c, t
-      integer(i8) :: p, pos, at(2)
-      allocate(av(size(v)))
-      call dist_csr_apply(matrix, v, av)
-      nt = min(scene%dim, 3)
-      q = 0.0_dp
-      do k = 1, size(bodies)
-        i = bodies(k)
-        row = (k - 1)*nc + 1
-        pos = nc
-        do p = op%first(i), op%first(i + 1) - 1
-          s = (op%incident(p) + 1)/2
-          e = op%incident(p) - 2*(s - 1)
-          j = op%ends(3 - e, s)
-          ! the entries of x_ext holding each end's translations (0: ground)
-          at(e) = matrix%row_start(row)
-          at(3 - e) = 0
-          if (j > 0) at(3 - e) = matrix%row_start(row) + pos
-          if (j > 0) pos = pos + nc
-          if (e == 1 .and. j > 0) cycle
-          ! n . (each end's mode entries), read through this row's columns
-          nu = 0.0_dp
-          do c = 1, 2
-            if (op%ends(c, s) == 0) cycle
-            do t = 1, nt
-              nu(c) = nu(c) + op%normal(t, s)*matrix%x_ext(matrix%col(at(c) + t - 1))
-            end do
-          end do
-          q = q + spring_damping(op, s, nu)
-        end do
-      end do
-      call MPI_Allreduce(MPI_IN_PLACE, q, 1, MPI_DOUBLE_PRECISION, MPI_SUM, comm)
-    end function modal_damping
+    !> The exact damped limit from the top undamped mode's block `vec`.
+    subroutine exact_damped(vec, lam)
+      real(dp), intent(in) :: vec(:), lam
+      type(mpi_damped_type) :: problem
+      real(dp), allocatable :: y(:)
+      real(dp) :: vb
+      problem%op => op
+      problem%matrix => matrix
+      problem%bodies = bodies
+      problem%new_index = new_index
+      problem%a_val = matrix%val
+      problem%tol = tol
+      problem%vec = vec
+      ! v'B'v from B's rows
+      op%alpha = 0.0_dp
+      op%beta = 1.0_dp
+      call assembly_matrix_rows(op, bodies, new_index, row_start, col, val, status)
+      op%alpha = 1.0_dp
+      op%beta = 0.0_dp
+      if (status%stat /= demstep_stat%ok) return
+      matrix%val = val
+      allocate(y(size(vec)))
+      call dist_csr_apply(matrix, vec, y)
+      vb = sum(vec*y)
+      call MPI_Allreduce(MPI_IN_PLACE, vb, 1, MPI_DOUBLE_PRECISION, MPI_SUM, matrix%graph)
+      call damped_newton(problem, lam, vb, rate, result, status, progress)
+      matrix%val = problem%a_val
+    end subroutine exact_damped
 
   end subroutine mpi_scene_critical_steps
 
@@ -336,5 +346,51 @@ contains
       root = child
     end do
   end subroutine sift
+
+  !> Top eigenpair of tau^2 A' + 2 tau B' on the ranks (this rank's rows
+  !> rebuilt, same pattern; warm start from the last mode) and v'A'v of it.
+  subroutine mpi_damped_top(problem, tau, theta, err, va, has_mode, result, status, progress)
+    class(mpi_damped_type), intent(inout) :: problem
+    real(dp), intent(in) :: tau
+    real(dp), intent(out) :: theta, err, va
+    logical, intent(out) :: has_mode
+    type(critical_step_type), intent(inout) :: result
+    type(demstep_status_type), intent(out) :: status
+    class(progress_type), intent(inout), optional :: progress
+    type(eigen_result_type) :: lanczos
+    integer, allocatable :: col(:)
+    integer(i8), allocatable :: row_start(:)
+    real(dp), allocatable :: val(:), y(:), start(:)
+    problem%op%alpha = tau**2
+    problem%op%beta = 2.0_dp*tau
+    call assembly_matrix_rows(problem%op, problem%bodies, problem%new_index, row_start, col, val, status)
+    problem%op%alpha = 1.0_dp
+    problem%op%beta = 0.0_dp
+    theta = 0.0_dp
+    err = 0.0_dp
+    va = 0.0_dp
+    has_mode = .false.
+    if (status%stat /= demstep_stat%ok) return
+    problem%matrix%val = val
+    start = problem%vec
+    call parallel_lanczos_largest(problem%matrix, lanczos, status, eigenvector=problem%vec, &
+      tolerance=problem%tol, ncv=min(scene_lanczos_ncv, problem%op%n), max_restarts=scene_lanczos_restarts, &
+      progress=progress, start=start)
+    result%eigen_products = result%eigen_products + lanczos%applications
+    result%eigen_restarts = result%eigen_restarts + lanczos%iterations
+    result%damped_solves = result%damped_solves + 1
+    has_mode = any(problem%vec /= 0.0_dp)
+    call MPI_Allreduce(MPI_IN_PLACE, has_mode, 1, MPI_LOGICAL, MPI_LOR, problem%matrix%graph)
+    if (status%stat == demstep_stat%not_converged) status%stat = demstep_stat%ok
+    if (status%stat /= demstep_stat%ok) return
+    theta = lanczos%eigenvalue
+    err = lanczos%residual + 8.0_dp*epsilon(1.0_dp)*theta
+    ! v'A'v with A's rows
+    problem%matrix%val = problem%a_val
+    allocate(y(size(problem%vec)))
+    call dist_csr_apply(problem%matrix, problem%vec, y)
+    va = sum(problem%vec*y)
+    call MPI_Allreduce(MPI_IN_PLACE, va, 1, MPI_DOUBLE_PRECISION, MPI_SUM, problem%matrix%graph)
+  end subroutine mpi_damped_top
 
 end module demstep_mpi_scene

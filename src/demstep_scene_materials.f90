@@ -1,0 +1,154 @@
+!> Materials into contacts, once: per-type materials in one DEM code's
+!> convention (`demstep_material`) turned into a scene's contact law, per
+!> type pair, and its dashpots, walls included. The app, the C API and any
+!> solver call this one procedure.
+!>
+!> For each pair of types the code's own parameters at the pair's nominal
+!> radii and densities (`contact_parameters`) give: for a Hertz convention
+!> its effective moduli E* = k_n/((4/3) a) and G* = k_t/(8 a) at the
+!> evaluation overlap (a = sqrt(R* d); the scene's Hertz law then follows
+!> each contact's own overlap), for a linear one k_n and k_t; the normal
+!> damping ratio zeta_n = gamma_n/(2 sqrt(m* k)) at the tangent stiffness k
+!> (3/2 of the secant for Hertz) and the code's tangential dashpot as a
+!> multiple of the normal one, gamma_t/gamma_n. Both are the same for every
+!> contact of the pair in each supported convention (their dashpots scale as
+!> sqrt(m* k)), so each contact's dashpots follow from its own m* and k.
+!> Walls: a particle of type t on a wall of type w, R* = r, m* = m.
+module demstep_scene_materials
+  use demstep_kinds, only: dp
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_text, only: int_text
+  use demstep_interaction, only: contact_law
+  use demstep_material, only: material_type, material_pair_type, contact_parameters_type, &
+    contact_parameters, effective_pair_type, effective_pair
+  use demstep_scene_data, only: scene_type, scene_effect
+  use demstep_scene_builders, only: scene_set_types
+  implicit none
+  private
+
+  public :: scene_set_materials
+
+contains
+
+  !> Set the scene's contacts from materials per type in a code's convention
+  !> (`code_convention%...`): `types` (one per particle, 1 to nt), the
+  !> materials (nt: Young's modulus, Poisson's ratio, density, nominal
+  !> radius), the restitution (and tangential restitution, 0: the normal one)
+  !> and impact velocity of the convention. Walls are of type `wall_type`
+  !> (0, the default: each particle's own type). Sets the law (Hertz or
+  !> linear, as the convention), the per-pair springs and dashpot ratios, the
+  !> walls' per-type law and dashpots, and switches on `rotation` (tangential
+  !> springs) and `damping` (when the code damps: restitution below 1).
+  !> Status invalid_input naming `types`, `wall_type` or, prefixed by the
+  !> pair (`types 1 and 2:`, `wall, type 1:`), the material's variable.
+  subroutine scene_set_materials(scene, types, materials, convention, restitution, status, &
+      restitution_t, impact_velocity, wall_type, tangential_damping)
+    type(scene_type), intent(inout) :: scene
+    integer, intent(in) :: types(:)
+    type(material_type), intent(in) :: materials(:)
+    integer, intent(in) :: convention
+    real(dp), intent(in) :: restitution
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: restitution_t, impact_velocity
+    integer, intent(in), optional :: wall_type
+    !> The code's tangential dashpots (default on; LIGGGHTS' `tangential_damping
+    !> off` drops them, normal_model_hertz.h:238, normal_model_hooke.h:275).
+    logical, intent(in), optional :: tangential_damping
+    type(contact_parameters_type) :: params
+    type(material_pair_type) :: pair
+    real(dp), allocatable :: k(:, :, :), law(:, :, :), damp(:, :, :), wall_law(:, :), wall_damp(:, :)
+    integer :: nt, a, b, w, law_id
+    logical :: hertz, first
+    nt = size(materials)
+    w = 0
+    if (present(wall_type)) w = wall_type
+    if (w < 0 .or. w > nt) then
+      call set_status(status, demstep_stat%invalid_input, "wall_type: must be 0 (each particle's own " &
+        //"type) or one of the "//int_text(nt)//" materials")
+      return
+    end if
+    pair%restitution = restitution
+    if (present(restitution_t)) pair%restitution_t = restitution_t
+    if (present(impact_velocity)) pair%impact_velocity = impact_velocity
+    allocate(law(4, nt, nt), damp(2, nt, nt), wall_law(4, nt), wall_damp(2, nt), source=0.0_dp)
+    first = .true.
+    hertz = .false.
+    do a = 1, nt
+      do b = a, nt
+        pair%a = materials(a)
+        pair%b = materials(b)
+        call pair_values(.false., "types "//int_text(a)//" and "//int_text(b)//": ", law(:, a, b), &
+          damp(:, a, b))
+        if (status%stat /= demstep_stat%ok) return
+        law(:, b, a) = law(:, a, b)
+        damp(:, b, a) = damp(:, a, b)
+      end do
+    end do
+    do a = 1, nt
+      pair%a = materials(a)
+      pair%b = materials(merge(a, w, w == 0))
+      call pair_values(.true., "wall, type "//int_text(a)//": ", wall_law(:, a), wall_damp(:, a))
+      if (status%stat /= demstep_stat%ok) return
+    end do
+    ! the per-type table through the builder's checks (types, symmetry)
+    allocate(k(2, nt, nt))
+    k(1, :, :) = 1.0_dp
+    k(2, :, :) = 0.0_dp
+    call scene_set_types(scene, types, k, status)
+    if (status%stat /= demstep_stat%ok) return
+    ! per-pair dashpots replace the scene's ratios for contacts and walls
+    law_id = merge(contact_law%hertz, contact_law%linear, hertz)
+    scene%law = law_id
+    scene%pair_law = law
+    if (present(tangential_damping)) then
+      if (.not. tangential_damping) then
+        damp(2, :, :) = 0.0_dp
+        wall_damp(2, :) = 0.0_dp
+      end if
+    end if
+    scene%pair_damping = damp
+    scene%wall_law = wall_law
+    scene%wall_damping = wall_damp
+    scene%effects(scene_effect%rotation) = .true.
+    if (any(damp(1, :, :) > 0.0_dp) .or. any(wall_damp(1, :) > 0.0_dp)) &
+      scene%effects(scene_effect%damping) = .true.
+    status%stat = demstep_stat%ok
+  contains
+    !> One pair's (or wall's) law row (k_n, k_t, E*, G*) and (zeta_n, gamma_t/gamma_n).
+    subroutine pair_values(on_wall, who, row, ratios)
+      logical, intent(in) :: on_wall
+      character(len=*), intent(in) :: who
+      real(dp), intent(out) :: row(4), ratios(2)
+      type(effective_pair_type) :: eff
+      real(dp) :: a_c, k_tan
+      row = 0.0_dp
+      ratios = 0.0_dp
+      call contact_parameters(pair, convention, params, status, wall=on_wall)
+      if (status%stat == demstep_stat%ok) call effective_pair(pair%a, pair%b, eff, status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = who//status%message
+        return
+      end if
+      if (on_wall) then
+        eff%m_star = eff%m_a
+        eff%r_star = pair%a%radius
+      end if
+      if (first) hertz = params%overlap > 0.0_dp
+      first = .false.
+      if (hertz) then
+        a_c = sqrt(eff%r_star*params%overlap)
+        row(3) = params%k_n/((4.0_dp/3.0_dp)*a_c)
+        row(4) = params%k_t/(8.0_dp*a_c)
+        k_tan = 1.5_dp*params%k_n
+      else
+        row(1) = params%k_n
+        row(2) = params%k_t
+        k_tan = params%k_n
+      end if
+      ratios(1) = params%gamma_n/(2.0_dp*sqrt(eff%m_star*k_tan))
+      if (params%gamma_n > 0.0_dp) ratios(2) = params%gamma_t/params%gamma_n
+    end subroutine pair_values
+
+  end subroutine scene_set_materials
+
+end module demstep_scene_materials
