@@ -778,12 +778,8 @@ contains
     integer, allocatable, intent(out) :: pairs(:, :)
     type(demstep_status_type), intent(out) :: status
     real(dp), allocatable :: rows(:, :)
-    call read_table(path, 2, rows, status)
+    call read_table(path, 2, rows, status, index_columns=[1, 2])
     if (status%stat /= demstep_stat%ok) return
-    if (any(rows /= anint(rows))) then
-      call set_status(status, demstep_stat%invalid_input, path//": particle numbers must be integers")
-      return
-    end if
     pairs = nint(rows)
   end subroutine read_bonds
 
@@ -794,16 +790,8 @@ contains
     real(dp), allocatable, intent(out) :: k(:, :)
     type(demstep_status_type), intent(out) :: status
     real(dp), allocatable :: rows(:, :)
-    integer :: c
-    call read_table(path, 4, rows, status, lines=lines)
+    call read_table(path, 4, rows, status, lines=lines, index_columns=[1, 2])
     if (status%stat /= demstep_stat%ok) return
-    do c = 1, size(rows, 2)
-      if (any(rows(1:2, c) /= anint(rows(1:2, c))) .or. any(abs(rows(1:2, c)) > 2.0e9_dp)) then
-        call set_status(status, demstep_stat%invalid_input, path//": line "//fmt_int(int(lines(c), i8))// &
-          ": particle numbers must be integers")
-        return
-      end if
-    end do
     pairs = nint(rows(1:2, :))
     k = rows(3:4, :)
   end subroutine read_contacts

@@ -27,7 +27,7 @@
 module demstep_snapshot
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_text, only: int_text, real_text
+  use demstep_text, only: int_text, real_text, integer_of
   use demstep_namelist, only: read_text_file, lowercase
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
@@ -251,7 +251,8 @@ contains
       call frame_size(k, natoms)
       if (status%stat /= demstep_stat%ok) return
       ! TIMESTEP, value, NUMBER OF ATOMS, value, BOX BOUNDS, 3 lines, ATOMS, rows
-      if (k + 8 + natoms > lines%n) then
+      ! (compared without adding to the count: a huge count cannot wrap around)
+      if (natoms > lines%n - (k + 8)) then
         call fail_at(status, lines%n, "truncated: frame "//int_text(n_frames)//" declares "//int_text(natoms)// &
           " atoms, the file ends after "//int_text(max(0, lines%n - (k + 8)))//" of their rows")
         return
@@ -313,16 +314,18 @@ contains
       character(len=*), intent(in) :: what
       integer(i8), intent(out) :: value
       character(len=:), allocatable :: t
-      integer :: ios
+      logical :: ok, too_large
       value = 0
       if (k0 > lines%n) then
         call fail_at(status, lines%n, "truncated: the file ends before "//what)
         return
       end if
       t = trim(adjustl(line_of(text, lines, k0)))
-      ios = 1
-      if (len(t) > 0 .and. verify(t, "0123456789+-") == 0) read(t, *, iostat=ios) value
-      if (ios /= 0) then
+      call integer_of(t, value, ok, too_large)
+      if (too_large) then
+        call fail_at(status, k0, what//": '"//clipped(t)//"' lies beyond the 64-bit integer range")
+        return
+      else if (.not. ok) then
         call fail_at(status, k0, what//": '"//clipped(t)//"' is not an integer")
         return
       end if
@@ -332,8 +335,10 @@ contains
     !> Read the frame starting at line k0 into s.
     subroutine read_frame(k0)
       integer, intent(in) :: k0
-      integer :: a(64), b(64), nf, j, c, i, ncol, row
-      integer(i8) :: count
+      integer :: a(64), b(64), nf, j, c, i, ncol, row, first, second
+      integer(i8) :: count, ints(2)
+      integer(i8), allocatable :: table(:)
+      integer, allocatable :: slot(:)
       integer :: col_id, col_type, col_x(3), col_v(3), col_w(3), col_r, col_d, col_m, col_rho
       logical :: scaled
       real(dp) :: vals(64)
@@ -356,7 +361,7 @@ contains
       end if
       do j = 1, 3
         s%periodic(j) = h(a(3 + j):b(3 + j)) == "pp"
-        call numbers(k0 + 4 + j, 2, vals)
+        call line_numbers(text, lines, k0 + 4 + j, 2, vals, status)
         if (status%stat /= demstep_stat%ok) return
         s%lo(j) = vals(1)
         s%hi(j) = vals(2)
@@ -451,12 +456,14 @@ contains
       call allocate_snapshot(s, s%n)
       do i = 1, s%n
         row = k0 + 8 + i
-        call numbers(row, ncol, vals, columns=h(a(3):b(nf)))
+        ! ids and types: integers from 1 (LAMMPS numbers both from 1)
+        call line_numbers(text, lines, row, ncol, vals, status, columns=h(a(3):b(nf)), &
+          whole=[col_id, col_type], low=[1_i8, 1_i8], high=[huge(1_i8), int(huge(1), i8)], ints=ints)
         if (status%stat /= demstep_stat%ok) return
         s%id(i) = i
-        if (col_id > 0) s%id(i) = nint(vals(col_id), i8)
+        if (col_id > 0) s%id(i) = ints(1)
         s%type(i) = 1
-        if (col_type > 0) s%type(i) = nint(vals(col_type))
+        if (col_type > 0) s%type(i) = int(ints(2))
         s%x(:, i) = vals(col_x)
         if (scaled) s%x(:, i) = s%lo + vals(col_x)*(s%hi - s%lo)
         if (s%has_velocity) s%v(:, i) = vals(col_v)
@@ -474,16 +481,16 @@ contains
           return
         end if
       end do
+      if (col_id > 0) then
+        call id_table(s%id, table, slot, first, second)
+        if (second > 0) then
+          call fail_at(status, k0 + 8 + second, "atom id "//int_text(s%id(second))//" appears twice (first on " &
+            //"line "//int_text(k0 + 8 + first)//")")
+          return
+        end if
+      end if
       status%stat = demstep_stat%ok
     end subroutine read_frame
-
-    !> The numbers of line k0, exactly `count` of them.
-    subroutine numbers(k0, count, vals, columns)
-      integer, intent(in) :: k0, count
-      real(dp), intent(out) :: vals(:)
-      character(len=*), intent(in), optional :: columns
-      call line_numbers(text, lines, k0, count, vals, status, columns)
-    end subroutine numbers
 
   end subroutine parse_dump
 
@@ -494,17 +501,20 @@ contains
     type(lines_type), intent(in) :: lines
     type(snapshot_type), intent(out) :: s
     type(demstep_status_type), intent(out) :: status
-    integer :: k, a(64), b(64), nf, j, i, atoms_line, vel_line, ncol, n_atoms, pos
+    integer :: k, a(64), b(64), nf, j, i, atoms_line, vel_line, ncol, n_atoms, pos, count_line, first, second, &
+      rows, next
     character(len=:), allocatable :: l, word
     real(dp) :: vals(64)
+    integer(i8) :: ints(2)
     logical :: have_count
     integer(i8), allocatable :: table(:)
-    integer, allocatable :: slot(:)
+    integer, allocatable :: slot(:), vel_row(:)
     ! header: from line 2 up to the first section keyword
     have_count = .false.
     atoms_line = 0
     vel_line = 0
     n_atoms = 0
+    count_line = 0
     k = 2
     do while (k <= lines%n)
       l = lowercase(strip_comment(line_of(text, lines, k)))
@@ -519,6 +529,7 @@ contains
         call count_of(k, l(a(1):b(1)), n_atoms)
         if (status%stat /= demstep_stat%ok) return
         have_count = .true.
+        count_line = k
       else if (nf == 4 .and. word_at(3) == "xlo") then
         call bounds(1)
       else if (nf == 4 .and. word_at(3) == "ylo") then
@@ -536,9 +547,6 @@ contains
       return
     end if
     s%has_box = .true.
-    s%n = n_atoms
-    call allocate_snapshot(s, n_atoms)
-    s%has_density = .true.
     ! sections: Atoms and Velocities read, others skipped to the next keyword
     do while (k <= lines%n)
       l = strip_comment(line_of(text, lines, k))
@@ -561,6 +569,10 @@ contains
       end do
       select case (word)
       case ("atoms")
+        if (atoms_line > 0) then
+          call fail_at(status, k, "a second Atoms section (the first on line "//int_text(atoms_line)//")")
+          return
+        end if
         atoms_line = k
         if (index(lowercase(line_of(text, lines, k)), "#") > 0 .and. &
           index(lowercase(line_of(text, lines, k)), "sphere") == 0) then
@@ -568,6 +580,21 @@ contains
             "': only the sphere style (id type diameter density x y z) is read")
           return
         end if
+        ! the header's count against the rows present, before anything is allocated
+        call rows_present(j, rows, next)
+        if (n_atoms > rows) then
+          if (next > lines%n) then
+            call fail_at(status, lines%n, "truncated: the Atoms section has "//int_text(rows)//" of the " &
+              //int_text(n_atoms)//" rows the header declares (line "//int_text(count_line)//")")
+          else
+            call fail_at(status, next, "the Atoms section has "//int_text(rows)//" rows, the header declares " &
+              //int_text(n_atoms)//" atoms (line "//int_text(count_line)//")")
+          end if
+          return
+        end if
+        s%n = n_atoms
+        call allocate_snapshot(s, n_atoms)
+        s%has_density = .true.
         ncol = 0
         do i = 1, n_atoms
           if (j + i - 1 > lines%n) then
@@ -582,11 +609,13 @@ contains
               //"x y z) or 10 (with ix iy iz), found "//int_text(nf))
             return
           end if
+          ! ids and types: integers from 1, as LAMMPS requires
           call line_numbers(text, lines, j + i - 1, nf, vals, status, &
-            columns="id type diameter density x y z ix iy iz", strip=.true.)
+            columns="id type diameter density x y z ix iy iz", strip=.true., whole=[1, 2], low=[1_i8, 1_i8], &
+            high=[huge(1_i8), int(huge(1), i8)], ints=ints)
           if (status%stat /= demstep_stat%ok) return
-          s%id(i) = nint(vals(1), i8)
-          s%type(i) = nint(vals(2))
+          s%id(i) = ints(1)
+          s%type(i) = int(ints(2))
           s%radius(i) = 0.5_dp*vals(3)
           s%density(i) = vals(4)
           s%x(:, i) = vals(5:7)
@@ -595,14 +624,24 @@ contains
             return
           end if
         end do
+        call id_table(s%id, table, slot, first, second)
+        if (second > 0) then
+          call fail_at(status, j + second - 1, "atom id "//int_text(s%id(second))//" appears twice (first on " &
+            //"line "//int_text(j + first - 1)//")")
+          return
+        end if
         k = j + n_atoms
       case ("velocities")
+        if (vel_line > 0) then
+          call fail_at(status, k, "a second Velocities section (the first on line "//int_text(vel_line)//")")
+          return
+        end if
         vel_line = k
         if (atoms_line == 0) then
           call fail_at(status, k, "the Velocities section must follow the Atoms section")
           return
         end if
-        call id_table(s%id, table, slot)
+        allocate(vel_row(n_atoms), source=0)
         do i = 1, n_atoms
           if (j + i - 1 > lines%n) then
             call fail_at(status, lines%n, "truncated: the Velocities section has "//int_text(i - 1)//" of the " &
@@ -610,13 +649,19 @@ contains
             return
           end if
           call line_numbers(text, lines, j + i - 1, 7, vals, status, columns="id vx vy vz wx wy wz", &
-            strip=.true.)
+            strip=.true., whole=[1], low=[1_i8], high=[huge(1_i8)], ints=ints)
           if (status%stat /= demstep_stat%ok) return
-          pos = find_id(table, slot, nint(vals(1), i8))
+          pos = find_id(table, slot, ints(1))
           if (pos == 0) then
-            call fail_at(status, j + i - 1, "atom id "//int_text(nint(vals(1), i8))//" is not in the Atoms section")
+            call fail_at(status, j + i - 1, "atom id "//int_text(ints(1))//" is not in the Atoms section")
             return
           end if
+          if (vel_row(pos) > 0) then
+            call fail_at(status, j + i - 1, "atom id "//int_text(ints(1))//" appears twice in the Velocities " &
+              //"section (first on line "//int_text(vel_row(pos))//")")
+            return
+          end if
+          vel_row(pos) = j + i - 1
           s%v(:, pos) = vals(2:4)
           s%omega(:, pos) = vals(5:7)
         end do
@@ -648,16 +693,29 @@ contains
     end function word_at
 
 
+    !> The non-blank lines from line j0 up to the next section keyword (or the
+    !> end), and the line of that keyword (lines%n + 1 at the end).
+    subroutine rows_present(j0, rows, next)
+      integer, intent(in) :: j0
+      integer, intent(out) :: rows, next
+      rows = 0
+      next = j0
+      do while (next <= lines%n)
+        if (len(section_word(lowercase(strip_comment(line_of(text, lines, next))))) > 0) exit
+        if (len_trim(line_of(text, lines, next)) > 0) rows = rows + 1
+        next = next + 1
+      end do
+    end subroutine rows_present
+
     subroutine count_of(line, t, n)
       integer, intent(in) :: line
       character(len=*), intent(in) :: t
       integer, intent(out) :: n
-      integer :: ios
       integer(i8) :: c
+      logical :: ok
       n = 0
-      ios = 1
-      if (verify(t, "0123456789") == 0) read(t, *, iostat=ios) c
-      if (ios /= 0 .or. c > huge(1)) then
+      call integer_of(t, c, ok)
+      if (.not. ok .or. c < 0 .or. c > huge(1)) then
         call fail_at(status, line, "the atom count '"//clipped(t)//"' is not an integer in [0, "//int_text(huge(1))//"]")
         return
       end if
@@ -716,6 +774,7 @@ contains
     integer :: k, n, a(64), b(64), nf, ncol, i, min_col
     character(len=:), allocatable :: l, layout
     real(dp) :: vals(64)
+    integer(i8) :: ints(1)
     logical :: with_mat, attrs
     layout = "x_y_z_r"
     ! the layout, and the rows counted
@@ -764,14 +823,20 @@ contains
         call fail_at(status, k, "more than "//int_text(size(vals))//" values")
         return
       end if
-      call line_numbers(text, lines, k, nf, vals, status, columns="x y z r matId")
+      ! Yade numbers the materials of O.materials from 0; a type is an integer
+      if (with_mat) then
+        call line_numbers(text, lines, k, nf, vals, status, columns="x y z r matId", whole=[5], low=[0_i8], &
+          high=[int(huge(1), i8) - 1], ints=ints)
+      else
+        call line_numbers(text, lines, k, nf, vals, status, columns="x y z r")
+      end if
       if (status%stat /= demstep_stat%ok) return
       s%id(i) = i
       s%x(:, i) = vals(1:3)
       s%radius(i) = vals(4)
       s%type(i) = 1
       ! Yade numbers its materials from 0 (O.materials ids): type = matId + 1
-      if (with_mat) s%type(i) = nint(vals(5)) + 1
+      if (with_mat) s%type(i) = int(ints(1)) + 1
       if (.not. s%radius(i) > 0.0_dp) then
         call fail_at(status, k, "r must be > 0")
         return
@@ -886,8 +951,10 @@ contains
 
   !> Exactly `count` finite numbers at the start of line k, followed by exactly
   !> `words` words (default 0; `xlo xhi` lines have 2). `columns` names the
-  !> values for messages; `strip` drops a `#` comment first.
-  pure subroutine line_numbers(text, lines, k, count, vals, status, columns, strip, words)
+  !> values for messages; `strip` drops a `#` comment first. The values at the
+  !> positions `whole` (0: none) must be integers (see [[integer_of]]) within
+  !> [`low`, `high`]: returned in `ints` (and in `vals`, as reals).
+  pure subroutine line_numbers(text, lines, k, count, vals, status, columns, strip, words, whole, low, high, ints)
     character(len=*), intent(in) :: text
     type(lines_type), intent(in) :: lines
     integer, intent(in) :: k, count
@@ -896,8 +963,12 @@ contains
     character(len=*), intent(in), optional :: columns
     logical, intent(in), optional :: strip
     integer, intent(in), optional :: words
-    character(len=:), allocatable :: l, name
-    integer :: a(64), b(64), nf, j, ios, ca(64), cb(64), nc, expect
+    integer, intent(in), optional :: whole(:)
+    integer(i8), intent(in), optional :: low(:), high(:)
+    integer(i8), intent(out), optional :: ints(:)
+    character(len=:), allocatable :: l
+    integer :: a(64), b(64), nf, j, ios, expect, w
+    logical :: ok, too_large
     l = line_of(text, lines, k)
     if (present(strip)) then
       if (strip) l = strip_comment(l)
@@ -910,24 +981,49 @@ contains
         int_text(expect)//" values, found "//int_text(nf))
       return
     end if
+    if (present(ints)) ints = 0
     do j = 1, count
+      w = 0
+      if (present(whole)) w = findloc(whole, j, dim=1)
+      if (w > 0) then
+        call integer_of(l(a(j):b(j)), ints(w), ok, too_large)
+        if (.not. ok .and. .not. too_large) then
+          call set_status(status, demstep_stat%invalid_input, "line "//int_text(k)//": "//column_name(j)// &
+            ": '"//clipped(l(a(j):b(j)))//"' is not an integer")
+          return
+        end if
+        if (too_large .or. ints(w) < low(w) .or. ints(w) > high(w)) then
+          call set_status(status, demstep_stat%invalid_input, "line "//int_text(k)//": "//column_name(j)// &
+            ": '"//clipped(l(a(j):b(j)))//"' must lie in ["//int_text(low(w))//", "//int_text(high(w))//"]")
+          return
+        end if
+        vals(j) = real(ints(w), dp)
+        cycle
+      end if
       ios = 1
       if (verify(l(a(j):b(j)), "0123456789.+-eEdD") == 0) read(l(a(j):b(j)), *, iostat=ios) vals(j)
       if (ios == 0) then
         if (.not. ieee_is_finite(vals(j))) ios = 1
       end if
       if (ios /= 0) then
-        name = "value "//int_text(j)
-        if (present(columns)) then
-          call fields(columns, ca, cb, nc)
-          if (j <= nc) name = "column '"//columns(ca(j):cb(j))//"'"
-        end if
-        call set_status(status, demstep_stat%invalid_input, "line "//int_text(k)//": "//name//": '"// &
+        call set_status(status, demstep_stat%invalid_input, "line "//int_text(k)//": "//column_name(j)//": '"// &
           clipped(l(a(j):b(j)))//"' is not a number")
         return
       end if
     end do
     status%stat = demstep_stat%ok
+  contains
+    !> "column 'NAME'" from `columns`, else "value J".
+    pure function column_name(j) result(name)
+      integer, intent(in) :: j
+      character(len=:), allocatable :: name
+      integer :: ca(64), cb(64), nc
+      name = "value "//int_text(j)
+      if (present(columns)) then
+        call fields(columns, ca, cb, nc)
+        if (j <= min(nc, size(ca))) name = "column '"//columns(ca(j):cb(j))//"'"
+      end if
+    end function column_name
   end subroutine line_numbers
 
   !> At most 40 characters of a text, for messages.
@@ -942,12 +1038,17 @@ contains
   end function clipped
 
   !> An open-addressing table of the ids (size a power of two >= 2 n):
-  !> `table` holds the ids, `slot` their positions (0: empty).
-  pure subroutine id_table(ids, table, slot)
+  !> `table` holds the ids, `slot` their positions (0: empty). The first id
+  !> met twice: its positions `first` and `second` (0 and 0 when all differ);
+  !> the table then holds the ids before `second`.
+  pure subroutine id_table(ids, table, slot, first, second)
     integer(i8), intent(in) :: ids(:)
     integer(i8), allocatable, intent(out) :: table(:)
     integer, allocatable, intent(out) :: slot(:)
+    integer, intent(out) :: first, second
     integer :: m, i, h
+    first = 0
+    second = 0
     m = 16
     do while (m < 2*size(ids))
       m = 2*m
@@ -958,6 +1059,11 @@ contains
     do i = 1, size(ids)
       h = hash(ids(i), m)
       do while (slot(h) /= 0)
+        if (table(h) == ids(i)) then
+          first = slot(h)
+          second = i
+          return
+        end if
         h = iand(h + 1, m - 1)
       end do
       table(h) = ids(i)
