@@ -27,7 +27,7 @@
 module demstep_snapshot
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_text, only: int_text, real_text, integer_of
+  use demstep_text, only: int_text, real_text, integer_of, printable
   use demstep_namelist, only: read_text_file, lowercase
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
@@ -189,8 +189,9 @@ contains
   !> Masses of a snapshot that has none: `4/3 pi r^3 density` from its density
   !> column, else from `type_density` (index = type) when that is not empty.
   !> Leaves `has_mass` false when neither is there. Status `invalid_input`:
-  !> `type_density: no density for particle type T (particle ID)`, or
-  !> `density: must be > 0 for every particle`.
+  !> `type_density: no density for particle type T (particle ID)`,
+  !> `density: must be > 0 for every particle`, or `particle ID: the mass ...
+  !> is not a finite number > 0` (r^3 beyond the double range).
   pure subroutine snapshot_masses_from_types(snapshot, type_density, status)
     type(snapshot_type), intent(inout) :: snapshot
     !> Density of each particle type; empty: none.
@@ -216,6 +217,15 @@ contains
         return
       end if
       snapshot%mass = (4.0_dp*pi/3.0_dp)*snapshot%radius**3*snapshot%density
+      ! a radius near the double range's edge: r^3 overflows or underflows
+      do i = 1, snapshot%n
+        if (.not. (ieee_is_finite(snapshot%mass(i)) .and. snapshot%mass(i) > 0.0_dp)) then
+          call set_status(status, demstep_stat%invalid_input, "particle "//int_text(snapshot%id(i))//": the " &
+            //"mass 4/3 pi r^3 density of r = "//real_text(snapshot%radius(i))//" and density "// &
+            real_text(snapshot%density(i))//" is not a finite number > 0")
+          return
+        end if
+      end do
       snapshot%has_mass = .true.
     end if
   end subroutine snapshot_masses_from_types
@@ -480,6 +490,10 @@ contains
           call fail_at(status, row, "mass must be > 0")
           return
         end if
+        if (s%has_density .and. .not. s%density(i) > 0.0_dp) then
+          call fail_at(status, row, "density must be > 0")
+          return
+        end if
       end do
       if (col_id > 0) then
         call id_table(s%id, table, slot, first, second)
@@ -621,6 +635,10 @@ contains
           s%x(:, i) = vals(5:7)
           if (.not. s%radius(i) > 0.0_dp) then
             call fail_at(status, j + i - 1, "diameter must be > 0 (a point particle has no contact)")
+            return
+          end if
+          if (.not. s%density(i) > 0.0_dp) then
+            call fail_at(status, j + i - 1, "density must be > 0")
             return
           end if
         end do
@@ -1026,14 +1044,14 @@ contains
     end function column_name
   end subroutine line_numbers
 
-  !> At most 40 characters of a text, for messages.
+  !> At most 40 characters of a text, for messages (see [[printable]]).
   pure function clipped(t) result(c)
     character(len=*), intent(in) :: t
     character(len=:), allocatable :: c
     if (len(t) > 40) then
-      c = t(:37)//"..."
+      c = printable(t(:37))//"..."
     else
-      c = t
+      c = printable(t)
     end if
   end function clipped
 

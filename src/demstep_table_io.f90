@@ -20,7 +20,7 @@
 module demstep_table_io
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_text, only: int_text, integer_of
+  use demstep_text, only: int_text, integer_of, printable
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -311,14 +311,14 @@ contains
     end do
   end function field
 
-  !> At most 60 characters of a text, for a message.
+  !> At most 60 characters of a text, for a message (see [[printable]]).
   pure function shortened(text) result(short)
     character(len=*), intent(in) :: text
     character(len=:), allocatable :: short
     if (len(text) <= 60) then
-      short = text
+      short = printable(text)
     else
-      short = text(:57)//"..."
+      short = printable(text(:57))//"..."
     end if
   end function shortened
 

@@ -4,7 +4,7 @@ module demstep_text
   implicit none
   private
 
-  public :: int_text, real_text, integer_of
+  public :: int_text, real_text, integer_of, printable
 
   !> An integer as text, without blanks.
   interface int_text
@@ -64,6 +64,25 @@ contains
     end if
     if (e < -3 .or. e > 4) text = text//"e"//int64_text(int(e, int64))
   end function real_text
+
+  !> A text as it may be quoted in a one-line message: a tab becomes a blank,
+  !> every other byte outside printable ASCII (a newline, a carriage return, a
+  !> NUL, a byte of a binary file) becomes `?`.
+  pure function printable(text) result(out)
+    !> The text to quote.
+    character(len=*), intent(in) :: text
+    character(len=len(text)) :: out
+    integer :: i, c
+    out = text
+    do i = 1, len(text)
+      c = iachar(text(i:i))
+      if (c == 9) then
+        out(i:i) = " "
+      else if (c < 32 .or. c > 126) then
+        out(i:i) = "?"
+      end if
+    end do
+  end function printable
 
   !> The integer a text spells: an optional sign and decimal digits, nothing
   !> else (no blanks, no decimal point, no exponent). `ok` is false for any

@@ -8,6 +8,7 @@ module test_snapshot
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_snapshot
   use test_support, only: write_file, work_dir
+  use test_snapshot_hostile, only: test_truncated, test_flipped, test_inflated
   implicit none
   private
   public :: collect_snapshot
@@ -31,7 +32,10 @@ contains
       new_unittest("dump: NUMBER OF ATOMS 2147483647 over 8 rows refused in one line", test_dump_counts), &
       new_unittest("data file: 2147483647 atoms over 2 rows refused before allocating", test_data_counts), &
       new_unittest("ids, types and matIds: integers in range, by line and column", test_integer_columns), &
-      new_unittest("duplicate atom ids refused with the lines of both", test_duplicate_ids) &
+      new_unittest("duplicate atom ids refused with the lines of both", test_duplicate_ids), &
+      new_unittest("every example snapshot truncated: a prefix of it or one line", test_truncated), &
+      new_unittest("every example snapshot with bytes changed: sound or one line", test_flipped), &
+      new_unittest("every example snapshot's counts inflated to 2147483647, 1e8, ...: one line", test_inflated) &
       ]
   end subroutine collect_snapshot
 
