@@ -345,7 +345,7 @@ contains
     !> Read the frame starting at line k0 into s.
     subroutine read_frame(k0)
       integer, intent(in) :: k0
-      integer :: a(64), b(64), nf, j, c, i, ncol, row, first, second
+      integer :: a(64), b(64), nf, j, c, i, ncol, row, first, second, ra(64), rb(64), nf_row
       integer(i8) :: count, ints(2)
       integer(i8), allocatable :: table(:)
       integer, allocatable :: slot(:)
@@ -463,6 +463,16 @@ contains
       s%has_omega = all(col_w > 0)
       s%has_mass = col_m > 0
       s%has_density = col_rho > 0
+      ! every row's field count first: the arrays are then bounded by the rows'
+      ! bytes (2 ncol or more each), not by the header's count
+      do i = 1, s%n
+        row = k0 + 8 + i
+        call fields(text(lines%first(row):lines%last(row)), ra, rb, nf_row)
+        if (nf_row /= ncol) then
+          call line_numbers(text, lines, row, ncol, vals, status)
+          return
+        end if
+      end do
       call allocate_snapshot(s, s%n)
       do i = 1, s%n
         row = k0 + 8 + i
@@ -515,7 +525,7 @@ contains
     type(lines_type), intent(in) :: lines
     type(snapshot_type), intent(out) :: s
     type(demstep_status_type), intent(out) :: status
-    integer :: k, a(64), b(64), nf, j, i, atoms_line, vel_line, ncol, n_atoms, pos, count_line, first, second, &
+    integer :: k, a(64), b(64), nf, j, i, atoms_line, vel_line, n_atoms, pos, count_line, first, second, &
       rows, next
     character(len=:), allocatable :: l, word
     real(dp) :: vals(64)
@@ -606,23 +616,21 @@ contains
           end if
           return
         end if
-        s%n = n_atoms
-        call allocate_snapshot(s, n_atoms)
-        s%has_density = .true.
-        ncol = 0
+        ! every row's field count first: the arrays are then bounded by the
+        ! rows' bytes (14 or more each), not by the header's count
         do i = 1, n_atoms
-          if (j + i - 1 > lines%n) then
-            call fail_at(status, lines%n, "truncated: the Atoms section has "//int_text(i - 1)//" of the " &
-              //int_text(n_atoms)//" rows the header declares")
-            return
-          end if
           call fields(strip_comment(line_of(text, lines, j + i - 1)), a, b, nf)
-          if (i == 1) ncol = nf
           if (nf /= 7 .and. nf /= 10) then
             call fail_at(status, j + i - 1, "an Atoms row of style sphere has 7 values (id type diameter density " &
               //"x y z) or 10 (with ix iy iz), found "//int_text(nf))
             return
           end if
+        end do
+        s%n = n_atoms
+        call allocate_snapshot(s, n_atoms)
+        s%has_density = .true.
+        do i = 1, n_atoms
+          call fields(strip_comment(line_of(text, lines, j + i - 1)), a, b, nf)
           ! ids and types: integers from 1, as LAMMPS requires
           call line_numbers(text, lines, j + i - 1, nf, vals, status, &
             columns="id type diameter density x y z ix iy iz", strip=.true., whole=[1, 2], low=[1_i8, 1_i8], &
@@ -789,7 +797,7 @@ contains
     type(lines_type), intent(in) :: lines
     type(snapshot_type), intent(out) :: s
     type(demstep_status_type), intent(out) :: status
-    integer :: k, n, a(64), b(64), nf, ncol, i, min_col
+    integer :: k, n, a(64), b(64), nf, ncol, i, min_col, pass
     character(len=:), allocatable :: l, layout
     real(dp) :: vals(64)
     integer(i8) :: ints(1)
@@ -818,50 +826,58 @@ contains
     with_mat = layout == "x_y_z_r_matId"
     attrs = layout == "x_y_z_r_attrs"
     min_col = merge(5, 4, with_mat)
-    s%n = n
-    call allocate_snapshot(s, n)
-    i = 0
-    do k = 1, lines%n
-      l = trim(adjustl(line_of(text, lines, k)))
-      if (len(l) == 0) cycle
-      if (l(1:1) == "#") cycle
-      call fields(l, a, b, nf)
-      i = i + 1
-      if (i == 1) ncol = nf
-      if ((.not. attrs .and. nf /= min_col) .or. (attrs .and. (nf < 4 .or. nf /= ncol))) then
-        if (attrs) then
-          call fail_at(status, k, "expected "//int_text(max(ncol, 4))//" values (x y z r and the attributes), found " &
-            //int_text(nf))
-        else
-          call fail_at(status, k, "expected "//int_text(min_col)//" values ("//layout//"), found "//int_text(nf))
+    ! pass 2 checks every row's field count, so that the arrays pass 3 fills
+    ! are bounded by the rows' bytes (8 or more each)
+    do pass = 2, 3
+      if (pass == 3) then
+        s%n = n
+        call allocate_snapshot(s, n)
+      end if
+      i = 0
+      do k = 1, lines%n
+        l = trim(adjustl(line_of(text, lines, k)))
+        if (len(l) == 0) cycle
+        if (l(1:1) == "#") cycle
+        call fields(l, a, b, nf)
+        i = i + 1
+        if (pass == 2) then
+          if (i == 1) ncol = nf
+          if ((.not. attrs .and. nf /= min_col) .or. (attrs .and. (nf < 4 .or. nf /= ncol))) then
+            if (attrs) then
+              call fail_at(status, k, "expected "//int_text(max(ncol, 4))//" values (x y z r and the attributes), " &
+                //"found "//int_text(nf))
+            else
+              call fail_at(status, k, "expected "//int_text(min_col)//" values ("//layout//"), found "//int_text(nf))
+            end if
+            return
+          end if
+          if (nf > size(vals)) then
+            call fail_at(status, k, "more than "//int_text(size(vals))//" values")
+            return
+          end if
+          cycle
         end if
-        return
-      end if
-      if (nf > size(vals)) then
-        call fail_at(status, k, "more than "//int_text(size(vals))//" values")
-        return
-      end if
-      ! Yade numbers the materials of O.materials from 0; a type is an integer
-      if (with_mat) then
-        call line_numbers(text, lines, k, nf, vals, status, columns="x y z r matId", whole=[5], low=[0_i8], &
-          high=[int(huge(1), i8) - 1], ints=ints)
-      else
-        call line_numbers(text, lines, k, nf, vals, status, columns="x y z r")
-      end if
-      if (status%stat /= demstep_stat%ok) return
-      s%id(i) = i
-      s%x(:, i) = vals(1:3)
-      s%radius(i) = vals(4)
-      s%type(i) = 1
-      ! Yade numbers its materials from 0 (O.materials ids): type = matId + 1
-      if (with_mat) s%type(i) = int(ints(1)) + 1
-      if (.not. s%radius(i) > 0.0_dp) then
-        call fail_at(status, k, "r must be > 0")
-        return
-      end if
+        ! Yade numbers the materials of O.materials from 0; a type is an integer
+        if (with_mat) then
+          call line_numbers(text, lines, k, nf, vals, status, columns="x y z r matId", whole=[5], low=[0_i8], &
+            high=[int(huge(1), i8) - 1], ints=ints)
+        else
+          call line_numbers(text, lines, k, nf, vals, status, columns="x y z r")
+        end if
+        if (status%stat /= demstep_stat%ok) return
+        s%id(i) = i
+        s%x(:, i) = vals(1:3)
+        s%radius(i) = vals(4)
+        s%type(i) = 1
+        ! Yade numbers its materials from 0 (O.materials ids): type = matId + 1
+        if (with_mat) s%type(i) = int(ints(1)) + 1
+        if (.not. s%radius(i) > 0.0_dp) then
+          call fail_at(status, k, "r must be > 0")
+          return
+        end if
+      end do
     end do
     status%stat = demstep_stat%ok
-  contains
   end subroutine parse_yade
 
   ! ------------------------------------------------------------------ helpers
