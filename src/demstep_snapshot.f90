@@ -22,8 +22,16 @@
 !> Masses: a `mass` column, else `4/3 pi r^3 density` from a `density` column
 !> (or the data file's), else from a density per type given by the caller; with
 !> none of them `has_mass` is false. Every reader passes over the text a fixed
-!> number of times (linear in its size) and reports a bad file as
-!> `FILE: line N: what is wrong`.
+!> number of times (linear in its size) and reports a bad file in one line as
+!> `FILE: line N: what is wrong` (`line N: column 'type': ...` for a value).
+!>
+!> Bounded by the text: a header's atom count is compared with the rows
+!> present (without arithmetic that could overflow), and every row's field
+!> count is checked, before anything is allocated; the arrays then take at
+!> most about 14 bytes per byte of rows. Ids and types (a dump's `id`, `type`;
+!> a data file's; Yade's `matId`) are read as integers, never rounded: ids in
+!> [1, 2^63-1], types in [1, 2^31-1], matIds in [0, 2^31-2]; an id met twice
+!> (in a frame, in `Atoms`, in `Velocities`) is refused at its second line.
 module demstep_snapshot
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
