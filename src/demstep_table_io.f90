@@ -284,7 +284,7 @@ contains
     if (ios /= 0) count = -1
   end subroutine parse_row
 
-  !> Field `j` of a row (fields as [[parse_row]] separates them; '' beyond the last).
+  !> Field `j` of a row (fields as `parse_row` separates them; '' beyond the last).
   pure function field(text, j) result(f)
     character(len=*), intent(in) :: text
     integer, intent(in) :: j
