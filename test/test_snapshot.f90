@@ -9,6 +9,7 @@ module test_snapshot
   use demstep_snapshot
   use test_support, only: write_file, work_dir
   use test_snapshot_hostile, only: test_truncated, test_flipped, test_inflated
+  use demstep_text, only: integer_of, printable
   implicit none
   private
   public :: collect_snapshot
@@ -33,6 +34,7 @@ contains
       new_unittest("data file: 2147483647 atoms over 2 rows refused before allocating", test_data_counts), &
       new_unittest("ids, types and matIds: integers in range, by line and column", test_integer_columns), &
       new_unittest("duplicate atom ids refused with the lines of both", test_duplicate_ids), &
+      new_unittest("integer_of: the 64-bit integers and nothing else; printable", test_integer_of), &
       new_unittest("every example snapshot truncated: a prefix of it or one line", test_truncated), &
       new_unittest("every example snapshot with bytes changed: sound or one line", test_flipped), &
       new_unittest("every example snapshot's counts inflated to 2147483647, 1e8, ...: one line", test_inflated) &
@@ -501,6 +503,40 @@ contains
         "attrs: the fifth value is no matId: "//status%message)
     end block
   end subroutine test_integer_columns
+
+  !> The readers' integers: exact to the ends of the 64-bit range, beyond it
+  !> flagged, any other text refused.
+  subroutine test_integer_of(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer(i8) :: v
+    logical :: ok, big
+    integer :: i
+    character(len=24), parameter :: good(5) = [character(len=24) :: "0", "+7", "-7", "9223372036854775807", &
+      "-9223372036854775808"]
+    integer(i8), parameter :: values(5) = [0_i8, 7_i8, -7_i8, huge(1_i8), -huge(1_i8) - 1_i8]
+    character(len=24), parameter :: beyond(3) = [character(len=24) :: "9223372036854775808", &
+      "-9223372036854775809", "99999999999999999999999"]
+    character(len=8), parameter :: bad(9) = [character(len=8) :: "", "+", "-", "1.0", "1e3", " 1", "0x10", "12a", &
+      "--1"]
+    do i = 1, size(good)
+      call integer_of(trim(good(i)), v, ok, big)
+      call check(error, ok .and. .not. big .and. v == values(i), "'"//trim(good(i))//"' read exactly")
+      if (allocated(error)) return
+    end do
+    do i = 1, size(beyond)
+      call integer_of(trim(beyond(i)), v, ok, big)
+      call check(error, .not. ok .and. big .and. v == 0_i8, "'"//trim(beyond(i))//"': beyond the range")
+      if (allocated(error)) return
+    end do
+    do i = 1, size(bad)
+      ! (len_trim keeps the leading blank of " 1")
+      call integer_of(bad(i)(:len_trim(bad(i))), v, ok, big)
+      call check(error, .not. ok .and. .not. big, "'"//trim(bad(i))//"': not an integer")
+      if (allocated(error)) return
+    end do
+    call check(error, printable("a"//achar(13)//"b"//achar(9)//"c"//achar(0)//achar(255)//nl) == "a?b c???", &
+      "printable: control and non-ASCII bytes as ?, a tab as a blank")
+  end subroutine test_integer_of
 
   subroutine test_duplicate_ids(error)
     type(error_type), allocatable, intent(out) :: error
