@@ -754,10 +754,11 @@ contains
     logical, allocatable, intent(out) :: fixed(:)
     type(demstep_status_type), intent(out) :: status
     real(dp), allocatable :: rows(:, :)
-    integer :: ncol
+    integer :: ncol, bad
+    integer, allocatable :: lines(:)
     ncol = 2*dim + 3
     ! an optional last column: the moment of inertia
-    call read_table(path, [ncol, ncol + 1], rows, status)
+    call read_table(path, [ncol, ncol + 1], rows, status, lines=lines)
     if (status%stat /= demstep_stat%ok) return
     x = rows(1:dim, :)
     v = rows(dim+1:2*dim, :)
@@ -765,8 +766,10 @@ contains
     r = rows(2*dim+2, :)
     fixed = rows(2*dim+3, :) /= 0.0_dp
     if (size(rows, 1) == ncol + 1) inertia = rows(ncol + 1, :)
-    if (any(rows(2*dim+3, :) /= 0.0_dp .and. rows(2*dim+3, :) /= 1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, path//": the fixed column must be 0 or 1")
+    bad = findloc(rows(2*dim+3, :) /= 0.0_dp .and. rows(2*dim+3, :) /= 1.0_dp, .true., dim=1)
+    if (bad > 0) then
+      call set_status(status, demstep_stat%invalid_input, path//": line "//fmt_int(int(lines(bad), i8))// &
+        ": column "//fmt_int(int(2*dim + 3, i8))//": the fixed column must be 0 or 1")
       return
     end if
     if (size(m) == 0) call set_status(status, demstep_stat%invalid_input, path//": no particles")
