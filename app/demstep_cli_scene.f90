@@ -806,10 +806,11 @@ contains
     logical, allocatable, intent(out) :: fixed(:)
     type(demstep_status_type), intent(out) :: status
     real(dp), allocatable :: rows(:, :)
-    integer :: ncol
+    integer :: ncol, bad
+    integer, allocatable :: lines(:)
     ncol = 2*dim + 3
     ! an optional last column: the moment of inertia
-    call read_table(path, [ncol, ncol + 1], rows, status)
+    call read_table(path, [ncol, ncol + 1], rows, status, lines=lines)
     if (status%stat /= demstep_stat%ok) return
     x = rows(1:dim, :)
     v = rows(dim+1:2*dim, :)
@@ -817,8 +818,10 @@ contains
     r = rows(2*dim+2, :)
     fixed = rows(2*dim+3, :) /= 0.0_dp
     if (size(rows, 1) == ncol + 1) inertia = rows(ncol + 1, :)
-    if (any(rows(2*dim+3, :) /= 0.0_dp .and. rows(2*dim+3, :) /= 1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, path//": the fixed column must be 0 or 1")
+    bad = findloc(rows(2*dim+3, :) /= 0.0_dp .and. rows(2*dim+3, :) /= 1.0_dp, .true., dim=1)
+    if (bad > 0) then
+      call set_status(status, demstep_stat%invalid_input, path//": line "//fmt_int(int(lines(bad), i8))// &
+        ": column "//fmt_int(int(2*dim + 3, i8))//": the fixed column must be 0 or 1")
       return
     end if
     if (size(m) == 0) call set_status(status, demstep_stat%invalid_input, path//": no particles")
@@ -830,12 +833,8 @@ contains
     integer, allocatable, intent(out) :: pairs(:, :)
     type(demstep_status_type), intent(out) :: status
     real(dp), allocatable :: rows(:, :)
-    call read_table(path, 2, rows, status)
+    call read_table(path, 2, rows, status, index_columns=[1, 2])
     if (status%stat /= demstep_stat%ok) return
-    if (any(rows /= anint(rows))) then
-      call set_status(status, demstep_stat%invalid_input, path//": particle numbers must be integers")
-      return
-    end if
     pairs = nint(rows)
   end subroutine read_bonds
 
@@ -846,16 +845,8 @@ contains
     real(dp), allocatable, intent(out) :: k(:, :)
     type(demstep_status_type), intent(out) :: status
     real(dp), allocatable :: rows(:, :)
-    integer :: c
-    call read_table(path, 4, rows, status, lines=lines)
+    call read_table(path, 4, rows, status, lines=lines, index_columns=[1, 2])
     if (status%stat /= demstep_stat%ok) return
-    do c = 1, size(rows, 2)
-      if (any(rows(1:2, c) /= anint(rows(1:2, c))) .or. any(abs(rows(1:2, c)) > 2.0e9_dp)) then
-        call set_status(status, demstep_stat%invalid_input, path//": line "//fmt_int(int(lines(c), i8))// &
-          ": particle numbers must be integers")
-        return
-      end if
-    end do
     pairs = nint(rows(1:2, :))
     k = rows(3:4, :)
   end subroutine read_contacts

@@ -22,12 +22,20 @@
 !> Masses: a `mass` column, else `4/3 pi r^3 density` from a `density` column
 !> (or the data file's), else from a density per type given by the caller; with
 !> none of them `has_mass` is false. Every reader passes over the text a fixed
-!> number of times (linear in its size) and reports a bad file as
-!> `FILE: line N: what is wrong`.
+!> number of times (linear in its size) and reports a bad file in one line as
+!> `FILE: line N: what is wrong` (`line N: column 'type': ...` for a value).
+!>
+!> Bounded by the text: a header's atom count is compared with the rows
+!> present (without arithmetic that could overflow), and every row's field
+!> count is checked, before anything is allocated; the arrays then take at
+!> most about 14 bytes per byte of rows. Ids and types (a dump's `id`, `type`;
+!> a data file's; Yade's `matId`) are read as integers, never rounded: ids in
+!> [1, 2^63-1], types in [1, 2^31-1], matIds in [0, 2^31-2]; an id met twice
+!> (in a frame, in `Atoms`, in `Velocities`) is refused at its second line.
 module demstep_snapshot
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_text, only: int_text, real_text
+  use demstep_text, only: int_text, real_text, integer_of, printable
   use demstep_namelist, only: read_text_file, lowercase
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
@@ -189,8 +197,9 @@ contains
   !> Masses of a snapshot that has none: `4/3 pi r^3 density` from its density
   !> column, else from `type_density` (index = type) when that is not empty.
   !> Leaves `has_mass` false when neither is there. Status `invalid_input`:
-  !> `type_density: no density for particle type T (particle ID)`, or
-  !> `density: must be > 0 for every particle`.
+  !> `type_density: no density for particle type T (particle ID)`,
+  !> `density: must be > 0 for every particle`, or `particle ID: the mass ...
+  !> is not a finite number > 0` (r^3 beyond the double range).
   pure subroutine snapshot_masses_from_types(snapshot, type_density, status)
     type(snapshot_type), intent(inout) :: snapshot
     !> Density of each particle type; empty: none.
@@ -216,6 +225,15 @@ contains
         return
       end if
       snapshot%mass = (4.0_dp*pi/3.0_dp)*snapshot%radius**3*snapshot%density
+      ! a radius near the double range's edge: r^3 overflows or underflows
+      do i = 1, snapshot%n
+        if (.not. (ieee_is_finite(snapshot%mass(i)) .and. snapshot%mass(i) > 0.0_dp)) then
+          call set_status(status, demstep_stat%invalid_input, "particle "//int_text(snapshot%id(i))//": the " &
+            //"mass 4/3 pi r^3 density of r = "//real_text(snapshot%radius(i))//" and density "// &
+            real_text(snapshot%density(i))//" is not a finite number > 0")
+          return
+        end if
+      end do
       snapshot%has_mass = .true.
     end if
   end subroutine snapshot_masses_from_types
@@ -251,7 +269,8 @@ contains
       call frame_size(k, natoms)
       if (status%stat /= demstep_stat%ok) return
       ! TIMESTEP, value, NUMBER OF ATOMS, value, BOX BOUNDS, 3 lines, ATOMS, rows
-      if (k + 8 + natoms > lines%n) then
+      ! (compared without adding to the count: a huge count cannot wrap around)
+      if (natoms > lines%n - (k + 8)) then
         call fail_at(status, lines%n, "truncated: frame "//int_text(n_frames)//" declares "//int_text(natoms)// &
           " atoms, the file ends after "//int_text(max(0, lines%n - (k + 8)))//" of their rows")
         return
@@ -313,16 +332,18 @@ contains
       character(len=*), intent(in) :: what
       integer(i8), intent(out) :: value
       character(len=:), allocatable :: t
-      integer :: ios
+      logical :: ok, too_large
       value = 0
       if (k0 > lines%n) then
         call fail_at(status, lines%n, "truncated: the file ends before "//what)
         return
       end if
       t = trim(adjustl(line_of(text, lines, k0)))
-      ios = 1
-      if (len(t) > 0 .and. verify(t, "0123456789+-") == 0) read(t, *, iostat=ios) value
-      if (ios /= 0) then
+      call integer_of(t, value, ok, too_large)
+      if (too_large) then
+        call fail_at(status, k0, what//": '"//clipped(t)//"' lies beyond the 64-bit integer range")
+        return
+      else if (.not. ok) then
         call fail_at(status, k0, what//": '"//clipped(t)//"' is not an integer")
         return
       end if
@@ -332,8 +353,10 @@ contains
     !> Read the frame starting at line k0 into s.
     subroutine read_frame(k0)
       integer, intent(in) :: k0
-      integer :: a(64), b(64), nf, j, c, i, ncol, row
-      integer(i8) :: count
+      integer :: a(64), b(64), nf, j, c, i, ncol, row, first, second, ra(64), rb(64), nf_row
+      integer(i8) :: count, ints(2)
+      integer(i8), allocatable :: table(:)
+      integer, allocatable :: slot(:)
       integer :: col_id, col_type, col_x(3), col_v(3), col_w(3), col_r, col_d, col_m, col_rho
       logical :: scaled
       real(dp) :: vals(64)
@@ -356,7 +379,7 @@ contains
       end if
       do j = 1, 3
         s%periodic(j) = h(a(3 + j):b(3 + j)) == "pp"
-        call numbers(k0 + 4 + j, 2, vals)
+        call line_numbers(text, lines, k0 + 4 + j, 2, vals, status)
         if (status%stat /= demstep_stat%ok) return
         s%lo(j) = vals(1)
         s%hi(j) = vals(2)
@@ -448,15 +471,27 @@ contains
       s%has_omega = all(col_w > 0)
       s%has_mass = col_m > 0
       s%has_density = col_rho > 0
+      ! every row's field count first: the arrays are then bounded by the rows'
+      ! bytes (2 ncol or more each), not by the header's count
+      do i = 1, s%n
+        row = k0 + 8 + i
+        call fields(text(lines%first(row):lines%last(row)), ra, rb, nf_row)
+        if (nf_row /= ncol) then
+          call line_numbers(text, lines, row, ncol, vals, status)
+          return
+        end if
+      end do
       call allocate_snapshot(s, s%n)
       do i = 1, s%n
         row = k0 + 8 + i
-        call numbers(row, ncol, vals, columns=h(a(3):b(nf)))
+        ! ids and types: integers from 1 (LAMMPS numbers both from 1)
+        call line_numbers(text, lines, row, ncol, vals, status, columns=h(a(3):b(nf)), &
+          whole=[col_id, col_type], low=[1_i8, 1_i8], high=[huge(1_i8), int(huge(1), i8)], ints=ints)
         if (status%stat /= demstep_stat%ok) return
         s%id(i) = i
-        if (col_id > 0) s%id(i) = nint(vals(col_id), i8)
+        if (col_id > 0) s%id(i) = ints(1)
         s%type(i) = 1
-        if (col_type > 0) s%type(i) = nint(vals(col_type))
+        if (col_type > 0) s%type(i) = int(ints(2))
         s%x(:, i) = vals(col_x)
         if (scaled) s%x(:, i) = s%lo + vals(col_x)*(s%hi - s%lo)
         if (s%has_velocity) s%v(:, i) = vals(col_v)
@@ -473,17 +508,21 @@ contains
           call fail_at(status, row, "mass must be > 0")
           return
         end if
+        if (s%has_density .and. .not. s%density(i) > 0.0_dp) then
+          call fail_at(status, row, "density must be > 0")
+          return
+        end if
       end do
+      if (col_id > 0) then
+        call id_table(s%id, table, slot, first, second)
+        if (second > 0) then
+          call fail_at(status, k0 + 8 + second, "atom id "//int_text(s%id(second))//" appears twice (first on " &
+            //"line "//int_text(k0 + 8 + first)//")")
+          return
+        end if
+      end if
       status%stat = demstep_stat%ok
     end subroutine read_frame
-
-    !> The numbers of line k0, exactly `count` of them.
-    subroutine numbers(k0, count, vals, columns)
-      integer, intent(in) :: k0, count
-      real(dp), intent(out) :: vals(:)
-      character(len=*), intent(in), optional :: columns
-      call line_numbers(text, lines, k0, count, vals, status, columns)
-    end subroutine numbers
 
   end subroutine parse_dump
 
@@ -494,17 +533,20 @@ contains
     type(lines_type), intent(in) :: lines
     type(snapshot_type), intent(out) :: s
     type(demstep_status_type), intent(out) :: status
-    integer :: k, a(64), b(64), nf, j, i, atoms_line, vel_line, ncol, n_atoms, pos
+    integer :: k, a(64), b(64), nf, j, i, atoms_line, vel_line, n_atoms, pos, count_line, first, second, &
+      rows, next
     character(len=:), allocatable :: l, word
     real(dp) :: vals(64)
+    integer(i8) :: ints(2)
     logical :: have_count
     integer(i8), allocatable :: table(:)
-    integer, allocatable :: slot(:)
+    integer, allocatable :: slot(:), vel_row(:)
     ! header: from line 2 up to the first section keyword
     have_count = .false.
     atoms_line = 0
     vel_line = 0
     n_atoms = 0
+    count_line = 0
     k = 2
     do while (k <= lines%n)
       l = lowercase(strip_comment(line_of(text, lines, k)))
@@ -519,6 +561,7 @@ contains
         call count_of(k, l(a(1):b(1)), n_atoms)
         if (status%stat /= demstep_stat%ok) return
         have_count = .true.
+        count_line = k
       else if (nf == 4 .and. word_at(3) == "xlo") then
         call bounds(1)
       else if (nf == 4 .and. word_at(3) == "ylo") then
@@ -536,9 +579,6 @@ contains
       return
     end if
     s%has_box = .true.
-    s%n = n_atoms
-    call allocate_snapshot(s, n_atoms)
-    s%has_density = .true.
     ! sections: Atoms and Velocities read, others skipped to the next keyword
     do while (k <= lines%n)
       l = strip_comment(line_of(text, lines, k))
@@ -561,6 +601,10 @@ contains
       end do
       select case (word)
       case ("atoms")
+        if (atoms_line > 0) then
+          call fail_at(status, k, "a second Atoms section (the first on line "//int_text(atoms_line)//")")
+          return
+        end if
         atoms_line = k
         if (index(lowercase(line_of(text, lines, k)), "#") > 0 .and. &
           index(lowercase(line_of(text, lines, k)), "sphere") == 0) then
@@ -568,25 +612,40 @@ contains
             "': only the sphere style (id type diameter density x y z) is read")
           return
         end if
-        ncol = 0
-        do i = 1, n_atoms
-          if (j + i - 1 > lines%n) then
-            call fail_at(status, lines%n, "truncated: the Atoms section has "//int_text(i - 1)//" of the " &
-              //int_text(n_atoms)//" rows the header declares")
-            return
+        ! the header's count against the rows present, before anything is allocated
+        call rows_present(j, rows, next)
+        if (n_atoms > rows) then
+          if (next > lines%n) then
+            call fail_at(status, lines%n, "truncated: the Atoms section has "//int_text(rows)//" of the " &
+              //int_text(n_atoms)//" rows the header declares (line "//int_text(count_line)//")")
+          else
+            call fail_at(status, next, "the Atoms section has "//int_text(rows)//" rows, the header declares " &
+              //int_text(n_atoms)//" atoms (line "//int_text(count_line)//")")
           end if
+          return
+        end if
+        ! every row's field count first: the arrays are then bounded by the
+        ! rows' bytes (14 or more each), not by the header's count
+        do i = 1, n_atoms
           call fields(strip_comment(line_of(text, lines, j + i - 1)), a, b, nf)
-          if (i == 1) ncol = nf
           if (nf /= 7 .and. nf /= 10) then
             call fail_at(status, j + i - 1, "an Atoms row of style sphere has 7 values (id type diameter density " &
               //"x y z) or 10 (with ix iy iz), found "//int_text(nf))
             return
           end if
+        end do
+        s%n = n_atoms
+        call allocate_snapshot(s, n_atoms)
+        s%has_density = .true.
+        do i = 1, n_atoms
+          call fields(strip_comment(line_of(text, lines, j + i - 1)), a, b, nf)
+          ! ids and types: integers from 1, as LAMMPS requires
           call line_numbers(text, lines, j + i - 1, nf, vals, status, &
-            columns="id type diameter density x y z ix iy iz", strip=.true.)
+            columns="id type diameter density x y z ix iy iz", strip=.true., whole=[1, 2], low=[1_i8, 1_i8], &
+            high=[huge(1_i8), int(huge(1), i8)], ints=ints)
           if (status%stat /= demstep_stat%ok) return
-          s%id(i) = nint(vals(1), i8)
-          s%type(i) = nint(vals(2))
+          s%id(i) = ints(1)
+          s%type(i) = int(ints(2))
           s%radius(i) = 0.5_dp*vals(3)
           s%density(i) = vals(4)
           s%x(:, i) = vals(5:7)
@@ -594,15 +653,29 @@ contains
             call fail_at(status, j + i - 1, "diameter must be > 0 (a point particle has no contact)")
             return
           end if
+          if (.not. s%density(i) > 0.0_dp) then
+            call fail_at(status, j + i - 1, "density must be > 0")
+            return
+          end if
         end do
+        call id_table(s%id, table, slot, first, second)
+        if (second > 0) then
+          call fail_at(status, j + second - 1, "atom id "//int_text(s%id(second))//" appears twice (first on " &
+            //"line "//int_text(j + first - 1)//")")
+          return
+        end if
         k = j + n_atoms
       case ("velocities")
+        if (vel_line > 0) then
+          call fail_at(status, k, "a second Velocities section (the first on line "//int_text(vel_line)//")")
+          return
+        end if
         vel_line = k
         if (atoms_line == 0) then
           call fail_at(status, k, "the Velocities section must follow the Atoms section")
           return
         end if
-        call id_table(s%id, table, slot)
+        allocate(vel_row(n_atoms), source=0)
         do i = 1, n_atoms
           if (j + i - 1 > lines%n) then
             call fail_at(status, lines%n, "truncated: the Velocities section has "//int_text(i - 1)//" of the " &
@@ -610,13 +683,19 @@ contains
             return
           end if
           call line_numbers(text, lines, j + i - 1, 7, vals, status, columns="id vx vy vz wx wy wz", &
-            strip=.true.)
+            strip=.true., whole=[1], low=[1_i8], high=[huge(1_i8)], ints=ints)
           if (status%stat /= demstep_stat%ok) return
-          pos = find_id(table, slot, nint(vals(1), i8))
+          pos = find_id(table, slot, ints(1))
           if (pos == 0) then
-            call fail_at(status, j + i - 1, "atom id "//int_text(nint(vals(1), i8))//" is not in the Atoms section")
+            call fail_at(status, j + i - 1, "atom id "//int_text(ints(1))//" is not in the Atoms section")
             return
           end if
+          if (vel_row(pos) > 0) then
+            call fail_at(status, j + i - 1, "atom id "//int_text(ints(1))//" appears twice in the Velocities " &
+              //"section (first on line "//int_text(vel_row(pos))//")")
+            return
+          end if
+          vel_row(pos) = j + i - 1
           s%v(:, pos) = vals(2:4)
           s%omega(:, pos) = vals(5:7)
         end do
@@ -648,16 +727,29 @@ contains
     end function word_at
 
 
+    !> The non-blank lines from line j0 up to the next section keyword (or the
+    !> end), and the line of that keyword (lines%n + 1 at the end).
+    subroutine rows_present(j0, rows, next)
+      integer, intent(in) :: j0
+      integer, intent(out) :: rows, next
+      rows = 0
+      next = j0
+      do while (next <= lines%n)
+        if (len(section_word(lowercase(strip_comment(line_of(text, lines, next))))) > 0) exit
+        if (len_trim(line_of(text, lines, next)) > 0) rows = rows + 1
+        next = next + 1
+      end do
+    end subroutine rows_present
+
     subroutine count_of(line, t, n)
       integer, intent(in) :: line
       character(len=*), intent(in) :: t
       integer, intent(out) :: n
-      integer :: ios
       integer(i8) :: c
+      logical :: ok
       n = 0
-      ios = 1
-      if (verify(t, "0123456789") == 0) read(t, *, iostat=ios) c
-      if (ios /= 0 .or. c > huge(1)) then
+      call integer_of(t, c, ok)
+      if (.not. ok .or. c < 0 .or. c > huge(1)) then
         call fail_at(status, line, "the atom count '"//clipped(t)//"' is not an integer in [0, "//int_text(huge(1))//"]")
         return
       end if
@@ -713,9 +805,10 @@ contains
     type(lines_type), intent(in) :: lines
     type(snapshot_type), intent(out) :: s
     type(demstep_status_type), intent(out) :: status
-    integer :: k, n, a(64), b(64), nf, ncol, i, min_col
+    integer :: k, n, a(64), b(64), nf, ncol, i, min_col, pass
     character(len=:), allocatable :: l, layout
     real(dp) :: vals(64)
+    integer(i8) :: ints(1)
     logical :: with_mat, attrs
     layout = "x_y_z_r"
     ! the layout, and the rows counted
@@ -741,44 +834,58 @@ contains
     with_mat = layout == "x_y_z_r_matId"
     attrs = layout == "x_y_z_r_attrs"
     min_col = merge(5, 4, with_mat)
-    s%n = n
-    call allocate_snapshot(s, n)
-    i = 0
-    do k = 1, lines%n
-      l = trim(adjustl(line_of(text, lines, k)))
-      if (len(l) == 0) cycle
-      if (l(1:1) == "#") cycle
-      call fields(l, a, b, nf)
-      i = i + 1
-      if (i == 1) ncol = nf
-      if ((.not. attrs .and. nf /= min_col) .or. (attrs .and. (nf < 4 .or. nf /= ncol))) then
-        if (attrs) then
-          call fail_at(status, k, "expected "//int_text(max(ncol, 4))//" values (x y z r and the attributes), found " &
-            //int_text(nf))
-        else
-          call fail_at(status, k, "expected "//int_text(min_col)//" values ("//layout//"), found "//int_text(nf))
+    ! pass 2 checks every row's field count, so that the arrays pass 3 fills
+    ! are bounded by the rows' bytes (8 or more each)
+    do pass = 2, 3
+      if (pass == 3) then
+        s%n = n
+        call allocate_snapshot(s, n)
+      end if
+      i = 0
+      do k = 1, lines%n
+        l = trim(adjustl(line_of(text, lines, k)))
+        if (len(l) == 0) cycle
+        if (l(1:1) == "#") cycle
+        call fields(l, a, b, nf)
+        i = i + 1
+        if (pass == 2) then
+          if (i == 1) ncol = nf
+          if ((.not. attrs .and. nf /= min_col) .or. (attrs .and. (nf < 4 .or. nf /= ncol))) then
+            if (attrs) then
+              call fail_at(status, k, "expected "//int_text(max(ncol, 4))//" values (x y z r and the attributes), " &
+                //"found "//int_text(nf))
+            else
+              call fail_at(status, k, "expected "//int_text(min_col)//" values ("//layout//"), found "//int_text(nf))
+            end if
+            return
+          end if
+          if (nf > size(vals)) then
+            call fail_at(status, k, "more than "//int_text(size(vals))//" values")
+            return
+          end if
+          cycle
         end if
-        return
-      end if
-      if (nf > size(vals)) then
-        call fail_at(status, k, "more than "//int_text(size(vals))//" values")
-        return
-      end if
-      call line_numbers(text, lines, k, nf, vals, status, columns="x y z r matId")
-      if (status%stat /= demstep_stat%ok) return
-      s%id(i) = i
-      s%x(:, i) = vals(1:3)
-      s%radius(i) = vals(4)
-      s%type(i) = 1
-      ! Yade numbers its materials from 0 (O.materials ids): type = matId + 1
-      if (with_mat) s%type(i) = nint(vals(5)) + 1
-      if (.not. s%radius(i) > 0.0_dp) then
-        call fail_at(status, k, "r must be > 0")
-        return
-      end if
+        ! Yade numbers the materials of O.materials from 0; a type is an integer
+        if (with_mat) then
+          call line_numbers(text, lines, k, nf, vals, status, columns="x y z r matId", whole=[5], low=[0_i8], &
+            high=[int(huge(1), i8) - 1], ints=ints)
+        else
+          call line_numbers(text, lines, k, nf, vals, status, columns="x y z r")
+        end if
+        if (status%stat /= demstep_stat%ok) return
+        s%id(i) = i
+        s%x(:, i) = vals(1:3)
+        s%radius(i) = vals(4)
+        s%type(i) = 1
+        ! Yade numbers its materials from 0 (O.materials ids): type = matId + 1
+        if (with_mat) s%type(i) = int(ints(1)) + 1
+        if (.not. s%radius(i) > 0.0_dp) then
+          call fail_at(status, k, "r must be > 0")
+          return
+        end if
+      end do
     end do
     status%stat = demstep_stat%ok
-  contains
   end subroutine parse_yade
 
   ! ------------------------------------------------------------------ helpers
@@ -886,8 +993,10 @@ contains
 
   !> Exactly `count` finite numbers at the start of line k, followed by exactly
   !> `words` words (default 0; `xlo xhi` lines have 2). `columns` names the
-  !> values for messages; `strip` drops a `#` comment first.
-  pure subroutine line_numbers(text, lines, k, count, vals, status, columns, strip, words)
+  !> values for messages; `strip` drops a `#` comment first. The values at the
+  !> positions `whole` (0: none) must be integers (see [[integer_of]]) within
+  !> [`low`, `high`]: returned in `ints` (and in `vals`, as reals).
+  pure subroutine line_numbers(text, lines, k, count, vals, status, columns, strip, words, whole, low, high, ints)
     character(len=*), intent(in) :: text
     type(lines_type), intent(in) :: lines
     integer, intent(in) :: k, count
@@ -896,8 +1005,12 @@ contains
     character(len=*), intent(in), optional :: columns
     logical, intent(in), optional :: strip
     integer, intent(in), optional :: words
-    character(len=:), allocatable :: l, name
-    integer :: a(64), b(64), nf, j, ios, ca(64), cb(64), nc, expect
+    integer, intent(in), optional :: whole(:)
+    integer(i8), intent(in), optional :: low(:), high(:)
+    integer(i8), intent(out), optional :: ints(:)
+    character(len=:), allocatable :: l
+    integer :: a(64), b(64), nf, j, ios, expect, w
+    logical :: ok, too_large
     l = line_of(text, lines, k)
     if (present(strip)) then
       if (strip) l = strip_comment(l)
@@ -910,44 +1023,74 @@ contains
         int_text(expect)//" values, found "//int_text(nf))
       return
     end if
+    if (present(ints)) ints = 0
     do j = 1, count
+      w = 0
+      if (present(whole)) w = findloc(whole, j, dim=1)
+      if (w > 0) then
+        call integer_of(l(a(j):b(j)), ints(w), ok, too_large)
+        if (.not. ok .and. .not. too_large) then
+          call set_status(status, demstep_stat%invalid_input, "line "//int_text(k)//": "//column_name(j)// &
+            ": '"//clipped(l(a(j):b(j)))//"' is not an integer")
+          return
+        end if
+        if (too_large .or. ints(w) < low(w) .or. ints(w) > high(w)) then
+          call set_status(status, demstep_stat%invalid_input, "line "//int_text(k)//": "//column_name(j)// &
+            ": '"//clipped(l(a(j):b(j)))//"' must lie in ["//int_text(low(w))//", "//int_text(high(w))//"]")
+          return
+        end if
+        vals(j) = real(ints(w), dp)
+        cycle
+      end if
       ios = 1
       if (verify(l(a(j):b(j)), "0123456789.+-eEdD") == 0) read(l(a(j):b(j)), *, iostat=ios) vals(j)
       if (ios == 0) then
         if (.not. ieee_is_finite(vals(j))) ios = 1
       end if
       if (ios /= 0) then
-        name = "value "//int_text(j)
-        if (present(columns)) then
-          call fields(columns, ca, cb, nc)
-          if (j <= nc) name = "column '"//columns(ca(j):cb(j))//"'"
-        end if
-        call set_status(status, demstep_stat%invalid_input, "line "//int_text(k)//": "//name//": '"// &
+        call set_status(status, demstep_stat%invalid_input, "line "//int_text(k)//": "//column_name(j)//": '"// &
           clipped(l(a(j):b(j)))//"' is not a number")
         return
       end if
     end do
     status%stat = demstep_stat%ok
+  contains
+    !> "column 'NAME'" from `columns`, else "value J".
+    pure function column_name(j) result(name)
+      integer, intent(in) :: j
+      character(len=:), allocatable :: name
+      integer :: ca(64), cb(64), nc
+      name = "value "//int_text(j)
+      if (present(columns)) then
+        call fields(columns, ca, cb, nc)
+        if (j <= min(nc, size(ca))) name = "column '"//columns(ca(j):cb(j))//"'"
+      end if
+    end function column_name
   end subroutine line_numbers
 
-  !> At most 40 characters of a text, for messages.
+  !> At most 40 characters of a text, for messages (see [[printable]]).
   pure function clipped(t) result(c)
     character(len=*), intent(in) :: t
     character(len=:), allocatable :: c
     if (len(t) > 40) then
-      c = t(:37)//"..."
+      c = printable(t(:37))//"..."
     else
-      c = t
+      c = printable(t)
     end if
   end function clipped
 
   !> An open-addressing table of the ids (size a power of two >= 2 n):
-  !> `table` holds the ids, `slot` their positions (0: empty).
-  pure subroutine id_table(ids, table, slot)
+  !> `table` holds the ids, `slot` their positions (0: empty). The first id
+  !> met twice: its positions `first` and `second` (0 and 0 when all differ);
+  !> the table then holds the ids before `second`.
+  pure subroutine id_table(ids, table, slot, first, second)
     integer(i8), intent(in) :: ids(:)
     integer(i8), allocatable, intent(out) :: table(:)
     integer, allocatable, intent(out) :: slot(:)
+    integer, intent(out) :: first, second
     integer :: m, i, h
+    first = 0
+    second = 0
     m = 16
     do while (m < 2*size(ids))
       m = 2*m
@@ -958,6 +1101,11 @@ contains
     do i = 1, size(ids)
       h = hash(ids(i), m)
       do while (slot(h) /= 0)
+        if (table(h) == ids(i)) then
+          first = slot(h)
+          second = i
+          return
+        end if
         h = iand(h + 1, m - 1)
       end do
       table(h) = ids(i)

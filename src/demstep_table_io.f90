@@ -7,17 +7,20 @@
 !> rows and checks the text, the rows are allocated once, a second pass fills
 !> them. A binary file (a control character), an endless line, a field that is
 !> not a plain number and a row of the wrong length are refused; the status
-!> message names the file, the line and what is wrong.
+!> message names the file, the line and what is wrong. Columns of particle
+!> numbers (`index_columns`) must hold integers from 1 to `huge(1)`, written as
+!> integers (`2`, not `2.0` or `1.5`): the message then names the column too.
 !>
 !> ```fortran
 !> real(dp), allocatable :: rows(:, :)
 !> call read_table("bonds.txt", 2, rows, status)          ! two columns
 !> call read_table("particles.txt", [7, 8], rows, status) ! 7, or 8 with an extra column
+!> call read_table("contacts.txt", 4, rows, status, index_columns=[1, 2])
 !> ```
 module demstep_table_io
-  use demstep_kinds, only: dp
+  use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_text, only: int_text
+  use demstep_text, only: int_text, integer_of, printable
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -33,11 +36,13 @@ module demstep_table_io
   integer, parameter, public :: table_max_line = 64512
   !> The line is read in chunks of this many characters, each checked at once.
   integer, parameter :: chunk = 1024
+  !> What separates the numbers of a row: blank, comma, tab, carriage return.
+  character(len=*), parameter :: separators = " ,"//achar(9)//achar(13)
 
 contains
 
   !> A table with exactly `columns` numbers per row.
-  subroutine read_table_fixed(path, columns, rows, status, lines)
+  subroutine read_table_fixed(path, columns, rows, status, lines, index_columns)
     !> File name.
     character(len=*), intent(in) :: path
     !> Numbers per row.
@@ -50,12 +55,14 @@ contains
     type(demstep_status_type), intent(out) :: status
     !> The file line of each row (for messages about a row found later).
     integer, allocatable, intent(out), optional :: lines(:)
-    call read_table_allowed(path, [columns], rows, status, lines)
+    !> Columns of particle numbers: integers in [1, huge(1)].
+    integer, intent(in), optional :: index_columns(:)
+    call read_table_allowed(path, [columns], rows, status, lines, index_columns)
   end subroutine read_table_fixed
 
   !> A table whose rows all have the same number of columns, one of `allowed`;
   !> the first row decides which.
-  subroutine read_table_allowed(path, allowed, rows, status, lines)
+  subroutine read_table_allowed(path, allowed, rows, status, lines, index_columns)
     !> File name.
     character(len=*), intent(in) :: path
     !> The column counts a row may have (each >= 1).
@@ -68,7 +75,11 @@ contains
     type(demstep_status_type), intent(out) :: status
     !> The file line of each row (for messages about a row found later).
     integer, allocatable, intent(out), optional :: lines(:)
-    integer :: unit, ios, line, n, n_rows, got, pass, k, count, n_read, ncol, first_line
+    !> Columns of particle numbers: integers in [1, huge(1)].
+    integer, intent(in), optional :: index_columns(:)
+    integer :: unit, ios, line, n, n_rows, got, pass, k, count, n_read, ncol, first_line, c
+    integer(i8) :: number
+    logical :: whole, too_large
     character(len=table_max_line + chunk) :: buf
     real(dp), allocatable :: values(:)
     logical :: exists
@@ -174,6 +185,23 @@ contains
             shortened(trim(adjustl(buf(:got))))//"' as finite numbers")
           return
         end if
+        if (present(index_columns)) then
+          do k = 1, size(index_columns)
+            c = index_columns(k)
+            if (c < 1 .or. c > ncol) cycle
+            call integer_of(field(buf(:got), c), number, whole, too_large)
+            if (.not. (whole .or. too_large)) then
+              call fail_at(demstep_stat%invalid_input, "line "//int_text(line)//": column "//int_text(c)// &
+                ": '"//shortened(field(buf(:got), c))//"' is not an integer (a particle number)")
+              return
+            else if (too_large .or. number < 1 .or. number > huge(1)) then
+              call fail_at(demstep_stat%invalid_input, "line "//int_text(line)//": column "//int_text(c)// &
+                ": particle number '"//shortened(field(buf(:got), c))//"' must lie in [1, "// &
+                int_text(huge(1))//"]")
+              return
+            end if
+          end do
+        end if
         rows(:, n) = values(:ncol)
         if (present(lines)) lines(n) = line
       end do
@@ -239,16 +267,15 @@ contains
     count = 0
     inside = .false.
     do i = 1, len(clean)
-      select case (clean(i:i))
-      case (" ", ",", achar(9), achar(13))
+      if (index(separators, clean(i:i)) > 0) then
         clean(i:i) = " "
         sep = .true.
-      case ("0":"9", "+", "-", ".", "e", "E", "d", "D")
+      else if (index("0123456789+-.eEdD", clean(i:i)) > 0) then
         sep = .false.
-      case default
+      else
         count = -1
         return
-      end select
+      end if
       if (.not. sep .and. .not. inside) count = count + 1
       inside = .not. sep
     end do
@@ -257,14 +284,41 @@ contains
     if (ios /= 0) count = -1
   end subroutine parse_row
 
-  !> At most 60 characters of a text, for a message.
+  !> Field `j` of a row (fields as `parse_row` separates them; '' beyond the last).
+  pure function field(text, j) result(f)
+    character(len=*), intent(in) :: text
+    integer, intent(in) :: j
+    character(len=:), allocatable :: f
+    integer :: i, start, count
+    f = ""
+    count = 0
+    i = 1
+    do while (i <= len(text))
+      if (index(separators, text(i:i)) > 0) then
+        i = i + 1
+        cycle
+      end if
+      start = i
+      do while (i <= len(text))
+        if (index(separators, text(i:i)) > 0) exit
+        i = i + 1
+      end do
+      count = count + 1
+      if (count == j) then
+        f = text(start:i-1)
+        return
+      end if
+    end do
+  end function field
+
+  !> At most 60 characters of a text, for a message (see [[printable]]).
   pure function shortened(text) result(short)
     character(len=*), intent(in) :: text
     character(len=:), allocatable :: short
     if (len(text) <= 60) then
-      short = text
+      short = printable(text)
     else
-      short = text(:57)//"..."
+      short = printable(text(:57))//"..."
     end if
   end function shortened
 

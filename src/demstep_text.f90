@@ -1,10 +1,10 @@
-!> Numbers as text for messages.
+!> Numbers as text for messages, and integers read from text.
 module demstep_text
   use, intrinsic :: iso_fortran_env, only: int32, int64, real64
   implicit none
   private
 
-  public :: int_text, real_text
+  public :: int_text, real_text, integer_of, printable
 
   !> An integer as text, without blanks.
   interface int_text
@@ -64,5 +64,69 @@ contains
     end if
     if (e < -3 .or. e > 4) text = text//"e"//int64_text(int(e, int64))
   end function real_text
+
+  !> A text as it may be quoted in a one-line message: a tab becomes a blank,
+  !> every other byte outside printable ASCII (a newline, a carriage return, a
+  !> NUL, a byte of a binary file) becomes `?`.
+  pure function printable(text) result(out)
+    !> The text to quote.
+    character(len=*), intent(in) :: text
+    character(len=len(text)) :: out
+    integer :: i, c
+    out = text
+    do i = 1, len(text)
+      c = iachar(text(i:i))
+      if (c == 9) then
+        out(i:i) = " "
+      else if (c < 32 .or. c > 126) then
+        out(i:i) = "?"
+      end if
+    end do
+  end function printable
+
+  !> The integer a text spells: an optional sign and decimal digits, nothing
+  !> else (no blanks, no decimal point, no exponent). `ok` is false for any
+  !> other text and for a value outside the 64-bit range (value 0 then; and
+  !> `too_large` true); no value is rounded, truncated or wrapped around.
+  pure subroutine integer_of(text, value, ok, too_large)
+    !> The text (one field, without blanks).
+    character(len=*), intent(in) :: text
+    integer(int64), intent(out) :: value
+    logical, intent(out) :: ok
+    !> The text is an integer beyond the 64-bit range.
+    logical, intent(out), optional :: too_large
+    integer :: i, first, d
+    logical :: negative, beyond
+    value = 0
+    ok = .false.
+    beyond = .false.
+    if (present(too_large)) too_large = .false.
+    if (len(text) == 0) return
+    negative = text(1:1) == "-"
+    first = 1
+    if (text(1:1) == "-" .or. text(1:1) == "+") first = 2
+    if (first > len(text)) return
+    ! accumulated as a negative number: -huge - 1 is in range too
+    do i = first, len(text)
+      d = index("0123456789", text(i:i)) - 1
+      if (d < 0) then
+        value = 0
+        return
+      end if
+      if (value < (-huge(value) - 1 + d)/10) then
+        beyond = .true.
+      else if (.not. beyond) then
+        value = 10*value - d
+      end if
+    end do
+    if (.not. negative .and. value < -huge(value)) beyond = .true.
+    if (beyond) then
+      value = 0
+      if (present(too_large)) too_large = .true.
+      return
+    end if
+    if (.not. negative) value = -value
+    ok = .true.
+  end subroutine integer_of
 
 end module demstep_text

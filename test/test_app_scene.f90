@@ -39,7 +39,8 @@ contains
       new_unittest("no stiffness: the message names the variable", test_no_stiffness), &
       new_unittest("eigen_solver and eigen_tolerance: computed or refused by name", test_eigen_solver), &
       new_unittest("long runs: announced with progress, absurd ones refused", test_long_runs), &
-      new_unittest("inertia column, contacts_file, periodic cell: computed or refused", test_assembly_inputs) &
+      new_unittest("inertia column, contacts_file, periodic cell: computed or refused", test_assembly_inputs), &
+      new_unittest("particle numbers 1.5, 4294967297 in contacts and bonds files; fixed 0.5", test_particle_numbers) &
       ]
   end subroutine collect_app_scene
 
@@ -407,6 +408,35 @@ contains
     call expect_refusal(error, "&scene dim = 2, position = 0.0, 0.0, 1.0, 0.0, radius = 0.6, mass = 1.0, " &
       //"law = 'hertz', types = 1, 1, young = 1e9, poisson = 0.7 /", "&scene: poisson: must be in (-1, 0.5]")
   end subroutine test_assembly_inputs
+
+  !> Particle numbers in contacts_file and bonds_file are integers: `1.5` and
+  !> `4294967297` (which wrapped around to 1) refused with the line and column;
+  !> so is a fixed flag other than 0 or 1 in a particles table.
+  subroutine test_particle_numbers(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), parameter :: g = "&scene dim = 1, position = 0.0, 1.0, radius = 0.6, mass = 1.0, "
+    call write_file(work_dir//"/c.txt", [character(len=30) :: "# i j k_n k_t", "1 1.5 100 60"])
+    call expect_refusal(error, g//"contacts_file = 'c.txt' /", "&scene: contacts_file: "//work_dir// &
+      "/c.txt: line 2: column 2: '1.5' is not an integer (a particle number)")
+    if (allocated(error)) return
+    call write_file(work_dir//"/c.txt", [character(len=30) :: "4294967297 2 100 60"])
+    call expect_refusal(error, g//"contacts_file = 'c.txt' /", "&scene: contacts_file: "//work_dir// &
+      "/c.txt: line 1: column 1: particle number '4294967297' must lie in [1, 2147483647]")
+    if (allocated(error)) return
+    call write_file(work_dir//"/b.txt", [character(len=30) :: "1 1.5"])
+    call expect_refusal(error, g//"bonds_file = 'b.txt', k_bond = 1.0, effects = 'none' /", "&scene: " &
+      //"bonds_file: "//work_dir//"/b.txt: line 1: column 2: '1.5' is not an integer (a particle number)")
+    if (allocated(error)) return
+    call write_file(work_dir//"/b.txt", [character(len=30) :: "# i j", "1 2", "4294967297 2"])
+    call expect_refusal(error, g//"bonds_file = 'b.txt', k_bond = 1.0, effects = 'none' /", "&scene: " &
+      //"bonds_file: "//work_dir//"/b.txt: line 3: column 1: particle number '4294967297' must lie in " &
+      //"[1, 2147483647]")
+    if (allocated(error)) return
+    ! the fixed column of a particles table: 0 or 1, named by line and column
+    call write_file(work_dir//"/p.txt", [character(len=30) :: "0 0 1 0.6 0", "# x v m r fixed", "1 0 1 0.6 0.5"])
+    call expect_refusal(error, "&scene dim = 1, particles_file = 'p.txt', k_normal = 1e4 /", "&scene: " &
+      //"particles_file: "//work_dir//"/p.txt: line 3: column 5: the fixed column must be 0 or 1")
+  end subroutine test_particle_numbers
 
   !> A run of 1e9 steps says up front how much it will do and then shows
   !> progress (it is stopped after 8 s by `timeout`); with -q it says nothing;

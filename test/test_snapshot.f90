@@ -8,6 +8,8 @@ module test_snapshot
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_snapshot
   use test_support, only: write_file, work_dir
+  use test_snapshot_hostile, only: test_truncated, test_flipped, test_inflated
+  use demstep_text, only: integer_of, printable
   implicit none
   private
   public :: collect_snapshot
@@ -27,7 +29,15 @@ contains
       new_unittest("Yade text: x_y_z_r, matId, attrs", test_yade), &
       new_unittest("Yade text: each malformed file; format detection", test_yade_bad), &
       new_unittest("files: the message starts with the file name", test_files), &
-      new_unittest("files LIGGGHTS 3.8.0 wrote (test/data/liggghts)", test_liggghts) &
+      new_unittest("files LIGGGHTS 3.8.0 wrote (test/data/liggghts)", test_liggghts), &
+      new_unittest("dump: NUMBER OF ATOMS 2147483647 over 8 rows refused in one line", test_dump_counts), &
+      new_unittest("data file: 2147483647 atoms over 2 rows refused before allocating", test_data_counts), &
+      new_unittest("ids, types and matIds: integers in range, by line and column", test_integer_columns), &
+      new_unittest("duplicate atom ids refused with the lines of both", test_duplicate_ids), &
+      new_unittest("integer_of: the 64-bit integers and nothing else; printable", test_integer_of), &
+      new_unittest("every example snapshot truncated: a prefix of it or one line", test_truncated), &
+      new_unittest("every example snapshot with bytes changed: sound or one line", test_flipped), &
+      new_unittest("every example snapshot's counts inflated to 2147483647, 1e8, ...: one line", test_inflated) &
       ]
   end subroutine collect_snapshot
 
@@ -329,5 +339,217 @@ contains
     call check(error, w%v(1, 1) == 0.5_dp .and. d%v(1, 1) == 0.5_dp .and. w%omega(3, 3) == 10.0_dp .and. &
       d%omega(3, 3) == 10.0_dp, "velocities and angular velocities")
   end subroutine test_liggghts
+
+  !> A dump frame of 8 valid rows whose header declares `count` atoms.
+  pure function eight_rows(count) result(t)
+    character(len=*), intent(in) :: count
+    character(len=:), allocatable :: t
+    integer :: i
+    character(len=40) :: row
+    t = "ITEM: TIMESTEP"//nl//"0"//nl//"ITEM: NUMBER OF ATOMS"//nl//count//nl// &
+      "ITEM: BOX BOUNDS ff ff ff"//nl//"0 1"//nl//"0 1"//nl//"0 1"//nl//"ITEM: ATOMS id type x y z radius"//nl
+    do i = 1, 8
+      write(row, '(i0, a, f3.1, a)') i, " 1 ", 0.1*i, " 0.1 0.1 0.01"
+      t = t//trim(row)//nl
+    end do
+  end function eight_rows
+
+  !> The message of a refused text (format given), checked to be one line.
+  subroutine refusal(error, text, format, message)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), intent(in) :: text
+    integer, intent(in) :: format
+    character(len=:), allocatable, intent(out) :: message
+    type(snapshot_type) :: s
+    type(demstep_status_type) :: status
+    call parse_snapshot(text, s, status, format=format)
+    message = ""
+    if (allocated(status%message)) message = status%message
+    call check(error, status%stat == demstep_stat%invalid_input .and. index(message, nl) == 0, &
+      "refused in one line: '"//message//"'")
+  end subroutine refusal
+
+  !> Expect the exact message for a refused text.
+  subroutine expect_exact(error, text, format, expected)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), intent(in) :: text, expected
+    integer, intent(in) :: format
+    character(len=:), allocatable :: message
+    call refusal(error, text, format, message)
+    if (allocated(error)) return
+    call check(error, message == expected, "want '"//expected//"', got '"//message//"'")
+  end subroutine expect_exact
+
+  !> The count was added to the line number before it was compared (it wrapped
+  !> around, the reader went out of bounds): now compared with the lines left.
+  subroutine test_dump_counts(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(snapshot_type) :: s
+    type(demstep_status_type) :: status
+    integer :: i
+    character(len=10), parameter :: counts(3) = ["2147483647", "2147483646", "2147483640"]
+    call parse_snapshot(eight_rows("8"), s, status)
+    call check(error, status%stat == demstep_stat%ok .and. s%n == 8 .and. s%x(1, 8) == 0.8_dp, &
+      "the 8-row dump itself reads")
+    if (allocated(error)) return
+    do i = 1, size(counts)
+      call expect_exact(error, eight_rows(counts(i)), snapshot_format%lammps_dump, "line 17: truncated: frame 1 " &
+        //"declares "//counts(i)//" atoms, the file ends after 8 of their rows")
+      if (allocated(error)) return
+    end do
+    call expect_exact(error, eight_rows("2147483648"), snapshot_format%lammps_dump, &
+      "line 4: the number of atoms must lie in [0, 2147483647]")
+    if (allocated(error)) return
+    call expect_exact(error, eight_rows("99999999999999999999"), snapshot_format%lammps_dump, &
+      "line 4: the number of atoms: '99999999999999999999' lies beyond the 64-bit integer range")
+    if (allocated(error)) return
+    ! a huge count in the first of two frames swallows the second: refused too
+    call expect_exact(error, eight_rows("2147483647")//eight_rows("8"), snapshot_format%lammps_dump, &
+      "line 34: truncated: frame 1 declares 2147483647 atoms, the file ends after 25 of their rows")
+  end subroutine test_dump_counts
+
+  !> The count is checked against the rows under Atoms before the snapshot is
+  !> allocated (17 GB were asked for 2147483647 atoms before).
+  subroutine test_data_counts(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(snapshot_type) :: s
+    type(demstep_status_type) :: status
+    character(len=:), allocatable :: t
+    integer :: i
+    character(len=10), parameter :: counts(3) = [character(len=10) :: "2147483647", "2147483646", "100000000"]
+    t = "LAMMPS data file"//nl//nl//"2 atoms"//nl//nl//"0 1 xlo xhi"//nl//"0 1 ylo yhi"//nl//"0 1 zlo zhi"// &
+      nl//nl//"Atoms # sphere"//nl//nl//"1 1 0.02 1000 0.1 0.1 0.1"//nl//"2 1 0.02 1000 0.2 0.1 0.1"//nl
+    call parse_snapshot(t, s, status)
+    call check(error, status%stat == demstep_stat%ok .and. s%n == 2, "the 2-atom file itself reads")
+    if (allocated(error)) return
+    do i = 1, size(counts)
+      call expect_exact(error, replace(t, "2 atoms", trim(counts(i))//" atoms"), snapshot_format%lammps_data, &
+        "line 12: truncated: the Atoms section has 2 of the "//trim(counts(i))//" rows the header declares (line 3)")
+      if (allocated(error)) return
+    end do
+    ! another section after the rows: the message is at its keyword
+    call expect_exact(error, replace(t, "2 atoms", "5 atoms")//nl//"Velocities"//nl//nl//"1 0 0 0 0 0 0"//nl, &
+      snapshot_format%lammps_data, "line 14: the Atoms section has 2 rows, the header declares 5 atoms (line 3)")
+    if (allocated(error)) return
+    call expect_exact(error, replace(t, "2 atoms", "4294967297 atoms"), snapshot_format%lammps_data, &
+      "line 3: the atom count '4294967297' is not an integer in [0, 2147483647]")
+    if (allocated(error)) return
+    call expect_exact(error, t//nl//"Atoms"//nl//nl//"3 1 0.02 1000 0.3 0.1 0.1"//nl, snapshot_format%lammps_data, &
+      "line 14: a second Atoms section (the first on line 9)")
+  end subroutine test_data_counts
+
+  !> Ids and types were read as reals and rounded: 4294967297 became type 1,
+  !> 1.5 type 2, 0.6 type 1; a matId of 1e300 or 0.4 became material 0.
+  subroutine test_integer_columns(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=:), allocatable :: d, y
+    integer, parameter :: dump = snapshot_format%lammps_dump, data = snapshot_format%lammps_data, &
+      yade = snapshot_format%yade_text
+    ! dump, row 2 (line 11): "2 1 0.2 0.1 0.1 0.01"
+    d = eight_rows("8")
+    call expect_exact(error, replace(d, "2 1 0.2", "2 4294967297 0.2"), dump, &
+      "line 11: column 'type': '4294967297' must lie in [1, 2147483647]")
+    if (allocated(error)) return
+    call expect_exact(error, replace(d, "2 1 0.2", "2 1.5 0.2"), dump, "line 11: column 'type': '1.5' is not an integer")
+    if (allocated(error)) return
+    call expect_exact(error, replace(d, "2 1 0.2", "2 0.6 0.2"), dump, "line 11: column 'type': '0.6' is not an integer")
+    if (allocated(error)) return
+    call expect_exact(error, replace(d, "2 1 0.2", "2 0 0.2"), dump, "line 11: column 'type': '0' must lie in " &
+      //"[1, 2147483647]")
+    if (allocated(error)) return
+    call expect_exact(error, replace(d, "2 1 0.2", "1.5 1 0.2"), dump, "line 11: column 'id': '1.5' is not an integer")
+    if (allocated(error)) return
+    call expect_exact(error, replace(d, "2 1 0.2", "9223372036854775808 1 0.2"), dump, "line 11: column 'id': " &
+      //"'9223372036854775808' must lie in [1, 9223372036854775807]")
+    if (allocated(error)) return
+    ! data file, row 2 (line 17): "3 2 0.004 1000 ..."
+    d = data_file()
+    call expect_exact(error, replace(d, "3 2 0.004", "3 4294967297 0.004"), data, &
+      "line 17: column 'type': '4294967297' must lie in [1, 2147483647]")
+    if (allocated(error)) return
+    call expect_exact(error, replace(d, "3 2 0.004", "3 1.5 0.004"), data, "line 17: column 'type': '1.5' is not " &
+      //"an integer")
+    if (allocated(error)) return
+    call expect_exact(error, replace(d, "3 2 0.004", "3 0.6 0.004"), data, "line 17: column 'type': '0.6' is not " &
+      //"an integer")
+    if (allocated(error)) return
+    call expect_exact(error, replace(d, "3 2 0.004", "1.5 2 0.004"), data, "line 17: column 'id': '1.5' is not " &
+      //"an integer")
+    if (allocated(error)) return
+    call expect_exact(error, replace(d, "5 -1 -2 -3", "5.0 -1 -2 -3"), data, "line 23: column 'id': '5.0' is not " &
+      //"an integer")
+    if (allocated(error)) return
+    ! Yade: matId counts from 0 (the type is matId + 1, at most huge)
+    y = "#format x_y_z_r_matId"//nl//"0 0 0 0.5 1"//nl//"1 0 0 0.5 0"//nl
+    call expect_exact(error, replace(y, "0.5 1", "0.5 4294967296"), yade, &
+      "line 2: column 'matId': '4294967296' must lie in [0, 2147483646]")
+    if (allocated(error)) return
+    call expect_exact(error, replace(y, "0.5 1", "0.5 1e300"), yade, "line 2: column 'matId': '1e300' is not an integer")
+    if (allocated(error)) return
+    call expect_exact(error, replace(y, "0.5 1", "0.5 0.4"), yade, "line 2: column 'matId': '0.4' is not an integer")
+    if (allocated(error)) return
+    call expect_exact(error, replace(y, "0.5 1", "0.5 -1"), yade, "line 2: column 'matId': '-1' must lie in " &
+      //"[0, 2147483646]")
+    if (allocated(error)) return
+    ! an attribute column is not a matId: any number
+    block
+      type(snapshot_type) :: s
+      type(demstep_status_type) :: status
+      call parse_snapshot("#format x_y_z_r_attrs"//nl//"0 0 0 0.5 0.4"//nl, s, status)
+      call check(error, status%stat == demstep_stat%ok .and. s%type(1) == 1, "attrs: 0.4 is an attribute")
+      if (allocated(error)) return
+      call parse_snapshot("#format x_y_z_r_attrs"//nl//"0 0 0 0.5 x"//nl, s, status)
+      call check(error, status%message == "line 2: value 5: 'x' is not a number", &
+        "attrs: the fifth value is no matId: "//status%message)
+    end block
+  end subroutine test_integer_columns
+
+  !> The readers' integers: exact to the ends of the 64-bit range, beyond it
+  !> flagged, any other text refused.
+  subroutine test_integer_of(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer(i8) :: v
+    logical :: ok, big
+    integer :: i
+    character(len=24), parameter :: good(5) = [character(len=24) :: "0", "+7", "-7", "9223372036854775807", &
+      "-9223372036854775808"]
+    integer(i8), parameter :: values(5) = [0_i8, 7_i8, -7_i8, huge(1_i8), -huge(1_i8) - 1_i8]
+    character(len=24), parameter :: beyond(3) = [character(len=24) :: "9223372036854775808", &
+      "-9223372036854775809", "99999999999999999999999"]
+    character(len=8), parameter :: bad(9) = [character(len=8) :: "", "+", "-", "1.0", "1e3", " 1", "0x10", "12a", &
+      "--1"]
+    do i = 1, size(good)
+      call integer_of(trim(good(i)), v, ok, big)
+      call check(error, ok .and. .not. big .and. v == values(i), "'"//trim(good(i))//"' read exactly")
+      if (allocated(error)) return
+    end do
+    do i = 1, size(beyond)
+      call integer_of(trim(beyond(i)), v, ok, big)
+      call check(error, .not. ok .and. big .and. v == 0_i8, "'"//trim(beyond(i))//"': beyond the range")
+      if (allocated(error)) return
+    end do
+    do i = 1, size(bad)
+      ! (len_trim keeps the leading blank of " 1")
+      call integer_of(bad(i)(:len_trim(bad(i))), v, ok, big)
+      call check(error, .not. ok .and. .not. big, "'"//trim(bad(i))//"': not an integer")
+      if (allocated(error)) return
+    end do
+    call check(error, printable("a"//achar(13)//"b"//achar(9)//"c"//achar(0)//achar(255)//nl) == "a?b c???", &
+      "printable: control and non-ASCII bytes as ?, a tab as a blank")
+  end subroutine test_integer_of
+
+  subroutine test_duplicate_ids(error)
+    type(error_type), allocatable, intent(out) :: error
+    ! dump: rows 1..8 on lines 10..17; row 5 repeats id 3
+    call expect_exact(error, replace(eight_rows("8"), "5 1 0.5", "3 1 0.5"), snapshot_format%lammps_dump, &
+      "line 14: atom id 3 appears twice (first on line 12)")
+    if (allocated(error)) return
+    ! data file: Atoms rows on lines 16..18, Velocities rows on 22..24
+    call expect_exact(error, replace(data_file(), "9 1 0.002", "5 1 0.002"), snapshot_format%lammps_data, &
+      "line 18: atom id 5 appears twice (first on line 16)")
+    if (allocated(error)) return
+    call expect_exact(error, replace(data_file(), "3 0 0 0 0 0 1", "9 0 0 0 0 0 1"), snapshot_format%lammps_data, &
+      "line 24: atom id 9 appears twice in the Velocities section (first on line 22)")
+  end subroutine test_duplicate_ids
 
 end module test_snapshot

@@ -23,7 +23,8 @@ contains
       new_unittest("an empty table", test_empty), &
       new_unittest("malformed rows: file, line and what is wrong", test_malformed), &
       new_unittest("binary input, long lines, missing files", test_refused), &
-      new_unittest("1e5 rows, each value in its place", test_many_rows) &
+      new_unittest("1e5 rows, each value in its place", test_many_rows), &
+      new_unittest("particle numbers: integers in [1, huge], refused by line and column", test_index_columns) &
       ]
   end subroutine collect_table_io
 
@@ -147,6 +148,42 @@ contains
     call check(error, all(rows(1, :) == [(real(i, dp), i = 1, n)]) .and. &
       all(rows(2, :) == [(real(n - i, dp), i = 1, n)]), "every value in its place")
   end subroutine test_many_rows
+
+  !> Particle numbers were read as reals: 4294967297 wrapped around, 1.5 was
+  !> caught only by the app and without a line. Now read as integers.
+  subroutine test_index_columns(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), allocatable :: rows(:, :)
+    type(demstep_status_type) :: status
+    integer :: i
+    character(len=20), parameter :: bad(6) = [character(len=20) :: "1.5", "2.0", "1e3", "4294967297", "0", &
+      "-2"]
+    call write_file(table, [character(len=40) :: "# i j k_n k_t", "1 2 1e4 0.5", "+2,3,2.5e3,1", &
+      "2147483647 1 1 1"])
+    call read_table(table, 4, rows, status, index_columns=[1, 2])
+    call check(error, status%stat, demstep_stat%ok, message=status%message)
+    if (allocated(error)) return
+    call check(error, all(rows(1:2, :) == reshape([1.0_dp, 2.0_dp, 2.0_dp, 3.0_dp, 2147483647.0_dp, 1.0_dp], &
+      [2, 3])) .and. rows(3, 2) == 2500.0_dp, "integers, and the other columns as reals")
+    if (allocated(error)) return
+    do i = 1, size(bad)
+      call write_file(table, [character(len=40) :: "1 2 1e4 0.5", "3 "//trim(bad(i))//" 1e4 0.5"])
+      call read_table(table, 4, rows, status, index_columns=[1, 2])
+      if (i <= 3) then
+        call expect(error, status, demstep_stat%invalid_input, table//": line 2: column 2: '"//trim(bad(i))// &
+          "' is not an integer (a particle number)")
+      else
+        call expect(error, status, demstep_stat%invalid_input, table//": line 2: column 2: particle number '" &
+          //trim(bad(i))//"' must lie in [1, 2147483647]")
+      end if
+      if (allocated(error)) return
+      call check(error, index(status%message, new_line("a")) == 0, "one line")
+      if (allocated(error)) return
+    end do
+    ! the same rows without index columns: reals, as before
+    call read_table(table, 4, rows, status)
+    call check(error, status%stat == demstep_stat%ok .and. rows(2, 2) == -2.0_dp, "no index columns: reals")
+  end subroutine test_index_columns
 
   !> The status code and the exact message.
   subroutine expect(error, status, stat, message)
