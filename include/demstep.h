@@ -187,6 +187,11 @@ typedef struct {
   int eigen_solver;           /* which ran: DEMSTEP_EIGEN_DENSE, _LANCZOS or _NONE */
   int eigen_converged;        /* 0: Lanczos ran out of restarts; omega_max is then in
                                  [omega_max, omega_upper] */
+  /* appended in version 3: the exact damped limit (dt_critical_damped is the
+     smallest h with lambda_max(h^2 A + 2 h B) = 4, verified below it) */
+  double dt_critical_damped_bound; /* its rigorous lower bound */
+  int damped_exact;           /* 1: dt_critical_damped is the exact limit; 0: the bound */
+  int damped_solves;          /* eigensolves of its Newton steps */
 } demstep_scene_result;
 
 /* A scene without particles in dim (1 to 3) dimensions; *scene receives the handle
@@ -256,6 +261,18 @@ int demstep_scene_set_cell(demstep_scene *scene, const int *periodic, const doub
    tangential ones c_t = 2 zeta sqrt(m* k_t), as LIGGGHTS' tangential_damping
    on. The effect itself is switched by demstep_scene_set_effects. */
 int demstep_scene_set_damping(demstep_scene *scene, double damping_ratio, demstep_error *err);
+
+/* The other dashpots of DEMSTEP_EFFECT_DAMPING: the tangential damping ratio
+   (c_t = 2 zeta_t sqrt(m* k_t); demstep_scene_set_damping sets it to the normal
+   ratio), the rolling and twisting one (c = 2 zeta_r sqrt(I* k)), each 0 to 1e100,
+   and a drag to the ground F = -drag v (>= 0). */
+int demstep_scene_set_dashpots(demstep_scene *scene, double tangential, double rolling, double drag,
+                               demstep_error *err);
+
+/* Rolling and twisting springs: k_r = rolling_ratio k_t R*^2, k_w = twisting_ratio
+   k_t R*^2 (each >= 0; LIGGGHTS epsd2 is rolling_ratio 1); rotations come on. */
+int demstep_scene_set_rolling(demstep_scene *scene, double rolling_ratio, double twisting_ratio,
+                              demstep_error *err);
 
 /* The gravity vector of DEMSTEP_EFFECT_GRAVITY: dim finite components. */
 int demstep_scene_set_gravity(demstep_scene *scene, const double *gravity, demstep_error *err);

@@ -40,7 +40,7 @@ module demstep_assembly
   use demstep_text, only: int_text, real_text
   use demstep_spring, only: damped_limit
   use demstep_interaction, only: contact_law, contact_block, contact_product, dashpot_coefficient, &
-    wall_overlap, reduced_radius, dof_components
+    wall_overlap, reduced_radius, dof_components, contact_arm
   use demstep_scene_data, only: scene_type, scene_effect, effective_mass, contact_values, wall_values, &
     contact_dashpots, check_scene_damping
   use demstep_neighbours, only: contact_list
@@ -1084,7 +1084,7 @@ contains
         end if
         m = m + 1
         springs(m) = spring_block_type(a=i, b=j, k=kc, c=contact_dashpots(scene, pc(k), i, j, kc), &
-          n=pn(:, k), arm_a=scene%radius(i), arm_b=scene%radius(j))
+          n=pn(:, k), arm_a=contact_arm(scene%radius(i), pd(k)), arm_b=contact_arm(scene%radius(j), pd(k)))
         if (geo) then
           ! F_n at the current overlap over the branch length
           call contact_values(scene, pc(k), i, j, pd(k), f_now, k_now)
@@ -1108,7 +1108,7 @@ contains
           end if
           m = m + 1
           springs(m) = spring_block_type(a=0, b=i, k=kc, c=contact_dashpots(scene, 0, i, 0, kc), &
-            n=scene%wall_normal(:, w), arm_b=scene%radius(i))
+            n=scene%wall_normal(:, w), arm_b=contact_arm(scene%radius(i), overlap))
         end do
       end do
     end if

@@ -25,7 +25,7 @@ module demstep_capi
   use demstep_text, only: int_text
   use demstep_scene, only: scene_type, new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, &
     scene_set_cell, scene_set_types, scene_set_hertz_types, scene_set_law, scene_set_bond_stiffness, &
-    scene_set_gravity, n_effects, scene_effect, effect_names, contact_law, scene_set_damping
+    scene_set_gravity, n_effects, scene_effect, effect_names, contact_law, scene_set_damping, scene_set_rolling
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, hertz_linearization, &
     default_max_eigen_dof, eigen_solver
   use demstep_lanczos, only: lanczos_tolerance_default, check_lanczos_options
@@ -122,6 +122,9 @@ module demstep_capi
       dt_critical_safe = 0.0_dp
     integer(c_int64_t) :: eigen_products = 0
     integer(c_int) :: eigen_solver = 0, eigen_converged = 0
+    ! appended in version 3: the exact damped limit
+    real(c_double) :: dt_critical_damped_bound = 0.0_dp
+    integer(c_int) :: damped_exact = 0, damped_solves = 0
   end type demstep_scene_result_c
 
   !> sizeof(demstep_scene_result) of the first version: the least result_size accepted.
@@ -133,6 +136,7 @@ module demstep_capi
   public :: c_scene_create, c_scene_free, c_scene_set_particles, c_scene_add_bonds, &
     c_scene_set_bond_stiffness, c_scene_set_contact_law, c_scene_set_types, c_scene_set_hertz_types, &
     c_scene_add_walls, c_scene_set_contacts, c_scene_set_effects, c_scene_set_cell, c_scene_set_damping, &
+    c_scene_set_dashpots, c_scene_set_rolling, &
     c_scene_set_gravity, c_scene_compute, c_scene_set_eigen_solver
 
 contains
@@ -866,6 +870,38 @@ contains
     code = built(h, "demstep_scene_set_damping", status, err)
   end function c_scene_set_damping
 
+  !> int demstep_scene_set_dashpots(demstep_scene *scene, double tangential, double rolling,
+  !>   double drag, demstep_error *err)
+  function c_scene_set_dashpots(scene, tangential, rolling, drag, err) result(code) &
+      bind(C, name="demstep_scene_set_dashpots")
+    type(c_ptr), value :: scene, err
+    real(c_double), value :: tangential, rolling, drag
+    integer(c_int) :: code
+    type(capi_scene_type), pointer :: h
+    type(demstep_status_type) :: status
+    logical :: on
+    if (.not. live(scene, "demstep_scene_set_dashpots", h, err, code, particles=.false.)) return
+    on = h%scene%effects(scene_effect%damping)
+    call scene_set_damping(h%scene, h%scene%damping_ratio, status, tangential=tangential, rolling=rolling, &
+      drag=drag)
+    h%scene%effects(scene_effect%damping) = on
+    code = built(h, "demstep_scene_set_dashpots", status, err)
+  end function c_scene_set_dashpots
+
+  !> int demstep_scene_set_rolling(demstep_scene *scene, double rolling_ratio, double twisting_ratio,
+  !>   demstep_error *err)
+  function c_scene_set_rolling(scene, rolling_ratio, twisting_ratio, err) result(code) &
+      bind(C, name="demstep_scene_set_rolling")
+    type(c_ptr), value :: scene, err
+    real(c_double), value :: rolling_ratio, twisting_ratio
+    integer(c_int) :: code
+    type(capi_scene_type), pointer :: h
+    type(demstep_status_type) :: status
+    if (.not. live(scene, "demstep_scene_set_rolling", h, err, code, particles=.false.)) return
+    call scene_set_rolling(h%scene, rolling_ratio, twisting_ratio, status)
+    code = built(h, "demstep_scene_set_rolling", status, err)
+  end function c_scene_set_rolling
+
   !> int demstep_scene_set_gravity(demstep_scene *scene, const double *gravity, demstep_error *err)
   function c_scene_set_gravity(scene, gravity, err) result(code) bind(C, name="demstep_scene_set_gravity")
     type(c_ptr), value :: scene, gravity, err
@@ -969,13 +1005,14 @@ contains
     code = report(err, status)
     call guard_finite([c%omega_max, c%dt_critical_eigen, c%omega_bound, c%dt_critical_bound, &
       c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped, c%omega_upper, c%dt_critical_safe, &
-      c%eigen_residual], name, err, code)
+      c%eigen_residual, c%dt_critical_damped_bound], name, err, code)
     if (code /= demstep_stat%ok) return
     row = demstep_scene_result_c(c%omega_max, c%dt_critical_eigen, c%omega_bound, c%dt_critical_bound, &
       c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped, c%n_dof, c%n_springs, &
       c%dof_per_particle, flag(c%eigen_computed), flag(c%rotation), flag(c%tangential), &
       flag(c%periodic), flag(c%prestress), c%eigen_tolerance, c%eigen_residual, c%omega_upper, &
-      c%dt_critical_safe, c%eigen_products, c%solver, flag(c%eigen_converged))
+      c%dt_critical_safe, c%eigen_products, c%solver, flag(c%eigen_converged), c%dt_critical_damped_bound, &
+      flag(c%damped_exact), c%damped_solves)
     ! the struct's bytes by transfer (no pointer to a local of another type:
     ! optimisers may drop stores they cannot see read)
     bytes = transfer(row, [c_null_char])

@@ -24,7 +24,7 @@ module demstep_interaction
 
   public :: reduced_radius, reduced_mass, normal_force, normal_stiffness, tangential_stiffness, &
     normal_energy, dashpot_coefficient, wall_overlap, contact_block, contact_product, contact_forces, &
-    rolling_moments, &
+    rolling_moments, contact_arm, &
     add_bond_forces, dof_components, hertz_e_star, mindlin_g_star
 
   !> Contact laws, as components of a parameter: `contact_law%hertz`.
@@ -121,6 +121,15 @@ contains
     real(dp), intent(in) :: zeta, m, k
     c = 2.0_dp*zeta*sqrt(m*k)
   end function dashpot_coefficient
+
+  !> Lever arm from a sphere's centre (radius r) to the contact point at
+  !> overlap d: r - d/2, as LIGGGHTS (surface_model_default.h, c_i = r_i -
+  !> delta/2) and Yade (ScGeom's contact point) take it, for particle and
+  !> wall contacts alike.
+  elemental real(dp) function contact_arm(r, d) result(arm)
+    real(dp), intent(in) :: r, d
+    arm = r - 0.5_dp*max(d, 0.0_dp)
+  end function contact_arm
 
   !> Overlap r - (x - p).n of a sphere (centre x, radius r) with the wall through p
   !> of unit normal n (pointing into the domain).

@@ -31,7 +31,8 @@ module demstep_stepper
   use demstep_text, only: int_text
   use demstep_progress, only: progress_type
   use demstep_interaction, only: contact_law, reduced_radius, normal_force, &
-    normal_energy, dashpot_coefficient, contact_forces, rolling_moments, contact_product, add_bond_forces
+    normal_energy, dashpot_coefficient, contact_forces, rolling_moments, contact_product, add_bond_forces, &
+    contact_arm
   use demstep_scene_data, only: scene_type, scene_summary_type, scene_effect, effective_mass, &
     contact_values, wall_values, contact_dashpots, has_tangential, has_rolling, check_scene_damping
   use demstep_neighbours, only: search_type, prepare_search, find_contacts, find_wall_contacts, &
@@ -405,7 +406,8 @@ contains
         j = s%pair_j(k)
         call contact_values(scene, s%pair_c(k), i, j, s%pair_d(k), f_n, kc)
         us = s%pair_us(:, k)
-        call interaction_forces(scene, s%pair_n(:, k), f_n, kc, scene%radius(i), scene%radius(j), &
+        call interaction_forces(scene, s%pair_n(:, k), f_n, kc, contact_arm(scene%radius(i), s%pair_d(k)), &
+          contact_arm(scene%radius(j), s%pair_d(k)), &
           reduced_radius(scene%radius(i), scene%radius(j)), (scene%v(:, j) - scene%v(:, i))*h, &
           scene%w(:, i)*h, scene%w(:, j)*h, us, f, t_i, t_j)
         s%pair_us(:, k) = us
@@ -454,7 +456,8 @@ contains
         j = s%pair_j(k)
         call contact_values(scene, s%pair_c(k), i, j, s%pair_d(k), f_n, kc)
         cd = contact_dashpots(scene, s%pair_c(k), i, j, kc)
-        call contact_product(s%pair_n(:, k), cd, scene%radius(i), scene%radius(j), 1.0_dp, 1.0_dp, &
+        call contact_product(s%pair_n(:, k), cd, contact_arm(scene%radius(i), s%pair_d(k)), &
+          contact_arm(scene%radius(j), s%pair_d(k)), 1.0_dp, 1.0_dp, &
           0.0_dp, scene%v(:, i), scene%w(:, i), scene%v(:, j), scene%w(:, j), y_i, t_i, y_j, t_j)
         work%f(:, i) = work%f(:, i) - y_i
         work%f(:, j) = work%f(:, j) - y_j
@@ -496,7 +499,8 @@ contains
         i = s%wall_i(k)
         w = s%wall_k(k)
         call wall_values(scene, i, s%wall_d(k), f_n, kc)
-        call interaction_forces(scene, scene%wall_normal(:, w), f_n, kc, 0.0_dp, scene%radius(i), &
+        call interaction_forces(scene, scene%wall_normal(:, w), f_n, kc, 0.0_dp, &
+          contact_arm(scene%radius(i), s%wall_d(k)), &
           scene%radius(i), scene%v(:, i)*h, zero, scene%w(:, i)*h, work%wall_us(:, w, i), f, t_i, t_j)
         work%f(:, i) = work%f(:, i) + f
         work%t(:, i) = work%t(:, i) + t_j
@@ -516,7 +520,8 @@ contains
         i = s%wall_i(k)
         call wall_values(scene, i, s%wall_d(k), f_n, kc)
         cd = contact_dashpots(scene, 0, i, 0, kc)
-        call contact_product(scene%wall_normal(:, s%wall_k(k)), cd, 0.0_dp, scene%radius(i), 1.0_dp, &
+        call contact_product(scene%wall_normal(:, s%wall_k(k)), cd, 0.0_dp, &
+          contact_arm(scene%radius(i), s%wall_d(k)), 1.0_dp, &
           1.0_dp, 0.0_dp, zero, zero, scene%v(:, i), scene%w(:, i), y_i, t_i, y_j, t_j)
         work%f(:, i) = work%f(:, i) - y_j
         work%t(:, i) = work%t(:, i) - t_j

@@ -357,14 +357,15 @@ contains
       //"periodic = T, F, F, "
     call write_file(work_dir//"/p.txt", [character(len=60) :: "# x y z vx vy vz m r fixed inertia", &
       "0.1 0 0  0 0 0  1 0.6 0 0.4", "5.1 0 0  0 0 0  1 0.6 0 0.4"])
-    call write_file(work_dir//"/c.txt", [character(len=20) :: "# i j k_n k_t", "1 2 100 60"])
+    call write_file(work_dir//"/c.txt", [character(len=20) :: "# i j k_n k_t", "1 2 100 80"])
     ! x = 5.1 wraps to 1.1: one contact; the tangential-rotational mode is on top:
-    ! omega^2 = k_t (2/m + 2 r^2/I) = 60 x 3.8 = 228 > 2 k_n = 200
+    ! omega^2 = k_t (2/m + 2 c^2/I) = 80 x 3.25 = 260 > 2 k_n = 200, with the
+    ! lever arm to the contact point c = r - d/2 = 0.5
     call expect_result(error, g//"cell_hi = 4.0, 1.0, 1.0 /", res)
     if (allocated(error)) return
     call check(error, res%n_springs, 1, "one contact")
     if (allocated(error)) return
-    call check(error, res%omega_max, sqrt(228.0_dp), rel=.true., thr=1.0e-12_dp, message="omega_max")
+    call check(error, res%omega_max, sqrt(260.0_dp), rel=.true., thr=1.0e-12_dp, message="omega_max")
     if (allocated(error)) return
     call expect_refusal(error, g//"cell_hi = 2.0, 1.0, 1.0 /", "&scene: cell_hi: axis 1: the periodic cell " &
       //"must be at least twice the longest contact")

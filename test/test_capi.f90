@@ -15,6 +15,7 @@ module test_capi
     c_scene_set_particles, c_scene_add_bonds, c_scene_set_bond_stiffness, c_scene_set_contact_law, &
     c_scene_set_types, c_scene_set_hertz_types, c_scene_add_walls, c_scene_set_contacts, &
     c_scene_set_effects, c_scene_set_cell, c_scene_set_damping, c_scene_set_gravity, c_scene_compute, &
+    c_scene_set_dashpots, c_scene_set_rolling, &
     c_scene_set_eigen_solver
   use test_support, only: ieee_nan, read_file
   implicit none
@@ -323,7 +324,7 @@ contains
     end type newer_result_c
     type(c_ptr), target :: handle
     type(demstep_error_c), target :: e
-    type(demstep_scene_result_c), target :: res
+    type(demstep_scene_result_c), target :: res, res2
     type(newer_result_c), target :: newer
     type(scene_type) :: scene
     type(critical_step_type) :: c
@@ -402,7 +403,21 @@ contains
     code = c_scene_set_effects(handle, capi_effect%damping, c_loc(e))
     code = compute(handle, res, e)
     call check(error, code == 0 .and. res%damping_ratio_top > 0.0_dp .and. &
-      res%dt_critical_damped < res%dt_critical_eigen, "damped chain: "//message_of(e))
+      res%dt_critical_damped < res%dt_critical_eigen .and. res%damped_exact == 1 .and. &
+      res%dt_critical_damped_bound <= res%dt_critical_damped .and. res%damped_solves > 0, &
+      "damped chain, exact: "//message_of(e))
+    if (allocated(error)) return
+    ! the other dashpots and the rolling springs through their setters; bad values refused
+    code = c_scene_set_dashpots(handle, 0.1_dp, 0.0_dp, 0.5_dp, c_loc(e))
+    call check(error, code == 0, "dashpots: "//message_of(e))
+    if (allocated(error)) return
+    code = compute(handle, res2, e)
+    call check(error, code == 0 .and. res2%dt_critical_damped < res%dt_critical_damped, &
+      "a drag lowers the damped limit: "//message_of(e))
+    if (allocated(error)) return
+    code = c_scene_set_rolling(handle, -1.0_dp, 0.0_dp, c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "rolling_ratio") > 0, &
+      "rolling_ratio -1 refused")
     if (allocated(error)) return
     code = c_scene_free(c_loc(handle), c_loc(e))
     call check(error, code == 0 .and. .not. c_associated(handle), "free sets the handle to NULL")
@@ -782,11 +797,21 @@ contains
     if (allocated(error)) return
     code = c_scene_free(c_loc(handle), c_loc(e))
     call chain_handle(handle, e, code)
+    ! refused by the setter itself (NaN was once accepted with DEMSTEP_OK)
     code = c_scene_set_damping(handle, -1.0_dp, c_loc(e))
-    code = c_scene_set_effects(handle, capi_effect%damping, c_loc(e))
-    code = compute(handle, res, e)
     call check(error, code == 1 .and. index(message_of(e), "damping_ratio:") > 0, "negative damping: " &
       //message_of(e))
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    call chain_handle(handle, e, code)
+    code = c_scene_set_damping(handle, ieee_nan(), c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "damping_ratio:") > 0, "NaN damping: " &
+      //message_of(e))
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    call chain_handle(handle, e, code)
+    code = c_scene_set_dashpots(handle, 0.1_dp, 0.0_dp, ieee_nan(), c_loc(e))
+    call check(error, code == 1 .and. index(message_of(e), "drag:") > 0, "NaN drag: "//message_of(e))
     if (allocated(error)) return
     code = c_scene_free(c_loc(handle), c_loc(e))
   end subroutine test_scene_bad_input

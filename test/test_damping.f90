@@ -368,11 +368,12 @@ contains
     real(dp) :: x(3, 2)
     x = reshape([0.0_dp, 0.0_dp, 0.0_dp, 1.9_dp, 0.0_dp, 0.0_dp], [3, 2])
     call new_scene(scene, 3, x, [1.0_dp, 1.0_dp], [1.0_dp, 1.0_dp], status)
-    call scene_set_law(scene, contact_law%linear, 1.0e3_dp, 300.0_dp, status)
+    call scene_set_law(scene, contact_law%linear, 1.0e3_dp, 600.0_dp, status)
     call assembly_critical_steps(scene, c, status)
-    ! the pair's rotation mode: omega^2 = k_t (1/m + 1/m + r^2/I + r^2/I)
+    ! the pair's rotation mode, above the normal one (2 k_n/m): omega^2 = k_t
+    ! (1/m + 1/m + c^2/I + c^2/I), the lever arm c = r - d/2 = 0.95
     call check(error, c%dof_per_particle == 6 .and. c%rotation .and. abs(c%omega_max - &
-      sqrt(300.0_dp*(2.0_dp + 2.0_dp/0.4_dp))) < 1.0e-10_dp*c%omega_max, "tangential: 6 dof, "// &
+      sqrt(600.0_dp*(2.0_dp + 2.0_dp*0.95_dp**2/0.4_dp))) < 1.0e-10_dp*c%omega_max, "tangential: 6 dof, "// &
       real_str(c%omega_max))
     if (allocated(error)) return
     ! a wall under particle 1 (overlap 0.1): it takes part as soon as it is added

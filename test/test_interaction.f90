@@ -23,7 +23,7 @@ contains
     testsuite = [ &
       new_unittest("tangent block = finite differences of force and torque", test_block_fd), &
       new_unittest("Coulomb friction caps the tangential force at friction F_n", test_friction), &
-      new_unittest("rotating pair: omega^2 = k_t (1/m_i + 1/m_j + r_i^2/I_i + r_j^2/I_j)", test_pair), &
+      new_unittest("rotating pair: omega^2 = k_t (1/m_i + 1/m_j + c_i^2/I_i + c_j^2/I_j), c = r - d/2", test_pair), &
       new_unittest("periodic ring with rotations vs its dispersion relation", test_ring), &
       new_unittest("periodic simple cubic lattice vs its dispersion relation", test_sc_lattice), &
       new_unittest("the bound is never below the exact value with rotations", test_bound_rotations), &
@@ -159,8 +159,9 @@ contains
       call assembly_critical_steps(scene, c, status)
       call check(error, status%stat, demstep_stat%ok, "analysis: "//status%message)
       if (allocated(error)) return
-      ! tangential-rotational mode (the normal one, 10 (1/2 + 1/3), is below)
-      expected = kt*(1.0_dp/2.0_dp + 1.0_dp/3.0_dp + 0.6_dp**2/0.25_dp + 0.5_dp**2/0.4_dp)
+      ! tangential-rotational mode (the normal one, 10 (1/2 + 1/3), is below);
+      ! the lever arms reach the contact point, r - d/2 (overlap d = 0.1)
+      expected = kt*(1.0_dp/2.0_dp + 1.0_dp/3.0_dp + 0.55_dp**2/0.25_dp + 0.45_dp**2/0.4_dp)
       call check(error, c%omega_max**2, expected, rel=.true., thr=1.0e-12_dp, message="pair in "// &
         real_str(real(dim, dp))//"D")
       if (allocated(error)) return
@@ -210,11 +211,12 @@ contains
       call check(error, c%omega_max**2, expected, rel=.true., thr=1.0e-12_dp, message="longitudinal, n = "// &
         real_str(real(n, dp)))
       if (allocated(error)) return
-      ! transverse-rotational branch on top: omega^2 = 4 k_t (sin^2(q/2)/m + r^2 cos^2(q/2)/I),
-      ! largest at q = 0 (every sphere turning the same way): 10 k_t/m with I = 2/5 m r^2
+      ! transverse-rotational branch on top: omega^2 = 4 k_t (sin^2(q/2)/m + c^2 cos^2(q/2)/I),
+      ! largest at q = 0 (every sphere turning the same way): 10 k_t/m (c/r)^2 with
+      ! I = 2/5 m r^2 and the lever arm to the contact point c = r - d/2 = 0.99 r
       call ring(scene, n, 2.0_dp, 0.5_dp, 50.0_dp, 30.0_dp)
       call assembly_critical_steps(scene, c, status)
-      call check(error, c%omega_max**2, 10.0_dp*30.0_dp/2.0_dp, rel=.true., thr=1.0e-12_dp, &
+      call check(error, c%omega_max**2, 10.0_dp*30.0_dp/2.0_dp*0.99_dp**2, rel=.true., thr=1.0e-12_dp, &
         message="rotational, n = "//real_str(real(n, dp)))
       if (allocated(error)) return
       ! without rotations the transverse branch is 4 k_t sin^2(q/2)/m
@@ -260,7 +262,8 @@ contains
     type(demstep_status_type) :: status
     ! checkerboard translation: each sphere pushes 2 normal and 4 tangential
     ! springs on both sides: omega^2 = (4 k_n + 8 k_t)/m; the rotational branch
-    ! tops at 4 x 2 k_t r^2/I = 20 k_t/m (all neighbours turning oppositely)
+    ! tops at 4 x 2 k_t c^2/I = 20 k_t/m (c/r)^2 (all neighbours turning
+    ! oppositely; lever arm c = r - d/2 = 0.99 r)
     call sc_lattice(scene, 4, 1.0e3_dp, 300.0_dp)
     call assembly_critical_steps(scene, c, status)
     call check(error, status%stat, demstep_stat%ok, "sc: "//status%message)
@@ -273,7 +276,7 @@ contains
     if (allocated(error)) return
     call sc_lattice(scene, 4, 1.0e3_dp, 900.0_dp)
     call assembly_critical_steps(scene, c, status)
-    call check(error, c%omega_max**2, max(4.0e3_dp + 8.0_dp*900.0_dp, 20.0_dp*900.0_dp), rel=.true., &
+    call check(error, c%omega_max**2, max(4.0e3_dp + 8.0_dp*900.0_dp, 20.0_dp*900.0_dp*0.99_dp**2), rel=.true., &
       thr=1.0e-12_dp, message="sc, rotations on top")
   end subroutine test_sc_lattice
 
@@ -421,7 +424,9 @@ contains
     kn = 2.0_dp*e_star*sqrt(rs*d)
     kt = 8.0_dp*g_star*sqrt(rs*d)
     mm = 1.0_dp/1.0_dp + 1.0_dp/2.0_dp
-    call check(error, c%omega_max**2, max(kn*mm, kt*(mm + 1.0_dp/(0.4_dp*1.0_dp) + 1.0_dp/(0.4_dp*2.0_dp))), &
+    ! lever arms to the contact point: 0.52 - 0.01, 0.5 - 0.01
+    call check(error, c%omega_max**2, max(kn*mm, kt*(mm + 0.51_dp**2/(0.4_dp*1.0_dp*0.52_dp**2) + &
+      0.49_dp**2/(0.4_dp*2.0_dp*0.5_dp**2))), &
       rel=.true., thr=1.0e-12_dp, message="Hertz types")
     if (allocated(error)) return
     call scene_set_types(scene, [1, 3], k, status)
@@ -438,13 +443,15 @@ contains
       integer :: e, it
       integer, parameter :: pairs(2, 2) = reshape([1, 2, 2, 3], [2, 2])
       real(dp), parameter :: r(3) = [0.55_dp, 0.5_dp, 0.55_dp], ms(3) = [1.0_dp, 2.0_dp, 1.0_dp]
+      ! lever arms to the contact points (both overlaps 0.05): r - 0.025
+      real(dp), parameter :: arm(3) = r - 0.025_dp
       kmat = 0.0_dp
       do e = 1, 2
         b = 0.0_dp
         b(2*pairs(1, e) - 1) = -1.0_dp
-        b(2*pairs(1, e)) = -r(pairs(1, e))
+        b(2*pairs(1, e)) = -arm(pairs(1, e))
         b(2*pairs(2, e) - 1) = 1.0_dp
-        b(2*pairs(2, e)) = -r(pairs(2, e))
+        b(2*pairs(2, e)) = -arm(pairs(2, e))
         kmat = kmat + kt*spread(b, 2, 6)*spread(b, 1, 6)
       end do
       m = [(ms((e + 1)/2)*merge(1.0_dp, 0.4_dp*r((e + 1)/2)**2, mod(e, 2) == 1), e = 1, 6)]

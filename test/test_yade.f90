@@ -3,7 +3,8 @@
 !> on the exported particle and contact tables; its dt_critical_eigen must lie
 !> within 0.5 % of the measured limit and never above it by more than 0.1 %,
 !> and equal the independent numpy reference of the same model
-!> (reference_6dof.py, "sym6_radius_arms") to 1e-10, and its bound the
+!> (reference_6dof.py, "sym6_contact_point_arms": lever arms to the contact
+!> point, r - delta/2, as Yade's ScGeom) to 1e-10, and its bound the
 !> reference's Collatz-Wielandt bound. Yade is not needed: the
 !> measurements and the reference are committed JSON files.
 module test_yade
@@ -92,7 +93,7 @@ contains
     call read_file("validation/yade/data/"//name//"/reference.json", reference)
     lo = json_number(summary, "measured_dt_lo", 1)
     hi = json_number(summary, "measured_dt_hi", 1)
-    ref = json_number(reference, "dt", max(1, index(reference, '"sym6_radius_arms"')))
+    ref = json_number(reference, "dt", max(1, index(reference, '"sym6_contact_point_arms"')))
     ref_bound = json_number(reference, "dt", max(1, index(reference, '"collatz_sym6"')))
     ref_gershgorin = json_number(reference, "dt", max(1, index(reference, '"gershgorin_sym6"')))
     call check(error, lo > 0.0_dp .and. hi > lo .and. ref > 0.0_dp, "the JSON files are read")

@@ -178,7 +178,8 @@ def analyse(case):
         sym = not kw.get('alpha', False)
         w2, imag, A = omega2_max(K, mv, symmetric=sym)
         res[name] = {'omega2_max': w2, 'dt': dt_of(w2), 'max_abs_imag': imag}
-        if name == 'sym6_radius_arms':
+        if name == 'sym6_contact_point_arms':
+            # (demstep's model: lever arms to the contact point, r - delta/2)
             # Gershgorin: largest absolute row sum of the mass-scaled matrix
             B = np.abs(A)
             g = np.max(np.sum(B, axis=1))
@@ -194,7 +195,7 @@ def analyse(case):
                 v = np.maximum(r / np.max(r), 1e-3)
             res['collatz_sym6'] = {'omega2_bound': cw, 'dt': dt_of(cw)}
             asym = np.max(np.abs(K - K.T)) / np.max(np.abs(K))
-            res['sym6_radius_arms']['K_asymmetry'] = asym
+            res['sym6_contact_point_arms']['K_asymmetry'] = asym
     res['gsts_replica_1.41044'] = gsts_replica(part, cont, cell, 1.41044)
     res['gsts_replica_sqrt2'] = gsts_replica(part, cont, cell, math.sqrt(2.0))
     rho, E = summ['density'], summ['young']
