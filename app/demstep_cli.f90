@@ -10,12 +10,13 @@ module demstep_cli
   use demstep_namelist, only: nml_group_type, nml_item_type, excerpt
   ! integers as text: the library's (`fmt_int` beside `fmt_real` in the app)
   use demstep_text, only: fmt_int => int_text
+  use demstep_cli_files, only: input_file_type
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
   implicit none
   private
 
-  public :: recommended_line, var, given, read_group, check_real, fmt_real, fmt_int, write_template, cli_context, &
-    fmt_real_column, default_text, capacity_of, &
+  public :: recommended_line, var, given, begin_group, check_real, fmt_real, fmt_int, write_template, cli_context, &
+    next_assignment, fmt_real_column, default_text, capacity_of, &
     new_array, array_length, broadcast, common_length, new_int_array, int_array_length, word_list, &
     report_row
 
@@ -36,6 +37,8 @@ module demstep_cli
     logical :: quiet = .false.
     !> The input deck's name (relative table files are read beside it).
     character(len=:), allocatable :: deck
+    !> The files the deck reads (itself first): no output may replace one.
+    type(input_file_type), allocatable :: inputs(:)
     !> A `&scene` of the deck takes its particle types' materials from the
     !> `&material` group: that group then reports single contacts, and the
     !> recommended dt is the packing's alone.
@@ -57,15 +60,6 @@ module demstep_cli
     logical :: required = .false.
   end type var_spec
 
-  !> Reads one namelist text (`&group name = value /`) into the caller's namelist.
-  abstract interface
-    subroutine nml_reader(text, ios)
-      character(len=*), intent(in) :: text
-      !> Nonzero when the runtime could not read the text.
-      integer, intent(out) :: ios
-    end subroutine nml_reader
-  end interface
-
   !> Reads, checks and evaluates one group of a deck.
   abstract interface
     subroutine group_handler(ctx, group, status)
@@ -84,7 +78,19 @@ module demstep_cli
     procedure(group_handler), pointer, nopass :: handler => null()
   end type group_spec
 
-  public :: nml_reader, group_handler
+  public :: group_handler
+
+  !> One group being read by its handler (see [[begin_group]]).
+  type, public :: group_reading
+    !> The namelist text to read next: `&group name = value /`.
+    character(len=:), allocatable :: text
+    !> The runtime's iostat for `text` (set by the handler's read).
+    integer :: ios = 0
+    !> The group's table.
+    type(var_spec), allocatable, private :: specs(:)
+    !> Texts handed out so far: the table's rows first, then the deck's items.
+    integer, private :: handed = 0
+  end type group_reading
 
 contains
 
@@ -142,36 +148,63 @@ contains
     if (j > 0) capacity = specs(j)%capacity
   end function capacity_of
 
-  !> The common part of every group handler: check the names, set the table's
-  !> defaults, read the deck's assignments one at a time through `reader` (the
-  !> handler's `read(text, nml=...)`), and check the required and either-or rules.
-  subroutine read_group(group, specs, reader, status)
+  !> The common part of every group handler, begun: check the names. The handler
+  !> then reads the group's texts (the table's defaults, then the deck's
+  !> assignments one at a time) into its own namelist with
+  !> `do while (next_assignment(reading, group, status))` and
+  !> `read(reading%text, nml=..., iostat=reading%ios)`; the loop ends at an error
+  !> or after the required and either-or rules are checked. (The handler reads,
+  !> not a procedure passed here: an internal procedure passed as an argument
+  !> would need an executable stack.)
+  subroutine begin_group(reading, group, specs, status)
+    type(group_reading), intent(out) :: reading
     type(nml_group_type), intent(in) :: group
     !> The group's table.
     type(var_spec), intent(in) :: specs(:)
-    procedure(nml_reader) :: reader
     type(demstep_status_type), intent(out) :: status
-    integer :: i, ios
     call check_names(group, specs, status)
+    reading%specs = specs
+  end subroutine begin_group
+
+  !> The next text of a group reading begun by [[begin_group]] in `reading%text`
+  !> (true), or false: at an error (in `status`; a text the runtime could not
+  !> read, `reading%ios` /= 0, is named here) or at the end, once the group's
+  !> rules are checked.
+  logical function next_assignment(reading, group, status) result(more)
+    type(group_reading), intent(inout) :: reading
+    type(nml_group_type), intent(in) :: group
+    type(demstep_status_type), intent(inout) :: status
+    integer :: k
+    more = .false.
     if (status%stat /= demstep_stat%ok) return
-    do i = 1, size(specs)
-      if (len(specs(i)%default) == 0) cycle
-      call reader("&"//group%name//" "//specs(i)%name//" = "//value_of(specs(i)%default)//" /", ios)
-      if (ios /= 0) then
-        call set_status(status, demstep_stat%invalid_input, "&"//group%name//": "//specs(i)%name &
-          //": the default '"//specs(i)%default//"' cannot be read (a defect of demstep)")
-        return
+    k = reading%handed
+    if (k > 0 .and. reading%ios /= 0) then
+      if (k <= size(reading%specs)) then
+        call set_status(status, demstep_stat%invalid_input, "&"//group%name//": "//reading%specs(k)%name &
+          //": the default '"//reading%specs(k)%default//"' cannot be read (a defect of demstep)")
+      else
+        call read_failed(group, group%items(k - size(reading%specs)), reading%specs, status)
       end if
+      return
+    end if
+    do k = reading%handed + 1, size(reading%specs)
+      if (len(reading%specs(k)%default) == 0) cycle
+      reading%handed = k
+      reading%text = "&"//group%name//" "//reading%specs(k)%name//" = " &
+        //value_of(reading%specs(k)%default)//" /"
+      more = .true.
+      return
     end do
-    do i = 1, size(group%items)
-      call reader(item_text(group, group%items(i)), ios)
-      if (ios /= 0) then
-        call read_failed(group, group%items(i), specs, status)
-        return
-      end if
-    end do
-    call check_rules(group, specs, status)
-  end subroutine read_group
+    k = max(reading%handed, size(reading%specs)) + 1
+    if (k - size(reading%specs) <= size(group%items)) then
+      reading%handed = k
+      reading%text = item_text(group, group%items(k - size(reading%specs)))
+      more = .true.
+      return
+    end if
+    reading%handed = k
+    call check_rules(group, reading%specs, status)
+  end function next_assignment
 
   !> A default without its '!' mark.
   pure function value_of(default) result(text)

@@ -11,11 +11,12 @@ module demstep_cli_accuracy
   use demstep_namelist, only: lowercase
   use demstep_cost, only: default_cost_n_max
   use demstep_contact, only: check_contact_damping
-  use demstep_cli, only: recommended_line, var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
+  use demstep_cli, only: recommended_line, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
+    next_assignment, group_reading, &
     check_real, new_array, array_length, broadcast, common_length, default_text, max_values, &
     capacity_of
   use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &
-    rename_file, process_id
+    rename_file, process_id, refuse_input
   implicit none
   private
 
@@ -75,6 +76,7 @@ contains
     type(cli_context), intent(in) :: ctx
     type(nml_group_type), intent(in) :: group
     type(demstep_status_type), intent(out) :: status
+    type(group_reading) :: reading
     real(dp), allocatable :: n_per_period(:), onset(:)
     real(dp) :: damping_ratio
     namelist /contact_error/ n_per_period, onset, damping_ratio
@@ -92,7 +94,10 @@ contains
     specs = contact_error_specs()
     n_per_period = new_array(capacity_of(specs, "n_per_period"))
     onset = new_array(capacity_of(specs, "onset"))
-    call read_group(group, specs, read_item, status)
+    call begin_group(reading, group, specs, status)
+    do while (next_assignment(reading, group, status))
+      read(reading%text, nml=contact_error, iostat=reading%ios)
+    end do
     if (status%stat /= demstep_stat%ok) return
     call array_length(g, "n_per_period", n_per_period, lengths(1), status)
     call array_length(g, "onset", onset, lengths(2), status)
@@ -148,11 +153,6 @@ contains
       call write_onset(ctx%results, big_n, s, steps, value, stable)
     end if
   contains
-    subroutine read_item(text, ios)
-      character(len=*), intent(in) :: text
-      integer, intent(out) :: ios
-      read(text, nml=contact_error, iostat=ios)
-    end subroutine read_item
     !> The library's "variable: what" as "&contact_error: variable: element i is x; what".
     subroutine name_element(st, element, n_value, onset_value)
       type(demstep_status_type), intent(inout) :: st
@@ -251,6 +251,7 @@ contains
     type(cli_context), intent(in) :: ctx
     type(nml_group_type), intent(in) :: group
     type(demstep_status_type), intent(out) :: status
+    type(group_reading) :: reading
     character(len=32) :: quantity
     real(dp), allocatable :: tolerances(:)
     real(dp) :: duration, n_particles, mass, stiffness, damping_ratio, lambda, &
@@ -274,7 +275,10 @@ contains
 
     specs = accuracy_cost_specs()
     tolerances = new_array(capacity_of(specs, "tolerances"))
-    call read_group(group, specs, read_item, status)
+    call begin_group(reading, group, specs, status)
+    do while (next_assignment(reading, group, status))
+      read(reading%text, nml=accuracy_cost, iostat=reading%ios)
+    end do
     if (status%stat /= demstep_stat%ok) return
     q = 0
     do i = 1, n_quantities
@@ -306,8 +310,13 @@ contains
     end if
 
     call check_file_name(g, "csv", trim(csv), .false., status)
-    if (trim(figure) /= "none" .and. len_trim(figure) > 0) call check_file_name(g, "figure", &
-      trim(figure), .true., status)
+    call check_not_input(ctx, g, "csv", trim(csv), [" "], status)
+    if (trim(figure) /= "none" .and. len_trim(figure) > 0) then
+      call check_file_name(g, "figure", trim(figure), .true., status)
+      ! gnuplot writes the .tmp files, renamed over the figures
+      call check_not_input(ctx, g, "figure", trim(figure), [character(len=8) :: ".png", ".svg", &
+        ".png.tmp", ".svg.tmp"], status)
+    end if
     if (status%stat /= demstep_stat%ok) return
     call new_spring(spring, mass, stiffness, status)
     if (status%stat == demstep_stat%ok) call check_contact_damping(damping_ratio, status)
@@ -396,12 +405,6 @@ contains
     end if
     call recommended_line(ctx%report, dt_recommended)
     write(ctx%report, '(a)') ""
-  contains
-    subroutine read_item(text, ios)
-      character(len=*), intent(in) :: text
-      integer, intent(out) :: ios
-      read(text, nml=accuracy_cost, iostat=ios)
-    end subroutine read_item
   end subroutine handle_accuracy_cost
 
   !> N for one tolerance from the library (a contact quantity's worst case, or the
@@ -527,6 +530,27 @@ contains
     end if
   end subroutine check_file_name
 
+  !> An output file the deck names (`name` with each of the `suffixes`, blank for
+  !> none) must not replace a file the deck reads: `&group: variable: 'file' is
+  !> WHAT (an input; choose another name)`. Does nothing after an error.
+  subroutine check_not_input(ctx, group, variable, name, suffixes, status)
+    type(cli_context), intent(in) :: ctx
+    character(len=*), intent(in) :: group, variable, name
+    character(len=*), intent(in) :: suffixes(:)
+    type(demstep_status_type), intent(inout) :: status
+    type(demstep_status_type) :: refused
+    integer :: i
+    if (status%stat /= demstep_stat%ok .or. .not. allocated(ctx%inputs)) return
+    do i = 1, size(suffixes)
+      call refuse_input(ctx%inputs, name//trim(suffixes(i)), refused)
+      if (refused%stat /= demstep_stat%ok) then
+        call set_status(status, demstep_stat%invalid_input, "&"//group//": "//variable//": '" &
+          //name//trim(suffixes(i))//"' "//refused%message//"; the output would replace it (choose another name)")
+        return
+      end if
+    end do
+  end subroutine check_not_input
+
   !> True when `path` names a directory (`path/.` then exists).
   logical function is_directory(path)
     character(len=*), intent(in) :: path
@@ -609,7 +633,8 @@ contains
     ! the shell sees only this fixed name; the user's names live inside the script,
     ! quoted by gnuplot's rules
     script = "demstep-figure-"//fmt_int(int(process_id(), i8))//".gp"
-    open(newunit=unit, file=script, status="replace", action="write", iostat=ios)
+    ! (status "new": a file of that name is never replaced)
+    open(newunit=unit, file=script, status="new", action="write", iostat=ios)
     if (ios /= 0) then
       write(u, '(2x, a)') "cannot write the gnuplot script in the current directory: no figure"
       write(u, '(a)') ""

@@ -12,7 +12,8 @@ module demstep_cli_material
   use demstep_cost, only: default_cost_n_max
   use demstep_status, only: set_status
   use demstep_namelist, only: lowercase
-  use demstep_cli, only: recommended_line, var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
+  use demstep_cli, only: recommended_line, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
+    next_assignment, group_reading, &
     new_array, array_length, common_length, broadcast, capacity_of, word_list, report_row
   implicit none
   private
@@ -81,6 +82,7 @@ contains
     real(dp), intent(out) :: restitution, restitution_t, impact_velocity, tolerance
     integer, intent(out) :: first, last
     type(demstep_status_type), intent(out) :: status
+    type(group_reading) :: reading
     real(dp), allocatable :: young(:), poisson(:), density(:), radius(:)
     character(len=32) :: code
     namelist /material/ young, poisson, density, radius, restitution, restitution_t, impact_velocity, &
@@ -97,7 +99,10 @@ contains
     density = new_array(capacity_of(specs, "density"))
     radius = new_array(capacity_of(specs, "radius"))
     tolerance = 0.0_dp
-    call read_group(group, specs, read_item, status)
+    call begin_group(reading, group, specs, status)
+    do while (next_assignment(reading, group, status))
+      read(reading%text, nml=material, iostat=reading%ios)
+    end do
     if (status%stat /= demstep_stat%ok) return
     call array_length(g, "young", young, lengths(1), status)
     call array_length(g, "poisson", poisson, lengths(2), status)
@@ -131,12 +136,6 @@ contains
         return
       end if
     end if
-  contains
-    subroutine read_item(text, ios)
-      character(len=*), intent(in) :: text
-      integer, intent(out) :: ios
-      read(text, nml=material, iostat=ios)
-    end subroutine read_item
   end subroutine read_material
 
   !> Per pair of types: conventions, time scales, rules and limits; then the

@@ -7,7 +7,8 @@ module demstep_cli_system
   use demstep_kinds, only: pi
   use demstep_namelist, only: lowercase
   use demstep_status, only: set_status
-  use demstep_cli, only: report_row, recommended_line, var_spec, var, given, read_group, check_real, &
+  use demstep_cli, only: report_row, recommended_line, var_spec, var, given, begin_group, check_real, &
+    next_assignment, group_reading, &
     fmt_real, fmt_int, &
     cli_context
   implicit none
@@ -43,6 +44,7 @@ contains
     type(cli_context), intent(in) :: ctx
     type(nml_group_type), intent(in) :: group
     type(demstep_status_type), intent(out) :: status
+    type(group_reading) :: reading
     real(dp) :: mass, stiffness, damping_ratio, velocity, dt, n_per_period
     character(len=32) :: dashpot
     namelist /system/ mass, stiffness, damping_ratio, dashpot, velocity, dt, n_per_period
@@ -50,7 +52,10 @@ contains
     integer :: kind
     character(len=*), parameter :: g = "system"
 
-    call read_group(group, system_specs(), read_item, status)
+    call begin_group(reading, group, system_specs(), status)
+    do while (next_assignment(reading, group, status))
+      read(reading%text, nml=system, iostat=reading%ios)
+    end do
     if (status%stat /= demstep_stat%ok) return
     ! mass, stiffness, damping_ratio (new_spring), dt and n_per_period
     ! (check_time_step, step_for_n_per_period) are the library's to check;
@@ -84,12 +89,6 @@ contains
     end if
     call evaluate(ctx, group, spring, velocity, given(group, "dt") .or. given(group, "n_per_period"), &
       dt, merge("n_per_period", "dt          ", given(group, "n_per_period")), status)
-  contains
-    subroutine read_item(text, ios)
-      character(len=*), intent(in) :: text
-      integer, intent(out) :: ios
-      read(text, nml=system, iostat=ios)
-    end subroutine read_item
   end subroutine handle_system
 
   !> Compute, report and write the result group.
