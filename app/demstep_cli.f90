@@ -15,7 +15,7 @@ module demstep_cli
   implicit none
   private
 
-  public :: recommended_line, var, given, begin_group, check_real, fmt_real, fmt_int, write_template, cli_context, &
+  public :: record_step, deck_recommendation, var, given, begin_group, check_real, fmt_real, fmt_int, write_template, cli_context, &
     next_assignment, fmt_real_column, default_text, capacity_of, &
     new_array, array_length, broadcast, common_length, new_int_array, int_array_length, word_list, &
     report_row
@@ -43,6 +43,9 @@ module demstep_cli
     !> `&material` group: that group then reports single contacts, and the
     !> recommended dt is the packing's alone.
     logical :: material_in_scene = .false.
+    !> Unit of the steps the groups yield (scratch; see [[record_step]]), from
+    !> which [[deck_recommendation]] takes the deck's one recommended dt.
+    integer :: steps = -1
   end type cli_context
 
   !> One input variable of a group: name, what its value must be (its type, in
@@ -775,11 +778,63 @@ contains
     write(unit, form) label, trim(value)
   end subroutine report_row
 
-  !> The line that ends every report yielding a time step.
-  subroutine recommended_line(unit, dt_recommended)
-    integer, intent(in) :: unit
-    real(dp), intent(in) :: dt_recommended
-    write(unit, '(a)') "recommended dt = "//fmt_real(dt_recommended)//" s"
-  end subroutine recommended_line
+  !> Record the step a group yields (its report names it in a row `label`), for
+  !> the deck's one recommended dt; `scene` marks an assembly's step, which
+  !> governs its deck. Without `group` (an MFiX deck) the source is "the deck".
+  subroutine record_step(ctx, label, dt, scene, group)
+    type(cli_context), intent(in) :: ctx
+    character(len=*), intent(in) :: label
+    real(dp), intent(in) :: dt
+    logical, intent(in) :: scene
+    type(nml_group_type), intent(in), optional :: group
+    character(len=:), allocatable :: source
+    if (ctx%steps == -1) return
+    source = "the deck"
+    if (present(group)) source = "&"//group%name//" (line "//fmt_int(int(group%line, i8))//")"
+    ! 17 digits: the double reads back exactly
+    write(ctx%steps, '(es25.17e3, 1x, l1, 1x, a)') dt, scene, source//": "//label
+  end subroutine record_step
+
+  !> The end of the deck's report: the one `recommended dt = ... s` line, the
+  !> step that governs the whole deck (the smallest of the `&scene` steps when
+  !> there is one, else the smallest of all), preceded by a row naming it when
+  !> the groups yielded more than one step. Nothing when no group yields a step.
+  subroutine deck_recommendation(ctx)
+    type(cli_context), intent(in) :: ctx
+    real(dp) :: dt, best
+    logical :: scene, best_scene
+    character(len=512) :: source, best_source
+    character(len=:), allocatable :: why
+    integer :: ios, n, n_scene
+    if (ctx%steps == -1) return
+    rewind(ctx%steps)
+    n = 0
+    n_scene = 0
+    best = huge(1.0_dp)
+    best_scene = .false.
+    best_source = ""
+    do
+      read(ctx%steps, '(es25.17e3, 1x, l1, 1x, a)', iostat=ios) dt, scene, source
+      if (ios /= 0) exit
+      n = n + 1
+      if (scene) n_scene = n_scene + 1
+      ! a scene's step replaces any other; among equals, the smallest
+      if ((scene .and. .not. best_scene) .or. ((scene .eqv. best_scene) .and. dt < best)) then
+        best = dt
+        best_scene = scene
+        best_source = source
+      end if
+    end do
+    if (n == 0) return
+    if (n_scene > 1) then
+      why = "the smallest of the "//fmt_int(int(n_scene, i8))//" &scene steps: an assembly's step is its deck's"
+    else if (best_scene) then
+      why = "an assembly's step is its deck's"
+    else
+      why = "the smallest of the "//fmt_int(int(n, i8))//" steps"
+    end if
+    if (n > 1) write(ctx%report, '(a)') "the deck's step: "//trim(best_source)//" ("//why//")"
+    write(ctx%report, '(a)') "recommended dt = "//fmt_real(best)//" s"
+  end subroutine deck_recommendation
 
 end module demstep_cli

@@ -11,7 +11,7 @@ module demstep_cli_accuracy
   use demstep_namelist, only: lowercase
   use demstep_cost, only: default_cost_n_max
   use demstep_contact, only: check_contact_damping
-  use demstep_cli, only: recommended_line, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
+  use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, &
     check_real, new_array, array_length, broadcast, common_length, default_text, max_values, &
     capacity_of
@@ -403,8 +403,9 @@ contains
       write(ctx%report, '(2x, a, t28, a)') "governs", "stability ("//fmt_real(default_safety)// &
         " of the critical step)"
     end if
-    call recommended_line(ctx%report, dt_recommended)
+    write(ctx%report, '(2x, a, t28, a)') "single-contact step", fmt_real(dt_recommended)//" s"
     write(ctx%report, '(a)') ""
+    call record_step(ctx, "single-contact step", dt_recommended, .false., group)
   end subroutine handle_accuracy_cost
 
   !> N for one tolerance from the library (a contact quantity's worst case, or the

@@ -12,7 +12,7 @@ module demstep_cli_material
   use demstep_cost, only: default_cost_n_max
   use demstep_status, only: set_status
   use demstep_namelist, only: lowercase
-  use demstep_cli, only: recommended_line, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
+  use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, &
     new_array, array_length, common_length, broadcast, capacity_of, word_list, report_row
   implicit none
@@ -271,12 +271,13 @@ contains
       if (.not. have_tolerance) write(u, '(4x, a)') "(stability only: give tolerance for accuracy)"
     end if
     if (ctx%material_in_scene) then
-      ! one recommended dt per deck: the packing's (&scene)
-      call report_row(u, 4, "single-contact dt", fmt_real(dt_recommended)//"  (not for the packing)")
+      ! the deck's recommended dt is the packing's (&scene)
+      call report_row(u, 4, "single-contact step", fmt_real(dt_recommended)//" s  (not for the packing)")
     else
-      call recommended_line(u, dt_recommended)
+      call report_row(u, 4, "single-contact step", fmt_real(dt_recommended)//" s")
     end if
     write(u, '(a)') ""
+    call record_step(ctx, "single-contact step", dt_recommended, .false., group)
     call write_result(ctx%results, [(convention_names(c), c = first, last)], peer_rule_names, type_i, type_j, &
       m_star, k_n, k_t, gamma_n, gamma_t, dt_code, rayleigh, hertz_duration, linear_duration, dt_critical, &
       peer_dt, dt_accuracy, dt_recommended, trim(merge("stability", "accuracy ", &

@@ -22,7 +22,7 @@ module demstep_cli_scene
     n_conventions, n_peer_rules
   use demstep_namelist, only: read_text_file, scan_namelist
   use demstep_cli_material, only: read_material
-  use demstep_cli, only: recommended_line, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
+  use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, &
     check_real, new_array, array_length, new_int_array, int_array_length, max_values, &
     capacity_of, word_list
@@ -601,6 +601,7 @@ contains
       call report(ctx%report, group, sc, crit, duration > 0.0_dp, dt_used, steps, summary, dt_recommended)
     end if
     call write_result(ctx%results, sc, crit, dt_used, summary, dt_recommended)
+    call record_step(ctx, "assembly step", dt_recommended, .true., group)
     if (given(group, "snapshot_file")) call write_snapshot_result(ctx%results, snap, deck_mat, crit, peer_dt)
 
   contains
@@ -894,7 +895,7 @@ contains
       write(u, '(2x, a, t28, a)') "governs", "stability ("//fmt_real(default_safety)// &
         " of the damped step of the bound)"
     end if
-    call recommended_line(u, dt_recommended)
+    write(u, '(2x, a, t28, a)') "assembly step", fmt_real(dt_recommended)//" s"
     write(u, '(a)') ""
   end subroutine report
 

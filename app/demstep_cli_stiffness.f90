@@ -10,7 +10,7 @@ module demstep_cli_stiffness
   use demstep_stiffness, only: default_n_max, default_resolution
   use demstep_stiffness, only: procedure_cost, measure_evaluation_cost, max_procedure_evaluations
   use, intrinsic :: iso_fortran_env, only: error_unit
-  use demstep_cli, only: recommended_line, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
+  use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, &
     new_array, array_length, default_text, max_values, capacity_of
   implicit none
@@ -208,6 +208,7 @@ contains
       return
     end if
     call report(ctx%report, group, input, result, dt_stability, dt_recommended, governs)
+    if (dt_recommended > 0.0_dp) call record_step(ctx, "single-contact step", dt_recommended, .false., group)
     call write_result(ctx%results, result, dt_recommended)
   end subroutine handle_simulated_stiffness
 
@@ -280,7 +281,7 @@ contains
         write(u, '(2x, a, t30, a)') "governs", "stability ("//fmt_real(default_safety)// &
           " of the critical step of K')"
       end if
-      call recommended_line(u, dt_recommended)
+      write(u, '(2x, a, t30, a)') "single-contact step", fmt_real(dt_recommended)//" s"
     end if
     write(u, '(a)') ""
   end subroutine report

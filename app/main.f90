@@ -6,7 +6,7 @@ program demstep_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use demstep, only: i8, demstep_version_string, demstep_status_type, demstep_stat, &
     nml_group_type, read_text_file, scan_namelist, mfix_looks_like_deck, dp
-  use demstep_cli, only: cli_context, write_template, fmt_int, group_spec
+  use demstep_cli, only: cli_context, write_template, fmt_int, group_spec, deck_recommendation
   use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &
     refuse_input
   use demstep_cli_registry, only: cli_groups, find_group, group_list, deck_inputs
@@ -121,6 +121,7 @@ program demstep_main
 
   open(newunit=ctx%report, status="scratch", action="readwrite", form="formatted")
   open(newunit=ctx%results, status="scratch", action="readwrite", form="formatted")
+  open(newunit=ctx%steps, status="scratch", action="readwrite", form="formatted")
   write(ctx%report, '(a)') "demstep "//demstep_version_string//": "//input
   write(ctx%report, '(a)') ""
   known = 0
@@ -164,6 +165,8 @@ program demstep_main
     if (status%stat /= demstep_stat%ok) call fail(output//": "//status%message, 1)
     write(ctx%report, '(a)') "results written to "//output
   end if
+  ! the deck's one recommended dt: the report's last line
+  call deck_recommendation(ctx)
   if (namelist_only) then
     call copy_unit(ctx%results, output_unit, ios)
   else
@@ -171,6 +174,7 @@ program demstep_main
   end if
   close(ctx%report)
   close(ctx%results)
+  close(ctx%steps)
 
 contains
 
