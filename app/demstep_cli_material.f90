@@ -7,7 +7,7 @@ module demstep_cli_material
     material_pair_type, effective_pair_type, contact_parameters_type, peer_steps_type, effective_pair, &
     contact_parameters, peer_time_steps, code_convention, convention_names, peer_rule_names, &
     recommended_step, step_governs, default_safety, contact_assessment_type
-  use demstep_material, only: convention_limit, n_conventions, n_peer_rules
+  use demstep_material, only: convention_limit, n_conventions, n_peer_rules, liggghts_velocity_factor
   use demstep_recommend, only: assess_material_pair
   use demstep_cost, only: default_cost_n_max
   use demstep_status, only: set_status
@@ -235,7 +235,8 @@ contains
         call report_row(u, 4, "Rayleigh time", fmt_real(steps%rayleigh)//"  (0.8766 factor; Yade's: " &
           //fmt_real(steps%rayleigh_yade)//")")
         call report_row(u, 4, "Hertz contact duration", fmt_real(steps%hertz_duration)//"  (at the impact velocity; " &
-          //"LIGGGHTS' estimate "//fmt_real(steps%hertz_liggghts)//")")
+          //"LIGGGHTS' estimate "//fmt_real(steps%hertz_liggghts)//" at relative velocity " &
+          //fmt_real(liggghts_velocity_factor)//" x "//fmt_real(velocity)//", as check/timestep/gran)")
         call report_row(u, 4, "linear contact duration", fmt_real(linear_duration(p))//"  (LIGGGHTS Hooke spring)")
         call report_row(u, 4, "demstep exact limit", fmt_real(exact%dt_critical)//"  (Hertz linearised at the " &
           //"impact's largest overlap, k = "//fmt_real(k_linear(p))//", lagged dashpot, damping ratio " &
