@@ -201,6 +201,8 @@ contains
     k = max(reading%handed, size(reading%specs)) + 1
     if (k - size(reading%specs) <= size(group%items)) then
       reading%handed = k
+      call check_value_text(group, group%items(k - size(reading%specs)), reading%specs, status)
+      if (status%stat /= demstep_stat%ok) return
       reading%text = item_text(group, group%items(k - size(reading%specs)))
       more = .true.
       return
@@ -401,6 +403,116 @@ contains
     call set_status(status, demstep_stat%invalid_input, "&"//group%name//": "//item%name// &
       ": cannot read '"//excerpt(item%value)//"' as "//specs(j)%what)
   end subroutine read_failed
+
+  !> What the runtime would read without a word, refused: a null value (an empty
+  !> field between commas, or `r*` without a constant: the variable would keep its
+  !> default, or a list a gap), a lone sign (`mass = -`, read as 0), and in a
+  !> list the value that marks elements not given ([[unset]], [[unset_int]]).
+  pure subroutine check_value_text(group, item, specs, status)
+    type(nml_group_type), intent(in) :: group
+    type(nml_item_type), intent(in) :: item
+    type(var_spec), intent(in) :: specs(:)
+    type(demstep_status_type), intent(inout) :: status
+    integer :: i, start, last, star, j, ios, iv
+    integer(i8) :: element, repeat_count
+    character :: quote
+    logical :: in_field, after_comma, null
+    real(dp) :: x
+    character(len=:), allocatable :: what, marked
+    j = find(specs, item%name)
+    what = "&"//group%name//": "//item%name//": "
+    element = first_index(item%designator)
+    null = .false.
+    in_field = .false.
+    after_comma = .true.
+    quote = " "
+    start = 1
+    i = 1
+    do while (i <= len(item%value) + 1)
+      if (i <= len(item%value)) then
+        associate(c => item%value(i:i))
+          if (quote /= " ") then
+            if (c == quote) quote = " "
+            i = i + 1
+            cycle
+          else if (c == "'" .or. c == '"') then
+            quote = c
+            if (.not. in_field) start = i
+            in_field = .true.
+            i = i + 1
+            cycle
+          else if (.not. (c == "," .or. c == " " .or. c == achar(9) .or. c == achar(10) .or. &
+              c == achar(13) .or. c == "/")) then
+            if (.not. in_field) start = i
+            in_field = .true.
+            i = i + 1
+            cycle
+          end if
+          ! a separator: two commas with nothing between them enclose a null
+          if (c == "," .and. .not. in_field) then
+            null = null .or. after_comma
+            after_comma = .true.
+          else if (c == ",") then
+            after_comma = .true.
+          else if (in_field) then
+            after_comma = .false.
+          end if
+        end associate
+      end if
+      last = i - 1
+      if (i <= len(item%value)) then
+        if (item%value(i:i) == "/") i = len(item%value) + 1
+      end if
+      if (in_field) then
+        in_field = .false.
+        associate(field => item%value(start:last))
+          star = index(field, "*")
+          repeat_count = 1
+          if (star > 1 .and. field(1:1) /= "'" .and. field(1:1) /= '"') then
+            if (verify(field(1:star-1), "0123456789") == 0) then
+              read(field(1:star-1), *, iostat=ios) repeat_count
+              if (ios /= 0) repeat_count = 1
+              ! r* alone: r nulls
+              if (star == len(field)) null = .true.
+            else
+              star = 0
+            end if
+          else
+            star = 0
+          end if
+          associate(constant => field(star+1:))
+            if (constant == "+" .or. constant == "-") then
+              call set_status(status, demstep_stat%invalid_input, what//"cannot read '"// &
+                excerpt(item%value)//"' as "//specs(j)%what//" (a sign without digits)")
+              return
+            end if
+            marked = ""
+            if (specs(j)%capacity > 0 .and. len(constant) > 0) then
+              if (index(specs(j)%what, "real") > 0) then
+                read(constant, *, iostat=ios) x
+                if (ios == 0 .and. x == unset) marked = fmt_real(x)
+              else if (index(specs(j)%what, "integer") > 0) then
+                read(constant, *, iostat=ios) iv
+                if (ios == 0 .and. iv == unset_int) marked = fmt_int(int(iv, i8))
+              end if
+            end if
+            if (len(marked) > 0) then
+              call set_status(status, demstep_stat%invalid_input, what//"element "//fmt_int(element)// &
+                " is "//marked//", the value that marks an element not given: out of range")
+              return
+            end if
+          end associate
+        end associate
+        element = element + repeat_count
+      end if
+      if (null) then
+        call set_status(status, demstep_stat%invalid_input, what//"'"//excerpt(item%value)// &
+          "' holds a null value (an empty field between commas, or r* without a value): give every value")
+        return
+      end if
+      i = i + 1
+    end do
+  end subroutine check_value_text
 
   !> The first subscript of a designator (`x(3)`, `x(3:5)`: 3), 1 without one.
   pure integer(i8) function first_index(designator) result(k)
