@@ -7,7 +7,8 @@ module demstep_cli_material
     material_pair_type, effective_pair_type, contact_parameters_type, peer_steps_type, effective_pair, &
     contact_parameters, peer_time_steps, code_convention, convention_names, peer_rule_names, &
     recommended_step, step_governs, default_safety, contact_assessment_type
-  use demstep_material, only: convention_limit, n_conventions, n_peer_rules, liggghts_velocity_factor
+  use demstep_material, only: convention_limit, n_conventions, n_peer_rules, liggghts_velocity_factor, &
+    check_pair
   use demstep_recommend, only: assess_material_pair
   use demstep_cost, only: default_cost_n_max
   use demstep_status, only: set_status
@@ -129,6 +130,12 @@ contains
       end if
       last = first
     end select
+    ! the loading, checked here for every reader of the group (a &scene too)
+    call check_pair(material_pair_type(types(1), types(1), restitution, restitution_t, impact_velocity), status)
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "&material: "//status%message
+      return
+    end if
     if (given(group, "tolerance")) then
       if (.not. (tolerance > 0.0_dp .and. tolerance < 1.0_dp)) then
         call set_status(status, demstep_stat%invalid_input, "&material: tolerance: must lie in (0, 1), got " &
@@ -200,7 +207,7 @@ contains
             " is not met below "//fmt_real(default_cost_n_max)//" steps per period ("//who(:len(who)-2)//"); use a larger one")
           return
         else if (status%stat /= demstep_stat%ok) then
-          status%message = who//status%message
+          status%message = pair_message(who, status%message)
           return
         end if
         dt_critical(p) = exact%dt_critical
@@ -218,11 +225,14 @@ contains
         do c = first, last
           call contact_parameters(pair, c, params, status)
           if (status%stat /= demstep_stat%ok) then
-            status%message = who//trim(convention_names(c))//": "//status%message
+            status%message = pair_message(who//trim(convention_names(c))//": ", status%message)
             return
           end if
           call convention_limit(params, eff%m_star, dt_code(c - first + 1, p), status)
-          if (status%stat /= demstep_stat%ok) return
+          if (status%stat /= demstep_stat%ok) then
+            status%message = pair_message(who//trim(convention_names(c))//": ", status%message)
+            return
+          end if
           k_n(c - first + 1, p) = params%k_n
           k_t(c - first + 1, p) = params%k_t
           gamma_n(c - first + 1, p) = params%gamma_n
@@ -287,6 +297,30 @@ contains
   end subroutine evaluate
 
   !> The library names a pair's types a and b; the report numbers them.
+  !> A library message about one pair (`who`: "types i and j: " and maybe the
+  !> code) as the deck's `variable: what`: the `&material` variable it names comes
+  !> first (`poisson: types 1 and 1: yade_frictphys: ...`); the contact stiffness
+  !> `k_n`, no deck variable, is named by `young`, from which the codes derive it.
+  function pair_message(who, message) result(text)
+    character(len=*), intent(in) :: who, message
+    character(len=:), allocatable :: text
+    type(var_spec), allocatable :: specs(:)
+    integer :: i
+    if (index(message, "k_n: ") == 1) then
+      text = "young: "//who//"the contact stiffness k_n it gives (with poisson, radius and " &
+        //"impact_velocity) "//message(6:)
+      return
+    end if
+    specs = material_specs()
+    do i = 1, size(specs)
+      if (index(message, specs(i)%name//": ") == 1) then
+        text = specs(i)%name//": "//who//message(len(specs(i)%name) + 3:)
+        return
+      end if
+    end do
+    text = who//message
+  end function pair_message
+
   pure function fix_label(message, i, j) result(text)
     character(len=*), intent(in) :: message
     integer, intent(in) :: i, j

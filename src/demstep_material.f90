@@ -22,7 +22,7 @@ module demstep_material
 
   public :: effective_pair, contact_parameters, rayleigh_time, hertz_max_overlap, &
     hertz_contact_duration, linear_contact_duration, peer_time_steps, hertz_duration_constant, &
-    hertz_impact_stiffness, convention_limit, mfix_moduli, mfix_pair_springs
+    hertz_impact_stiffness, convention_limit, mfix_moduli, mfix_pair_springs, check_pair
 
   !> The codes whose contact conventions are reproduced, as components of a parameter.
   type, public :: code_convention_codes
@@ -495,7 +495,9 @@ contains
     end if
   end subroutine rayleigh_time
 
-  !> Check the pair's loading inputs.
+  !> Check a pair's loading inputs (restitution, restitution_t, impact_velocity,
+  !> contact_time, stiffness): `invalid_input`, the message starting with the
+  !> variable, for one out of its domain.
   pure subroutine check_pair(pair, status)
     type(material_pair_type), intent(in) :: pair
     type(demstep_status_type), intent(out) :: status
