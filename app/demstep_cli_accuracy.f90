@@ -5,12 +5,14 @@ module demstep_cli_accuracy
     discrete_contact_type, contact_with_onset, contact_worst_case, quantity_kind, n_quantities, &
     quantity_names, worst_error, n_for_tolerance, n_for_harmonic_tolerance, measure_step_cost, &
     harmonic_error, spring_type, new_spring, spring_period, &
-    run_prediction_type, predict_run, critical_time_step, recommended_step, step_governs, default_safety
+    run_prediction_type, predict_run, critical_time_step, recommended_step, step_governs, default_safety, &
+    text_progress_type
   use demstep_kinds, only: pi
   use demstep_status, only: set_status
   use demstep_namelist, only: lowercase
   use demstep_cost, only: default_cost_n_max
   use demstep_contact, only: check_contact_damping
+  use, intrinsic :: iso_fortran_env, only: error_unit
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, &
     check_real, new_array, array_length, broadcast, common_length, default_text, max_values, &
@@ -252,6 +254,7 @@ contains
     type(nml_group_type), intent(in) :: group
     type(demstep_status_type), intent(out) :: status
     type(group_reading) :: reading
+    type(text_progress_type) :: progress
     character(len=32) :: quantity
     real(dp), allocatable :: tolerances(:)
     real(dp) :: duration, n_particles, mass, stiffness, damping_ratio, lambda, &
@@ -338,9 +341,16 @@ contains
 
     allocate(n(nt), dt(nt), steps(nt), predicted_seconds(nt), stat(nt), saturated(nt))
     saturated = .false.
+    ! one root per tolerance: a long list shows its progress on stderr
+    progress = text_progress_type(unit=error_unit, label="demstep: &"//g)
+    ! --quiet: no line, however long
+    if (ctx%quiet) progress%delay = huge(1.0_dp)
+    call progress%start("tolerances", int(nt, i8))
     do i = 1, nt
       call n_needed(q, tolerances(i), i, damping_ratio, lambda, n_max, n(i), stat(i), status)
+      call progress%update(int(i, i8))
       if (status%stat /= demstep_stat%ok) then
+        call progress%finish()
         status%message = "&"//g//": "//status%message
         return
       end if
@@ -360,6 +370,7 @@ contains
         predicted_seconds(i) = 0.0_dp
       end if
     end do
+    call progress%finish()
     ! the curves run from N = 4 to n_top: their predictions must hold as well
     n_top = max(1.0e3_dp, 4.0_dp*maxval(n, mask=stat == demstep_stat%ok .and. n < 1.0e6_dp))
     call predict_run(period, curve_n_min, duration, n_particles, cost, prediction, status)
@@ -386,8 +397,8 @@ contains
       status%message = "&"//g//": "//status%message
       return
     end if
-    call write_cost(ctx%results, tolerances(:nt), n, dt, steps, predicted_seconds, stat, cost, period, &
-      dt_recommended)
+    call write_cost(ctx%results, tolerances(:nt), n, dt, steps, saturated, predicted_seconds, stat, cost, &
+      period, dt_recommended)
     call write_curves(ctx%report, q, damping_ratio, lambda, period, duration, n_particles, cost, &
       n_top, trim(csv), trim(figure), status)
     if (status%stat /= demstep_stat%ok) then
@@ -431,6 +442,9 @@ contains
       status = st
       if (index(status%message, "tolerance: ") == 1) status%message = "tolerances: element "// &
         fmt_int(int(element, i8))//" is "//fmt_real(tolerance)//"; "//status%message(12:)
+      ! the steps per contact are N/2 here (no deck variable): lambda sets f lambda
+      if (index(status%message, "steps_fraction: ") == 1) status%message = "lambda: "//fmt_real(lambda) &
+        //" with N/2 steps per contact (f = 0.5): "//status%message(17:)
       return
     end if
     status%stat = demstep_stat%ok
@@ -460,13 +474,14 @@ contains
     else
       write(u, '(2x, a)') "cost per particle-step: "//fmt_real(cost)//" s (given)"
     end if
-    write(u, '(2x, a12, a14, a14, a16, a16, a18)') "tolerance", "N = T/dt", "per contact", "dt", "steps", &
+    write(u, '(2x, a12, a14, a14, a16, a21, a18)') "tolerance", "N = T/dt", "per contact", "dt", "steps", &
       "predicted time"
     do i = 1, size(tolerances)
       if (stat(i) /= demstep_stat%ok) then
         write(u, '(2x, a12, 2x, a)') fmt_real(tolerances(i)), "not met up to n_max"
       else
-        write(u, '(2x, a12, a14, a14, a16, a16, a18)') fmt_real(tolerances(i)), fmt_real(n(i)), &
+        ! steps: up to 19 digits, and a blank before them
+        write(u, '(2x, a12, a14, a14, a16, a21, a18)') fmt_real(tolerances(i)), fmt_real(n(i)), &
           fmt_real(0.5_dp*n(i)), fmt_real(dt(i)), fmt_int(steps(i)), human_time(seconds(i))
       end if
     end do
@@ -490,15 +505,18 @@ contains
     end if
   end function human_time
 
-  subroutine write_cost(unit, tolerances, n_per_period, dt, steps, predicted_seconds, status, &
-      cost_per_particle_step, period, dt_recommended)
+  !> The result group; `steps_saturated(i)` marks a count above 2^63 - 1, written as
+  !> 2^63 - 1 in `steps(i)` (`predicted_seconds` uses the exact count).
+  subroutine write_cost(unit, tolerances, n_per_period, dt, steps, steps_saturated, predicted_seconds, &
+      status, cost_per_particle_step, period, dt_recommended)
     integer, intent(in) :: unit
     real(dp), intent(in) :: tolerances(:), n_per_period(:), dt(:), predicted_seconds(:), &
       cost_per_particle_step, period, dt_recommended
     integer(i8), intent(in) :: steps(:)
+    logical, intent(in) :: steps_saturated(:)
     integer, intent(in) :: status(:)
-    namelist /accuracy_cost_result/ tolerances, n_per_period, dt, steps, predicted_seconds, status, &
-      cost_per_particle_step, period, dt_recommended
+    namelist /accuracy_cost_result/ tolerances, n_per_period, dt, steps, steps_saturated, predicted_seconds, &
+      status, cost_per_particle_step, period, dt_recommended
     write(unit, nml=accuracy_cost_result)
   end subroutine write_cost
 
