@@ -177,7 +177,7 @@ module demstep_material
     !> The Hertz contact duration at the impact velocity (exact constant).
     real(dp) :: hertz_duration = 0.0_dp
     !> LIGGGHTS' Hertz time estimate (fix_check_timestep_gran.cpp), at the relative
-    !> velocity [[liggghts_velocity_factor]] times the impact velocity.
+    !> velocity `liggghts_velocity_factor` times the impact velocity.
     real(dp) :: hertz_liggghts = 0.0_dp
     !> Steps picked by each rule, indexed by `peer_rule%...`.
     real(dp) :: dt(n_peer_rules) = 0.0_dp
@@ -747,7 +747,7 @@ contains
 
   !> LIGGGHTS' Hertz time of a type colliding with itself, particles at impact
   !> velocity v: `2.87 (m^2/(r/2 Y*^2 v_rel))^(1/5)` with the whole particle mass m
-  !> and v_rel = [[liggghts_velocity_factor]] v; in logarithms (no overflow).
+  !> and v_rel = `liggghts_velocity_factor` v; in logarithms (no overflow).
   pure real(dp) function liggghts_hertz_time(mat, v) result(t)
     type(material_type), intent(in) :: mat
     real(dp), intent(in) :: v
