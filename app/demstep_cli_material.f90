@@ -311,14 +311,14 @@ contains
         //"impact_velocity) "//message(6:)
       return
     end if
-    specs = material_specs()
+    text = who//message
+    allocate(specs, source=material_specs())
     do i = 1, size(specs)
       if (index(message, specs(i)%name//": ") == 1) then
         text = specs(i)%name//": "//who//message(len(specs(i)%name) + 3:)
-        return
+        exit
       end if
     end do
-    text = who//message
   end function pair_message
 
   pure function fix_label(message, i, j) result(text)

@@ -85,13 +85,13 @@ contains
   end subroutine copy
 
   !> `ln -sf target link` in the scratch directory.
-  subroutine link(error, target, name)
+  subroutine make_link(error, target, name)
     type(error_type), allocatable, intent(out) :: error
     character(len=*), intent(in) :: target, name
     integer :: es, cs
     call execute_command_line("cd "//work_dir//" && ln -sf "//target//" "//name, exitstat=es, cmdstat=cs)
     call check(error, cs == 0 .and. es == 0, "ln -sf "//target//" "//name)
-  end subroutine link
+  end subroutine make_link
 
   !> `args` ends with exit 2 and one line on stderr starting with `expected`, and
   !> `kept` (a file) still holds `before`.
@@ -125,14 +125,14 @@ contains
     call expect_kept(error, deck//" -o "//dump, prefix//dump//": is the deck's &scene snapshot_file; " &
       //"the results would replace it (choose another -o file)", dump, before)
     if (allocated(error)) return
-    call link(error, "safe_s.dump", "safe_link.dump")
+    call make_link(error, "safe_s.dump", "safe_link.dump")
     if (allocated(error)) return
     call expect_kept(error, deck//" -o "//dump_link, prefix//dump_link//": is the deck's &scene " &
       //"snapshot_file", dump, before)
     if (allocated(error)) return
     ! a link in another directory, reached through a relative path with '..'
     call execute_command_line("mkdir -p "//work_dir//"/safe_sub", wait=.true.)
-    call link(error, "../safe_s.dump", "safe_sub/back.dump")
+    call make_link(error, "../safe_s.dump", "safe_sub/back.dump")
     if (allocated(error)) return
     call expect_kept(error, deck//" -o "//work_dir//"/safe_sub/../safe_sub/back.dump", prefix//work_dir// &
       "/safe_sub/../safe_sub/back.dump: is the deck's &scene snapshot_file", dump, before)
@@ -149,7 +149,7 @@ contains
       //"the deck's &scene particles_file", work_dir//"/safe_p.txt", before)
     if (allocated(error)) return
     call read_file(work_dir//"/safe_b.txt", before)
-    call link(error, "safe_b.txt", "safe_b_link.txt")
+    call make_link(error, "safe_b.txt", "safe_b_link.txt")
     if (allocated(error)) return
     call expect_kept(error, deck//" -o "//work_dir//"/safe_b_link.txt", prefix//work_dir// &
       "/safe_b_link.txt: is the deck's &scene bonds_file", work_dir//"/safe_b.txt", before)
@@ -166,7 +166,7 @@ contains
     if (allocated(error)) return
     ! the deck itself, through a link
     call read_file(deck, before)
-    call link(error, "safe_deck.nml", "safe_deck_link.nml")
+    call make_link(error, "safe_deck.nml", "safe_deck_link.nml")
     if (allocated(error)) return
     call expect_kept(error, deck//" -o "//work_dir//"/safe_deck_link.nml", prefix//work_dir// &
       "/safe_deck_link.nml: is the input deck", deck, before)
@@ -188,7 +188,7 @@ contains
       //"duration = 1, n_particles = 10, mass = 0.01, stiffness = 1e5, cost_per_particle_step = 1e-7,"
     call copy(error, "example/liggghts_pour.dump", dump)
     if (allocated(error)) return
-    call link(error, "safe_s.dump", "safe_link.dump")
+    call make_link(error, "safe_s.dump", "safe_link.dump")
     if (allocated(error)) return
     call read_file(dump, before)
     call write_file(deck, [character(len=200) :: cost, "csv = '"//dump_link//"', figure = 'none' /", &
@@ -204,12 +204,12 @@ contains
     call write_file(deck, [character(len=200) :: cost, "csv = '"//work_dir//"/safe.csv', figure = '" &
       //work_dir//"/safe_fig' /"])
     call read_file(deck, deck_before)
-    call link(error, "safe_deck.nml", "safe_fig.svg")
+    call make_link(error, "safe_deck.nml", "safe_fig.svg")
     if (allocated(error)) return
     call expect_kept(error, deck, "demstep: "//deck//": &accuracy_cost: figure: '"//work_dir// &
       "/safe_fig.svg' is the input deck", deck, deck_before)
     if (allocated(error)) return
-    call link(error, "safe_deck.nml", "safe_fig.png.tmp")
+    call make_link(error, "safe_deck.nml", "safe_fig.png.tmp")
     if (allocated(error)) return
     call remove(work_dir//"/safe_fig.svg")
     call expect_kept(error, deck, "demstep: "//deck//": &accuracy_cost: figure: '"//work_dir// &
