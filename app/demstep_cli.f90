@@ -10,12 +10,13 @@ module demstep_cli
   use demstep_namelist, only: nml_group_type, nml_item_type, excerpt
   ! integers as text: the library's (`fmt_int` beside `fmt_real` in the app)
   use demstep_text, only: fmt_int => int_text
+  use demstep_cli_files, only: input_file_type
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
   implicit none
   private
 
-  public :: recommended_line, var, given, read_group, check_real, fmt_real, fmt_int, write_template, cli_context, &
-    fmt_real_column, default_text, capacity_of, &
+  public :: record_step, deck_recommendation, var, given, begin_group, check_real, fmt_real, fmt_int, write_template, cli_context, &
+    next_assignment, fmt_real_column, default_text, capacity_of, &
     new_array, array_length, broadcast, common_length, new_int_array, int_array_length, word_list, &
     report_row
 
@@ -36,10 +37,15 @@ module demstep_cli
     logical :: quiet = .false.
     !> The input deck's name (relative table files are read beside it).
     character(len=:), allocatable :: deck
+    !> The files the deck reads (itself first): no output may replace one.
+    type(input_file_type), allocatable :: inputs(:)
     !> A `&scene` of the deck takes its particle types' materials from the
     !> `&material` group: that group then reports single contacts, and the
     !> recommended dt is the packing's alone.
     logical :: material_in_scene = .false.
+    !> Unit of the steps the groups yield (scratch; see [[record_step]]), from
+    !> which [[deck_recommendation]] takes the deck's one recommended dt.
+    integer :: steps = -1
   end type cli_context
 
   !> One input variable of a group: name, what its value must be (its type, in
@@ -56,15 +62,6 @@ module demstep_cli
     integer :: capacity = 0
     logical :: required = .false.
   end type var_spec
-
-  !> Reads one namelist text (`&group name = value /`) into the caller's namelist.
-  abstract interface
-    subroutine nml_reader(text, ios)
-      character(len=*), intent(in) :: text
-      !> Nonzero when the runtime could not read the text.
-      integer, intent(out) :: ios
-    end subroutine nml_reader
-  end interface
 
   !> Reads, checks and evaluates one group of a deck.
   abstract interface
@@ -84,7 +81,19 @@ module demstep_cli
     procedure(group_handler), pointer, nopass :: handler => null()
   end type group_spec
 
-  public :: nml_reader, group_handler
+  public :: group_handler
+
+  !> One group being read by its handler (see [[begin_group]]).
+  type, public :: group_reading
+    !> The namelist text to read next: `&group name = value /`.
+    character(len=:), allocatable :: text
+    !> The runtime's iostat for `text` (set by the handler's read).
+    integer :: ios = 0
+    !> The group's table.
+    type(var_spec), allocatable, private :: specs(:)
+    !> Texts handed out so far: the table's rows first, then the deck's items.
+    integer, private :: handed = 0
+  end type group_reading
 
 contains
 
@@ -142,36 +151,65 @@ contains
     if (j > 0) capacity = specs(j)%capacity
   end function capacity_of
 
-  !> The common part of every group handler: check the names, set the table's
-  !> defaults, read the deck's assignments one at a time through `reader` (the
-  !> handler's `read(text, nml=...)`), and check the required and either-or rules.
-  subroutine read_group(group, specs, reader, status)
+  !> The common part of every group handler, begun: check the names. The handler
+  !> then reads the group's texts (the table's defaults, then the deck's
+  !> assignments one at a time) into its own namelist with
+  !> `do while (next_assignment(reading, group, status))` and
+  !> `read(reading%text, nml=..., iostat=reading%ios)`; the loop ends at an error
+  !> or after the required and either-or rules are checked. (The handler reads,
+  !> not a procedure passed here: an internal procedure passed as an argument
+  !> would need an executable stack.)
+  subroutine begin_group(reading, group, specs, status)
+    type(group_reading), intent(out) :: reading
     type(nml_group_type), intent(in) :: group
     !> The group's table.
     type(var_spec), intent(in) :: specs(:)
-    procedure(nml_reader) :: reader
     type(demstep_status_type), intent(out) :: status
-    integer :: i, ios
     call check_names(group, specs, status)
+    reading%specs = specs
+  end subroutine begin_group
+
+  !> The next text of a group reading begun by [[begin_group]] in `reading%text`
+  !> (true), or false: at an error (in `status`; a text the runtime could not
+  !> read, `reading%ios` /= 0, is named here) or at the end, once the group's
+  !> rules are checked.
+  logical function next_assignment(reading, group, status) result(more)
+    type(group_reading), intent(inout) :: reading
+    type(nml_group_type), intent(in) :: group
+    type(demstep_status_type), intent(inout) :: status
+    integer :: k
+    more = .false.
     if (status%stat /= demstep_stat%ok) return
-    do i = 1, size(specs)
-      if (len(specs(i)%default) == 0) cycle
-      call reader("&"//group%name//" "//specs(i)%name//" = "//value_of(specs(i)%default)//" /", ios)
-      if (ios /= 0) then
-        call set_status(status, demstep_stat%invalid_input, "&"//group%name//": "//specs(i)%name &
-          //": the default '"//specs(i)%default//"' cannot be read (a defect of demstep)")
-        return
+    k = reading%handed
+    if (k > 0 .and. reading%ios /= 0) then
+      if (k <= size(reading%specs)) then
+        call set_status(status, demstep_stat%invalid_input, "&"//group%name//": "//reading%specs(k)%name &
+          //": the default '"//reading%specs(k)%default//"' cannot be read (a defect of demstep)")
+      else
+        call read_failed(group, group%items(k - size(reading%specs)), reading%specs, status)
       end if
+      return
+    end if
+    do k = reading%handed + 1, size(reading%specs)
+      if (len(reading%specs(k)%default) == 0) cycle
+      reading%handed = k
+      reading%text = "&"//group%name//" "//reading%specs(k)%name//" = " &
+        //value_of(reading%specs(k)%default)//" /"
+      more = .true.
+      return
     end do
-    do i = 1, size(group%items)
-      call reader(item_text(group, group%items(i)), ios)
-      if (ios /= 0) then
-        call read_failed(group, group%items(i), specs, status)
-        return
-      end if
-    end do
-    call check_rules(group, specs, status)
-  end subroutine read_group
+    k = max(reading%handed, size(reading%specs)) + 1
+    if (k - size(reading%specs) <= size(group%items)) then
+      reading%handed = k
+      call check_value_text(group, group%items(k - size(reading%specs)), reading%specs, status)
+      if (status%stat /= demstep_stat%ok) return
+      reading%text = item_text(group, group%items(k - size(reading%specs)))
+      more = .true.
+      return
+    end if
+    reading%handed = k
+    call check_rules(group, reading%specs, status)
+  end function next_assignment
 
   !> A default without its '!' mark.
   pure function value_of(default) result(text)
@@ -365,6 +403,116 @@ contains
     call set_status(status, demstep_stat%invalid_input, "&"//group%name//": "//item%name// &
       ": cannot read '"//excerpt(item%value)//"' as "//specs(j)%what)
   end subroutine read_failed
+
+  !> What the runtime would read without a word, refused: a null value (an empty
+  !> field between commas, or `r*` without a constant: the variable would keep its
+  !> default, or a list a gap), a lone sign (`mass = -`, read as 0), and in a
+  !> list the value that marks elements not given ([[unset]], [[unset_int]]).
+  pure subroutine check_value_text(group, item, specs, status)
+    type(nml_group_type), intent(in) :: group
+    type(nml_item_type), intent(in) :: item
+    type(var_spec), intent(in) :: specs(:)
+    type(demstep_status_type), intent(inout) :: status
+    integer :: i, start, last, star, j, ios, iv
+    integer(i8) :: element, repeat_count
+    character :: quote
+    logical :: in_field, after_comma, null
+    real(dp) :: x
+    character(len=:), allocatable :: what, marked
+    j = find(specs, item%name)
+    what = "&"//group%name//": "//item%name//": "
+    element = first_index(item%designator)
+    null = .false.
+    in_field = .false.
+    after_comma = .true.
+    quote = " "
+    start = 1
+    i = 1
+    do while (i <= len(item%value) + 1)
+      if (i <= len(item%value)) then
+        associate(c => item%value(i:i))
+          if (quote /= " ") then
+            if (c == quote) quote = " "
+            i = i + 1
+            cycle
+          else if (c == "'" .or. c == '"') then
+            quote = c
+            if (.not. in_field) start = i
+            in_field = .true.
+            i = i + 1
+            cycle
+          else if (.not. (c == "," .or. c == " " .or. c == achar(9) .or. c == achar(10) .or. &
+              c == achar(13) .or. c == "/")) then
+            if (.not. in_field) start = i
+            in_field = .true.
+            i = i + 1
+            cycle
+          end if
+          ! a separator: two commas with nothing between them enclose a null
+          if (c == "," .and. .not. in_field) then
+            null = null .or. after_comma
+            after_comma = .true.
+          else if (c == ",") then
+            after_comma = .true.
+          else if (in_field) then
+            after_comma = .false.
+          end if
+        end associate
+      end if
+      last = i - 1
+      if (i <= len(item%value)) then
+        if (item%value(i:i) == "/") i = len(item%value) + 1
+      end if
+      if (in_field) then
+        in_field = .false.
+        associate(field => item%value(start:last))
+          star = index(field, "*")
+          repeat_count = 1
+          if (star > 1 .and. field(1:1) /= "'" .and. field(1:1) /= '"') then
+            if (verify(field(1:star-1), "0123456789") == 0) then
+              read(field(1:star-1), *, iostat=ios) repeat_count
+              if (ios /= 0) repeat_count = 1
+              ! r* alone: r nulls
+              if (star == len(field)) null = .true.
+            else
+              star = 0
+            end if
+          else
+            star = 0
+          end if
+          associate(constant => field(star+1:))
+            if (constant == "+" .or. constant == "-") then
+              call set_status(status, demstep_stat%invalid_input, what//"cannot read '"// &
+                excerpt(item%value)//"' as "//specs(j)%what//" (a sign without digits)")
+              return
+            end if
+            marked = ""
+            if (specs(j)%capacity > 0 .and. len(constant) > 0) then
+              if (index(specs(j)%what, "real") > 0) then
+                read(constant, *, iostat=ios) x
+                if (ios == 0 .and. x == unset) marked = fmt_real(x)
+              else if (index(specs(j)%what, "integer") > 0) then
+                read(constant, *, iostat=ios) iv
+                if (ios == 0 .and. iv == unset_int) marked = fmt_int(int(iv, i8))
+              end if
+            end if
+            if (len(marked) > 0) then
+              call set_status(status, demstep_stat%invalid_input, what//"element "//fmt_int(element)// &
+                " is "//marked//", the value that marks an element not given: out of range")
+              return
+            end if
+          end associate
+        end associate
+        element = element + repeat_count
+      end if
+      if (null) then
+        call set_status(status, demstep_stat%invalid_input, what//"'"//excerpt(item%value)// &
+          "' holds a null value (an empty field between commas, or r* without a value): give every value")
+        return
+      end if
+      i = i + 1
+    end do
+  end subroutine check_value_text
 
   !> The first subscript of a designator (`x(3)`, `x(3:5)`: 3), 1 without one.
   pure integer(i8) function first_index(designator) result(k)
@@ -742,11 +890,63 @@ contains
     write(unit, form) label, trim(value)
   end subroutine report_row
 
-  !> The line that ends every report yielding a time step.
-  subroutine recommended_line(unit, dt_recommended)
-    integer, intent(in) :: unit
-    real(dp), intent(in) :: dt_recommended
-    write(unit, '(a)') "recommended dt = "//fmt_real(dt_recommended)//" s"
-  end subroutine recommended_line
+  !> Record the step a group yields (its report names it in a row `label`), for
+  !> the deck's one recommended dt; `scene` marks an assembly's step, which
+  !> governs its deck. Without `group` (an MFiX deck) the source is "the deck".
+  subroutine record_step(ctx, label, dt, scene, group)
+    type(cli_context), intent(in) :: ctx
+    character(len=*), intent(in) :: label
+    real(dp), intent(in) :: dt
+    logical, intent(in) :: scene
+    type(nml_group_type), intent(in), optional :: group
+    character(len=:), allocatable :: source
+    if (ctx%steps == -1) return
+    source = "the deck"
+    if (present(group)) source = "&"//group%name//" (line "//fmt_int(int(group%line, i8))//")"
+    ! 17 digits: the double reads back exactly
+    write(ctx%steps, '(es25.17e3, 1x, l1, 1x, a)') dt, scene, source//": "//label
+  end subroutine record_step
+
+  !> The end of the deck's report: the one `recommended dt = ... s` line, the
+  !> step that governs the whole deck (the smallest of the `&scene` steps when
+  !> there is one, else the smallest of all), preceded by a row naming it when
+  !> the groups yielded more than one step. Nothing when no group yields a step.
+  subroutine deck_recommendation(ctx)
+    type(cli_context), intent(in) :: ctx
+    real(dp) :: dt, best
+    logical :: scene, best_scene
+    character(len=512) :: source, best_source
+    character(len=:), allocatable :: why
+    integer :: ios, n, n_scene
+    if (ctx%steps == -1) return
+    rewind(ctx%steps)
+    n = 0
+    n_scene = 0
+    best = huge(1.0_dp)
+    best_scene = .false.
+    best_source = ""
+    do
+      read(ctx%steps, '(es25.17e3, 1x, l1, 1x, a)', iostat=ios) dt, scene, source
+      if (ios /= 0) exit
+      n = n + 1
+      if (scene) n_scene = n_scene + 1
+      ! a scene's step replaces any other; among equals, the smallest
+      if ((scene .and. .not. best_scene) .or. ((scene .eqv. best_scene) .and. dt < best)) then
+        best = dt
+        best_scene = scene
+        best_source = source
+      end if
+    end do
+    if (n == 0) return
+    if (n_scene > 1) then
+      why = "the smallest of the "//fmt_int(int(n_scene, i8))//" &scene steps: an assembly's step is its deck's"
+    else if (best_scene) then
+      why = "an assembly's step is its deck's"
+    else
+      why = "the smallest of the "//fmt_int(int(n, i8))//" steps"
+    end if
+    if (n > 1) write(ctx%report, '(a)') "the deck's step: "//trim(best_source)//" ("//why//")"
+    write(ctx%report, '(a)') "recommended dt = "//fmt_real(best)//" s"
+  end subroutine deck_recommendation
 
 end module demstep_cli

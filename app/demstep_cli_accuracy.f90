@@ -5,17 +5,20 @@ module demstep_cli_accuracy
     discrete_contact_type, contact_with_onset, contact_worst_case, quantity_kind, n_quantities, &
     quantity_names, worst_error, n_for_tolerance, n_for_harmonic_tolerance, measure_step_cost, &
     harmonic_error, spring_type, new_spring, spring_period, &
-    run_prediction_type, predict_run, critical_time_step, recommended_step, step_governs, default_safety
+    run_prediction_type, predict_run, critical_time_step, recommended_step, step_governs, default_safety, &
+    text_progress_type
   use demstep_kinds, only: pi
   use demstep_status, only: set_status
   use demstep_namelist, only: lowercase
   use demstep_cost, only: default_cost_n_max
   use demstep_contact, only: check_contact_damping
-  use demstep_cli, only: recommended_line, var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
+  use, intrinsic :: iso_fortran_env, only: error_unit
+  use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
+    next_assignment, group_reading, &
     check_real, new_array, array_length, broadcast, common_length, default_text, max_values, &
     capacity_of
   use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &
-    rename_file, process_id
+    rename_file, process_id, refuse_input
   implicit none
   private
 
@@ -75,6 +78,7 @@ contains
     type(cli_context), intent(in) :: ctx
     type(nml_group_type), intent(in) :: group
     type(demstep_status_type), intent(out) :: status
+    type(group_reading) :: reading
     real(dp), allocatable :: n_per_period(:), onset(:)
     real(dp) :: damping_ratio
     namelist /contact_error/ n_per_period, onset, damping_ratio
@@ -92,7 +96,10 @@ contains
     specs = contact_error_specs()
     n_per_period = new_array(capacity_of(specs, "n_per_period"))
     onset = new_array(capacity_of(specs, "onset"))
-    call read_group(group, specs, read_item, status)
+    call begin_group(reading, group, specs, status)
+    do while (next_assignment(reading, group, status))
+      read(reading%text, nml=contact_error, iostat=reading%ios)
+    end do
     if (status%stat /= demstep_stat%ok) return
     call array_length(g, "n_per_period", n_per_period, lengths(1), status)
     call array_length(g, "onset", onset, lengths(2), status)
@@ -148,11 +155,6 @@ contains
       call write_onset(ctx%results, big_n, s, steps, value, stable)
     end if
   contains
-    subroutine read_item(text, ios)
-      character(len=*), intent(in) :: text
-      integer, intent(out) :: ios
-      read(text, nml=contact_error, iostat=ios)
-    end subroutine read_item
     !> The library's "variable: what" as "&contact_error: variable: element i is x; what".
     subroutine name_element(st, element, n_value, onset_value)
       type(demstep_status_type), intent(inout) :: st
@@ -251,6 +253,8 @@ contains
     type(cli_context), intent(in) :: ctx
     type(nml_group_type), intent(in) :: group
     type(demstep_status_type), intent(out) :: status
+    type(group_reading) :: reading
+    type(text_progress_type) :: progress
     character(len=32) :: quantity
     real(dp), allocatable :: tolerances(:)
     real(dp) :: duration, n_particles, mass, stiffness, damping_ratio, lambda, &
@@ -274,7 +278,10 @@ contains
 
     specs = accuracy_cost_specs()
     tolerances = new_array(capacity_of(specs, "tolerances"))
-    call read_group(group, specs, read_item, status)
+    call begin_group(reading, group, specs, status)
+    do while (next_assignment(reading, group, status))
+      read(reading%text, nml=accuracy_cost, iostat=reading%ios)
+    end do
     if (status%stat /= demstep_stat%ok) return
     q = 0
     do i = 1, n_quantities
@@ -306,8 +313,13 @@ contains
     end if
 
     call check_file_name(g, "csv", trim(csv), .false., status)
-    if (trim(figure) /= "none" .and. len_trim(figure) > 0) call check_file_name(g, "figure", &
-      trim(figure), .true., status)
+    call check_not_input(ctx, g, "csv", trim(csv), [" "], status)
+    if (trim(figure) /= "none" .and. len_trim(figure) > 0) then
+      call check_file_name(g, "figure", trim(figure), .true., status)
+      ! gnuplot writes the .tmp files, renamed over the figures
+      call check_not_input(ctx, g, "figure", trim(figure), [character(len=8) :: ".png", ".svg", &
+        ".png.tmp", ".svg.tmp"], status)
+    end if
     if (status%stat /= demstep_stat%ok) return
     call new_spring(spring, mass, stiffness, status)
     if (status%stat == demstep_stat%ok) call check_contact_damping(damping_ratio, status)
@@ -329,9 +341,16 @@ contains
 
     allocate(n(nt), dt(nt), steps(nt), predicted_seconds(nt), stat(nt), saturated(nt))
     saturated = .false.
+    ! one root per tolerance: a long list shows its progress on stderr
+    progress = text_progress_type(unit=error_unit, label="demstep: &"//g)
+    ! --quiet: no line, however long
+    if (ctx%quiet) progress%delay = huge(1.0_dp)
+    call progress%start("tolerances", int(nt, i8))
     do i = 1, nt
       call n_needed(q, tolerances(i), i, damping_ratio, lambda, n_max, n(i), stat(i), status)
+      call progress%update(int(i, i8))
       if (status%stat /= demstep_stat%ok) then
+        call progress%finish()
         status%message = "&"//g//": "//status%message
         return
       end if
@@ -351,6 +370,7 @@ contains
         predicted_seconds(i) = 0.0_dp
       end if
     end do
+    call progress%finish()
     ! the curves run from N = 4 to n_top: their predictions must hold as well
     n_top = max(1.0e3_dp, 4.0_dp*maxval(n, mask=stat == demstep_stat%ok .and. n < 1.0e6_dp))
     call predict_run(period, curve_n_min, duration, n_particles, cost, prediction, status)
@@ -377,8 +397,8 @@ contains
       status%message = "&"//g//": "//status%message
       return
     end if
-    call write_cost(ctx%results, tolerances(:nt), n, dt, steps, predicted_seconds, stat, cost, period, &
-      dt_recommended)
+    call write_cost(ctx%results, tolerances(:nt), n, dt, steps, saturated, predicted_seconds, stat, cost, &
+      period, dt_recommended)
     call write_curves(ctx%report, q, damping_ratio, lambda, period, duration, n_particles, cost, &
       n_top, trim(csv), trim(figure), status)
     if (status%stat /= demstep_stat%ok) then
@@ -394,14 +414,9 @@ contains
       write(ctx%report, '(2x, a, t28, a)') "governs", "stability ("//fmt_real(default_safety)// &
         " of the critical step)"
     end if
-    call recommended_line(ctx%report, dt_recommended)
+    write(ctx%report, '(2x, a, t28, a)') "single-contact step", fmt_real(dt_recommended)//" s"
     write(ctx%report, '(a)') ""
-  contains
-    subroutine read_item(text, ios)
-      character(len=*), intent(in) :: text
-      integer, intent(out) :: ios
-      read(text, nml=accuracy_cost, iostat=ios)
-    end subroutine read_item
+    call record_step(ctx, "single-contact step", dt_recommended, .false., group)
   end subroutine handle_accuracy_cost
 
   !> N for one tolerance from the library (a contact quantity's worst case, or the
@@ -427,6 +442,9 @@ contains
       status = st
       if (index(status%message, "tolerance: ") == 1) status%message = "tolerances: element "// &
         fmt_int(int(element, i8))//" is "//fmt_real(tolerance)//"; "//status%message(12:)
+      ! the steps per contact are N/2 here (no deck variable): lambda sets f lambda
+      if (index(status%message, "steps_fraction: ") == 1) status%message = "lambda: "//fmt_real(lambda) &
+        //" with N/2 steps per contact (f = 0.5): "//status%message(17:)
       return
     end if
     status%stat = demstep_stat%ok
@@ -456,13 +474,14 @@ contains
     else
       write(u, '(2x, a)') "cost per particle-step: "//fmt_real(cost)//" s (given)"
     end if
-    write(u, '(2x, a12, a14, a14, a16, a16, a18)') "tolerance", "N = T/dt", "per contact", "dt", "steps", &
+    write(u, '(2x, a12, a14, a14, a16, a21, a18)') "tolerance", "N = T/dt", "per contact", "dt", "steps", &
       "predicted time"
     do i = 1, size(tolerances)
       if (stat(i) /= demstep_stat%ok) then
         write(u, '(2x, a12, 2x, a)') fmt_real(tolerances(i)), "not met up to n_max"
       else
-        write(u, '(2x, a12, a14, a14, a16, a16, a18)') fmt_real(tolerances(i)), fmt_real(n(i)), &
+        ! steps: up to 19 digits, and a blank before them
+        write(u, '(2x, a12, a14, a14, a16, a21, a18)') fmt_real(tolerances(i)), fmt_real(n(i)), &
           fmt_real(0.5_dp*n(i)), fmt_real(dt(i)), fmt_int(steps(i)), human_time(seconds(i))
       end if
     end do
@@ -486,15 +505,18 @@ contains
     end if
   end function human_time
 
-  subroutine write_cost(unit, tolerances, n_per_period, dt, steps, predicted_seconds, status, &
-      cost_per_particle_step, period, dt_recommended)
+  !> The result group; `steps_saturated(i)` marks a count above 2^63 - 1, written as
+  !> 2^63 - 1 in `steps(i)` (`predicted_seconds` uses the exact count).
+  subroutine write_cost(unit, tolerances, n_per_period, dt, steps, steps_saturated, predicted_seconds, &
+      status, cost_per_particle_step, period, dt_recommended)
     integer, intent(in) :: unit
     real(dp), intent(in) :: tolerances(:), n_per_period(:), dt(:), predicted_seconds(:), &
       cost_per_particle_step, period, dt_recommended
     integer(i8), intent(in) :: steps(:)
+    logical, intent(in) :: steps_saturated(:)
     integer, intent(in) :: status(:)
-    namelist /accuracy_cost_result/ tolerances, n_per_period, dt, steps, predicted_seconds, status, &
-      cost_per_particle_step, period, dt_recommended
+    namelist /accuracy_cost_result/ tolerances, n_per_period, dt, steps, steps_saturated, predicted_seconds, &
+      status, cost_per_particle_step, period, dt_recommended
     write(unit, nml=accuracy_cost_result)
   end subroutine write_cost
 
@@ -526,6 +548,27 @@ contains
         //"give a file name")
     end if
   end subroutine check_file_name
+
+  !> An output file the deck names (`name` with each of the `suffixes`, blank for
+  !> none) must not replace a file the deck reads: `&group: variable: 'file' is
+  !> WHAT (an input; choose another name)`. Does nothing after an error.
+  subroutine check_not_input(ctx, group, variable, name, suffixes, status)
+    type(cli_context), intent(in) :: ctx
+    character(len=*), intent(in) :: group, variable, name
+    character(len=*), intent(in) :: suffixes(:)
+    type(demstep_status_type), intent(inout) :: status
+    type(demstep_status_type) :: refused
+    integer :: i
+    if (status%stat /= demstep_stat%ok .or. .not. allocated(ctx%inputs)) return
+    do i = 1, size(suffixes)
+      call refuse_input(ctx%inputs, name//trim(suffixes(i)), refused)
+      if (refused%stat /= demstep_stat%ok) then
+        call set_status(status, demstep_stat%invalid_input, "&"//group//": "//variable//": '" &
+          //name//trim(suffixes(i))//"' "//refused%message//"; the output would replace it (choose another name)")
+        return
+      end if
+    end do
+  end subroutine check_not_input
 
   !> True when `path` names a directory (`path/.` then exists).
   logical function is_directory(path)
@@ -609,7 +652,8 @@ contains
     ! the shell sees only this fixed name; the user's names live inside the script,
     ! quoted by gnuplot's rules
     script = "demstep-figure-"//fmt_int(int(process_id(), i8))//".gp"
-    open(newunit=unit, file=script, status="replace", action="write", iostat=ios)
+    ! (status "new": a file of that name is never replaced)
+    open(newunit=unit, file=script, status="new", action="write", iostat=ios)
     if (ios /= 0) then
       write(u, '(2x, a)') "cannot write the gnuplot script in the current directory: no figure"
       write(u, '(a)') ""

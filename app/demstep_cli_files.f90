@@ -3,7 +3,8 @@
 !> complete, removed on every failure path.
 !>
 !> An existing target that is a symbolic link keeps its link: the file it points to
-!> is replaced. A target that is the input deck itself (by any path) is refused.
+!> is replaced. A target that is a file the deck reads (the deck itself, a file it
+!> names), by any path or link, is refused: [[refuse_input]].
 module demstep_cli_files
   use, intrinsic :: iso_c_binding, only: c_char, c_int, c_null_char, c_ptr, c_associated
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
@@ -12,7 +13,13 @@ module demstep_cli_files
   private
 
   public :: resolve_path, same_file, open_output, commit_output, discard_output, rename_file, &
-    process_id
+    process_id, refuse_input
+
+  !> A file the deck reads: its name (as it is opened) and what it is, in words
+  !> ("the input deck", "the deck's &scene snapshot_file").
+  type, public :: input_file_type
+    character(len=:), allocatable :: path, what
+  end type input_file_type
 
   !> An output being written: the unit, its temporary and the final name.
   type, public :: output_file_type
@@ -71,6 +78,24 @@ contains
     same = .false.
     if (exists_a .and. exists_b) same = resolve_path(a) == resolve_path(b)
   end function same_file
+
+  !> Status `invalid_input` with the message "is WHAT" when `target` is one of
+  !> `inputs` (after resolving links: the output would replace a file the deck
+  !> reads); `ok` otherwise (a `target` that does not exist is none of them).
+  subroutine refuse_input(inputs, target, status)
+    type(input_file_type), intent(in) :: inputs(:)
+    !> The name an output would be written to.
+    character(len=*), intent(in) :: target
+    type(demstep_status_type), intent(out) :: status
+    integer :: i
+    status%stat = demstep_stat%ok
+    do i = 1, size(inputs)
+      if (same_file(inputs(i)%path, target)) then
+        call set_status(status, demstep_stat%invalid_input, "is "//inputs(i)%what)
+        return
+      end if
+    end do
+  end subroutine refuse_input
 
   !> Open a temporary for `target` in the target's directory (that of the file a
   !> link points to). Status `io_error` when it cannot be created; nothing is left.

@@ -3,7 +3,8 @@ module demstep_cli_harmonic
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
     evaluate_error => harmonic_error, harmonic_error_check
   use demstep_status, only: set_status
-  use demstep_cli, only: var_spec, var, given, read_group, fmt_real, fmt_real_column, fmt_int, &
+  use demstep_cli, only: var_spec, var, given, begin_group, fmt_real, fmt_real_column, fmt_int, &
+    next_assignment, group_reading, &
     cli_context, new_array, array_length, broadcast, common_length, max_values, &
     capacity_of
   implicit none
@@ -36,6 +37,7 @@ contains
     type(cli_context), intent(in) :: ctx
     type(nml_group_type), intent(in) :: group
     type(demstep_status_type), intent(out) :: status
+    type(group_reading) :: reading
     real(dp), allocatable :: n_per_period(:), lambda(:), steps_fraction(:), n_steps(:)
     namelist /harmonic_error/ n_per_period, lambda, steps_fraction, n_steps
     real(dp), allocatable :: big_n(:), lam(:), n(:), e(:)
@@ -51,7 +53,10 @@ contains
     lambda = new_array(capacity_of(specs, "lambda"))
     steps_fraction = new_array(capacity_of(specs, "steps_fraction"))
     n_steps = new_array(capacity_of(specs, "n_steps"))
-    call read_group(group, specs, read_item, status)
+    call begin_group(reading, group, specs, status)
+    do while (next_assignment(reading, group, status))
+      read(reading%text, nml=harmonic_error, iostat=reading%ios)
+    end do
     if (status%stat /= demstep_stat%ok) return
     fraction = given(group, "steps_fraction")
     call array_length(g, "n_per_period", n_per_period, lengths(1), status)
@@ -91,12 +96,6 @@ contains
     end if
     call report(ctx%report, group, big_n, lam, n, e, stat)
     call write_result(ctx%results, big_n, lam, n, e, stat)
-  contains
-    subroutine read_item(text, ios)
-      character(len=*), intent(in) :: text
-      integer, intent(out) :: ios
-      read(text, nml=harmonic_error, iostat=ios)
-    end subroutine read_item
   end subroutine handle_harmonic_error
 
   subroutine report(u, group, big_n, lam, n, e, stat)

@@ -7,12 +7,14 @@ module demstep_cli_material
     material_pair_type, effective_pair_type, contact_parameters_type, peer_steps_type, effective_pair, &
     contact_parameters, peer_time_steps, code_convention, convention_names, peer_rule_names, &
     recommended_step, step_governs, default_safety, contact_assessment_type
-  use demstep_material, only: convention_limit, n_conventions, n_peer_rules
+  use demstep_material, only: convention_limit, n_conventions, n_peer_rules, liggghts_velocity_factor, &
+    check_pair
   use demstep_recommend, only: assess_material_pair
   use demstep_cost, only: default_cost_n_max
   use demstep_status, only: set_status
   use demstep_namelist, only: lowercase
-  use demstep_cli, only: recommended_line, var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
+  use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
+    next_assignment, group_reading, &
     new_array, array_length, common_length, broadcast, capacity_of, word_list, report_row
   implicit none
   private
@@ -81,6 +83,7 @@ contains
     real(dp), intent(out) :: restitution, restitution_t, impact_velocity, tolerance
     integer, intent(out) :: first, last
     type(demstep_status_type), intent(out) :: status
+    type(group_reading) :: reading
     real(dp), allocatable :: young(:), poisson(:), density(:), radius(:)
     character(len=32) :: code
     namelist /material/ young, poisson, density, radius, restitution, restitution_t, impact_velocity, &
@@ -97,7 +100,10 @@ contains
     density = new_array(capacity_of(specs, "density"))
     radius = new_array(capacity_of(specs, "radius"))
     tolerance = 0.0_dp
-    call read_group(group, specs, read_item, status)
+    call begin_group(reading, group, specs, status)
+    do while (next_assignment(reading, group, status))
+      read(reading%text, nml=material, iostat=reading%ios)
+    end do
     if (status%stat /= demstep_stat%ok) return
     call array_length(g, "young", young, lengths(1), status)
     call array_length(g, "poisson", poisson, lengths(2), status)
@@ -124,6 +130,12 @@ contains
       end if
       last = first
     end select
+    ! the loading, checked here for every reader of the group (a &scene too)
+    call check_pair(material_pair_type(types(1), types(1), restitution, restitution_t, impact_velocity), status)
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "&material: "//status%message
+      return
+    end if
     if (given(group, "tolerance")) then
       if (.not. (tolerance > 0.0_dp .and. tolerance < 1.0_dp)) then
         call set_status(status, demstep_stat%invalid_input, "&material: tolerance: must lie in (0, 1), got " &
@@ -131,12 +143,6 @@ contains
         return
       end if
     end if
-  contains
-    subroutine read_item(text, ios)
-      character(len=*), intent(in) :: text
-      integer, intent(out) :: ios
-      read(text, nml=material, iostat=ios)
-    end subroutine read_item
   end subroutine read_material
 
   !> Per pair of types: conventions, time scales, rules and limits; then the
@@ -201,7 +207,7 @@ contains
             " is not met below "//fmt_real(default_cost_n_max)//" steps per period ("//who(:len(who)-2)//"); use a larger one")
           return
         else if (status%stat /= demstep_stat%ok) then
-          status%message = who//status%message
+          status%message = pair_message(who, status%message)
           return
         end if
         dt_critical(p) = exact%dt_critical
@@ -219,11 +225,14 @@ contains
         do c = first, last
           call contact_parameters(pair, c, params, status)
           if (status%stat /= demstep_stat%ok) then
-            status%message = who//trim(convention_names(c))//": "//status%message
+            status%message = pair_message(who//trim(convention_names(c))//": ", status%message)
             return
           end if
           call convention_limit(params, eff%m_star, dt_code(c - first + 1, p), status)
-          if (status%stat /= demstep_stat%ok) return
+          if (status%stat /= demstep_stat%ok) then
+            status%message = pair_message(who//trim(convention_names(c))//": ", status%message)
+            return
+          end if
           k_n(c - first + 1, p) = params%k_n
           k_t(c - first + 1, p) = params%k_t
           gamma_n(c - first + 1, p) = params%gamma_n
@@ -236,7 +245,8 @@ contains
         call report_row(u, 4, "Rayleigh time", fmt_real(steps%rayleigh)//"  (0.8766 factor; Yade's: " &
           //fmt_real(steps%rayleigh_yade)//")")
         call report_row(u, 4, "Hertz contact duration", fmt_real(steps%hertz_duration)//"  (at the impact velocity; " &
-          //"LIGGGHTS' estimate "//fmt_real(steps%hertz_liggghts)//")")
+          //"LIGGGHTS' estimate "//fmt_real(steps%hertz_liggghts)//" at relative velocity " &
+          //fmt_real(liggghts_velocity_factor)//" x "//fmt_real(velocity)//", as check/timestep/gran)")
         call report_row(u, 4, "linear contact duration", fmt_real(linear_duration(p))//"  (LIGGGHTS Hooke spring)")
         call report_row(u, 4, "demstep exact limit", fmt_real(exact%dt_critical)//"  (Hertz linearised at the " &
           //"impact's largest overlap, k = "//fmt_real(k_linear(p))//", lagged dashpot, damping ratio " &
@@ -272,12 +282,13 @@ contains
       if (.not. have_tolerance) write(u, '(4x, a)') "(stability only: give tolerance for accuracy)"
     end if
     if (ctx%material_in_scene) then
-      ! one recommended dt per deck: the packing's (&scene)
-      call report_row(u, 4, "single-contact dt", fmt_real(dt_recommended)//"  (not for the packing)")
+      ! the deck's recommended dt is the packing's (&scene)
+      call report_row(u, 4, "single-contact step", fmt_real(dt_recommended)//" s  (not for the packing)")
     else
-      call recommended_line(u, dt_recommended)
+      call report_row(u, 4, "single-contact step", fmt_real(dt_recommended)//" s")
     end if
     write(u, '(a)') ""
+    call record_step(ctx, "single-contact step", dt_recommended, .false., group)
     call write_result(ctx%results, [(convention_names(c), c = first, last)], peer_rule_names, type_i, type_j, &
       m_star, k_n, k_t, gamma_n, gamma_t, dt_code, rayleigh, hertz_duration, linear_duration, dt_critical, &
       peer_dt, dt_accuracy, dt_recommended, trim(merge("stability", "accuracy ", &
@@ -286,6 +297,30 @@ contains
   end subroutine evaluate
 
   !> The library names a pair's types a and b; the report numbers them.
+  !> A library message about one pair (`who`: "types i and j: " and maybe the
+  !> code) as the deck's `variable: what`: the `&material` variable it names comes
+  !> first (`poisson: types 1 and 1: yade_frictphys: ...`); the contact stiffness
+  !> `k_n`, no deck variable, is named by `young`, from which the codes derive it.
+  function pair_message(who, message) result(text)
+    character(len=*), intent(in) :: who, message
+    character(len=:), allocatable :: text
+    type(var_spec), allocatable :: specs(:)
+    integer :: i
+    if (index(message, "k_n: ") == 1) then
+      text = "young: "//who//"the contact stiffness k_n it gives (with poisson, radius and " &
+        //"impact_velocity) "//message(6:)
+      return
+    end if
+    text = who//message
+    allocate(specs, source=material_specs())
+    do i = 1, size(specs)
+      if (index(message, specs(i)%name//": ") == 1) then
+        text = specs(i)%name//": "//who//message(len(specs(i)%name) + 3:)
+        exit
+      end if
+    end do
+  end function pair_message
+
   pure function fix_label(message, i, j) result(text)
     character(len=*), intent(in) :: message
     integer, intent(in) :: i, j

@@ -5,7 +5,7 @@ module demstep_cli_mfix
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, mfix_deck_type, parse_mfix_deck, &
     mfix_input_type, mfix_result_type, mfix_assessment_type, mfix_input_from_deck, mfix_compute, &
     mfix_assess, mfix_units, mfix_model, mfix_integrator, step_governs, default_safety
-  use demstep_cli, only: report_row, recommended_line, cli_context, fmt_real, fmt_int
+  use demstep_cli, only: report_row, record_step, cli_context, fmt_real, fmt_int
   implicit none
   private
 
@@ -47,6 +47,7 @@ contains
       return
     end if
     call report(ctx%report, input, result, a, tolerance_given)
+    if (a%linearised) call record_step(ctx, "single-contact step", a%dt_recommended, .false.)
     call write_result(ctx%results, input, result, a)
   end subroutine run_mfix
 
@@ -161,7 +162,7 @@ contains
       fmt_real(result%tcoll/a%dtsolid_factor)//" s):"
     if (input%integrator == mfix_integrator%adams_bashforth) write(u, '(a)') "des_intg_method = 'EULER'"
     write(u, '(a)') "dtsolid_factor = "//fmt_real(a%dtsolid_factor)
-    call recommended_line(u, a%dt_recommended)
+    call report_row(u, 2, "single-contact step", fmt_real(a%dt_recommended)//" s  (the smallest over the pairs)")
     write(u, '(a)') ""
   end subroutine report
 

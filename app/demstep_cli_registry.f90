@@ -8,14 +8,15 @@ module demstep_cli_registry
   use demstep_cli_system, only: handle_system, system_specs, system_doc
   use demstep_cli_harmonic, only: handle_harmonic_error, harmonic_specs, harmonic_doc
   use demstep_cli_stiffness, only: handle_simulated_stiffness, stiffness_specs, stiffness_doc
-  use demstep_cli_scene, only: handle_scene, scene_specs, scene_doc
+  use demstep_cli_scene, only: handle_scene, scene_specs, scene_doc, beside
+  use demstep_cli_files, only: input_file_type
   use demstep_cli_accuracy, only: handle_contact_error, contact_error_specs, contact_error_doc, &
     handle_accuracy_cost, accuracy_cost_specs, accuracy_cost_doc
   use demstep_cli_material, only: handle_material, material_specs, material_doc
   implicit none
   private
 
-  public :: cli_groups, find_group, group_list
+  public :: cli_groups, find_group, group_list, deck_inputs
 
 contains
 
@@ -53,6 +54,40 @@ contains
     end do
     text = word_list(names)
   end function group_list
+
+  !> The files a deck reads, which no output may replace: the deck, then every
+  !> file a `&scene` names (its variables `*_file`, beside the deck as the handler
+  !> opens them). A value the runtime cannot read as a file name is left out (the
+  !> handler refuses it).
+  function deck_inputs(deck, groups) result(inputs)
+    !> The input deck's name.
+    character(len=*), intent(in) :: deck
+    !> The deck's groups (none for an MFiX deck).
+    type(nml_group_type), intent(in) :: groups(:)
+    type(input_file_type), allocatable :: inputs(:)
+    ! as long as the handler's file name variables
+    character(len=512) :: file
+    character(len=:), allocatable :: text
+    namelist /named/ file
+    integer :: g, i, n, ios
+    inputs = [input_file_type(deck, "the input deck")]
+    do g = 1, size(groups)
+      if (groups(g)%name /= "scene") cycle
+      do i = 1, size(groups(g)%items)
+        associate(item => groups(g)%items(i))
+          n = len(item%name)
+          if (n < 5 .or. len(item%value) == 0) cycle
+          if (item%name(max(1, n - 4):) /= "_file") cycle
+          file = ""
+          text = "&named file = "//item%value//" /"
+          read(text, nml=named, iostat=ios)
+          if (ios /= 0 .or. len_trim(file) == 0) cycle
+          inputs = [inputs, input_file_type(beside(deck, trim(file)), "the deck's &scene " &
+            //item%name)]
+        end associate
+      end do
+    end do
+  end function deck_inputs
 
   !> `&scene` reads its table files beside the deck.
   subroutine run_scene(ctx, group, status)

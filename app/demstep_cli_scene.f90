@@ -23,7 +23,8 @@ module demstep_cli_scene
     n_conventions, n_peer_rules
   use demstep_namelist, only: read_text_file, scan_namelist
   use demstep_cli_material, only: read_material
-  use demstep_cli, only: recommended_line, var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
+  use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
+    next_assignment, group_reading, &
     check_real, new_array, array_length, new_int_array, int_array_length, max_values, &
     capacity_of, word_list
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -31,7 +32,7 @@ module demstep_cli_scene
   implicit none
   private
 
-  public :: scene_specs, scene_doc, handle_scene, scene_takes_material
+  public :: scene_specs, scene_doc, handle_scene, scene_takes_material, beside
 
   character(len=*), parameter :: scene_doc = &
     "A particle assembly: its critical time step by the per-contact rule, a rigorous bound, " &
@@ -181,6 +182,7 @@ contains
     !> The input deck's name: relative table file names are relative to its directory.
     character(len=*), intent(in) :: file
     type(demstep_status_type), intent(out) :: status
+    type(group_reading) :: reading
     integer :: dim, max_eigen_dof, wall_type
     real(dp), allocatable :: position(:), velocity(:), mass(:), radius(:), walls(:), gravity(:)
     integer, allocatable :: fixed(:), bonds(:), types(:)
@@ -242,7 +244,10 @@ contains
     young = new_array(capacity_of(specs, "young"))
     poisson = new_array(capacity_of(specs, "poisson"))
     effects = ""
-    call read_group(group, specs, read_item, status)
+    call begin_group(reading, group, specs, status)
+    do while (next_assignment(reading, group, status))
+      read(reading%text, nml=scene, iostat=reading%ios)
+    end do
     if (status%stat /= demstep_stat%ok) return
     if (dim < 1 .or. dim > 3) then
       call fail("dim", "must be 1, 2 or 3, got "//fmt_int(int(dim, i8)))
@@ -648,15 +653,10 @@ contains
       call report(ctx%report, group, sc, crit, duration > 0.0_dp, dt_used, steps, summary, dt_recommended)
     end if
     call write_result(ctx%results, sc, crit, dt_used, summary, dt_recommended)
+    call record_step(ctx, "assembly step", dt_recommended, .true., group)
     if (given(group, "snapshot_file")) call write_snapshot_result(ctx%results, snap, deck_mat, crit, peer_dt)
 
   contains
-
-    subroutine read_item(text, ios)
-      character(len=*), intent(in) :: text
-      integer, intent(out) :: ios
-      read(text, nml=scene, iostat=ios)
-    end subroutine read_item
 
     subroutine fail(name, what)
       character(len=*), intent(in) :: name, what
@@ -952,7 +952,7 @@ contains
       write(u, '(2x, a, t28, a)') "governs", "stability ("//fmt_real(default_safety)// &
         " of the damped step of the bound)"
     end if
-    call recommended_line(u, dt_recommended)
+    write(u, '(2x, a, t28, a)') "assembly step", fmt_real(dt_recommended)//" s"
     write(u, '(a)') ""
   end subroutine report
 

@@ -10,7 +10,8 @@ module demstep_cli_stiffness
   use demstep_stiffness, only: default_n_max, default_resolution
   use demstep_stiffness, only: procedure_cost, measure_evaluation_cost, max_procedure_evaluations
   use, intrinsic :: iso_fortran_env, only: error_unit
-  use demstep_cli, only: recommended_line, var_spec, var, given, read_group, fmt_real, fmt_int, cli_context, &
+  use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
+    next_assignment, group_reading, &
     new_array, array_length, default_text, max_values, capacity_of
   implicit none
   private
@@ -61,6 +62,7 @@ contains
     type(cli_context), intent(in) :: ctx
     type(nml_group_type), intent(in) :: group
     type(demstep_status_type), intent(out) :: status
+    type(group_reading) :: reading
     real(dp) :: mass, stiffness, tolerance, lambda_min, lambda_max, steps_fraction, n_steps, &
       n_max, resolution
     real(dp), allocatable :: lambda(:), weights(:)
@@ -84,7 +86,10 @@ contains
     specs = stiffness_specs()
     lambda = new_array(capacity_of(specs, "lambda"))
     weights = new_array(capacity_of(specs, "weights"))
-    call read_group(group, specs, read_item, status)
+    call begin_group(reading, group, specs, status)
+    do while (next_assignment(reading, group, status))
+      read(reading%text, nml=simulated_stiffness, iostat=reading%ios)
+    end do
     if (status%stat /= demstep_stat%ok) return
     ! mass, stiffness, tolerance, n_max, resolution, the lambdas and weights:
     ! run_procedure checks them all before the scan
@@ -203,13 +208,8 @@ contains
       return
     end if
     call report(ctx%report, group, input, result, dt_stability, dt_recommended, governs)
+    if (dt_recommended > 0.0_dp) call record_step(ctx, "single-contact step", dt_recommended, .false., group)
     call write_result(ctx%results, result, dt_recommended)
-  contains
-    subroutine read_item(text, ios)
-      character(len=*), intent(in) :: text
-      integer, intent(out) :: ios
-      read(text, nml=simulated_stiffness, iostat=ios)
-    end subroutine read_item
   end subroutine handle_simulated_stiffness
 
   !> The recommended step: the procedure's dt = T*/N* is the accuracy step; the
@@ -281,7 +281,7 @@ contains
         write(u, '(2x, a, t30, a)') "governs", "stability ("//fmt_real(default_safety)// &
           " of the critical step of K')"
       end if
-      call recommended_line(u, dt_recommended)
+      write(u, '(2x, a, t30, a)') "single-contact step", fmt_real(dt_recommended)//" s"
     end if
     write(u, '(a)') ""
   end subroutine report

@@ -7,7 +7,8 @@ module demstep_cli_system
   use demstep_kinds, only: pi
   use demstep_namelist, only: lowercase
   use demstep_status, only: set_status
-  use demstep_cli, only: report_row, recommended_line, var_spec, var, given, read_group, check_real, &
+  use demstep_cli, only: report_row, record_step, var_spec, var, given, begin_group, check_real, &
+    next_assignment, group_reading, &
     fmt_real, fmt_int, &
     cli_context
   implicit none
@@ -43,6 +44,7 @@ contains
     type(cli_context), intent(in) :: ctx
     type(nml_group_type), intent(in) :: group
     type(demstep_status_type), intent(out) :: status
+    type(group_reading) :: reading
     real(dp) :: mass, stiffness, damping_ratio, velocity, dt, n_per_period
     character(len=32) :: dashpot
     namelist /system/ mass, stiffness, damping_ratio, dashpot, velocity, dt, n_per_period
@@ -50,7 +52,10 @@ contains
     integer :: kind
     character(len=*), parameter :: g = "system"
 
-    call read_group(group, system_specs(), read_item, status)
+    call begin_group(reading, group, system_specs(), status)
+    do while (next_assignment(reading, group, status))
+      read(reading%text, nml=system, iostat=reading%ios)
+    end do
     if (status%stat /= demstep_stat%ok) return
     ! mass, stiffness, damping_ratio (new_spring), dt and n_per_period
     ! (check_time_step, step_for_n_per_period) are the library's to check;
@@ -84,12 +89,6 @@ contains
     end if
     call evaluate(ctx, group, spring, velocity, given(group, "dt") .or. given(group, "n_per_period"), &
       dt, merge("n_per_period", "dt          ", given(group, "n_per_period")), status)
-  contains
-    subroutine read_item(text, ios)
-      character(len=*), intent(in) :: text
-      integer, intent(out) :: ios
-      read(text, nml=system, iostat=ios)
-    end subroutine read_item
   end subroutine handle_system
 
   !> Compute, report and write the result group.
@@ -130,7 +129,7 @@ contains
     end if
     if (.not. have_dt) then
       call write_basic(ctx%results, period, omega, dt_critical, dt_recommended)
-      call recommend_line(u, dt_recommended)
+      call recommend_line(ctx, group, dt_recommended)
       return
     end if
 
@@ -142,7 +141,7 @@ contains
       call report_row(u, 2, "stable", "NO: dt >= critical step; amplitude grows by "//fmt_real(rho)// &
         " per step")
       call write_unstable(ctx%results, period, omega, dt_critical, dt, n_per_period, rho, dt_recommended)
-      call recommend_line(u, dt_recommended)
+      call recommend_line(ctx, group, dt_recommended)
       return
     end if
     call numerical_phase(omega*dt, theta, phase_status)
@@ -183,20 +182,23 @@ contains
       "               ", contact%restitution > 1.0_dp))
     call report_row(u, 2, "  max overlap", fmt_real(overlap)// &
       "  (exact v0/omega = "//fmt_real(velocity/omega)//")")
-    call recommend_line(u, dt_recommended)
+    call recommend_line(ctx, group, dt_recommended)
     call write_stable(ctx%results, period, omega, dt_critical, dt, n_per_period, rho, theta, &
       period_numerical, contact%steps, contact%contact_time*(0.5_dp*period), contact%restitution, &
       overlap, dt_recommended)
   end subroutine evaluate
 
-  !> The closing line: the recommended step (no tolerance here: stability governs).
-  subroutine recommend_line(u, dt_recommended)
-    integer, intent(in) :: u
+  !> The closing rows: the contact's step (no tolerance here: stability governs),
+  !> recorded for the deck's recommended dt.
+  subroutine recommend_line(ctx, group, dt_recommended)
+    type(cli_context), intent(in) :: ctx
+    type(nml_group_type), intent(in) :: group
     real(dp), intent(in) :: dt_recommended
-    call report_row(u, 2, "governs", "stability ("//fmt_real(default_safety)//" of the critical step; " &
+    call report_row(ctx%report, 2, "governs", "stability ("//fmt_real(default_safety)//" of the critical step; " &
       //"&accuracy_cost gives the step for a tolerance)")
-    call recommended_line(u, dt_recommended)
-    write(u, '(a)') ""
+    call report_row(ctx%report, 2, "single-contact step", fmt_real(dt_recommended)//" s")
+    write(ctx%report, '(a)') ""
+    call record_step(ctx, "single-contact step", dt_recommended, .false., group)
   end subroutine recommend_line
 
 

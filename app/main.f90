@@ -6,10 +6,10 @@ program demstep_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use demstep, only: i8, demstep_version_string, demstep_status_type, demstep_stat, &
     nml_group_type, read_text_file, scan_namelist, mfix_looks_like_deck, dp
-  use demstep_cli, only: cli_context, write_template, fmt_int, group_spec
+  use demstep_cli, only: cli_context, write_template, fmt_int, group_spec, deck_recommendation
   use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &
-    same_file
-  use demstep_cli_registry, only: cli_groups, find_group, group_list
+    refuse_input
+  use demstep_cli_registry, only: cli_groups, find_group, group_list, deck_inputs
   use demstep_cli_mfix, only: run_mfix, mfix_default_tolerance
   use demstep_cli_scene, only: scene_takes_material
   implicit none
@@ -84,9 +84,6 @@ program demstep_main
   ctx%deck = input
   if (allocated(output)) then
     if (len(output) == 0) call usage_error("empty output file name")
-    ! the results would replace the deck they came from
-    if (same_file(input, output)) call fail(output//": is the input deck; the results " &
-      //"would replace it (choose another -o file)", 2)
   end if
 
   call read_text_file(input, text, status)
@@ -108,11 +105,23 @@ program demstep_main
     end if
   end select
   if (.not. is_mfix .and. status%stat /= demstep_stat%ok) call fail(input//": "//status%message, 2)
+  if (is_mfix) then
+    if (allocated(groups)) deallocate(groups)
+    allocate(groups(0))
+  end if
+  ! no output may replace a file the deck reads (the deck, the files it names)
+  ctx%inputs = deck_inputs(input, groups)
+  if (allocated(output)) then
+    call refuse_input(ctx%inputs, output, status)
+    if (status%stat /= demstep_stat%ok) call fail(output//": "//status%message//"; the results " &
+      //"would replace it (choose another -o file)", 2)
+  end if
   if (.not. is_mfix .and. (tolerance_given .or. velocity > 0.0_dp)) call usage_error("--tolerance " &
     //"and --velocity apply to MFiX decks (namelist groups take their own variables)")
 
   open(newunit=ctx%report, status="scratch", action="readwrite", form="formatted")
   open(newunit=ctx%results, status="scratch", action="readwrite", form="formatted")
+  open(newunit=ctx%steps, status="scratch", action="readwrite", form="formatted")
   write(ctx%report, '(a)') "demstep "//demstep_version_string//": "//input
   write(ctx%report, '(a)') ""
   known = 0
@@ -122,8 +131,6 @@ program demstep_main
     call run_mfix(ctx, text, tolerance, tolerance_given, velocity, status)
     if (status%stat /= demstep_stat%ok) call fail(input//": "//status%message, 2)
     known = 1
-    if (allocated(groups)) deallocate(groups)
-    allocate(groups(0))
   end if
   ! a packing's &material reports single contacts (whichever group comes first)
   ctx%material_in_scene = scene_takes_material(groups)
@@ -158,6 +165,8 @@ program demstep_main
     if (status%stat /= demstep_stat%ok) call fail(output//": "//status%message, 1)
     write(ctx%report, '(a)') "results written to "//output
   end if
+  ! the deck's one recommended dt: the report's last line
+  call deck_recommendation(ctx)
   if (namelist_only) then
     call copy_unit(ctx%results, output_unit, ios)
   else
@@ -165,6 +174,7 @@ program demstep_main
   end if
   close(ctx%report)
   close(ctx%results)
+  close(ctx%steps)
 
 contains
 

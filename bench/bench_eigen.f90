@@ -1,21 +1,11 @@
-!> Benchmark of the largest eigenvalue of a mass-scaled stiffness matrix:
-!> dense LAPACK (dsyevr) against matrix-free Lanczos (ARPACK) on the same dense
-!> matrices, then Lanczos on sparse contact-network operators of 1e4 to 1e6
-!> degrees of freedom. Wall-clock median of 3 runs. The BLAS/LAPACK in use is
-!> whatever the system routes libblas.so.3/liblapack.so.3 to (reference or
-!> OpenBLAS), and the threads are OMP_NUM_THREADS's.
-!>
-!>   fpm run --example bench_eigen --profile release [-- quick]
-program bench_eigen
-  use, intrinsic :: iso_fortran_env, only: output_unit
-  use demstep_kinds, only: dp, i8
-  use demstep_status, only: demstep_status_type, demstep_stat
-  use demstep_progress, only: progress_seconds
-  use demstep_lapack, only: largest_eigenpair
-  use demstep_lanczos, only: lanczos_largest, lanczos_context_type, eigen_result_type, &
-    csr_matrix_type, csr_from_springs, csr_apply, csr_to_dense
-  !$ use omp_lib, only: omp_get_max_threads
+!> The dense operator of the benchmark, in a module: a procedure passed as an
+!> argument must not be internal (that would need an executable stack).
+module bench_eigen_dense
+  use demstep_kinds, only: dp
+  use demstep_lanczos, only: lanczos_context_type
   implicit none
+  private
+  public :: dense_operator_type, dense_operator
 
   !> A dense symmetric matrix as a Lanczos operator (BLAS dsymv).
   type, extends(lanczos_context_type) :: dense_operator_type
@@ -32,6 +22,42 @@ program bench_eigen
       real(dp), intent(inout) :: y(*)
     end subroutine dsymv
   end interface
+
+contains
+
+  !> y = A x for a [[dense_operator_type]] (zero for any other context).
+  subroutine dense_operator(context, x, y)
+    class(lanczos_context_type), intent(inout) :: context
+    real(dp), intent(in) :: x(:)
+    real(dp), intent(out) :: y(:)
+    select type (context)
+    type is (dense_operator_type)
+      call dsymv("L", size(x), 1.0_dp, context%a, size(context%a, 1), x, 1, 0.0_dp, y, 1)
+    class default
+      y = 0.0_dp
+    end select
+  end subroutine dense_operator
+end module bench_eigen_dense
+
+!> Benchmark of the largest eigenvalue of a mass-scaled stiffness matrix:
+!> dense LAPACK (dsyevr) against matrix-free Lanczos (ARPACK) on the same dense
+!> matrices, then Lanczos on sparse contact-network operators of 1e4 to 1e6
+!> degrees of freedom. Wall-clock median of 3 runs. The BLAS/LAPACK in use is
+!> whatever the system routes libblas.so.3/liblapack.so.3 to (reference or
+!> OpenBLAS), and the threads are OMP_NUM_THREADS's.
+!>
+!>   fpm run --example bench_eigen --profile release [-- quick]
+program bench_eigen
+  use, intrinsic :: iso_fortran_env, only: output_unit
+  use demstep_kinds, only: dp, i8
+  use demstep_status, only: demstep_status_type, demstep_stat
+  use demstep_progress, only: progress_seconds
+  use demstep_lapack, only: largest_eigenpair
+  use demstep_lanczos, only: lanczos_largest, lanczos_context_type, eigen_result_type, &
+    csr_matrix_type, csr_from_springs, csr_apply, csr_to_dense
+  use bench_eigen_dense, only: dense_operator_type, dense_operator
+  !$ use omp_lib, only: omp_get_max_threads
+  implicit none
 
   integer, parameter :: repeats = 3
   integer, parameter :: dense_sizes(2) = [900, 2739]
@@ -118,18 +144,6 @@ contains
     write(output_unit, '(a, i10, f9.1, es9.1, f10.3, 2i10, es25.16, es12.2)') label, n, per_row, &
       tol, median(times), r%applications, r%iterations, r%eigenvalue, r%error_bound/r%eigenvalue
   end subroutine run_lanczos
-
-  subroutine dense_operator(context, x, y)
-    class(lanczos_context_type), intent(inout) :: context
-    real(dp), intent(in) :: x(:)
-    real(dp), intent(out) :: y(:)
-    select type (context)
-    type is (dense_operator_type)
-      call dsymv("L", size(x), 1.0_dp, context%a, size(context%a, 1), x, 1, 0.0_dp, y, 1)
-    class default
-      y = 0.0_dp
-    end select
-  end subroutine dense_operator
 
   !> A contact network ordered by space: node i touches `per_node` nodes among
   !> the next 60 (periodically), stiffness over two decades, masses over a

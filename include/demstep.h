@@ -6,8 +6,9 @@
  * is wrong. Every input is validated as the namelist app validates it, and no
  * function returns DEMSTEP_OK with a NaN or infinite output: such a result is
  * reported as DEMSTEP_INVALID_INPUT instead. Outputs must not be NULL; arrays come with their lengths; particle
- * and bond numbers are 0-based. Link with -ldemstep -lgfortran -llapack -lblas -lm
- * (pkg-config --libs demstep, or CMake target demstep::demstep).
+ * and bond numbers are 0-based. Link with -ldemstep -larpack -llapack -lblas -lgfortran -lgomp -lm
+ * (a static libdemstep needs all of them, a shared one only -ldemstep; or use
+ * pkg-config --libs [--static] demstep, or CMake target demstep::demstep).
  */
 #ifndef DEMSTEP_H
 #define DEMSTEP_H

@@ -22,7 +22,7 @@ module demstep_material
 
   public :: effective_pair, contact_parameters, rayleigh_time, hertz_max_overlap, &
     hertz_contact_duration, linear_contact_duration, peer_time_steps, hertz_duration_constant, &
-    hertz_impact_stiffness, convention_limit, mfix_moduli, mfix_pair_springs
+    hertz_impact_stiffness, convention_limit, mfix_moduli, mfix_pair_springs, check_pair
 
   !> The codes whose contact conventions are reproduced, as components of a parameter.
   type, public :: code_convention_codes
@@ -92,6 +92,10 @@ module demstep_material
   real(dp), parameter, public :: edem_fraction_low = 0.2_dp, edem_fraction_high = 0.4_dp
   !> Fractions of `fix check/timestep/gran` in LIGGGHTS' documented example.
   real(dp), parameter, public :: liggghts_fraction_rayleigh = 0.1_dp, liggghts_fraction_hertz = 0.1_dp
+  !> The relative velocity of LIGGGHTS' Hertz time over the impact velocity:
+  !> `check/timestep/gran` takes `max(2 vmax, vmax + vmax_mesh)` with `vmax` the
+  !> largest particle speed (or its `vmax` keyword), i.e. 2 vmax with resting walls.
+  real(dp), parameter, public :: liggghts_velocity_factor = 2.0_dp
   !> Collision time over time step of MFiX's default DTSOLID_FACTOR and of MercuryDPM's drivers.
   real(dp), parameter, public :: tc_over_dt_rule = 50.0_dp
   !> Fraction of `PWaveTimeStep()` Yade's documentation advises (formulation.rst).
@@ -172,7 +176,8 @@ module demstep_material
     real(dp) :: rayleigh_yade = 0.0_dp
     !> The Hertz contact duration at the impact velocity (exact constant).
     real(dp) :: hertz_duration = 0.0_dp
-    !> LIGGGHTS' Hertz time estimate (fix_check_timestep_gran.cpp).
+    !> LIGGGHTS' Hertz time estimate (fix_check_timestep_gran.cpp), at the relative
+    !> velocity `liggghts_velocity_factor` times the impact velocity.
     real(dp) :: hertz_liggghts = 0.0_dp
     !> Steps picked by each rule, indexed by `peer_rule%...`.
     real(dp) :: dt(n_peer_rules) = 0.0_dp
@@ -490,7 +495,9 @@ contains
     end if
   end subroutine rayleigh_time
 
-  !> Check the pair's loading inputs.
+  !> Check a pair's loading inputs (restitution, restitution_t, impact_velocity,
+  !> contact_time, stiffness): `invalid_input`, the message starting with the
+  !> variable, for one out of its domain.
   pure subroutine check_pair(pair, status)
     type(material_pair_type), intent(in) :: pair
     type(demstep_status_type), intent(out) :: status
@@ -718,9 +725,11 @@ contains
     steps%rayleigh_yade = min(ta, tb)
     call hertz_contact_duration(eff, v, steps%hertz_duration, status)
     if (status%stat /= demstep_stat%ok) return
-    ! fix_check_timestep_gran.cpp, calc_rayleigh_hertz_estims: each type collides
-    ! with itself, meff = 4/3 pi r^3 rho (the whole particle mass, not m/2),
-    ! reff = r/2, Eeff = Yeff of the type with itself, v = the relative velocity
+    ! fix_check_timestep_gran.cpp, calc_rayleigh_hertz_estims (LIGGGHTS-PUBLIC
+    ! 3d5c00f, lines 278-348): each type collides with itself, meff = 4/3 pi r^3 rho
+    ! (the whole particle mass, not m/2), reff = r/2, Eeff = Yeff of the type with
+    ! itself, at v_rel_max_simulation = max(2 vmax, vmax + vmax_mesh) (line 318):
+    ! two particles at the impact velocity head on, 2 v (liggghts_velocity_factor)
     steps%hertz_liggghts = min(liggghts_hertz_time(pair%a, v), liggghts_hertz_time(pair%b, v))
     call contact_parameters(pair, code_convention%mfix_lsd, lsd, status)
     if (status%stat /= demstep_stat%ok) return
@@ -746,15 +755,17 @@ contains
     status%stat = demstep_stat%ok
   end subroutine peer_time_steps
 
-  !> LIGGGHTS' Hertz time of a type colliding with itself at relative velocity v:
-  !> `2.87 (m^2/(r/2 Y*^2 v))^(1/5)` with the whole particle mass m; in logarithms.
+  !> LIGGGHTS' Hertz time of a type colliding with itself, particles at impact
+  !> velocity v: `2.87 (m^2/(r/2 Y*^2 v_rel))^(1/5)` with the whole particle mass m
+  !> and v_rel = `liggghts_velocity_factor` v; in logarithms (no overflow).
   pure real(dp) function liggghts_hertz_time(mat, v) result(t)
     type(material_type), intent(in) :: mat
     real(dp), intent(in) :: v
     real(dp) :: y, lm
     y = 1.0_dp/(2.0_dp*(1.0_dp - mat%poisson**2)/mat%young)
     lm = log(4.0_dp*pi/3.0_dp) + 3.0_dp*log(mat%radius) + log(mat%density)
-    t = 2.87_dp*exp(0.2_dp*(2.0_dp*lm - log(0.5_dp*mat%radius) - 2.0_dp*log(y) - log(v)))
+    t = 2.87_dp*exp(0.2_dp*(2.0_dp*lm - log(0.5_dp*mat%radius) - 2.0_dp*log(y) &
+      - log(liggghts_velocity_factor) - log(v)))
   end function liggghts_hertz_time
 
   !> Yade's P-wave time of one sphere, `r/sqrt(E/rho)`.

@@ -757,7 +757,7 @@ contains
       a%t_contact(p) = t_contact
       call assess_contact(m, k_lin, a%damping_ratio(p), c, status, dt=result%dtsolid)
       if (status%stat /= demstep_stat%ok) then
-        status%message = pair_name(result, p)//": "//status%message
+        call name_pair(input, result, p, status)
         return
       end if
       a%dt_critical(p) = c%dt_critical
@@ -780,7 +780,7 @@ contains
               pair_name(result, p)//"); use a larger one")
             return
           else if (status%stat /= demstep_stat%ok) then
-            status%message = pair_name(result, p)//": "//status%message
+            call name_pair(input, result, p, status)
             return
           end if
           n_tol(p) = c%n_tolerance
@@ -789,6 +789,32 @@ contains
       end if
     end do
   end subroutine assess_pairs
+
+  !> A pair's failure, named: `the pair of phases i and j: what`, and a failure of
+  !> its steps per period (a damping the discrete contact cannot end with) first
+  !> names the keyword that gives the damping, the pair's restitution
+  !> (`DES_EN_INPUT(k)` in MFiX's packed order, `DES_EN_WALL_INPUT(i)`).
+  pure subroutine name_pair(input, result, p, status)
+    type(mfix_input_type), intent(in) :: input
+    type(mfix_result_type), intent(in) :: result
+    integer, intent(in) :: p
+    type(demstep_status_type), intent(inout) :: status
+    character(len=*), parameter :: internal = "n_per_period: "
+    integer :: i, j
+    if (index(status%message, internal) /= 1) then
+      status%message = pair_name(result, p)//": "//status%message
+      return
+    end if
+    i = findloc(input%phase, result%phase_i(p), dim=1)
+    if (result%phase_j(p) == 0) then
+      status%message = "DES_EN_WALL_INPUT("//int_text(i)//"): "//pair_name(result, p)//": " &
+        //status%message(len(internal) + 1:)
+    else
+      j = findloc(input%phase, result%phase_j(p), dim=1)
+      status%message = "DES_EN_INPUT("//int_text(mfix_pair_index(min(i, j), max(i, j), input%n_phases)) &
+        //"): "//pair_name(result, p)//": "//status%message(len(internal) + 1:)
+    end if
+  end subroutine name_pair
 
   !> `the pair of phases i and j` or `phase i against walls`.
   pure function pair_name(result, p) result(name)

@@ -754,10 +754,18 @@ contains
             "takes two subscripts")
           return
         end if
+        ! the second subscript is the phase: as D_P0's index, refused outside [1, n]
+        if (min(it%lo(1), it%lo(2)) < 1 .or. it%hi(2) > n) then
+          call set_status(status, demstep_stat%invalid_input, "line "//int_text(it%line)//": " &
+            //upper(name)//"("//int_text(it%lo(1))//","//int_text(merge(it%lo(2), it%hi(2), &
+            it%lo(2) < 1))//"): index out of range (the first >= 1, the second, the phase, in [1, " &
+            //int_text(n)//"])")
+          return
+        end if
         do k = 1, size(it%values)
           call value_real(it%values(k), key_where(name, it%line, no_sub), v, status)
           if (status%stat /= demstep_stat%ok) return
-          do j = max(1, it%lo(2)), min(n, it%hi(2))
+          do j = it%lo(2), it%hi(2)
             if (.not. set(j) .or. v < x(j)) then
               x(j) = v
               lines(j) = it%line

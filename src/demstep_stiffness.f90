@@ -29,6 +29,7 @@ module demstep_stiffness
     scan_break, scan_cell_type
   use demstep_progress, only: progress_type
   use demstep_text, only: int_text, value_text => real_text
+  use demstep_spring, only: spring_type, new_spring, spring_period
   use demstep_kinds, only: i8
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
@@ -966,6 +967,7 @@ contains
     integer :: i, n, k
     logical :: jump
     type(demstep_status_type) :: st
+    type(spring_type) :: spring
 
     call check_input(input, status)
     if (status%stat /= demstep_stat%ok) return
@@ -1031,7 +1033,10 @@ contains
       exit
     end do
     result%evaluations = result%evaluations + ctx%e_evaluations
-    result%period = 2.0_dp*pi*sqrt(input%mass/input%stiffness)
+    ! T* as the spring's (scaled: M/K* may leave the double range where T* does not)
+    call new_spring(spring, input%mass, input%stiffness, status)
+    if (status%stat /= demstep_stat%ok) return
+    result%period = spring_period(spring)
     result%dt = result%period/result%n_star
     result%stiffness_actual = result%lambda_star**2*input%stiffness
     status%stat = demstep_stat%ok
@@ -1062,11 +1067,12 @@ contains
     type(demstep_status_type), intent(out) :: status
     real(dp) :: cost, r
     integer :: n, i
+    type(spring_type) :: spring
     status%stat = demstep_stat%ok
-    if (.not. (ieee_is_finite(input%mass) .and. input%mass > 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "mass: must be finite and > 0")
-    else if (.not. (ieee_is_finite(input%stiffness) .and. input%stiffness > 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "stiffness: must be finite and > 0")
+    ! mass and stiffness: a spring's (their ratio in its range, so that T* is a double)
+    call new_spring(spring, input%mass, input%stiffness, status)
+    if (status%stat /= demstep_stat%ok) then
+      return
     else if (.not. allocated(input%lambdas)) then
       call set_status(status, demstep_stat%invalid_input, "lambda: the lambda set is empty; give " &
         //"at least one lambda in (0, 1)")

@@ -33,6 +33,7 @@ program tester
   use test_app_snapshot, only: collect_app_snapshot
   use test_packing, only: collect_packing
   use test_damping, only: collect_damping
+  use test_app_safety, only: collect_app_safety
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -68,7 +69,8 @@ program tester
     new_testsuite("recommend", collect_recommend), &
     new_testsuite("snapshot", collect_snapshot), &
     new_testsuite("app_snapshot", collect_app_snapshot), &
-    new_testsuite("packing", collect_packing) &
+    new_testsuite("packing", collect_packing), &
+    new_testsuite("app_safety", collect_app_safety) &
     ]
   stat = 0
   total = 0

@@ -657,9 +657,11 @@ contains
     character(len=:), allocatable :: stdout, stderr, csv
     real(dp) :: tolerances(2), n_per_period(2), dt(2), predicted_seconds(2), cost_per_particle_step, period
     integer(i8) :: steps(2)
+    logical :: steps_saturated(2)
     integer :: status(2)
     real(dp) :: dt_recommended
-    namelist /accuracy_cost_result/ dt_recommended, tolerances, n_per_period, dt, steps, predicted_seconds, status, &
+    namelist /accuracy_cost_result/ dt_recommended, tolerances, n_per_period, dt, steps, steps_saturated, &
+      predicted_seconds, status, &
       cost_per_particle_step, period
     real(dp) :: n
     type(demstep_status_type) :: st
@@ -807,9 +809,11 @@ contains
     real(dp) :: tolerances(1), n_per_period(1), dt(1), predicted_seconds(1), cost_per_particle_step, &
       period, e, big_n
     integer(i8) :: steps(1)
+    logical :: steps_saturated(1)
     integer :: status(1)
     real(dp) :: dt_recommended
-    namelist /accuracy_cost_result/ dt_recommended, tolerances, n_per_period, dt, steps, predicted_seconds, status, &
+    namelist /accuracy_cost_result/ dt_recommended, tolerances, n_per_period, dt, steps, steps_saturated, &
+      predicted_seconds, status, &
       cost_per_particle_step, period
     call write_file(deck, [character(len=160) :: "&accuracy_cost quantity = 'harmonic', lambda = 0.9,", &
       "  tolerances = 1e-3, duration = 1.0, n_particles = 100, mass = 0.01, stiffness = 1e5,", &

@@ -144,13 +144,16 @@ contains
   end function occurrences
 
   !> A deck whose &scene takes its materials from &material prints one
-  !> recommended dt (the packing's), whichever group comes first; the &material
-  !> report is marked as single contacts. A &scene with stiffness of its own
-  !> leaves the &material group its own recommendation.
+  !> recommended dt (the packing's), whichever group comes first, as the report's
+  !> last line; the &material report is marked as single contacts. A &scene with
+  !> stiffness of its own: still one recommended dt, the scene's, last (the
+  !> &material's is its single-contact step).
   subroutine test_one_recommended(error)
     type(error_type), allocatable, intent(out) :: error
     type(snapshot_result_type) :: res
-    character(len=:), allocatable :: text, stdout, first
+    character(len=:), allocatable :: text, stdout, first, last
+    real(dp) :: dt_last
+    integer :: ios
     character(len=80), parameter :: scene(3) = [character(len=80) :: "&scene", &
       "dim = 3, snapshot_file = '../../example/liggghts_pour.dump' /", ""]
     character(len=80), parameter :: material(4) = [character(len=80) :: "&material", &
@@ -159,7 +162,7 @@ contains
     character(len=*), parameter :: line = "recommended dt = "
     call expect_run(error, "example/snapshot_liggghts.nml", out, res, text, stdout)
     if (allocated(error)) return
-    call check(error, occurrences(stdout, line) == 1 .and. occurrences(stdout, "single-contact dt") == 1 &
+    call check(error, occurrences(stdout, line) == 1 .and. occurrences(stdout, "single-contact step") == 1 &
       .and. index(stdout, "(single contacts of each pair of types;") > 0, &
       "the example: one recommended dt, the &material marked single-contact: "//stdout)
     if (allocated(error)) return
@@ -173,7 +176,7 @@ contains
     call write_file(deck, [material, scene])
     call expect_run(error, deck, out, res, text, stdout)
     if (allocated(error)) return
-    call check(error, occurrences(stdout, line) == 1 .and. occurrences(stdout, "single-contact dt") == 1 &
+    call check(error, occurrences(stdout, line) == 1 .and. occurrences(stdout, "single-contact step") == 1 &
       .and. index(stdout, first) > 0, "&material first: one recommended dt, the packing's: "//stdout)
     if (allocated(error)) return
     ! the scene's own k_normal: the &material group is not the packing's, it recommends its own dt
@@ -181,8 +184,17 @@ contains
       "dim = 3, snapshot_file = '../../example/liggghts_pour.dump', k_normal = 1.0e3 /", "", material])
     call expect_run(error, deck, out, res, text, stdout)
     if (allocated(error)) return
-    call check(error, occurrences(stdout, line) == 2 .and. occurrences(stdout, "single-contact dt") == 0, &
-      "a scene with its own stiffness: each group recommends: "//stdout)
+    call check(error, occurrences(stdout, line) == 1 .and. occurrences(stdout, "single-contact step") == 1, &
+      "a scene with its own stiffness: one recommended dt: "//stdout)
+    if (allocated(error)) return
+    ! ... the last line, and the scene's (the first DT_RECOMMENDED of the result is
+    ! the packing's; the report prints 10 significant digits)
+    last = stdout(:len(stdout) - 1)
+    last = last(index(last, new_line("a"), back=.true.) + 1:)
+    dt_last = -1
+    if (index(last, line) == 1) read(last(len(line) + 1:index(last, " s") - 1), *, iostat=ios) dt_last
+    call check(error, abs(dt_last/scalar(text, "DT_RECOMMENDED") - 1) < 1.0e-9_dp, &
+      "a scene with its own stiffness: the last line is the scene's step: "//stdout)
   end subroutine test_one_recommended
 
   !> Rayleigh time pi r sqrt(rho/G)/(0.1631 nu + 0.8766), G = E/(2 (1 + nu)), in quad.

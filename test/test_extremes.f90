@@ -284,9 +284,11 @@ contains
     real(dp) :: tolerances(1), n_per_period(1), dt(1), predicted_seconds(1), &
       cost_per_particle_step, period
     integer(i8) :: steps(1)
+    logical :: steps_saturated(1)
     integer :: status(1), ios
     real(dp) :: dt_recommended
-    namelist /accuracy_cost_result/ dt_recommended, tolerances, n_per_period, dt, steps, predicted_seconds, status, &
+    namelist /accuracy_cost_result/ dt_recommended, tolerances, n_per_period, dt, steps, steps_saturated, &
+      predicted_seconds, status, &
       cost_per_particle_step, period
     character(len=:), allocatable :: text
     character(len=*), parameter :: g = "&accuracy_cost quantity = 'restitution', tolerances = 1e-2, " &

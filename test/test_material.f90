@@ -479,17 +479,35 @@ contains
     if (allocated(error)) return
     call check(error, steps%dt(peer_rule%liggghts_rayleigh_10) == 0.1_dp*steps%rayleigh, "LIGGGHTS 10 %")
     if (allocated(error)) return
-    ! LIGGGHTS' Hertz time: the glass self collision (the smaller one here)
+    ! LIGGGHTS' Hertz time: the glass self collision (the smaller one here), at the
+    ! relative velocity of two beads at the impact velocity head on, 2 v
     m = 4*pq/3*real(pair%a%radius, qp)**3*pair%a%density
     y = pair%a%young/(2*(1 - real(pair%a%poisson, qp)**2))
-    want = 2.87_qp*(m*m/(real(pair%a%radius, qp)/2*y*y*pair%impact_velocity))**(0.2_qp)
+    want = 2.87_qp*(m*m/(real(pair%a%radius, qp)/2*y*y*2*pair%impact_velocity))**(0.2_qp)
     m = 4*pq/3*real(pair%b%radius, qp)**3*pair%b%density
     y = pair%b%young/(2*(1 - real(pair%b%poisson, qp)**2))
-    want = min(want, 2.87_qp*(m*m/(real(pair%b%radius, qp)/2*y*y*pair%impact_velocity))**(0.2_qp))
+    want = min(want, 2.87_qp*(m*m/(real(pair%b%radius, qp)/2*y*y*2*pair%impact_velocity))**(0.2_qp))
     call check_rel(error, steps%hertz_liggghts, want, 1.0e-13_dp, "LIGGGHTS Hertz time")
     if (allocated(error)) return
     call check_rel(error, steps%dt(peer_rule%liggghts_hertz_10), 0.1_qp*want, 1.0e-13_dp, "LIGGGHTS Hertz 10 %")
     if (allocated(error)) return
+    ! LIGGGHTS 3.8.0 itself (test/data/liggghts/check_timestep.in): a bead of r = 1 mm,
+    ! rho = 2500, E = 1e7, nu = 0.25 at 1 m/s; check/timestep/gran printed
+    ! dt/hertz_time = 0.00421605382998205 at dt = 1e-6 (15 digits printed: 1e-13)
+    pair%a = material_type(young=1.0e7_dp, poisson=0.25_dp, density=2500.0_dp, radius=1.0e-3_dp)
+    pair%b = pair%a
+    pair%impact_velocity = 1.0_dp
+    call peer_time_steps(pair, steps, status)
+    call check(error, status%stat, demstep_stat%ok)
+    if (allocated(error)) return
+    call check_rel(error, steps%hertz_liggghts, 1.0e-6_qp/0.00421605382998205_qp, 1.0e-13_dp, &
+      "LIGGGHTS 3.8.0's own Hertz time (check_timestep.in)")
+    if (allocated(error)) return
+    call check_rel(error, steps%rayleigh, 1.0e-6_qp/0.0116803812735142_qp, 1.0e-13_dp, &
+      "LIGGGHTS 3.8.0's own Rayleigh time (check_timestep.in)")
+    if (allocated(error)) return
+    pair = glass_steel()
+    call peer_time_steps(pair, steps, status)
     call get_params(pair, code_convention%mfix_lsd, p, error)
     if (allocated(error)) return
     call check(error, steps%dt(peer_rule%mfix_lsd_tc50) == p%code_collision_time/50.0_dp, "MFiX TCOLL/50")

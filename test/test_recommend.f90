@@ -102,8 +102,9 @@ contains
     namelist /system_result/ period, omega, dt_critical, dt_recommended
     real(dp) :: tolerances(2), n_per_period(2), dt(2), predicted_seconds(2), cost_per_particle_step
     integer(i8) :: steps(2)
+    logical :: steps_saturated(2)
     integer :: status(2)
-    namelist /accuracy_cost_result/ tolerances, n_per_period, dt, steps, predicted_seconds, status, &
+    namelist /accuracy_cost_result/ tolerances, n_per_period, dt, steps, steps_saturated, predicted_seconds, status, &
       cost_per_particle_step, period, dt_recommended
     ! &system without a step: 0.9 of the critical step
     call write_file(deck, [character(len=60) :: "&system mass = 0.01, stiffness = 1.0e5 /"])
