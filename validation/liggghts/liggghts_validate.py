@@ -10,6 +10,7 @@ Usage (from any directory):
     python3 liggghts_validate.py export  [scene ...]   dumps + materials
     python3 liggghts_validate.py measure [scene ...]   bisection
     python3 liggghts_validate.py all     [scene ...]   the three in order
+    python3 liggghts_validate.py --factor 2 measure [scene ...]   a second criterion
 
 Scenes (see README.md): a_hertz b_hooke c_epsd2 d_periodic e_undamped f_tdoff.
 The LIGGGHTS inputs written are kept in inputs/ (build and export) and the
@@ -68,6 +69,7 @@ LATE = 0.2             # the last fifth of the run is the late window
 STEPS_AT_LO = 20000    # T = STEPS_AT_LO * (lower end of the coarse bracket)
 COARSE_STEPS = 4000    # T of the coarse bracket = COARSE_STEPS * guess
 SAMPLES = 400          # kinetic-energy samples per run
+SUFFIX = ""            # "_factor2" etc. when FACTOR is changed on the command line
 REF_FRACTION = 0.2     # reference dt = REF_FRACTION * lower bracket end
 TOLERANCE = 0.004      # stop bisection when hi/lo - 1 < TOLERANCE
 
@@ -432,7 +434,7 @@ def trial(name, dt, t_total, ref, tag, log_rows):
     """One run; ref = None (this is the reference) or (E_late_ref, E_peak_ref)."""
     blow = None if ref is None else BLOWUP * ref[1]
     text, steps = trial_input(name, dt, t_total, blow)
-    rc, log, wall = run_liggghts(text, "trial_" + name)
+    rc, log, wall = run_liggghts(text, "trial_" + name + SUFFIX)
     peak, late, nrun = energy_stats(log)
     if ref is None:
         unstable = None
@@ -490,7 +492,7 @@ def measure(name):
             lo = mid
     out = os.path.join(DATA, name)
     os.makedirs(out, exist_ok=True)
-    with open(os.path.join(out, "trials.csv"), "w") as f:
+    with open(os.path.join(out, "trials%s.csv" % SUFFIX), "w") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         for r in rows:
@@ -502,7 +504,7 @@ def measure(name):
     summary = dict(scene=name, dt_measured_lo=lo, dt_measured_hi=hi, T=t2, dt_ref=dt_ref,
                    E_late_ref=ref[0], E_peak_ref=ref[1], late_threshold=FACTOR * ref[0],
                    criterion=crit)
-    with open(os.path.join(out, "measured.json"), "w") as f:
+    with open(os.path.join(out, "measured%s.json" % SUFFIX), "w") as f:
         json.dump(summary, f, indent=1)
         f.write("\n")
     write_measured_csv()
@@ -512,21 +514,28 @@ def measure(name):
 def write_measured_csv():
     rows = []
     for name in SCENES:
-        p = os.path.join(DATA, name, "measured.json")
+        p = os.path.join(DATA, name, "measured%s.json" % SUFFIX)
         if os.path.exists(p):
             with open(p) as f:
                 rows.append(json.load(f))
-    with open(os.path.join(DATA, "measured.csv"), "w") as f:
+    with open(os.path.join(DATA, "measured%s.csv" % SUFFIX), "w") as f:
         f.write("scene,dt_measured_lo,dt_measured_hi,criterion\n")
         for r in rows:
             f.write('%s,%.6e,%.6e,"%s"\n' % (r["scene"], r["dt_measured_lo"], r["dt_measured_hi"], r["criterion"]))
 
 
 def main():
+    global FACTOR, SUFFIX
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("action", choices=["build", "export", "measure", "all"])
     ap.add_argument("scenes", nargs="*", default=list(SCENES))
+    ap.add_argument("--factor", type=float, default=None,
+                    help="late-energy factor of the criterion (default %g); results go to "
+                         "files with the suffix _factorF" % FACTOR)
     a = ap.parse_args()
+    if a.factor is not None and a.factor != FACTOR:
+        FACTOR = a.factor
+        SUFFIX = "_factor%g" % a.factor
     if shutil.which(LIGGGHTS) is None:
         sys.exit("liggghts not found (apt-get install liggghts)")
     for name in a.scenes:
