@@ -244,6 +244,9 @@ def trial_input(name, dt, t_total, threshold):
               # mass's: a periodic packing drifts as a whole in LIGGGHTS
               "variable ek equal ke+c_rke-0.5*mass(all)*(vcm(all,x)^2+vcm(all,y)^2+vcm(all,z)^2)",
               "thermo_style custom step ke v_ek",
+              # thermo_style resets thermo_modify: say it again, and flush so
+              # that a run that fails keeps its energies in the log
+              "thermo_modify lost ignore norm no flush yes",
               "thermo %d" % every]
     if threshold is None:
         lines.append("run %d" % (nchunk * chunk))
