@@ -36,7 +36,7 @@ from scipy.sparse.linalg import eigsh
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "data")
-SCENES = ["a_hertz", "b_hooke", "c_epsd2", "d_periodic", "e_undamped", "f_tdoff"]
+SCENES = ["a_hertz", "b_hooke", "c_epsd2", "d_periodic", "e_undamped", "f_tdoff", "g_hooke_undamped"]
 SQRT56 = math.sqrt(5.0 / 6.0)
 INERTIA = 0.4          # fix nve/sphere: I = 0.4 m r^2
 STICK_LIMIT = 0.999    # fraction of the Coulomb (or rolling) limit called sliding
