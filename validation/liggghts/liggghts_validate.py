@@ -91,13 +91,13 @@ SCENES = {
     "e_undamped": dict(model="hertz", e=1.0, mu=10.0, rolling=None, rmu=0.0,
                        tdamp=True, walls=True, source="a_hertz", guess=7e-5,
                        text="control: a_hertz's settled state, restitution 1 (no dashpots), friction 10 (no sliding)"),
+    "f_tdoff": dict(model="hertz", e=0.5, mu=0.5, rolling=None, rmu=0.0,
+                    tdamp=False, walls=True, source="a_hertz", guess=7e-5,
+                    text="control: a_hertz's settled state with tangential_damping off"),
     "g_hooke_undamped": dict(model="hooke", e=1.0, mu=10.0, rolling=None, rmu=0.0,
                              tdamp=True, walls=True, source="b_hooke", guess=4e-5, charvel=0.5,
                              text="control: b_hooke's settled state, restitution 1 (no dashpots), friction 10 "
                                   "(no sliding); Hooke's k_t does not depend on the overlap"),
-    "f_tdoff": dict(model="hertz", e=0.5, mu=0.5, rolling=None, rmu=0.0,
-                    tdamp=False, walls=True, source="a_hertz", guess=7e-5,
-                    text="control: a_hertz's settled state with tangential_damping off"),
 }
 
 WALLS = (("xw1", "xplane", BOX_LO[0]), ("xw2", "xplane", BOX_HI[0]),
