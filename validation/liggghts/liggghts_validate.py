@@ -11,6 +11,7 @@ Usage (from any directory):
     python3 liggghts_validate.py measure [scene ...]   bisection
     python3 liggghts_validate.py all     [scene ...]   the three in order
     python3 liggghts_validate.py --factor 2 measure [scene ...]   a second criterion
+    python3 liggghts_validate.py --kick 1e-6 measure [scene ...]  a smaller kick
 
 Scenes (see README.md): a_hertz b_hooke c_epsd2 d_periodic e_undamped f_tdoff
 g_hooke_undamped.
@@ -533,17 +534,23 @@ def write_measured_csv():
 
 
 def main():
-    global FACTOR, SUFFIX
+    global FACTOR, SUFFIX, PERTURB
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("action", choices=["build", "export", "measure", "all"])
     ap.add_argument("scenes", nargs="*", default=list(SCENES))
     ap.add_argument("--factor", type=float, default=None,
                     help="late-energy factor of the criterion (default %g); results go to "
                          "files with the suffix _factorF" % FACTOR)
+    ap.add_argument("--kick", type=float, default=None,
+                    help="sigma of the velocity kick in m/s (default %g); results go to "
+                         "files with the suffix _kickK" % PERTURB)
     a = ap.parse_args()
+    if a.kick is not None and a.kick != PERTURB:
+        PERTURB = a.kick
+        SUFFIX += "_kick%g" % a.kick
     if a.factor is not None and a.factor != FACTOR:
         FACTOR = a.factor
-        SUFFIX = "_factor%g" % a.factor
+        SUFFIX += "_factor%g" % a.factor
     if shutil.which(LIGGGHTS) is None:
         sys.exit("liggghts not found (apt-get install liggghts)")
     for name in a.scenes:
