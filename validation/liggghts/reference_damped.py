@@ -368,6 +368,18 @@ def write_results(results, meas, meas2, meas3):
             sc, st["pairs"], st["pairs_sliding"], st["walls"], st["walls_sliding"], st["rolling_at_cap"],
             res["stick"]["damped"] / mid, res["slide"]["damped"] / mid, res["normal"]["damped"] / mid,
             st["fn_check_median"], st["fn_check_p99"], st["ft_check_median"], st["ft_check_p99"]))
+    lines += ["", "Every measurement (each `data/measured*.csv`): kick = sigma of the velocity kick, "
+              "F = late-energy factor.", "",
+              "| scene | kick (m/s) | F | measured [lo, hi] (s) | model damped (s) | model / measured |",
+              "|---|---|---|---|---|---|"]
+    for suffix, kick, fac in (("", 1e-4, 10), ("_factor2", 1e-4, 2), ("_kick1e-06", 1e-6, 10),
+                              ("_kick1e-06_factor2", 1e-6, 2)):
+        m = measured(suffix)
+        for sc, res in results.items():
+            if sc in m:
+                lo, hi = m[sc]
+                lines.append("| %s | %g | %g | [%.4e, %.4e] | %.4e | %.4f |" % (
+                    sc, kick, fac, lo, hi, res["stick"]["damped"], res["stick"]["damped"] / (0.5 * (lo + hi))))
     with open(os.path.join(HERE, "results.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
 
