@@ -156,7 +156,7 @@ contains
         //"0 each particle's own", "!1", default="0"), &
       var("rolling_friction", "a real number", "the rolling moment's cap rolling_friction R* F_n in " &
         //"a run (>= 0; default none)", "!0.1", default="!-1"), &
-      var("hertz_linearization", "a quoted word", "'current' overlap or 'impact' " &
+      var("hertz_linearization", "a quoted word", "'current' overlap, 'impact' or the 'larger' of them " &
         //"(with impact_velocity)", "!'current'", default="'current'"), &
       var("impact_velocity", "a real number", "impact speed for the 'impact' linearization (> 0)", &
         "!1.0", default="!0"), &
@@ -559,8 +559,9 @@ contains
       sc%effects(scene_effect%local_damping) = .true.
     end if
     if (from_material .and. .not. given(group, "hertz_linearization")) then
-      ! a &material gives the impact velocity: linearise at the impact's overlap
-      hertz_linearization = "impact"
+      ! a &material gives the impact velocity: linearise at the larger of the
+      ! current overlap and the impact's (a settled contact may be struck)
+      hertz_linearization = "larger"
       if (.not. given(group, "impact_velocity")) impact_velocity = deck_mat%impact_velocity
     end if
     select case (lowercase(trim(hertz_linearization)))
@@ -569,8 +570,11 @@ contains
     case ("impact")
       ! the library checks impact_velocity
       mode = hertz_modes%impact
+    case ("larger")
+      mode = hertz_modes%larger
     case default
-      call fail("hertz_linearization", "unknown word '"//trim(hertz_linearization)//"' (current, impact)")
+      call fail("hertz_linearization", "unknown word '"//trim(hertz_linearization)//"' (current, impact, " &
+        //"larger)")
       return
     end select
     call check_real(g, "duration", duration, status, inclusive=.true.)

@@ -57,11 +57,13 @@ module demstep_assembly
     assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_damped, &
     damped_lower_bound, dashpot_names, damped_newton, assembly_dashpot_bound
 
-  !> Hertz linearisation at the current overlap, or at an impact's largest
-  !> overlap: `hertz_linearization%impact`.
+  !> Hertz linearisation at the current overlap, at an impact's largest
+  !> overlap (`hertz_linearization%impact`), or at the larger of the two
+  !> (`%larger`: a settled contact that may also be struck).
   type, public :: hertz_linearization_enum
     integer :: current = 1
     integer :: impact = 2
+    integer :: larger = 3
   end type hertz_linearization_enum
   !> The Hertz linearisations by name.
   type(hertz_linearization_enum), parameter, public :: hertz_linearization = hertz_linearization_enum()
@@ -904,7 +906,7 @@ contains
     if (present(impact_velocity)) v_impact = impact_velocity
     rate = 0.0_dp
     k_scale = 0.0_dp
-    if (mode == hertz_linearization%impact .and. .not. (v_impact > 0.0_dp .and. ieee_is_finite(v_impact))) then
+    if (mode /= hertz_linearization%current .and. .not. (v_impact > 0.0_dp .and. ieee_is_finite(v_impact))) then
       call set_status(status, demstep_stat%invalid_input, "impact_velocity: the Hertz linearisation " &
         //"at impact needs a finite impact velocity > 0")
       return
@@ -1131,7 +1133,7 @@ contains
       else
         who = "particles "//int_text(i)//" and "//int_text(j)
       end if
-      if (mode == hertz_linearization%impact) then
+      if (mode /= hertz_linearization%current) then
         call set_status(status, demstep_stat%invalid_input, "e_star: the Hertz tangent stiffness " &
           //"2 E* sqrt(R* d) of "//who//" overflows (lower e_star or impact_velocity)")
       else
@@ -1142,7 +1144,8 @@ contains
   end subroutine linearise
 
   !> The overlap a contact is linearised at: the current one, or (Hertz, detected
-  !> contacts) the largest overlap of an impact at v_impact,
+  !> contacts) the largest overlap of an impact at v_impact (or the larger of
+  !> the two),
   !> d = (15 m* v^2/(16 E* sqrt(R*)))^(2/5) (through logarithms: no overflow).
   pure real(dp) function linearisation_overlap(scene, c, overlap, rs, m_eff, mode, v_impact, e_star) result(d)
     type(scene_type), intent(in) :: scene
@@ -1150,9 +1153,11 @@ contains
     !> E* of the pair (per-type materials) or of the scene.
     real(dp), intent(in) :: overlap, rs, m_eff, v_impact, e_star
     d = overlap
-    if (c == 0 .and. scene%law == contact_law%hertz .and. mode == hertz_linearization%impact) &
+    if (c == 0 .and. scene%law == contact_law%hertz .and. mode /= hertz_linearization%current) then
       d = exp(0.4_dp*(log(15.0_dp/16.0_dp) + log(m_eff) + 2.0_dp*log(v_impact) - log(e_star) &
         - 0.5_dp*log(rs)))
+      if (mode == hertz_linearization%larger) d = max(d, overlap)
+    end if
   end function linearisation_overlap
 
   !> The time step of a run at `n_per_period` steps per smallest period

@@ -33,6 +33,7 @@ program tester
   use test_app_snapshot, only: collect_app_snapshot
   use test_packing, only: collect_packing
   use test_damping, only: collect_damping
+  use test_liggghts, only: collect_liggghts
   use test_app_safety, only: collect_app_safety
   implicit none
   integer :: stat, is, total
@@ -50,6 +51,7 @@ program tester
     new_testsuite("scene", collect_scene), &
     new_testsuite("interaction", collect_interaction), &
     new_testsuite("damping", collect_damping), &
+    new_testsuite("liggghts", collect_liggghts), &
     new_testsuite("yade", collect_yade), &
     new_testsuite("contact", collect_contact), &
     new_testsuite("cost", collect_cost), &

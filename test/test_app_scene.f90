@@ -393,8 +393,10 @@ contains
     call expect_result(error, "&scene dim = 2, position = 0.0, 0.0, 1.0, 0.0, radius = 0.6, mass = 1.0, " &
       //"types = 1, 2, type_k_normal = 1.0, 100.0, 100.0, 1.0, type_k_tangential = 0.0, 60.0, 60.0, 0.0 /", res)
     if (allocated(error)) return
-    ! omega^2 = k_t (2/m + 2 r^2/I) = 60 x (2 + 5) = 420 > 2 k_n = 200
-    call check(error, res%omega_max, sqrt(420.0_dp), rel=.true., thr=1.0e-12_dp, message="types: omega_max")
+    ! omega^2 = k_t (2/m + 2 c^2/I) = 60 x (2 + 3.47) = 328 > 2 k_n = 200, with the
+    ! lever arm to the contact point c = r - d/2 = 0.5 and I = 2/5 m r^2
+    call check(error, res%omega_max, sqrt(60.0_dp*(2.0_dp + 2.0_dp*0.5_dp**2/(0.4_dp*0.6_dp**2))), rel=.true., &
+      thr=1.0e-12_dp, message="types: omega_max")
     if (allocated(error)) return
     call expect_refusal(error, "&scene dim = 2, position = 0.0, 0.0, 1.0, 0.0, radius = 0.6, mass = 1.0, " &
       //"types = 1, 3, type_k_normal = 1.0, 100.0, 100.0, 1.0 /", "&scene: types: particle 2: type 3 is " &

@@ -338,7 +338,7 @@ contains
       "position = 0.0, 0.0, 0.0,  0.00195, 0.0, 0.0,  0.0, 0.0019, 0.0, radius = 0.0010,", &
       "mass = "//mass(2500.0_qp)//", "//mass(7800.0_qp)//", "//mass(2500.0_qp)//",", &
       "types = 1, 2, 1, law = 'hertz', young = 1.0e7, 2.0e7, poisson = 0.25, 0.3,", &
-      "hertz_linearization = 'impact', impact_velocity = 0.5,", &
+      "hertz_linearization = 'larger', impact_velocity = 0.5,", &
       "effects = 'contacts', 'damping', 'rotation', damping_ratio = "//zeta()//" /"])
     call run_inline(error, a)
   contains
