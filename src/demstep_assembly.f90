@@ -28,7 +28,7 @@
 !>   reported step is then verified below the root. C holds the normal,
 !>   tangential, rolling and twisting dashpots of contacts and walls, the
 !>   bonds' normal dashpots and the drag to ground. Its rigorous lower bound:
-!>   (2/a)(sqrt(1 + z^2) - z) with a^2 >= lambda_max(A), z = b/a and b >=
+!>   (2/a)(sqrt(1 + z^2) - z) with a^2 >= lambda_max(A), z = b/(2 a) and b >=
 !>   lambda_max(B) (the Collatz-Wielandt bound of B).
 !> Hertz contacts are linearised with their tangent stiffness 2 E* sqrt(R* d)
 !> (tangential 8 G* sqrt(R* d)), at the current overlap d or at the overlap an
@@ -190,10 +190,11 @@ module demstep_assembly
     !> B'; err: its error bar (residual and rounding; [theta, theta + err]
     !> holds lambda_max); va = v'A'v; has_mode false when no mode came back.
     !> Counts its solves and products in `result`.
-    subroutine damped_top(problem, tau, theta, err, va, has_mode, result, status, progress)
+    subroutine damped_top(problem, tau, tol, theta, err, va, has_mode, result, status, progress)
       import :: damped_problem_type, dp, critical_step_type, demstep_status_type, progress_type
       class(damped_problem_type), intent(inout) :: problem
-      real(dp), intent(in) :: tau
+      !> tau, and the eigensolve's relative tolerance.
+      real(dp), intent(in) :: tau, tol
       real(dp), intent(out) :: theta, err, va
       logical, intent(out) :: has_mode
       type(critical_step_type), intent(inout) :: result
@@ -207,7 +208,6 @@ module demstep_assembly
   type, extends(damped_problem_type) :: serial_damped_type
     type(assembly_operator_type), pointer :: op => null()
     integer :: choice = 0
-    real(dp) :: tol = 0.0_dp
     real(dp), allocatable :: vec(:)
   contains
     procedure :: top => serial_damped_top
@@ -408,10 +408,12 @@ contains
   !> The damped limit's rigorous lower bound, in scaled time tau = h rate, from
   !> an undamped limit tau_u <= 2/sqrt(lambda_max(A')) and b >= lambda_max(B'):
   !> lambda_max(tau^2 A' + 2 tau B') <= tau^2 (2/tau_u)^2 + 2 tau b = 4 at
-  !> tau = tau_u (sqrt(1 + z^2) - z), z = b tau_u/2.
+  !> tau = tau_u (sqrt(1 + z^2) - z), z = b tau_u/4 (one spring: b = 2 zeta
+  !> omega, z = zeta). With tau_u = 2/sqrt(a) and b of one vector's Rayleigh
+  !> quotients a, b, it is the root of that vector's t^2 a + 2 t b = 4.
   elemental real(dp) function damped_lower_bound(tau_u, b) result(tau)
     real(dp), intent(in) :: tau_u, b
-    tau = damped_limit(tau_u, 0.5_dp*b*tau_u)
+    tau = damped_limit(tau_u, 0.25_dp*b*tau_u)
   end function damped_lower_bound
 
   !> The damped limit set to its rigorous lower bound (`damped_lower_bound`)
@@ -423,7 +425,7 @@ contains
     type(critical_step_type), intent(inout) :: result
     real(dp), intent(in) :: dt_u, b, rate
     type(demstep_status_type), intent(out) :: status
-    result%damping_ratio_top = 0.5_dp*b*(dt_u*rate)
+    result%damping_ratio_top = 0.25_dp*b*(dt_u*rate)
     result%dt_critical_damped_bound = dt_u
     if (b > 0.0_dp) result%dt_critical_damped_bound = damped_lower_bound(dt_u*rate, b)/rate
     result%dt_critical_damped = result%dt_critical_damped_bound
@@ -510,64 +512,73 @@ contains
     vb = dot_product(vec, y)
     problem%op => op
     problem%choice = choice
-    problem%tol = tol
     problem%vec = vec
-    call damped_newton(problem, lam_a, vb, rate, result, status, progress)
+    call damped_newton(problem, lam_a, vb, rate, tol, result, status, progress)
     call operator_mix(op, 1.0_dp, 0.0_dp)
   end subroutine damped_exact
 
-  !> Newton's method on lambda_max(tau^2 A' + 2 tau B') = 4 (tau = h rate)
-  !> for any `damped_problem_type`, from the top undamped mode's estimate (its
-  !> Rayleigh quotients lam_a of A' and vb of B' put lambda_max at or above 4
-  !> there); the slope from the current mode, (theta + tau^2 v'A'v)/tau. The
-  !> converged step is then moved below the root by the error bar's share and
-  !> verified (the upper end of lambda_max's error bar at most 4); the result
-  !> takes the largest verified step when it beats the lower bound.
-  subroutine damped_newton(problem, lam_a, vb, rate, result, status, progress)
+  !> The root of lambda(tau) = lambda_max(tau^2 A' + 2 tau B') = 4 (tau = h
+  !> rate) for any `damped_problem_type`, from the top undamped mode's
+  !> estimate (its Rayleigh quotients lam_a of A' and vb of B' put lambda at
+  !> or above 4 there). Each step takes the root of the current top mode's own
+  !> quadratic t^2 v'A'v + 2 t v'B'v, which equals lambda and its slope at the
+  !> current tau and lies below lambda elsewhere (lambda is a maximum of such
+  !> quadratics): the steps come down to the root from above, quadratically,
+  !> as Newton's do. Each evaluated tau gives a safe step at once:
+  !> lambda(tau)/tau = lambda_max(tau A' + 2 B') does not decrease with tau,
+  !> so lambda(s) <= U s/tau for s <= tau and any U >= lambda(tau) (the upper
+  !> end of the eigensolve's error bar): s = 4 tau/U is stable. The first
+  !> solves run at a looser tolerance (the step they feed is corrected by the
+  !> next); it stops when |theta - 4| is within the error bar of a solve at
+  !> `tol`, and takes the largest safe step found.
+  subroutine damped_newton(problem, lam_a, vb, rate, tol, result, status, progress)
     class(damped_problem_type), intent(inout) :: problem
     real(dp), intent(in) :: lam_a, vb, rate
+    !> The eigensolves' relative tolerance.
+    real(dp), intent(in) :: tol
     type(critical_step_type), intent(inout) :: result
     type(demstep_status_type), intent(out) :: status
     class(progress_type), intent(inout), optional :: progress
-    real(dp) :: tau, tau_safe, theta, err, va, slope, step, q
-    integer :: it, tries
+    real(dp) :: tau, tau_safe, theta, err, va, vb_k, step, q, tol_k, upper
+    integer :: it
     logical :: has_mode
     tau = damped_lower_bound(2.0_dp/sqrt(lam_a), vb)
     tau_safe = result%dt_critical_damped_bound*rate
+    tol_k = max(tol, 1.0e-4_dp)
     status%stat = demstep_stat%ok
     do it = 1, damped_newton_steps
-      call problem%top(tau, theta, err, va, has_mode, result, status, progress)
+      call problem%top(tau, tol_k, theta, err, va, has_mode, result, status, progress)
       if (status%stat /= demstep_stat%ok) return
-      if (theta + err <= 4.0_dp .and. has_mode) tau_safe = max(tau_safe, tau)
       if (.not. has_mode) exit
-      slope = (theta + tau**2*va)/tau
-      step = (theta - 4.0_dp)/slope
-      if (abs(step) <= max(4.0_dp*epsilon(1.0_dp), 2.0_dp*err/theta)*tau) exit
+      upper = theta + err
+      tau_safe = max(tau_safe, tau*min(1.0_dp, 4.0_dp/upper))
+      if (abs(theta - 4.0_dp) <= err .and. tol_k <= tol) exit
+      ! the next tau: the root of the current mode's own quadratic
+      ! q(t) = t^2 v'A'v + 2 t v'B'v (v'B'v = (theta - tau^2 v'A'v)/(2 tau)),
+      ! which touches lambda at tau (value and slope) and lies below it: a
+      ! Newton step that keeps the curvature, from above
+      vb_k = max(0.0_dp, (theta - tau**2*va)/(2.0_dp*tau))
+      step = tau - damped_lower_bound(2.0_dp/sqrt(va), vb_k)
+      ! converged to rounding (a dense solve's error bar is a few ulps)
+      if (abs(step) <= 4.0_dp*epsilon(1.0_dp)*tau .and. tol_k <= tol) exit
+      ! Newton squares the relative error: the next solve to a hundredth of it
+      tol_k = max(tol, min(1.0e-4_dp, 1.0e-2_dp*(step/tau)**2))
       tau = max(tau - step, tau_safe)
     end do
-    ! below the root by the error bar's share (lambda grows at least as fast
-    ! as tau near it), verified; else the best step verified so far
-    do tries = 1, 3
-      if (.not. has_mode .or. theta + err <= 4.0_dp) exit
-      tau = tau*(1.0_dp - 10.0_dp**(tries - 1)*((theta + err - 4.0_dp)/4.0_dp + 32.0_dp*epsilon(1.0_dp)))
-      call problem%top(tau, theta, err, va, has_mode, result, status, progress)
-      if (status%stat /= demstep_stat%ok) return
-      if (theta + err <= 4.0_dp .and. has_mode) tau_safe = max(tau_safe, tau)
-    end do
-    if (tau_safe > result%dt_critical_damped_bound*rate) then
-      result%dt_critical_damped = tau_safe/rate
-      result%damped_exact = .true.
-      ! the one-spring damping ratio with the same limit at omega_upper
-      q = result%dt_critical_damped*result%omega_upper/2.0_dp
-      result%damping_ratio_top = max(0.0_dp, (1.0_dp - q**2)/(2.0_dp*q))
-    end if
+    if (.not. has_mode) return
+    ! (never below the rigorous bound, which the solves confirm or beat)
+    result%dt_critical_damped = max(tau_safe/rate, result%dt_critical_damped_bound)
+    result%damped_exact = .true.
+    ! the one-spring damping ratio with the same limit at omega_upper
+    q = result%dt_critical_damped*result%omega_upper/2.0_dp
+    result%damping_ratio_top = max(0.0_dp, (1.0_dp - q**2)/(2.0_dp*q))
   end subroutine damped_newton
 
   !> Top eigenpair of the serial operator mixed as tau^2 A' + 2 tau B'
   !> (warm start from the previous mode), and v'A'v of that mode.
-  subroutine serial_damped_top(problem, tau, theta, err, va, has_mode, result, status, progress)
+  subroutine serial_damped_top(problem, tau, tol, theta, err, va, has_mode, result, status, progress)
     class(serial_damped_type), intent(inout) :: problem
-    real(dp), intent(in) :: tau
+    real(dp), intent(in) :: tau, tol
     real(dp), intent(out) :: theta, err, va
     logical, intent(out) :: has_mode
     type(critical_step_type), intent(inout) :: result
@@ -575,7 +586,7 @@ contains
     class(progress_type), intent(inout), optional :: progress
     real(dp), allocatable :: y(:)
     call operator_mix(problem%op, tau**2, 2.0_dp*tau)
-    call top_eigenpair(problem%op, problem%choice, problem%tol, problem%vec, theta, err, has_mode, &
+    call top_eigenpair(problem%op, problem%choice, tol, problem%vec, theta, err, has_mode, &
       result%eigen_products, result%eigen_restarts, status, progress)
     if (status%stat /= demstep_stat%ok) return
     err = err + 8.0_dp*epsilon(1.0_dp)*theta

@@ -49,7 +49,6 @@ module demstep_mpi_scene
     type(dist_csr_type), pointer :: matrix => null()
     integer, allocatable :: bodies(:), new_index(:)
     real(dp), allocatable :: a_val(:), vec(:)
-    real(dp) :: tol = 0.0_dp
   contains
     procedure :: top => mpi_damped_top
   end type mpi_damped_type
@@ -216,7 +215,6 @@ contains
       problem%bodies = bodies
       problem%new_index = new_index
       problem%a_val = matrix%val
-      problem%tol = tol
       problem%vec = vec
       ! v'B'v from B's rows
       op%alpha = 0.0_dp
@@ -230,7 +228,7 @@ contains
       call dist_csr_apply(matrix, vec, y)
       vb = sum(vec*y)
       call MPI_Allreduce(MPI_IN_PLACE, vb, 1, MPI_DOUBLE_PRECISION, MPI_SUM, matrix%graph)
-      call damped_newton(problem, lam, vb, rate, result, status, progress)
+      call damped_newton(problem, lam, vb, rate, tol, result, status, progress)
       matrix%val = problem%a_val
     end subroutine exact_damped
 
@@ -349,9 +347,9 @@ contains
 
   !> Top eigenpair of tau^2 A' + 2 tau B' on the ranks (this rank's rows
   !> rebuilt, same pattern; warm start from the last mode) and v'A'v of it.
-  subroutine mpi_damped_top(problem, tau, theta, err, va, has_mode, result, status, progress)
+  subroutine mpi_damped_top(problem, tau, tol, theta, err, va, has_mode, result, status, progress)
     class(mpi_damped_type), intent(inout) :: problem
-    real(dp), intent(in) :: tau
+    real(dp), intent(in) :: tau, tol
     real(dp), intent(out) :: theta, err, va
     logical, intent(out) :: has_mode
     type(critical_step_type), intent(inout) :: result
@@ -374,7 +372,7 @@ contains
     problem%matrix%val = val
     start = problem%vec
     call parallel_lanczos_largest(problem%matrix, lanczos, status, eigenvector=problem%vec, &
-      tolerance=problem%tol, ncv=min(scene_lanczos_ncv, problem%op%n), max_restarts=scene_lanczos_restarts, &
+      tolerance=tol, ncv=min(scene_lanczos_ncv, problem%op%n), max_restarts=scene_lanczos_restarts, &
       progress=progress, start=start)
     result%eigen_products = result%eigen_products + lanczos%applications
     result%eigen_restarts = result%eigen_restarts + lanczos%iterations
