@@ -50,10 +50,10 @@ def load(scene):
     inter = read_csv(os.path.join(d, 'interactions.csv'))
     with open(os.path.join(d, 'summary.json')) as f:
         summary = json.load(f)
-    meas = None
+    meas = []
     mpath = os.path.join(d, 'measured.csv')
     if os.path.exists(mpath):
-        meas = read_csv(mpath)[0]
+        meas = read_csv(mpath)
     return parts, inter, summary, meas
 
 
@@ -225,6 +225,7 @@ def analyse(scene, do_map):
         res = {'K_asymmetry_rel': float(asym), 'A_min_eig': float(wA[0]), 'A_max_eig': float(wA[-1]),
                'B_min_eig': float(wB[0]), 'B_max_eig': float(wB[-1])}
         res['undamped_limit'] = 2.0 / math.sqrt(wA[-1])
+        res['undamped_limits_top5_modes'] = [2.0 / math.sqrt(w) for w in wA[::-1][:5]]
         if asym > 1e-12:
             wfull = sla.eigvals(Kn)
             res['undamped_limit_nonsym'] = 2.0 / math.sqrt(np.max(wfull.real))
@@ -237,9 +238,8 @@ def analyse(scene, do_map):
         out[variant] = res
         print(scene, variant, json.dumps(res))
         sys.stdout.flush()
-    if meas is not None:
-        out['measured_lo'] = float(meas['dt_stable'])
-        out['measured_hi'] = float(meas['dt_unstable'])
+    out['measured'] = [{'v0': float(r['v0']), 'lo': float(r['dt_stable']), 'hi': float(r['dt_unstable'])}
+                       for r in meas]
     with open(os.path.join(HERE, 'data', scene, 'reference.json'), 'w') as f:
         json.dump(out, f, indent=1)
     return out, summary
@@ -250,21 +250,22 @@ def write_results(results):
              'Written by `reference_damped.py` from `data/*/` (see README.md, section',
              '"Damped scenes"). Times in seconds. Ratio = model damped limit / midpoint of',
              'the measured bracket.', '',
-             '| scene | measured [lo, hi] | model undamped | model damped (as Yade) | ratio | '
+             '| scene | test velocity V0 (m/s) | measured [lo, hi] | model undamped | model damped (as Yade) | ratio | '
              'model damped (symmetric, contact-point arms) | ratio |',
-             '|---|---|---|---|---|---|---|']
+             '|---|---|---|---|---|---|---|---|']
     for out, summary in results:
         y = out['yade']
         s = out.get('symmetric', y)     # viscel: Yade's law is already symmetric
-        if 'measured_lo' in out:
-            lo, hi = out['measured_lo'], out['measured_hi']
-            mid = 0.5 * (lo + hi)
-            meas = '[%.5e, %.5e]' % (lo, hi)
-            r1, r2 = '%.4f' % (y['damped_limit'] / mid), '%.4f' % (s['damped_limit'] / mid)
-        else:
-            meas, r1, r2 = 'not measured', '-', '-'
-        lines.append('| %s | %s | %.5e | %.5e | %s | %.5e | %s |'
-                     % (out['scene'], meas, y['undamped_limit'], y['damped_limit'], r1, s['damped_limit'], r2))
+        for mrow in out['measured'] or [None]:
+            if mrow is not None:
+                lo, hi = mrow['lo'], mrow['hi']
+                mid = 0.5 * (lo + hi)
+                v0, meas = '%.0e' % mrow['v0'], '[%.5e, %.5e]' % (lo, hi)
+                r1, r2 = '%.4f' % (y['damped_limit'] / mid), '%.4f' % (s['damped_limit'] / mid)
+            else:
+                v0, meas, r1, r2 = '-', 'not measured', '-', '-'
+            lines.append('| %s | %s | %s | %.5e | %.5e | %s | %.5e | %s |'
+                         % (out['scene'], v0, meas, y['undamped_limit'], y['damped_limit'], r1, s['damped_limit'], r2))
     lines += ['', '| scene | spheres | interactions | max rel. error of kn, ks, cn, cs, kr, ktw against the '
               'Ip2 formulas | K asymmetry | map radius at 0.999 h*, 1.001 h* |', '|---|---|---|---|---|---|']
     for out, summary in results:

@@ -10,7 +10,7 @@
 # largest stable step is bisected on kinetic-energy growth from a perturbed copy
 # of that state with NewtonIntegrator.damping = 0 (criterion in README.md).
 # Output: data/SCENE/{particles.csv,interactions.csv,facets.csv,measured.csv,
-#                     trials.csv,summary.json}
+#                     summary.json, and per test amplitude V0: trials_v0_*.csv, summary_v0_*.json}
 import sys, os, json, math, random, time
 
 HERE = os.path.dirname(os.path.abspath(sys.argv[0]))
@@ -22,6 +22,12 @@ if not args or args[0] not in SCENES:
 SCENE = args[0]
 QUICK = '--quick' in args
 BUILD_ONLY = '--build-only' in args
+# rms of the random test velocity (m/s per component; angular: V0 / radius)
+V0 = 1.0e-5
+for a in args:
+    if a.startswith('--v0='):
+        V0 = float(a[5:])
+TAG = 'v0_%.0e' % V0
 OUT = os.path.join(HERE, 'data', SCENE)
 os.makedirs(OUT, exist_ok=True)
 
@@ -203,14 +209,13 @@ if SCENE == 'viscel':
 else:
     summary.update({'young': YOUNG, 'poisson': POISSON, 'alphaKr': ALPHA_KR, 'alphaKtw': ALPHA_KTW,
                     'always_use_moment_law': True, 'useIncrementalForm': False})
+with open(os.path.join(OUT, 'summary.json'), 'w') as f:
+    json.dump(summary, f, indent=1)
 if BUILD_ONLY:
-    with open(os.path.join(OUT, 'summary.json'), 'w') as f:
-        json.dump(summary, f, indent=1)
     sys.exit(0)
 
 # ---------------------------------------------------------------- measurement
 newton.damping = 0.0
-V0 = 1.0e-5                  # m/s rms per component; angular: V0 / r
 rng = random.Random(12345)
 vel0 = [Vector3(rng.gauss(0, 1), rng.gauss(0, 1), rng.gauss(0, 1)) * V0 for _ in sphere_ids]
 ang0 = [Vector3(rng.gauss(0, 1), rng.gauss(0, 1), rng.gauss(0, 1)) * (V0 / O.bodies[bid].shape.radius)
@@ -300,14 +305,22 @@ summary.update({
     'measured_dt_lo': lo, 'measured_dt_hi': hi,
     'wall_time_s': time.time() - t0,
 })
-with open(os.path.join(OUT, 'summary.json'), 'w') as f:
+with open(os.path.join(OUT, 'summary_%s.json' % TAG), 'w') as f:
     json.dump(summary, f, indent=1)
-with open(os.path.join(OUT, 'trials.csv'), 'w') as f:
+with open(os.path.join(OUT, 'trials_%s.csv' % TAG), 'w') as f:
     f.write('dt,unstable,steps,ke_end,ke_max,ke_end_over_ref\n')
     for t in trials:
         f.write('%.10e,%d,%d,%.6e,%.6e,%.6e\n' % (t['dt'], t['unstable'], t['steps'], t['ke_end'],
                                                  t['ke_max'], t['ke_end_over_ref']))
-with open(os.path.join(OUT, 'measured.csv'), 'w') as f:
-    f.write('scene,dt_stable,dt_unstable,criterion_growth,run_time_s,dt_small,newton_damping\n')
-    f.write('%s,%.10e,%.10e,%g,%.6e,%.6e,0\n' % (SCENE, lo, hi, GROWTH, T_RUN, DT_SMALL))
+# measured.csv: one row per test amplitude (a rerun replaces its own row)
+mpath = os.path.join(OUT, 'measured.csv')
+header = 'scene,v0,dt_stable,dt_unstable,criterion_growth,run_time_s,dt_small,newton_damping\n'
+keep = []
+if os.path.exists(mpath):
+    with open(mpath) as f:
+        keep = [ln for ln in f.readlines()[1:] if ln.split(',')[1] != '%.3e' % V0]
+keep.append('%s,%.3e,%.10e,%.10e,%g,%.6e,%.6e,0\n' % (SCENE, V0, lo, hi, GROWTH, T_RUN, DT_SMALL))
+with open(mpath, 'w') as f:
+    f.write(header)
+    f.writelines(sorted(keep))
 print(json.dumps(summary, indent=1))
