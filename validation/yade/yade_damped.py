@@ -28,7 +28,18 @@ for a in args:
     if a.startswith('--v0='):
         V0 = float(a[5:])
 TAG = 'v0_%.0e' % V0
-OUT = os.path.join(HERE, 'data', SCENE)
+# quench rounds after settling (all velocities set to 0, then 1000 damped steps):
+# ViscElPhys has no rolling resistance, so spheres keep rolling in a pile that
+# looks settled; quenching stops them. Default 60 for viscel, 0 for cohfrict.
+QUENCH = 60 if SCENE == 'viscel' else 0
+for a in args:
+    if a.startswith('--quench='):
+        QUENCH = int(a[9:])
+# --noslip: at the freeze every contact gets tan(phi) = 1e6 (no Coulomb sliding
+# during the measurement; the settled state is the same)
+NOSLIP = '--noslip' in args
+OUT = os.path.join(HERE, 'data', (SCENE if not (SCENE == 'viscel' and QUENCH == 0) else 'viscel_creeping')
+                   + ('_noslip' if NOSLIP else ''))
 os.makedirs(OUT, exist_ok=True)
 
 # ---------------------------------------------------------------- the scene
@@ -110,8 +121,24 @@ for it in range(200):
     sys.stdout.flush()
     if O.time > 0.5 and unb < SETTLE_UNBALANCED and ke < SETTLE_KE:
         break
+    if QUENCH > 0 and O.time > 1.5:
+        break
+for q in range(QUENCH):
+    for bid in sphere_ids:
+        O.bodies[bid].state.vel = Vector3(0, 0, 0)
+        O.bodies[bid].state.angVel = Vector3(0, 0, 0)
+    O.run(1000, True)
+    ke, unb = kinetic(), unbalancedForce()
+    settle_log.append((O.iter, O.time, ke, unb))
+    print('quench %d: iter %d KE %.3e J unbalanced %.3e' % (q, O.iter, ke, unb))
+    sys.stdout.flush()
 # freeze: velocities 0, local damping 0, forces recomputed for that state
 newton.damping = 0.0
+if NOSLIP:
+    O.materials[mat].frictionAngle = math.atan(1e6)
+    for I in O.interactions:
+        if I.isReal:
+            I.phys.tangensOfFrictionAngle = 1e6
 for bid in sphere_ids:
     O.bodies[bid].state.vel = Vector3(0, 0, 0)
     O.bodies[bid].state.angVel = Vector3(0, 0, 0)
@@ -200,7 +227,7 @@ summary = {
     'n_wall_interactions': sum(1 for r in rows if r[0] == 'w' or r[2] == 'w'),
     'n_sliding_at_export': n_sliding,
     'radii': RADII, 'density': DENSITY, 'box': BOX, 'gravity': GRAVITY, 'friction_angle': FRICTION,
-    'settle_damping': SETTLE_DAMPING, 'settle_dt': settle_dt, 'settle_steps': O.iter,
+    'settle_damping': SETTLE_DAMPING, 'quench_rounds': QUENCH, 'noslip_at_freeze': NOSLIP, 'settle_dt': settle_dt, 'settle_steps': O.iter,
     'unbalanced_force_at_save': unb,
     'PWaveTimeStep': pwave, 'GlobalStiffnessTimeStepper_raw': gsts_dt,
 }
