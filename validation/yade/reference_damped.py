@@ -30,7 +30,7 @@ import numpy as np
 import scipy.linalg as sla
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-SCENES = ('viscel', 'cohfrict', 'viscel_creeping')
+SCENES = ('viscel', 'cohfrict', 'viscel_creeping', 'viscel_noslip')
 
 
 def skew(a):
@@ -260,8 +260,8 @@ def analyse(scene, do_map):
         out['near_slip_%g' % frac] = {'n_sliding': nsl, 'undamped_limit': 2.0 / math.sqrt(lam_max(A)[0]),
                                       'damped_limit': damped_limit(A, B)}
         print(scene, 'near slip', frac, json.dumps(out['near_slip_%g' % frac]))
-    out['measured'] = [{'v0': float(r['v0']), 'lo': float(r['dt_stable']), 'hi': float(r['dt_unstable'])}
-                       for r in meas]
+    out['measured'] = [{'v0': float(r['v0']), 'criterion': r['criterion'], 'lo': float(r['dt_stable']),
+                        'hi': float(r['dt_unstable'])} for r in meas]
     with open(os.path.join(HERE, 'data', scene, 'reference.json'), 'w') as f:
         json.dump(out, f, indent=1)
     return out, summary
@@ -272,9 +272,9 @@ def write_results(results):
              'Written by `reference_damped.py` from `data/*/` (see README.md, section',
              '"Damped scenes"). Times in seconds. Ratio = model damped limit / midpoint of',
              'the measured bracket.', '',
-             '| scene | test velocity V0 (m/s) | measured [lo, hi] | model undamped | model damped (as Yade) | ratio | '
+             '| scene | V0 (m/s) | criterion | measured [lo, hi] | model undamped | model damped (as Yade) | ratio | '
              'model damped (symmetric, contact-point arms) | ratio | model damped, contacts at >= 0.95 of the Coulomb limit sliding | ratio |',
-             '|---|---|---|---|---|---|---|---|---|---|']
+             '|---|---|---|---|---|---|---|---|---|---|---|']
     for out, summary in results:
         y = out['yade']
         s = out.get('symmetric', y)     # viscel: Yade's law is already symmetric
@@ -283,11 +283,11 @@ def write_results(results):
             if mrow is not None:
                 lo, hi = mrow['lo'], mrow['hi']
                 mid = 0.5 * (lo + hi)
-                v0, meas = '%.0e' % mrow['v0'], '[%.5e, %.5e]' % (lo, hi)
+                v0, meas = '%.0e | %s' % (mrow['v0'], mrow['criterion']), '[%.5e, %.5e]' % (lo, hi)
                 r1, r2 = '%.4f' % (y['damped_limit'] / mid), '%.4f' % (s['damped_limit'] / mid)
                 r3 = '%.4f' % (ns['damped_limit'] / mid)
             else:
-                v0, meas, r1, r2, r3 = '-', 'not measured', '-', '-', '-'
+                v0, meas, r1, r2, r3 = '- | -', 'not measured', '-', '-', '-'
             lines.append('| %s | %s | %s | %.5e | %.5e | %s | %.5e | %s | %.5e (%d sliding) | %s |'
                          % (out['scene'], v0, meas, y['undamped_limit'], y['damped_limit'], r1, s['damped_limit'], r2,
                             ns['damped_limit'], ns['n_sliding'], r3))

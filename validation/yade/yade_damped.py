@@ -27,7 +27,13 @@ V0 = 1.0e-5
 for a in args:
     if a.startswith('--v0='):
         V0 = float(a[5:])
-TAG = 'v0_%.0e' % V0
+# --per-particle: a trial is unstable when some sphere's kinetic energy exceeds
+# GROWTH_PP times its own largest value in the small-step run (or its initial
+# value); for piles that creep, where the total kinetic energy of the creep hides
+# a localized unstable mode that saturates (contacts opening) below it
+PER_PARTICLE = '--per-particle' in args
+GROWTH_PP = 1.0e4
+TAG = 'v0_%.0e' % V0 + ('_pp' if PER_PARTICLE else '')
 # quench rounds after settling (all velocities set to 0, then 1000 damped steps):
 # ViscElPhys has no rolling resistance, so spheres keep rolling in a pile that
 # looks settled; quenching stops them. Default 60 for viscel, 0 for cohfrict.
@@ -263,13 +269,25 @@ def perturbed(dt):
         O.bodies[bid].state.angVel = ang0[k]
     O.dt = dt
 
-def run(dt, threshold=None):
+def kinetic_each():
+    out = []
+    for bid in sphere_ids:
+        st = O.bodies[bid].state
+        w = st.angVel
+        out.append(0.5 * st.mass * st.vel.squaredNorm()
+                   + 0.5 * (st.inertia[0] * w[0] ** 2 + st.inertia[1] * w[1] ** 2 + st.inertia[2] * w[2] ** 2))
+    return out
+
+def run(dt, threshold=None, ref_each=None):
     """Runs T_RUN from the perturbed settled state; returns (KE at the end, max KE,
-    steps, aborted). Aborts once KE exceeds threshold (the trial is then unstable)."""
+    steps, aborted, KE0, per-sphere max KE, largest per-sphere ratio to ref_each).
+    Aborts once KE exceeds threshold, or (ref_each given) once some sphere's KE
+    exceeds GROWTH_PP times its ref_each (the trial is then unstable)."""
     perturbed(dt)
     nsteps = int(math.ceil(T_RUN / dt))
     e0 = kinetic()
-    emax, steps, aborted = e0, 0, False
+    each_max = kinetic_each()
+    emax, steps, aborted, rmax = e0, 0, False, 0.0
     while steps < nsteps:
         chunk = min(nsteps - steps, 10 if steps < 200 else 100)
         O.run(chunk, True)
@@ -278,26 +296,37 @@ def run(dt, threshold=None):
         if not (e == e):
             e = float('inf')
         emax = max(emax, e)
+        if PER_PARTICLE:
+            each = kinetic_each()
+            each_max = [max(a, b) if b == b else float('inf') for a, b in zip(each_max, each)]
+            if ref_each is not None:
+                rmax = max(rmax, max(b / a for a, b in zip(ref_each, each)) if e < float('inf') else float('inf'))
+                if not (rmax < GROWTH_PP):
+                    aborted = True
+                    break
         if threshold is not None and not (e < threshold):
             aborted = True
             break
-    return e, emax, steps, aborted, e0
+    return e, emax, steps, aborted, e0, each_max, rmax
 
 # reference run at a small step (a quarter of the first guess)
 DT_SMALL = 0.25 * DT_GUESS
-ke_small_end, ke_small_max, small_steps, _, KE0 = run(DT_SMALL)
+ke_small_end, ke_small_max, small_steps, _, KE0, small_each_max, _ = run(DT_SMALL)
 REF = max(ke_small_end, KE0)
 THRESH = GROWTH * REF
+if PER_PARTICLE:
+    THRESH = float('inf')        # the per-sphere test decides
+    GROWTH = GROWTH_PP
 print('reference run: dt %.4e, %d steps, KE0 %.4e J, KE end %.4e J, max %.4e J; threshold %.4e J'
       % (DT_SMALL, small_steps, KE0, ke_small_end, ke_small_max, THRESH))
 
 def trial(dt):
-    e, emax, steps, aborted, e0 = run(dt, THRESH)
+    e, emax, steps, aborted, e0, _, rmax = run(dt, THRESH, small_each_max if PER_PARTICLE else None)
     unstable = aborted or not (e < THRESH)
     trials.append({'dt': dt, 'unstable': unstable, 'steps': steps, 'ke_end': e, 'ke_max': emax,
-                   'ke_end_over_ref': e / REF})
-    print('  dt=%.8e  %s  steps=%d  KE_end/ref=%.3e  KE_max/ref=%.3e'
-          % (dt, 'UNSTABLE' if unstable else 'stable', steps, e / REF, emax / REF))
+                   'ke_end_over_ref': (rmax if PER_PARTICLE else e / REF)})
+    print('  dt=%.8e  %s  steps=%d  KE_end/ref=%.3e  KE_max/ref=%.3e  max per-sphere ratio %.3e'
+          % (dt, 'UNSTABLE' if unstable else 'stable', steps, e / REF, emax / REF, rmax))
     sys.stdout.flush()
     return unstable
 
@@ -328,7 +357,9 @@ summary.update({
     'run_time_s': T_RUN, 'steps_at_first_guess': NSTEPS, 'dt_first_guess': DT_GUESS,
     'dt_small': DT_SMALL, 'ke0': KE0, 'ke_small_end': ke_small_end, 'ke_small_max': ke_small_max,
     'growth_factor': GROWTH, 'threshold': THRESH,
-    'criterion': 'unstable if KE > %g x max(KE0, KE_small(T)) at any check or at T = %.6e s' % (GROWTH, T_RUN),
+    'criterion': ('unstable if some sphere\'s KE > %g x its largest KE in the small-step run (at least its '
+                  'initial KE) at any check within T = %.6e s' % (GROWTH_PP, T_RUN)) if PER_PARTICLE else
+                 ('unstable if KE > %g x max(KE0, KE_small(T)) at any check or at T = %.6e s' % (GROWTH, T_RUN)),
     'measured_dt_lo': lo, 'measured_dt_hi': hi,
     'wall_time_s': time.time() - t0,
 })
@@ -341,12 +372,13 @@ with open(os.path.join(OUT, 'trials_%s.csv' % TAG), 'w') as f:
                                                  t['ke_max'], t['ke_end_over_ref']))
 # measured.csv: one row per test amplitude (a rerun replaces its own row)
 mpath = os.path.join(OUT, 'measured.csv')
-header = 'scene,v0,dt_stable,dt_unstable,criterion_growth,run_time_s,dt_small,newton_damping\n'
+header = 'scene,v0,criterion,dt_stable,dt_unstable,criterion_growth,run_time_s,dt_small,newton_damping\n'
+CRIT = 'per_sphere' if PER_PARTICLE else 'total'
 keep = []
 if os.path.exists(mpath):
     with open(mpath) as f:
-        keep = [ln for ln in f.readlines()[1:] if ln.split(',')[1] != '%.3e' % V0]
-keep.append('%s,%.3e,%.10e,%.10e,%g,%.6e,%.6e,0\n' % (SCENE, V0, lo, hi, GROWTH, T_RUN, DT_SMALL))
+        keep = [ln for ln in f.readlines()[1:] if ln.split(',')[1:3] != ['%.3e' % V0, CRIT]]
+keep.append('%s,%.3e,%s,%.10e,%.10e,%g,%.6e,%.6e,0\n' % (os.path.basename(OUT), V0, CRIT, lo, hi, GROWTH, T_RUN, DT_SMALL))
 with open(mpath, 'w') as f:
     f.write(header)
     f.writelines(sorted(keep))
