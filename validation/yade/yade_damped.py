@@ -1,5 +1,6 @@
 # Yade script (not plain Python): run as
-#   yade -n -j1 -x yade_damped.py SCENE [--quick] [--build-only]
+#   yade -n -j1 -x yade_damped.py SCENE [--v0=X] [--per-particle] [--quench=N] [--noslip]
+#                                       [--quick] [--build-only]
 # SCENE is
 #   viscel   ViscElPhys spheres (en = et = 0.5, contact time tc) poured into a
 #            box of fixed facets under gravity, settled;
@@ -10,14 +11,17 @@
 # largest stable step is bisected on kinetic-energy growth from a perturbed copy
 # of that state with NewtonIntegrator.damping = 0 (criterion in README.md).
 # Output: data/SCENE/{particles.csv,interactions.csv,facets.csv,measured.csv,
-#                     summary.json, and per test amplitude V0: trials_v0_*.csv, summary_v0_*.json}
+#                     summary.json, and per test amplitude V0 and criterion:
+#                     trials_v0_*.csv, summary_v0_*.json}
+# (viscel with --quench=0 writes data/viscel_creeping, --noslip adds _noslip)
 import sys, os, json, math, random, time
 
 HERE = os.path.dirname(os.path.abspath(sys.argv[0]))
 args = sys.argv[1:]
 SCENES = ('viscel', 'cohfrict')
 if not args or args[0] not in SCENES:
-    print('usage: yade -n -j1 -x yade_damped.py viscel|cohfrict [--quick] [--build-only]')
+    print('usage: yade -n -j1 -x yade_damped.py viscel|cohfrict [--v0=X] [--per-particle] '
+          '[--quench=N] [--noslip] [--quick] [--build-only]')
     sys.exit(2)
 SCENE = args[0]
 QUICK = '--quick' in args
@@ -36,7 +40,8 @@ GROWTH_PP = 1.0e4
 TAG = 'v0_%.0e' % V0 + ('_pp' if PER_PARTICLE else '')
 # quench rounds after settling (all velocities set to 0, then 1000 damped steps):
 # ViscElPhys has no rolling resistance, so spheres keep rolling in a pile that
-# looks settled; quenching stops them. Default 60 for viscel, 0 for cohfrict.
+# looks settled; quenching removes that energy (it does not stop the creep
+# altogether, see README.md). Default 60 for viscel, 0 for cohfrict.
 QUENCH = 60 if SCENE == 'viscel' else 0
 for a in args:
     if a.startswith('--quench='):
