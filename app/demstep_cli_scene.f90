@@ -88,7 +88,8 @@ contains
       var("snapshot_frame", "an integer", "dump frame: 1, 2, ... from the first; 0 the last, -1 the " &
         //"one before, ...", "!0", default="0", needs="snapshot_file"), &
       var("contacts_file", "a quoted file name", "explicit contacts instead of detection: per row " &
-        //"i j k_n k_t (particle numbers as in the particle table)", "!'contacts.txt'"), &
+        //"i j k_n k_t [k_r k_w [c_n c_t c_r c_w]] (particle numbers as in the particle table)", &
+        "!'contacts.txt'"), &
       var("periodic", "a list of logicals", "periodic axes", "!T, T, T", capacity=3, &
         default="F, F, F"), &
       var("cell_lo", "a list of real numbers", "lower corner of the periodic cell", &
@@ -849,10 +850,11 @@ contains
     real(dp), allocatable, intent(out) :: k(:, :)
     type(demstep_status_type), intent(out) :: status
     real(dp), allocatable :: rows(:, :)
-    call read_table(path, 4, rows, status, lines=lines, index_columns=[1, 2])
+    ! i j, then k_n k_t [k_r k_w [c_n c_t c_r c_w]]
+    call read_table(path, [4, 6, 10], rows, status, lines=lines, index_columns=[1, 2])
     if (status%stat /= demstep_stat%ok) return
     pairs = nint(rows(1:2, :))
-    k = rows(3:4, :)
+    k = rows(3:, :)
   end subroutine read_contacts
 
   !> A library message "contacts: row K: what" as "PATH: line L: what".
@@ -1294,7 +1296,10 @@ contains
     end subroutine finish
     function material_note() result(text)
       character(len=:), allocatable :: text
-      if (sc%law == contact_law%hertz) then
+      if (mat%first == mat%last) then
+        text = trim(convention_names(mat%first))//"'s springs and dashpots per pair of types"
+        if (sc%law == contact_law%hertz) text = text//" (Hertz)"
+      else if (sc%law == contact_law%hertz) then
         text = "Hertz E*, G* from young and poisson"
       else
         text = "linear k_n, k_t of "//trim(convention_names(mat%first))//" at each type's radius"

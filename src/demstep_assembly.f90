@@ -550,8 +550,10 @@ contains
       call problem%top(tau, tol_k, theta, err, va, has_mode, result, status, progress)
       if (status%stat /= demstep_stat%ok) return
       if (.not. has_mode) exit
+      ! (only a solve to the full tolerance certifies a step: a looser one
+      ! only steers)
       upper = theta + err
-      tau_safe = max(tau_safe, tau*min(1.0_dp, 4.0_dp/upper))
+      if (tol_k <= tol) tau_safe = max(tau_safe, tau*min(1.0_dp, 4.0_dp/upper))
       if (abs(theta - 4.0_dp) <= err .and. tol_k <= tol) exit
       ! the next tau: the root of the current mode's own quadratic
       ! q(t) = t^2 v'A'v + 2 t v'B'v (v'B'v = (theta - tau^2 v'A'v)/(2 tau)),

@@ -382,7 +382,7 @@ contains
     if (allocated(error)) return
     call write_file(work_dir//"/c.txt", [character(len=20) :: "1 2 100"])
     call expect_refusal(error, g//"cell_hi = 4.0, 1.0, 1.0 /", "&scene: contacts_file: "//work_dir// &
-      "/c.txt: line 1: expected 4 numbers, found 3")
+      "/c.txt: line 1: expected 4, 6 or 10 numbers, found 3")
     if (allocated(error)) return
     call write_file(work_dir//"/p.txt", [character(len=60) :: "0.1 0 0  0 0 0  1 0.6 0 0.4", &
       "5.1 0 0  0 0 0  1 0.6 0 0"])
