@@ -40,7 +40,8 @@ contains
       new_unittest("eigen_solver and eigen_tolerance: computed or refused by name", test_eigen_solver), &
       new_unittest("long runs: announced with progress, absurd ones refused", test_long_runs), &
       new_unittest("inertia column, contacts_file, periodic cell: computed or refused", test_assembly_inputs), &
-      new_unittest("particle numbers 1.5, 4294967297 in contacts and bonds files; fixed 0.5", test_particle_numbers) &
+      new_unittest("particle numbers 1.5, 4294967297 in contacts and bonds files; fixed 0.5", test_particle_numbers), &
+      new_unittest("dashpots, rolling springs, walls' material: computed or refused by name", test_dashpot_inputs) &
       ]
   end subroutine collect_app_scene
 
@@ -135,6 +136,39 @@ contains
     if (allocated(error)) return
     call check(error, .not. file_exists(out), "no output file")
   end subroutine expect_refusal
+
+  !> The deck variables of the damped model: each bad value refused naming
+  !> it, and a good deck's damped limit exact and below the undamped one.
+  subroutine test_dashpot_inputs(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_result_type) :: res
+    character(len=*), parameter :: g = "&scene dim = 3, position = 0, 0, 0, 1.9, 0, 0, radius = 1.0, " &
+      //"mass = 1.0, k_normal = 1e3, k_tangential = 300, "
+    call expect_result(error, g//"effects = 'contacts', 'damping', damping_ratio = 0.2, " &
+      //"damping_ratio_tangential = 0.1, rolling_ratio = 0.5, twisting_ratio = 0.2, " &
+      //"damping_ratio_rolling = 0.3, drag = 0.1 /", res)
+    if (allocated(error)) return
+    call check(error, res%dt_critical_damped > 0.0_dp .and. res%dt_critical_damped < res%dt_critical_eigen, &
+      "damped below undamped")
+    if (allocated(error)) return
+    call expect_refusal(error, g//"effects = 'contacts', 'damping', damping_ratio = 0.2, " &
+      //"damping_ratio_tangential = -1 /", "&scene: damping_ratio_tangential: must be in [0, 1e100]")
+    if (allocated(error)) return
+    call expect_refusal(error, g//"effects = 'contacts', 'damping', damping_ratio = 0.2, " &
+      //"damping_ratio_rolling = 2e100 /", "&scene: damping_ratio_rolling: must be in [0, 1e100]")
+    if (allocated(error)) return
+    call expect_refusal(error, g//"effects = 'contacts', 'damping', damping_ratio = 0.2, drag = -1 /", &
+      "&scene: drag: must be >= 0 and finite")
+    if (allocated(error)) return
+    call expect_refusal(error, g//"drag = 0.5 /", "&scene: effects: dashpots (damping_ratio_tangential, " &
+      //"damping_ratio_rolling, drag) need the 'damping' effect")
+    if (allocated(error)) return
+    call expect_refusal(error, g//"rolling_ratio = -0.5 /", "&scene: rolling_ratio: must be >= 0 and finite")
+    if (allocated(error)) return
+    call expect_refusal(error, g//"twisting_ratio = -0.5 /", "&scene: twisting_ratio: must be >= 0 and finite")
+    if (allocated(error)) return
+    call expect_refusal(error, g//"rolling_friction = -1.8e308 /", "&scene: rolling_friction:")
+  end subroutine test_dashpot_inputs
 
   subroutine test_large_tables(error)
     type(error_type), allocatable, intent(out) :: error
