@@ -52,6 +52,12 @@ enum {
 /* Where a Hertz contact is linearised: at its current overlap, or at the largest
    overlap of an impact at impact_velocity (demstep_scene_compute). */
 enum { DEMSTEP_HERTZ_CURRENT = 1, DEMSTEP_HERTZ_IMPACT = 2 };
+/* The DEM codes' conventions of demstep_scene_set_materials. */
+enum {
+  DEMSTEP_CODE_LIGGGHTS_HOOKE = 1, DEMSTEP_CODE_LIGGGHTS_HERTZ = 2, DEMSTEP_CODE_YADE_FRICTPHYS = 3,
+  DEMSTEP_CODE_YADE_VISCELPHYS = 4, DEMSTEP_CODE_MFIX_LSD = 5, DEMSTEP_CODE_MFIX_HERTZIAN = 6,
+  DEMSTEP_CODE_MERCURYDPM_LINEAR = 7, DEMSTEP_CODE_LAMMPS_HOOKE = 8, DEMSTEP_CODE_LAMMPS_HERTZ_MATERIAL = 9
+};
 
 /* Eigensolvers for omega_max (demstep_scene_set_eigen_solver): AUTO takes DENSE
    (LAPACK) up to max_eigen_dof and LANCZOS (ARPACK, matrix-free) above; NONE
@@ -236,6 +242,18 @@ int demstep_scene_set_types(demstep_scene *scene, int n_types, const int *types,
    (-1, 0.5] per type; E* and G* of each pair follow; the law becomes Hertz. */
 int demstep_scene_set_hertz_types(demstep_scene *scene, int n_types, const int *types,
                                   const double *young, const double *poisson, demstep_error *err);
+
+/* Materials per type (types 0-based, n_types of each array: Young's modulus,
+   Poisson's ratio, density, nominal radius) in one code's convention
+   (DEMSTEP_CODE_...) with its restitution and impact velocity: the law, each
+   pair's springs and dashpots, and the walls as contacts of type wall_type
+   (-1: each particle's own), as the code computes them; tangential_damping 1
+   keeps the code's tangential dashpots (LIGGGHTS' default), 0 drops them. */
+int demstep_scene_set_materials(demstep_scene *scene, int n_types, const int *types,
+                                const double *young, const double *poisson, const double *density,
+                                const double *radius, int convention, double restitution,
+                                double impact_velocity, int wall_type, int tangential_damping,
+                                demstep_error *err);
 
 /* Walls: per wall a point and a normal into the domain, dim values each. */
 int demstep_scene_add_walls(demstep_scene *scene, int n_walls, const double *points,

@@ -26,6 +26,8 @@ module demstep_capi
   use demstep_scene, only: scene_type, new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, &
     scene_set_cell, scene_set_types, scene_set_hertz_types, scene_set_law, scene_set_bond_stiffness, &
     scene_set_gravity, n_effects, scene_effect, effect_names, contact_law, scene_set_damping, scene_set_rolling
+  use demstep_material, only: material_type
+  use demstep_scene_materials, only: scene_set_materials
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, hertz_linearization, &
     default_max_eigen_dof, eigen_solver
   use demstep_lanczos, only: lanczos_tolerance_default, check_lanczos_options
@@ -136,7 +138,7 @@ module demstep_capi
   public :: c_scene_create, c_scene_free, c_scene_set_particles, c_scene_add_bonds, &
     c_scene_set_bond_stiffness, c_scene_set_contact_law, c_scene_set_types, c_scene_set_hertz_types, &
     c_scene_add_walls, c_scene_set_contacts, c_scene_set_effects, c_scene_set_cell, c_scene_set_damping, &
-    c_scene_set_dashpots, c_scene_set_rolling, &
+    c_scene_set_dashpots, c_scene_set_rolling, c_scene_set_materials, &
     c_scene_set_gravity, c_scene_compute, c_scene_set_eigen_solver
 
 contains
@@ -749,6 +751,53 @@ contains
     end if
     code = built(h, name, status, err)
   end function c_scene_set_hertz_types
+
+  !> int demstep_scene_set_materials(demstep_scene *scene, int n_types, const int *types,
+  !>   const double *young, const double *poisson, const double *density, const double *radius,
+  !>   int convention, double restitution, double impact_velocity, int wall_type,
+  !>   int tangential_damping, demstep_error *err)
+  !> Materials per type (0-based types) in one code's convention into the
+  !> scene's contacts and walls (`scene_set_materials`); wall_type -1: each
+  !> particle's own type.
+  function c_scene_set_materials(scene, n_types, types, young, poisson, density, radius, convention, &
+      restitution, impact_velocity, wall_type, tangential_damping, err) result(code) &
+      bind(C, name="demstep_scene_set_materials")
+    type(c_ptr), value :: scene, types, young, poisson, density, radius, err
+    integer(c_int), value :: n_types, convention, wall_type, tangential_damping
+    real(c_double), value :: restitution, impact_velocity
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_scene_set_materials"
+    type(capi_scene_type), pointer :: h
+    real(c_double), pointer :: py(:), pp(:), pd(:), pr(:)
+    type(material_type), allocatable :: mats(:)
+    integer, allocatable :: ptypes(:)
+    type(demstep_status_type) :: status
+    integer :: i
+    if (.not. live(scene, name, h, err, code, particles=.true.)) return
+    if (.not. types_from_c(h, name, h%law_given, n_types, types, ptypes, err, code)) return
+    if (.not. (c_associated(young) .and. c_associated(poisson) .and. c_associated(density) .and. &
+        c_associated(radius))) then
+      code = refused(h, name, "young, poisson, density or radius is NULL", err)
+      return
+    end if
+    if (tangential_damping /= 0 .and. tangential_damping /= 1) then
+      code = refused(h, name, "tangential_damping: "//int_text(tangential_damping)//" is not 0 (off) or 1 (on)", &
+        err)
+      return
+    end if
+    call c_f_pointer(young, py, [n_types])
+    call c_f_pointer(poisson, pp, [n_types])
+    call c_f_pointer(density, pd, [n_types])
+    call c_f_pointer(radius, pr, [n_types])
+    allocate(mats(n_types))
+    do i = 1, n_types
+      mats(i) = material_type(young=py(i), poisson=pp(i), density=pd(i), radius=pr(i))
+    end do
+    call scene_set_materials(h%scene, ptypes, mats, int(convention), restitution, status, &
+      impact_velocity=impact_velocity, wall_type=int(wall_type) + 1, tangential_damping=tangential_damping == 1)
+    if (status%stat == demstep_stat%ok) h%types_law = h%scene%law
+    code = built(h, name, status, err)
+  end function c_scene_set_materials
 
   !> int demstep_scene_add_walls(demstep_scene *scene, int n_walls, const double *points,
   !>   const double *normals, demstep_error *err)

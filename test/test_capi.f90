@@ -15,7 +15,7 @@ module test_capi
     c_scene_set_particles, c_scene_add_bonds, c_scene_set_bond_stiffness, c_scene_set_contact_law, &
     c_scene_set_types, c_scene_set_hertz_types, c_scene_add_walls, c_scene_set_contacts, &
     c_scene_set_effects, c_scene_set_cell, c_scene_set_damping, c_scene_set_gravity, c_scene_compute, &
-    c_scene_set_dashpots, c_scene_set_rolling, &
+    c_scene_set_dashpots, c_scene_set_rolling, c_scene_set_materials, &
     c_scene_set_eigen_solver
   use test_support, only: ieee_nan, read_file
   implicit none
@@ -32,6 +32,7 @@ contains
       new_unittest("n_roots and the procedure: NaN options, extreme weights and n, fine scans", &
         test_stiffness_limits), &
       new_unittest("include/demstep.h: every enum value equals the Fortran one", test_header_enums), &
+      new_unittest("materials in a code's convention: the library's numbers bit for bit", test_scene_materials), &
       new_unittest("every enum argument out of range: a status naming it", test_bad_enums), &
       new_unittest("scene handle: a chain bit for bit as Fortran and against the closed form", &
         test_scene_chain), &
@@ -60,7 +61,10 @@ contains
       "AGGREGATE_MIN", "AGGREGATE_MAX", "QUANTITY_RESTITUTION", "QUANTITY_CONTACT_TIME", &
       "QUANTITY_OVERLAP", "QUANTITY_PERIOD", "LAW_LINEAR", "LAW_HERTZ", "EFFECT_CONTACTS", &
       "EFFECT_GRAVITY", "EFFECT_DAMPING", "EFFECT_LOCAL_DAMPING", "EFFECT_WALLS", "EFFECT_ROTATION", &
-      "HERTZ_CURRENT", "HERTZ_IMPACT", "EIGEN_AUTO", "EIGEN_DENSE", "EIGEN_LANCZOS", "EIGEN_NONE"]
+      "HERTZ_CURRENT", "HERTZ_IMPACT", "EIGEN_AUTO", "EIGEN_DENSE", "EIGEN_LANCZOS", "EIGEN_NONE", &
+      "CODE_LIGGGHTS_HOOKE", "CODE_LIGGGHTS_HERTZ", "CODE_YADE_FRICTPHYS", "CODE_YADE_VISCELPHYS", &
+      "CODE_MFIX_LSD", "CODE_MFIX_HERTZIAN", "CODE_MERCURYDPM_LINEAR", "CODE_LAMMPS_HOOKE", &
+      "CODE_LAMMPS_HERTZ_MATERIAL"]
     values = [demstep_stat%ok, demstep_stat%invalid_input, demstep_stat%unstable, demstep_stat%pole, &
       demstep_stat%not_converged, demstep_stat%not_found, demstep_stat%lapack_failure, &
       demstep_stat%io_error, demstep_stat%blow_up, demstep_stat%at_stability_limit, &
@@ -72,7 +76,10 @@ contains
       ! effects are the C API's own bit flags (test_scene_effects checks their map)
       capi_effect%contacts, capi_effect%gravity, capi_effect%damping, capi_effect%local_damping, &
       capi_effect%walls, capi_effect%rotation, hertz_linearization%current, hertz_linearization%impact, &
-      eigen_solver%auto, eigen_solver%dense, eigen_solver%lanczos, eigen_solver%none]
+      eigen_solver%auto, eigen_solver%dense, eigen_solver%lanczos, eigen_solver%none, &
+      code_convention%liggghts_hooke, code_convention%liggghts_hertz, code_convention%yade_frictphys, &
+      code_convention%yade_viscelphys, code_convention%mfix_lsd, code_convention%mfix_hertzian, &
+      code_convention%mercurydpm_linear, code_convention%lammps_hooke, code_convention%lammps_hertz_material]
     allocate(seen(size(names)), source=.false.)
     call read_file("include/demstep.h", text)
     call check(error, len(text) > 0, "include/demstep.h read")
@@ -300,6 +307,60 @@ contains
     if (code /= 0) return
     code = c_scene_set_effects(handle, 0, c_loc(e))
   end subroutine chain_handle
+
+  !> Three beads in a row on a floor, materials in LIGGGHTS' Hertz convention
+  !> (restitution 0.5, walls of type 1): the handle gives the library's
+  !> `scene_set_materials` numbers bit for bit; bad arguments refused.
+  subroutine test_scene_materials(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(c_ptr), target :: handle
+    type(demstep_error_c), target :: e
+    type(demstep_scene_result_c), target :: res
+    real(c_double), target :: x(9), m(3), r(3), young(2), poisson(2), density(2), radius(2), point(3), normal(3)
+    integer(c_int), target :: types(3)
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    integer :: code
+    x = [0.0_dp, 0.0_dp, 0.99e-3_dp, 1.98e-3_dp, 0.0_dp, 0.99e-3_dp, 3.96e-3_dp, 0.0_dp, 0.99e-3_dp]
+    m = [1.0e-5_dp, 1.2e-5_dp, 1.0e-5_dp]
+    r = 1.0e-3_dp
+    types = [0, 1, 0]
+    young = [1.0e7_dp, 2.0e7_dp]
+    poisson = [0.3_dp, 0.25_dp]
+    density = 2500.0_dp
+    radius = 1.0e-3_dp
+    point = 0.0_dp
+    normal = [0.0_dp, 0.0_dp, 1.0_dp]
+    code = c_scene_create(3, c_loc(handle), c_loc(e))
+    code = c_scene_set_particles(handle, 3, c_loc(x), c_loc(m), c_loc(r), c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_loc(e))
+    code = c_scene_add_walls(handle, 1, c_loc(point), c_loc(normal), c_loc(e))
+    code = c_scene_set_materials(handle, 2, c_loc(types), c_loc(young), c_loc(poisson), c_loc(density), &
+      c_loc(radius), code_convention%liggghts_hertz, 0.5_dp, 1.0_dp, 0, 1, c_loc(e))
+    call check(error, code == 0, "materials: "//message_of(e))
+    if (allocated(error)) return
+    code = c_scene_set_effects(handle, ior(ior(capi_effect%contacts, capi_effect%walls), &
+      ior(capi_effect%damping, capi_effect%rotation)), c_loc(e))
+    code = compute(handle, res, e)
+    call check(error, code == 0 .and. res%damped_exact == 1, "compute: "//message_of(e))
+    if (allocated(error)) return
+    call new_scene(scene, 3, reshape(x, [3, 3]), m, r, status)
+    call scene_add_walls(scene, reshape(point, [3, 1]), reshape(normal, [3, 1]), status)
+    call scene_set_materials(scene, [1, 2, 1], [(material_type(young(code), poisson(code), density(code), &
+      radius(code)), code = 1, 2)], code_convention%liggghts_hertz, 0.5_dp, status, impact_velocity=1.0_dp, &
+      wall_type=1)
+    call assembly_critical_steps(scene, c, status)
+    call check(error, status%stat == demstep_stat%ok .and. res%dt_critical_damped == c%dt_critical_damped .and. &
+      res%omega_max == c%omega_max, "the library's numbers bit for bit")
+    if (allocated(error)) return
+    code = c_scene_set_materials(handle, 2, c_loc(types), c_loc(young), c_loc(poisson), c_loc(density), &
+      c_loc(radius), code_convention%liggghts_hertz, 0.5_dp, 1.0_dp, 0, 2, c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "tangential_damping") > 0, &
+      "tangential_damping 2 refused")
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+  end subroutine test_scene_materials
 
   !> Compute with the defaults (current overlap, no pre-stress, default eigen limit).
   integer function compute(handle, res, e) result(code)
