@@ -186,10 +186,11 @@ module demstep_assembly
   end type damped_problem_type
 
   abstract interface
-    !> theta: the Rayleigh quotient of the top unit mode v of tau^2 A' + 2 tau
-    !> B'; err: its error bar (residual and rounding; [theta, theta + err]
-    !> holds lambda_max); va = v'A'v; has_mode false when no mode came back.
-    !> Counts its solves and products in `result`.
+    !> The top eigenpair of tau^2 A' + 2 tau B' to the tolerance `tol`: theta,
+    !> the Rayleigh quotient of its unit mode v, and err, its error bar
+    !> (residual and rounding; [theta, theta + err] holds lambda_max); va =
+    !> v'A'v; has_mode false when no mode came back. Counts its solves and
+    !> products in `result`.
     subroutine damped_top(problem, tau, tol, theta, err, va, has_mode, result, status, progress)
       import :: damped_problem_type, dp, critical_step_type, demstep_status_type, progress_type
       class(damped_problem_type), intent(inout) :: problem
