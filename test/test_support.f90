@@ -6,6 +6,7 @@ module test_support
   implicit none
   private
   public :: sinpi_q, reference, reference_steps, unit_contact
+  public :: result_value
   public :: count_lines, remove, ieee_nan, real_str, int_str, app_path, run_app, write_file, read_file, &
     file_exists, work_dir
 
@@ -15,6 +16,18 @@ module test_support
   character(len=*), parameter :: work_dir = "build/demstep-test-files"
 
 contains
+
+  !> The value of a scalar `KEY=` in a result file's text (as the app writes
+  !> its namelists: upper-case names), -1 when it is not there.
+  real(dp) function result_value(text, key) result(x)
+    character(len=*), intent(in) :: text, key
+    integer :: k, ios
+    x = -1.0_dp
+    k = index(text, key//"=")
+    if (k == 0) return
+    read(text(k + len(key) + 1:), *, iostat=ios) x
+    if (ios /= 0) x = -1.0_dp
+  end function result_value
 
   !> sin(pi x) with x reduced modulo 2 in quad.
   elemental real(qp) function sinpi_q(x)

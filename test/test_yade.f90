@@ -10,7 +10,7 @@
 module test_yade
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep, only: dp, i8
-  use test_support, only: run_app, read_file, work_dir, real_str
+  use test_support, only: run_app, read_file, work_dir, real_str, result_value
   implicit none
   private
   public :: collect_yade
@@ -73,9 +73,7 @@ contains
     call check(error, rc, 0, message=name//": exit status; stderr: "//stderr)
     if (allocated(error)) return
     call read_file(out, text)
-    k = index(text, "DT_CRITICAL_DAMPED=")
-    dt = -1.0_dp
-    if (k > 0) read(text(k + len("DT_CRITICAL_DAMPED="):), *, iostat=rc) dt
+    dt = result_value(text, "DT_CRITICAL_DAMPED")
     call read_file("validation/yade/data/"//name//"/reference.json", reference)
     ! the measurement of the criterion named, at the small kick (1e-7 m/s)
     k = index(reference, '"v0": 1e-07')
