@@ -321,7 +321,8 @@ contains
     end if
     result%solver = choice
     if (choice /= eigen_solver%none) then
-      allocate(vec(result%n_dof))
+      ! (no warm start for the first solve: the default start vector)
+      allocate(vec(result%n_dof), source=0.0_dp)
       call top_eigenpair(op, choice, tol, vec, lam, err, has_mode, result%eigen_products, &
         result%eigen_restarts, status, progress)
       if (status%stat /= demstep_stat%ok) return

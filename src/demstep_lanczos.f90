@@ -197,8 +197,11 @@ contains
     allocate(v(n, m), workd(3*n), workl(lworkl), resid(n), d(k), select(m), z(n, k))
     call lanczos_start_vector(resid)
     if (present(start)) then
-      if (size(start) == n .and. sum(start**2) > 0.0_dp) &
-        resid = start/norm2(start) + 1.0e-3_dp*resid/norm2(resid)
+      ! (a zero or non-finite start is ignored: the default start vector)
+      if (size(start) == n) then
+        if (sum(start**2) > 0.0_dp .and. sum(start**2) <= huge(1.0_dp)) &
+          resid = start/norm2(start) + 1.0e-3_dp*resid/norm2(resid)
+      end if
     end if
     iparam = 0
     iparam(1) = 1         ! exact shifts
