@@ -69,8 +69,15 @@ contains
     character(len=512) :: file
     character(len=:), allocatable :: text
     namelist /named/ file
-    integer :: g, i, n, ios
-    inputs = [input_file_type(deck, "the input deck")]
+    integer :: g, i, n, ios, m
+    ! at most one file per &scene item: allocated once, filled, then cut
+    m = 1
+    do g = 1, size(groups)
+      if (groups(g)%name == "scene") m = m + size(groups(g)%items)
+    end do
+    allocate(inputs(m))
+    inputs(1) = input_file_type(deck, "the input deck")
+    m = 1
     do g = 1, size(groups)
       if (groups(g)%name /= "scene") cycle
       do i = 1, size(groups(g)%items)
@@ -82,11 +89,12 @@ contains
           text = "&named file = "//item%value//" /"
           read(text, nml=named, iostat=ios)
           if (ios /= 0 .or. len_trim(file) == 0) cycle
-          inputs = [inputs, input_file_type(beside(deck, trim(file)), "the deck's &scene " &
-            //item%name)]
+          m = m + 1
+          inputs(m) = input_file_type(beside(deck, trim(file)), "the deck's &scene "//item%name)
         end associate
       end do
     end do
+    inputs = inputs(:m)
   end function deck_inputs
 
   !> `&scene` reads its table files beside the deck.

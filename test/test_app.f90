@@ -895,6 +895,7 @@ contains
     character(len=*), intent(in) :: args, expected
     integer :: rc
     character(len=:), allocatable :: stdout, stderr, listing
+    integer :: cmdstat
     call remove(out)
     call run_app(args, rc, stdout, stderr)
     call check(error, rc, 2, message="exit status for '"//args//"'")
@@ -907,7 +908,7 @@ contains
     if (allocated(error)) return
     call check(error, .not. file_exists(out), "no output file left behind")
     if (allocated(error)) return
-    call execute_command_line("ls "//work_dir//" > "//work_dir//"/listing", wait=.true.)
+    call execute_command_line("ls "//work_dir//" > "//work_dir//"/listing", wait=.true., cmdstat=cmdstat)
     call read_file(work_dir//"/listing", listing)
     call check(error, index(listing, ".tmp") == 0, "no temporary file left behind")
   end subroutine expect_failure

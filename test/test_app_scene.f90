@@ -55,8 +55,8 @@ contains
         character(len=:), allocatable :: text
       end function row
     end interface
-    integer :: unit, i
-    call execute_command_line("mkdir -p "//work_dir, wait=.true.)
+    integer :: unit, i, cmdstat
+    call execute_command_line("mkdir -p "//work_dir, wait=.true., cmdstat=cmdstat)
     open(newunit=unit, file=path, status="replace", action="write")
     do i = 1, n
       write(unit, '(a)') row(i)
@@ -84,6 +84,7 @@ contains
     real(dp) :: eigen_tolerance, eigen_residual, omega_upper, dt_critical_safe
     logical :: damped_exact
     real(dp) :: dt_critical_damped_bound
+    integer :: cmdstat
     namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
       periodic, prestress, omega_max, eigen_computed, eigen_converged, eigen_solver, eigen_tolerance, &
       eigen_residual, omega_upper, dt_critical_safe, &
@@ -91,7 +92,7 @@ contains
       damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, blew_up, &
       dt_recommended, damped_exact, dt_critical_damped_bound
     call write_file(deck, [line])
-    call execute_command_line("rm -f "//out, wait=.true.)
+    call execute_command_line("rm -f "//out, wait=.true., cmdstat=cmdstat)
     if (present(env)) then
       call run_app("-q "//deck//" -o "//out, rc, stdout, stderr, env=env)
     else
@@ -121,8 +122,9 @@ contains
     character(len=*), intent(in) :: line, expected
     integer :: rc
     character(len=:), allocatable :: stdout, stderr
+    integer :: cmdstat
     call write_file(deck, [line])
-    call execute_command_line("rm -f "//out, wait=.true.)
+    call execute_command_line("rm -f "//out, wait=.true., cmdstat=cmdstat)
     call run_app(deck//" -o "//out, rc, stdout, stderr)
     call check(error, rc, 2, message="exit status for '"//line(:min(len(line), 200))//"'")
     if (allocated(error)) return

@@ -120,12 +120,13 @@ contains
     real(dp) :: eigen_tolerance, eigen_residual, omega_upper, dt_critical_safe
     logical :: damped_exact
     real(dp) :: dt_critical_damped_bound
+    integer :: cmdstat
     namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
       periodic, prestress, omega_max, eigen_computed, eigen_converged, eigen_solver, eigen_tolerance, &
       eigen_residual, omega_upper, dt_critical_safe, dt_critical_eigen, dt_critical_bound, &
       dt_contact_rule, dt_critical_damped, damping_ratio_top, dt_used, steps, energy_drift, &
       max_overlap, max_contacts, blew_up, dt_recommended, damped_exact, dt_critical_damped_bound
-    call execute_command_line("rm -f "//out, wait=.true.)
+    call execute_command_line("rm -f "//out, wait=.true., cmdstat=cmdstat)
     call run_app("-q example/yade_"//name//".nml -o "//out, rc, stdout, stderr)
     call check(error, rc, 0, message="exit status; stderr: "//stderr)
     if (allocated(error)) return
