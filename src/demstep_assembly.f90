@@ -269,7 +269,7 @@ contains
     type(spring_block_type), allocatable :: springs(:)
     type(assembly_operator_type), target :: op
     real(dp), allocatable :: vec(:)
-    real(dp) :: lam, zeta, rate, tol, err, b_bound
+    real(dp) :: lam, rate, tol, err, b_bound
     integer :: limit, i, choice
     logical :: geo, has_mode
 
@@ -286,7 +286,7 @@ contains
         //"'dense', 'lanczos' or 'none'")
       return
     end if
-    call assembly_check_options(scene, tol, zeta, status)
+    call assembly_check_options(scene, tol, status)
     if (status%stat /= demstep_stat%ok) return
     call prepare(scene, hertz_mode, impact_velocity, geo, springs, op, rate, status)
     if (status%stat /= demstep_stat%ok) return
@@ -343,23 +343,18 @@ contains
 
   !> The options every assembly driver (serial, MPI) checks before it builds
   !> anything: the Lanczos tolerance, and the scene's damping values
-  !> (`check_scene_damping`); `zeta` is the normal damping ratio (0 without the
-  !> damping effect). Status invalid_input naming `tolerance` or the damping
-  !> value.
-  pure subroutine assembly_check_options(scene, tol, zeta, status)
+  !> (`check_scene_damping`). Status invalid_input naming `tolerance` or the
+  !> damping value.
+  pure subroutine assembly_check_options(scene, tol, status)
     type(scene_type), intent(in) :: scene
     real(dp), intent(in) :: tol
-    real(dp), intent(out) :: zeta
     type(demstep_status_type), intent(out) :: status
-    zeta = 0.0_dp
     call check_lanczos_options("tolerance", tol, 1, 2, 1, status)
     if (status%stat /= demstep_stat%ok) then
       status%message = status%message(len("tolerance: ") + 1:)
       return
     end if
     call check_scene_damping(scene, status)
-    if (status%stat /= demstep_stat%ok) return
-    if (scene%effects(scene_effect%damping)) zeta = scene%damping_ratio
   end subroutine assembly_check_options
 
   !> The rigorous bound from a bound `row_max` of lambda_max(A') (scaled; a

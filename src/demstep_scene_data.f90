@@ -206,11 +206,7 @@ contains
     else
       p = [scene%k_normal, scene%k_tangential, scene%e_star, scene%g_star]
     end if
-    f_n = normal_force(scene%law, p(1), p(3), d, rs)
-    k(1) = normal_stiffness(scene%law, p(1), p(3), d, rs)
-    k(2) = tangential_stiffness(scene%law, p(2), p(4), d, rs)
-    k(3) = scene%rolling_ratio*k(2)*rs**2
-    k(4) = scene%twisting_ratio*k(2)*rs**2
+    call law_values(scene, p, d, rs, f_n, k)
   end subroutine contact_values
 
   !> The law's values for particle i on a wall at overlap d (R* = r_i, the
@@ -224,12 +220,22 @@ contains
     r = scene%radius(i)
     p = [scene%k_normal, scene%k_tangential, scene%e_star, scene%g_star]
     if (allocated(scene%wall_law)) p = scene%wall_law(:, scene%ptype(i))
-    f_n = normal_force(scene%law, p(1), p(3), d, r)
-    k(1) = normal_stiffness(scene%law, p(1), p(3), d, r)
-    k(2) = tangential_stiffness(scene%law, p(2), p(4), d, r)
-    k(3) = scene%rolling_ratio*k(2)*r**2
-    k(4) = scene%twisting_ratio*k(2)*r**2
+    call law_values(scene, p, d, r, f_n, k)
   end subroutine wall_values
+
+  !> The scene's law with parameters p = (k_n, k_t, E*, G*) at overlap d and
+  !> reduced radius rs: normal force and k = (k_n, k_t, k_r, k_w), the rolling
+  !> and twisting springs from the scene's ratios of k_t rs^2.
+  pure subroutine law_values(scene, p, d, rs, f_n, k)
+    type(scene_type), intent(in) :: scene
+    real(dp), intent(in) :: p(4), d, rs
+    real(dp), intent(out) :: f_n, k(4)
+    f_n = normal_force(scene%law, p(1), p(3), d, rs)
+    k(1) = normal_stiffness(scene%law, p(1), p(3), d, rs)
+    k(2) = tangential_stiffness(scene%law, p(2), p(4), d, rs)
+    k(3) = scene%rolling_ratio*k(2)*rs**2
+    k(4) = scene%twisting_ratio*k(2)*rs**2
+  end subroutine law_values
 
   !> The dashpots (c_n, c_t, c_r, c_w) of an interaction between i and j (0: a
   !> wall) of stiffness k (0 without the damping effect): the explicit list's

@@ -116,6 +116,7 @@ contains
   subroutine test_output_inputs(error)
     type(error_type), allocatable, intent(out) :: error
     character(len=:), allocatable :: before, prefix
+    integer :: cmdstat
     prefix = "demstep: "
     call copy(error, "example/liggghts_pour.dump", dump)
     if (allocated(error)) return
@@ -131,7 +132,7 @@ contains
       //"snapshot_file", dump, before)
     if (allocated(error)) return
     ! a link in another directory, reached through a relative path with '..'
-    call execute_command_line("mkdir -p "//work_dir//"/safe_sub", wait=.true.)
+    call execute_command_line("mkdir -p "//work_dir//"/safe_sub", wait=.true., cmdstat=cmdstat)
     call make_link(error, "../safe_s.dump", "safe_sub/back.dump")
     if (allocated(error)) return
     call expect_kept(error, deck//" -o "//work_dir//"/safe_sub/../safe_sub/back.dump", prefix//work_dir// &

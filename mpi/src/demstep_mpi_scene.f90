@@ -86,7 +86,7 @@ contains
     integer, allocatable :: order(:), new_index(:), bodies(:), col(:)
     integer(i8), allocatable :: row_start(:)
     real(dp), allocatable :: val(:), geo(:)
-    real(dp) :: rate, tol, zeta, b_bound
+    real(dp) :: rate, tol, b_bound
     integer :: i
     integer :: nranks, rank, lo, hi, nc
     logical :: with_geo
@@ -97,7 +97,7 @@ contains
     if (present(prestress)) with_geo = prestress
     tol = lanczos_tolerance_default
     if (present(tolerance)) tol = tolerance
-    call assembly_check_options(scene, tol, zeta, status)
+    call assembly_check_options(scene, tol, status)
     if (status%stat /= demstep_stat%ok) return
     ! replicated: every rank builds the same operator and gets the same status
     call assembly_operator(scene, op, rate, status, hertz_mode, impact_velocity, with_geo)
