@@ -1,7 +1,9 @@
-!> Status reporting: a code from a named set plus a message.
+!> Status reporting: a code from a named set, the location of the fault and a message.
 !>
 !> Every library call that can fail takes an `intent(out)` argument of
-!> `demstep_status_type`; the library never stops the program.
+!> `demstep_status_type`; the library never stops the program. The location
+!> (`where`: the argument or field to change, `index`: its element or row, 0
+!> for none) is a component, so callers map it without reading the message.
 module demstep_status
   implicit none
   private
@@ -44,25 +46,61 @@ module demstep_status
   type, public :: demstep_status_type
     !> One of the codes of `demstep_stat`.
     integer :: stat = 0
-    !> What went wrong; unallocated on success.
+    !> The whole message, `where(index): detail` when a location is known;
+    !> unallocated on success.
     character(len=:), allocatable :: message
+    !> The argument or field to change (blank when the fault has no single one).
+    character(len=:), allocatable :: where
+    !> The element, row or item of `where` (1-based), 0 when none applies.
+    integer :: index = 0
+    !> What is wrong with it, without the location.
+    character(len=:), allocatable :: detail
   end type demstep_status_type
 
-  public :: set_status, is_ok
+  public :: set_status, is_ok, status_where
 
 contains
 
-  !> Set a status code and message.
-  pure subroutine set_status(status, stat, message)
+  !> Set a status code, its location and message. With `where`, the message
+  !> becomes `where: detail` (or `where(index): detail`).
+  pure subroutine set_status(status, stat, message, where, index)
     !> Status to set.
     type(demstep_status_type), intent(out) :: status
     !> Code from `demstep_stat`.
     integer, intent(in) :: stat
-    !> Explanation, naming the offending argument.
+    !> What is wrong (the whole message when `where` is absent).
     character(len=*), intent(in) :: message
+    !> The argument or field to change.
+    character(len=*), intent(in), optional :: where
+    !> Its element or row (1-based).
+    integer, intent(in), optional :: index
     status%stat = stat
-    status%message = message
+    status%detail = message
+    status%where = ""
+    if (present(where)) status%where = where
+    if (present(index)) status%index = index
+    status%message = status_where(status)
+    if (len(status%message) > 0) then
+      status%message = status%message//": "//message
+    else
+      status%message = message
+    end if
   end subroutine set_status
+
+  !> The location of a status as text: `where`, `where(index)`, or blank.
+  pure function status_where(status) result(text)
+    !> Status to describe.
+    type(demstep_status_type), intent(in) :: status
+    character(len=:), allocatable :: text
+    character(len=24) :: buf
+    text = ""
+    if (.not. allocated(status%where)) return
+    text = status%where
+    if (status%index > 0 .and. len(text) > 0) then
+      write(buf, '(i0)') status%index
+      text = text//"("//trim(buf)//")"
+    end if
+  end function status_where
 
   !> True when the status reports success.
   elemental function is_ok(status) result(ok)
