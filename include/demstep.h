@@ -65,10 +65,14 @@ enum {
 enum { DEMSTEP_EIGEN_AUTO = 1, DEMSTEP_EIGEN_DENSE = 2, DEMSTEP_EIGEN_LANCZOS = 3,
        DEMSTEP_EIGEN_NONE = 4 };
 
-/* A status and its message (NUL-terminated). */
+/* A status, its message and the location of the fault (NUL-terminated texts).
+   `where` names the argument or field to change ("" when no single one);
+   `index` is its 0-based element or row, -1 when none applies. */
 typedef struct {
   int stat;
   char message[256];
+  char where[64];
+  int index;
 } demstep_error;
 
 /* A mass on a linear spring with a viscous dashpot c = 2 zeta sqrt(K M). */

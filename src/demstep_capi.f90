@@ -39,10 +39,16 @@ module demstep_capi
   !> Length of the message buffer of demstep_error (with the NUL).
   integer, parameter, public :: capi_message_length = 256
 
+  !> Length of the location buffer of demstep_error (with the NUL).
+  integer, parameter, public :: capi_where_length = 64
+
   !> struct demstep_error.
   type, bind(C), public :: demstep_error_c
     integer(c_int) :: stat
     character(kind=c_char) :: message(capi_message_length)
+    character(kind=c_char) :: where(capi_where_length)
+    !> 0-based element or row of `where`, -1 for none.
+    integer(c_int) :: index
   end type demstep_error_c
 
   !> struct demstep_spring.
@@ -155,6 +161,14 @@ contains
     call c_f_pointer(err, e)
     e%stat = code
     e%message = c_null_char
+    e%where = c_null_char
+    e%index = int(status%index - 1, c_int)
+    if (allocated(status%where)) then
+      n = min(len(status%where), capi_where_length - 1)
+      do i = 1, n
+        e%where(i) = status%where(i:i)
+      end do
+    end if
     if (.not. allocated(status%message)) return
     n = min(len(status%message), capi_message_length - 1)
     do i = 1, n
