@@ -6,10 +6,11 @@
 !> template written from the same table, and number formatting.
 module demstep_cli
   use demstep_kinds, only: dp, i8
-  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status, status_where
   use demstep_namelist, only: nml_group_type, nml_item_type, excerpt
   ! integers as text: the library's (`fmt_int` beside `fmt_real` in the app)
   use demstep_text, only: fmt_int => int_text
+  use demstep_words, only: word_list
   use demstep_cli_files, only: input_file_type
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
   implicit none
@@ -17,8 +18,8 @@ module demstep_cli
 
   public :: record_step, deck_recommendation, var, given, begin_group, check_real, fmt_real, fmt_int, write_template, cli_context, &
     next_assignment, fmt_real_column, default_text, capacity_of, &
-    new_array, array_length, broadcast, common_length, new_int_array, int_array_length, word_list, &
-    report_row
+    new_array, array_length, broadcast, common_length, new_int_array, int_array_length, &
+    report_row, in_group
 
   !> Most values a list variable holds unless its table row says otherwise.
   integer, parameter, public :: max_values = 100000
@@ -855,30 +856,35 @@ contains
     text = word_list(names)
   end function names_of
 
-  !> The words, trimmed, as `a, b, c`; each between `quote` when given.
-  pure function word_list(words, quote) result(text)
-    character(len=*), intent(in) :: words(:)
-    character(len=*), intent(in), optional :: quote
-    character(len=:), allocatable :: text, q
-    integer :: i, n, at
-    q = ""
-    if (present(quote)) q = quote
-    ! the length first, then one fill (no growing concatenation)
-    n = max(0, 2*(size(words) - 1))
-    do i = 1, size(words)
-      n = n + len_trim(words(i)) + 2*len(q)
-    end do
-    allocate(character(len=n) :: text)
-    at = 0
-    do i = 1, size(words)
-      if (i > 1) then
-        text(at+1:at+2) = ", "
-        at = at + 2
-      end if
-      text(at+1:) = q//trim(words(i))//q
-      at = at + len_trim(words(i)) + 2*len(q)
-    end do
-  end function word_list
+  !> A failed library status as the app reports it, `&group: variable: what`:
+  !> the library's location (`status%where`, `status%index`) becomes the deck's
+  !> variable through `names` (rows: library name, deck name; a name not listed
+  !> is the deck's own). A status without a location keeps its message.
+  pure subroutine in_group(status, group, names)
+    !> The status (a failure), relabelled.
+    type(demstep_status_type), intent(inout) :: status
+    !> The group, without `&`.
+    character(len=*), intent(in) :: group
+    !> Library names and the deck's names for them, `names(1,k)` -> `names(2,k)`.
+    character(len=*), intent(in), optional :: names(:, :)
+    integer :: k
+    if (status%stat == demstep_stat%ok) return
+    if (.not. allocated(status%where)) status%where = ""
+    if (.not. allocated(status%detail)) status%detail = status%message
+    if (len(status%where) == 0) then
+      status%message = "&"//group//": "//status%message
+      return
+    end if
+    if (present(names)) then
+      do k = 1, size(names, 2)
+        if (trim(names(1, k)) == status%where) then
+          status%where = trim(names(2, k))
+          exit
+        end if
+      end do
+    end if
+    status%message = "&"//group//": "//status_where(status)//": "//status%detail
+  end subroutine in_group
 
   !> One labelled row of a report: `indent` blanks, the label, the value from
   !> column indent + 26 on.

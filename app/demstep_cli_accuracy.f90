@@ -3,7 +3,7 @@
 module demstep_cli_accuracy
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
     discrete_contact_type, contact_with_onset, contact_worst_case, quantity_kind, n_quantities, &
-    quantity_names, worst_error, n_for_tolerance, n_for_harmonic_tolerance, measure_step_cost, &
+    quantity_kind_names, quantity_kind_from_name, worst_error, n_for_tolerance, n_for_harmonic_tolerance, measure_step_cost, &
     harmonic_error, spring_type, new_spring, spring_period, &
     run_prediction_type, predict_run, critical_time_step, recommended_step, step_governs, default_safety, &
     text_progress_type
@@ -16,7 +16,8 @@ module demstep_cli_accuracy
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, &
     check_real, new_array, array_length, broadcast, common_length, default_text, max_values, &
-    capacity_of
+    capacity_of, in_group
+  use demstep_words, only: unknown_word
   use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &
     rename_file, process_id, refuse_input
   implicit none
@@ -283,19 +284,16 @@ contains
       read(reading%text, nml=accuracy_cost, iostat=reading%ios)
     end do
     if (status%stat /= demstep_stat%ok) return
-    q = 0
-    do i = 1, n_quantities
-      if (lowercase(trim(quantity)) == trim(quantity_names(i))) q = i
-    end do
-    select case (lowercase(trim(quantity)))
-    case ("restitution", "contact_time", "overlap", "period")
-    case ("harmonic")
+    if (lowercase(trim(adjustl(quantity))) == "harmonic") then
       q = quantity_harmonic
-    case default
-      call set_status(status, demstep_stat%invalid_input, "&"//g//": quantity: unknown word '"// &
-        trim(quantity)//"' (restitution, contact_time, overlap, period, harmonic)")
+    else
+      q = quantity_kind_from_name(quantity)
+    end if
+    if (q == 0) then
+      call unknown_word(status, "quantity", quantity, [character(len=12) :: quantity_kind_names, "harmonic"])
+      call in_group(status, g)
       return
-    end select
+    end if
     call array_length(g, "tolerances", tolerances, nt, status)
     if (status%stat /= demstep_stat%ok) return
     ! tolerances, n_max (n_needed), mass, stiffness (new_spring) and damping_ratio
@@ -463,7 +461,7 @@ contains
     if (q == quantity_harmonic) then
       name = "harmonic"
     else
-      name = trim(quantity_names(q))
+      name = trim(quantity_kind_names(q))
     end if
     write(u, '(a)') "&accuracy_cost (line "//fmt_int(int(group%line, i8))//")"
     write(u, '(2x, a)') "quantity: "//name//" (worst case over the onset); T = "//fmt_real(period)// &

@@ -5,7 +5,7 @@
 module demstep_cli_material
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, material_type, &
     material_pair_type, effective_pair_type, contact_parameters_type, peer_steps_type, effective_pair, &
-    contact_parameters, peer_time_steps, code_convention, convention_names, peer_rule_names, &
+    contact_parameters, peer_time_steps, code_convention, code_convention_names, code_convention_from_name, peer_rule_names, &
     recommended_step, step_governs, default_safety, contact_assessment_type
   use demstep_material, only: convention_limit, n_conventions, n_peer_rules, liggghts_velocity_factor, &
     check_pair
@@ -15,7 +15,8 @@ module demstep_cli_material
   use demstep_namelist, only: lowercase
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, &
-    new_array, array_length, common_length, broadcast, capacity_of, word_list, report_row
+    new_array, array_length, common_length, broadcast, capacity_of, report_row, in_group
+  use demstep_words, only: word_list
   implicit none
   private
 
@@ -54,7 +55,7 @@ contains
 
   pure function names_list() result(text)
     character(len=:), allocatable :: text
-    text = word_list(convention_names(:n_conventions), quote="'")
+    text = word_list(code_convention_names(:n_conventions), quote="'")
   end function names_list
 
   !> Read, check and evaluate one `&material` group.
@@ -116,20 +117,19 @@ contains
     types%poisson = broadcast(poisson, lengths(2), n)
     types%density = broadcast(density, lengths(3), n)
     types%radius = broadcast(radius, lengths(4), n)
-    select case (lowercase(trim(adjustl(code))))
-    case ("all")
+    if (lowercase(trim(adjustl(code))) == "all") then
       first = 1
       last = n_conventions
-    case default
-      first = findloc([(lowercase(trim(adjustl(code))) == trim(convention_names(k)), k = 1, n_conventions)], &
-        .true., dim=1)
+    else
+      first = code_convention_from_name(code)
       if (first == 0) then
-        call set_status(status, demstep_stat%invalid_input, "&material: code: must be 'all' or one of " &
-          //names_list()//", got '"//trim(code)//"'")
+        call set_status(status, demstep_stat%invalid_input, "must be 'all' or one of "//names_list()// &
+          ", got '"//trim(code)//"'", where="code")
+        call in_group(status, g)
         return
       end if
       last = first
-    end select
+    end if
     ! the loading, checked here for every reader of the group (a &scene too)
     call check_pair(material_pair_type(types(1), types(1), restitution, restitution_t, impact_velocity), status)
     if (status%stat /= demstep_stat%ok) then
@@ -225,19 +225,19 @@ contains
         do c = first, last
           call contact_parameters(pair, c, params, status)
           if (status%stat /= demstep_stat%ok) then
-            status%message = pair_message(who//trim(convention_names(c))//": ", status%message)
+            status%message = pair_message(who//trim(code_convention_names(c))//": ", status%message)
             return
           end if
           call convention_limit(params, eff%m_star, dt_code(c - first + 1, p), status)
           if (status%stat /= demstep_stat%ok) then
-            status%message = pair_message(who//trim(convention_names(c))//": ", status%message)
+            status%message = pair_message(who//trim(code_convention_names(c))//": ", status%message)
             return
           end if
           k_n(c - first + 1, p) = params%k_n
           k_t(c - first + 1, p) = params%k_t
           gamma_n(c - first + 1, p) = params%gamma_n
           gamma_t(c - first + 1, p) = params%gamma_t
-          write(u, '(4x, a22, 5a16)') trim(convention_names(c)), fmt_real(params%k_n), fmt_real(params%k_t), &
+          write(u, '(4x, a22, 5a16)') trim(code_convention_names(c)), fmt_real(params%k_n), fmt_real(params%k_t), &
             fmt_real(params%gamma_n), fmt_real(params%gamma_t), fmt_real(dt_code(c - first + 1, p))
         end do
         write(u, '(4x, a)') "(Hertz conventions: secant k_n, k_t and gamma at the impact's largest " &
@@ -265,7 +265,7 @@ contains
     if (first == last) dt_stability = min(dt_stability, minval(dt_code))
     if (first == last) then
       call report_row(u, 4, "stability limit", fmt_real(dt_stability)//"  (smallest over the pairs, with " &
-        //trim(convention_names(first))//"'s own contact)")
+        //trim(code_convention_names(first))//"'s own contact)")
     else
       call report_row(u, 4, "stability limit", fmt_real(dt_stability)//"  (smallest over the pairs)")
     end if
@@ -289,7 +289,7 @@ contains
     end if
     write(u, '(a)') ""
     call record_step(ctx, "single-contact step", dt_recommended, .false., group)
-    call write_result(ctx%results, [(convention_names(c), c = first, last)], peer_rule_names, type_i, type_j, &
+    call write_result(ctx%results, [(code_convention_names(c), c = first, last)], peer_rule_names, type_i, type_j, &
       m_star, k_n, k_t, gamma_n, gamma_t, dt_code, rayleigh, hertz_duration, linear_duration, dt_critical, &
       peer_dt, dt_accuracy, dt_recommended, trim(merge("stability", "accuracy ", &
       governs == step_governs%stability)))

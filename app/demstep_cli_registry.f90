@@ -4,7 +4,8 @@
 module demstep_cli_registry
   use demstep_status, only: demstep_status_type
   use demstep_namelist, only: nml_group_type
-  use demstep_cli, only: group_spec, cli_context, word_list
+  use demstep_cli, only: group_spec, cli_context
+  use demstep_words, only: word_list
   use demstep_cli_system, only: handle_system, system_specs, system_doc
   use demstep_cli_harmonic, only: handle_harmonic_error, harmonic_specs, harmonic_doc
   use demstep_cli_stiffness, only: handle_simulated_stiffness, stiffness_specs, stiffness_doc

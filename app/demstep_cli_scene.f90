@@ -7,26 +7,28 @@ module demstep_cli_scene
   use demstep_scene, only: has_tangential
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
     scene_type, scene_summary_type, new_scene, scene_add_bonds, scene_add_walls, &
-    scene_run, effect_index, restitution_to_damping_ratio, contact_law, scene_effect, &
+    scene_run, scene_effect_from_name, restitution_to_damping_ratio, contact_law, scene_effect, &
+    contact_law_from_name, contact_law_names, hertz_linearization_from_name, hertz_linearization_names, &
     scene_set_contacts, scene_set_cell, scene_set_law, scene_set_bond_stiffness, scene_set_gravity, &
     scene_set_types, scene_set_hertz_types, n_effects, scene_set_damping, scene_set_friction, &
     scene_set_rolling, scene_set_local_damping, dashpot_names, scene_set_materials, &
-    effect_names, critical_step_type, assembly_critical_steps, hertz_modes => hertz_linearization, &
+    scene_effect_names, critical_step_type, assembly_critical_steps, &
     default_max_eigen_dof, measure_step_cost, text_progress_type, assembly_step_for_n_per_period, &
-    demstep_eigen_solver => eigen_solver, eigen_solver_name, eigen_solver_value, eigen_solver_names, &
+    demstep_eigen_solver => eigen_solver, eigen_solver_name, eigen_solver_from_name, eigen_solver_names, &
     lanczos_tolerance_default
   use demstep_recommend, only: recommended_step, default_safety
   use demstep_snapshot, only: snapshot_type, read_snapshot, snapshot_format, snapshot_format_names, &
     snapshot_masses_from_types
   use demstep_material, only: material_type, material_pair_type, contact_parameters_type, &
-    peer_steps_type, contact_parameters, peer_time_steps, convention_names, peer_rule_names, &
+    peer_steps_type, contact_parameters, peer_time_steps, code_convention_names, peer_rule_names, &
     n_conventions, n_peer_rules
   use demstep_namelist, only: read_text_file, scan_namelist
   use demstep_cli_material, only: read_material
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, &
     check_real, new_array, array_length, new_int_array, int_array_length, max_values, &
-    capacity_of, word_list
+    capacity_of, in_group
+  use demstep_words, only: word_list, unknown_word
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use, intrinsic :: iso_fortran_env, only: error_unit
   implicit none
@@ -405,20 +407,24 @@ contains
       do i = 1, max_effects
         if (len_trim(effects(i)) == 0) cycle
         if (lowercase(trim(effects(i))) == "none") cycle
-        if (effect_index(lowercase(trim(effects(i)))) == 0) then
-          call fail("effects", "unknown effect '"//trim(effects(i))//"' ("//word_list(effect_names(:n_effects))// &
+        if (scene_effect_from_name(lowercase(trim(effects(i)))) == 0) then
+          call fail("effects", "unknown effect '"//trim(effects(i))//"' ("//word_list(scene_effect_names(:n_effects))// &
             ", none)")
           return
         end if
-        sc%effects(effect_index(lowercase(trim(effects(i))))) = .true.
+        sc%effects(scene_effect_from_name(lowercase(trim(effects(i))))) = .true.
       end do
     end if
     ! per-type materials: the types array, or a snapshot's types with per-type stiffness
     typed = given(group, "types") .or. (given(group, "snapshot_file") .and. (from_material .or. &
       given(group, "type_k_normal") .or. given(group, "young")))
-    select case (lowercase(trim(law)))
-    case ("linear")
-      law_id = contact_law%linear
+    law_id = contact_law_from_name(law)
+    if (law_id == 0) then
+      call unknown_word(status, "law", law, contact_law_names)
+      call in_group(status, g)
+      return
+    end if
+    if (law_id == contact_law%linear) then
       if (given(group, "k_tangential") .and. given(group, "kt_ratio")) then
         call fail("kt_ratio", "give either k_tangential or kt_ratio, not both")
         return
@@ -431,14 +437,10 @@ contains
       end if
       law_values = [k_normal, k_tangential]
       law_given = given(group, "k_normal") .or. given(group, "k_tangential")
-    case ("hertz")
-      law_id = contact_law%hertz
+    else
       law_values = [e_star, g_star]
       law_given = given(group, "e_star") .or. given(group, "g_star")
-    case default
-      call fail("law", "unknown word '"//trim(law)//"' (linear, hertz)")
-      return
-    end select
+    end if
     if (law_given .or. (sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. typed)) &
       .or. (sc%effects(scene_effect%walls) .and. .not. from_material)) then
       call scene_set_law(sc, law_id, law_values(1), law_values(2), status)
@@ -565,19 +567,13 @@ contains
       hertz_linearization = "larger"
       if (.not. given(group, "impact_velocity")) impact_velocity = deck_mat%impact_velocity
     end if
-    select case (lowercase(trim(hertz_linearization)))
-    case ("current")
-      mode = hertz_modes%current
-    case ("impact")
-      ! the library checks impact_velocity
-      mode = hertz_modes%impact
-    case ("larger")
-      mode = hertz_modes%larger
-    case default
-      call fail("hertz_linearization", "unknown word '"//trim(hertz_linearization)//"' (current, impact, " &
-        //"larger)")
+    ! the library checks impact_velocity where the mode needs it
+    mode = hertz_linearization_from_name(hertz_linearization)
+    if (mode == 0) then
+      call unknown_word(status, "hertz_linearization", hertz_linearization, hertz_linearization_names)
+      call in_group(status, g)
       return
-    end select
+    end if
     call check_real(g, "duration", duration, status, inclusive=.true.)
     if (given(group, "dt")) call check_real(g, "dt", dt, status)
     if (status%stat /= demstep_stat%ok) return
@@ -586,10 +582,10 @@ contains
       return
     end if
 
-    solver = eigen_solver_value(lowercase(eigen_solver))
+    solver = eigen_solver_from_name(eigen_solver)
     if (solver == 0) then
-      call fail("eigen_solver", "unknown word '"//trim(eigen_solver)//"' ("// &
-        word_list(eigen_solver_names)//")")
+      call unknown_word(status, "eigen_solver", eigen_solver, eigen_solver_names)
+      call in_group(status, g)
       return
     end if
     if (ctx%quiet) then
@@ -888,7 +884,7 @@ contains
     character(len=:), allocatable :: on
     on = ""
     do i = 1, n_effects
-      if (sc%effects(i)) on = on//" "//trim(effect_names(i))
+      if (sc%effects(i)) on = on//" "//trim(scene_effect_names(i))
     end do
     if (len(on) == 0) on = " none (bonds only)"
     write(u, '(a)') "&scene (line "//fmt_int(int(group%line, i8))//")"
@@ -1297,12 +1293,12 @@ contains
     function material_note() result(text)
       character(len=:), allocatable :: text
       if (mat%first == mat%last) then
-        text = trim(convention_names(mat%first))//"'s springs and dashpots per pair of types"
+        text = trim(code_convention_names(mat%first))//"'s springs and dashpots per pair of types"
         if (sc%law == contact_law%hertz) text = text//" (Hertz)"
       else if (sc%law == contact_law%hertz) then
         text = "Hertz E*, G* from young and poisson"
       else
-        text = "linear k_n, k_t of "//trim(convention_names(mat%first))//" at each type's radius"
+        text = "linear k_n, k_t of "//trim(code_convention_names(mat%first))//" at each type's radius"
       end if
     end function material_note
   end subroutine snapshot_summary

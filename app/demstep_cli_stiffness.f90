@@ -4,7 +4,8 @@ module demstep_cli_stiffness
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
     stiffness_input_type, stiffness_result_type, run_procedure => simulated_stiffness, step_kind, &
     new_step_policy, pick_kind, aggregate_kind, interval_kind, text_progress_type, spring_type, &
-    new_spring, critical_time_step, recommended_step, step_governs, default_safety
+    new_spring, critical_time_step, recommended_step, step_governs, default_safety, step_kind_from_name, &
+    step_kind_names, pick_kind_from_name, pick_kind_names, aggregate_kind_from_name, aggregate_kind_names
   use demstep_status, only: set_status
   use demstep_namelist, only: lowercase
   use demstep_stiffness, only: default_n_max, default_resolution
@@ -12,7 +13,8 @@ module demstep_cli_stiffness
   use, intrinsic :: iso_fortran_env, only: error_unit
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, &
-    new_array, array_length, default_text, max_values, capacity_of
+    new_array, array_length, default_text, max_values, capacity_of, in_group
+  use demstep_words, only: unknown_word
   implicit none
   private
 
@@ -118,53 +120,38 @@ contains
       end if
     end if
     ! step policy, pick and aggregation
-    select case (lowercase(trim(adjustl(steps))))
-    case ("half_period")
+    if (lowercase(trim(adjustl(steps))) == "half_period") then
       call new_step_policy(input%options%policy, step_kind%fraction, 0.5_dp, status)
-    case ("fraction", "rounded")
-      kind = merge(step_kind%fraction, step_kind%rounded, lowercase(trim(adjustl(steps))) == "fraction")
-      call new_step_policy(input%options%policy, kind, steps_fraction, status)
-    case ("fixed")
-      if (.not. given(group, "n_steps")) then
+    else
+      kind = step_kind_from_name(steps)
+      if (kind == 0) then
+        call unknown_word(status, "steps", steps, [character(len=12) :: "half_period", step_kind_names])
+        call in_group(status, g)
+        return
+      end if
+      if (kind == step_kind%fixed .and. .not. given(group, "n_steps")) then
         call set_status(status, demstep_stat%invalid_input, "&"//g//": n_steps: required with steps = 'fixed'")
         return
       end if
-      call new_step_policy(input%options%policy, step_kind%fixed, n_steps, status)
-    case default
-      call set_status(status, demstep_stat%invalid_input, "&"//g//": steps: unknown word '"// &
-        trim(steps)//"' (half_period, fraction, rounded, fixed)")
-      return
-    end select
+      call new_step_policy(input%options%policy, kind, merge(n_steps, steps_fraction, kind == step_kind%fixed), &
+        status)
+    end if
     if (status%stat /= demstep_stat%ok) then
       status%message = "&"//g//": "//status%message
       return
     end if
-    select case (lowercase(trim(adjustl(pick))))
-    case ("largest_step")
-      input%options%pick = pick_kind%largest_step
-    case ("zero")
-      input%options%pick = pick_kind%zero
-    case default
-      call set_status(status, demstep_stat%invalid_input, "&"//g//": pick: unknown word '"// &
-        trim(pick)//"' (largest_step, zero)")
+    input%options%pick = pick_kind_from_name(pick)
+    if (input%options%pick == 0) then
+      call unknown_word(status, "pick", pick, pick_kind_names)
+      call in_group(status, g)
       return
-    end select
-    select case (lowercase(trim(adjustl(aggregate))))
-    case ("mean")
-      input%aggregate = aggregate_kind%mean
-    case ("weighted")
-      input%aggregate = aggregate_kind%weighted
-    case ("median")
-      input%aggregate = aggregate_kind%median
-    case ("min")
-      input%aggregate = aggregate_kind%min
-    case ("max")
-      input%aggregate = aggregate_kind%max
-    case default
-      call set_status(status, demstep_stat%invalid_input, "&"//g//": aggregate: unknown word '"// &
-        trim(aggregate)//"' (mean, weighted, median, min, max)")
+    end if
+    input%aggregate = aggregate_kind_from_name(aggregate)
+    if (input%aggregate == 0) then
+      call unknown_word(status, "aggregate", aggregate, aggregate_kind_names)
+      call in_group(status, g)
       return
-    end select
+    end if
     call array_length(g, "weights", weights, n_weights, status)
     if (status%stat /= demstep_stat%ok) return
     if (input%aggregate == aggregate_kind%weighted) then

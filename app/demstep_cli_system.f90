@@ -3,13 +3,15 @@ module demstep_cli_system
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, spring_type, new_spring, &
     spring_omega, spring_period, spring_damping_ratio, critical_time_step, numerical_phase, &
     growth_factor, discrete_contact_type, spring_contact, dashpot_kind, nml_group_type, &
-    check_time_step, step_for_n_per_period, recommended_step, default_safety
+    check_time_step, step_for_n_per_period, recommended_step, default_safety, dashpot_kind_from_name, &
+    dashpot_kind_names
   use demstep_kinds, only: pi
   use demstep_namelist, only: lowercase
   use demstep_status, only: set_status
+  use demstep_words, only: unknown_word
   use demstep_cli, only: report_row, record_step, var_spec, var, given, begin_group, check_real, &
     next_assignment, group_reading, &
-    fmt_real, fmt_int, &
+    fmt_real, fmt_int, in_group, &
     cli_context
   implicit none
   private
@@ -62,16 +64,12 @@ contains
     ! the impact velocity is the report's own
     call check_real(g, "velocity", velocity, status)
     if (status%stat /= demstep_stat%ok) return
-    select case (lowercase(trim(adjustl(dashpot))))
-    case ("lagged")
-      kind = dashpot_kind%lagged
-    case ("centred", "centered")
-      kind = dashpot_kind%centred
-    case default
-      call set_status(status, demstep_stat%invalid_input, "&system: dashpot: must be 'lagged' or " &
-        //"'centred', got '"//trim(dashpot)//"'")
+    kind = dashpot_kind_from_name(dashpot)
+    if (kind == 0) then
+      call unknown_word(status, "dashpot", dashpot, dashpot_kind_names)
+      call in_group(status, "system")
       return
-    end select
+    end if
 
     call new_spring(spring, mass, stiffness, status, damping_ratio=damping_ratio, dashpot=kind)
     if (status%stat /= demstep_stat%ok) then

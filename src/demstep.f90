@@ -61,37 +61,42 @@ module demstep
   use demstep_version, only: demstep_version_string
   use demstep_status, only: demstep_status_type, demstep_stat, is_ok
   ! one spring
-  use demstep_spring, only: spring_type, spring_state_type, dashpot_kind, new_spring, &
+  use demstep_spring, only: spring_type, spring_state_type, dashpot_kind, dashpot_kind_names, dashpot_kind_from_name, &
+    dashpot_kind_name, new_spring, &
     spring_step, spring_run, spring_omega, spring_period, spring_damping_ratio, &
     critical_time_step, damped_limit, growth_factor, numerical_phase, numerical_period, &
     exact_discrete_state, paper_closed_form_velocity, check_time_step, step_for_n_per_period
   ! one contact
   use demstep_contact, only: discrete_contact_type, spring_contact, contact_with_onset, &
     simulate_contact, exact_contact, contact_worst_case, contact_error_of, period_error, &
-    quantity_kind, n_quantities, quantity_names
+    quantity_kind, n_quantities, quantity_kind_names, quantity_kind_from_name, quantity_kind_name
   ! what accuracy costs
   use demstep_cost, only: n_for_tolerance, n_for_harmonic_tolerance, worst_error, &
     run_prediction_type, predict_run, measure_step_cost
   ! the paper's error and the simulated-stiffness method
   use demstep_harmonic, only: step_policy_type, step_kind, new_step_policy, policy_steps, &
-    harmonic_sum, harmonic_error, harmonic_error_steps, harmonic_error_check
+    harmonic_sum, harmonic_error, harmonic_error_steps, harmonic_error_check, step_kind_names, step_kind_from_name, step_kind_name
   use demstep_stiffness, only: nroots_options_type, nroots_type, n_roots, pick_kind, &
     interval_kind, stiffness_input_type, stiffness_result_type, simulated_stiffness, &
-    aggregate_kind, aggregate_picks, error_limit
+    aggregate_kind, aggregate_picks, error_limit, pick_kind_names, pick_kind_from_name, pick_kind_name, &
+    aggregate_kind_names, aggregate_kind_from_name, aggregate_kind_name, interval_kind_names, &
+    interval_kind_from_name, interval_kind_name
   ! roots of any function
   use demstep_roots, only: root_context_type, root_function, find_root, scan_roots, &
-    scan_break, scan_cell_type, scan_sample_type
+    scan_break, scan_cell_type, scan_sample_type, scan_break_names, scan_break_from_name, scan_break_name
   ! assemblies (the scene modules' public names)
   use demstep_scene, only: scene_type, scene_summary_type, cubic_lattice, new_scene, scene_add_bonds, &
     scene_add_walls, scene_set_contacts, scene_set_cell, scene_set_types, scene_set_hertz_types, &
-    scene_set_law, scene_set_bond_stiffness, scene_set_gravity, scene_run, contact_list, effect_index, &
+    scene_set_law, scene_set_bond_stiffness, scene_set_gravity, scene_run, contact_list, scene_effect_from_name, &
     random_periodic_packing, tile_scene, scene_set_damping, scene_set_friction, scene_set_local_damping, &
     scene_set_rolling, scene_set_effects, restitution_to_damping_ratio, contact_law_enum, &
-    contact_law, scene_effect_enum, scene_effect, n_effects, effect_names, max_coordinate, &
-    contact_limit, max_damping_ratio
+    contact_law, scene_effect_enum, scene_effect, n_effects, scene_effect_names, max_coordinate, &
+    contact_limit, max_damping_ratio, scene_effect_name, contact_law_names, contact_law_from_name, &
+    contact_law_name
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, hertz_linearization_enum, &
     hertz_linearization, default_max_eigen_dof, assembly_step_for_n_per_period, eigen_solver_enum, &
-    eigen_solver, eigen_solver_name, eigen_solver_value, eigen_solver_names, assembly_operator_type, assembly_operator, &
+    eigen_solver, eigen_solver_name, eigen_solver_from_name, eigen_solver_names, hertz_linearization_names, &
+    hertz_linearization_from_name, hertz_linearization_name, assembly_operator_type, assembly_operator, &
     assembly_operator_apply, assembly_matrix, assembly_matrix_rows, dashpot_names
   ! the largest eigenvalue of a large operator, matrix-free (Lanczos, ARPACK)
   use demstep_lanczos, only: lanczos_context_type, lanczos_operator, lanczos_largest, &
@@ -103,11 +108,11 @@ module demstep
   use demstep_table_io, only: read_table
   ! materials in each code's convention, into a scene's contacts, and the peers' time-step rules
   use demstep_scene_materials, only: scene_set_materials
-  use demstep_material, only: code_convention, convention_names, peer_rule, peer_rule_names, &
+  use demstep_material, only: code_convention, code_convention_names, peer_rule, peer_rule_names, &
     material_type, material_pair_type, effective_pair_type, contact_parameters_type, &
     peer_steps_type, effective_pair, contact_parameters, rayleigh_time, hertz_max_overlap, &
     hertz_contact_duration, linear_contact_duration, peer_time_steps, hertz_impact_stiffness, &
-    convention_limit
+    convention_limit, code_convention_from_name, code_convention_name, peer_rule_from_name, peer_rule_name
   ! MFiX decks and what MFiX computes for its DEM solids step
   use demstep_mfix_deck, only: mfix_deck_type, read_mfix_deck, parse_mfix_deck, mfix_get_real, &
     mfix_get_integer, mfix_get_string, mfix_get_real_array, mfix_get_string_array, mfix_has_keyword, &
@@ -120,7 +125,8 @@ module demstep
     parse_snapshot, snapshot_format_of
   ! one recommended step
   use demstep_recommend, only: recommended_step, default_safety, step_governs, step_governs_names, &
-    contact_assessment_type, assess_contact, assess_material_pair
+    contact_assessment_type, assess_contact, assess_material_pair, step_governs_from_name, &
+    step_governs_name
   implicit none
   public
 end module demstep

@@ -49,11 +49,12 @@ module demstep_assembly
   use demstep_lanczos, only: lanczos_context_type, lanczos_largest, eigen_result_type, &
     csr_matrix_type, csr_to_dense, lanczos_tolerance_default, check_lanczos_options
   use demstep_progress, only: progress_type
+  use demstep_words, only: word_index, word_of
   implicit none
   private
 
   public :: assembly_critical_steps, assembly_step_for_n_per_period, assembly_operator, &
-    assembly_operator_apply, assembly_matrix, assembly_matrix_rows, eigen_solver_name, eigen_solver_value, &
+    assembly_operator_apply, assembly_matrix, assembly_matrix_rows, &
     assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_damped, &
     damped_lower_bound, dashpot_names, damped_newton, assembly_dashpot_bound
 
@@ -67,6 +68,9 @@ module demstep_assembly
   end type hertz_linearization_enum
   !> The Hertz linearisations by name.
   type(hertz_linearization_enum), parameter, public :: hertz_linearization = hertz_linearization_enum()
+  !> Their words, in code order (`hertz_linearization_from_name`, `hertz_linearization_name`).
+  character(len=*), parameter, public :: hertz_linearization_names(3) = [character(len=7) :: "current", "impact", "larger"]
+  public :: hertz_linearization_from_name, hertz_linearization_name
   !> Largest number of degrees of freedom given to the dense eigensolver by
   !> `eigen_solver%auto` (above it: Lanczos). Measured on random packings: dense
   !> takes 0.01-0.05 s at 600-1200 dof and grows as n^3 (2.4 s at 3900), Lanczos
@@ -85,6 +89,7 @@ module demstep_assembly
   end type eigen_solver_enum
   !> The eigensolvers by name.
   type(eigen_solver_enum), parameter, public :: eigen_solver = eigen_solver_enum()
+  public :: eigen_solver_from_name, eigen_solver_name
   !> Their names, indexed by value.
   character(len=*), parameter, public :: eigen_solver_names(4) = [character(len=7) :: "auto", &
     "dense", "lanczos", "none"]
@@ -706,22 +711,6 @@ contains
     end do
   end function operator_bound
 
-  !> The name of an `eigen_solver` value ('auto', 'dense', 'lanczos', 'none';
-  !> '' for another value).
-  pure function eigen_solver_name(solver) result(name)
-    integer, intent(in) :: solver
-    character(len=:), allocatable :: name
-    name = ""
-    if (solver >= 1 .and. solver <= size(eigen_solver_names)) name = trim(eigen_solver_names(solver))
-  end function eigen_solver_name
-
-  !> The `eigen_solver` value of a name in `eigen_solver_names` (lower case), 0
-  !> for another word.
-  pure integer function eigen_solver_value(name) result(solver)
-    character(len=*), intent(in) :: name
-    solver = findloc(eigen_solver_names, trim(name), 1)
-  end function eigen_solver_value
-
   !> The scene's mass-scaled stiffness as a matrix-free operator (see
   !> `assembly_operator_apply`), with `rate`: omega = rate sqrt(lambda) for an
   !> eigenvalue lambda of the operator. Same options and statuses as
@@ -1201,5 +1190,35 @@ contains
     end if
     status%stat = demstep_stat%ok
   end subroutine assembly_step_for_n_per_period
+
+  !> The `hertz_linearization` code of a word (case ignored); 0 for another word.
+  pure integer function hertz_linearization_from_name(name) result(code)
+    !> The word, one of `hertz_linearization_names`.
+    character(len=*), intent(in) :: name
+    code = word_index(hertz_linearization_names, name)
+  end function hertz_linearization_from_name
+
+  !> The word of a `hertz_linearization` code (`?` for another value).
+  pure function hertz_linearization_name(code) result(name)
+    !> A code of `hertz_linearization`.
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    name = word_of(hertz_linearization_names, code)
+  end function hertz_linearization_name
+
+  !> The `eigen_solver` code of a word (case ignored); 0 for another word.
+  pure integer function eigen_solver_from_name(name) result(code)
+    !> The word, one of `eigen_solver_names`.
+    character(len=*), intent(in) :: name
+    code = word_index(eigen_solver_names, name)
+  end function eigen_solver_from_name
+
+  !> The word of a `eigen_solver` code (`?` for another value).
+  pure function eigen_solver_name(code) result(name)
+    !> A code of `eigen_solver`.
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    name = word_of(eigen_solver_names, code)
+  end function eigen_solver_name
 
 end module demstep_assembly

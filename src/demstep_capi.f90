@@ -25,7 +25,7 @@ module demstep_capi
   use demstep_text, only: int_text
   use demstep_scene, only: scene_type, new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, &
     scene_set_cell, scene_set_types, scene_set_hertz_types, scene_set_law, scene_set_bond_stiffness, &
-    scene_set_gravity, n_effects, scene_effect, effect_names, contact_law, scene_set_damping, scene_set_rolling
+    scene_set_gravity, n_effects, scene_effect, scene_effect_names, contact_law, scene_set_damping, scene_set_rolling
   use demstep_material, only: material_type
   use demstep_scene_materials, only: scene_set_materials
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, hertz_linearization, &
@@ -873,7 +873,7 @@ contains
       if (any(capi_effect_map(1, :) == ishft(1_i8, b))) cycle
       known = ""
       do k = 1, n_effects
-        known = known//", "//trim(effect_names(capi_effect_map(2, k)))//" "//int_text(capi_effect_map(1, k))
+        known = known//", "//trim(scene_effect_names(capi_effect_map(2, k)))//" "//int_text(capi_effect_map(1, k))
       end do
       code = refused(h, name, "effects: bit "//int_text(b)//" (value "//int_text(ishft(1_i8, b))// &
         ") is not a DEMSTEP_EFFECT_* flag ("//known(3:)//")", err)

@@ -41,6 +41,7 @@ module demstep_contact
     check_time_step, damped_limit, scheme_phase, phase_factor
   use demstep_text, only: real_text, int_text
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use demstep_words, only: word_index, word_of
   implicit none
   private
 
@@ -48,7 +49,7 @@ module demstep_contact
     exact_contact, contact_error_of, period_error, check_contact_damping
 
   !> The quantities whose error can be asked for, by name: `quantity_kind%restitution`.
-  type, public :: quantity_kinds
+  type, public :: quantity_kind_enum
     !> Rebound over impact speed.
     integer :: restitution = 1
     !> Duration of the contact.
@@ -57,12 +58,13 @@ module demstep_contact
     integer :: overlap = 3
     !> Period of the undamped oscillation.
     integer :: period = 4
-  end type quantity_kinds
+  end type quantity_kind_enum
   !> The quantities by name.
-  type(quantity_kinds), parameter, public :: quantity_kind = quantity_kinds()
+  type(quantity_kind_enum), parameter, public :: quantity_kind = quantity_kind_enum()
+  public :: quantity_kind_from_name, quantity_kind_name
   !> How many quantities there are (their codes are 1 .. n_quantities).
   integer, parameter, public :: n_quantities = 4
-  character(len=*), parameter, public :: quantity_names(n_quantities) = [character(len=12) :: &
+  character(len=*), parameter, public :: quantity_kind_names(n_quantities) = [character(len=12) :: &
     "restitution", "contact_time", "overlap", "period"]
 
   !> Onsets sampled for a worst case; the best is then refined by golden section.
@@ -560,5 +562,20 @@ contains
     call contact_with_onset(n_per_period, onset, contact, st, zeta)
     if (st%stat == demstep_stat%ok) error = contact_error_of(quantity, contact, exact)
   end subroutine onset_error
+
+  !> The `quantity_kind` code of a word (case ignored); 0 for another word.
+  pure integer function quantity_kind_from_name(name) result(code)
+    !> The word, one of `quantity_kind_names`.
+    character(len=*), intent(in) :: name
+    code = word_index(quantity_kind_names, name)
+  end function quantity_kind_from_name
+
+  !> The word of a `quantity_kind` code (`?` for another value).
+  pure function quantity_kind_name(code) result(name)
+    !> A code of `quantity_kind`.
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    name = word_of(quantity_kind_names, code)
+  end function quantity_kind_name
 
 end module demstep_contact

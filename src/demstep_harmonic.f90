@@ -29,6 +29,7 @@ module demstep_harmonic
   use demstep_double_double, only: dd_type, dd, two_sum, two_prod, dd_add, dd_mul, &
     dd_div, dd_div_d, dd_neg, dd_sinpi, dd_cospi
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use demstep_words, only: word_index, word_of
   implicit none
   private
 
@@ -36,16 +37,19 @@ module demstep_harmonic
   public :: new_step_policy, harmonic_error_check
 
   !> The kinds of step policy, by name: `step_kind%fraction`.
-  type, public :: step_kinds
+  type, public :: step_kind_enum
     !> A fixed number of steps `n`.
     integer :: fixed = 1
     !> A fraction `f` of the simulated period, `n = f N`.
     integer :: fraction = 2
     !> Whole steps, `n = max(1, nint(f N))`: E jumps where f N crosses a half-integer.
     integer :: rounded = 3
-  end type step_kinds
+  end type step_kind_enum
   !> The step policy kinds by name.
-  type(step_kinds), parameter, public :: step_kind = step_kinds()
+  type(step_kind_enum), parameter, public :: step_kind = step_kind_enum()
+  !> Their words, in code order (`step_kind_from_name`, `step_kind_name`).
+  character(len=*), parameter, public :: step_kind_names(3) = [character(len=8) :: "fixed", "fraction", "rounded"]
+  public :: step_kind_from_name, step_kind_name
   !> Largest supported number of steps.
   real(dp), parameter, public :: harmonic_n_max = 1.0e12_dp
   !> Largest phase (n + 1) max(1, lambda)/N in turns: below 2^50 every phase is
@@ -461,5 +465,20 @@ contains
     type(phase_type), intent(in) :: phase
     near_zero = abs(phase%r + phase%lo) <= 4.0_dp*epsilon(1.0_dp)*phase%size
   end function near_zero
+
+  !> The `step_kind` code of a word (case ignored); 0 for another word.
+  pure integer function step_kind_from_name(name) result(code)
+    !> The word, one of `step_kind_names`.
+    character(len=*), intent(in) :: name
+    code = word_index(step_kind_names, name)
+  end function step_kind_from_name
+
+  !> The word of a `step_kind` code (`?` for another value).
+  pure function step_kind_name(code) result(name)
+    !> A code of `step_kind`.
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    name = word_of(step_kind_names, code)
+  end function step_kind_name
 
 end module demstep_harmonic

@@ -19,6 +19,7 @@
 !> stiffness of a loaded normal spring of length l whose direction turns.
 module demstep_interaction
   use demstep_kinds, only: dp
+  use demstep_words, only: word_index, word_of
   implicit none
   private
 
@@ -36,6 +37,9 @@ module demstep_interaction
   end type contact_law_enum
   !> The contact laws by name.
   type(contact_law_enum), parameter, public :: contact_law = contact_law_enum()
+  !> Their words, in code order (`contact_law_from_name`, `contact_law_name`).
+  character(len=*), parameter, public :: contact_law_names(2) = [character(len=6) :: "linear", "hertz"]
+  public :: contact_law_from_name, contact_law_name
 
 contains
 
@@ -308,5 +312,20 @@ contains
       c = [1, 2, 3, 4, 5, 6]
     end if
   end function dof_components
+
+  !> The `contact_law` code of a word (case ignored); 0 for another word.
+  pure integer function contact_law_from_name(name) result(code)
+    !> The word, one of `contact_law_names`.
+    character(len=*), intent(in) :: name
+    code = word_index(contact_law_names, name)
+  end function contact_law_from_name
+
+  !> The word of a `contact_law` code (`?` for another value).
+  pure function contact_law_name(code) result(name)
+    !> A code of `contact_law`.
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    name = word_of(contact_law_names, code)
+  end function contact_law_name
 
 end module demstep_interaction

@@ -17,6 +17,7 @@ module demstep_material
   use demstep_spring, only: damped_limit
   use demstep_interaction, only: hertz_e_star, mindlin_g_star
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use demstep_words, only: word_index, word_of
   implicit none
   private
 
@@ -25,7 +26,7 @@ module demstep_material
     hertz_impact_stiffness, convention_limit, mfix_moduli, mfix_pair_springs, check_pair
 
   !> The codes whose contact conventions are reproduced, as components of a parameter.
-  type, public :: code_convention_codes
+  type, public :: code_convention_enum
     !> LIGGGHTS `model hooke` (normal_model_hooke.h): stiffness from the Hertz impact at v.
     integer :: liggghts_hooke = 1
     !> LIGGGHTS `model hertz` (normal_model_hertz.h): values at the maximum overlap.
@@ -45,19 +46,20 @@ module demstep_material
     !> LAMMPS `pair_style granular`, `normal hertz/material`, `damping coeff_restitution`,
     !> `tangential mindlin NULL` with `x_gamma_t = 1`.
     integer :: lammps_hertz_material = 9
-  end type code_convention_codes
+  end type code_convention_enum
 
   !> The conventions by name.
-  type(code_convention_codes), parameter, public :: code_convention = code_convention_codes()
+  type(code_convention_enum), parameter, public :: code_convention = code_convention_enum()
+  public :: code_convention_from_name, code_convention_name
   !> Number of conventions.
   integer, parameter, public :: n_conventions = 9
   !> Names of the conventions, in the order of their codes.
-  character(len=*), parameter, public :: convention_names(n_conventions) = [character(len=21) :: &
+  character(len=*), parameter, public :: code_convention_names(n_conventions) = [character(len=21) :: &
     "liggghts_hooke", "liggghts_hertz", "yade_frictphys", "yade_viscelphys", "mfix_lsd", &
     "mfix_hertzian", "mercurydpm_linear", "lammps_hooke", "lammps_hertz_material"]
 
   !> The peers' rules of thumb for the time step, as components of a parameter.
-  type, public :: peer_rule_codes
+  type, public :: peer_rule_enum
     !> EDEM: 20 % of the Rayleigh time (EDEM advises 20 to 40 %).
     integer :: edem_rayleigh_20 = 1
     !> EDEM: 40 % of the Rayleigh time, the upper end of its advice.
@@ -77,10 +79,11 @@ module demstep_material
     integer :: yade_pwave = 8
     !> Yade: 0.3 of `PWaveTimeStep()`, as its documentation advises.
     integer :: yade_pwave_30 = 9
-  end type peer_rule_codes
+  end type peer_rule_enum
 
   !> The peers' rules by name.
-  type(peer_rule_codes), parameter, public :: peer_rule = peer_rule_codes()
+  type(peer_rule_enum), parameter, public :: peer_rule = peer_rule_enum()
+  public :: peer_rule_from_name, peer_rule_name
   !> Number of peer rules.
   integer, parameter, public :: n_peer_rules = 9
   !> Names of the peer rules, in the order of their codes.
@@ -533,7 +536,7 @@ contains
   end function liggghts_hooke_kn
 
   !> Contact parameters of a pair in one code's convention (see
-  !> [[code_convention_codes]]). `invalid_input`, the message starting with
+  !> [[code_convention_enum]]). `invalid_input`, the message starting with
   !> the variable, for inputs out of their domain, an unknown convention, or
   !> results that leave the double range.
   pure subroutine contact_parameters(pair, convention, params, status, wall)
@@ -699,7 +702,7 @@ contains
   end subroutine contact_parameters
 
   !> The time scales of a pair and the steps each peer's rule picks
-  !> (see [[peer_rule_codes]]); a later step puts them beside demstep's exact
+  !> (see [[peer_rule_enum]]); a later step puts them beside demstep's exact
   !> limit as ratios.
   pure subroutine peer_time_steps(pair, steps, status)
     !> The pair and its loading.
@@ -773,5 +776,35 @@ contains
     type(material_type), intent(in) :: mat
     t = mat%radius*(sqrt(mat%density)/sqrt(mat%young))
   end function pwave
+
+  !> The `code_convention` code of a word (case ignored); 0 for another word.
+  pure integer function code_convention_from_name(name) result(code)
+    !> The word, one of `code_convention_names`.
+    character(len=*), intent(in) :: name
+    code = word_index(code_convention_names, name)
+  end function code_convention_from_name
+
+  !> The word of a `code_convention` code (`?` for another value).
+  pure function code_convention_name(code) result(name)
+    !> A code of `code_convention`.
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    name = word_of(code_convention_names, code)
+  end function code_convention_name
+
+  !> The `peer_rule` code of a word (case ignored); 0 for another word.
+  pure integer function peer_rule_from_name(name) result(code)
+    !> The word, one of `peer_rule_names`.
+    character(len=*), intent(in) :: name
+    code = word_index(peer_rule_names, name)
+  end function peer_rule_from_name
+
+  !> The word of a `peer_rule` code (`?` for another value).
+  pure function peer_rule_name(code) result(name)
+    !> A code of `peer_rule`.
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    name = word_of(peer_rule_names, code)
+  end function peer_rule_name
 
 end module demstep_material

@@ -25,6 +25,7 @@ module demstep_recommend
     hertz_impact_stiffness
   use demstep_scene, only: restitution_to_damping_ratio
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use demstep_words, only: word_index, word_of
   implicit none
   private
 
@@ -34,14 +35,15 @@ module demstep_recommend
   real(dp), parameter, public :: default_safety = 0.9_dp
 
   !> What governs a recommended step, as components of a parameter.
-  type, public :: step_governs_codes
+  type, public :: step_governs_enum
     !> The stability limit times the safety factor.
     integer :: stability = 1
     !> The accuracy requirement (a tolerance).
     integer :: accuracy = 2
-  end type step_governs_codes
+  end type step_governs_enum
   !> What governs, by name.
-  type(step_governs_codes), parameter, public :: step_governs = step_governs_codes()
+  type(step_governs_enum), parameter, public :: step_governs = step_governs_enum()
+  public :: step_governs_from_name, step_governs_name
   !> Words for reports, indexed by `step_governs%...`.
   character(len=*), parameter, public :: step_governs_names(2) = [character(len=9) :: &
     "stability", "accuracy"]
@@ -221,5 +223,20 @@ contains
     call assess_contact(eff%m_star, k, restitution_to_damping_ratio(pair%restitution), assessment, &
       status, tolerance=tolerance)
   end subroutine assess_material_pair
+
+  !> The `step_governs` code of a word (case ignored); 0 for another word.
+  pure integer function step_governs_from_name(name) result(code)
+    !> The word, one of `step_governs_names`.
+    character(len=*), intent(in) :: name
+    code = word_index(step_governs_names, name)
+  end function step_governs_from_name
+
+  !> The word of a `step_governs` code (`?` for another value).
+  pure function step_governs_name(code) result(name)
+    !> A code of `step_governs`.
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    name = word_of(step_governs_names, code)
+  end function step_governs_name
 
 end module demstep_recommend

@@ -21,6 +21,7 @@ module demstep_roots
   use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use demstep_words, only: word_index, word_of
   implicit none
   private
 
@@ -45,7 +46,7 @@ module demstep_roots
   end interface
 
   !> The kinds of breakpoints of a scan, by name: `scan_break%pole`.
-  type, public :: scan_break_kinds
+  type, public :: scan_break_enum
     !> Inside a piece (no breakpoint).
     integer :: none = -1
     !> The start of the range.
@@ -56,9 +57,12 @@ module demstep_roots
     integer :: jump = 2
     !> The end of the range.
     integer :: end = 3
-  end type scan_break_kinds
+  end type scan_break_enum
   !> The breakpoint kinds by name.
-  type(scan_break_kinds), parameter, public :: scan_break = scan_break_kinds()
+  type(scan_break_enum), parameter, public :: scan_break = scan_break_enum()
+  !> Their words, in code order (`scan_break_from_name`, `scan_break_name`).
+  character(len=*), parameter, public :: scan_break_names(5) = [character(len=5) :: "none", "start", "pole", "jump", "end"]
+  public :: scan_break_from_name, scan_break_name
   !> One-sided samples sit this far (relative) from a pole: beyond a 4-ulp pole
   !> test, far below the 1e-13 to which roots are located.
   real(dp), parameter, public :: scan_pole_offset = 32.0_dp*epsilon(1.0_dp)
@@ -496,5 +500,25 @@ contains
       x(j + 1) = v
     end do
   end subroutine sort_ascending
+
+  !> The `scan_break` code of a word (case ignored); `-huge(0)` for another word.
+  pure integer function scan_break_from_name(name) result(code)
+    !> The word, one of `scan_break_names`.
+    character(len=*), intent(in) :: name
+    code = word_index(scan_break_names, name)
+    if (code == 0) then
+      code = -huge(code)
+    else
+      code = code + (-2)
+    end if
+  end function scan_break_from_name
+
+  !> The word of a `scan_break` code (`?` for another value).
+  pure function scan_break_name(code) result(name)
+    !> A code of `scan_break`.
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    name = word_of(scan_break_names, code - (-2))
+  end function scan_break_name
 
 end module demstep_roots

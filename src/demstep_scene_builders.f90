@@ -5,7 +5,7 @@ module demstep_scene_builders
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text
-  use demstep_scene_data, only: scene_type, scene_effect, branch_vector, effect_index, n_effects, &
+  use demstep_scene_data, only: scene_type, scene_effect, branch_vector, scene_effect_from_name, n_effects, &
     max_damping_ratio
   use demstep_interaction, only: hertz_e_star, mindlin_g_star, contact_law
   use demstep_neighbours, only: search_type, prepare_search, find_contacts, search_trouble
@@ -715,7 +715,7 @@ contains
     status%stat = demstep_stat%ok
   end subroutine scene_set_rolling
 
-  !> Switch effects on or off by name (`effect_names`: 'contacts', 'gravity',
+  !> Switch effects on or off by name (`scene_effect_names`: 'contacts', 'gravity',
   !> 'damping', 'local_damping', 'walls', 'rotation'), each `on(k)` for
   !> `names(k)`. Status `invalid_input` naming `effects` for an unknown name or
   !> sizes that differ; the scene is unchanged then.
@@ -732,7 +732,7 @@ contains
     end if
     effects = scene%effects
     do k = 1, size(names)
-      e = effect_index(trim(names(k)))
+      e = scene_effect_from_name(trim(names(k)))
       if (e == 0) then
         call set_status(status, demstep_stat%invalid_input, "effects: '"//trim(names(k))//"' is not " &
           //"an effect")

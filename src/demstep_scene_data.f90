@@ -12,11 +12,12 @@ module demstep_scene_data
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_interaction, only: contact_law, reduced_mass, reduced_radius, normal_force, &
     normal_stiffness, tangential_stiffness, dashpot_coefficient
+  use demstep_words, only: word_index, word_of
   implicit none
   private
 
   public :: effective_mass, effective_inertia, branch_vector, contact_values, wall_values, contact_dashpots, &
-    has_tangential, has_rolling, effect_index, check_scene_damping
+    has_tangential, has_rolling, check_scene_damping
 
   !> Effects, by index into `scene_type`%effects: `scene_effect%gravity`.
   type, public :: scene_effect_enum
@@ -36,6 +37,7 @@ module demstep_scene_data
   end type scene_effect_enum
   !> The effects by name.
   type(scene_effect_enum), parameter, public :: scene_effect = scene_effect_enum()
+  public :: scene_effect_from_name, scene_effect_name
   !> Largest viscous damping ratio: the damped limit, about dt/(2 zeta), stays a
   !> normal number for every dt above 1e-200.
   real(dp), parameter, public :: max_damping_ratio = 1.0e100_dp
@@ -43,7 +45,7 @@ module demstep_scene_data
   !> Number of effects.
   integer, parameter, public :: n_effects = 6
   !> Their names, as the namelist input spells them.
-  character(len=*), parameter, public :: effect_names(n_effects) = [character(len=13) :: &
+  character(len=*), parameter, public :: scene_effect_names(n_effects) = [character(len=13) :: &
     "contacts", "gravity", "damping", "local_damping", "walls", "rotation"]
 
   !> A scene: particles, contact law, bonds, walls, cell and effects.
@@ -324,13 +326,19 @@ contains
     end if
   end subroutine check_scene_damping
 
-  !> Index of an effect by name, 0 if unknown.
-  pure integer function effect_index(name)
+  !> The `scene_effect` code of a word (case ignored); 0 for another word.
+  pure integer function scene_effect_from_name(name) result(code)
+    !> The word, one of `scene_effect_names`.
     character(len=*), intent(in) :: name
-    do effect_index = 1, n_effects
-      if (trim(effect_names(effect_index)) == name) return
-    end do
-    effect_index = 0
-  end function effect_index
+    code = word_index(scene_effect_names, name)
+  end function scene_effect_from_name
+
+  !> The word of a `scene_effect` code (`?` for another value).
+  pure function scene_effect_name(code) result(name)
+    !> A code of `scene_effect`.
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    name = word_of(scene_effect_names, code)
+  end function scene_effect_name
 
 end module demstep_scene_data

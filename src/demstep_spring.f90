@@ -18,6 +18,7 @@ module demstep_spring
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: real_text
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use demstep_words, only: word_index, word_of
   implicit none
   private
 
@@ -29,14 +30,17 @@ module demstep_spring
   public :: damped_limit, scheme_phase, phase_factor
 
   !> The velocity a dashpot uses, by name: `dashpot_kind%lagged`.
-  type, public :: dashpot_kinds
+  type, public :: dashpot_kind_enum
     !> The velocity of the previous half step (explicit, DEM default).
     integer :: lagged = 1
     !> The average of the half-step velocities around the force evaluation.
     integer :: centred = 2
-  end type dashpot_kinds
+  end type dashpot_kind_enum
   !> The dashpot kinds by name.
-  type(dashpot_kinds), parameter, public :: dashpot_kind = dashpot_kinds()
+  type(dashpot_kind_enum), parameter, public :: dashpot_kind = dashpot_kind_enum()
+  !> Their words, in code order (`dashpot_kind_from_name`, `dashpot_kind_name`).
+  character(len=*), parameter, public :: dashpot_kind_names(2) = [character(len=7) :: "lagged", "centred"]
+  public :: dashpot_kind_from_name, dashpot_kind_name
   !> Range of omega = sqrt(K/M) a spring may have: its period, critical step and
   !> the quantities built on them then stay well inside the double range.
   real(dp), parameter, public :: spring_omega_min = 1.0e-300_dp, spring_omega_max = 1.0e300_dp
@@ -514,5 +518,22 @@ contains
     logical :: ok
     ok = ieee_is_finite(x) .and. x > 0.0_dp
   end function positive_finite
+
+  !> The `dashpot_kind` code of a word (case ignored); 0 for another word.
+  pure integer function dashpot_kind_from_name(name) result(code)
+    !> The word, one of `dashpot_kind_names`.
+    character(len=*), intent(in) :: name
+    code = word_index(dashpot_kind_names, name)
+    ! the American spelling, accepted as well
+    if (code == 0 .and. word_index(["centered"], name) == 1) code = dashpot_kind%centred
+  end function dashpot_kind_from_name
+
+  !> The word of a `dashpot_kind` code (`?` for another value).
+  pure function dashpot_kind_name(code) result(name)
+    !> A code of `dashpot_kind`.
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    name = word_of(dashpot_kind_names, code)
+  end function dashpot_kind_name
 
 end module demstep_spring

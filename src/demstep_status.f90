@@ -9,7 +9,7 @@ module demstep_status
   private
 
   !> The named status codes, as components of a parameter: `demstep_stat%invalid_input`.
-  type, public :: demstep_stat_codes
+  type, public :: demstep_stat_enum
     !> Success.
     integer :: ok = 0
     !> An argument is out of its domain (non-positive mass, NaN, ...).
@@ -37,10 +37,10 @@ module demstep_status
     !> The iterative eigensolver (ARPACK) failed: no Lanczos factorization could
     !> be built, or its data was inconsistent.
     integer :: eigensolver_failure = 11
-  end type demstep_stat_codes
+  end type demstep_stat_enum
 
   !> The status codes by name.
-  type(demstep_stat_codes), parameter, public :: demstep_stat = demstep_stat_codes()
+  type(demstep_stat_enum), parameter, public :: demstep_stat = demstep_stat_enum()
 
   !> Status of a library call: `stat == demstep_stat%ok` on success, else a message.
   type, public :: demstep_status_type

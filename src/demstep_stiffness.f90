@@ -32,6 +32,7 @@ module demstep_stiffness
   use demstep_spring, only: spring_type, new_spring, spring_period
   use demstep_kinds, only: i8
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use demstep_words, only: word_index, word_of
   implicit none
   private
 
@@ -39,17 +40,20 @@ module demstep_stiffness
     n_max_limit, measure_evaluation_cost
 
   !> The picks N_i one lambda can give, by name: `pick_kind%largest_step`.
-  type, public :: pick_kinds
+  type, public :: pick_kind_enum
     !> The smallest N with |E| <= E0 (the largest step meeting the tolerance).
     integer :: largest_step = 1
     !> The smallest root of E = 0.
     integer :: zero = 2
-  end type pick_kinds
+  end type pick_kind_enum
   !> The picks by name.
-  type(pick_kinds), parameter, public :: pick_kind = pick_kinds()
+  type(pick_kind_enum), parameter, public :: pick_kind = pick_kind_enum()
+  !> Their words, in code order (`pick_kind_from_name`, `pick_kind_name`).
+  character(len=*), parameter, public :: pick_kind_names(2) = [character(len=12) :: "largest_step", "zero"]
+  public :: pick_kind_from_name, pick_kind_name
 
   !> The rules aggregating the picks N_i into N*, by name: `aggregate_kind%mean`.
-  type, public :: aggregate_kinds
+  type, public :: aggregate_kind_enum
     !> The mean.
     integer :: mean = 1
     !> The weighted mean (one weight per lambda).
@@ -60,21 +64,27 @@ module demstep_stiffness
     integer :: min = 4
     !> The largest pick.
     integer :: max = 5
-  end type aggregate_kinds
+  end type aggregate_kind_enum
   !> The aggregation rules by name.
-  type(aggregate_kinds), parameter, public :: aggregate_kind = aggregate_kinds()
+  type(aggregate_kind_enum), parameter, public :: aggregate_kind = aggregate_kind_enum()
+  !> Their words, in code order (`aggregate_kind_from_name`, `aggregate_kind_name`).
+  character(len=*), parameter, public :: aggregate_kind_names(5) = [character(len=8) :: "mean", "weighted", "median", "min", "max"]
+  public :: aggregate_kind_from_name, aggregate_kind_name
 
   !> The kinds of the last admissible interval, by name: `interval_kind%unbounded`.
-  type, public :: interval_kinds
+  type, public :: interval_kind_enum
     !> Closed at both ends.
     integer :: bounded = 0
     !> Reaches n_max and E tends to a limit with |E| < E0: admissible for all larger N.
     integer :: unbounded = 1
     !> Cut at n_max, but the limit of |E| exceeds E0: it ends somewhere beyond n_max.
     integer :: truncated = 2
-  end type interval_kinds
+  end type interval_kind_enum
   !> The interval kinds by name.
-  type(interval_kinds), parameter, public :: interval_kind = interval_kinds()
+  type(interval_kind_enum), parameter, public :: interval_kind = interval_kind_enum()
+  !> Their words, in code order (`interval_kind_from_name`, `interval_kind_name`).
+  character(len=*), parameter, public :: interval_kind_names(3) = [character(len=9) :: "bounded", "unbounded", "truncated"]
+  public :: interval_kind_from_name, interval_kind_name
 
   !> The scan starts at pi (1 + 1e-9), just above the stability limit N = pi.
   real(dp), parameter, public :: n_scan_start = pi*(1.0_dp + 1.0e-9_dp)
@@ -1122,5 +1132,55 @@ contains
         "); use resolution >= "//real_text(r)//" or fewer lambdas")
     end if
   end subroutine check_input
+
+  !> The `pick_kind` code of a word (case ignored); 0 for another word.
+  pure integer function pick_kind_from_name(name) result(code)
+    !> The word, one of `pick_kind_names`.
+    character(len=*), intent(in) :: name
+    code = word_index(pick_kind_names, name)
+  end function pick_kind_from_name
+
+  !> The word of a `pick_kind` code (`?` for another value).
+  pure function pick_kind_name(code) result(name)
+    !> A code of `pick_kind`.
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    name = word_of(pick_kind_names, code)
+  end function pick_kind_name
+
+  !> The `aggregate_kind` code of a word (case ignored); 0 for another word.
+  pure integer function aggregate_kind_from_name(name) result(code)
+    !> The word, one of `aggregate_kind_names`.
+    character(len=*), intent(in) :: name
+    code = word_index(aggregate_kind_names, name)
+  end function aggregate_kind_from_name
+
+  !> The word of a `aggregate_kind` code (`?` for another value).
+  pure function aggregate_kind_name(code) result(name)
+    !> A code of `aggregate_kind`.
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    name = word_of(aggregate_kind_names, code)
+  end function aggregate_kind_name
+
+  !> The `interval_kind` code of a word (case ignored); `-huge(0)` for another word.
+  pure integer function interval_kind_from_name(name) result(code)
+    !> The word, one of `interval_kind_names`.
+    character(len=*), intent(in) :: name
+    code = word_index(interval_kind_names, name)
+    if (code == 0) then
+      code = -huge(code)
+    else
+      code = code + (-1)
+    end if
+  end function interval_kind_from_name
+
+  !> The word of a `interval_kind` code (`?` for another value).
+  pure function interval_kind_name(code) result(name)
+    !> A code of `interval_kind`.
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    name = word_of(interval_kind_names, code - (-1))
+  end function interval_kind_name
 
 end module demstep_stiffness
