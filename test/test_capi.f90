@@ -640,7 +640,7 @@ contains
     do k = 1, 6
       code = c_scene_set_effects(handle, pairs(1, k), c_loc(e))
       call check(error, code == 0 .and. h%scene%effects(pairs(2, k)) .and. count(h%scene%effects) == 1, &
-        "flag "//trim(effect_names(pairs(2, k))))
+        "flag "//trim(scene_effect_names(pairs(2, k))))
       if (allocated(error)) return
     end do
     code = c_scene_set_effects(handle, 0, c_loc(e))

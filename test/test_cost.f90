@@ -42,7 +42,7 @@ contains
         end do
       end do
       slope = log10(top(2)/top(1))
-      call check(error, slope, rates(q), thr=0.15_dp, message="rate of "//trim(quantity_names(quantities(q))))
+      call check(error, slope, rates(q), thr=0.15_dp, message="rate of "//trim(quantity_kind_names(quantities(q))))
       if (allocated(error)) return
     end do
   end subroutine test_rates
@@ -61,11 +61,11 @@ contains
         ! the tolerance holds at N, and above it (probed on another grid) to within
         ! the error's variation over one cell of the search grid (2 %)
         call worst_error(n, q, e, status)
-        call check(error, e <= 10.0_dp**(-k), trim(quantity_names(q))//": error above the tolerance at N")
+        call check(error, e <= 10.0_dp**(-k), trim(quantity_kind_names(q))//": error above the tolerance at N")
         if (allocated(error)) return
         do j = 1, 200
           call worst_error(n*1.0013_dp**j, q, e, status)
-          call check(error, e <= 1.02_dp*10.0_dp**(-k), trim(quantity_names(q))//": error "// &
+          call check(error, e <= 1.02_dp*10.0_dp**(-k), trim(quantity_kind_names(q))//": error "// &
             real_str(e)//" above the tolerance at N = "//real_str(n*1.0013_dp**j))
           if (allocated(error)) return
         end do
@@ -76,7 +76,7 @@ contains
           call worst_error(probe, q, e, status)
           if (e > 10.0_dp**(-k)) failed_below = .true.
         end do
-        call check(error, failed_below, trim(quantity_names(q))//": not the smallest N")
+        call check(error, failed_below, trim(quantity_kind_names(q))//": not the smallest N")
         if (allocated(error)) return
       end do
     end do

@@ -93,7 +93,7 @@ contains
     type(error_type), allocatable, intent(out) :: error
     type(demstep_status_type) :: status
     call contact_parameters(pair, conv, p, status)
-    call check(error, status%stat, demstep_stat%ok, "status of "//trim(convention_names(conv)))
+    call check(error, status%stat, demstep_stat%ok, "status of "//trim(code_convention_names(conv)))
   end subroutine get_params
 
   subroutine test_effective(error)
@@ -421,10 +421,10 @@ contains
         call rk4_contact(2, p%k_n, p%gamma_n, eff%m_star, pair%impact_velocity, p%t_contact/1.0e5_dp, &
           t_ode, v_out)
         call check(error, abs(t_ode - p%t_contact)/p%t_contact < 1.0e-9_dp, &
-          trim(convention_names(convs(i)))//": duration")
+          trim(code_convention_names(convs(i)))//": duration")
         if (allocated(error)) return
         call check(error, abs(-v_out/pair%impact_velocity - es(j))/es(j) < 1.0e-9_dp, &
-          trim(convention_names(convs(i)))//": restitution")
+          trim(code_convention_names(convs(i)))//": restitution")
         if (allocated(error)) return
       end do
     end do
