@@ -6,7 +6,7 @@
 !> template written from the same table, and number formatting.
 module demstep_cli
   use demstep_kinds, only: dp, i8
-  use demstep_status, only: demstep_status_type, demstep_stat, set_status, status_where
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_namelist, only: nml_group_type, nml_item_type, excerpt
   ! integers as text: the library's (`fmt_int` beside `fmt_real` in the app)
   use demstep_text, only: fmt_int => int_text
@@ -857,7 +857,7 @@ contains
   end function names_of
 
   !> A failed library status as the app reports it, `&group: variable: what`:
-  !> the library's location (`status%where`, `status%index`) becomes the deck's
+  !> the library's location (`status%where`) becomes the deck's
   !> variable through `names` (rows: library name, deck name; a name not listed
   !> is the deck's own). A status without a location keeps its message.
   pure subroutine in_group(status, group, names)
@@ -883,7 +883,7 @@ contains
         end if
       end do
     end if
-    status%message = "&"//group//": "//status_where(status)//": "//status%detail
+    status%message = "&"//group//": "//status%where//": "//status%detail
   end subroutine in_group
 
   !> One labelled row of a report: `indent` blanks, the label, the value from

@@ -156,23 +156,22 @@ contains
       call write_onset(ctx%results, big_n, s, steps, value, stable)
     end if
   contains
-    !> The library's "variable: what" as "&contact_error: variable: element i is x; what".
+    !> The library's location and detail as "&contact_error: variable: element i is x; what".
     subroutine name_element(st, element, n_value, onset_value)
       type(demstep_status_type), intent(inout) :: st
       integer, intent(in) :: element
       real(dp), intent(in) :: n_value, onset_value
-      integer :: k
       character(len=:), allocatable :: name, what
-      k = index(st%message, ": ")
-      name = st%message(1:k-1)
-      what = st%message(k+2:)
+      name = st%where
+      what = st%detail
       select case (name)
       case ("n_per_period")
         what = "element "//fmt_int(int(element, i8))//" is "//fmt_real(n_value)//"; "//what
       case ("onset")
         what = "element "//fmt_int(int(element, i8))//" is "//fmt_real(onset_value)//"; "//what
       end select
-      call set_status(st, demstep_stat%invalid_input, "&"//g//": "//name//": "//what)
+      call set_status(st, demstep_stat%invalid_input, what, where=name)
+      call in_group(st, g)
     end subroutine name_element
   end subroutine handle_contact_error
 
@@ -322,7 +321,7 @@ contains
     call new_spring(spring, mass, stiffness, status)
     if (status%stat == demstep_stat%ok) call check_contact_damping(damping_ratio, status)
     if (status%stat /= demstep_stat%ok) then
-      status%message = "&"//g//": "//status%message
+      call in_group(status, g)
       return
     end if
     period = spring_period(spring)
@@ -349,13 +348,13 @@ contains
       call progress%update(int(i, i8))
       if (status%stat /= demstep_stat%ok) then
         call progress%finish()
-        status%message = "&"//g//": "//status%message
+        call in_group(status, g)
         return
       end if
       if (stat(i) == demstep_stat%ok) then
         call predict_run(period, n(i), duration, n_particles, cost, prediction, status)
         if (status%stat /= demstep_stat%ok) then
-          status%message = "&"//g//": "//status%message
+          call in_group(status, g)
           return
         end if
         dt(i) = prediction%dt
@@ -392,7 +391,7 @@ contains
       end if
     end if
     if (status%stat /= demstep_stat%ok) then
-      status%message = "&"//g//": "//status%message
+      call in_group(status, g)
       return
     end if
     call write_cost(ctx%results, tolerances(:nt), n, dt, steps, saturated, predicted_seconds, stat, cost, &
@@ -437,12 +436,17 @@ contains
     end if
     stat = st%stat
     if (stat == demstep_stat%invalid_input) then
-      status = st
-      if (index(status%message, "tolerance: ") == 1) status%message = "tolerances: element "// &
-        fmt_int(int(element, i8))//" is "//fmt_real(tolerance)//"; "//status%message(12:)
-      ! the steps per contact are N/2 here (no deck variable): lambda sets f lambda
-      if (index(status%message, "steps_fraction: ") == 1) status%message = "lambda: "//fmt_real(lambda) &
-        //" with N/2 steps per contact (f = 0.5): "//status%message(17:)
+      select case (st%where)
+      case ("tolerance")
+        call set_status(status, stat, "element "//fmt_int(int(element, i8))//" is "//fmt_real(tolerance)// &
+          "; "//st%detail, where="tolerances")
+      case ("steps_fraction")
+        ! the steps per contact are N/2 here (no deck variable): lambda sets f lambda
+        call set_status(status, stat, fmt_real(lambda)//" with N/2 steps per contact (f = 0.5): "// &
+          st%detail, where="lambda")
+      case default
+        status = st
+      end select
       return
     end if
     status%stat = demstep_stat%ok

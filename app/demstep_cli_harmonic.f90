@@ -6,7 +6,7 @@ module demstep_cli_harmonic
   use demstep_cli, only: var_spec, var, given, begin_group, fmt_real, fmt_real_column, fmt_int, &
     next_assignment, group_reading, &
     cli_context, new_array, array_length, broadcast, common_length, max_values, &
-    capacity_of
+    capacity_of, in_group
   implicit none
   private
 
@@ -44,9 +44,9 @@ contains
     integer, allocatable :: stat(:)
     type(var_spec), allocatable :: specs(:)
     character(len=*), parameter :: g = "harmonic_error"
-    integer :: i, k, lengths(3), length
+    integer :: i, lengths(3), length
     logical :: fraction
-    character(len=:), allocatable :: name
+    character(len=:), allocatable :: name, what
 
     specs = harmonic_specs()
     n_per_period = new_array(capacity_of(specs, "n_per_period"))
@@ -86,12 +86,13 @@ contains
     i = findloc(stat, demstep_stat%invalid_input, dim=1)
     if (i > 0) then
       call harmonic_error_check(big_n(i), lam(i), n(i), status)
-      k = index(status%message, ": ")
-      name = status%message(1:k-1)
+      name = status%where
+      what = status%detail
       if (name == "n_steps" .and. fraction) name = "steps_fraction"
-      call set_status(status, demstep_stat%invalid_input, "&"//g//": "//name//": element " &
+      call set_status(status, demstep_stat%invalid_input, "element " &
         //fmt_int(int(i, i8))//" (n_per_period = "//fmt_real(big_n(i))//", lambda = " &
-        //fmt_real(lam(i))//", n = "//fmt_real(n(i))//"): "//status%message(k+2:))
+        //fmt_real(lam(i))//", n = "//fmt_real(n(i))//"): "//what, where=name)
+      call in_group(status, g)
       return
     end if
     call report(ctx%report, group, big_n, lam, n, e, stat)

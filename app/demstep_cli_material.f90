@@ -71,7 +71,7 @@ contains
     if (status%stat /= demstep_stat%ok) return
     call evaluate(ctx, group, types, restitution, restitution_t, impact_velocity, first, last, &
       given(group, "tolerance"), tolerance, status)
-    if (status%stat /= demstep_stat%ok) status%message = "&material: "//status%message
+    if (status%stat /= demstep_stat%ok) call in_group(status, "material")
   end subroutine handle_material
 
   !> Read and check one `&material` group: the types, the loading, the
@@ -133,7 +133,7 @@ contains
     ! the loading, checked here for every reader of the group (a &scene too)
     call check_pair(material_pair_type(types(1), types(1), restitution, restitution_t, impact_velocity), status)
     if (status%stat /= demstep_stat%ok) then
-      status%message = "&material: "//status%message
+      call in_group(status, "material")
       return
     end if
     if (given(group, "tolerance")) then

@@ -330,11 +330,11 @@ contains
       call new_scene(sc, dim, x, m, r, status, v=v, fixed=is_fixed)
     end if
     if (status%stat /= demstep_stat%ok) then
-      if (allocated(inertia) .and. index(status%message, "inertia:") == 1) then
+      if (allocated(inertia) .and. status%where == "inertia") then
         status%message = "&"//g//": particles_file: "//beside(file, trim(particles_file))//": "// &
           status%message
       else
-        status%message = "&"//g//": "//status%message
+        call in_group(status, g)
       end if
       return
     end if
@@ -356,7 +356,7 @@ contains
       end if
       call scene_set_cell(sc, periodic, cell_lo, cell_hi, status)
       if (status%stat /= demstep_stat%ok) then
-        status%message = "&"//g//": "//status%message
+        call in_group(status, g)
         return
       end if
     end if
@@ -396,7 +396,7 @@ contains
       end if
       call scene_set_bond_stiffness(sc, k_bond, k_bond_tangential, status)
       if (status%stat /= demstep_stat%ok) then
-        status%message = "&"//g//": "//status%message
+        call in_group(status, g)
         return
       end if
     end if
@@ -445,7 +445,7 @@ contains
       .or. (sc%effects(scene_effect%walls) .and. .not. from_material)) then
       call scene_set_law(sc, law_id, law_values(1), law_values(2), status)
       if (status%stat /= demstep_stat%ok) then
-        status%message = "&"//g//": "//status%message
+        call in_group(status, g)
         return
       end if
     else
@@ -473,7 +473,7 @@ contains
     call scene_set_friction(sc, friction, status, rolling_friction=rolling_friction)
     if (status%stat == demstep_stat%ok) call scene_set_rolling(sc, rolling_ratio, twisting_ratio, status)
     if (status%stat /= demstep_stat%ok) then
-      status%message = "&"//g//": "//status%message
+      call in_group(status, g)
       return
     end if
     ! rotations come with tangential springs unless the effects say otherwise
@@ -508,7 +508,7 @@ contains
       end if
       call scene_set_gravity(sc, gravity(:nv), status)
       if (status%stat /= demstep_stat%ok) then
-        status%message = "&"//g//": "//status%message
+        call in_group(status, g)
         return
       end if
     end if
@@ -530,7 +530,7 @@ contains
       call scene_set_damping(sc, damping_ratio, status, tangential=damping_ratio_tangential, &
         rolling=damping_ratio_rolling, drag=drag)
       if (status%stat /= demstep_stat%ok) then
-        status%message = "&"//g//": "//status%message
+        call in_group(status, g)
         return
       end if
     else if (given(group, "damping_ratio_tangential") .or. given(group, "damping_ratio_rolling") .or. &
@@ -556,7 +556,7 @@ contains
       if (status%stat /= demstep_stat%ok) return
       call scene_set_local_damping(sc, local_damping, status)
       if (status%stat /= demstep_stat%ok) then
-        status%message = "&"//g//": "//status%message
+        call in_group(status, g)
         return
       end if
       sc%effects(scene_effect%local_damping) = .true.
@@ -598,15 +598,13 @@ contains
         progress=progress)
     end if
     if (status%stat /= demstep_stat%ok) then
-      if (index(status%message, "effects:") == 1 .and. given(group, "bonds_file")) then
+      if (status%where == "effects" .and. given(group, "bonds_file")) then
         ! the empty table is what left the scene without springs
         call fail("bonds_file", beside(file, trim(bonds_file))//": holds no bonds, and neither " &
           //"'contacts' nor 'walls' is in effects: the scene has no stiffness")
-      else if (index(status%message, "tolerance:") == 1) then
-        ! the library's Lanczos tolerance is this group's eigen_tolerance
-        status%message = "&"//g//": eigen_"//status%message
       else
-        status%message = "&"//g//": "//status%message
+        ! the library's Lanczos tolerance is this group's eigen_tolerance
+        call in_group(status, g, reshape([character(len=15) :: "tolerance", "eigen_tolerance"], [2, 1]))
       end if
       return
     end if
@@ -618,7 +616,7 @@ contains
       else
         call assembly_step_for_n_per_period(crit, n_per_period, dt_used, status)
         if (status%stat /= demstep_stat%ok) then
-          status%message = "&"//g//": "//status%message
+          call in_group(status, g)
           return
         end if
       end if
@@ -633,7 +631,7 @@ contains
       ! a blow-up is a result to report, not an input error
       if (status%stat == demstep_stat%blow_up) status%stat = demstep_stat%ok
       if (status%stat /= demstep_stat%ok) then
-        status%message = "&"//g//": "//status%message
+        call in_group(status, g)
         return
       end if
     end if
@@ -641,7 +639,7 @@ contains
     ! dense solver was not run: the recommendation is safe either way
     call recommended_step(crit%dt_critical_damped, dt_recommended, governs, status)
     if (status%stat /= demstep_stat%ok) then
-      status%message = "&"//g//": "//status%message
+      call in_group(status, g)
       return
     end if
     if (given(group, "snapshot_file")) then
@@ -709,7 +707,7 @@ contains
         end if
         call scene_set_hertz_types(sc, ptypes, young(:nkn), poisson(:nkt), status)
       end if
-      if (status%stat /= demstep_stat%ok) status%message = "&"//g//": "//status%message
+      if (status%stat /= demstep_stat%ok) call in_group(status, g)
     end subroutine materials
 
   end subroutine handle_scene
@@ -1166,10 +1164,10 @@ contains
         restitution_t=mat%restitution_t, impact_velocity=mat%impact_velocity, wall_type=wall_type, &
         tangential_damping=tangential_damping)
       if (status%stat /= demstep_stat%ok) then
-        if (index(status%message, "wall_type:") == 1 .or. index(status%message, "types:") == 1) then
-          status%message = "&scene: "//status%message
+        if (status%where == "wall_type" .or. status%where == "types") then
+          call in_group(status, "scene")
         else
-          status%message = "&material: "//status%message
+          call in_group(status, "material")
         end if
       end if
       return
@@ -1178,7 +1176,7 @@ contains
       young = mat%types%young
       poisson = mat%types%poisson
       call scene_set_hertz_types(sc, ptypes, young, poisson, status)
-      if (status%stat /= demstep_stat%ok) status%message = "&material: "//status%message
+      if (status%stat /= demstep_stat%ok) call in_group(status, "material")
       return
     end if
     call set_status(status, demstep_stat%invalid_input, "&material: code: the linear law of &scene " &

@@ -137,7 +137,7 @@ contains
         status)
     end if
     if (status%stat /= demstep_stat%ok) then
-      status%message = "&"//g//": "//status%message
+      call in_group(status, g)
       return
     end if
     input%options%pick = pick_kind_from_name(pick)
@@ -186,12 +186,12 @@ contains
       call run_procedure(input, result, status, progress)
     end if
     if (status%stat /= demstep_stat%ok) then
-      status%message = "&"//g//": "//status%message
+      call in_group(status, g)
       return
     end if
     call recommend(input, result, dt_stability, dt_recommended, governs, status)
     if (status%stat /= demstep_stat%ok) then
-      status%message = "&"//g//": "//status%message
+      call in_group(status, g)
       return
     end if
     call report(ctx%report, group, input, result, dt_stability, dt_recommended, governs)

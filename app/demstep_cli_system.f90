@@ -73,7 +73,7 @@ contains
 
     call new_spring(spring, mass, stiffness, status, damping_ratio=damping_ratio, dashpot=kind)
     if (status%stat /= demstep_stat%ok) then
-      status%message = "&system: "//status%message
+      call in_group(status, "system")
       return
     end if
     if (given(group, "n_per_period")) then
@@ -82,7 +82,7 @@ contains
       call check_time_step(spring, dt, status)
     end if
     if (status%stat /= demstep_stat%ok) then
-      status%message = "&system: "//status%message
+      call in_group(status, "system")
       return
     end if
     call evaluate(ctx, group, spring, velocity, given(group, "dt") .or. given(group, "n_per_period"), &
@@ -122,7 +122,7 @@ contains
     call report_row(u, 2, "critical step", fmt_real(dt_critical)//"  (T/"//fmt_real(period/dt_critical)//")")
     call recommended_step(dt_critical, dt_recommended, governs, status)
     if (status%stat /= demstep_stat%ok) then
-      status%message = "&system: "//status%message
+      call in_group(status, "system")
       return
     end if
     if (.not. have_dt) then
@@ -149,9 +149,8 @@ contains
     call spring_contact(spring, dt, contact, status)
     if (status%stat /= demstep_stat%ok) then
       ! the library speaks of N; the deck may have given dt
-      if (index(status%message, "n_per_period: ") == 1) status%message = trim(step_name)//": " &
-        //status%message(15:)
-      call set_status(status, demstep_stat%invalid_input, "&system: "//status%message)
+      call in_group(status, "system", reshape([character(len=12) :: "n_per_period", step_name], [2, 1]))
+      status%stat = demstep_stat%invalid_input
       return
     end if
     ! the overlap v0/omega x ratio must be a normal double

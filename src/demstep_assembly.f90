@@ -287,8 +287,8 @@ contains
     tol = lanczos_tolerance_default
     if (present(tolerance)) tol = tolerance
     if (choice < eigen_solver%auto .or. choice > eigen_solver%none) then
-      call set_status(status, demstep_stat%invalid_input, "eigen_solver: must be 'auto', " &
-        //"'dense', 'lanczos' or 'none'")
+      call set_status(status, demstep_stat%invalid_input, "must be 'auto', " &
+        //"'dense', 'lanczos' or 'none'", where="eigen_solver")
       return
     end if
     call assembly_check_options(scene, tol, status)
@@ -372,8 +372,8 @@ contains
     type(demstep_status_type), intent(out) :: status
     result%omega_bound = rate*sqrt(row_max)
     if (.not. ieee_is_finite(result%omega_bound)) then
-      call set_status(status, demstep_stat%invalid_input, "mass: the bound of omega_max = sqrt(k/m) " &
-        //"overflows: the largest stiffness over the smallest mass must stay below about 1e600")
+      call set_status(status, demstep_stat%invalid_input, "the bound of omega_max = sqrt(k/m) " &
+        //"overflows: the largest stiffness over the smallest mass must stay below about 1e600", where="mass")
       return
     end if
     result%dt_critical_bound = 2.0_dp/result%omega_bound
@@ -394,7 +394,7 @@ contains
     logical, intent(in) :: converged
     type(demstep_status_type), intent(out) :: status
     if (.not. lam > 0.0_dp) then
-      call set_status(status, demstep_stat%invalid_input, "position: the scene has no stiffness")
+      call set_status(status, demstep_stat%invalid_input, "the scene has no stiffness", where="position")
       return
     end if
     result%eigen_residual = err/lam
@@ -433,8 +433,8 @@ contains
     result%dt_critical_damped = result%dt_critical_damped_bound
     result%damped_exact = .false.
     if (.not. (ieee_is_finite(result%damping_ratio_top) .and. result%dt_critical_damped > 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "damping_ratio: the damped limit " &
-        //"dt/(sqrt(1 + z^2) + z) is not representable; use a smaller damping_ratio")
+      call set_status(status, demstep_stat%invalid_input, "the damped limit " &
+        //"dt/(sqrt(1 + z^2) + z) is not representable; use a smaller damping_ratio", where="damping_ratio")
       return
     end if
     status%stat = demstep_stat%ok
@@ -906,8 +906,8 @@ contains
     rate = 0.0_dp
     k_scale = 0.0_dp
     if (mode /= hertz_linearization%current .and. .not. (v_impact > 0.0_dp .and. ieee_is_finite(v_impact))) then
-      call set_status(status, demstep_stat%invalid_input, "impact_velocity: the Hertz linearisation " &
-        //"at impact needs a finite impact velocity > 0")
+      call set_status(status, demstep_stat%invalid_input, "the Hertz linearisation " &
+        //"at impact needs a finite impact velocity > 0", where="impact_velocity")
       return
     end if
     rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
@@ -931,8 +931,8 @@ contains
     op%n_bodies = nfree
     op%n = nfree*nc
     if (nfree == 0) then
-      call set_status(status, demstep_stat%invalid_input, "fixed: every particle is fixed: the " &
-        //"scene has no stiffness")
+      call set_status(status, demstep_stat%invalid_input, "every particle is fixed: the " &
+        //"scene has no stiffness", where="fixed")
       return
     end if
     mdof = mdof/m_scale
@@ -948,11 +948,11 @@ contains
     if (.not. (touches .and. k_scale > 0.0_dp)) then
       if (size(scene%bonds, 2) == 0 .and. .not. (scene%effects(scene_effect%contacts) .or. &
           scene%effects(scene_effect%walls))) then
-        call set_status(status, demstep_stat%invalid_input, "effects: the scene has no stiffness: " &
-          //"no bonds, and neither 'contacts' nor 'walls' is switched on")
+        call set_status(status, demstep_stat%invalid_input, "the scene has no stiffness: " &
+          //"no bonds, and neither 'contacts' nor 'walls' is switched on", where="effects")
       else
-        call set_status(status, demstep_stat%invalid_input, "position: the scene has no stiffness: " &
-          //"no free particle touches a bond, a contact or a wall")
+        call set_status(status, demstep_stat%invalid_input, "the scene has no stiffness: " &
+          //"no free particle touches a bond, a contact or a wall", where="position")
       end if
       return
     end if
@@ -1133,11 +1133,11 @@ contains
         who = "particles "//int_text(i)//" and "//int_text(j)
       end if
       if (mode /= hertz_linearization%current) then
-        call set_status(status, demstep_stat%invalid_input, "e_star: the Hertz tangent stiffness " &
-          //"2 E* sqrt(R* d) of "//who//" overflows (lower e_star or impact_velocity)")
+        call set_status(status, demstep_stat%invalid_input, "the Hertz tangent stiffness " &
+          //"2 E* sqrt(R* d) of "//who//" overflows (lower e_star or impact_velocity)", where="e_star")
       else
-        call set_status(status, demstep_stat%invalid_input, "e_star: the Hertz tangent stiffness " &
-          //"2 E* sqrt(R* d) of "//who//" overflows (lower e_star)")
+        call set_status(status, demstep_stat%invalid_input, "the Hertz tangent stiffness " &
+          //"2 E* sqrt(R* d) of "//who//" overflows (lower e_star)", where="e_star")
       end if
     end subroutine stiffness_overflow
   end subroutine linearise
@@ -1174,7 +1174,7 @@ contains
     real(dp) :: omega
     dt = 0.0_dp
     if (.not. (ieee_is_finite(n_per_period) .and. n_per_period > 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "n_per_period: must be finite and > 0")
+      call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="n_per_period")
       return
     end if
     omega = crit%omega_bound
@@ -1183,9 +1183,9 @@ contains
     dt = 2.0_dp*pi/omega/n_per_period
     if (.not. ieee_is_finite(dt)) then
       dt = 0.0_dp
-      call set_status(status, demstep_stat%invalid_input, "n_per_period: the time step 2 pi/(omega_max " &
+      call set_status(status, demstep_stat%invalid_input, "the time step 2 pi/(omega_max " &
         //"n_per_period) overflows: n_per_period must be above "// &
-        real_text(2.0_dp*pi/crit%omega_bound/huge(1.0_dp)))
+        real_text(2.0_dp*pi/crit%omega_bound/huge(1.0_dp)), where="n_per_period")
       return
     end if
     status%stat = demstep_stat%ok

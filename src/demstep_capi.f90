@@ -321,11 +321,11 @@ contains
       code = ok(err)
       call guard_finite([value], "demstep_harmonic_error", err, code)
     else if (stat == demstep_stat%pole) then
-      call set_status(status, stat, "demstep_harmonic_error: a pole, S(2 pi lambda/N, n) = 0")
+      call set_status(status, stat, "a pole, S(2 pi lambda/N, n) = 0", where="demstep_harmonic_error")
       code = report(err, status)
     else
-      call set_status(status, stat, "demstep_harmonic_error: N, lambda must be finite and > 0, " &
-        //"1 <= n_steps <= 1e12")
+      call set_status(status, stat, "N, lambda must be finite and > 0, " &
+        //"1 <= n_steps <= 1e12", where="demstep_harmonic_error")
       code = report(err, status)
     end if
   end function c_harmonic_error
@@ -344,7 +344,7 @@ contains
     call new_step_policy(options%policy, int(steps_kind), steps_value, status)
     if (status%stat /= demstep_stat%ok) then
       ! the library names `steps:` for an unknown kind, the value's name otherwise
-      if (index(status%message, "steps:") == 1) then
+      if (status%where == "steps") then
         code = invalid(err, "steps_kind: "//int_text(steps_kind)//" is not DEMSTEP_STEPS_FIXED (" &
           //int_text(step_kind%fixed)//"), DEMSTEP_STEPS_FRACTION ("//int_text(step_kind%fraction) &
           //") or DEMSTEP_STEPS_ROUNDED ("//int_text(step_kind%rounded)//")")
@@ -666,7 +666,7 @@ contains
     if (.not. live(scene, name, h, err, code, particles=.false.)) return
     call scene_set_law(h%scene, int(law), normal, tangential, status)
     if (status%stat == demstep_stat%ok .and. h%types_law /= 0 .and. h%types_law /= law) &
-      call set_status(status, demstep_stat%invalid_input, "law: must be the law of the per-type materials")
+      call set_status(status, demstep_stat%invalid_input, "must be the law of the per-type materials", where="law")
     if (status%stat == demstep_stat%ok) h%law_given = int(law)
     code = built(h, name, status, err)
   end function c_scene_set_contact_law

@@ -117,24 +117,24 @@ contains
     centred = .false.
     if (present(dashpot)) then
       if (dashpot /= dashpot_kind%lagged .and. dashpot /= dashpot_kind%centred) then
-        call set_status(status, demstep_stat%invalid_input, "dashpot: must be lagged or centred")
+        call set_status(status, demstep_stat%invalid_input, "must be lagged or centred", where="dashpot")
         return
       end if
       centred = dashpot == dashpot_kind%centred
     end if
     if (.not. (ieee_is_finite(zeta) .and. zeta >= 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be finite and >= 0")
+      call set_status(status, demstep_stat%invalid_input, "must be finite and >= 0", where="damping_ratio")
       return
     end if
     ! beyond the limit the contact is stepped: (1 + zeta) h <= 1e50 keeps it in range
     n_min = 2.0_dp*pi*(1.0_dp + zeta)/1.0e50_dp
     if (.not. (ieee_is_finite(n_per_period) .and. n_per_period >= n_min)) then
-      call set_status(status, demstep_stat%invalid_input, "n_per_period: must be finite and >= " &
-        //real_text(n_min*1.001_dp)//" (2 pi (1 + damping_ratio)/1e50)")
+      call set_status(status, demstep_stat%invalid_input, "must be finite and >= " &
+        //real_text(n_min*1.001_dp)//" (2 pi (1 + damping_ratio)/1e50)", where="n_per_period")
       return
     end if
     if (.not. (onset > 0.0_dp .and. onset <= 1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "onset: must be in (0, 1]")
+      call set_status(status, demstep_stat%invalid_input, "must be in (0, 1]", where="onset")
       return
     end if
     call contact_kernel(2.0_dp*pi/n_per_period, onset, zeta, centred, contact, status)
@@ -336,8 +336,8 @@ contains
         return
       end if
       if (contact%steps > limit .or. .not. ieee_is_finite(state%v)) then
-        call set_status(status, demstep_stat%not_converged, "n_per_period: the stepped contact " &
-          //"did not end within "//int_text(limit)//" steps")
+        call set_status(status, demstep_stat%not_converged, "the stepped contact " &
+          //"did not end within "//int_text(limit)//" steps", where="n_per_period")
         return
       end if
     end do
@@ -376,9 +376,9 @@ contains
     type(demstep_status_type), intent(out) :: status
     if (.not. (ieee_is_finite(damping_ratio) .and. damping_ratio >= 0.0_dp .and. &
         damping_ratio < 1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be in [0, 1) for " &
+      call set_status(status, demstep_stat%invalid_input, "must be in [0, 1) for " &
         //"contact errors (an overdamped contact, damping_ratio >= 1, does not rebound), got " &
-        //real_text(damping_ratio))
+        //real_text(damping_ratio), where="damping_ratio")
     else
       status%stat = demstep_stat%ok
     end if

@@ -114,19 +114,19 @@ contains
     type(demstep_status_type), intent(out) :: status
     if (kind == step_kind%fixed) then
       if (.not. (ieee_is_finite(value) .and. value >= 1.0_dp .and. value <= harmonic_n_max)) then
-        call set_status(status, demstep_stat%invalid_input, "n_steps: must be in [1, 1e12], got " &
-          //real_text(value))
+        call set_status(status, demstep_stat%invalid_input, "must be in [1, 1e12], got " &
+          //real_text(value), where="n_steps")
         return
       end if
     else if (kind == step_kind%fraction .or. kind == step_kind%rounded) then
       if (.not. (ieee_is_finite(value) .and. value > 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "steps_fraction: must be finite and > 0, " &
-          //"got "//real_text(value))
+        call set_status(status, demstep_stat%invalid_input, "must be finite and > 0, " &
+          //"got "//real_text(value), where="steps_fraction")
         return
       end if
     else
-      call set_status(status, demstep_stat%invalid_input, "steps: unknown step policy kind "// &
-        int_text(kind)//" (step_kind%fixed, %fraction or %rounded)")
+      call set_status(status, demstep_stat%invalid_input, "unknown step policy kind "// &
+        int_text(kind)//" (step_kind%fixed, %fraction or %rounded)", where="steps")
       return
     end if
     policy%kind = kind
@@ -237,40 +237,41 @@ contains
     integer :: stat
     select case (domain_code(n_per_period, lambda, n))
     case (1)
-      call set_status(status, demstep_stat%invalid_input, "n_per_period: must be finite and > 0")
+      call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="n_per_period")
     case (2)
-      call set_status(status, demstep_stat%invalid_input, "lambda: must be finite and > 0")
+      call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="lambda")
     case (3)
-      call set_status(status, demstep_stat%invalid_input, "n_steps: n must be in [1, 1e12], got " &
-        //real_text(n))
+      call set_status(status, demstep_stat%invalid_input, "n must be in [1, 1e12], got " &
+        //real_text(n), where="n_steps")
     case (4)
       bound = (n + 1.0_dp)*max(1.0_dp, lambda)/harmonic_phase_max
       if (lambda > 1.0_dp) then
-        call set_status(status, demstep_stat%invalid_input, "lambda: must be <= " &
+        call set_status(status, demstep_stat%invalid_input, "must be <= " &
           //real_text(0.999_dp*harmonic_phase_max*n_per_period/(n + 1.0_dp))//" at this N and n " &
-          //"(phases (n + 1) lambda/N above 2^50 turns keep no digit)")
+          //"(phases (n + 1) lambda/N above 2^50 turns keep no digit)", where="lambda")
       else
-        call set_status(status, demstep_stat%invalid_input, "n_per_period: must be >= " &
-          //real_text(1.001_dp*bound)//" at this n (phases (n + 1)/N above 2^50 turns keep no digit)")
+        call set_status(status, demstep_stat%invalid_input, "must be >= " &
+          //real_text(1.001_dp*bound)//" at this n (phases (n + 1)/N above 2^50 turns keep no digit)", &
+          where="n_per_period")
       end if
     case (5)
       if (lambda < 1.0_dp .and. harmonic_phase_min*n_per_period < 1.0_dp) then
-        call set_status(status, demstep_stat%invalid_input, "lambda: must be >= " &
+        call set_status(status, demstep_stat%invalid_input, "must be >= " &
           //real_text(1.001_dp*max(harmonic_phase_min*n_per_period, lambda_floor(n_per_period, n))) &
-          //" at this N and n (lambda/N must be >= 1e-300 and |E| within the double range)")
+          //" at this N and n (lambda/N must be >= 1e-300 and |E| within the double range)", where="lambda")
       else
-        call set_status(status, demstep_stat%invalid_input, "n_per_period: must be <= " &
+        call set_status(status, demstep_stat%invalid_input, "must be <= " &
           //real_text(0.999_dp*min(1.0_dp, lambda)/harmonic_phase_min)//" at this lambda " &
-          //"(the phase min(1, lambda)/N must be >= 1e-300)")
+          //"(the phase min(1, lambda)/N must be >= 1e-300)", where="n_per_period")
       end if
     case default
       call harmonic_error(n_per_period, lambda, n, e, stat)
       if (stat == demstep_stat%invalid_input) then
-        call set_status(status, demstep_stat%invalid_input, "lambda: |E| exceeds the double " &
+        call set_status(status, demstep_stat%invalid_input, "|E| exceeds the double " &
           //"range at this N and n; lambda must be >= "//real_text(1.001_dp*max(lambda, &
-          lambda_floor(n_per_period, n))))
+          lambda_floor(n_per_period, n))), where="lambda")
       else if (stat == demstep_stat%pole) then
-        call set_status(status, demstep_stat%pole, "lambda: a pole of E, S(2 pi lambda/N, n) = 0")
+        call set_status(status, demstep_stat%pole, "a pole of E, S(2 pi lambda/N, n) = 0", where="lambda")
       else
         status%stat = demstep_stat%ok
       end if

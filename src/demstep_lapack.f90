@@ -63,8 +63,8 @@ contains
     eigenvalue = 0.0_dp
     eigenvector = 0.0_dp
     if (n < 1 .or. size(a, 2) /= n .or. size(eigenvector) /= n) then
-      call set_status(status, demstep_stat%invalid_input, "largest_eigenpair: need an n-by-n " &
-        //"matrix, n >= 1, and an eigenvector of size n")
+      call set_status(status, demstep_stat%invalid_input, "need an n-by-n " &
+        //"matrix, n >= 1, and an eigenvector of size n", where="largest_eigenpair")
       return
     end if
     il = max(1, n - 1)
@@ -108,7 +108,7 @@ contains
     n = size(a, 1)
     rho = 0.0_dp
     if (n < 1 .or. size(a, 2) /= n) then
-      call set_status(status, demstep_stat%invalid_input, "spectral_radius: need an n-by-n matrix, n >= 1")
+      call set_status(status, demstep_stat%invalid_input, "need an n-by-n matrix, n >= 1", where="spectral_radius")
       return
     end if
     allocate(wr(n), wi(n))

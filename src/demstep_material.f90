@@ -12,7 +12,7 @@
 !> each code's source; the comment on each convention names the file and function.
 module demstep_material
   use demstep_kinds, only: dp, pi
-  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status, status_at
   use demstep_text, only: real_text
   use demstep_spring, only: damped_limit
   use demstep_interaction, only: hertz_e_star, mindlin_g_star
@@ -203,16 +203,16 @@ contains
     type(demstep_status_type), intent(out) :: status
     if (.not. (mat%young > 0.0_dp .and. ieee_is_finite(mat%young))) then
       call set_status(status, demstep_stat%invalid_input, &
-        "young: must be a finite number > 0"//label)
+        "must be a finite number > 0"//label, where="young")
     else if (.not. (mat%poisson > -1.0_dp .and. mat%poisson <= 0.5_dp)) then
       call set_status(status, demstep_stat%invalid_input, &
-        "poisson: must lie in (-1, 0.5]"//label)
+        "must lie in (-1, 0.5]"//label, where="poisson")
     else if (.not. (mat%density > 0.0_dp .and. ieee_is_finite(mat%density))) then
       call set_status(status, demstep_stat%invalid_input, &
-        "density: must be a finite number > 0"//label)
+        "must be a finite number > 0"//label, where="density")
     else if (.not. (mat%radius > 0.0_dp .and. ieee_is_finite(mat%radius))) then
       call set_status(status, demstep_stat%invalid_input, &
-        "radius: must be a finite number > 0"//label)
+        "must be a finite number > 0"//label, where="radius")
     else
       status%stat = demstep_stat%ok
     end if
@@ -251,7 +251,7 @@ contains
     if (eff%m_a >= huge(1.0_dp) .or. eff%m_b >= huge(1.0_dp) .or. eff%m_a < tiny(1.0_dp) &
       .or. eff%m_b < tiny(1.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, &
-        "radius: the particle mass 4/3 pi radius^3 density leaves the double range; rescale the units")
+        "the particle mass 4/3 pi radius^3 density leaves the double range; rescale the units", where="radius")
       return
     end if
     ! forms that never overflow: x y/(x + y) = x/(1 + x/y)
@@ -262,7 +262,7 @@ contains
     if (.not. (ieee_is_finite(eff%e_star) .and. ieee_is_finite(eff%g_star) .and. &
       eff%e_star > 0.0_dp .and. eff%g_star > 0.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, &
-        "young: the effective modulus leaves the double range; rescale the units")
+        "the effective modulus leaves the double range; rescale the units", where="young")
       return
     end if
     status%stat = demstep_stat%ok
@@ -281,7 +281,7 @@ contains
     real(dp) :: ld
     delta = 0.0_dp
     if (.not. (v > 0.0_dp .and. ieee_is_finite(v))) then
-      call set_status(status, demstep_stat%invalid_input, "impact_velocity: must be a finite number > 0")
+      call set_status(status, demstep_stat%invalid_input, "must be a finite number > 0", where="impact_velocity")
       return
     end if
     ! in logarithms: m* v^2 may overflow although delta does not
@@ -289,7 +289,7 @@ contains
       - 0.5_dp*log(eff%r_star))
     if (ld > log(huge(1.0_dp)) .or. ld < log(tiny(1.0_dp))) then
       call set_status(status, demstep_stat%invalid_input, &
-        "impact_velocity: the Hertz overlap leaves the double range; rescale the units")
+        "the Hertz overlap leaves the double range; rescale the units", where="impact_velocity")
       return
     end if
     delta = exp(ld)
@@ -314,7 +314,7 @@ contains
     t = hertz_duration_constant()/(15.0_dp/16.0_dp)**0.4_dp*(delta/v)
     if (.not. (ieee_is_finite(t) .and. t > 0.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, &
-        "impact_velocity: the Hertz contact duration leaves the double range; rescale the units")
+        "the Hertz contact duration leaves the double range; rescale the units", where="impact_velocity")
       t = 0.0_dp
       return
     end if
@@ -341,7 +341,7 @@ contains
     if (.not. (ieee_is_finite(k) .and. k > 0.0_dp)) then
       k = 0.0_dp
       call set_status(status, demstep_stat%invalid_input, &
-        "impact_velocity: the linearised Hertz stiffness leaves the double range; rescale the units")
+        "the linearised Hertz stiffness leaves the double range; rescale the units", where="impact_velocity")
     end if
   end subroutine hertz_impact_stiffness
 
@@ -415,10 +415,10 @@ contains
     k = params%k_n
     if (params%overlap > 0.0_dp) k = 1.5_dp*params%k_n
     if (.not. (k > 0.0_dp .and. ieee_is_finite(k))) then
-      call set_status(status, demstep_stat%invalid_input, "k_n: must be finite and > 0")
+      call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="k_n")
       return
     else if (.not. (m_star > 0.0_dp .and. ieee_is_finite(m_star))) then
-      call set_status(status, demstep_stat%invalid_input, "m_star: must be finite and > 0")
+      call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="m_star")
       return
     end if
     dt = damped_limit(2.0_dp*(sqrt(m_star)/sqrt(k)), (0.5_dp*params%gamma_n/sqrt(k))/sqrt(m_star))
@@ -442,13 +442,13 @@ contains
     real(dp) :: w0, zeta
     t = 0.0_dp
     if (.not. (k > 0.0_dp .and. ieee_is_finite(k))) then
-      call set_status(status, demstep_stat%invalid_input, "k: must be a finite number > 0")
+      call set_status(status, demstep_stat%invalid_input, "must be a finite number > 0", where="k")
       return
     else if (.not. (m > 0.0_dp .and. ieee_is_finite(m))) then
-      call set_status(status, demstep_stat%invalid_input, "m: must be a finite number > 0")
+      call set_status(status, demstep_stat%invalid_input, "must be a finite number > 0", where="m")
       return
     else if (.not. (gamma_n >= 0.0_dp .and. ieee_is_finite(gamma_n))) then
-      call set_status(status, demstep_stat%invalid_input, "gamma: must be a finite number >= 0")
+      call set_status(status, demstep_stat%invalid_input, "must be a finite number >= 0", where="gamma")
       return
     end if
     ! scaled: omega0 = sqrt(k)/sqrt(m), zeta = gamma/(2 sqrt(k) sqrt(m))
@@ -456,13 +456,13 @@ contains
     zeta = gamma_n/(2.0_dp*sqrt(k)*sqrt(m))
     if (.not. (zeta < 1.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, &
-        "gamma: the contact is overdamped (damping ratio "//real_text(zeta)//" >= 1) and never rebounds")
+        "the contact is overdamped (damping ratio "//real_text(zeta)//" >= 1) and never rebounds", where="gamma")
       return
     end if
     t = pi/(w0*sqrt((1.0_dp - zeta)*(1.0_dp + zeta)))
     if (.not. (ieee_is_finite(t) .and. t > 0.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, &
-        "k: the contact duration leaves the double range; rescale the units")
+        "the contact duration leaves the double range; rescale the units", where="k")
       t = 0.0_dp
       return
     end if
@@ -493,7 +493,7 @@ contains
     t = pi*mat%radius*(sqrt(mat%density)/sqrt(g))/(0.1631_dp*mat%poisson + c)
     if (.not. (ieee_is_finite(t) .and. t > 0.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, &
-        "radius: the Rayleigh time leaves the double range; rescale the units")
+        "the Rayleigh time leaves the double range; rescale the units", where="radius")
       t = 0.0_dp
     end if
   end subroutine rayleigh_time
@@ -505,19 +505,19 @@ contains
     type(material_pair_type), intent(in) :: pair
     type(demstep_status_type), intent(out) :: status
     if (.not. (pair%restitution > 0.0_dp .and. pair%restitution <= 1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "restitution: must lie in (0, 1]")
+      call set_status(status, demstep_stat%invalid_input, "must lie in (0, 1]", where="restitution")
     else if (.not. (pair%restitution_t == 0.0_dp .or. &
       (pair%restitution_t > 0.0_dp .and. pair%restitution_t <= 1.0_dp))) then
       call set_status(status, demstep_stat%invalid_input, &
-        "restitution_t: must lie in (0, 1] (0: the normal restitution)")
+        "must lie in (0, 1] (0: the normal restitution)", where="restitution_t")
     else if (.not. (pair%impact_velocity > 0.0_dp .and. ieee_is_finite(pair%impact_velocity))) then
-      call set_status(status, demstep_stat%invalid_input, "impact_velocity: must be a finite number > 0")
+      call set_status(status, demstep_stat%invalid_input, "must be a finite number > 0", where="impact_velocity")
     else if (.not. (pair%contact_time >= 0.0_dp .and. ieee_is_finite(pair%contact_time))) then
       call set_status(status, demstep_stat%invalid_input, &
-        "contact_time: must be a finite number >= 0 (0: the Hertz contact duration)")
+        "must be a finite number >= 0 (0: the Hertz contact duration)", where="contact_time")
     else if (.not. (pair%stiffness >= 0.0_dp .and. ieee_is_finite(pair%stiffness))) then
       call set_status(status, demstep_stat%invalid_input, &
-        "stiffness: must be a finite number >= 0 (0: LIGGGHTS' Hooke stiffness)")
+        "must be a finite number >= 0 (0: LIGGGHTS' Hooke stiffness)", where="stiffness")
     else
       status%stat = demstep_stat%ok
     end if
@@ -605,7 +605,7 @@ contains
       ! Yade's "poisson" is the ks/kn ratio; no contact damping (NewtonIntegrator damps)
       if (pair%a%poisson < 0.0_dp .or. pair%b%poisson < 0.0_dp) then
         call set_status(status, demstep_stat%invalid_input, &
-          "poisson: Yade FrictPhys uses it as the ratio ks/kn, which must be >= 0")
+          "Yade FrictPhys uses it as the ratio ks/kn, which must be >= 0", where="poisson")
         return
       end if
       ra = pair%a%young*pair%a%radius
@@ -679,7 +679,7 @@ contains
       params%gamma_t = params%gamma_n
     case default
       call set_status(status, demstep_stat%invalid_input, &
-        "convention: unknown code convention (1 to 9)")
+        "unknown code convention (1 to 9)", where="convention")
       return
     end select
 
@@ -688,14 +688,14 @@ contains
     else
       call linear_contact_duration(params%k_n, params%gamma_n, eff%m_star, params%t_contact, status)
       if (status%stat /= demstep_stat%ok) then
-        status%message = "restitution: "//status%message
+        call status_at(status, "restitution")
         return
       end if
     end if
     if (.not. all(ieee_is_finite([params%k_n, params%k_t, params%gamma_n, params%gamma_t, &
       params%t_contact, params%code_collision_time]))) then
       call set_status(status, demstep_stat%invalid_input, &
-        "young: the contact parameters leave the double range; rescale the units")
+        "the contact parameters leave the double range; rescale the units", where="young")
       return
     end if
     status%stat = demstep_stat%ok
@@ -752,7 +752,7 @@ contains
     steps%dt(peer_rule%yade_pwave_30) = yade_pwave_fraction*steps%dt(peer_rule%yade_pwave)
     if (.not. all(ieee_is_finite([steps%dt, steps%rayleigh, steps%hertz_liggghts]))) then
       call set_status(status, demstep_stat%invalid_input, &
-        "young: the time scales leave the double range; rescale the units")
+        "the time scales leave the double range; rescale the units", where="young")
       return
     end if
     status%stat = demstep_stat%ok

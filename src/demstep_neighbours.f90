@@ -94,13 +94,13 @@ contains
     type(search_type), intent(in) :: s
     type(demstep_status_type), intent(out) :: status
     if (s%coincident(1) > 0) then
-      call set_status(status, demstep_stat%invalid_input, "position: particles "// &
+      call set_status(status, demstep_stat%invalid_input, "particles "// &
         int_text(s%coincident(1))//" and "//int_text(s%coincident(2))//" are at the same " &
-        //"point (their contact normal is undefined)")
+        //"point (their contact normal is undefined)", where="position")
     else if (s%too_many) then
-      call set_status(status, demstep_stat%invalid_input, "position: more than "// &
+      call set_status(status, demstep_stat%invalid_input, "more than "// &
         int_text(contact_limit)//" particle contacts (the limit; the particles overlap far more than " &
-        //"in a DEM packing)")
+        //"in a DEM packing)", where="position")
     else
       status%stat = demstep_stat%ok
     end if

@@ -168,12 +168,12 @@ contains
     if (present(bracket_lo)) bracket_lo = a
     if (present(bracket_hi)) bracket_hi = b
     if (.not. (ieee_is_finite(a) .and. ieee_is_finite(b) .and. a < b)) then
-      call set_status(status, demstep_stat%invalid_input, "find_root: need finite a < b")
+      call set_status(status, demstep_stat%invalid_input, "need finite a < b", where="find_root")
       return
     end if
     if (.not. (rel >= 0.0_dp .and. abst >= 0.0_dp .and. ftol >= 0.0_dp .and. rel + abst > 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "find_root: tolerances must be >= 0, " &
-        //"x_rel + x_abs > 0")
+      call set_status(status, demstep_stat%invalid_input, "tolerances must be >= 0, " &
+        //"x_rel + x_abs > 0", where="find_root")
       return
     end if
     lo = a
@@ -183,7 +183,7 @@ contains
     else
       call evaluate(f, context, lo, flo, stat)
       if (stat /= 0) then
-        call set_status(status, demstep_stat%pole, "find_root: f cannot be evaluated at a")
+        call set_status(status, demstep_stat%pole, "f cannot be evaluated at a", where="find_root")
         return
       end if
     end if
@@ -192,7 +192,7 @@ contains
     else
       call evaluate(f, context, hi, fhi, stat)
       if (stat /= 0) then
-        call set_status(status, demstep_stat%pole, "find_root: f cannot be evaluated at b")
+        call set_status(status, demstep_stat%pole, "f cannot be evaluated at b", where="find_root")
         return
       end if
     end if
@@ -210,7 +210,7 @@ contains
       return
     end if
     if ((flo > 0.0_dp) .eqv. (fhi > 0.0_dp)) then
-      call set_status(status, demstep_stat%not_found, "find_root: f(a) and f(b) have the same sign")
+      call set_status(status, demstep_stat%not_found, "f(a) and f(b) have the same sign", where="find_root")
       return
     end if
     width0 = hi - lo
@@ -219,7 +219,7 @@ contains
     if (present(bracket_hi)) bracket_hi = hi
     if (stat /= 0) then
       root = x
-      call set_status(status, demstep_stat%pole, "find_root: f cannot be evaluated inside the bracket")
+      call set_status(status, demstep_stat%pole, "f cannot be evaluated inside the bracket", where="find_root")
       return
     end if
     root = x
@@ -245,7 +245,7 @@ contains
     if (jump) then
       if (present(discontinuity)) discontinuity = .true.
       call set_status(status, demstep_stat%discontinuous, &
-        "find_root: the bracket closed onto a discontinuity (pole or jump), not a root")
+        "the bracket closed onto a discontinuity (pole or jump), not a root", where="find_root")
     end if
   end subroutine find_root
 
@@ -366,13 +366,13 @@ contains
     first = .false.
     if (present(first_only)) first = first_only
     if (.not. (ieee_is_finite(lo) .and. ieee_is_finite(hi) .and. lo < hi)) then
-      call set_status(status, demstep_stat%invalid_input, "scan_roots: need finite lo < hi")
+      call set_status(status, demstep_stat%invalid_input, "need finite lo < hi", where="scan_roots")
       return
     end if
     if (.not. present(step) .and. .not. (rel >= 0.0_dp .and. abst >= 0.0_dp .and. &
         max(rel, abst) > 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "scan_roots: need rel_step, abs_step " &
-        //">= 0, one of them > 0")
+      call set_status(status, demstep_stat%invalid_input, "need rel_step, abs_step " &
+        //">= 0, one of them > 0", where="scan_roots")
       return
     end if
     status%stat = demstep_stat%ok

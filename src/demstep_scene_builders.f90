@@ -62,41 +62,45 @@ contains
     integer :: n, i
     scene%gravity = 0.0_dp
     if (dim < 1 .or. dim > 3) then
-      call set_status(status, demstep_stat%invalid_input, "dim: must be 1, 2 or 3")
+      call set_status(status, demstep_stat%invalid_input, "must be 1, 2 or 3", where="dim")
       return
     end if
     n = size(mass)
     if (size(x, 1) /= dim .or. size(x, 2) /= n .or. size(radius) /= n) then
-      call set_status(status, demstep_stat%invalid_input, "position: positions, masses and radii " &
-        //"must describe the same particles")
+      call set_status(status, demstep_stat%invalid_input, "positions, masses and radii " &
+        //"must describe the same particles", where="position")
       return
     end if
     do i = 1, n
       if (.not. (ieee_is_finite(mass(i)) .and. mass(i) > 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "mass: particle "//int_text(i)//": must be > 0")
+        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(i)//": must be > 0", &
+          where="mass", index=int(i))
         return
       end if
       if (.not. ieee_is_finite(1.0_dp/mass(i))) then
-        call set_status(status, demstep_stat%invalid_input, "mass: particle "//int_text(i)//": must be " &
-          //"at least 5.6e-309 (1/mass must be finite)")
+        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(i)//": must be " &
+          //"at least 5.6e-309 (1/mass must be finite)", where="mass", index=int(i))
         return
       end if
       if (.not. (ieee_is_finite(radius(i)) .and. radius(i) > 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "radius: particle "//int_text(i)//": must be > 0")
+        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(i)//": must be > 0", &
+          where="radius", index=int(i))
         return
       end if
       if (radius(i) > max_coordinate) then
-        call set_status(status, demstep_stat%invalid_input, "radius: particle "//int_text(i)//": must be " &
-          //"at most 1e150 (squared distances must be representable)")
+        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(i)//": must be " &
+          //"at most 1e150 (squared distances must be representable)", where="radius", index=int(i))
         return
       end if
       if (.not. all(ieee_is_finite(x(:, i)))) then
-        call set_status(status, demstep_stat%invalid_input, "position: particle "//int_text(i)//" is not finite")
+        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(i)//" is not finite", &
+          where="position", index=int(i))
         return
       end if
       if (any(abs(x(:, i)) > max_coordinate)) then
-        call set_status(status, demstep_stat%invalid_input, "position: particle "//int_text(i)//": every " &
-          //"coordinate must be within +-1e150 (squared distances must be representable)")
+        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(i)//": every " &
+          //"coordinate must be within +-1e150 (squared distances must be representable)", &
+          where="position", index=int(i))
         return
       end if
     end do
@@ -108,13 +112,13 @@ contains
     scene%radius = radius
     if (present(inertia)) then
       if (size(inertia) /= n) then
-        call set_status(status, demstep_stat%invalid_input, "inertia: one per particle")
+        call set_status(status, demstep_stat%invalid_input, "one per particle", where="inertia")
         return
       end if
       do i = 1, n
         if (.not. (ieee_is_finite(inertia(i)) .and. inertia(i) > 0.0_dp)) then
-          call set_status(status, demstep_stat%invalid_input, "inertia: particle "//int_text(i)// &
-            ": must be > 0 and finite")
+          call set_status(status, demstep_stat%invalid_input, "particle "//int_text(i)// &
+            ": must be > 0 and finite", where="inertia", index=int(i))
           return
         end if
       end do
@@ -126,7 +130,7 @@ contains
     allocate(scene%v(3, n), scene%w(3, n), source=0.0_dp)
     if (present(v)) then
       if (size(v, 1) /= dim .or. size(v, 2) /= n .or. .not. all(ieee_is_finite(v))) then
-        call set_status(status, demstep_stat%invalid_input, "velocity: must be finite, one per particle")
+        call set_status(status, demstep_stat%invalid_input, "must be finite, one per particle", where="velocity")
         return
       end if
       scene%v(:dim, :) = v
@@ -134,7 +138,7 @@ contains
     allocate(scene%fixed(n), source=.false.)
     if (present(fixed)) then
       if (size(fixed) /= n) then
-        call set_status(status, demstep_stat%invalid_input, "fixed: one fixed flag per particle")
+        call set_status(status, demstep_stat%invalid_input, "one fixed flag per particle", where="fixed")
         return
       end if
       scene%fixed = fixed
@@ -161,8 +165,8 @@ contains
     ! two fixed particles may not overlap: their contact could never resolve
     do i = 1, s%n_pairs
       if (scene%fixed(s%pair_i(i)) .and. scene%fixed(s%pair_j(i))) then
-        call set_status(status, demstep_stat%invalid_input, "position: fixed particles "// &
-          int_text(s%pair_i(i))//" and "//int_text(s%pair_j(i))//" overlap")
+        call set_status(status, demstep_stat%invalid_input, "fixed particles "// &
+          int_text(s%pair_i(i))//" and "//int_text(s%pair_j(i))//" overlap", where="position")
         return
       end if
     end do
@@ -183,7 +187,7 @@ contains
     real(dp) :: longest
     integer :: ax
     if (any(periodic(scene%dim+1:))) then
-      call set_status(status, demstep_stat%invalid_input, "periodic: only the first dim axes can be periodic")
+      call set_status(status, demstep_stat%invalid_input, "only the first dim axes can be periodic", where="periodic")
       return
     end if
     longest = 2.0_dp*maxval(scene%radius)
@@ -191,20 +195,20 @@ contains
     do ax = 1, 3
       if (.not. (ieee_is_finite(lo(ax)) .and. ieee_is_finite(hi(ax)) .and. &
           abs(lo(ax)) <= max_coordinate .and. abs(hi(ax)) <= max_coordinate)) then
-        call set_status(status, demstep_stat%invalid_input, "cell_hi: axis "//int_text(ax)//": cell_lo " &
-          //"and cell_hi must be finite within +-1e150")
+        call set_status(status, demstep_stat%invalid_input, "axis "//int_text(ax)//": cell_lo " &
+          //"and cell_hi must be finite within +-1e150", where="cell_hi", index=int(ax))
         return
       end if
       if (.not. periodic(ax)) cycle
       if (.not. hi(ax) - lo(ax) > 0.0_dp) then
-        call set_status(status, demstep_stat%invalid_input, "cell_hi: axis "//int_text(ax)//": cell_hi " &
-          //"must be above cell_lo")
+        call set_status(status, demstep_stat%invalid_input, "axis "//int_text(ax)//": cell_hi " &
+          //"must be above cell_lo", where="cell_hi", index=int(ax))
         return
       end if
       if (hi(ax) - lo(ax) < 2.0_dp*longest) then
-        call set_status(status, demstep_stat%invalid_input, "cell_hi: axis "//int_text(ax)//": the " &
+        call set_status(status, demstep_stat%invalid_input, "axis "//int_text(ax)//": the " &
           //"periodic cell must be at least twice the longest contact or bond ("// &
-          trim(real_text(2.0_dp*longest))//") long")
+          trim(real_text(2.0_dp*longest))//") long", where="cell_hi", index=int(ax))
         return
       end if
     end do
@@ -253,31 +257,31 @@ contains
     integer :: c, m, q
     m = size(k, 1)
     if (size(pairs, 1) /= 2 .or. .not. (m == 2 .or. m == 4 .or. m == 8) .or. size(k, 2) /= size(pairs, 2)) then
-      call set_status(status, demstep_stat%invalid_input, "contacts: each contact is two particle " &
-        //"numbers and 2, 4 or 8 values (k_n, k_t, k_r, k_w, c_n, c_t, c_r, c_w)")
+      call set_status(status, demstep_stat%invalid_input, "each contact is two particle " &
+        //"numbers and 2, 4 or 8 values (k_n, k_t, k_r, k_w, c_n, c_t, c_r, c_w)", where="contacts")
       return
     end if
     do c = 1, size(pairs, 2)
       if (any(pairs(:, c) < 1) .or. any(pairs(:, c) > scene%n)) then
-        call set_status(status, demstep_stat%invalid_input, "contacts: row "//int_text(c)//": names a " &
+        call set_status(status, demstep_stat%invalid_input, "row "//int_text(c)//": names a " &
           //"missing particle ("//int_text(pairs(1, c))//", "//int_text(pairs(2, c))//"; there are " &
-          //int_text(scene%n)//")")
+          //int_text(scene%n)//")", where="contacts", index=int(c))
         return
       end if
       if (pairs(1, c) == pairs(2, c)) then
-        call set_status(status, demstep_stat%invalid_input, "contacts: row "//int_text(c)//": pairs " &
-          //"particle "//int_text(pairs(1, c))//" with itself")
+        call set_status(status, demstep_stat%invalid_input, "row "//int_text(c)//": pairs " &
+          //"particle "//int_text(pairs(1, c))//" with itself", where="contacts", index=int(c))
         return
       end if
       if (.not. (ieee_is_finite(k(1, c)) .and. k(1, c) > 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "contacts: row "//int_text(c)//": k_n " &
-          //"must be > 0 and finite")
+        call set_status(status, demstep_stat%invalid_input, "row "//int_text(c)//": k_n " &
+          //"must be > 0 and finite", where="contacts", index=int(c))
         return
       end if
       do q = 2, m
         if (.not. (ieee_is_finite(k(q, c)) .and. k(q, c) >= 0.0_dp)) then
-          call set_status(status, demstep_stat%invalid_input, "contacts: row "//int_text(c)//": " &
-            //trim(names(q))//" must be >= 0 and finite")
+          call set_status(status, demstep_stat%invalid_input, "row "//int_text(c)//": " &
+            //trim(names(q))//" must be >= 0 and finite", where="contacts", index=int(c))
           return
         end if
       end do
@@ -308,23 +312,23 @@ contains
     call check_types(scene, types, nt, status)
     if (status%stat /= demstep_stat%ok) return
     if (size(k, 1) /= 2 .or. size(k, 3) /= nt) then
-      call set_status(status, demstep_stat%invalid_input, "type_k_normal: one value per type pair")
+      call set_status(status, demstep_stat%invalid_input, "one value per type pair", where="type_k_normal")
       return
     end if
     if (.not. all(ieee_is_finite(k(1, :, :)) .and. k(1, :, :) > 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "type_k_normal: must be > 0 and finite")
+      call set_status(status, demstep_stat%invalid_input, "must be > 0 and finite", where="type_k_normal")
       return
     end if
     if (.not. all(ieee_is_finite(k(2, :, :)) .and. k(2, :, :) >= 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "type_k_tangential: must be >= 0 and finite")
+      call set_status(status, demstep_stat%invalid_input, "must be >= 0 and finite", where="type_k_tangential")
       return
     end if
     if (any(k(1, :, :) /= transpose(k(1, :, :)))) then
-      call set_status(status, demstep_stat%invalid_input, "type_k_normal: must be symmetric (a-b as b-a)")
+      call set_status(status, demstep_stat%invalid_input, "must be symmetric (a-b as b-a)", where="type_k_normal")
       return
     end if
     if (any(k(2, :, :) /= transpose(k(2, :, :)))) then
-      call set_status(status, demstep_stat%invalid_input, "type_k_tangential: must be symmetric (a-b as b-a)")
+      call set_status(status, demstep_stat%invalid_input, "must be symmetric (a-b as b-a)", where="type_k_tangential")
       return
     end if
     scene%ptype = types
@@ -349,15 +353,15 @@ contains
     call check_types(scene, types, nt, status)
     if (status%stat /= demstep_stat%ok) return
     if (size(poisson) /= nt) then
-      call set_status(status, demstep_stat%invalid_input, "poisson: one per type, as young")
+      call set_status(status, demstep_stat%invalid_input, "one per type, as young", where="poisson")
       return
     end if
     if (.not. all(ieee_is_finite(young) .and. young > 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "young: must be > 0 and finite")
+      call set_status(status, demstep_stat%invalid_input, "must be > 0 and finite", where="young")
       return
     end if
     if (.not. all(poisson > -1.0_dp .and. poisson <= 0.5_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "poisson: must be in (-1, 0.5]")
+      call set_status(status, demstep_stat%invalid_input, "must be in (-1, 0.5]", where="poisson")
       return
     end if
     scene%ptype = types
@@ -388,14 +392,14 @@ contains
     type(demstep_status_type), intent(out) :: status
     integer :: i
     if (size(types) /= scene%n .or. nt < 1) then
-      call set_status(status, demstep_stat%invalid_input, "types: one type per particle ("// &
-        int_text(scene%n)//"), and at least one material")
+      call set_status(status, demstep_stat%invalid_input, "one type per particle ("// &
+        int_text(scene%n)//"), and at least one material", where="types")
       return
     end if
     do i = 1, scene%n
       if (types(i) < 1 .or. types(i) > nt) then
-        call set_status(status, demstep_stat%invalid_input, "types: particle "//int_text(i)//": type "// &
-          int_text(types(i))//" is not one of the "//int_text(nt)//" materials")
+        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(i)//": type "// &
+          int_text(types(i))//" is not one of the "//int_text(nt)//" materials", where="types", index=int(i))
         return
       end if
     end do
@@ -549,8 +553,8 @@ contains
       name_n = "e_star"
       name_t = "g_star"
     else
-      call set_status(status, demstep_stat%invalid_input, "law: "//int_text(law)//" is not a contact " &
-        //"law (linear "//int_text(contact_law%linear)//", hertz "//int_text(contact_law%hertz)//")")
+      call set_status(status, demstep_stat%invalid_input, int_text(law)//" is not a contact " &
+        //"law (linear "//int_text(contact_law%linear)//", hertz "//int_text(contact_law%hertz)//")", where="law")
       return
     end if
     if (.not. (ieee_is_finite(normal) .and. normal > 0.0_dp)) then
@@ -581,11 +585,11 @@ contains
     real(dp), intent(in) :: k_bond, k_bond_tangential
     type(demstep_status_type), intent(out) :: status
     if (.not. (ieee_is_finite(k_bond) .and. k_bond > 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "k_bond: must be > 0 and finite")
+      call set_status(status, demstep_stat%invalid_input, "must be > 0 and finite", where="k_bond")
       return
     end if
     if (.not. (ieee_is_finite(k_bond_tangential) .and. k_bond_tangential >= 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "k_bond_tangential: must be >= 0 and finite")
+      call set_status(status, demstep_stat%invalid_input, "must be >= 0 and finite", where="k_bond_tangential")
       return
     end if
     scene%k_bond = k_bond
@@ -600,8 +604,8 @@ contains
     real(dp), intent(in) :: gravity(:)
     type(demstep_status_type), intent(out) :: status
     if (size(gravity) /= scene%dim .or. .not. all(ieee_is_finite(gravity))) then
-      call set_status(status, demstep_stat%invalid_input, "gravity: needs "//int_text(scene%dim)// &
-        " finite components")
+      call set_status(status, demstep_stat%invalid_input, "needs "//int_text(scene%dim)// &
+        " finite components", where="gravity")
       return
     end if
     scene%gravity = 0.0_dp
@@ -630,13 +634,13 @@ contains
     g = 0.0_dp
     if (present(drag)) g = drag
     if (.not. damping_ratio_ok(ratio)) then
-      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be in [0, 1e100]")
+      call set_status(status, demstep_stat%invalid_input, "must be in [0, 1e100]", where="damping_ratio")
     else if (.not. damping_ratio_ok(zt)) then
-      call set_status(status, demstep_stat%invalid_input, "damping_ratio_tangential: must be in [0, 1e100]")
+      call set_status(status, demstep_stat%invalid_input, "must be in [0, 1e100]", where="damping_ratio_tangential")
     else if (.not. damping_ratio_ok(zr)) then
-      call set_status(status, demstep_stat%invalid_input, "damping_ratio_rolling: must be in [0, 1e100]")
+      call set_status(status, demstep_stat%invalid_input, "must be in [0, 1e100]", where="damping_ratio_rolling")
     else if (.not. (ieee_is_finite(g) .and. g >= 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "drag: must be >= 0 and finite")
+      call set_status(status, demstep_stat%invalid_input, "must be >= 0 and finite", where="drag")
     else
       scene%damping_ratio = ratio
       scene%damping_ratio_tangential = zt
@@ -663,12 +667,12 @@ contains
     type(demstep_status_type), intent(out) :: status
     real(dp), intent(in), optional :: rolling_friction
     if (.not. ieee_is_finite(friction)) then
-      call set_status(status, demstep_stat%invalid_input, "friction: must be finite")
+      call set_status(status, demstep_stat%invalid_input, "must be finite", where="friction")
       return
     end if
     if (present(rolling_friction)) then
       if (.not. ieee_is_finite(rolling_friction)) then
-        call set_status(status, demstep_stat%invalid_input, "rolling_friction: must be finite")
+        call set_status(status, demstep_stat%invalid_input, "must be finite", where="rolling_friction")
         return
       end if
       scene%rolling_friction = rolling_friction
@@ -685,7 +689,7 @@ contains
     real(dp), intent(in) :: alpha
     type(demstep_status_type), intent(out) :: status
     if (.not. (alpha >= 0.0_dp .and. alpha < 1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "local_damping: must be in [0, 1)")
+      call set_status(status, demstep_stat%invalid_input, "must be in [0, 1)", where="local_damping")
       return
     end if
     scene%local_damping = alpha
@@ -702,11 +706,11 @@ contains
     real(dp), intent(in) :: rolling_ratio, twisting_ratio
     type(demstep_status_type), intent(out) :: status
     if (.not. (ieee_is_finite(rolling_ratio) .and. rolling_ratio >= 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "rolling_ratio: must be >= 0 and finite")
+      call set_status(status, demstep_stat%invalid_input, "must be >= 0 and finite", where="rolling_ratio")
       return
     end if
     if (.not. (ieee_is_finite(twisting_ratio) .and. twisting_ratio >= 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "twisting_ratio: must be >= 0 and finite")
+      call set_status(status, demstep_stat%invalid_input, "must be >= 0 and finite", where="twisting_ratio")
       return
     end if
     scene%rolling_ratio = rolling_ratio
@@ -727,15 +731,15 @@ contains
     logical :: effects(n_effects)
     integer :: k, e
     if (size(on) /= size(names)) then
-      call set_status(status, demstep_stat%invalid_input, "effects: one on/off flag per name")
+      call set_status(status, demstep_stat%invalid_input, "one on/off flag per name", where="effects")
       return
     end if
     effects = scene%effects
     do k = 1, size(names)
       e = scene_effect_from_name(trim(names(k)))
       if (e == 0) then
-        call set_status(status, demstep_stat%invalid_input, "effects: '"//trim(names(k))//"' is not " &
-          //"an effect")
+        call set_status(status, demstep_stat%invalid_input, "'"//trim(names(k))//"' is not " &
+          //"an effect", where="effects")
         return
       end if
       effects(e) = on(k)
@@ -810,28 +814,28 @@ contains
     zeta = 0.0_dp
     if (present(damping_ratio)) zeta = damping_ratio
     if (n < packing_min_particles .or. n > packing_max_particles) then
-      call set_status(status, demstep_stat%invalid_input, "n: a random periodic packing needs "// &
+      call set_status(status, demstep_stat%invalid_input, "a random periodic packing needs "// &
         int_text(packing_min_particles)//" to "//int_text(packing_max_particles)//" particles " &
-        //"(tile_scene makes larger ones)")
+        //"(tile_scene makes larger ones)", where="n")
       return
     end if
     if (.not. (ieee_is_finite(r_mean) .and. r_mean > 0.0_dp .and. r_mean <= 1.0e100_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "radius: must be > 0 and at most 1e100")
+      call set_status(status, demstep_stat%invalid_input, "must be > 0 and at most 1e100", where="radius")
       return
     end if
     if (.not. (poly >= 0.0_dp .and. poly <= 0.5_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "polydispersity: must be in [0, 0.5]")
+      call set_status(status, demstep_stat%invalid_input, "must be in [0, 0.5]", where="polydispersity")
       return
     end if
     if (.not. (ieee_is_finite(rho) .and. rho > 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "density: must be > 0 and finite")
+      call set_status(status, demstep_stat%invalid_input, "must be > 0 and finite", where="density")
       return
     end if
     ! the law's own check, before the relaxation
     call scene_set_law(law_only, contact_law%linear, kn, kt, status)
     if (status%stat /= demstep_stat%ok) return
     if (.not. (zeta >= 0.0_dp .and. zeta <= 1.0e100_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be in [0, 1e100]")
+      call set_status(status, demstep_stat%invalid_input, "must be in [0, 1e100]", where="damping_ratio")
       return
     end if
     state = 1_i8
@@ -1129,30 +1133,30 @@ contains
     real(dp) :: box(3), shift(3)
     integer :: ax, n, copies, t, a, b, c, lo, k
     if (any(reps < 1)) then
-      call set_status(status, demstep_stat%invalid_input, "reps: must be >= 1 along every axis")
+      call set_status(status, demstep_stat%invalid_input, "must be >= 1 along every axis", where="reps")
       return
     end if
     do ax = 1, 3
       if (reps(ax) > 1 .and. .not. scene%periodic(ax)) then
-        call set_status(status, demstep_stat%invalid_input, "reps: axis "//int_text(ax)//" is not " &
-          //"periodic: only a periodic cell can be repeated along it")
+        call set_status(status, demstep_stat%invalid_input, "axis "//int_text(ax)//" is not " &
+          //"periodic: only a periodic cell can be repeated along it", where="reps", index=int(ax))
         return
       end if
     end do
     n = scene%n
     if (n < 1) then
-      call set_status(status, demstep_stat%invalid_input, "n: the scene has no particles")
+      call set_status(status, demstep_stat%invalid_input, "the scene has no particles", where="n")
       return
     end if
     if (real(n, dp)*real(reps(1), dp)*real(reps(2), dp)*real(reps(3), dp) > real(huge(1), dp)) then
-      call set_status(status, demstep_stat%invalid_input, "reps: the tiled scene would hold more " &
-        //"than 2147483647 particles")
+      call set_status(status, demstep_stat%invalid_input, "the tiled scene would hold more " &
+        //"than 2147483647 particles", where="reps")
       return
     end if
     if ((real(size(scene%bonds, 2), dp) + real(size(scene%contact_pairs, 2), dp)) &
         *real(reps(1), dp)*real(reps(2), dp)*real(reps(3), dp) > real(huge(1), dp)) then
-      call set_status(status, demstep_stat%invalid_input, "reps: the tiled scene would hold more " &
-        //"than 2147483647 bonds or contacts")
+      call set_status(status, demstep_stat%invalid_input, "the tiled scene would hold more " &
+        //"than 2147483647 bonds or contacts", where="reps")
       return
     end if
     copies = product(reps)

@@ -315,14 +315,14 @@ contains
     zt = scene%damping_ratio_tangential
     if (zt < 0.0_dp) zt = 0.0_dp
     if (.not. (scene%damping_ratio >= 0.0_dp .and. scene%damping_ratio <= max_damping_ratio)) then
-      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be in [0, 1e100]")
+      call set_status(status, demstep_stat%invalid_input, "must be in [0, 1e100]", where="damping_ratio")
     else if (.not. (zt >= 0.0_dp .and. zt <= max_damping_ratio)) then
-      call set_status(status, demstep_stat%invalid_input, "damping_ratio_tangential: must be in [0, 1e100]")
+      call set_status(status, demstep_stat%invalid_input, "must be in [0, 1e100]", where="damping_ratio_tangential")
     else if (.not. (scene%damping_ratio_rolling >= 0.0_dp .and. &
         scene%damping_ratio_rolling <= max_damping_ratio)) then
-      call set_status(status, demstep_stat%invalid_input, "damping_ratio_rolling: must be in [0, 1e100]")
+      call set_status(status, demstep_stat%invalid_input, "must be in [0, 1e100]", where="damping_ratio_rolling")
     else if (.not. (scene%drag >= 0.0_dp .and. scene%drag <= huge(1.0_dp))) then
-      call set_status(status, demstep_stat%invalid_input, "drag: must be >= 0 and finite")
+      call set_status(status, demstep_stat%invalid_input, "must be >= 0 and finite", where="drag")
     end if
   end subroutine check_scene_damping
 

@@ -63,8 +63,8 @@ contains
     w = 0
     if (present(wall_type)) w = wall_type
     if (w < 0 .or. w > nt) then
-      call set_status(status, demstep_stat%invalid_input, "wall_type: must be 0 (each particle's own " &
-        //"type) or one of the "//int_text(nt)//" materials")
+      call set_status(status, demstep_stat%invalid_input, "must be 0 (each particle's own " &
+        //"type) or one of the "//int_text(nt)//" materials", where="wall_type")
       return
     end if
     pair%restitution = restitution

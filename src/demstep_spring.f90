@@ -15,7 +15,7 @@
 !> it is stable for `omega dt < 2`, i.e. `dt < 2 sqrt(M/K)` (paper eq. 6).
 module demstep_spring
   use demstep_kinds, only: dp, i8, pi
-  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status, status_at
   use demstep_text, only: real_text
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use demstep_words, only: word_index, word_of
@@ -94,23 +94,23 @@ contains
     zeta = 0.0_dp
     if (present(damping_ratio)) zeta = damping_ratio
     if (.not. positive_finite(mass)) then
-      call set_status(status, demstep_stat%invalid_input, "mass: must be finite and > 0")
+      call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="mass")
       return
     end if
     if (.not. positive_finite(stiffness)) then
-      call set_status(status, demstep_stat%invalid_input, "stiffness: must be finite and > 0")
+      call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="stiffness")
       return
     end if
     if (.not. (ieee_is_finite(zeta) .and. zeta >= 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be finite and >= 0")
+      call set_status(status, demstep_stat%invalid_input, "must be finite and >= 0", where="damping_ratio")
       return
     end if
     ! scaled: K/M itself may overflow or underflow where its square root does not
     omega = sqrt(stiffness)/sqrt(mass)
     if (.not. (omega >= spring_omega_min .and. omega <= spring_omega_max)) then
-      call set_status(status, demstep_stat%invalid_input, "stiffness: stiffness/mass must be in " &
+      call set_status(status, demstep_stat%invalid_input, "stiffness/mass must be in " &
         //"[1e-600, 1e600] (omega = sqrt(stiffness/mass) in [1e-300, 1e300]), got omega = " &
-        //real_text(omega))
+        //real_text(omega), where="stiffness")
       return
     end if
     root_km = sqrt(stiffness)*sqrt(mass)
@@ -120,10 +120,10 @@ contains
         dt_critical >= tiny(1.0_dp))) then
       ! the dashpot c = 2 zeta sqrt(K M) and the critical step must be normal doubles
       bound = min(0.5_dp*(huge(1.0_dp)/root_km), (1.0_dp/omega)/tiny(1.0_dp))
-      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be 0 or in [" &
+      call set_status(status, demstep_stat%invalid_input, "must be 0 or in [" &
         //real_text(max(tiny(1.0_dp)/root_km, tiny(1.0_dp)))//", "//real_text(0.999_dp*bound) &
         //"] with this mass and stiffness (the dashpot 2 damping_ratio sqrt(stiffness mass) " &
-        //"and the critical step must stay in the double range)")
+        //"and the critical step must stay in the double range)", where="damping_ratio")
       return
     end if
     spring%mass = mass
@@ -132,7 +132,7 @@ contains
     if (present(compression_only)) spring%compression_only = compression_only
     if (present(dashpot)) then
       if (dashpot /= dashpot_kind%lagged .and. dashpot /= dashpot_kind%centred) then
-        call set_status(status, demstep_stat%invalid_input, "dashpot: must be lagged or centred")
+        call set_status(status, demstep_stat%invalid_input, "must be lagged or centred", where="dashpot")
         return
       end if
       spring%dashpot = dashpot
@@ -309,9 +309,9 @@ contains
     ! N = T/dt <= huge and dt a normal double
     dt_min = max(tiny(1.0_dp), period/huge(1.0_dp))
     if (.not. (ieee_is_finite(dt) .and. dt >= dt_min .and. dt <= dt_max)) then
-      call set_status(status, demstep_stat%invalid_input, "dt: must be in [" &
+      call set_status(status, demstep_stat%invalid_input, "must be in [" &
         //real_text(dt_min*1.001_dp)//", "//real_text(dt_max*0.999_dp)//"] for this spring, got " &
-        //real_text(dt))
+        //real_text(dt), where="dt")
       return
     end if
     status%stat = demstep_stat%ok
@@ -334,14 +334,14 @@ contains
     n_max = min(huge(1.0_dp), period/tiny(1.0_dp))
     if (.not. (ieee_is_finite(n_per_period) .and. n_per_period >= n_min .and. &
         n_per_period <= n_max)) then
-      call set_status(status, demstep_stat%invalid_input, "n_per_period: must be in [" &
+      call set_status(status, demstep_stat%invalid_input, "must be in [" &
         //real_text(n_min*1.001_dp)//", "//real_text(n_max*0.999_dp)//"] for this spring, got " &
-        //real_text(n_per_period))
+        //real_text(n_per_period), where="n_per_period")
       return
     end if
     dt = period/n_per_period
     call check_time_step(spring, dt, status)
-    if (status%stat /= demstep_stat%ok) status%message = "n_per_period: gives "//status%message
+    call status_at(status, "n_per_period", lead="gives ")
   end subroutine step_for_n_per_period
 
   !> A count held in a real as a 64-bit integer, saturating at huge(1_i8)

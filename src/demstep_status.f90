@@ -46,8 +46,8 @@ module demstep_status
   type, public :: demstep_status_type
     !> One of the codes of `demstep_stat`.
     integer :: stat = 0
-    !> The whole message, `where(index): detail` when a location is known;
-    !> unallocated on success.
+    !> The whole message, `where: detail` when a location is known; unallocated
+    !> on success.
     character(len=:), allocatable :: message
     !> The argument or field to change (blank when the fault has no single one).
     character(len=:), allocatable :: where
@@ -57,12 +57,12 @@ module demstep_status
     character(len=:), allocatable :: detail
   end type demstep_status_type
 
-  public :: set_status, is_ok, status_where
+  public :: set_status, is_ok, status_at
 
 contains
 
   !> Set a status code, its location and message. With `where`, the message
-  !> becomes `where: detail` (or `where(index): detail`).
+  !> becomes `where: detail` (the detail names the element where one applies).
   pure subroutine set_status(status, stat, message, where, index)
     !> Status to set.
     type(demstep_status_type), intent(out) :: status
@@ -79,28 +79,33 @@ contains
     status%where = ""
     if (present(where)) status%where = where
     if (present(index)) status%index = index
-    status%message = status_where(status)
-    if (len(status%message) > 0) then
-      status%message = status%message//": "//message
+    if (len(status%where) > 0) then
+      status%message = status%where//": "//message
     else
       status%message = message
     end if
   end subroutine set_status
 
-  !> The location of a status as text: `where`, `where(index)`, or blank.
-  pure function status_where(status) result(text)
-    !> Status to describe.
-    type(demstep_status_type), intent(in) :: status
-    character(len=:), allocatable :: text
-    character(len=24) :: buf
-    text = ""
-    if (.not. allocated(status%where)) return
-    text = status%where
-    if (status%index > 0 .and. len(text) > 0) then
-      write(buf, '(i0)') status%index
-      text = text//"("//trim(buf)//")"
-    end if
-  end function status_where
+  !> Put a failed status at another location: the caller's `where`, the old
+  !> message (after `lead`, if given) as its detail; the message becomes
+  !> `where: lead old-message`. A successful status is left alone.
+  pure subroutine status_at(status, where, lead)
+    !> The status, relabelled.
+    type(demstep_status_type), intent(inout) :: status
+    !> The argument or field the caller's user gave.
+    character(len=*), intent(in) :: where
+    !> Words put before the old message.
+    character(len=*), intent(in), optional :: lead
+    character(len=:), allocatable :: detail
+    if (status%stat == demstep_stat%ok) return
+    detail = ""
+    if (allocated(status%message)) detail = status%message
+    if (present(lead)) detail = lead//detail
+    status%where = where
+    status%index = 0
+    status%detail = detail
+    status%message = where//": "//detail
+  end subroutine status_at
 
   !> True when the status reports success.
   elemental function is_ok(status) result(ok)

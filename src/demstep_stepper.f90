@@ -122,8 +122,8 @@ contains
     work%shear_dt = 0.0_dp
     summary%energy_initial = scene_energy(scene, work, terms, dt, rotation, advance=.false.)
     if (.not. ieee_is_finite(summary%energy_initial)) then
-      call set_status(status, demstep_stat%invalid_input, "velocity: the initial energy (kinetic " &
-        //"+ elastic + gravitational) overflows: velocities, masses, stiffness or overlaps too large")
+      call set_status(status, demstep_stat%invalid_input, "the initial energy (kinetic " &
+        //"+ elastic + gravitational) overflows: velocities, masses, stiffness or overlaps too large", where="velocity")
       return
     end if
     work%shear_dt = dt

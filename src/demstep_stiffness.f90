@@ -352,10 +352,10 @@ contains
     character(len=:), allocatable :: advice
     advice = "use tolerance >= "//real_text(round_up_2(max(e_min, min_tolerance)))
     if (options%policy%kind == step_kind%fixed) advice = advice//" or fewer n_steps"
-    call set_status(status, demstep_stat%invalid_input, "tolerance: for lambda = "//real_text(lambda) &
+    call set_status(status, demstep_stat%invalid_input, "for lambda = "//real_text(lambda) &
       //" the smallest N with |E| <= "//real_text(options%tolerance)//" lies next to N = " &
       //real_text(x, 15)//" in an interval narrower than the spacing of doubles: |E| >= " &
-      //real_text(e_min)//" at every double N there; "//advice)
+      //real_text(e_min)//" at every double N there; "//advice, where="tolerance")
   end subroutine unresolvable
 
   !> The scan's bookkeeping of one sample (`scan_roots` found the roots): the
@@ -390,13 +390,13 @@ contains
         halt = .true.
       else if (real(s%evaluations, dp) > s%budget) then
         if (s%options%policy%kind == step_kind%fixed) then
-          call set_status(s%refusal, demstep_stat%invalid_input, "n_steps: the scan of E for " &
+          call set_status(s%refusal, demstep_stat%invalid_input, "the scan of E for " &
             //"lambda = "//real_text(s%lambda)//" took more than "//real_text(s%budget) &
-            //" evaluations; use fewer steps, a coarser resolution or a smaller n_max")
+            //" evaluations; use fewer steps, a coarser resolution or a smaller n_max", where="n_steps")
         else
-          call set_status(s%refusal, demstep_stat%invalid_input, "resolution: the scan of E for " &
+          call set_status(s%refusal, demstep_stat%invalid_input, "the scan of E for " &
             //"lambda = "//real_text(s%lambda)//" took more than "//real_text(s%budget) &
-            //" evaluations; use a coarser resolution or a smaller n_max")
+            //" evaluations; use a coarser resolution or a smaller n_max", where="resolution")
         end if
         halt = .true.
       end if
@@ -798,32 +798,32 @@ contains
     real(dp) :: top, cost, r
     status%stat = demstep_stat%ok
     if (.not. (ieee_is_finite(lambda) .and. lambda > 0.0_dp .and. lambda <= 1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "lambda: must be in (0, 1], got "//real_text(lambda))
+      call set_status(status, demstep_stat%invalid_input, "must be in (0, 1], got "//real_text(lambda), where="lambda")
     else if (.not. (options%tolerance >= min_tolerance .and. options%tolerance < 1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "tolerance: must be in (0, 1) and at least 1e-10 (E is " &
-        //"computed to 1e-12), got "//real_text(options%tolerance))
+      call set_status(status, demstep_stat%invalid_input, "must be in (0, 1) and at least 1e-10 (E is " &
+        //"computed to 1e-12), got "//real_text(options%tolerance), where="tolerance")
     else if (options%pick /= pick_kind%largest_step .and. options%pick /= pick_kind%zero) then
-      call set_status(status, demstep_stat%invalid_input, "pick: unknown pick")
+      call set_status(status, demstep_stat%invalid_input, "unknown pick", where="pick")
     else if (.not. valid_policy(options%policy)) then
-      call set_status(status, demstep_stat%invalid_input, "steps: invalid step policy (n_steps in " &
-        //"[1, 1e12], or steps_fraction > 0)")
+      call set_status(status, demstep_stat%invalid_input, "invalid step policy (n_steps in " &
+        //"[1, 1e12], or steps_fraction > 0)", where="steps")
     else if (.not. (options%resolution > 0.0_dp .and. options%resolution <= 1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "resolution: must be in (0, 1], got " &
-        //real_text(options%resolution))
+      call set_status(status, demstep_stat%invalid_input, "must be in (0, 1], got " &
+        //real_text(options%resolution), where="resolution")
     end if
     if (status%stat /= demstep_stat%ok) return
     top = n_max_limit(options%policy)
     if (.not. (ieee_is_finite(options%n_max) .and. options%n_max > 2.0_dp*scan_start(options%policy) &
         .and. options%n_max <= top)) then
-      call set_status(status, demstep_stat%invalid_input, "n_max: must be in ("// &
+      call set_status(status, demstep_stat%invalid_input, "must be in ("// &
         real_text(2.0_dp*scan_start(options%policy))//", "//real_text(top)//"] for this step policy " &
-        //"(n <= 1e12 steps), got "//real_text(options%n_max))
+        //"(n <= 1e12 steps), got "//real_text(options%n_max), where="n_max")
       return
     end if
     if (options%policy%kind == step_kind%fraction) then
       if (aint(options%policy%value*lambda) == options%policy%value*lambda) then
-        call set_status(status, demstep_stat%invalid_input, "steps_fraction: f lambda = "// &
-          real_text(options%policy%value*lambda)//" is an integer: E has a pole at every N")
+        call set_status(status, demstep_stat%invalid_input, "f lambda = "// &
+          real_text(options%policy%value*lambda)//" is an integer: E has a pole at every N", where="steps_fraction")
         return
       end if
     end if
@@ -832,14 +832,15 @@ contains
       r = finest_resolution(options, max_scan_evaluations)
       if (options%policy%kind == step_kind%fixed .and. .not. options%first_only .and. r <= 1.0_dp .and. &
           options%resolution >= r) then
-        call set_status(status, demstep_stat%invalid_input, "n_steps: a scan for every root with n = " &
+        call set_status(status, demstep_stat%invalid_input, "a scan for every root with n = " &
           //real_text(options%policy%value)//" needs "//count_text(cost)//" evaluations of E " &
           //"(at most "//real_text(max_scan_evaluations)//"); scan for the first root only, or " &
-          //"use n_steps <= "//real_text(0.1_dp*max_scan_evaluations))
+          //"use n_steps <= "//real_text(0.1_dp*max_scan_evaluations), where="n_steps")
       else
-        call set_status(status, demstep_stat%invalid_input, "resolution: the scan up to n_max = "// &
+        call set_status(status, demstep_stat%invalid_input, "the scan up to n_max = "// &
           real_text(options%n_max)//" would need "//count_text(cost)//" evaluations of E per " &
-          //"lambda (at most "//real_text(max_scan_evaluations)//"); use resolution >= "//real_text(r))
+          //"lambda (at most "//real_text(max_scan_evaluations)//"); use resolution >= "//real_text(r), &
+          where="resolution")
       end if
     end if
   end subroutine check_options
@@ -929,7 +930,7 @@ contains
     x = pack(picks, use)
     n = size(x)
     if (n == 0) then
-      call set_status(status, demstep_stat%not_found, "lambda: no lambda has a usable pick")
+      call set_status(status, demstep_stat%not_found, "no lambda has a usable pick", where="lambda")
       return
     end if
     status%stat = demstep_stat%ok
@@ -939,8 +940,8 @@ contains
     case (aggregate_kind%weighted)
       w = pack(weights, use)
       if (.not. (all(w >= 0.0_dp) .and. all(ieee_is_finite(w)) .and. any(w > 0.0_dp))) then
-        call set_status(status, demstep_stat%invalid_input, "weights: the weights of the usable " &
-          //"lambdas must be finite, >= 0 and not all 0")
+        call set_status(status, demstep_stat%invalid_input, "the weights of the usable " &
+          //"lambdas must be finite, >= 0 and not all 0", where="weights")
         return
       end if
       ! scaled by the largest weight: no overflow for weights up to huge
@@ -958,7 +959,7 @@ contains
     case (aggregate_kind%max)
       n_star = maxval(x)
     case default
-      call set_status(status, demstep_stat%invalid_input, "aggregate: unknown aggregation rule")
+      call set_status(status, demstep_stat%invalid_input, "unknown aggregation rule", where="aggregate")
     end select
   end subroutine aggregate_picks
 
@@ -1005,11 +1006,11 @@ contains
     call aggregate_picks(picks, use, input%aggregate, weights, result%n_star, status)
     if (status%stat == demstep_stat%not_found) then
       if (input%options%pick == pick_kind%zero) then
-        call set_status(status, demstep_stat%not_found, "n_max: no lambda has a root of E up to n_max = " &
-          //real_text(input%options%n_max)//"; raise n_max or pick the largest step")
+        call set_status(status, demstep_stat%not_found, "no lambda has a root of E up to n_max = " &
+          //real_text(input%options%n_max)//"; raise n_max or pick the largest step", where="n_max")
       else
-        call set_status(status, demstep_stat%not_found, "tolerance: no lambda has an admissible N up to " &
-          //"n_max = "//real_text(input%options%n_max)//"; raise tolerance or n_max")
+        call set_status(status, demstep_stat%not_found, "no lambda has an admissible N up to " &
+          //"n_max = "//real_text(input%options%n_max)//"; raise tolerance or n_max", where="tolerance")
       end if
     end if
     if (status%stat /= demstep_stat%ok) return
@@ -1084,40 +1085,40 @@ contains
     if (status%stat /= demstep_stat%ok) then
       return
     else if (.not. allocated(input%lambdas)) then
-      call set_status(status, demstep_stat%invalid_input, "lambda: the lambda set is empty; give " &
-        //"at least one lambda in (0, 1)")
+      call set_status(status, demstep_stat%invalid_input, "the lambda set is empty; give " &
+        //"at least one lambda in (0, 1)", where="lambda")
     else if (size(input%lambdas) == 0) then
-      call set_status(status, demstep_stat%invalid_input, "lambda: the lambda set is empty; give " &
-        //"at least one lambda in (0, 1)")
+      call set_status(status, demstep_stat%invalid_input, "the lambda set is empty; give " &
+        //"at least one lambda in (0, 1)", where="lambda")
     else if (any(.not. (input%lambdas > 0.0_dp .and. input%lambdas < 1.0_dp))) then
       i = findloc(input%lambdas > 0.0_dp .and. input%lambdas < 1.0_dp, .false., dim=1)
-      call set_status(status, demstep_stat%invalid_input, "lambda: element "//int_text(i)//" is " &
-        //value_text(input%lambdas(i))//"; must be in (0, 1)")
+      call set_status(status, demstep_stat%invalid_input, "element "//int_text(i)//" is " &
+        //value_text(input%lambdas(i))//"; must be in (0, 1)", where="lambda", index=int(i))
     end if
     if (status%stat /= demstep_stat%ok) return
     n = size(input%lambdas)
     do i = 2, n
       if (.not. input%lambdas(i) > input%lambdas(i-1)) then
-        call set_status(status, demstep_stat%invalid_input, "lambda: the set must increase (element " &
-          //int_text(i)//" is "//value_text(input%lambdas(i))//")")
+        call set_status(status, demstep_stat%invalid_input, "the set must increase (element " &
+          //int_text(i)//" is "//value_text(input%lambdas(i))//")", where="lambda")
         return
       end if
     end do
     if (input%aggregate == aggregate_kind%weighted) then
       if (.not. allocated(input%weights)) then
-        call set_status(status, demstep_stat%invalid_input, "weights: weighted aggregation needs weights")
+        call set_status(status, demstep_stat%invalid_input, "weighted aggregation needs weights", where="weights")
       else if (size(input%weights) /= n) then
-        call set_status(status, demstep_stat%invalid_input, "weights: "//int_text(size(input%weights))// &
-          " given for "//int_text(n)//" lambdas (one weight per lambda)")
+        call set_status(status, demstep_stat%invalid_input, int_text(size(input%weights))// &
+          " given for "//int_text(n)//" lambdas (one weight per lambda)", where="weights")
       else if (any(.not. (input%weights >= 0.0_dp .and. input%weights <= huge(1.0_dp)))) then
         i = findloc(input%weights >= 0.0_dp .and. input%weights <= huge(1.0_dp), .false., dim=1)
-        call set_status(status, demstep_stat%invalid_input, "weights: element "//int_text(i)//" is " &
-          //value_text(input%weights(i))//"; must be finite and >= 0")
+        call set_status(status, demstep_stat%invalid_input, "element "//int_text(i)//" is " &
+          //value_text(input%weights(i))//"; must be finite and >= 0", where="weights", index=int(i))
       else if (.not. any(input%weights > 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "weights: must not all be 0")
+        call set_status(status, demstep_stat%invalid_input, "must not all be 0", where="weights")
       end if
     else if (input%aggregate < aggregate_kind%mean .or. input%aggregate > aggregate_kind%max) then
-      call set_status(status, demstep_stat%invalid_input, "aggregate: unknown aggregation rule")
+      call set_status(status, demstep_stat%invalid_input, "unknown aggregation rule", where="aggregate")
     end if
     if (status%stat /= demstep_stat%ok) return
     do i = 1, n
@@ -1127,9 +1128,9 @@ contains
     cost = procedure_cost(input)
     if (.not. cost <= max_procedure_evaluations) then
       r = finest_resolution(input%options, max_procedure_evaluations/real(n + lambda_star_scans, dp))
-      call set_status(status, demstep_stat%invalid_input, "resolution: the procedure would need " &
+      call set_status(status, demstep_stat%invalid_input, "the procedure would need " &
         //count_text(cost)//" evaluations of E (at most "//real_text(max_procedure_evaluations)// &
-        "); use resolution >= "//real_text(r)//" or fewer lambdas")
+        "); use resolution >= "//real_text(r)//" or fewer lambdas", where="resolution")
     end if
   end subroutine check_input
 
