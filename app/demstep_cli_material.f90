@@ -11,7 +11,7 @@ module demstep_cli_material
     check_pair
   use demstep_recommend, only: assess_material_pair
   use demstep_cost, only: default_cost_n_max
-  use demstep_status, only: set_status
+  use demstep_status, only: set_status, status_restate
   use demstep_namelist, only: lowercase
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, &
@@ -191,7 +191,7 @@ contains
         pair = material_pair_type(types(i), types(j), restitution, restitution_t, velocity)
         call effective_pair(pair%a, pair%b, eff, status)
         if (status%stat /= demstep_stat%ok) then
-          status%message = fix_label(status%message, i, j)
+          call fix_label(status, i, j)
           return
         end if
         m_star(p) = eff%m_star
@@ -207,7 +207,7 @@ contains
             " is not met below "//fmt_real(default_cost_n_max)//" steps per period ("//who(:len(who)-2)//"); use a larger one")
           return
         else if (status%stat /= demstep_stat%ok) then
-          status%message = pair_message(who, status%message)
+          call pair_message(status, who)
           return
         end if
         dt_critical(p) = exact%dt_critical
@@ -225,12 +225,12 @@ contains
         do c = first, last
           call contact_parameters(pair, c, params, status)
           if (status%stat /= demstep_stat%ok) then
-            status%message = pair_message(who//trim(code_convention_names(c))//": ", status%message)
+            call pair_message(status, who//trim(code_convention_names(c))//": ")
             return
           end if
           call convention_limit(params, eff%m_star, dt_code(c - first + 1, p), status)
           if (status%stat /= demstep_stat%ok) then
-            status%message = pair_message(who//trim(code_convention_names(c))//": ", status%message)
+            call pair_message(status, who//trim(code_convention_names(c))//": ")
             return
           end if
           k_n(c - first + 1, p) = params%k_n
@@ -296,42 +296,55 @@ contains
     status%stat = demstep_stat%ok
   end subroutine evaluate
 
-  !> The library names a pair's types a and b; the report numbers them.
-  !> A library message about one pair (`who`: "types i and j: " and maybe the
-  !> code) as the deck's `variable: what`: the `&material` variable it names comes
-  !> first (`poisson: types 1 and 1: yade_frictphys: ...`); the contact stiffness
-  !> `k_n`, no deck variable, is named by `young`, from which the codes derive it.
-  function pair_message(who, message) result(text)
-    character(len=*), intent(in) :: who, message
-    character(len=:), allocatable :: text
+  !> A pair's library fault restated for the deck: the pair (`who`) leads the
+  !> detail; a stiffness k_n the material gives is named by `young`.
+  subroutine pair_message(status, who)
+    type(demstep_status_type), intent(inout) :: status
+    character(len=*), intent(in) :: who
     type(var_spec), allocatable :: specs(:)
+    character(len=:), allocatable :: name, detail
     integer :: i
-    if (index(message, "k_n: ") == 1) then
-      text = "young: "//who//"the contact stiffness k_n it gives (with poisson, radius and " &
-        //"impact_velocity) "//message(6:)
-      return
-    end if
-    text = who//message
-    allocate(specs, source=material_specs())
-    do i = 1, size(specs)
-      if (index(message, specs(i)%name//": ") == 1) then
-        text = specs(i)%name//": "//who//message(len(specs(i)%name) + 3:)
-        exit
+    name = ""
+    detail = status%message
+    if (allocated(status%where)) then
+      if (status%where == "k_n") then
+        call status_restate(status, "young", who//"the contact stiffness k_n it gives (with poisson, " &
+          //"radius and impact_velocity) "//status%detail)
+        return
       end if
-    end do
-  end function pair_message
+      allocate(specs, source=material_specs())
+      do i = 1, size(specs)
+        if (status%where == specs(i)%name) then
+          name = status%where
+          detail = status%detail
+          exit
+        end if
+      end do
+    end if
+    call status_restate(status, name, who//detail)
+  end subroutine pair_message
 
-  pure function fix_label(message, i, j) result(text)
-    character(len=*), intent(in) :: message
+  !> The library's generic particle types a and b named by the deck's types i and j.
+  pure subroutine fix_label(status, i, j)
+    type(demstep_status_type), intent(inout) :: status
     integer, intent(in) :: i, j
-    character(len=:), allocatable :: text
-    integer :: k
-    text = message
-    k = index(text, "(particle type a)")
-    if (k > 0) text = text(:k-1)//"(particle type "//fmt_int(int(i, i8))//")"//text(k+17:)
-    k = index(text, "(particle type b)")
-    if (k > 0) text = text(:k-1)//"(particle type "//fmt_int(int(j, i8))//")"//text(k+17:)
-  end function fix_label
+    character(len=:), allocatable :: where, detail
+    where = ""
+    if (allocated(status%where)) where = status%where
+    detail = status%message
+    if (allocated(status%detail)) detail = status%detail
+    call status_restate(status, where, relabel(relabel(detail, "a", i), "b", j))
+  contains
+    pure function relabel(text, letter, k) result(out)
+      character(len=*), intent(in) :: text, letter
+      integer, intent(in) :: k
+      character(len=:), allocatable :: out
+      integer :: at
+      out = text
+      at = index(out, "(particle type "//letter//")")
+      if (at > 0) out = out(:at-1)//"(particle type "//fmt_int(int(k, i8))//")"//out(at+17:)
+    end function relabel
+  end subroutine fix_label
 
 
   subroutine write_result(unit, conventions, peer_rules, type_i, type_j, m_star, k_n, k_t, gamma_n, &

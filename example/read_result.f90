@@ -1,30 +1,28 @@
-!> A legacy-style solver start-up: read demstep's result namelist and take its
-!> time step.   demstep example/paper.nml -o demstep_result.nml
-!>              fpm run --example read_result -- demstep_result.nml
-program read_result
+!> A legacy-style solver start-up: take the time step from demstep's result file.
+!>   demstep example/paper.nml -o demstep_result.nml
+!>   fpm run --example read_result -- demstep_result.nml
+!> The group is read by name (`read_result`, `result_get`): fields demstep adds
+!> later do not break this reader, as they would a `namelist` declaration.
+program read_result_example
+  use demstep, only: dp, demstep_status_type, is_ok, result_group_type, read_result, result_get
   implicit none
-  integer, parameter :: dp = kind(1.0d0), i8 = selected_int_kind(18)
-  real(dp) :: period, omega, dt_critical, dt, n_per_period, growth_factor, theta, &
-    period_numerical, contact_time, restitution, max_overlap
-  integer(i8) :: contact_steps
-  logical :: stable
-  real(dp) :: dt_recommended
-  namelist /system_result/ dt_recommended, period, omega, dt_critical, dt, n_per_period, stable, &
-    growth_factor, theta, period_numerical, contact_steps, contact_time, restitution, &
-    max_overlap
+  type(result_group_type) :: result
+  type(demstep_status_type) :: status
   character(len=512) :: path
-  integer :: unit, ios
+  real(dp) :: dt, n_per_period, restitution
+  logical :: stable
 
   call get_command_argument(1, path)
   if (len_trim(path) == 0) path = "demstep_result.nml"
-  dt = -1.0_dp
-  open(newunit=unit, file=trim(path), status="old", action="read", iostat=ios)
-  if (ios /= 0) error stop "cannot open the result namelist"
-  read(unit, nml=system_result, iostat=ios)
-  close(unit)
-  if (ios /= 0) error stop "cannot read &system_result"
-  if (dt <= 0.0_dp) error stop "the result has no time step (give dt or n_per_period)"
+  call read_result(trim(path), "system_result", result, status)
+  if (.not. is_ok(status)) error stop status%message
+  call result_get(result, "dt", dt, status)
+  if (.not. is_ok(status)) error stop "the result has no time step (give dt or n_per_period)"
+  call result_get(result, "n_per_period", n_per_period, status)
+  if (is_ok(status)) call result_get(result, "stable", stable, status)
+  if (is_ok(status)) call result_get(result, "restitution", restitution, status)
+  if (.not. is_ok(status)) error stop status%message
   write(*, '(a, es14.7, a, f8.3, a)') "solver dt = ", dt, " s (", n_per_period, &
     " steps per period)"
   write(*, '(a, l1, a, f10.7)') "stable: ", stable, ", contact restitution: ", restitution
-end program read_result
+end program read_result_example

@@ -38,6 +38,8 @@
 !>   step and the step for a tolerance).
 !> - Progress of long work, and reading namelist decks and tables of numbers:
 !>   `text_progress_type`, `read_text_file`, `scan_namelist`, `read_table`.
+!> - Results read back by name (a reader immune to fields added later):
+!>   `result_group_type`, `read_result`, `result_get`, `result_has`.
 !>
 !> Internal helpers (limits, formatting, the C binding) stay in their own
 !> modules (`demstep_spring`, `demstep_stiffness`, `demstep_text`, `demstep_capi`, ...).
@@ -106,6 +108,8 @@ module demstep
   use demstep_progress, only: progress_type, text_progress_type
   use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, scan_namelist
   use demstep_table_io, only: read_table
+  ! result namelists read back by name
+  use demstep_results, only: result_group_type, read_result, parse_result, result_get, result_has
   ! materials in each code's convention, into a scene's contacts, and the peers' time-step rules
   use demstep_scene_materials, only: scene_set_materials
   use demstep_material, only: code_convention, code_convention_names, peer_rule, peer_rule_names, &

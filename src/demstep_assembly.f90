@@ -354,9 +354,12 @@ contains
     type(scene_type), intent(in) :: scene
     real(dp), intent(in) :: tol
     type(demstep_status_type), intent(out) :: status
+    character(len=:), allocatable :: detail
     call check_lanczos_options("tolerance", tol, 1, 2, 1, status)
     if (status%stat /= demstep_stat%ok) then
-      status%message = status%message(len("tolerance: ") + 1:)
+      ! the options check speaks of its caller, here the tolerance itself
+      detail = status%message(len("tolerance: tolerance: ") + 1:)
+      call set_status(status, demstep_stat%invalid_input, detail, where="tolerance")
       return
     end if
     call check_scene_damping(scene, status)

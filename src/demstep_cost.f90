@@ -51,7 +51,7 @@ contains
     real(dp), intent(out), optional :: onset
     type(discrete_contact_type) :: worst
     if (quantity < 1 .or. quantity > n_quantities) then
-      call set_status(status, demstep_stat%invalid_input, "quantity: unknown quantity")
+      call set_status(status, demstep_stat%invalid_input, "unknown quantity", where="quantity")
       error = 0.0_dp
       return
     end if
@@ -92,21 +92,21 @@ contains
     if (present(at_limit)) at_limit = .false.
     n = 0.0_dp
     if (.not. (ieee_is_finite(tolerance) .and. tolerance > 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "tolerance: must be finite and > 0")
+      call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="tolerance")
       return
     end if
     if (quantity /= quantity_kind%period) then
       call check_contact_damping(zeta, status)
       if (status%stat /= demstep_stat%ok) return
     else if (.not. (ieee_is_finite(zeta) .and. zeta >= 0.0_dp .and. zeta <= 1.0e100_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must be in [0, 1e100]")
+      call set_status(status, demstep_stat%invalid_input, "must be in [0, 1e100]", where="damping_ratio")
       return
     end if
     ! just above the (damped) stability limit 2 pi/h_crit
     limit = pi*(hypot(1.0_dp, zeta) + zeta)*(1.0_dp + 1.0e-9_dp)
     if (.not. (ieee_is_finite(top) .and. top > limit .and. top <= cost_n_max_limit)) then
-      call set_status(status, demstep_stat%invalid_input, "n_max: must be in (" &
-        //real_text(limit)//", "//real_text(cost_n_max_limit)//"], got "//real_text(top))
+      call set_status(status, demstep_stat%invalid_input, "must be in (" &
+        //real_text(limit)//", "//real_text(cost_n_max_limit)//"], got "//real_text(top), where="n_max")
       return
     end if
     call worst_error(top, quantity, e, status, zeta)
@@ -215,16 +215,16 @@ contains
     integer :: e
     prediction%dt = period/n_per_period
     if (.not. prediction%dt >= tiny(1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "stiffness: the step T/N = " &
+      call set_status(status, demstep_stat%invalid_input, "the step T/N = " &
         //real_text(prediction%dt)//" at N = "//real_text(n_per_period)//" underflows; " &
-        //"sqrt(stiffness/mass) must be <= "//real_text(2.0_dp*pi/(n_per_period*tiny(1.0_dp))))
+        //"sqrt(stiffness/mass) must be <= "//real_text(2.0_dp*pi/(n_per_period*tiny(1.0_dp))), where="stiffness")
       return
     end if
     x = duration/prediction%dt
     if (.not. x <= 0.5_dp*huge(1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "duration: the steps duration/dt at N = " &
+      call set_status(status, demstep_stat%invalid_input, "the steps duration/dt at N = " &
         //real_text(n_per_period)//" exceed the double range; duration must be <= " &
-        //real_text(0.25_dp*huge(1.0_dp)*prediction%dt))
+        //real_text(0.25_dp*huge(1.0_dp)*prediction%dt), where="duration")
       return
     end if
     prediction%steps_real = max(1.0_dp, ceiling_real(x))
@@ -236,21 +236,21 @@ contains
       ! the largest n_particles (or duration) that keeps the time in range, by logarithms
       log_bound = log(huge(1.0_dp)) - log(prediction%steps_real) - log(cost_per_particle_step)
       if (log_bound >= 0.0_dp) then
-        call set_status(status, demstep_stat%invalid_input, "n_particles: the predicted run time " &
+        call set_status(status, demstep_stat%invalid_input, "the predicted run time " &
           //"exceeds the double range at N = "//real_text(n_per_period)//"; n_particles must be <= " &
-          //real_text(0.999_dp*exp(log_bound)))
+          //real_text(0.999_dp*exp(log_bound)), where="n_particles")
       else
-        call set_status(status, demstep_stat%invalid_input, "duration: the predicted run time " &
+        call set_status(status, demstep_stat%invalid_input, "the predicted run time " &
           //"exceeds the double range at N = "//real_text(n_per_period)//"; duration must be <= " &
-          //real_text(0.999_dp*duration*exp(log_bound - log(n_particles))))
+          //real_text(0.999_dp*duration*exp(log_bound - log(n_particles))), where="duration")
       end if
       return
     end if
     prediction%seconds = scale(f, e)
     if (.not. prediction%seconds >= tiny(1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "cost_per_particle_step: the predicted " &
+      call set_status(status, demstep_stat%invalid_input, "the predicted " &
         //"run time underflows; cost_per_particle_step must be >= " &
-        //real_text(1.001_dp*(tiny(1.0_dp)/prediction%steps_real)/n_particles))
+        //real_text(1.001_dp*(tiny(1.0_dp)/prediction%steps_real)/n_particles), where="cost_per_particle_step")
       return
     end if
     status%stat = demstep_stat%ok

@@ -90,14 +90,14 @@ contains
     type(discrete_contact_type) :: c
     real(dp) :: omega
     if (.not. (mass > 0.0_dp .and. ieee_is_finite(mass))) then
-      call set_status(status, demstep_stat%invalid_input, "mass: must be finite and > 0")
+      call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="mass")
       return
     else if (.not. (stiffness > 0.0_dp .and. ieee_is_finite(stiffness))) then
-      call set_status(status, demstep_stat%invalid_input, "stiffness: must be finite and > 0")
+      call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="stiffness")
       return
     else if (.not. (damping_ratio >= 0.0_dp .and. damping_ratio < 1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "damping_ratio: must lie in [0, 1) " &
-        //"(a contact that rebounds), got "//real_text(damping_ratio))
+      call set_status(status, demstep_stat%invalid_input, "must lie in [0, 1) " &
+        //"(a contact that rebounds), got "//real_text(damping_ratio), where="damping_ratio")
       return
     end if
     omega = sqrt(stiffness)/sqrt(mass)
@@ -105,14 +105,14 @@ contains
     assessment%damping_ratio = damping_ratio
     assessment%dt_critical = damped_limit(2.0_dp/omega, damping_ratio)
     if (.not. (ieee_is_finite(assessment%period) .and. assessment%dt_critical >= tiny(1.0_dp))) then
-      call set_status(status, demstep_stat%invalid_input, "stiffness: sqrt(stiffness/mass) " &
-        //"leaves the double range; rescale the units")
+      call set_status(status, demstep_stat%invalid_input, "sqrt(stiffness/mass) " &
+        //"leaves the double range; rescale the units", where="stiffness")
       return
     end if
     status%stat = demstep_stat%ok
     if (present(dt)) then
       if (.not. (dt > 0.0_dp .and. ieee_is_finite(dt))) then
-        call set_status(status, demstep_stat%invalid_input, "dt: must be finite and > 0")
+        call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="dt")
         return
       end if
       assessment%n_per_period = assessment%period/dt
@@ -163,21 +163,21 @@ contains
     f = default_safety
     if (present(safety)) f = safety
     if (.not. (dt_stability > 0.0_dp .and. ieee_is_finite(dt_stability))) then
-      call set_status(status, demstep_stat%invalid_input, "dt_stability: must be finite and > 0, got " &
-        //real_text(dt_stability))
+      call set_status(status, demstep_stat%invalid_input, "must be finite and > 0, got " &
+        //real_text(dt_stability), where="dt_stability")
       return
     end if
     if (.not. (f > 0.0_dp .and. f <= 1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "safety: must lie in (0, 1], got " &
-        //real_text(f))
+      call set_status(status, demstep_stat%invalid_input, "must lie in (0, 1], got " &
+        //real_text(f), where="safety")
       return
     end if
     dt = f*dt_stability
     if (present(dt_accuracy)) then
       if (.not. (dt_accuracy > 0.0_dp .and. ieee_is_finite(dt_accuracy))) then
         dt = 0.0_dp
-        call set_status(status, demstep_stat%invalid_input, "dt_accuracy: must be finite and > 0, got " &
-          //real_text(dt_accuracy))
+        call set_status(status, demstep_stat%invalid_input, "must be finite and > 0, got " &
+          //real_text(dt_accuracy), where="dt_accuracy")
         return
       end if
       if (dt_accuracy < dt) then
@@ -188,8 +188,8 @@ contains
     ! a limit near tiny times a safety factor may underflow
     if (.not. dt >= tiny(1.0_dp)) then
       dt = 0.0_dp
-      call set_status(status, demstep_stat%invalid_input, "dt_stability: the recommended step " &
-        //"underflows; rescale the units")
+      call set_status(status, demstep_stat%invalid_input, "the recommended step " &
+        //"underflows; rescale the units", where="dt_stability")
       return
     end if
     status%stat = demstep_stat%ok
@@ -217,7 +217,7 @@ contains
     if (status%stat /= demstep_stat%ok) return
     if (present(stiffness)) stiffness = k
     if (.not. (pair%restitution > 0.0_dp .and. pair%restitution <= 1.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "restitution: must lie in (0, 1]")
+      call set_status(status, demstep_stat%invalid_input, "must lie in (0, 1]", where="restitution")
       return
     end if
     call assess_contact(eff%m_star, k, restitution_to_damping_ratio(pair%restitution), assessment, &

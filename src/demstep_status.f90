@@ -57,7 +57,7 @@ module demstep_status
     character(len=:), allocatable :: detail
   end type demstep_status_type
 
-  public :: set_status, is_ok, status_at
+  public :: set_status, is_ok, status_at, status_restate
 
 contains
 
@@ -106,6 +106,25 @@ contains
     status%detail = detail
     status%message = where//": "//detail
   end subroutine status_at
+
+  !> Restate a failed status: its location `where` (blank for none) and `detail`;
+  !> the code and index are kept, the message becomes `where: detail`. Pass
+  !> copies, not the status's own components.
+  pure subroutine status_restate(status, where, detail)
+    !> The status, restated.
+    type(demstep_status_type), intent(inout) :: status
+    !> The new location.
+    character(len=*), intent(in) :: where
+    !> What is wrong, without the location.
+    character(len=*), intent(in) :: detail
+    status%where = where
+    status%detail = detail
+    if (len(where) > 0) then
+      status%message = where//": "//detail
+    else
+      status%message = detail
+    end if
+  end subroutine status_restate
 
   !> True when the status reports success.
   elemental function is_ok(status) result(ok)

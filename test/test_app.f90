@@ -4,6 +4,8 @@ module test_app
   use demstep
   use demstep_kinds, only: pi
   use test_support, only: count_lines, remove, run_app, write_file, read_file, file_exists, work_dir, real_str
+  use demstep_results, only: result_group_type
+  use test_support, only: read_group, take
   implicit none
   private
   public :: collect_app
@@ -67,9 +69,7 @@ contains
     integer(i8) :: contact_steps
     logical :: stable
     real(dp) :: dt_recommended
-    namelist /system_result/ dt_recommended, period, omega, dt_critical, dt, n_per_period, stable, &
-      growth_factor, theta, period_numerical, contact_steps, contact_time, restitution, &
-      max_overlap
+    type(result_group_type) :: system_result_fields
     type(discrete_contact_type) :: contact
     type(spring_type) :: unit_spring
     type(demstep_status_type) :: status
@@ -80,7 +80,21 @@ contains
     call check(error, rc, 0, message="exit status; stderr: "//stderr)
     if (allocated(error)) return
     open(newunit=unit, file=out, status="old", action="read")
-    read(unit, nml=system_result, iostat=ios)
+    call read_group(unit, "system_result", system_result_fields, ios)
+    if (ios == 0) call take(system_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(system_result_fields, "period", period, ios)
+    if (ios == 0) call take(system_result_fields, "omega", omega, ios)
+    if (ios == 0) call take(system_result_fields, "dt_critical", dt_critical, ios)
+    if (ios == 0) call take(system_result_fields, "dt", dt, ios)
+    if (ios == 0) call take(system_result_fields, "n_per_period", n_per_period, ios)
+    if (ios == 0) call take(system_result_fields, "stable", stable, ios)
+    if (ios == 0) call take(system_result_fields, "growth_factor", growth_factor, ios)
+    if (ios == 0) call take(system_result_fields, "theta", theta, ios)
+    if (ios == 0) call take(system_result_fields, "period_numerical", period_numerical, ios)
+    if (ios == 0) call take(system_result_fields, "contact_steps", contact_steps, ios)
+    if (ios == 0) call take(system_result_fields, "contact_time", contact_time, ios)
+    if (ios == 0) call take(system_result_fields, "restitution", restitution, ios)
+    if (ios == 0) call take(system_result_fields, "max_overlap", max_overlap, ios)
     close(unit)
     call check(error, ios, 0, message="read(nml=system_result)")
     if (allocated(error)) return
@@ -113,14 +127,22 @@ contains
     real(dp) :: period, omega, dt_critical, dt, n_per_period, growth_factor
     logical :: stable
     real(dp) :: dt_recommended
-    namelist /system_result/ dt_recommended, period, omega, dt_critical, dt, n_per_period, stable, growth_factor
+    type(result_group_type) :: system_result_fields
     call write_file(deck, [character(len=60) :: "&system mass=1, stiffness=1, n_per_period=3 /"])
     call remove(out)
     call run_app(deck//" -o "//out, rc, stdout, stderr)
     call check(error, rc, 0, message="exit status; stderr: "//stderr)
     if (allocated(error)) return
     open(newunit=unit, file=out, status="old", action="read")
-    read(unit, nml=system_result, iostat=ios)
+    call read_group(unit, "system_result", system_result_fields, ios)
+    if (ios == 0) call take(system_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(system_result_fields, "period", period, ios)
+    if (ios == 0) call take(system_result_fields, "omega", omega, ios)
+    if (ios == 0) call take(system_result_fields, "dt_critical", dt_critical, ios)
+    if (ios == 0) call take(system_result_fields, "dt", dt, ios)
+    if (ios == 0) call take(system_result_fields, "n_per_period", n_per_period, ios)
+    if (ios == 0) call take(system_result_fields, "stable", stable, ios)
+    if (ios == 0) call take(system_result_fields, "growth_factor", growth_factor, ios)
     close(unit)
     call check(error, ios, 0, message="read back")
     if (allocated(error)) return
@@ -137,12 +159,16 @@ contains
     character(len=:), allocatable :: stdout, stderr, manifest
     real(dp) :: period, omega, dt_critical
     real(dp) :: dt_recommended
-    namelist /system_result/ dt_recommended, period, omega, dt_critical
+    type(result_group_type) :: system_result_fields
     call write_file(deck, [character(len=60) :: "&system mass=4, stiffness=1 /"])
     call run_app(deck//" --namelist", rc, stdout, stderr)
     call check(error, rc, 0, message="--namelist")
     if (allocated(error)) return
-    read(stdout, nml=system_result, iostat=ios)
+    call read_group(stdout, "system_result", system_result_fields, ios)
+    if (ios == 0) call take(system_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(system_result_fields, "period", period, ios)
+    if (ios == 0) call take(system_result_fields, "omega", omega, ios)
+    if (ios == 0) call take(system_result_fields, "dt_critical", dt_critical, ios)
     call check(error, ios, 0, message="stdout of --namelist reads as a namelist")
     if (allocated(error)) return
     call check(error, dt_critical, 4.0_dp, thr=2*epsilon(1.0_dp), rel=.true., message="2 sqrt(M/K)")
@@ -195,7 +221,7 @@ contains
     call expect_bad(error, "&system stiffness = 2 /", "&system: mass: required")
     if (allocated(error)) return
     call expect_bad(error, "&system mass = 1, stiffness = 2, dashpot = 'sideways' /", &
-      "&system: dashpot: must be 'lagged' or 'centred'")
+      "&system: dashpot: unknown word 'sideways' (lagged, centred)")
   end subroutine test_bad_variables
 
   subroutine test_bad_groups(error)
@@ -301,7 +327,7 @@ contains
     character(len=:), allocatable :: stdout, stderr
     real(dp) :: n_per_period(3), lambda(3), n_steps(3), e(3), e_lib
     integer :: status(3)
-    namelist /harmonic_error_result/ n_per_period, lambda, n_steps, e, status
+    type(result_group_type) :: harmonic_error_result_fields
     call write_file(deck, [character(len=80) :: "&solver dt = 1e-5 /", &
       "&harmonic_error n_per_period = 10.0, 20.0, 1000.0,", &
       "  lambda = 0.9, steps_fraction = 0.5 /"])
@@ -310,7 +336,12 @@ contains
     call check(error, rc, 0, message="exit status; stderr: "//stderr)
     if (allocated(error)) return
     open(newunit=unit, file=out, status="old", action="read")
-    read(unit, nml=harmonic_error_result, iostat=ios)
+    call read_group(unit, "harmonic_error_result", harmonic_error_result_fields, ios)
+    if (ios == 0) call take(harmonic_error_result_fields, "n_per_period", n_per_period, ios)
+    if (ios == 0) call take(harmonic_error_result_fields, "lambda", lambda, ios)
+    if (ios == 0) call take(harmonic_error_result_fields, "n_steps", n_steps, ios)
+    if (ios == 0) call take(harmonic_error_result_fields, "e", e, ios)
+    if (ios == 0) call take(harmonic_error_result_fields, "status", status, ios)
     close(unit)
     call check(error, ios, 0, message="read(nml=harmonic_error_result)")
     if (allocated(error)) return
@@ -384,8 +415,7 @@ contains
     integer :: status(10), lambda_star_status, excluded
     real(dp) :: n_star, lambda_star, period, dt, stiffness_actual
     real(dp) :: dt_recommended
-    namelist /simulated_stiffness_result/ dt_recommended, lambda, n_zero, n_lower, n_upper, bounded, n_pick, &
-      status, n_star, lambda_star, lambda_star_status, period, dt, stiffness_actual, excluded
+    type(result_group_type) :: simulated_stiffness_result_fields
     type(stiffness_input_type) :: input
     type(stiffness_result_type) :: result
     type(demstep_status_type) :: st
@@ -398,7 +428,22 @@ contains
       "the report gives dt and K'")
     if (allocated(error)) return
     open(newunit=unit, file=out, status="old", action="read")
-    read(unit, nml=simulated_stiffness_result, iostat=ios)
+    call read_group(unit, "simulated_stiffness_result", simulated_stiffness_result_fields, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "lambda", lambda, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "n_zero", n_zero, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "n_lower", n_lower, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "n_upper", n_upper, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "bounded", bounded, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "n_pick", n_pick, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "status", status, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "n_star", n_star, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "lambda_star", lambda_star, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "lambda_star_status", lambda_star_status, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "period", period, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "dt", dt, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "stiffness_actual", stiffness_actual, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "excluded", excluded, ios)
     close(unit)
     call check(error, ios, 0, message="read(nml=simulated_stiffness_result)")
     if (allocated(error)) return
@@ -481,18 +526,43 @@ contains
     real(dp) :: eigen_tolerance, eigen_residual, omega_upper, dt_critical_safe
     logical :: damped_exact
     real(dp) :: dt_critical_damped_bound
-    namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
-      periodic, prestress, omega_max, eigen_computed, eigen_converged, eigen_solver, eigen_tolerance, &
-      eigen_residual, omega_upper, dt_critical_safe, &
-      dt_critical_eigen, dt_critical_bound, dt_contact_rule, dt_critical_damped, &
-      damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, blew_up, &
-      dt_recommended, damped_exact, dt_critical_damped_bound
+    type(result_group_type) :: scene_result_fields
     call remove(out)
     call run_app("example/chain.nml -o "//out, rc, stdout, stderr)
     call check(error, rc, 0, message="exit status; stderr: "//stderr)
     if (allocated(error)) return
     open(newunit=unit, file=out, status="old", action="read")
-    read(unit, nml=scene_result, iostat=ios)
+    call read_group(unit, "scene_result", scene_result_fields, ios)
+    if (ios == 0) call take(scene_result_fields, "n_particles", n_particles, ios)
+    if (ios == 0) call take(scene_result_fields, "n_dof", n_dof, ios)
+    if (ios == 0) call take(scene_result_fields, "n_springs", n_springs, ios)
+    if (ios == 0) call take(scene_result_fields, "dof_per_particle", dof_per_particle, ios)
+    if (ios == 0) call take(scene_result_fields, "rotation", rotation, ios)
+    if (ios == 0) call take(scene_result_fields, "tangential", tangential, ios)
+    if (ios == 0) call take(scene_result_fields, "periodic", periodic, ios)
+    if (ios == 0) call take(scene_result_fields, "prestress", prestress, ios)
+    if (ios == 0) call take(scene_result_fields, "omega_max", omega_max, ios)
+    if (ios == 0) call take(scene_result_fields, "eigen_computed", eigen_computed, ios)
+    if (ios == 0) call take(scene_result_fields, "eigen_converged", eigen_converged, ios)
+    if (ios == 0) call take(scene_result_fields, "eigen_solver", eigen_solver, ios)
+    if (ios == 0) call take(scene_result_fields, "eigen_tolerance", eigen_tolerance, ios)
+    if (ios == 0) call take(scene_result_fields, "eigen_residual", eigen_residual, ios)
+    if (ios == 0) call take(scene_result_fields, "omega_upper", omega_upper, ios)
+    if (ios == 0) call take(scene_result_fields, "dt_critical_safe", dt_critical_safe, ios)
+    if (ios == 0) call take(scene_result_fields, "dt_critical_eigen", dt_critical_eigen, ios)
+    if (ios == 0) call take(scene_result_fields, "dt_critical_bound", dt_critical_bound, ios)
+    if (ios == 0) call take(scene_result_fields, "dt_contact_rule", dt_contact_rule, ios)
+    if (ios == 0) call take(scene_result_fields, "dt_critical_damped", dt_critical_damped, ios)
+    if (ios == 0) call take(scene_result_fields, "damping_ratio_top", damping_ratio_top, ios)
+    if (ios == 0) call take(scene_result_fields, "dt_used", dt_used, ios)
+    if (ios == 0) call take(scene_result_fields, "steps", steps, ios)
+    if (ios == 0) call take(scene_result_fields, "energy_drift", energy_drift, ios)
+    if (ios == 0) call take(scene_result_fields, "max_overlap", max_overlap, ios)
+    if (ios == 0) call take(scene_result_fields, "max_contacts", max_contacts, ios)
+    if (ios == 0) call take(scene_result_fields, "blew_up", blew_up, ios)
+    if (ios == 0) call take(scene_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(scene_result_fields, "damped_exact", damped_exact, ios)
+    if (ios == 0) call take(scene_result_fields, "dt_critical_damped_bound", dt_critical_damped_bound, ios)
     close(unit)
     call check(error, ios, 0, message="read(nml=scene_result)")
     if (allocated(error)) return
@@ -612,8 +682,7 @@ contains
     real(dp) :: onset_contact_time(3), onset_restitution(3), onset_overlap(3)
     integer(i8) :: steps_in_contact(3)
     logical :: stable(3)
-    namelist /contact_error_result/ n_per_period, onset, steps_in_contact, contact_time, &
-      restitution, max_overlap, onset_contact_time, onset_restitution, onset_overlap, stable
+    type(result_group_type) :: contact_error_result_fields
     type(discrete_contact_type) :: c
     type(demstep_status_type) :: st
     real(dp) :: e
@@ -625,7 +694,17 @@ contains
     call check(error, rc, 0, message="exit status; stderr: "//stderr)
     if (allocated(error)) return
     open(newunit=unit, file=out, status="old", action="read")
-    read(unit, nml=contact_error_result, iostat=ios)
+    call read_group(unit, "contact_error_result", contact_error_result_fields, ios)
+    if (ios == 0) call take(contact_error_result_fields, "n_per_period", n_per_period, ios)
+    if (ios == 0) call take(contact_error_result_fields, "onset", onset, ios)
+    if (ios == 0) call take(contact_error_result_fields, "steps_in_contact", steps_in_contact, ios)
+    if (ios == 0) call take(contact_error_result_fields, "contact_time", contact_time, ios)
+    if (ios == 0) call take(contact_error_result_fields, "restitution", restitution, ios)
+    if (ios == 0) call take(contact_error_result_fields, "max_overlap", max_overlap, ios)
+    if (ios == 0) call take(contact_error_result_fields, "onset_contact_time", onset_contact_time, ios)
+    if (ios == 0) call take(contact_error_result_fields, "onset_restitution", onset_restitution, ios)
+    if (ios == 0) call take(contact_error_result_fields, "onset_overlap", onset_overlap, ios)
+    if (ios == 0) call take(contact_error_result_fields, "stable", stable, ios)
     close(unit)
     call check(error, ios, 0, message="read back")
     if (allocated(error)) return
@@ -642,7 +721,17 @@ contains
     ! worst case: reported with the onset attaining it
     call write_file(deck, [character(len=80) :: "&contact_error n_per_period = 20.0 /"])
     call run_app(deck//" --namelist", rc, stdout, stderr)
-    read(stdout, nml=contact_error_result, iostat=ios)
+    call read_group(stdout, "contact_error_result", contact_error_result_fields, ios)
+    if (ios == 0) call take(contact_error_result_fields, "n_per_period", n_per_period, ios)
+    if (ios == 0) call take(contact_error_result_fields, "onset", onset, ios)
+    if (ios == 0) call take(contact_error_result_fields, "steps_in_contact", steps_in_contact, ios)
+    if (ios == 0) call take(contact_error_result_fields, "contact_time", contact_time, ios)
+    if (ios == 0) call take(contact_error_result_fields, "restitution", restitution, ios)
+    if (ios == 0) call take(contact_error_result_fields, "max_overlap", max_overlap, ios)
+    if (ios == 0) call take(contact_error_result_fields, "onset_contact_time", onset_contact_time, ios)
+    if (ios == 0) call take(contact_error_result_fields, "onset_restitution", onset_restitution, ios)
+    if (ios == 0) call take(contact_error_result_fields, "onset_overlap", onset_overlap, ios)
+    if (ios == 0) call take(contact_error_result_fields, "stable", stable, ios)
     call check(error, ios, 0, message="read --namelist")
     if (allocated(error)) return
     call contact_worst_case(20.0_dp, quantity_kind%restitution, c, e, st)
@@ -660,9 +749,7 @@ contains
     logical :: steps_saturated(2)
     integer :: status(2)
     real(dp) :: dt_recommended
-    namelist /accuracy_cost_result/ dt_recommended, tolerances, n_per_period, dt, steps, steps_saturated, &
-      predicted_seconds, status, &
-      cost_per_particle_step, period
+    type(result_group_type) :: accuracy_cost_result_fields
     real(dp) :: n
     type(demstep_status_type) :: st
     call remove(work_dir//"/ac.csv")
@@ -677,7 +764,17 @@ contains
     call check(error, rc, 0, message="exit status; stderr: "//stderr)
     if (allocated(error)) return
     open(newunit=unit, file=out, status="old", action="read")
-    read(unit, nml=accuracy_cost_result, iostat=ios)
+    call read_group(unit, "accuracy_cost_result", accuracy_cost_result_fields, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "tolerances", tolerances, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "n_per_period", n_per_period, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "dt", dt, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "steps", steps, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "steps_saturated", steps_saturated, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "predicted_seconds", predicted_seconds, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "status", status, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "cost_per_particle_step", cost_per_particle_step, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "period", period, ios)
     close(unit)
     call check(error, ios, 0, message="read back")
     if (allocated(error)) return
@@ -812,16 +909,24 @@ contains
     logical :: steps_saturated(1)
     integer :: status(1)
     real(dp) :: dt_recommended
-    namelist /accuracy_cost_result/ dt_recommended, tolerances, n_per_period, dt, steps, steps_saturated, &
-      predicted_seconds, status, &
-      cost_per_particle_step, period
+    type(result_group_type) :: accuracy_cost_result_fields
     call write_file(deck, [character(len=160) :: "&accuracy_cost quantity = 'harmonic', lambda = 0.9,", &
       "  tolerances = 1e-3, duration = 1.0, n_particles = 100, mass = 0.01, stiffness = 1e5,", &
       "  cost_per_particle_step = 1e-7, csv = '"//work_dir//"/h.csv', figure = 'none' /"])
     call run_app(deck//" -q --namelist", rc, stdout, stderr)
     call check(error, rc, 0, message="exit status; stderr: "//stderr)
     if (allocated(error)) return
-    read(stdout, nml=accuracy_cost_result, iostat=ios)
+    call read_group(stdout, "accuracy_cost_result", accuracy_cost_result_fields, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "tolerances", tolerances, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "n_per_period", n_per_period, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "dt", dt, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "steps", steps, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "steps_saturated", steps_saturated, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "predicted_seconds", predicted_seconds, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "status", status, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "cost_per_particle_step", cost_per_particle_step, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "period", period, ios)
     call check(error, ios, 0, message="read back: "//stdout)
     if (allocated(error)) return
     call check(error, status(1), 0, message="met")

@@ -8,6 +8,8 @@ module test_app_material
   use demstep, only: dp
   use test_support, only: run_app, write_file, work_dir, file_exists
   use, intrinsic :: iso_fortran_env, only: qp => real128
+  use demstep_results, only: result_group_type
+  use test_support, only: read_group, take
   implicit none
   private
   public :: collect_app_material
@@ -36,9 +38,7 @@ contains
     real(dp) :: m_star(np_max), k_n(nc, np_max), k_t(nc, np_max), gamma_n(nc, np_max), gamma_t(nc, np_max), &
       dt_code(nc, np_max), rayleigh_time(np_max), hertz_duration(np_max), linear_duration(np_max), &
       dt_critical(np_max), peer_dt(nc, np_max), dt_accuracy(np_max), dt_recommended
-    namelist /material_result/ conventions, peer_rules, type_i, type_j, m_star, k_n, k_t, gamma_n, &
-      gamma_t, dt_code, rayleigh_time, hertz_duration, linear_duration, dt_critical, peer_dt, &
-      dt_accuracy, dt_recommended, governs
+    type(result_group_type) :: material_result_fields
     real(qp) :: e_star, r_star, m, delta, k, z, dt, g, t_r
     call execute_command_line("rm -f "//out, cmdstat=ios)
     call run_app("example/material.nml -o "//out, rc, stdout, stderr)
@@ -46,7 +46,25 @@ contains
     if (allocated(error)) return
     type_i = -1
     open(newunit=unit, file=out, status="old", action="read", iostat=ios)
-    if (ios == 0) read(unit, nml=material_result, iostat=ios)
+    if (ios == 0) call read_group(unit, "material_result", material_result_fields, ios)
+    if (ios == 0) call take(material_result_fields, "conventions", conventions, ios)
+    if (ios == 0) call take(material_result_fields, "peer_rules", peer_rules, ios)
+    if (ios == 0) call take(material_result_fields, "type_i", type_i, ios)
+    if (ios == 0) call take(material_result_fields, "type_j", type_j, ios)
+    if (ios == 0) call take(material_result_fields, "m_star", m_star, ios)
+    if (ios == 0) call take(material_result_fields, "k_n", k_n, ios)
+    if (ios == 0) call take(material_result_fields, "k_t", k_t, ios)
+    if (ios == 0) call take(material_result_fields, "gamma_n", gamma_n, ios)
+    if (ios == 0) call take(material_result_fields, "gamma_t", gamma_t, ios)
+    if (ios == 0) call take(material_result_fields, "dt_code", dt_code, ios)
+    if (ios == 0) call take(material_result_fields, "rayleigh_time", rayleigh_time, ios)
+    if (ios == 0) call take(material_result_fields, "hertz_duration", hertz_duration, ios)
+    if (ios == 0) call take(material_result_fields, "linear_duration", linear_duration, ios)
+    if (ios == 0) call take(material_result_fields, "dt_critical", dt_critical, ios)
+    if (ios == 0) call take(material_result_fields, "peer_dt", peer_dt, ios)
+    if (ios == 0) call take(material_result_fields, "dt_accuracy", dt_accuracy, ios)
+    if (ios == 0) call take(material_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(material_result_fields, "governs", governs, ios)
     call check(error, ios, 0, message="&material_result reads back")
     if (allocated(error)) return
     close(unit)

@@ -7,6 +7,8 @@ module test_app_mfix
   use demstep, only: dp, i8
   use test_support, only: run_app, write_file, read_file, work_dir, file_exists
   use, intrinsic :: iso_fortran_env, only: qp => real128
+  use demstep_results, only: result_group_type
+  use test_support, only: read_group, take
   implicit none
   private
   public :: collect_app_mfix
@@ -57,9 +59,7 @@ contains
     integer(i8) :: steps_per_contact(np_max)
     real(dp), dimension(np_max) :: m_eff, k_n, eta_n, damping_ratio, t_coll, dt_critical, &
       restitution_error, overlap_error, dt_accuracy
-    namelist /mfix_result/ tcoll, dtsolid, dtsolid_factor, dtsolid_factor_recommended, dt_recommended, &
-      governs, tolerance, dt_stability, dt_accuracy_min, phase_i, phase_j, m_eff, k_n, eta_n, &
-      damping_ratio, t_coll, dt_critical, steps_per_contact, restitution_error, overlap_error, dt_accuracy
+    type(result_group_type) :: mfix_result_fields
     call execute_command_line("rm -f "//out, cmdstat=ios)
     call run_app(args//" -o "//out, rc, stdout, stderr)
     call check(error, rc, 0, message="exit status; stderr: "//stderr)
@@ -74,7 +74,28 @@ contains
     dt_critical = r%dt_critical; restitution_error = r%restitution_error; overlap_error = r%overlap_error
     dt_accuracy = r%dt_accuracy
     open(newunit=unit, file=out, status="old", action="read", iostat=ios)
-    if (ios == 0) read(unit, nml=mfix_result, iostat=ios)
+    if (ios == 0) call read_group(unit, "mfix_result", mfix_result_fields, ios)
+    if (ios == 0) call take(mfix_result_fields, "tcoll", tcoll, ios)
+    if (ios == 0) call take(mfix_result_fields, "dtsolid", dtsolid, ios)
+    if (ios == 0) call take(mfix_result_fields, "dtsolid_factor", dtsolid_factor, ios)
+    if (ios == 0) call take(mfix_result_fields, "dtsolid_factor_recommended", dtsolid_factor_recommended, ios)
+    if (ios == 0) call take(mfix_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(mfix_result_fields, "governs", governs, ios)
+    if (ios == 0) call take(mfix_result_fields, "tolerance", tolerance, ios)
+    if (ios == 0) call take(mfix_result_fields, "dt_stability", dt_stability, ios)
+    if (ios == 0) call take(mfix_result_fields, "dt_accuracy_min", dt_accuracy_min, ios)
+    if (ios == 0) call take(mfix_result_fields, "phase_i", phase_i, ios)
+    if (ios == 0) call take(mfix_result_fields, "phase_j", phase_j, ios)
+    if (ios == 0) call take(mfix_result_fields, "m_eff", m_eff, ios)
+    if (ios == 0) call take(mfix_result_fields, "k_n", k_n, ios)
+    if (ios == 0) call take(mfix_result_fields, "eta_n", eta_n, ios)
+    if (ios == 0) call take(mfix_result_fields, "damping_ratio", damping_ratio, ios)
+    if (ios == 0) call take(mfix_result_fields, "t_coll", t_coll, ios)
+    if (ios == 0) call take(mfix_result_fields, "dt_critical", dt_critical, ios)
+    if (ios == 0) call take(mfix_result_fields, "steps_per_contact", steps_per_contact, ios)
+    if (ios == 0) call take(mfix_result_fields, "restitution_error", restitution_error, ios)
+    if (ios == 0) call take(mfix_result_fields, "overlap_error", overlap_error, ios)
+    if (ios == 0) call take(mfix_result_fields, "dt_accuracy", dt_accuracy, ios)
     call check(error, ios, 0, message="&mfix_result reads back")
     if (allocated(error)) return
     close(unit)

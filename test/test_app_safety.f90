@@ -9,6 +9,8 @@ module test_app_safety
   use test_support, only: run_app, write_file, read_file, work_dir, count_lines, remove, app_path, &
     file_exists
   use, intrinsic :: iso_fortran_env, only: qp => real128
+  use demstep_results, only: result_group_type
+  use test_support, only: read_group, take
   implicit none
   private
   public :: collect_app_safety
@@ -493,8 +495,7 @@ contains
     integer(i8) :: steps(1)
     logical :: steps_saturated(1)
     integer :: status(1)
-    namelist /accuracy_cost_result/ dt_recommended, tolerances, n_per_period, dt, steps, steps_saturated, &
-      predicted_seconds, status, cost_per_particle_step, period
+    type(result_group_type) :: accuracy_cost_result_fields
     character(len=*), parameter :: rest = "tolerance = 1.0e-3, lambda_min = 0.9, lambda_max = 0.99, " &
       //"lambda_count = 10 /"
     ! the doubles the deck's values read as: 4.9e-324 is the smallest subnormal 2^-1074
@@ -531,7 +532,17 @@ contains
     if (allocated(error)) return
     steps_saturated = .false.
     open(newunit=unit, file=out, status="old", action="read", iostat=ios)
-    if (ios == 0) read(unit, nml=accuracy_cost_result, iostat=ios)
+    if (ios == 0) call read_group(unit, "accuracy_cost_result", accuracy_cost_result_fields, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "tolerances", tolerances, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "n_per_period", n_per_period, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "dt", dt, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "steps", steps, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "steps_saturated", steps_saturated, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "predicted_seconds", predicted_seconds, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "status", status, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "cost_per_particle_step", cost_per_particle_step, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "period", period, ios)
     close(unit)
     call check(error, ios == 0 .and. steps_saturated(1) .and. steps(1) == huge(1_i8), &
       "the saturated count is marked in &accuracy_cost_result")
@@ -549,13 +560,27 @@ contains
       stiffness_actual, dt_recommended
     logical :: bounded(10)
     integer :: status(10), lambda_star_status, excluded, unit
-    namelist /simulated_stiffness_result/ dt_recommended, lambda, n_zero, n_lower, n_upper, bounded, n_pick, &
-      status, n_star, lambda_star, lambda_star_status, period, dt, stiffness_actual, excluded
+    type(result_group_type) :: simulated_stiffness_result_fields
     period = -1
     dt = -1
     n_star = -1
     open(newunit=unit, file=path, status="old", action="read", iostat=ios)
-    if (ios == 0) read(unit, nml=simulated_stiffness_result, iostat=ios)
+    if (ios == 0) call read_group(unit, "simulated_stiffness_result", simulated_stiffness_result_fields, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "lambda", lambda, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "n_zero", n_zero, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "n_lower", n_lower, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "n_upper", n_upper, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "bounded", bounded, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "n_pick", n_pick, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "status", status, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "n_star", n_star, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "lambda_star", lambda_star, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "lambda_star_status", lambda_star_status, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "period", period, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "dt", dt, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "stiffness_actual", stiffness_actual, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "excluded", excluded, ios)
     close(unit)
   end subroutine read_stiffness_result
 

@@ -7,6 +7,8 @@ module test_app_scene
   use demstep, only: dp, i8
   use test_support, only: run_app, write_file, read_file, file_exists, work_dir, real_str
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use demstep_results, only: result_group_type
+  use test_support, only: read_group, take
   implicit none
   private
   public :: collect_app_scene
@@ -85,12 +87,7 @@ contains
     logical :: damped_exact
     real(dp) :: dt_critical_damped_bound
     integer :: cmdstat
-    namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
-      periodic, prestress, omega_max, eigen_computed, eigen_converged, eigen_solver, eigen_tolerance, &
-      eigen_residual, omega_upper, dt_critical_safe, &
-      dt_critical_eigen, dt_critical_bound, dt_contact_rule, dt_critical_damped, &
-      damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, blew_up, &
-      dt_recommended, damped_exact, dt_critical_damped_bound
+    type(result_group_type) :: scene_result_fields
     call write_file(deck, [line])
     call execute_command_line("rm -f "//out, wait=.true., cmdstat=cmdstat)
     if (present(env)) then
@@ -103,7 +100,37 @@ contains
     open(newunit=unit, file=out, status="old", action="read", iostat=ios)
     call check(error, ios, 0, message="result file")
     if (allocated(error)) return
-    read(unit, nml=scene_result, iostat=ios)
+    call read_group(unit, "scene_result", scene_result_fields, ios)
+    if (ios == 0) call take(scene_result_fields, "n_particles", n_particles, ios)
+    if (ios == 0) call take(scene_result_fields, "n_dof", n_dof, ios)
+    if (ios == 0) call take(scene_result_fields, "n_springs", n_springs, ios)
+    if (ios == 0) call take(scene_result_fields, "dof_per_particle", dof_per_particle, ios)
+    if (ios == 0) call take(scene_result_fields, "rotation", rotation, ios)
+    if (ios == 0) call take(scene_result_fields, "tangential", tangential, ios)
+    if (ios == 0) call take(scene_result_fields, "periodic", periodic, ios)
+    if (ios == 0) call take(scene_result_fields, "prestress", prestress, ios)
+    if (ios == 0) call take(scene_result_fields, "omega_max", omega_max, ios)
+    if (ios == 0) call take(scene_result_fields, "eigen_computed", eigen_computed, ios)
+    if (ios == 0) call take(scene_result_fields, "eigen_converged", eigen_converged, ios)
+    if (ios == 0) call take(scene_result_fields, "eigen_solver", eigen_solver, ios)
+    if (ios == 0) call take(scene_result_fields, "eigen_tolerance", eigen_tolerance, ios)
+    if (ios == 0) call take(scene_result_fields, "eigen_residual", eigen_residual, ios)
+    if (ios == 0) call take(scene_result_fields, "omega_upper", omega_upper, ios)
+    if (ios == 0) call take(scene_result_fields, "dt_critical_safe", dt_critical_safe, ios)
+    if (ios == 0) call take(scene_result_fields, "dt_critical_eigen", dt_critical_eigen, ios)
+    if (ios == 0) call take(scene_result_fields, "dt_critical_bound", dt_critical_bound, ios)
+    if (ios == 0) call take(scene_result_fields, "dt_contact_rule", dt_contact_rule, ios)
+    if (ios == 0) call take(scene_result_fields, "dt_critical_damped", dt_critical_damped, ios)
+    if (ios == 0) call take(scene_result_fields, "damping_ratio_top", damping_ratio_top, ios)
+    if (ios == 0) call take(scene_result_fields, "dt_used", dt_used, ios)
+    if (ios == 0) call take(scene_result_fields, "steps", steps, ios)
+    if (ios == 0) call take(scene_result_fields, "energy_drift", energy_drift, ios)
+    if (ios == 0) call take(scene_result_fields, "max_overlap", max_overlap, ios)
+    if (ios == 0) call take(scene_result_fields, "max_contacts", max_contacts, ios)
+    if (ios == 0) call take(scene_result_fields, "blew_up", blew_up, ios)
+    if (ios == 0) call take(scene_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(scene_result_fields, "damped_exact", damped_exact, ios)
+    if (ios == 0) call take(scene_result_fields, "dt_critical_damped_bound", dt_critical_damped_bound, ios)
     close(unit)
     call check(error, ios, 0, message="read(nml=scene_result)")
     if (allocated(error)) return

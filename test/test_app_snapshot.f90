@@ -9,6 +9,8 @@ module test_app_snapshot
   use demstep, only: dp, i8
   use test_support, only: run_app, write_file, read_file, work_dir, count_lines
   use, intrinsic :: iso_fortran_env, only: qp => real128
+  use demstep_results, only: result_group_type
+  use test_support, only: read_group, take
   implicit none
   private
   public :: collect_app_snapshot
@@ -79,15 +81,28 @@ contains
     logical :: periodic(3), have_materials
     real(dp) :: box_lo(3), box_hi(3), peer_dt(9), peer_ratio(9), dt_exact
     character(len=20) :: peer_rules(9)
-    namelist /snapshot_result/ format, n_particles, n_types, frame, n_frames, timestep, periodic, &
-      box_lo, box_hi, have_materials, peer_rules, peer_dt, peer_ratio, dt_exact
+    type(result_group_type) :: snapshot_result_fields
     call execute_command_line("rm -f "//path, cmdstat=ios)
     call run_app(args//" -o "//path, rc, stdout, stderr)
     call check(error, rc == 0 .and. len(stderr) == 0, "runs cleanly: "//args//": "//stderr)
     if (allocated(error)) return
     call read_file(path, text)
     open(newunit=unit, file=path, status="old", action="read", iostat=ios)
-    if (ios == 0) read(unit, nml=snapshot_result, iostat=ios)
+    if (ios == 0) call read_group(unit, "snapshot_result", snapshot_result_fields, ios)
+    if (ios == 0) call take(snapshot_result_fields, "format", format, ios)
+    if (ios == 0) call take(snapshot_result_fields, "n_particles", n_particles, ios)
+    if (ios == 0) call take(snapshot_result_fields, "n_types", n_types, ios)
+    if (ios == 0) call take(snapshot_result_fields, "frame", frame, ios)
+    if (ios == 0) call take(snapshot_result_fields, "n_frames", n_frames, ios)
+    if (ios == 0) call take(snapshot_result_fields, "timestep", timestep, ios)
+    if (ios == 0) call take(snapshot_result_fields, "periodic", periodic, ios)
+    if (ios == 0) call take(snapshot_result_fields, "box_lo", box_lo, ios)
+    if (ios == 0) call take(snapshot_result_fields, "box_hi", box_hi, ios)
+    if (ios == 0) call take(snapshot_result_fields, "have_materials", have_materials, ios)
+    if (ios == 0) call take(snapshot_result_fields, "peer_rules", peer_rules, ios)
+    if (ios == 0) call take(snapshot_result_fields, "peer_dt", peer_dt, ios)
+    if (ios == 0) call take(snapshot_result_fields, "peer_ratio", peer_ratio, ios)
+    if (ios == 0) call take(snapshot_result_fields, "dt_exact", dt_exact, ios)
     call check(error, ios, 0, message="&snapshot_result reads back")
     if (allocated(error)) return
     close(unit)

@@ -10,6 +10,8 @@ module test_app_stiffness
   use demstep_kinds, only: pi
   use demstep_namelist, only: lowercase
   use test_support, only: count_lines, remove, run_app, write_file, read_file, file_exists, work_dir, real_str
+  use demstep_results, only: result_group_type
+  use test_support, only: read_group, take
   implicit none
   private
   public :: collect_app_stiffness
@@ -65,7 +67,7 @@ contains
     if (allocated(error)) return
     call check_finite_text(error, stdout, "the report")
     if (allocated(error)) return
-    call read_result(error, res)
+    call read_stiffness_result(error, res)
   end subroutine run_ok
 
   !> Run the deck `line`; expect exit 2, one stderr line starting with
@@ -95,7 +97,7 @@ contains
   end subroutine run_bad
 
   !> Read the result file: the namelist with two lambdas, and no NaN/Infinity text.
-  subroutine read_result(error, res)
+  subroutine read_stiffness_result(error, res)
     type(error_type), allocatable, intent(out) :: error
     type(result_two_type), intent(out) :: res
     real(dp) :: lambda(2), n_zero(2), n_lower(2), n_upper(2), n_pick(2)
@@ -104,8 +106,7 @@ contains
     real(dp) :: n_star, lambda_star, period, dt, stiffness_actual
     character(len=:), allocatable :: text
     real(dp) :: dt_recommended
-    namelist /simulated_stiffness_result/ dt_recommended, lambda, n_zero, n_lower, n_upper, bounded, n_pick, &
-      status, n_star, lambda_star, lambda_star_status, period, dt, stiffness_actual, excluded
+    type(result_group_type) :: simulated_stiffness_result_fields
     call read_file(out, text)
     call check_finite_text(error, text, "the result namelist")
     if (allocated(error)) return
@@ -124,7 +125,22 @@ contains
     lambda_star_status = res%lambda_star_status
     excluded = res%excluded
     open(newunit=unit, file=out, status="old", action="read")
-    read(unit, nml=simulated_stiffness_result, iostat=ios)
+    call read_group(unit, "simulated_stiffness_result", simulated_stiffness_result_fields, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "lambda", lambda, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "n_zero", n_zero, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "n_lower", n_lower, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "n_upper", n_upper, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "bounded", bounded, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "n_pick", n_pick, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "status", status, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "n_star", n_star, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "lambda_star", lambda_star, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "lambda_star_status", lambda_star_status, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "period", period, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "dt", dt, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "stiffness_actual", stiffness_actual, ios)
+    if (ios == 0) call take(simulated_stiffness_result_fields, "excluded", excluded, ios)
     close(unit)
     call check(error, ios, 0, message="read(nml=simulated_stiffness_result)")
     if (allocated(error)) return
@@ -132,7 +148,7 @@ contains
       lambda_star, period, dt, stiffness_actual, lambda_star_status, excluded)
     call check(error, all(ieee_is_finite([n_zero, n_lower, n_upper, n_pick, n_star, lambda_star, &
       period, dt, stiffness_actual])), "every result is finite")
-  end subroutine read_result
+  end subroutine read_stiffness_result
 
   !> No NaN or Infinity (any case) in a text.
   subroutine check_finite_text(error, text, what)

@@ -5,6 +5,8 @@ module test_deck
   use testdrive, only: new_unittest, unittest_type, error_type, check
   use demstep, only: dp, i8, harmonic_error
   use test_support, only: run_app, work_dir, int_str
+  use demstep_results, only: result_group_type
+  use test_support, only: read_group, take
   implicit none
   private
   public :: collect_deck
@@ -86,14 +88,19 @@ contains
     real(dp), allocatable :: n_per_period(:), lambda(:), n_steps(:), e(:)
     integer, allocatable :: status(:)
     real(dp) :: e_lib
-    namelist /harmonic_error_result/ n_per_period, lambda, n_steps, e, status
+    type(result_group_type) :: harmonic_error_result_fields
     call run_app(deck//" -q --namelist", rc, stdout, stderr)
     call check(error, rc, 0, message=what//": exit status; stderr: "//stderr(1:min(len(stderr), 300)))
     if (allocated(error)) return
     ! one spare element: it must stay unset, so exactly `count` results came back
     allocate(n_per_period(count+1), lambda(count+1), n_steps(count+1), e(count+1), status(count+1))
     n_per_period = -1.0_dp
-    read(stdout, nml=harmonic_error_result, iostat=ios)
+    call read_group(stdout, "harmonic_error_result", harmonic_error_result_fields, ios)
+    if (ios == 0) call take(harmonic_error_result_fields, "n_per_period", n_per_period, ios)
+    if (ios == 0) call take(harmonic_error_result_fields, "lambda", lambda, ios)
+    if (ios == 0) call take(harmonic_error_result_fields, "n_steps", n_steps, ios)
+    if (ios == 0) call take(harmonic_error_result_fields, "e", e, ios)
+    if (ios == 0) call take(harmonic_error_result_fields, "status", status, ios)
     call check(error, ios, 0, message=what//": the result namelist reads back")
     if (allocated(error)) return
     call check(error, n_per_period(count+1), -1.0_dp, message=what//": no result beyond the last")
@@ -151,13 +158,26 @@ contains
     integer :: contact_steps
     logical :: stable
     real(dp) :: dt_recommended
-    namelist /system_result/ dt_recommended, period, omega, dt_critical, dt, n_per_period, stable, growth_factor, &
-      theta, period_numerical, contact_steps, contact_time, restitution, max_overlap
+    type(result_group_type) :: system_result_fields
     omega = -1.0_dp
     call run_app(deck//" -q --namelist", rc, stdout, stderr)
     call check(error, rc, 0, message=what//": exit status; stderr: "//stderr(1:min(len(stderr), 300)))
     if (allocated(error)) return
-    read(stdout, nml=system_result, iostat=ios)
+    call read_group(stdout, "system_result", system_result_fields, ios)
+    if (ios == 0) call take(system_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(system_result_fields, "period", period, ios)
+    if (ios == 0) call take(system_result_fields, "omega", omega, ios)
+    if (ios == 0) call take(system_result_fields, "dt_critical", dt_critical, ios)
+    if (ios == 0) call take(system_result_fields, "dt", dt, ios)
+    if (ios == 0) call take(system_result_fields, "n_per_period", n_per_period, ios)
+    if (ios == 0) call take(system_result_fields, "stable", stable, ios)
+    if (ios == 0) call take(system_result_fields, "growth_factor", growth_factor, ios)
+    if (ios == 0) call take(system_result_fields, "theta", theta, ios)
+    if (ios == 0) call take(system_result_fields, "period_numerical", period_numerical, ios)
+    if (ios == 0) call take(system_result_fields, "contact_steps", contact_steps, ios)
+    if (ios == 0) call take(system_result_fields, "contact_time", contact_time, ios)
+    if (ios == 0) call take(system_result_fields, "restitution", restitution, ios)
+    if (ios == 0) call take(system_result_fields, "max_overlap", max_overlap, ios)
     call check(error, ios, 0, message=what//": the result namelist reads back")
   end subroutine run_system
 

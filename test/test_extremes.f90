@@ -10,6 +10,8 @@ module test_extremes
   use test_support, only: count_lines, remove, run_app, write_file, read_file, file_exists, work_dir, reference
   use, intrinsic :: iso_fortran_env, only: qp => real128
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use demstep_results, only: result_group_type
+  use test_support, only: read_group, take
   implicit none
   private
   public :: collect_extremes
@@ -89,15 +91,27 @@ contains
     integer(i8) :: contact_steps, steps_q
     logical :: stable
     real(dp) :: dt_recommended
-    namelist /system_result/ dt_recommended, period, omega, dt_critical, dt, n_per_period, stable, &
-      growth_factor, theta, period_numerical, contact_steps, contact_time, restitution, &
-      max_overlap
+    type(result_group_type) :: system_result_fields
     real(qp) :: omega_q, restitution_q, overlap_q
     character(len=:), allocatable :: text
     integer :: ios
     call run_ok(error, "&system "//label//", n_per_period = 10 /", text)
     if (allocated(error)) return
-    read(text, nml=system_result, iostat=ios)
+    call read_group(text, "system_result", system_result_fields, ios)
+    if (ios == 0) call take(system_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(system_result_fields, "period", period, ios)
+    if (ios == 0) call take(system_result_fields, "omega", omega, ios)
+    if (ios == 0) call take(system_result_fields, "dt_critical", dt_critical, ios)
+    if (ios == 0) call take(system_result_fields, "dt", dt, ios)
+    if (ios == 0) call take(system_result_fields, "n_per_period", n_per_period, ios)
+    if (ios == 0) call take(system_result_fields, "stable", stable, ios)
+    if (ios == 0) call take(system_result_fields, "growth_factor", growth_factor, ios)
+    if (ios == 0) call take(system_result_fields, "theta", theta, ios)
+    if (ios == 0) call take(system_result_fields, "period_numerical", period_numerical, ios)
+    if (ios == 0) call take(system_result_fields, "contact_steps", contact_steps, ios)
+    if (ios == 0) call take(system_result_fields, "contact_time", contact_time, ios)
+    if (ios == 0) call take(system_result_fields, "restitution", restitution, ios)
+    if (ios == 0) call take(system_result_fields, "max_overlap", max_overlap, ios)
     call check(error, ios, 0, message="read back &system_result for "//label)
     if (allocated(error)) return
     omega_q = sqrt(real(stiffness_in, qp)/real(mass_in, qp))
@@ -129,9 +143,7 @@ contains
     integer(i8) :: contact_steps
     logical :: stable
     real(dp) :: dt_recommended
-    namelist /system_result/ dt_recommended, period, omega, dt_critical, dt, n_per_period, stable, &
-      growth_factor, theta, period_numerical, contact_steps, contact_time, restitution, &
-      max_overlap
+    type(result_group_type) :: system_result_fields
     character(len=:), allocatable :: text
     real(qp) :: w
     integer :: ios
@@ -139,7 +151,21 @@ contains
     ! the exact one to working precision (its errors are O(1/N^2) and O(1/N))
     call run_ok(error, "&system mass = 1, stiffness = 1, n_per_period = 1e308 /", text)
     if (allocated(error)) return
-    read(text, nml=system_result, iostat=ios)
+    call read_group(text, "system_result", system_result_fields, ios)
+    if (ios == 0) call take(system_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(system_result_fields, "period", period, ios)
+    if (ios == 0) call take(system_result_fields, "omega", omega, ios)
+    if (ios == 0) call take(system_result_fields, "dt_critical", dt_critical, ios)
+    if (ios == 0) call take(system_result_fields, "dt", dt, ios)
+    if (ios == 0) call take(system_result_fields, "n_per_period", n_per_period, ios)
+    if (ios == 0) call take(system_result_fields, "stable", stable, ios)
+    if (ios == 0) call take(system_result_fields, "growth_factor", growth_factor, ios)
+    if (ios == 0) call take(system_result_fields, "theta", theta, ios)
+    if (ios == 0) call take(system_result_fields, "period_numerical", period_numerical, ios)
+    if (ios == 0) call take(system_result_fields, "contact_steps", contact_steps, ios)
+    if (ios == 0) call take(system_result_fields, "contact_time", contact_time, ios)
+    if (ios == 0) call take(system_result_fields, "restitution", restitution, ios)
+    if (ios == 0) call take(system_result_fields, "max_overlap", max_overlap, ios)
     call check(error, ios, 0, message="read back")
     if (allocated(error)) return
     call check(error, contact_steps, huge(1_i8), message="steps saturate at 2^63 - 1")
@@ -159,7 +185,21 @@ contains
     call run_ok(error, "&system mass = 1, stiffness = 1, n_per_period = 1e308, damping_ratio = 0.1 /", &
       text)
     if (allocated(error)) return
-    read(text, nml=system_result, iostat=ios)
+    call read_group(text, "system_result", system_result_fields, ios)
+    if (ios == 0) call take(system_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(system_result_fields, "period", period, ios)
+    if (ios == 0) call take(system_result_fields, "omega", omega, ios)
+    if (ios == 0) call take(system_result_fields, "dt_critical", dt_critical, ios)
+    if (ios == 0) call take(system_result_fields, "dt", dt, ios)
+    if (ios == 0) call take(system_result_fields, "n_per_period", n_per_period, ios)
+    if (ios == 0) call take(system_result_fields, "stable", stable, ios)
+    if (ios == 0) call take(system_result_fields, "growth_factor", growth_factor, ios)
+    if (ios == 0) call take(system_result_fields, "theta", theta, ios)
+    if (ios == 0) call take(system_result_fields, "period_numerical", period_numerical, ios)
+    if (ios == 0) call take(system_result_fields, "contact_steps", contact_steps, ios)
+    if (ios == 0) call take(system_result_fields, "contact_time", contact_time, ios)
+    if (ios == 0) call take(system_result_fields, "restitution", restitution, ios)
+    if (ios == 0) call take(system_result_fields, "max_overlap", max_overlap, ios)
     call check(error, ios, 0, message="read back, damped")
     if (allocated(error)) return
     w = sqrt(1.0_qp - 0.01_qp)
@@ -184,16 +224,28 @@ contains
     integer(i8) :: contact_steps, steps_q
     logical :: stable
     real(dp) :: dt_recommended
-    namelist /system_result/ dt_recommended, period, omega, dt_critical, dt, n_per_period, stable, &
-      growth_factor, theta, period_numerical, contact_steps, contact_time, restitution, &
-      max_overlap
+    type(result_group_type) :: system_result_fields
     character(len=:), allocatable :: text
     real(qp) :: restitution_q, overlap_q
     integer :: ios
     ! omega = 1: the largest overlap 1e308 x 1.0086 is still a double
     call run_ok(error, "&system mass = 1, stiffness = 1, velocity = 1e308, n_per_period = 10 /", text)
     if (allocated(error)) return
-    read(text, nml=system_result, iostat=ios)
+    call read_group(text, "system_result", system_result_fields, ios)
+    if (ios == 0) call take(system_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(system_result_fields, "period", period, ios)
+    if (ios == 0) call take(system_result_fields, "omega", omega, ios)
+    if (ios == 0) call take(system_result_fields, "dt_critical", dt_critical, ios)
+    if (ios == 0) call take(system_result_fields, "dt", dt, ios)
+    if (ios == 0) call take(system_result_fields, "n_per_period", n_per_period, ios)
+    if (ios == 0) call take(system_result_fields, "stable", stable, ios)
+    if (ios == 0) call take(system_result_fields, "growth_factor", growth_factor, ios)
+    if (ios == 0) call take(system_result_fields, "theta", theta, ios)
+    if (ios == 0) call take(system_result_fields, "period_numerical", period_numerical, ios)
+    if (ios == 0) call take(system_result_fields, "contact_steps", contact_steps, ios)
+    if (ios == 0) call take(system_result_fields, "contact_time", contact_time, ios)
+    if (ios == 0) call take(system_result_fields, "restitution", restitution, ios)
+    if (ios == 0) call take(system_result_fields, "max_overlap", max_overlap, ios)
     call check(error, ios, 0, message="read back")
     if (allocated(error)) return
     call contact_q(2.0_qp*pi_q/10.0_qp, steps_q, restitution_q, overlap_q)
@@ -211,7 +263,7 @@ contains
     type(error_type), allocatable, intent(out) :: error
     real(dp) :: n_per_period(1), lambda(1), n_steps(1), e(1)
     integer :: status(1), ios
-    namelist /harmonic_error_result/ n_per_period, lambda, n_steps, e, status
+    type(result_group_type) :: harmonic_error_result_fields
     character(len=:), allocatable :: text
     real(qp) :: e_q, pole
     ! E ~ -1e616 at lambda = 1e-308, and phases 5e307 turns at 1e308: both refused
@@ -228,7 +280,12 @@ contains
     ! the evaluator's stated accuracy relative to |E|)
     call run_ok(error, "&harmonic_error n_per_period = 10, lambda = 1e-150, steps_fraction = 0.5 /", text)
     if (allocated(error)) return
-    read(text, nml=harmonic_error_result, iostat=ios)
+    call read_group(text, "harmonic_error_result", harmonic_error_result_fields, ios)
+    if (ios == 0) call take(harmonic_error_result_fields, "n_per_period", n_per_period, ios)
+    if (ios == 0) call take(harmonic_error_result_fields, "lambda", lambda, ios)
+    if (ios == 0) call take(harmonic_error_result_fields, "n_steps", n_steps, ios)
+    if (ios == 0) call take(harmonic_error_result_fields, "e", e, ios)
+    if (ios == 0) call take(harmonic_error_result_fields, "status", status, ios)
     call check(error, ios, 0, message="read back")
     if (allocated(error)) return
     call reference(10.0_dp, 1.0e-150_dp, 5.0_dp, e_q, pole)
@@ -245,8 +302,7 @@ contains
       onset_contact_time(1), onset_restitution(1), onset_overlap(1)
     integer(i8) :: steps_in_contact(1)
     logical :: stable(1)
-    namelist /contact_error_result/ n_per_period, steps_in_contact, contact_time, restitution, &
-      max_overlap, onset_contact_time, onset_restitution, onset_overlap, stable
+    type(result_group_type) :: contact_error_result_fields
     character(len=:), allocatable :: text
     integer :: ios
     ! -1.8e308 overflows to -Inf when read; -1.7e308 is a double: both outside (0, 1]
@@ -265,7 +321,16 @@ contains
     ! N = 1e308, worst case: the exact contact to working precision, steps saturated
     call run_ok(error, "&contact_error n_per_period = 1e308 /", text)
     if (allocated(error)) return
-    read(text, nml=contact_error_result, iostat=ios)
+    call read_group(text, "contact_error_result", contact_error_result_fields, ios)
+    if (ios == 0) call take(contact_error_result_fields, "n_per_period", n_per_period, ios)
+    if (ios == 0) call take(contact_error_result_fields, "steps_in_contact", steps_in_contact, ios)
+    if (ios == 0) call take(contact_error_result_fields, "contact_time", contact_time, ios)
+    if (ios == 0) call take(contact_error_result_fields, "restitution", restitution, ios)
+    if (ios == 0) call take(contact_error_result_fields, "max_overlap", max_overlap, ios)
+    if (ios == 0) call take(contact_error_result_fields, "onset_contact_time", onset_contact_time, ios)
+    if (ios == 0) call take(contact_error_result_fields, "onset_restitution", onset_restitution, ios)
+    if (ios == 0) call take(contact_error_result_fields, "onset_overlap", onset_overlap, ios)
+    if (ios == 0) call take(contact_error_result_fields, "stable", stable, ios)
     call check(error, ios, 0, message="read back")
     if (allocated(error)) return
     call check(error, steps_in_contact(1), huge(1_i8), message="steps saturate")
@@ -287,9 +352,7 @@ contains
     logical :: steps_saturated(1)
     integer :: status(1), ios
     real(dp) :: dt_recommended
-    namelist /accuracy_cost_result/ dt_recommended, tolerances, n_per_period, dt, steps, steps_saturated, &
-      predicted_seconds, status, &
-      cost_per_particle_step, period
+    type(result_group_type) :: accuracy_cost_result_fields
     character(len=:), allocatable :: text
     character(len=*), parameter :: g = "&accuracy_cost quantity = 'restitution', tolerances = 1e-2, " &
       //"duration = 1, mass = 0.01, stiffness = 1e5, cost_per_particle_step = 2e-7, figure = 'none', " &
@@ -298,7 +361,17 @@ contains
     ! 1e308 particles: the time steps x 1e308 x 2e-7 is a double (about 2e305)
     call run_ok(error, g//"n_particles = 1e308 /", text)
     if (allocated(error)) return
-    read(text, nml=accuracy_cost_result, iostat=ios)
+    call read_group(text, "accuracy_cost_result", accuracy_cost_result_fields, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "dt_recommended", dt_recommended, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "tolerances", tolerances, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "n_per_period", n_per_period, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "dt", dt, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "steps", steps, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "steps_saturated", steps_saturated, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "predicted_seconds", predicted_seconds, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "status", status, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "cost_per_particle_step", cost_per_particle_step, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "period", period, ios)
     call check(error, ios, 0, message="read back")
     if (allocated(error)) return
     steps_q = real(ceiling(real(1.0_dp, qp)/real(dt(1), qp), i8), qp)

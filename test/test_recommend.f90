@@ -8,6 +8,8 @@ module test_recommend
   use demstep_kinds, only: pi
   use test_support, only: run_app, write_file, work_dir
   use, intrinsic :: iso_fortran_env, only: qp => real128
+  use demstep_results, only: result_group_type
+  use test_support, only: read_group, take
   implicit none
   private
   public :: collect_recommend
@@ -99,13 +101,12 @@ contains
     integer :: rc, unit, ios
     character(len=:), allocatable :: stdout, stderr
     real(dp) :: period, omega, dt_critical, dt_recommended
-    namelist /system_result/ period, omega, dt_critical, dt_recommended
+    type(result_group_type) :: system_result_fields
     real(dp) :: tolerances(2), n_per_period(2), dt(2), predicted_seconds(2), cost_per_particle_step
     integer(i8) :: steps(2)
     logical :: steps_saturated(2)
     integer :: status(2)
-    namelist /accuracy_cost_result/ tolerances, n_per_period, dt, steps, steps_saturated, predicted_seconds, status, &
-      cost_per_particle_step, period, dt_recommended
+    type(result_group_type) :: accuracy_cost_result_fields
     ! &system without a step: 0.9 of the critical step
     call write_file(deck, [character(len=60) :: "&system mass = 0.01, stiffness = 1.0e5 /"])
     call run_app(deck//" -o "//out, rc, stdout, stderr)
@@ -113,7 +114,11 @@ contains
     if (allocated(error)) return
     dt_recommended = -1
     open(newunit=unit, file=out, status="old", action="read", iostat=ios)
-    if (ios == 0) read(unit, nml=system_result, iostat=ios)
+    if (ios == 0) call read_group(unit, "system_result", system_result_fields, ios)
+    if (ios == 0) call take(system_result_fields, "period", period, ios)
+    if (ios == 0) call take(system_result_fields, "omega", omega, ios)
+    if (ios == 0) call take(system_result_fields, "dt_critical", dt_critical, ios)
+    if (ios == 0) call take(system_result_fields, "dt_recommended", dt_recommended, ios)
     close(unit)
     call check(error, ios == 0 .and. dt_recommended == 0.9_dp*dt_critical, "&system: 0.9 dt_critical")
     if (allocated(error)) return
@@ -129,7 +134,17 @@ contains
     call check(error, rc == 0, "runs: "//stderr)
     if (allocated(error)) return
     open(newunit=unit, file=out, status="old", action="read", iostat=ios)
-    if (ios == 0) read(unit, nml=accuracy_cost_result, iostat=ios)
+    if (ios == 0) call read_group(unit, "accuracy_cost_result", accuracy_cost_result_fields, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "tolerances", tolerances, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "n_per_period", n_per_period, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "dt", dt, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "steps", steps, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "steps_saturated", steps_saturated, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "predicted_seconds", predicted_seconds, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "status", status, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "cost_per_particle_step", cost_per_particle_step, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "period", period, ios)
+    if (ios == 0) call take(accuracy_cost_result_fields, "dt_recommended", dt_recommended, ios)
     close(unit)
     call check(error, ios == 0 .and. dt_recommended == dt(2) .and. index(stdout, "governs                  " &
       //"accuracy (the tightest tolerance met, 0.001)") > 0, "&accuracy_cost: the 1e-3 step")

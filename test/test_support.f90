@@ -2,13 +2,27 @@
 module test_support
   use demstep, only: dp, i8, spring_type, new_spring, spring_contact, discrete_contact_type, &
     demstep_status_type, demstep_stat
+  use demstep_results, only: result_group_type, parse_result, result_get
   use, intrinsic :: iso_fortran_env, only: qp => real128
   implicit none
   private
+  public :: read_group, take
   public :: sinpi_q, reference, reference_steps, unit_contact
   public :: result_value
   public :: count_lines, remove, ieee_nan, real_str, int_str, app_path, run_app, write_file, read_file, &
     file_exists, work_dir
+
+  !> A result group from an open unit (its remaining lines) or from text.
+  interface read_group
+    module procedure :: read_group_unit, read_group_text
+  end interface read_group
+
+  !> One field of a result group into a variable, as a namelist read would: left
+  !> as it was when absent; `ios` becomes 1 when the field does not convert.
+  interface take
+    module procedure :: take_real, take_int, take_int64, take_logical, take_char, take_reals, take_ints, &
+      take_logicals, take_chars, take_int64s, take_reals2
+  end interface take
 
   real(qp), parameter :: pi_q = 3.14159265358979323846264338327950288_qp
 
@@ -199,5 +213,174 @@ contains
     open(newunit=unit, file=path, status="old", iostat=ios)
     if (ios == 0) close(unit, status="delete")
   end subroutine remove
+
+  !> Group `name` of the result text left on `unit`; `ios` 0 when found.
+  subroutine read_group_unit(unit, name, fields, ios)
+    integer, intent(in) :: unit
+    character(len=*), intent(in) :: name
+    type(result_group_type), intent(out) :: fields
+    integer, intent(out) :: ios
+    character(len=4096) :: line
+    character(len=:), allocatable :: text
+    integer :: rc
+    text = ""
+    do
+      read(unit, '(a)', iostat=rc) line
+      if (rc /= 0) exit
+      text = text//trim(line)//new_line("a")
+    end do
+    call read_group_text(text, name, fields, ios)
+  end subroutine read_group_unit
+
+  !> Group `name` of result text; `ios` 0 when found.
+  subroutine read_group_text(text, name, fields, ios)
+    character(len=*), intent(in) :: text, name
+    type(result_group_type), intent(out) :: fields
+    integer, intent(out) :: ios
+    type(demstep_status_type) :: status
+    call parse_result(text, name, fields, status)
+    ios = merge(0, 1, status%stat == demstep_stat%ok)
+  end subroutine read_group_text
+
+  !> ios 1 for a field that is there but does not convert.
+  subroutine fold(status, ios)
+    type(demstep_status_type), intent(in) :: status
+    integer, intent(inout) :: ios
+    if (status%stat == demstep_stat%invalid_input) ios = 1
+  end subroutine fold
+
+  subroutine take_real(fields, name, value, ios)
+    type(result_group_type), intent(in) :: fields
+    character(len=*), intent(in) :: name
+    real(dp), intent(inout) :: value
+    integer, intent(inout) :: ios
+    type(demstep_status_type) :: status
+    call result_get(fields, name, value, status)
+    call fold(status, ios)
+  end subroutine take_real
+
+  subroutine take_int(fields, name, value, ios)
+    type(result_group_type), intent(in) :: fields
+    character(len=*), intent(in) :: name
+    integer, intent(inout) :: value
+    integer, intent(inout) :: ios
+    type(demstep_status_type) :: status
+    call result_get(fields, name, value, status)
+    call fold(status, ios)
+  end subroutine take_int
+
+  subroutine take_int64(fields, name, value, ios)
+    type(result_group_type), intent(in) :: fields
+    character(len=*), intent(in) :: name
+    integer(i8), intent(inout) :: value
+    integer, intent(inout) :: ios
+    type(demstep_status_type) :: status
+    call result_get(fields, name, value, status)
+    call fold(status, ios)
+  end subroutine take_int64
+
+  subroutine take_logical(fields, name, value, ios)
+    type(result_group_type), intent(in) :: fields
+    character(len=*), intent(in) :: name
+    logical, intent(inout) :: value
+    integer, intent(inout) :: ios
+    type(demstep_status_type) :: status
+    call result_get(fields, name, value, status)
+    call fold(status, ios)
+  end subroutine take_logical
+
+  !> A text field, or a list of texts into an array of fixed-length texts.
+  subroutine take_char(fields, name, value, ios)
+    type(result_group_type), intent(in) :: fields
+    character(len=*), intent(in) :: name
+    character(len=*), intent(inout) :: value
+    integer, intent(inout) :: ios
+    type(demstep_status_type) :: status
+    character(len=:), allocatable :: text
+    call result_get(fields, name, text, status)
+    call fold(status, ios)
+    if (status%stat == demstep_stat%ok) value = text
+  end subroutine take_char
+
+  !> A list into the leading elements of a fixed array (the rest left as they were).
+  subroutine take_reals(fields, name, value, ios)
+    type(result_group_type), intent(in) :: fields
+    character(len=*), intent(in) :: name
+    real(dp), intent(inout) :: value(:)
+    integer, intent(inout) :: ios
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: got(:)
+    integer :: n
+    call result_get(fields, name, got, status)
+    call fold(status, ios)
+    if (status%stat /= demstep_stat%ok) return
+    n = min(size(got), size(value))
+    if (size(got) > size(value)) ios = 1
+    value(:n) = got(:n)
+  end subroutine take_reals
+
+  subroutine take_ints(fields, name, value, ios)
+    type(result_group_type), intent(in) :: fields
+    character(len=*), intent(in) :: name
+    integer, intent(inout) :: value(:)
+    integer, intent(inout) :: ios
+    type(demstep_status_type) :: status
+    integer, allocatable :: got(:)
+    integer :: n
+    call result_get(fields, name, got, status)
+    call fold(status, ios)
+    if (status%stat /= demstep_stat%ok) return
+    n = min(size(got), size(value))
+    if (size(got) > size(value)) ios = 1
+    value(:n) = got(:n)
+  end subroutine take_ints
+
+  subroutine take_int64s(fields, name, value, ios)
+    type(result_group_type), intent(in) :: fields
+    character(len=*), intent(in) :: name
+    integer(i8), intent(inout) :: value(:)
+    integer, intent(inout) :: ios
+    type(demstep_status_type) :: status
+    integer(i8), allocatable :: got(:)
+    integer :: n
+    call result_get(fields, name, got, status)
+    call fold(status, ios)
+    if (status%stat /= demstep_stat%ok) return
+    n = min(size(got), size(value))
+    if (size(got) > size(value)) ios = 1
+    value(:n) = got(:n)
+  end subroutine take_int64s
+
+  subroutine take_logicals(fields, name, value, ios)
+    type(result_group_type), intent(in) :: fields
+    character(len=*), intent(in) :: name
+    logical, intent(inout) :: value(:)
+    integer, intent(inout) :: ios
+    type(demstep_status_type) :: status
+    call result_get(fields, name, value, status)
+    call fold(status, ios)
+  end subroutine take_logicals
+
+  subroutine take_chars(fields, name, value, ios)
+    type(result_group_type), intent(in) :: fields
+    character(len=*), intent(in) :: name
+    character(len=*), intent(inout) :: value(:)
+    integer, intent(inout) :: ios
+    type(demstep_status_type) :: status
+    call result_get(fields, name, value, status)
+    call fold(status, ios)
+  end subroutine take_chars
+
+  !> A list into a rank-2 array in array element order, as a namelist read fills it.
+  subroutine take_reals2(fields, name, value, ios)
+    type(result_group_type), intent(in) :: fields
+    character(len=*), intent(in) :: name
+    real(dp), intent(inout) :: value(:, :)
+    integer, intent(inout) :: ios
+    real(dp) :: flat(size(value))
+    flat = reshape(value, [size(value)])
+    call take_reals(fields, name, flat, ios)
+    value = reshape(flat, shape(value))
+  end subroutine take_reals2
 
 end module test_support
