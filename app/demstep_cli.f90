@@ -44,6 +44,8 @@ module demstep_cli
     !> `&material` group: that group then reports single contacts, and the
     !> recommended dt is the packing's alone.
     logical :: material_in_scene = .false.
+    !> The deck's groups, scanned once (none for an MFiX deck).
+    type(nml_group_type), allocatable :: groups(:)
     !> Unit of the steps the groups yield (scratch; see [[record_step]]), from
     !> which [[deck_recommendation]] takes the deck's one recommended dt.
     integer :: steps = -1

@@ -20,9 +20,8 @@ module demstep_cli_scene
   use demstep_snapshot, only: snapshot_type, read_snapshot, snapshot_format, snapshot_format_names, &
     snapshot_masses_from_types
   use demstep_material, only: material_type, material_pair_type, contact_parameters_type, &
-    peer_steps_type, contact_parameters, peer_time_steps, code_convention_names, peer_rule_names, &
+    peer_steps_type, contact_parameters, packing_peer_steps, code_convention_names, peer_rule_names, &
     n_conventions, n_peer_rules
-  use demstep_namelist, only: read_text_file, scan_namelist
   use demstep_cli_material, only: read_material
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, &
@@ -260,7 +259,7 @@ contains
     ! particles: a snapshot, a table file or the arrays
     from_material = .false.
     if (given(group, "snapshot_file")) then
-      call find_deck_material(file, deck_mat, status)
+      call find_deck_material(ctx%groups, deck_mat, status)
       if (status%stat /= demstep_stat%ok) return
       call snapshot_particles(beside(file, trim(snapshot_file)), snapshot_format, snapshot_frame, dim, &
         deck_mat, snap, x, v, m, r, status)
@@ -1011,16 +1010,13 @@ contains
   ! ------------------------------------------------------------ snapshots
 
   !> The deck's `&material` group, if it has one (read as `&material` reads it).
-  subroutine find_deck_material(deck, mat, status)
-    character(len=*), intent(in) :: deck
+  subroutine find_deck_material(groups, mat, status)
+    !> The deck's groups, as scanned once.
+    type(nml_group_type), intent(in) :: groups(:)
     type(deck_material_type), intent(out) :: mat
     type(demstep_status_type), intent(out) :: status
-    character(len=:), allocatable :: text
-    type(nml_group_type), allocatable :: groups(:)
     integer :: k, found
-    call read_text_file(deck, text, status)
-    if (status%stat == demstep_stat%ok) call scan_namelist(text, groups, status)
-    if (status%stat /= demstep_stat%ok) return
+    status%stat = demstep_stat%ok
     found = 0
     do k = 1, size(groups)
       if (groups(k)%name /= "material") cycle
@@ -1198,11 +1194,9 @@ contains
     character(len=200), allocatable, intent(out) :: lines(:)
     real(dp), intent(out) :: peer_dt(n_peer_rules)
     type(demstep_status_type), intent(out) :: status
-    type(material_type), allocatable :: kinds(:)
     type(peer_steps_type) :: steps
     real(dp) :: rayleigh, hertz, exact
-    logical, allocatable :: present_type(:)
-    integer :: nt, i, j, c, nl
+    integer :: nt, i, c, nl
     character(len=:), allocatable :: solver, axes, masses, frame
     peer_dt = 0.0_dp
     nt = maxval(snap%type)
@@ -1238,32 +1232,16 @@ contains
       call finish()
       return
     end if
-    ! each type present, at its smallest radius in the file
-    allocate(kinds(nt), present_type(nt))
-    do i = 1, nt
-      present_type(i) = any(snap%type == i)
-      kinds(i) = mat%types(i)
-      if (present_type(i)) kinds(i)%radius = minval(snap%radius, mask=snap%type == i)
-    end do
-    peer_dt = huge(1.0_dp)
-    rayleigh = huge(1.0_dp)
-    hertz = huge(1.0_dp)
-    do i = 1, nt
-      if (.not. present_type(i)) cycle
-      do j = i, nt
-        if (.not. present_type(j)) cycle
-        call peer_time_steps(material_pair_type(kinds(i), kinds(j), mat%restitution, mat%restitution_t, &
-          mat%impact_velocity), steps, status)
-        if (status%stat /= demstep_stat%ok) then
-          status%message = "&material: types "//fmt_int(int(i, i8))//" and "//fmt_int(int(j, i8))//": "// &
-            status%message
-          return
-        end if
-        peer_dt = min(peer_dt, steps%dt)
-        rayleigh = min(rayleigh, steps%rayleigh)
-        hertz = min(hertz, steps%hertz_duration)
-      end do
-    end do
+    ! the peers' rules over the types present, each at its smallest radius in the file
+    call packing_peer_steps(mat%types, snap%type, snap%radius, mat%restitution, mat%restitution_t, &
+      mat%impact_velocity, steps, status)
+    if (status%stat /= demstep_stat%ok) then
+      call in_group(status, "material")
+      return
+    end if
+    peer_dt = steps%dt
+    rayleigh = steps%rayleigh
+    hertz = steps%hertz_duration
     call add("    Rayleigh time "//fmt_real(rayleigh)//", Hertz contact duration "//fmt_real(hertz)// &
       " (smallest particle of each type, impact velocity "//fmt_real(mat%impact_velocity)//")")
     write(lines(nl + 1), '(4x, a22, 2a16)') "peer rule", "dt", "dt/exact limit"

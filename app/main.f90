@@ -134,6 +134,7 @@ program demstep_main
   end if
   ! a packing's &material reports single contacts (whichever group comes first)
   ctx%material_in_scene = scene_takes_material(groups)
+  ctx%groups = groups
   do i = 1, size(groups)
     k = find_group(registry, groups(i)%name)
     if (k == 0) then

@@ -12,8 +12,8 @@
 !> each code's source; the comment on each convention names the file and function.
 module demstep_material
   use demstep_kinds, only: dp, pi
-  use demstep_status, only: demstep_status_type, demstep_stat, set_status, status_at
-  use demstep_text, only: real_text
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status, status_at, status_restate
+  use demstep_text, only: real_text, int_text
   use demstep_spring, only: damped_limit
   use demstep_interaction, only: hertz_e_star, mindlin_g_star
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -22,7 +22,7 @@ module demstep_material
   private
 
   public :: effective_pair, contact_parameters, rayleigh_time, hertz_max_overlap, &
-    hertz_contact_duration, linear_contact_duration, peer_time_steps, hertz_duration_constant, &
+    hertz_contact_duration, linear_contact_duration, peer_time_steps, packing_peer_steps, hertz_duration_constant, &
     hertz_impact_stiffness, convention_limit, mfix_moduli, mfix_pair_springs, check_pair
 
   !> The codes whose contact conventions are reproduced, as components of a parameter.
@@ -757,6 +757,73 @@ contains
     end if
     status%stat = demstep_stat%ok
   end subroutine peer_time_steps
+
+  !> The peers' rules for a packing: each rule's smallest step over the pairs of
+  !> the types present, each type at its smallest radius in the packing (as
+  !> the peers' codes check every particle). `steps` holds the smallest time
+  !> scales too. Status invalid_input naming `type_of` for a type outside
+  !> `types`, or the pair's fault with the pair's types in its detail.
+  pure subroutine packing_peer_steps(types, type_of, radius, restitution, restitution_t, &
+      impact_velocity, steps, status)
+    !> Materials per type.
+    type(material_type), intent(in) :: types(:)
+    !> Each particle's type (1-based).
+    integer, intent(in) :: type_of(:)
+    !> Each particle's radius.
+    real(dp), intent(in) :: radius(:)
+    !> Normal and tangential restitution, impact velocity (as `material_pair_type`).
+    real(dp), intent(in) :: restitution, restitution_t, impact_velocity
+    !> The smallest steps and time scales over the pairs present.
+    type(peer_steps_type), intent(out) :: steps
+    type(demstep_status_type), intent(out) :: status
+    type(material_type) :: kinds(size(types))
+    type(peer_steps_type) :: pair_steps
+    logical :: present_type(size(types))
+    integer :: i, j, nt
+    character(len=:), allocatable :: where, detail
+    nt = size(types)
+    if (size(radius) /= size(type_of)) then
+      call set_status(status, demstep_stat%invalid_input, "one per particle", where="radius")
+      return
+    end if
+    do i = 1, size(type_of)
+      if (type_of(i) < 1 .or. type_of(i) > nt) then
+        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(i)//": type "// &
+          int_text(type_of(i))//" has no material (1 to "//int_text(nt)//")", where="type_of", index=i)
+        return
+      end if
+    end do
+    do i = 1, nt
+      present_type(i) = any(type_of == i)
+      kinds(i) = types(i)
+      if (present_type(i)) kinds(i)%radius = minval(radius, mask=type_of == i)
+    end do
+    steps%dt = huge(1.0_dp)
+    steps%rayleigh = huge(1.0_dp)
+    steps%rayleigh_yade = huge(1.0_dp)
+    steps%hertz_duration = huge(1.0_dp)
+    steps%hertz_liggghts = huge(1.0_dp)
+    do i = 1, nt
+      if (.not. present_type(i)) cycle
+      do j = i, nt
+        if (.not. present_type(j)) cycle
+        call peer_time_steps(material_pair_type(kinds(i), kinds(j), restitution, restitution_t, &
+          impact_velocity), pair_steps, status)
+        if (status%stat /= demstep_stat%ok) then
+          where = status%where
+          detail = "types "//int_text(i)//" and "//int_text(j)//": "//status%detail
+          call status_restate(status, where, detail)
+          return
+        end if
+        steps%dt = min(steps%dt, pair_steps%dt)
+        steps%rayleigh = min(steps%rayleigh, pair_steps%rayleigh)
+        steps%rayleigh_yade = min(steps%rayleigh_yade, pair_steps%rayleigh_yade)
+        steps%hertz_duration = min(steps%hertz_duration, pair_steps%hertz_duration)
+        steps%hertz_liggghts = min(steps%hertz_liggghts, pair_steps%hertz_liggghts)
+      end do
+    end do
+    status%stat = demstep_stat%ok
+  end subroutine packing_peer_steps
 
   !> LIGGGHTS' Hertz time of a type colliding with itself, particles at impact
   !> velocity v: `2.87 (m^2/(r/2 Y*^2 v_rel))^(1/5)` with the whole particle mass m
