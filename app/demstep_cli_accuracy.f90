@@ -20,6 +20,7 @@ module demstep_cli_accuracy
   use demstep_words, only: unknown_word
   use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &
     rename_file, process_id, refuse_input
+  use demstep_results, only: write_contact_error_result, write_accuracy_cost_result
   implicit none
   private
 
@@ -151,9 +152,9 @@ contains
     call report_contact(ctx%report, group, worst, damping_ratio, big_n, steps, value, onset_q, stable, &
       saturated)
     if (worst) then
-      call write_worst(ctx%results, big_n, steps, value, onset_q, stable)
+      call write_contact_error_result(ctx%results, big_n, steps, value, onset_q, stable)
     else
-      call write_onset(ctx%results, big_n, s, steps, value, stable)
+      call write_contact_error_result(ctx%results, big_n, s, steps, value, stable)
     end if
   contains
     !> The library's location and detail as "&contact_error: variable: element i is x; what".
@@ -215,38 +216,6 @@ contains
       text = adjustr(text)
     end function cell
   end subroutine report_contact
-
-  subroutine write_worst(unit, n_per_period, steps_in_contact, value, onset_q, stable)
-    integer, intent(in) :: unit
-    real(dp), intent(in) :: n_per_period(:), value(:, :), onset_q(:, :)
-    integer(i8), intent(in) :: steps_in_contact(:)
-    logical, intent(in) :: stable(:)
-    real(dp), allocatable :: contact_time(:), restitution(:), max_overlap(:), onset_contact_time(:), &
-      onset_restitution(:), onset_overlap(:)
-    namelist /contact_error_result/ n_per_period, steps_in_contact, contact_time, restitution, &
-      max_overlap, onset_contact_time, onset_restitution, onset_overlap, stable
-    contact_time = value(:, 1)
-    restitution = value(:, 2)
-    max_overlap = value(:, 3)
-    onset_contact_time = onset_q(:, 1)
-    onset_restitution = onset_q(:, 2)
-    onset_overlap = onset_q(:, 3)
-    write(unit, nml=contact_error_result)
-  end subroutine write_worst
-
-  subroutine write_onset(unit, n_per_period, onset, steps_in_contact, value, stable)
-    integer, intent(in) :: unit
-    real(dp), intent(in) :: n_per_period(:), onset(:), value(:, :)
-    integer(i8), intent(in) :: steps_in_contact(:)
-    logical, intent(in) :: stable(:)
-    real(dp), allocatable :: contact_time(:), restitution(:), max_overlap(:)
-    namelist /contact_error_result/ n_per_period, onset, steps_in_contact, contact_time, &
-      restitution, max_overlap, stable
-    contact_time = value(:, 1)
-    restitution = value(:, 2)
-    max_overlap = value(:, 3)
-    write(unit, nml=contact_error_result)
-  end subroutine write_onset
 
   !> Read, check and evaluate one `&accuracy_cost` group.
   subroutine handle_accuracy_cost(ctx, group, status)
@@ -394,7 +363,7 @@ contains
       call in_group(status, g)
       return
     end if
-    call write_cost(ctx%results, tolerances(:nt), n, dt, steps, saturated, predicted_seconds, stat, cost, &
+    call write_accuracy_cost_result(ctx%results, tolerances(:nt), n, dt, steps, saturated, predicted_seconds, stat, cost, &
       period, dt_recommended)
     call write_curves(ctx%report, q, damping_ratio, lambda, period, duration, n_particles, cost, &
       n_top, trim(csv), trim(figure), status)
@@ -506,21 +475,6 @@ contains
       text = fmt_real(t/86400.0_dp)//" d"
     end if
   end function human_time
-
-  !> The result group; `steps_saturated(i)` marks a count above 2^63 - 1, written as
-  !> 2^63 - 1 in `steps(i)` (`predicted_seconds` uses the exact count).
-  subroutine write_cost(unit, tolerances, n_per_period, dt, steps, steps_saturated, predicted_seconds, &
-      status, cost_per_particle_step, period, dt_recommended)
-    integer, intent(in) :: unit
-    real(dp), intent(in) :: tolerances(:), n_per_period(:), dt(:), predicted_seconds(:), &
-      cost_per_particle_step, period, dt_recommended
-    integer(i8), intent(in) :: steps(:)
-    logical, intent(in) :: steps_saturated(:)
-    integer, intent(in) :: status(:)
-    namelist /accuracy_cost_result/ tolerances, n_per_period, dt, steps, steps_saturated, predicted_seconds, &
-      status, cost_per_particle_step, period, dt_recommended
-    write(unit, nml=accuracy_cost_result)
-  end subroutine write_cost
 
   !> A file name from the deck: not empty, no control characters, not a directory
   !> (for a figure base name: not ending in '/'; '.png' and '.svg' are added).

@@ -7,6 +7,7 @@ module demstep_cli_harmonic
     next_assignment, group_reading, &
     cli_context, new_array, array_length, broadcast, common_length, max_values, &
     capacity_of, in_group
+  use demstep_results, only: write_harmonic_error_result
   implicit none
   private
 
@@ -96,7 +97,7 @@ contains
       return
     end if
     call report(ctx%report, group, big_n, lam, n, e, stat)
-    call write_result(ctx%results, big_n, lam, n, e, stat)
+    call write_harmonic_error_result(ctx%results, big_n, lam, n, e, stat)
   end subroutine handle_harmonic_error
 
   subroutine report(u, group, big_n, lam, n, e, stat)
@@ -126,13 +127,5 @@ contains
     write(u, '(2x, a)') "status: 0 ok, 3 pole (S(2 pi lambda/N, n) = 0; e = huge)"
     write(u, '(a)') ""
   end subroutine report
-
-  subroutine write_result(unit, n_per_period, lambda, n_steps, e, status)
-    integer, intent(in) :: unit
-    real(dp), intent(in) :: n_per_period(:), lambda(:), n_steps(:), e(:)
-    integer, intent(in) :: status(:)
-    namelist /harmonic_error_result/ n_per_period, lambda, n_steps, e, status
-    write(unit, nml=harmonic_error_result)
-  end subroutine write_result
 
 end module demstep_cli_harmonic

@@ -17,6 +17,7 @@ module demstep_cli_material
     next_assignment, group_reading, &
     new_array, array_length, common_length, broadcast, capacity_of, report_row, in_group
   use demstep_words, only: word_list
+  use demstep_results, only: write_material_result
   implicit none
   private
 
@@ -289,7 +290,7 @@ contains
     end if
     write(u, '(a)') ""
     call record_step(ctx, "single-contact step", dt_recommended, .false., group)
-    call write_result(ctx%results, [(code_convention_names(c), c = first, last)], peer_rule_names, type_i, type_j, &
+    call write_material_result(ctx%results, [(code_convention_names(c), c = first, last)], peer_rule_names, type_i, type_j, &
       m_star, k_n, k_t, gamma_n, gamma_t, dt_code, rayleigh, hertz_duration, linear_duration, dt_critical, &
       peer_dt, dt_accuracy, dt_recommended, trim(merge("stability", "accuracy ", &
       governs == step_governs%stability)))
@@ -345,21 +346,5 @@ contains
       if (at > 0) out = out(:at-1)//"(particle type "//fmt_int(int(k, i8))//")"//out(at+17:)
     end function relabel
   end subroutine fix_label
-
-
-  subroutine write_result(unit, conventions, peer_rules, type_i, type_j, m_star, k_n, k_t, gamma_n, &
-      gamma_t, dt_code, rayleigh_time, hertz_duration, linear_duration, dt_critical, peer_dt, &
-      dt_accuracy, dt_recommended, governs)
-    integer, intent(in) :: unit
-    character(len=*), intent(in) :: conventions(:), peer_rules(:), governs
-    integer, intent(in) :: type_i(:), type_j(:)
-    real(dp), intent(in) :: m_star(:), k_n(:, :), k_t(:, :), gamma_n(:, :), gamma_t(:, :), dt_code(:, :), &
-      rayleigh_time(:), hertz_duration(:), linear_duration(:), dt_critical(:), peer_dt(:, :), &
-      dt_accuracy(:), dt_recommended
-    namelist /material_result/ conventions, peer_rules, type_i, type_j, m_star, k_n, k_t, gamma_n, &
-      gamma_t, dt_code, rayleigh_time, hertz_duration, linear_duration, dt_critical, peer_dt, &
-      dt_accuracy, dt_recommended, governs
-    write(unit, nml=material_result)
-  end subroutine write_result
 
 end module demstep_cli_material

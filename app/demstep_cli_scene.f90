@@ -30,6 +30,7 @@ module demstep_cli_scene
   use demstep_words, only: word_list, unknown_word
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use, intrinsic :: iso_fortran_env, only: error_unit
+  use demstep_results, only: write_scene_result, write_snapshot_result
   implicit none
   private
 
@@ -650,9 +651,9 @@ contains
     else
       call report(ctx%report, group, sc, crit, duration > 0.0_dp, dt_used, steps, summary, dt_recommended)
     end if
-    call write_result(ctx%results, sc, crit, dt_used, summary, dt_recommended)
+    call write_scene_result(ctx%results, sc, crit, dt_used, summary, dt_recommended)
     call record_step(ctx, "assembly step", dt_recommended, .true., group)
-    if (given(group, "snapshot_file")) call write_snapshot_result(ctx%results, snap, deck_mat, crit, peer_dt)
+    if (given(group, "snapshot_file")) call write_snapshot_result(ctx%results, snap, deck_mat%found, crit, peer_dt)
 
   contains
 
@@ -955,58 +956,6 @@ contains
     write(u, '(a)') ""
   end subroutine report
 
-  subroutine write_result(unit, sc, crit, dt_used, summary, dt_recommended)
-    integer, intent(in) :: unit
-    type(scene_type), intent(in) :: sc
-    type(critical_step_type), intent(in) :: crit
-    real(dp), intent(in) :: dt_used
-    type(scene_summary_type), intent(in) :: summary
-    real(dp), intent(in) :: dt_recommended
-    integer :: n_particles, n_dof, n_springs, max_contacts, dof_per_particle
-    logical :: rotation, tangential, periodic, prestress
-    real(dp) :: omega_max, dt_critical_eigen, dt_critical_bound, dt_contact_rule, &
-      dt_critical_damped, damping_ratio_top, energy_drift, max_overlap
-    integer(i8) :: steps
-    logical :: eigen_computed, blew_up
-    character(len=8) :: eigen_solver
-    real(dp) :: eigen_tolerance, eigen_residual, omega_upper, dt_critical_safe, dt_critical_damped_bound
-    logical :: eigen_converged, damped_exact
-    namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
-      periodic, prestress, omega_max, eigen_computed, eigen_converged, eigen_solver, eigen_tolerance, eigen_residual, &
-      omega_upper, dt_critical_eigen, dt_critical_safe, dt_critical_bound, dt_contact_rule, &
-      dt_critical_damped, damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, &
-      blew_up, dt_recommended, damped_exact, dt_critical_damped_bound
-    n_particles = sc%n
-    n_dof = crit%n_dof
-    n_springs = crit%n_springs
-    dof_per_particle = crit%dof_per_particle
-    rotation = crit%rotation
-    tangential = crit%tangential
-    periodic = crit%periodic
-    prestress = crit%prestress
-    omega_max = crit%omega_max
-    eigen_computed = crit%eigen_computed
-    eigen_solver = eigen_solver_name(crit%solver)
-    eigen_converged = crit%eigen_converged
-    eigen_tolerance = crit%eigen_tolerance
-    eigen_residual = crit%eigen_residual
-    omega_upper = crit%omega_upper
-    dt_critical_safe = crit%dt_critical_safe
-    dt_critical_eigen = crit%dt_critical_eigen
-    dt_critical_bound = crit%dt_critical_bound
-    dt_contact_rule = crit%dt_contact_rule
-    dt_critical_damped = crit%dt_critical_damped
-    damping_ratio_top = crit%damping_ratio_top
-    damped_exact = crit%damped_exact
-    dt_critical_damped_bound = crit%dt_critical_damped_bound
-    steps = summary%steps
-    energy_drift = summary%energy_drift
-    max_overlap = summary%max_overlap
-    max_contacts = summary%max_contacts
-    blew_up = summary%blew_up
-    write(unit, nml=scene_result)
-  end subroutine write_result
-
   ! ------------------------------------------------------------ snapshots
 
   !> The deck's `&material` group, if it has one (read as `&material` reads it).
@@ -1278,36 +1227,5 @@ contains
       end if
     end function material_note
   end subroutine snapshot_summary
-
-  !> The `&snapshot_result` group: what was read and the peers' rules.
-  subroutine write_snapshot_result(unit, snap, mat, crit, peer_dt)
-    integer, intent(in) :: unit
-    type(snapshot_type), intent(in) :: snap
-    type(deck_material_type), intent(in) :: mat
-    type(critical_step_type), intent(in) :: crit
-    real(dp), intent(in) :: peer_dt(n_peer_rules)
-    character(len=11) :: format
-    integer :: n_particles, n_types, frame, n_frames
-    integer(i8) :: timestep
-    logical :: periodic(3), have_materials
-    real(dp) :: box_lo(3), box_hi(3), dt_exact, peer_ratio(n_peer_rules)
-    character(len=20) :: peer_rules(n_peer_rules)
-    namelist /snapshot_result/ format, n_particles, n_types, frame, n_frames, timestep, periodic, &
-      box_lo, box_hi, have_materials, peer_rules, peer_dt, peer_ratio, dt_exact
-    format = snapshot_format_names(snap%format)
-    n_particles = snap%n
-    n_types = maxval(snap%type)
-    frame = snap%frame
-    n_frames = snap%n_frames
-    timestep = snap%timestep
-    periodic = snap%periodic
-    box_lo = snap%lo
-    box_hi = snap%hi
-    have_materials = mat%found
-    peer_rules = peer_rule_names
-    dt_exact = crit%dt_critical_damped
-    peer_ratio = peer_dt/dt_exact
-    write(unit, nml=snapshot_result)
-  end subroutine write_snapshot_result
 
 end module demstep_cli_scene

@@ -15,6 +15,7 @@ module demstep_cli_stiffness
     next_assignment, group_reading, &
     new_array, array_length, default_text, max_values, capacity_of, in_group
   use demstep_words, only: unknown_word
+  use demstep_results, only: write_simulated_stiffness_result
   implicit none
   private
 
@@ -196,7 +197,7 @@ contains
     end if
     call report(ctx%report, group, input, result, dt_stability, dt_recommended, governs)
     if (dt_recommended > 0.0_dp) call record_step(ctx, "single-contact step", dt_recommended, .false., group)
-    call write_result(ctx%results, result, dt_recommended)
+    call write_simulated_stiffness_result(ctx%results, result, dt_recommended)
   end subroutine handle_simulated_stiffness
 
   !> The recommended step: the procedure's dt = T*/N* is the accuracy step; the
@@ -289,46 +290,5 @@ contains
       word = "status "//fmt_int(int(stat, i8))
     end if
   end function status_word
-
-  subroutine write_result(unit, result, dt_recommended)
-    integer, intent(in) :: unit
-    type(stiffness_result_type), intent(in) :: result
-    real(dp), intent(in) :: dt_recommended
-    real(dp), allocatable :: lambda(:), n_zero(:), n_lower(:), n_upper(:), n_pick(:)
-    logical, allocatable :: bounded(:)
-    integer, allocatable :: status(:)
-    real(dp) :: n_star, lambda_star, period, dt, stiffness_actual
-    integer :: lambda_star_status, excluded, i, n
-    namelist /simulated_stiffness_result/ lambda, n_zero, n_lower, n_upper, bounded, n_pick, &
-      status, n_star, lambda_star, lambda_star_status, period, dt, stiffness_actual, excluded, &
-      dt_recommended
-    n = size(result%rows)
-    allocate(lambda(n), n_zero(n), n_lower(n), n_upper(n), n_pick(n), bounded(n), status(n))
-    do i = 1, n
-      associate(r => result%rows(i))
-        lambda(i) = r%lambda
-        n_zero(i) = 0.0_dp
-        if (size(r%roots) > 0) n_zero(i) = r%roots(1)
-        n_lower(i) = 0.0_dp
-        n_upper(i) = 0.0_dp
-        bounded(i) = .false.
-        if (size(r%lower) > 0) then
-          n_lower(i) = r%lower(1)
-          n_upper(i) = r%upper(1)
-          bounded(i) = size(r%lower) > 1 .or. r%last_interval == interval_kind%bounded
-        end if
-        n_pick(i) = r%n_pick
-        status(i) = r%stat
-      end associate
-    end do
-    n_star = result%n_star
-    lambda_star = result%lambda_star
-    lambda_star_status = result%lambda_star_stat
-    period = result%period
-    dt = result%dt
-    stiffness_actual = result%stiffness_actual
-    excluded = result%excluded
-    write(unit, nml=simulated_stiffness_result)
-  end subroutine write_result
 
 end module demstep_cli_stiffness

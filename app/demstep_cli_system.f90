@@ -13,6 +13,7 @@ module demstep_cli_system
     next_assignment, group_reading, &
     fmt_real, fmt_int, in_group, &
     cli_context
+  use demstep_results, only: write_system_result
   implicit none
   private
 
@@ -126,7 +127,7 @@ contains
       return
     end if
     if (.not. have_dt) then
-      call write_basic(ctx%results, period, omega, dt_critical, dt_recommended)
+      call write_system_result(ctx%results, period, omega, dt_critical, dt_recommended)
       call recommend_line(ctx, group, dt_recommended)
       return
     end if
@@ -138,7 +139,7 @@ contains
     if (.not. stable) then
       call report_row(u, 2, "stable", "NO: dt >= critical step; amplitude grows by "//fmt_real(rho)// &
         " per step")
-      call write_unstable(ctx%results, period, omega, dt_critical, dt, n_per_period, rho, dt_recommended)
+      call write_system_result(ctx%results, period, omega, dt_critical, dt, n_per_period, rho, dt_recommended)
       call recommend_line(ctx, group, dt_recommended)
       return
     end if
@@ -180,7 +181,7 @@ contains
     call report_row(u, 2, "  max overlap", fmt_real(overlap)// &
       "  (exact v0/omega = "//fmt_real(velocity/omega)//")")
     call recommend_line(ctx, group, dt_recommended)
-    call write_stable(ctx%results, period, omega, dt_critical, dt, n_per_period, rho, theta, &
+    call write_system_result(ctx%results, period, omega, dt_critical, dt, n_per_period, rho, theta, &
       period_numerical, contact%steps, contact%contact_time*(0.5_dp*period), contact%restitution, &
       overlap, dt_recommended)
   end subroutine evaluate
@@ -197,41 +198,5 @@ contains
     write(ctx%report, '(a)') ""
     call record_step(ctx, "single-contact step", dt_recommended, .false., group)
   end subroutine recommend_line
-
-
-  !> Result without a time step.
-  subroutine write_basic(unit, period, omega, dt_critical, dt_recommended)
-    integer, intent(in) :: unit
-    real(dp), intent(in) :: period, omega, dt_critical, dt_recommended
-    namelist /system_result/ period, omega, dt_critical, dt_recommended
-    write(unit, nml=system_result)
-  end subroutine write_basic
-
-  !> Result for a time step at or beyond the limit.
-  subroutine write_unstable(unit, period, omega, dt_critical, dt, n_per_period, growth_factor, &
-      dt_recommended)
-    integer, intent(in) :: unit
-    real(dp), intent(in) :: period, omega, dt_critical, dt, n_per_period, growth_factor, dt_recommended
-    logical :: stable
-    namelist /system_result/ period, omega, dt_critical, dt_recommended, dt, n_per_period, stable, &
-      growth_factor
-    stable = .false.
-    write(unit, nml=system_result)
-  end subroutine write_unstable
-
-  !> Result for a stable time step, with the discrete contact.
-  subroutine write_stable(unit, period, omega, dt_critical, dt, n_per_period, growth_factor, &
-      theta, period_numerical, contact_steps, contact_time, restitution, max_overlap, dt_recommended)
-    integer, intent(in) :: unit
-    real(dp), intent(in) :: period, omega, dt_critical, dt, n_per_period, growth_factor, theta, &
-      period_numerical, contact_time, restitution, max_overlap, dt_recommended
-    integer(i8), intent(in) :: contact_steps
-    logical :: stable
-    namelist /system_result/ period, omega, dt_critical, dt_recommended, dt, n_per_period, stable, &
-      growth_factor, theta, period_numerical, contact_steps, contact_time, restitution, &
-      max_overlap
-    stable = .true.
-    write(unit, nml=system_result)
-  end subroutine write_stable
 
 end module demstep_cli_system

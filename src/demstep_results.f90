@@ -1,4 +1,4 @@
-!> Result namelists read back by name.
+!> Result namelists: each group written in one place, and read back by name.
 !>
 !> demstep writes each result as one namelist group (`&system_result`,
 !> `&scene_result`, ...; the README lists their fields). A program that reads a
@@ -15,10 +15,29 @@ module demstep_results
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_namelist, only: nml_group_type, read_text_file, scan_namelist, lowercase
+  use demstep_scene_data, only: scene_type, scene_summary_type
+  use demstep_assembly, only: critical_step_type, eigen_solver_name
+  use demstep_stiffness, only: stiffness_result_type, interval_kind
+  use demstep_snapshot, only: snapshot_type, snapshot_format_names
+  use demstep_material, only: n_peer_rules, peer_rule_names
   implicit none
   private
 
   public :: read_result, parse_result, result_get, result_has
+  public :: write_system_result, write_contact_error_result, write_accuracy_cost_result, &
+    write_harmonic_error_result, write_material_result, write_simulated_stiffness_result, &
+    write_scene_result, write_snapshot_result
+
+  !> `&system_result`: the spring alone, with a time step beyond the limit, or
+  !> with a stable step and its discrete contact (by the arguments given).
+  interface write_system_result
+    module procedure :: system_result_basic, system_result_unstable, system_result_stable
+  end interface write_system_result
+
+  !> `&contact_error_result`: at given onsets, or the worst over the onsets.
+  interface write_contact_error_result
+    module procedure :: contact_error_result_onset, contact_error_result_worst
+  end interface write_contact_error_result
 
   !> Most values one field may hold (a longer list is refused, not allocated).
   integer, parameter :: max_values = 10000000
@@ -397,5 +416,242 @@ contains
     end if
     value(:n) = got
   end subroutine get_texts
+
+  ! ------------------------------------------------------------ writers
+
+  !> `&system_result` without a time step.
+  subroutine system_result_basic(unit, period, omega, dt_critical, dt_recommended)
+    integer, intent(in) :: unit
+    real(dp), intent(in) :: period, omega, dt_critical, dt_recommended
+    namelist /system_result/ period, omega, dt_critical, dt_recommended
+    write(unit, nml=system_result)
+  end subroutine system_result_basic
+
+  !> `&system_result` for a time step at or beyond the limit.
+  subroutine system_result_unstable(unit, period, omega, dt_critical, dt, n_per_period, growth_factor, &
+      dt_recommended)
+    integer, intent(in) :: unit
+    real(dp), intent(in) :: period, omega, dt_critical, dt, n_per_period, growth_factor, dt_recommended
+    logical :: stable
+    namelist /system_result/ period, omega, dt_critical, dt_recommended, dt, n_per_period, stable, &
+      growth_factor
+    stable = .false.
+    write(unit, nml=system_result)
+  end subroutine system_result_unstable
+
+  !> `&system_result` for a stable time step, with the discrete contact.
+  subroutine system_result_stable(unit, period, omega, dt_critical, dt, n_per_period, growth_factor, &
+      theta, period_numerical, contact_steps, contact_time, restitution, max_overlap, dt_recommended)
+    integer, intent(in) :: unit
+    real(dp), intent(in) :: period, omega, dt_critical, dt, n_per_period, growth_factor, theta, &
+      period_numerical, contact_time, restitution, max_overlap, dt_recommended
+    integer(i8), intent(in) :: contact_steps
+    logical :: stable
+    namelist /system_result/ period, omega, dt_critical, dt_recommended, dt, n_per_period, stable, &
+      growth_factor, theta, period_numerical, contact_steps, contact_time, restitution, &
+      max_overlap
+    stable = .true.
+    write(unit, nml=system_result)
+  end subroutine system_result_stable
+
+  !> `&contact_error_result` over the onsets: worst values and where.
+  subroutine contact_error_result_worst(unit, n_per_period, steps_in_contact, value, onset_q, stable)
+    integer, intent(in) :: unit
+    real(dp), intent(in) :: n_per_period(:), value(:, :), onset_q(:, :)
+    integer(i8), intent(in) :: steps_in_contact(:)
+    logical, intent(in) :: stable(:)
+    real(dp), allocatable :: contact_time(:), restitution(:), max_overlap(:), onset_contact_time(:), &
+      onset_restitution(:), onset_overlap(:)
+    namelist /contact_error_result/ n_per_period, steps_in_contact, contact_time, restitution, &
+      max_overlap, onset_contact_time, onset_restitution, onset_overlap, stable
+    contact_time = value(:, 1)
+    restitution = value(:, 2)
+    max_overlap = value(:, 3)
+    onset_contact_time = onset_q(:, 1)
+    onset_restitution = onset_q(:, 2)
+    onset_overlap = onset_q(:, 3)
+    write(unit, nml=contact_error_result)
+  end subroutine contact_error_result_worst
+
+  !> `&contact_error_result` at given onsets.
+  subroutine contact_error_result_onset(unit, n_per_period, onset, steps_in_contact, value, stable)
+    integer, intent(in) :: unit
+    real(dp), intent(in) :: n_per_period(:), onset(:), value(:, :)
+    integer(i8), intent(in) :: steps_in_contact(:)
+    logical, intent(in) :: stable(:)
+    real(dp), allocatable :: contact_time(:), restitution(:), max_overlap(:)
+    namelist /contact_error_result/ n_per_period, onset, steps_in_contact, contact_time, &
+      restitution, max_overlap, stable
+    contact_time = value(:, 1)
+    restitution = value(:, 2)
+    max_overlap = value(:, 3)
+    write(unit, nml=contact_error_result)
+  end subroutine contact_error_result_onset
+
+  !> The result group; `steps_saturated(i)` marks a count above 2^63 - 1, written as
+  !> 2^63 - 1 in `steps(i)` (`predicted_seconds` uses the exact count).
+  subroutine write_accuracy_cost_result(unit, tolerances, n_per_period, dt, steps, steps_saturated, predicted_seconds, &
+      status, cost_per_particle_step, period, dt_recommended)
+    integer, intent(in) :: unit
+    real(dp), intent(in) :: tolerances(:), n_per_period(:), dt(:), predicted_seconds(:), &
+      cost_per_particle_step, period, dt_recommended
+    integer(i8), intent(in) :: steps(:)
+    logical, intent(in) :: steps_saturated(:)
+    integer, intent(in) :: status(:)
+    namelist /accuracy_cost_result/ tolerances, n_per_period, dt, steps, steps_saturated, predicted_seconds, &
+      status, cost_per_particle_step, period, dt_recommended
+    write(unit, nml=accuracy_cost_result)
+  end subroutine write_accuracy_cost_result
+
+  !> `&harmonic_error_result`: E per evaluation and its status.
+  subroutine write_harmonic_error_result(unit, n_per_period, lambda, n_steps, e, status)
+    integer, intent(in) :: unit
+    real(dp), intent(in) :: n_per_period(:), lambda(:), n_steps(:), e(:)
+    integer, intent(in) :: status(:)
+    namelist /harmonic_error_result/ n_per_period, lambda, n_steps, e, status
+    write(unit, nml=harmonic_error_result)
+  end subroutine write_harmonic_error_result
+
+  !> `&material_result`: each pair of types in each convention, and the peers' steps.
+  subroutine write_material_result(unit, conventions, peer_rules, type_i, type_j, m_star, k_n, k_t, gamma_n, &
+      gamma_t, dt_code, rayleigh_time, hertz_duration, linear_duration, dt_critical, peer_dt, &
+      dt_accuracy, dt_recommended, governs)
+    integer, intent(in) :: unit
+    character(len=*), intent(in) :: conventions(:), peer_rules(:), governs
+    integer, intent(in) :: type_i(:), type_j(:)
+    real(dp), intent(in) :: m_star(:), k_n(:, :), k_t(:, :), gamma_n(:, :), gamma_t(:, :), dt_code(:, :), &
+      rayleigh_time(:), hertz_duration(:), linear_duration(:), dt_critical(:), peer_dt(:, :), &
+      dt_accuracy(:), dt_recommended
+    namelist /material_result/ conventions, peer_rules, type_i, type_j, m_star, k_n, k_t, gamma_n, &
+      gamma_t, dt_code, rayleigh_time, hertz_duration, linear_duration, dt_critical, peer_dt, &
+      dt_accuracy, dt_recommended, governs
+    write(unit, nml=material_result)
+  end subroutine write_material_result
+
+  !> `&simulated_stiffness_result`: the roots per lambda and the chosen N.
+  subroutine write_simulated_stiffness_result(unit, result, dt_recommended)
+    integer, intent(in) :: unit
+    type(stiffness_result_type), intent(in) :: result
+    real(dp), intent(in) :: dt_recommended
+    real(dp), allocatable :: lambda(:), n_zero(:), n_lower(:), n_upper(:), n_pick(:)
+    logical, allocatable :: bounded(:)
+    integer, allocatable :: status(:)
+    real(dp) :: n_star, lambda_star, period, dt, stiffness_actual
+    integer :: lambda_star_status, excluded, i, n
+    namelist /simulated_stiffness_result/ lambda, n_zero, n_lower, n_upper, bounded, n_pick, &
+      status, n_star, lambda_star, lambda_star_status, period, dt, stiffness_actual, excluded, &
+      dt_recommended
+    n = size(result%rows)
+    allocate(lambda(n), n_zero(n), n_lower(n), n_upper(n), n_pick(n), bounded(n), status(n))
+    do i = 1, n
+      associate(r => result%rows(i))
+        lambda(i) = r%lambda
+        n_zero(i) = 0.0_dp
+        if (size(r%roots) > 0) n_zero(i) = r%roots(1)
+        n_lower(i) = 0.0_dp
+        n_upper(i) = 0.0_dp
+        bounded(i) = .false.
+        if (size(r%lower) > 0) then
+          n_lower(i) = r%lower(1)
+          n_upper(i) = r%upper(1)
+          bounded(i) = size(r%lower) > 1 .or. r%last_interval == interval_kind%bounded
+        end if
+        n_pick(i) = r%n_pick
+        status(i) = r%stat
+      end associate
+    end do
+    n_star = result%n_star
+    lambda_star = result%lambda_star
+    lambda_star_status = result%lambda_star_stat
+    period = result%period
+    dt = result%dt
+    stiffness_actual = result%stiffness_actual
+    excluded = result%excluded
+    write(unit, nml=simulated_stiffness_result)
+  end subroutine write_simulated_stiffness_result
+
+  !> `&scene_result`: the assembly's sizes, limits and run.
+  subroutine write_scene_result(unit, sc, crit, dt_used, summary, dt_recommended)
+    integer, intent(in) :: unit
+    type(scene_type), intent(in) :: sc
+    type(critical_step_type), intent(in) :: crit
+    real(dp), intent(in) :: dt_used
+    type(scene_summary_type), intent(in) :: summary
+    real(dp), intent(in) :: dt_recommended
+    integer :: n_particles, n_dof, n_springs, max_contacts, dof_per_particle
+    logical :: rotation, tangential, periodic, prestress
+    real(dp) :: omega_max, dt_critical_eigen, dt_critical_bound, dt_contact_rule, &
+      dt_critical_damped, damping_ratio_top, energy_drift, max_overlap
+    integer(i8) :: steps
+    logical :: eigen_computed, blew_up
+    character(len=8) :: eigen_solver
+    real(dp) :: eigen_tolerance, eigen_residual, omega_upper, dt_critical_safe, dt_critical_damped_bound
+    logical :: eigen_converged, damped_exact
+    namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
+      periodic, prestress, omega_max, eigen_computed, eigen_converged, eigen_solver, eigen_tolerance, eigen_residual, &
+      omega_upper, dt_critical_eigen, dt_critical_safe, dt_critical_bound, dt_contact_rule, &
+      dt_critical_damped, damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, &
+      blew_up, dt_recommended, damped_exact, dt_critical_damped_bound
+    n_particles = sc%n
+    n_dof = crit%n_dof
+    n_springs = crit%n_springs
+    dof_per_particle = crit%dof_per_particle
+    rotation = crit%rotation
+    tangential = crit%tangential
+    periodic = crit%periodic
+    prestress = crit%prestress
+    omega_max = crit%omega_max
+    eigen_computed = crit%eigen_computed
+    eigen_solver = eigen_solver_name(crit%solver)
+    eigen_converged = crit%eigen_converged
+    eigen_tolerance = crit%eigen_tolerance
+    eigen_residual = crit%eigen_residual
+    omega_upper = crit%omega_upper
+    dt_critical_safe = crit%dt_critical_safe
+    dt_critical_eigen = crit%dt_critical_eigen
+    dt_critical_bound = crit%dt_critical_bound
+    dt_contact_rule = crit%dt_contact_rule
+    dt_critical_damped = crit%dt_critical_damped
+    damping_ratio_top = crit%damping_ratio_top
+    damped_exact = crit%damped_exact
+    dt_critical_damped_bound = crit%dt_critical_damped_bound
+    steps = summary%steps
+    energy_drift = summary%energy_drift
+    max_overlap = summary%max_overlap
+    max_contacts = summary%max_contacts
+    blew_up = summary%blew_up
+    write(unit, nml=scene_result)
+  end subroutine write_scene_result
+
+  !> The `&snapshot_result` group: what was read and the peers' rules.
+  subroutine write_snapshot_result(unit, snap, have_materials, crit, peer_dt)
+    integer, intent(in) :: unit
+    type(snapshot_type), intent(in) :: snap
+    !> The deck gives the types' materials (the peers' steps are computed).
+    logical, intent(in) :: have_materials
+    type(critical_step_type), intent(in) :: crit
+    real(dp), intent(in) :: peer_dt(n_peer_rules)
+    character(len=11) :: format
+    integer :: n_particles, n_types, frame, n_frames
+    integer(i8) :: timestep
+    logical :: periodic(3)
+    real(dp) :: box_lo(3), box_hi(3), dt_exact, peer_ratio(n_peer_rules)
+    character(len=20) :: peer_rules(n_peer_rules)
+    namelist /snapshot_result/ format, n_particles, n_types, frame, n_frames, timestep, periodic, &
+      box_lo, box_hi, have_materials, peer_rules, peer_dt, peer_ratio, dt_exact
+    format = snapshot_format_names(snap%format)
+    n_particles = snap%n
+    n_types = maxval(snap%type)
+    frame = snap%frame
+    n_frames = snap%n_frames
+    timestep = snap%timestep
+    periodic = snap%periodic
+    box_lo = snap%lo
+    box_hi = snap%hi
+    peer_rules = peer_rule_names
+    dt_exact = crit%dt_critical_damped
+    peer_ratio = peer_dt/dt_exact
+    write(unit, nml=snapshot_result)
+  end subroutine write_snapshot_result
 
 end module demstep_results
