@@ -13,6 +13,7 @@
 !>```
 module demstep_results
   use demstep_kinds, only: dp, i8
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_namelist, only: nml_group_type, read_text_file, scan_namelist, lowercase
   use demstep_scene_data, only: scene_type, scene_summary_type
@@ -54,7 +55,7 @@ module demstep_results
   !> elements set, `invalid_input` when the field holds more).
   !> As with a `namelist` read, `value` is left as it was when the group lacks
   !> the field (status `not_found`, naming it) or its text does not convert
-  !> (`invalid_input`).
+  !> (`invalid_input`; a real must be finite).
   interface result_get
     module procedure :: get_real, get_int, get_int64, get_logical, get_text, get_reals, get_ints, &
       get_logicals, get_texts, get_int64s
@@ -163,7 +164,7 @@ contains
     call field_text(result, name, text, status)
     if (status%stat /= demstep_stat%ok) return
     read(text, *, iostat=ios) got
-    if (ios /= 0) then
+    if (ios /= 0 .or. .not. ieee_is_finite(got)) then
       call bad_value(status, name, text)
       return
     end if
@@ -314,6 +315,9 @@ contains
     end if
     allocate(got(n))
     read(text, *, iostat=ios) got
+    if (ios == 0) then
+      if (.not. all(ieee_is_finite(got))) ios = 1
+    end if
     if (ios /= 0) then
       call bad_value(status, name, text)
       return
