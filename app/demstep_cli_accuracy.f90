@@ -1,12 +1,14 @@
 !> Groups `&contact_error` and `&accuracy_cost`: exact discrete contact errors,
 !> and what a tolerance costs in steps and run time (table, CSV, figure).
 module demstep_cli_accuracy
-  use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
-    discrete_contact_type, contact_with_onset, contact_worst_case, quantity_kind, n_quantities, &
-    quantity_kind_names, quantity_kind_from_name, worst_error, n_for_tolerance, n_for_harmonic_tolerance, measure_step_cost, &
-    harmonic_error, spring_type, new_spring, spring_period, &
-    run_prediction_type, predict_run, critical_time_step, recommended_step, step_governs, default_safety, &
-    text_progress_type
+  use demstep, only: dp, i8, demstep_status_type, demstep_stat, discrete_contact_type, &
+    contact_with_onset, contact_worst_case, quantity_kind, n_for_tolerance, harmonic_error, &
+    spring_type, new_spring, spring_period, run_prediction_type, predict_run, critical_time_step, &
+    recommended_step, text_progress_type
+  use demstep_contact, only: n_quantities, quantity_kind_names, quantity_kind_from_name
+  use demstep_cost, only: worst_error, n_for_harmonic_tolerance, measure_step_cost
+  use demstep_namelist, only: nml_group_type
+  use demstep_recommend, only: step_governs, default_safety
   use demstep_kinds, only: pi
   use demstep_status, only: set_status
   use demstep_namelist, only: lowercase

@@ -1,7 +1,8 @@
 !> Group `&harmonic_error`: the paper's error E(N, lambda, n) for arrays of inputs.
 module demstep_cli_harmonic
-  use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
-    evaluate_error => harmonic_error, harmonic_error_check
+  use demstep, only: dp, i8, demstep_status_type, demstep_stat, evaluate_error => harmonic_error
+  use demstep_harmonic, only: harmonic_error_check
+  use demstep_namelist, only: nml_group_type
   use demstep_status, only: set_status
   use demstep_cli, only: var_spec, var, given, begin_group, fmt_real, fmt_real_column, fmt_int, &
     next_assignment, group_reading, &

@@ -3,10 +3,12 @@
 !> convention, the time scales, the peers' time-step rules beside demstep's
 !> exact limit, and one recommended step.
 module demstep_cli_material
-  use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, material_type, &
-    material_pair_type, effective_pair_type, contact_parameters_type, peer_steps_type, effective_pair, &
-    contact_parameters, peer_time_steps, code_convention, code_convention_names, code_convention_from_name, peer_rule_names, &
-    recommended_step, step_governs, default_safety, contact_assessment_type
+  use demstep, only: dp, i8, demstep_status_type, demstep_stat, material_type, material_pair_type, &
+    effective_pair_type, contact_parameters_type, peer_steps_type, effective_pair, &
+    contact_parameters, peer_time_steps, code_convention, recommended_step, contact_assessment_type
+  use demstep_material, only: code_convention_names, code_convention_from_name, peer_rule_names
+  use demstep_namelist, only: nml_group_type
+  use demstep_recommend, only: step_governs, default_safety
   use demstep_material, only: convention_limit, n_conventions, n_peer_rules, liggghts_velocity_factor, &
     check_pair
   use demstep_recommend, only: assess_material_pair

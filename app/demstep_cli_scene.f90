@@ -5,17 +5,20 @@ module demstep_cli_scene
   use demstep_namelist, only: lowercase
   use demstep_table_io, only: read_table
   use demstep_scene, only: has_tangential
-  use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
-    scene_type, scene_summary_type, new_scene, scene_add_bonds, scene_add_walls, &
-    scene_run, scene_effect_from_name, restitution_to_damping_ratio, contact_law, scene_effect, &
-    contact_law_from_name, contact_law_names, hertz_linearization_from_name, hertz_linearization_names, &
+  use demstep, only: dp, i8, demstep_status_type, demstep_stat, scene_type, scene_summary_type, &
+    new_scene, scene_add_bonds, scene_add_walls, scene_run, contact_law, scene_effect, &
     scene_set_contacts, scene_set_cell, scene_set_law, scene_set_bond_stiffness, scene_set_gravity, &
-    scene_set_types, scene_set_hertz_types, n_effects, scene_set_damping, scene_set_friction, &
-    scene_set_rolling, scene_set_local_damping, dashpot_names, scene_set_materials, &
-    scene_effect_names, critical_step_type, assembly_critical_steps, &
-    default_max_eigen_dof, measure_step_cost, text_progress_type, assembly_step_for_n_per_period, &
-    demstep_eigen_solver => eigen_solver, eigen_solver_name, eigen_solver_from_name, eigen_solver_names, &
-    lanczos_tolerance_default
+    scene_set_types, scene_set_hertz_types, scene_set_damping, scene_set_friction, scene_set_rolling, &
+    scene_set_local_damping, scene_set_materials, critical_step_type, assembly_critical_steps, &
+    text_progress_type, assembly_step_for_n_per_period, demstep_eigen_solver => eigen_solver
+  use demstep_assembly, only: hertz_linearization_from_name, hertz_linearization_names, &
+    dashpot_names, default_max_eigen_dof, eigen_solver_name, eigen_solver_from_name, &
+    eigen_solver_names
+  use demstep_cost, only: measure_step_cost
+  use demstep_lanczos, only: lanczos_tolerance_default
+  use demstep_namelist, only: nml_group_type
+  use demstep_scene, only: scene_effect_from_name, restitution_to_damping_ratio, &
+    contact_law_from_name, contact_law_names, n_effects, scene_effect_names
   use demstep_recommend, only: recommended_step, default_safety
   use demstep_snapshot, only: snapshot_type, read_snapshot, snapshot_format, snapshot_format_names, &
     snapshot_masses_from_types

@@ -1,11 +1,15 @@
 !> Group `&simulated_stiffness`: the whole simulated-stiffness procedure
 !> (paper eqs. 25-29): dt = T*/N* and K' = lambda*^2 K*.
 module demstep_cli_stiffness
-  use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
-    stiffness_input_type, stiffness_result_type, run_procedure => simulated_stiffness, step_kind, &
-    new_step_policy, pick_kind, aggregate_kind, interval_kind, text_progress_type, spring_type, &
-    new_spring, critical_time_step, recommended_step, step_governs, default_safety, step_kind_from_name, &
-    step_kind_names, pick_kind_from_name, pick_kind_names, aggregate_kind_from_name, aggregate_kind_names
+  use demstep, only: dp, i8, demstep_status_type, demstep_stat, stiffness_input_type, &
+    stiffness_result_type, run_procedure => simulated_stiffness, step_kind, new_step_policy, &
+    pick_kind, aggregate_kind, text_progress_type, spring_type, new_spring, critical_time_step, &
+    recommended_step
+  use demstep_harmonic, only: step_kind_from_name, step_kind_names
+  use demstep_namelist, only: nml_group_type
+  use demstep_recommend, only: step_governs, default_safety
+  use demstep_stiffness, only: interval_kind, pick_kind_from_name, pick_kind_names, &
+    aggregate_kind_from_name, aggregate_kind_names
   use demstep_status, only: set_status
   use demstep_namelist, only: lowercase
   use demstep_stiffness, only: default_n_max, default_resolution

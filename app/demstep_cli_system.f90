@@ -1,10 +1,12 @@
 !> Group `&system`: one mass on a contact spring (the seed's model).
 module demstep_cli_system
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, spring_type, new_spring, &
-    spring_omega, spring_period, spring_damping_ratio, critical_time_step, numerical_phase, &
-    growth_factor, discrete_contact_type, spring_contact, dashpot_kind, nml_group_type, &
-    check_time_step, step_for_n_per_period, recommended_step, default_safety, dashpot_kind_from_name, &
-    dashpot_kind_names
+    spring_period, critical_time_step, growth_factor, discrete_contact_type, spring_contact, &
+    dashpot_kind, check_time_step, step_for_n_per_period, recommended_step
+  use demstep_namelist, only: nml_group_type
+  use demstep_recommend, only: default_safety
+  use demstep_spring, only: spring_omega, spring_damping_ratio, numerical_phase, &
+    dashpot_kind_from_name, dashpot_kind_names
   use demstep_kinds, only: pi
   use demstep_namelist, only: lowercase
   use demstep_status, only: set_status

@@ -4,8 +4,9 @@
 !> Exit status: 0 success, 2 bad input or usage, 1 failure to write the output.
 program demstep_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
-  use demstep, only: i8, demstep_version_string, demstep_status_type, demstep_stat, &
-    nml_group_type, read_text_file, scan_namelist, mfix_looks_like_deck, dp
+  use demstep, only: i8, demstep_version_string, demstep_status_type, demstep_stat, dp
+  use demstep_mfix_deck, only: mfix_looks_like_deck
+  use demstep_namelist, only: nml_group_type, read_text_file, scan_namelist
   use demstep_cli, only: cli_context, write_template, fmt_int, group_spec, deck_recommendation
   use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &
     refuse_input

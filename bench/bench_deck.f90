@@ -8,7 +8,8 @@
 !> (the app must be built with the same profile: fpm build --profile release).
 program bench_deck
   use, intrinsic :: iso_c_binding, only: c_int, c_long
-  use demstep, only: dp, i8, nml_group_type, scan_namelist, demstep_status_type
+  use demstep, only: dp, i8, demstep_status_type
+  use demstep_namelist, only: nml_group_type, scan_namelist
   use demstep_roots, only: sort_ascending
   implicit none
   !> struct rusage of Linux/glibc: two timevals, then 14 longs.

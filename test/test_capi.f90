@@ -6,6 +6,7 @@ module test_capi
     c_associated, c_f_pointer, c_sizeof, c_size_t
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
+  use demstep_scene, only: scene_effect_names, n_effects
   use demstep_kinds, only: pi
   use demstep_capi, only: demstep_error_c, demstep_spring_c, demstep_spring_state_c, &
     demstep_nroots_c, demstep_stiffness_result_c, c_spring_new, &

@@ -3,6 +3,8 @@
 module test_contact
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
+  use demstep_spring, only: numerical_phase
+  use demstep_contact, only: simulate_contact, period_error
   use demstep_kinds, only: pi
   use test_support, only: real_str, unit_contact
   use, intrinsic :: iso_fortran_env, only: qp => real128

@@ -3,6 +3,9 @@
 module test_cost
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
+  use demstep_contact, only: quantity_kind_names
+  use demstep_cost, only: worst_error
+  use demstep_contact, only: n_quantities
   use test_support, only: real_str
   implicit none
   private

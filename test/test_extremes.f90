@@ -6,6 +6,8 @@
 module test_extremes
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
+  use demstep_harmonic, only: harmonic_error_check
+  use demstep_spring, only: numerical_phase, spring_omega
   use demstep_kinds, only: pi
   use test_support, only: count_lines, remove, run_app, write_file, read_file, file_exists, work_dir, reference
   use, intrinsic :: iso_fortran_env, only: qp => real128

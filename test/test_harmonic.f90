@@ -5,6 +5,7 @@ module test_harmonic
   use, intrinsic :: iso_fortran_env, only: qp => real128
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
+  use demstep_harmonic, only: harmonic_sum, harmonic_error_steps, harmonic_error_check
   use demstep_kinds, only: pi
   use test_support, only: ieee_nan, real_str, sinpi_q, reference
   implicit none

@@ -1,8 +1,8 @@
 !> Tests of the namelist deck scanner.
 module test_namelist
   use testdrive, only: new_unittest, unittest_type, error_type, check
-  use demstep, only: nml_group_type, scan_namelist, demstep_status_type, demstep_stat
-  use demstep_namelist, only: excerpt
+  use demstep, only: demstep_status_type, demstep_stat
+  use demstep_namelist, only: nml_group_type, scan_namelist, excerpt
   implicit none
   private
   public :: collect_namelist

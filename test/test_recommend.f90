@@ -5,6 +5,8 @@
 module test_recommend
   use testdrive, only: new_unittest, unittest_type, error_type, check
   use demstep
+  use demstep_cost, only: worst_error
+  use demstep_recommend, only: default_safety, step_governs
   use demstep_kinds, only: pi
   use test_support, only: run_app, write_file, work_dir
   use, intrinsic :: iso_fortran_env, only: qp => real128

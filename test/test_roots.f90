@@ -3,6 +3,7 @@
 module test_roots
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
+  use demstep_roots, only: scan_break
   use demstep_kinds, only: pi
   use test_support, only: real_str
   implicit none

@@ -4,6 +4,7 @@
 module test_scene
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
+  use demstep_scene, only: restitution_to_damping_ratio, contact_list, n_effects
   use demstep_kinds, only: pi
   use test_support, only: real_str
   implicit none

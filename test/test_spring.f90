@@ -3,6 +3,10 @@
 module test_spring
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
+  use demstep_spring, only: exact_discrete_state, paper_closed_form_velocity, numerical_period
+  use demstep_spring, only: numerical_phase
+  use demstep_contact, only: simulate_contact
+  use demstep_spring, only: spring_damping_ratio, spring_omega
   use demstep_kinds, only: pi
   use demstep_spring, only: saturated_count
   use test_support, only: ieee_nan, real_str, int_str, unit_contact

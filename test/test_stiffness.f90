@@ -4,6 +4,9 @@ module test_stiffness
   use, intrinsic :: iso_fortran_env, only: qp => real128
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
+  use demstep_stiffness, only: error_limit
+  use demstep_harmonic, only: harmonic_error_steps
+  use demstep_stiffness, only: aggregate_picks, interval_kind
   use demstep_kinds, only: pi
   use demstep_stiffness, only: n_scan_start, default_n_max, default_resolution
   use test_support, only: real_str, reference_steps
