@@ -29,8 +29,9 @@
 !> - Materials in each DEM code's convention and the peers' step rules:
 !>   `material_type`, `effective_pair`, `contact_parameters` (`code_convention%...`),
 !>   `rayleigh_time`, `hertz_contact_duration`, `peer_time_steps`.
-!> - MFiX decks: `read_mfix_deck`, `mfix_looks_like_deck`, `mfix_input_from_deck`,
-!>   `mfix_compute` (what MFiX computes), `mfix_assess` (demstep's exact answers at MFiX's step).
+!> - MFiX decks: `read_mfix_deck`, `mfix_looks_like_deck`, `mfix_input_from_deck` (deck ->
+!>   input, `@( )` arithmetic and CGP as MFiX does them), `mfix_compute` (what MFiX computes),
+!>   `mfix_assess` (demstep's exact answers at MFiX's step).
 !> - Snapshots from DEM codes' files (LAMMPS/LIGGGHTS dump and data files, Yade text):
 !>   `snapshot_type`, `read_snapshot`, `parse_snapshot` (`snapshot_format%...`).
 !> - One recommended step: `recommended_step` (safety times the exact limit, or the
@@ -111,10 +112,11 @@ module demstep
   ! MFiX decks and what MFiX computes for its DEM solids step
   use demstep_mfix_deck, only: mfix_deck_type, read_mfix_deck, parse_mfix_deck, mfix_get_real, &
     mfix_get_integer, mfix_get_string, mfix_get_real_array, mfix_get_string_array, mfix_has_keyword, &
-    mfix_min_by_second_index, mfix_looks_like_deck
-  use demstep_mfix, only: mfix_input_type, mfix_result_type, mfix_units, mfix_model, &
-    mfix_integrator, mfix_input_from_deck, mfix_compute, mfix_assessment_type, mfix_assess, &
-    mfix_default_dtsolid_factor
+    mfix_min_by_second_index, mfix_looks_like_deck, mfix_upper
+  use demstep_mfix_input, only: mfix_input_type, mfix_units, mfix_model, mfix_integrator, &
+    mfix_input_from_deck, mfix_default_dtsolid_factor
+  use demstep_mfix, only: mfix_result_type, mfix_compute
+  use demstep_mfix_assess, only: mfix_assessment_type, mfix_assess
   ! particle snapshots from DEM codes' files
   use demstep_snapshot, only: snapshot_type, snapshot_format, snapshot_format_names, read_snapshot, &
     parse_snapshot, snapshot_format_of

@@ -347,9 +347,10 @@ contains
     call write_file(deck, lines)
     call expect(deck, "demstep: "//deck//": D_P0(2): missing for DEM solids phase 2")
     if (allocated(error)) return
-    lines(4) = "d_p0 = 0.004 @(2*0.002)"
+    lines(4) = "d_p0 = 0.004 @(2+0.002)"
     call write_file(deck, lines)
-    call expect(deck, "demstep: "//deck//": line 4: D_P0(2): MFiX's @(2*0.002) arithmetic is not supported")
+    call expect(deck, "demstep: "//deck//": line 4, column 17: D_P0: @(2+0.002): '2+0.002': MFiX's @( ) has " &
+      //"no '+' or '-' operator")
     if (allocated(error)) return
     lines(4) = "d_p0 = 2*0.004"
     lines(6) = "des_en_input = 0.9 1.5 0.9"
