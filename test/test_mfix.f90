@@ -35,7 +35,9 @@ contains
       new_unittest("Hertzian (CGS deck): MFiX's arithmetic by hand", test_hertz_hand), &
       new_unittest("the same deck in CGS and SI", test_cgs_si), &
       new_unittest("tutorial decks: MFiX's DTSOLID", test_tutorials), &
-      new_unittest("walls are left out of TCOLL", test_walls) &
+      new_unittest("walls are left out of TCOLL", test_walls), &
+      new_unittest("CGP: MFiX's scaling of D_P0 and its size distributions", test_cgp), &
+      new_unittest("CGP: MFiX's errors 400, 410, 440, 500 by keyword", test_cgp_errors) &
       ]
   end subroutine collect_mfix
 
@@ -622,5 +624,81 @@ contains
     if (allocated(error)) return
     call check(error, result%tcoll == minval(result%t_coll(1:3)), "TCOLL from particle pairs only")
   end subroutine test_walls
+
+  !> A two-phase deck, phase 1 'CGP' and phase 2 'DEM', with extra lines.
+  function cgp_deck(extra) result(text)
+    character(len=*), intent(in) :: extra
+    character(len=:), allocatable :: text
+    text = "units = 'SI'"//nl//"mmax = 2"//nl//"solids_model(1:2) = 'CGP' 'DEM'"//nl// &
+      "d_p0 = 1.0e-3 2.0e-3"//nl//"ro_s0 = 2500.0 1000.0"//nl//"kn = 1000.0"//nl//"kn_w = 1000.0"//nl// &
+      "des_en_input = 3*0.9"//nl//"des_en_wall_input = 2*0.9"//nl//extra
+  end function cgp_deck
+
+  subroutine test_cgp(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(mfix_input_type) :: input
+    type(mfix_result_type) :: result
+    type(demstep_status_type) :: status
+    ! weight 27 (check_solids_common_discrete.f:147): the same double operations
+    call compute_text(cgp_deck("cgp_stat_wt = 27.0 1.0"//nl//"ic_psd_min_dp(1,1) = 0.5e-3"//nl// &
+      "bc_psd_min_dp(2,2) = 1.0e-3"), input, result, status)
+    call check(error, status%stat, demstep_stat%ok, "weights: "//status%message)
+    if (allocated(error)) return
+    call check(error, input%coarse_grained .and. input%d_p0(1) == 1.0e-3_dp*27.0_dp**(1.0_dp/3.0_dp) .and. &
+      input%d_p0(2) == 2.0e-3_dp .and. all(input%d_p0_real == [1.0e-3_dp, 2.0e-3_dp]) .and. &
+      all(input%cgp_stat_wt == [27.0_dp, 1.0_dp]), "D_P0 := D_P0 CGP_STAT_WT^(1/3), every discrete phase")
+    if (allocated(error)) return
+    ! the size distributions scale with the weight (check_solids_common_discrete.f:191, check_bc_dem.f:159)
+    call check(error, input%d_min(1) == 0.5e-3_dp*27.0_dp**(1.0_dp/3.0_dp) .and. input%d_min(2) == 1.0e-3_dp, &
+      "PSD_MIN_DP scaled by the weight")
+    if (allocated(error)) return
+    ! the coarse-grained particles' mass: 27 times the real one's
+    call check_rel(error, result%m_eff(1), pq/6*(1.0e-3_qp*3)**3*2500/2, "m_eff 1-1")
+    if (allocated(error)) return
+    ! CGP_D_P0 alone: weight (CGP_D_P0/D_P0)^3 (:132), the size distribution not scaled
+    call compute_text(cgp_deck("cgp_d_p0(1) = 3.0e-3"//nl//"cgp_stat_wt(2) = 1.0"//nl// &
+      "ic_psd_min_dp(1,1) = 0.5e-3"), input, result, status)
+    call check(error, status%stat, demstep_stat%ok, "CGP_D_P0: "//status%message)
+    if (allocated(error)) return
+    call check(error, input%cgp_stat_wt(1) == (3.0e-3_dp/1.0e-3_dp)**3 .and. &
+      input%d_p0(1) == 1.0e-3_dp*((3.0e-3_dp/1.0e-3_dp)**3)**(1.0_dp/3.0_dp) .and. &
+      input%d_min(1) == 0.5e-3_dp, "CGP_D_P0 gives the weight")
+    if (allocated(error)) return
+    ! 1e-15: MFiX's cube and cube root of 3 round twice
+    call check(error, abs(input%d_p0(1) - 3.0e-3_dp) < 1.0e-15_dp*3.0e-3_dp, "CGP_D_P0 is the diameter used")
+    if (allocated(error)) return
+    ! without a 'CGP' phase the keywords do nothing (MFiX's CGDEM is false)
+    call compute_text(lsd_deck("", "")//"cgp_stat_wt = 8.0 8.0"//nl, input, result, status)
+    call check(error, status%stat == demstep_stat%ok .and. .not. input%coarse_grained .and. &
+      all(input%d_p0 == input%d_p0_real) .and. all(input%cgp_stat_wt == 1.0_dp), "DEM only: not scaled")
+  end subroutine test_cgp
+
+  subroutine test_cgp_errors(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(mfix_input_type) :: input
+    type(mfix_result_type) :: result
+    type(demstep_status_type) :: status
+    ! 410: the 'DEM' phase needs a weight too
+    call compute_text(cgp_deck("cgp_stat_wt(1) = 8.0"), input, result, status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "CGP_STAT_WT" .and. &
+      status%index == 2 .and. index(status%message, "CGP_STAT_WT(2): missing: with a 'CGP' phase") == 1, &
+      "error 410: "//status%message)
+    if (allocated(error)) return
+    ! 400: both
+    call compute_text(cgp_deck("cgp_stat_wt = 8.0 1.0"//nl//"cgp_d_p0(1) = 2.0e-3"), input, result, status)
+    call check(error, status%where == "CGP_D_P0" .and. status%index == 1 .and. &
+      index(status%message, "line 11: CGP_D_P0(1): not allowed together with CGP_STAT_WT(1)") == 1, &
+      "error 400: "//status%message)
+    if (allocated(error)) return
+    ! 440: coarse-grained smaller than real
+    call compute_text(cgp_deck("cgp_d_p0(1) = 0.5e-3"//nl//"cgp_stat_wt(2) = 1.0"), input, result, status)
+    call check(error, status%where == "CGP_D_P0" .and. &
+      index(status%message, "line 10: CGP_D_P0(1): must be >= D_P0(1) = 0.001") == 1, "error 440: "//status%message)
+    if (allocated(error)) return
+    ! 500: a weight below 1
+    call compute_text(cgp_deck("cgp_stat_wt = 0.5 1.0"), input, result, status)
+    call check(error, status%where == "CGP_STAT_WT" .and. status%index == 1 .and. &
+      index(status%message, "line 10: CGP_STAT_WT(1): must be >= 1") == 1, "error 500: "//status%message)
+  end subroutine test_cgp_errors
 
 end module test_mfix
