@@ -85,7 +85,7 @@ contains
     do i = 1, deck%n_items
       do k = 1, size(deck%items(i)%values)
         if (.not. deck%items(i)%values(k)%arithmetic) cycle
-        write(u, '(2x, a)') "line "//fmt_int(int(deck%items(i)%line, i8))//": "//mfix_upper(deck%items(i)%name) &
+        write(u, '(2x, a)') "line "//fmt_int(int(deck%items(i)%line, i8))//": "//keyword_label(deck, i, k) &
           //" = "//deck%items(i)%values(k)%expression//" = "//deck%items(i)%values(k)%text &
           //"  (MFiX's @( ) arithmetic: * and / left to right, 15 digits)"
       end do
@@ -186,6 +186,27 @@ contains
     call report_row(u, 2, "single-contact step", fmt_real(a%dt_recommended)//" s  (the smallest over the pairs)")
     write(u, '(a)') ""
   end subroutine report
+
+  !> The keyword of value k of item i as written in upper case, with the
+  !> element's subscript: `KT_FAC`, `SPX_DT(1)`, `IC_X_S(1,2)`.
+  pure function keyword_label(deck, i, k) result(label)
+    type(mfix_deck_type), intent(in) :: deck
+    integer, intent(in) :: i, k
+    character(len=:), allocatable :: label
+    integer :: j
+    associate (it => deck%items(i))
+      label = mfix_upper(it%name)
+      if (it%n_sub == 1) then
+        label = label//"("//fmt_int(int(it%lo(1) + k - 1, i8))//")"
+      else if (it%n_sub > 1) then
+        label = label//"("//fmt_int(int(it%lo(1), i8))
+        do j = 2, it%n_sub
+          label = label//","//fmt_int(int(it%lo(j), i8))
+        end do
+        label = label//")"
+      end if
+    end associate
+  end function keyword_label
 
   !> `1-2` for particle phases 1 and 2, `1-W` for phase 1 against walls.
   pure function pair_label(result, p) result(label)

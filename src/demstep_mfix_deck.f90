@@ -45,10 +45,11 @@ module demstep_mfix_deck
   type, public :: mfix_item_type
     !> Keyword, lower case.
     character(len=:), allocatable :: name
-    !> Number of subscripts (0, 1 or 2).
+    !> Number of subscripts (0 to 3; MFiX's species keywords such as
+    !> `IC_X_S(ic, m, n)` have three).
     integer :: n_sub = 0
     !> Subscript ranges: `KEY(lo:hi)`; a single subscript has `lo = hi`.
-    integer :: lo(2) = 1, hi(2) = 1
+    integer :: lo(3) = 1, hi(3) = 1
     !> The values, repeat counts expanded.
     type(mfix_value_type), allocatable :: values(:)
     !> Line in the deck.
@@ -119,8 +120,8 @@ contains
       low = lowercase(adjustl(text(start:max(start, last)))//" ")
       if (last < start) low = " "
       if (in_block) then
-        if (index(low, "@(end)") == 1) in_block = .false.
-      else if (index(low, "@(rxns)") == 1 .or. index(low, "@(des_rxns)") == 1) then
+        if (block_mark(low, "end")) in_block = .false.
+      else if (block_mark(low, "rxns")) then
         in_block = .true.
       else if (index(low, "thermo data") == 1) then
         exit
@@ -131,6 +132,22 @@ contains
       start = finish + 1
     end do
   end subroutine parse_mfix_deck
+
+  !> MFiX's reaction block marks (model/parse_line.f, PARSE_LINE and its
+  !> START_RXN/END_RXN; the words in parse_mod.f:19-21): the line's first
+  !> `@(` ... `)` outside a comment contains `word` (`@(RXNS)`, `@(DES_RXNS)`
+  !> start a block; `@(END)`, `@(DES_END)` end it).
+  pure logical function block_mark(low, word)
+    character(len=*), intent(in) :: low, word
+    integer :: a, b, c
+    block_mark = .false.
+    c = comment_start(low)
+    a = index(low(1:c-1), "@(")
+    if (a == 0) return
+    b = index(low(a:c-1), ")")
+    if (b == 0) return
+    block_mark = index(low(a:a+b-1), word) > 0
+  end function block_mark
 
   !> Position of the newline ending the line that starts at `start` (len + 1 for the last).
   pure integer function line_end(text, start) result(finish)
@@ -317,8 +334,8 @@ contains
       end if
       item%n_sub = item%n_sub + 1
       k = item%n_sub
-      if (k > 2) then
-        call set_status(status, demstep_stat%invalid_input, loc//": more than two subscripts")
+      if (k > 3) then
+        call set_status(status, demstep_stat%invalid_input, loc//": more than three subscripts")
         return
       end if
       colon = index(part, ":")

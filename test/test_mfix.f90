@@ -27,6 +27,7 @@ contains
     testsuite = [ &
       new_unittest("namelist syntax of keyword lines", test_syntax), &
       new_unittest("malformed lines reported by line and keyword", test_bad_lines), &
+      new_unittest("reaction blocks end at MFiX's marks; three subscripts", test_blocks), &
       new_unittest("MFiX's @( ) arithmetic: operators, order, PI, 15 digits", test_arithmetic), &
       new_unittest("MFiX's @( ) arithmetic: errors by line and column", test_arithmetic_errors), &
       new_unittest("bad values and missing phases reported by keyword", test_bad_values), &
@@ -268,6 +269,31 @@ contains
     call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, &
       "line 1: MMAX: @(2) gives the real 2.00000000000000") == 1, "integer keyword: "//status%message)
   end subroutine test_arithmetic_errors
+
+  !> MFiX ends a reaction block at any `@( )` holding END (parse_line.f,
+  !> END_RXN), so `@(DES_END)` too; species keywords take three subscripts
+  !> (the legacy dem-tests condensation, evaporation and reactive-chemistry decks).
+  subroutine test_blocks(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(mfix_deck_type) :: deck
+    type(demstep_status_type) :: status
+    real(dp) :: x
+    logical :: found
+    integer :: line
+    call parse_ok("@(DES_RXNS)"//nl//"  Drying { chem_eq = 'x --> y' }"//nl//"@(DES_END)"//nl// &
+      "kn = 10.0"//nl//"ic_x_s(1,1,1) = 1.0   ! liquid water"//nl//"  ! @(RXNS) in a comment"//nl// &
+      "kn_w = 20.0", deck, error)
+    if (allocated(error)) return
+    call mfix_get_real(deck, "kn", x, found, line, status)
+    call check(error, found .and. x == 10.0_dp .and. line == 4, "@(DES_END) ends the block")
+    if (allocated(error)) return
+    call mfix_get_real(deck, "kn_w", x, found, line, status)
+    call check(error, found .and. x == 20.0_dp .and. line == 7, "a mark in a comment starts no block")
+    if (allocated(error)) return
+    call check(error, deck%items(2)%n_sub == 3 .and. deck%items(2)%lo(3) == 1, "three subscripts")
+    if (allocated(error)) return
+    call expect_parse_error(error, "x(1,2,3,4) = 1", "line 1: x: more than three subscripts")
+  end subroutine test_blocks
 
   subroutine expect_parse_error(error, text, prefix)
     type(error_type), allocatable, intent(out) :: error
