@@ -14,7 +14,7 @@
 module demstep_mfix_deck
   use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_text, only: int_text
+  use demstep_text, only: int_text, comment_start
   use demstep_namelist, only: read_text_file, lowercase
   use demstep_mfix_expression, only: mfix_evaluate_expression
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -141,7 +141,7 @@ contains
     character(len=*), intent(in) :: low, word
     integer :: a, b, c
     block_mark = .false.
-    c = comment_start(low)
+    c = comment_start(low, "#!")
     a = index(low(1:c-1), "@(")
     if (a == 0) return
     b = index(low(a:c-1), ")")
@@ -221,7 +221,7 @@ contains
     type(mfix_item_type) :: item
     character(len=:), allocatable :: loc
     status%stat = demstep_stat%ok
-    n = comment_start(s) - 1
+    n = comment_start(s, "#!") - 1
     p = 1
     do
       do while (p <= n)
@@ -285,25 +285,6 @@ contains
       call append_item(deck, item)
     end do
   end subroutine parse_line
-
-  !> Position of the comment (`#` or `!` outside quotes), or len + 1.
-  pure integer function comment_start(s) result(k)
-    character(len=*), intent(in) :: s
-    character :: quote
-    integer :: i
-    quote = " "
-    k = len(s) + 1
-    do i = 1, len(s)
-      if (quote /= " ") then
-        if (s(i:i) == quote) quote = " "
-      else if (s(i:i) == "'" .or. s(i:i) == '"') then
-        quote = s(i:i)
-      else if (s(i:i) == "#" .or. s(i:i) == "!") then
-        k = i
-        return
-      end if
-    end do
-  end function comment_start
 
   !> At most 40 characters of text for a message.
   pure function clip(s) result(t)
