@@ -32,6 +32,7 @@
 !> - MFiX decks: `read_mfix_deck`, `mfix_looks_like_deck`, `mfix_input_from_deck` (deck ->
 !>   input, `@( )` arithmetic and CGP as MFiX does them), `mfix_compute` (what MFiX computes),
 !>   `mfix_assess` (demstep's exact answers at MFiX's step).
+!> - LIGGGHTS input scripts as they are: `read_liggghts_script` (`liggghts_script_type`).
 !> - Snapshots from DEM codes' files (LAMMPS/LIGGGHTS dump and data files, Yade text):
 !>   `snapshot_type`, `read_snapshot`, `parse_snapshot` (`snapshot_format%...`).
 !> - One recommended step: `recommended_step` (safety times the exact limit, or the
@@ -117,6 +118,9 @@ module demstep
     mfix_input_from_deck, mfix_default_dtsolid_factor
   use demstep_mfix, only: mfix_result_type, mfix_compute
   use demstep_mfix_assess, only: mfix_assessment_type, mfix_assess
+  ! LIGGGHTS input scripts: materials, contact model, walls, gravity, timestep
+  use demstep_liggghts_script, only: liggghts_script_type, read_liggghts_script, parse_liggghts_script, &
+    liggghts_units, liggghts_model_type, liggghts_wall_type, liggghts_template_type
   ! particle snapshots from DEM codes' files
   use demstep_snapshot, only: snapshot_type, snapshot_format, snapshot_format_names, read_snapshot, &
     parse_snapshot, snapshot_format_of

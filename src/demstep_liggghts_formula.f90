@@ -44,6 +44,9 @@ module demstep_liggghts_formula
 
   !> Deepest chain of `v_` references before a circular dependency is assumed.
   integer, parameter :: max_depth = 64
+  !> Most `v_` references evaluated for one formula (a chain of variables each
+  !> using the previous twice would otherwise take 2^64 evaluations).
+  integer, parameter :: max_work = 1000000
 
   !> LIGGGHTS' PI (math_const.h: 3.14159265358979323846).
   real(dp), parameter :: liggghts_pi = 3.14159265358979323846_dp
@@ -70,7 +73,7 @@ contains
 
   !> Evaluate an equal-style formula as LIGGGHTS does (see the module's notes).
   !> Status `invalid_input` saying what is wrong and where in the formula.
-  pure recursive subroutine liggghts_evaluate(formula, vars, n_vars, value, status, depth)
+  pure recursive subroutine liggghts_evaluate(formula, vars, n_vars, value, status, depth, work)
     !> The formula.
     character(len=*), intent(in) :: formula
     !> The variables defined so far, for `v_name`.
@@ -81,11 +84,16 @@ contains
     type(demstep_status_type), intent(out) :: status
     !> Depth of `v_` references (absent: 0).
     integer, intent(in), optional :: depth
-    integer :: p, d
+    !> `v_` references evaluated so far in this evaluation (absent: 0).
+    integer, intent(inout), optional :: work
+    integer :: p, d, w
     d = 0
     if (present(depth)) d = depth
+    w = 0
+    if (present(work)) w = work
     p = 1
-    call expression(formula, p, 1, vars, n_vars, d, value, status)
+    call expression(formula, p, 1, vars, n_vars, d, w, value, status)
+    if (present(work)) work = w
     if (status%stat /= demstep_stat%ok) return
     call skip_blanks(formula, p)
     if (p <= len(formula)) then
@@ -161,17 +169,18 @@ contains
   end function drop_zeros
 
   !> Binary operators of precedence >= `min_prec`, left to right.
-  pure recursive subroutine expression(s, p, min_prec, vars, n_vars, depth, value, status)
+  pure recursive subroutine expression(s, p, min_prec, vars, n_vars, depth, work, value, status)
     character(len=*), intent(in) :: s
     integer, intent(inout) :: p
     integer, intent(in) :: min_prec, n_vars, depth
+    integer, intent(inout) :: work
     type(liggghts_variable_type), intent(in) :: vars(:)
     real(dp), intent(out) :: value
     type(demstep_status_type), intent(out) :: status
     character(len=2) :: op
     integer :: width, prec, at
     real(dp) :: rhs
-    call unary(s, p, vars, n_vars, depth, value, status)
+    call unary(s, p, vars, n_vars, depth, work, value, status)
     if (status%stat /= demstep_stat%ok) return
     do
       call skip_blanks(s, p)
@@ -180,7 +189,7 @@ contains
       at = p
       p = p + width
       ! left-associative: the right operand takes only tighter operators
-      call expression(s, p, prec + 1, vars, n_vars, depth, rhs, status)
+      call expression(s, p, prec + 1, vars, n_vars, depth, work, rhs, status)
       if (status%stat /= demstep_stat%ok) return
       call apply(trim(op), value, rhs, s, at, status)
       if (status%stat /= demstep_stat%ok) return
@@ -188,10 +197,11 @@ contains
   end subroutine expression
 
   !> Unary `-` and `!` (precedence 8, above `^`), then a primary.
-  pure recursive subroutine unary(s, p, vars, n_vars, depth, value, status)
+  pure recursive subroutine unary(s, p, vars, n_vars, depth, work, value, status)
     character(len=*), intent(in) :: s
     integer, intent(inout) :: p
     integer, intent(in) :: n_vars, depth
+    integer, intent(inout) :: work
     type(liggghts_variable_type), intent(in) :: vars(:)
     real(dp), intent(out) :: value
     type(demstep_status_type), intent(out) :: status
@@ -203,22 +213,23 @@ contains
     end if
     if (s(p:p) == "-") then
       p = p + 1
-      call unary(s, p, vars, n_vars, depth, value, status)
+      call unary(s, p, vars, n_vars, depth, work, value, status)
       value = -value
     else if (s(p:p) == "!" .and. s(min(p + 1, len(s)):min(p + 1, len(s))) /= "=") then
       p = p + 1
-      call unary(s, p, vars, n_vars, depth, value, status)
+      call unary(s, p, vars, n_vars, depth, work, value, status)
       value = merge(1.0_dp, 0.0_dp, value == 0.0_dp)
     else
-      call primary(s, p, vars, n_vars, depth, value, status)
+      call primary(s, p, vars, n_vars, depth, work, value, status)
     end if
   end subroutine unary
 
   !> `(formula)`, a number, PI, `v_name` or `function(args)`.
-  pure recursive subroutine primary(s, p, vars, n_vars, depth, value, status)
+  pure recursive subroutine primary(s, p, vars, n_vars, depth, work, value, status)
     character(len=*), intent(in) :: s
     integer, intent(inout) :: p
     integer, intent(in) :: n_vars, depth
+    integer, intent(inout) :: work
     type(liggghts_variable_type), intent(in) :: vars(:)
     real(dp), intent(out) :: value
     type(demstep_status_type), intent(out) :: status
@@ -229,7 +240,7 @@ contains
     start = p
     if (s(p:p) == "(") then
       p = p + 1
-      call expression(s, p, 1, vars, n_vars, depth, value, status)
+      call expression(s, p, 1, vars, n_vars, depth, work, value, status)
       if (status%stat /= demstep_stat%ok) return
       call skip_blanks(s, p)
       if (p > len(s)) then
@@ -281,8 +292,11 @@ contains
           call fail(status, s, start, "'"//word//"': no variable '"//word(3:)//"' is defined before this line")
         else if (depth >= max_depth) then
           call fail(status, s, start, "'"//word//"': circular dependency of variables")
+        else if (work >= max_work) then
+          call fail(status, s, start, "'"//word//"': more than a million variable references in one formula")
         else if (vars(k)%style == "equal") then
-          call liggghts_evaluate(vars(k)%text, vars, n_vars, value, status, depth + 1)
+          work = work + 1
+          call liggghts_evaluate(vars(k)%text, vars, n_vars, value, status, depth + 1, work)
           if (status%stat /= demstep_stat%ok) then
             call fail(status, s, start, "'"//word//"': "//status%message)
             value = 0.0_dp
@@ -301,7 +315,7 @@ contains
           end if
         end if
       else if (p <= len(s) .and. s(min(p, len(s)):min(p, len(s))) == "(") then
-        call arguments(s, p, vars, n_vars, depth, args, n_args, status)
+        call arguments(s, p, vars, n_vars, depth, work, args, n_args, status)
         if (status%stat /= demstep_stat%ok) return
         call math_function(word, args, n_args, value, s, start, status)
       else if (index(word, "c_") == 1 .or. index(word, "f_") == 1) then
@@ -316,10 +330,11 @@ contains
   end subroutine primary
 
   !> `(a, b, c)`: up to three comma-separated formulas.
-  pure recursive subroutine arguments(s, p, vars, n_vars, depth, args, n_args, status)
+  pure recursive subroutine arguments(s, p, vars, n_vars, depth, work, args, n_args, status)
     character(len=*), intent(in) :: s
     integer, intent(inout) :: p
     integer, intent(in) :: n_vars, depth
+    integer, intent(inout) :: work
     type(liggghts_variable_type), intent(in) :: vars(:)
     real(dp), intent(out) :: args(3)
     integer, intent(out) :: n_args
@@ -335,7 +350,7 @@ contains
         return
       end if
       n_args = n_args + 1
-      call expression(s, p, 1, vars, n_vars, depth, args(n_args), status)
+      call expression(s, p, 1, vars, n_vars, depth, work, args(n_args), status)
       if (status%stat /= demstep_stat%ok) return
       call skip_blanks(s, p)
       if (p > len(s)) then

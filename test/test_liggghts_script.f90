@@ -7,6 +7,7 @@ module test_liggghts_script
   use testdrive, only: new_unittest, unittest_type, error_type, check, skip_test
   use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat
+  use demstep_text, only: int_text
   use demstep_liggghts_formula, only: liggghts_variable_type, liggghts_evaluate, liggghts_number_text
   use demstep_liggghts_script, only: liggghts_script_type, read_liggghts_script, parse_liggghts_script, &
     liggghts_units
@@ -266,6 +267,18 @@ contains
     call expect_refusal(error, "variable a equal 2" // nl // "variable a equal v_a*3" // nl // "timestep ${a}", &
       "script: line 3: timestep: ${a}: variable a (line 2): ", "circular")
     if (allocated(error)) return
+    ! each variable using the previous twice: 2^40 evaluations refused, not run
+    block
+      character(len=:), allocatable :: chain
+      integer :: k
+      chain = "variable a0 equal 1"
+      do k = 1, 40
+        chain = chain//nl//"variable a"//int_text(k)//" equal v_a"//int_text(k - 1)//"+v_a"//int_text(k - 1)
+      end do
+      call expect_refusal(error, chain//nl//"timestep ${a40}", "script: line 42: timestep: ${a40}: ", &
+        "more than a million variable references")
+      if (allocated(error)) return
+    end block
     call expect_refusal(error, "timestep ${nope}", "script: line 1: timestep: $nope: no variable 'nope'", "")
     if (allocated(error)) return
     call expect_refusal(error, "variable v string abc" // nl // "variable v equal 1", &
