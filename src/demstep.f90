@@ -120,7 +120,8 @@ module demstep
   use demstep_mfix_assess, only: mfix_assessment_type, mfix_assess
   ! LIGGGHTS input scripts: materials, contact model, walls, gravity, timestep
   use demstep_liggghts_script, only: liggghts_script_type, read_liggghts_script, parse_liggghts_script, &
-    liggghts_units, liggghts_model_type, liggghts_wall_type, liggghts_template_type
+    liggghts_units, liggghts_model_type, liggghts_wall_type, liggghts_template_type, liggghts_contacts_type, &
+    liggghts_script_contacts
   ! particle snapshots from DEM codes' files
   use demstep_snapshot, only: snapshot_type, snapshot_format, snapshot_format_names, read_snapshot, &
     parse_snapshot, snapshot_format_of

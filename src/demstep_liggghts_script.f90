@@ -35,12 +35,13 @@ module demstep_liggghts_script
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text, comment_start
   use demstep_namelist, only: read_text_file
+  use demstep_material, only: code_convention
   use demstep_liggghts_formula, only: liggghts_variable_type, liggghts_evaluate, liggghts_number_text, &
     liggghts_find_variable
   implicit none
   private
 
-  public :: read_liggghts_script, parse_liggghts_script
+  public :: read_liggghts_script, parse_liggghts_script, liggghts_script_contacts
 
   !> Unit systems (`units`).
   type, public :: liggghts_units_codes
@@ -152,6 +153,32 @@ module demstep_liggghts_script
     type(liggghts_region_type), allocatable :: regions(:)
   end type liggghts_script_type
 
+  !> What a script gives a scene's contacts, in demstep's terms (the arguments
+  !> of `scene_set_materials` and the scene's walls, rolling springs and
+  !> periodicity); the particles' radii, densities and types come from the snapshot.
+  type, public :: liggghts_contacts_type
+    !> `code_convention%liggghts_hertz` or `%liggghts_hooke`.
+    integer :: convention = 0
+    !> Per type: Young's modulus and Poisson's ratio.
+    real(dp), allocatable :: young(:), poisson(:)
+    !> The restitution, the same for every type pair.
+    real(dp) :: restitution = 1.0_dp
+    !> Hooke: `characteristicVelocity`; Hertz: 0 (the script has none).
+    real(dp) :: impact_velocity = 0.0_dp
+    !> LIGGGHTS' `tangential_damping`.
+    logical :: tangential_damping = .true.
+    !> `rolling_ratio`: 1 for `rolling_friction epsd2` (k_r = k_t R*^2), 0 for
+    !> `off` and `cdt` (a constant torque, no stiffness).
+    real(dp) :: rolling_ratio = 0.0_dp
+    !> The walls' material type (0 without walls) and, per wall, a point and the inward normal.
+    integer :: wall_type = 0
+    real(dp), allocatable :: wall_points(:, :), wall_normals(:, :)
+    !> Periodic axes as the script's `boundary` states them (after
+    !> `read_restart` or `read_data` the restart or data file has them: take
+    !> the snapshot's box then).
+    logical :: periodic(3) = .false.
+  end type liggghts_contacts_type
+
   !> One word of a command.
   type :: word_type
     character(len=:), allocatable :: text
@@ -223,6 +250,134 @@ contains
     call run_text(text, label, dir, script, status, 0)
     if (status%stat == demstep_stat%ok) call orient_walls(script)
   end subroutine parse_liggghts_script
+
+  !> What the script gives a scene's contacts ([[liggghts_contacts_type]]).
+  !> Status `invalid_input` for what demstep's conventions do not cover, naming
+  !> the script's command and line (`FILE: line N: command: what`; a missing
+  !> property or pair style without a line): a model other than hertz or hooke,
+  !> tangential other than history, a surface model, `ktToKnUser on`, rolling
+  !> friction epsd or epsd3, a restitution that differs between type pairs, a
+  !> wall whose model differs from the pair style's, walls of different types,
+  !> a wall whose side the script does not tell, Hooke without
+  !> characteristicVelocity.
+  subroutine liggghts_script_contacts(script, contacts, status, file)
+    !> The script as read.
+    type(liggghts_script_type), intent(in) :: script
+    type(liggghts_contacts_type), intent(out) :: contacts
+    type(demstep_status_type), intent(out) :: status
+    !> The script's name in messages (default `script`).
+    character(len=*), intent(in), optional :: file
+    character(len=:), allocatable :: name
+    integer :: k
+    name = "script"
+    if (present(file)) name = file
+    status%stat = demstep_stat%ok
+    if (.not. script%pair%defined) then
+      call set_status(status, demstep_stat%invalid_input, "missing: the script states no 'pair_style gran'", &
+        where="pair_style")
+      status%message = name//": "//status%message
+      return
+    end if
+    call check_model(script%pair, "pair_style")
+    if (status%stat /= demstep_stat%ok) return
+    contacts%convention = merge(code_convention%liggghts_hertz, code_convention%liggghts_hooke, &
+      script%pair%model == "hertz")
+    contacts%tangential_damping = script%pair%tangential_damping
+    contacts%rolling_ratio = merge(1.0_dp, 0.0_dp, script%pair%rolling == "epsd2")
+    if (.not. allocated(script%young) .or. .not. allocated(script%poisson)) then
+      call set_status(status, demstep_stat%invalid_input, "missing: 'fix property/global " &
+        //trim(merge("youngsModulus", "poissonsRatio", .not. allocated(script%young)))//" peratomtype ...'", &
+        where=trim(merge("youngsModulus", "poissonsRatio", .not. allocated(script%young))))
+      status%message = name//": "//status%message
+      return
+    end if
+    contacts%young = script%young
+    contacts%poisson = script%poisson
+    if (.not. allocated(script%restitution)) then
+      call set_status(status, demstep_stat%invalid_input, "missing: 'fix property/global coefficientRestitution " &
+        //"peratomtypepair ...'", where="coefficientRestitution")
+      status%message = name//": "//status%message
+      return
+    end if
+    if (any(script%restitution /= script%restitution(1, 1))) then
+      call fault(script%restitution_line, "fix property/global", "coefficientRestitution differs between type " &
+        //"pairs; demstep's scene takes one restitution")
+      return
+    end if
+    contacts%restitution = script%restitution(1, 1)
+    if (contacts%convention == code_convention%liggghts_hooke) then
+      if (.not. (script%characteristic_velocity > 0.0_dp)) then
+        call fault(script%pair%line, "pair_style", "model hooke needs 'fix property/global " &
+          //"characteristicVelocity scalar v'", script%pair%file)
+        return
+      end if
+      contacts%impact_velocity = script%characteristic_velocity
+    end if
+    contacts%periodic = script%periodic
+    allocate(contacts%wall_points(3, script%n_walls), contacts%wall_normals(3, script%n_walls))
+    contacts%wall_points = 0.0_dp
+    do k = 1, script%n_walls
+      associate (w => script%walls(k))
+        call check_model(w%model, "fix wall/gran")
+        if (status%stat /= demstep_stat%ok) return
+        if (w%model%model /= script%pair%model .or. w%model%tangential /= script%pair%tangential .or. &
+          w%model%rolling /= script%pair%rolling .or. (w%model%tangential_damping .neqv. &
+          script%pair%tangential_damping)) then
+          call fault(w%line, "fix wall/gran", "wall '"//w%id//"': its model differs from the pair style's " &
+            //"(line "//int_text(script%pair%line)//"); demstep's walls take the particles' law", w%file)
+          return
+        end if
+        if (k > 1 .and. w%wall_type /= script%walls(1)%wall_type) then
+          call fault(w%line, "fix wall/gran", "wall '"//w%id//"' is of type "//int_text(w%wall_type)// &
+            ", wall '"//script%walls(1)%id//"' of type "//int_text(script%walls(1)%wall_type)// &
+            "; demstep's walls are of one type", w%file)
+          return
+        end if
+        if (all(w%normal == 0.0_dp)) then
+          call fault(w%line, "fix wall/gran", "wall '"//w%id//"': the script does not tell its side (no " &
+            //"create_box with a block region, no opposite plane)", w%file)
+          return
+        end if
+        contacts%wall_points(w%axis, k) = w%position
+        contacts%wall_normals(:, k) = w%normal
+      end associate
+    end do
+    if (script%n_walls > 0) contacts%wall_type = script%walls(1)%wall_type
+  contains
+    !> A model demstep's LIGGGHTS conventions cover.
+    subroutine check_model(model, command)
+      type(liggghts_model_type), intent(in) :: model
+      character(len=*), intent(in) :: command
+      if (model%model /= "hertz" .and. model%model /= "hooke") then
+        call fault(model%line, command, "model '"//model%model//"': demstep reproduces LIGGGHTS' hertz and " &
+          //"hooke", model%file)
+      else if (model%tangential /= "history") then
+        call fault(model%line, command, "tangential '"//model%tangential//"': demstep's tangential springs " &
+          //"are LIGGGHTS' 'history'", model%file)
+      else if (model%surface /= "default") then
+        call fault(model%line, command, "surface '"//model%surface//"' is not reproduced", model%file)
+      else if (model%kt_to_kn_user) then
+        call fault(model%line, command, "ktToKnUser on is not reproduced (demstep's k_t is the model's own)", model%file)
+      else if (model%rolling /= "off" .and. model%rolling /= "cdt" .and. model%rolling /= "epsd2") then
+        call fault(model%line, command, "rolling_friction '"//model%rolling//"': demstep reproduces off, cdt " &
+          //"(no stiffness) and epsd2 (k_r = k_t R*^2)", model%file)
+      end if
+    end subroutine check_model
+    !> `FILE: line N: command: what` (the file where the command is, when known).
+    subroutine fault(line, command, what, where_file)
+      integer, intent(in) :: line
+      character(len=*), intent(in) :: command, what
+      character(len=:), allocatable, intent(in), optional :: where_file
+      call set_status(status, demstep_stat%invalid_input, what, where=command)
+      if (present(where_file)) then
+        if (allocated(where_file)) then
+          status%message = where_file//": line "//int_text(line)//": "//status%message
+          return
+        end if
+      end if
+      status%message = name//": line "//int_text(line)//": "//status%message
+    end subroutine fault
+  end subroutine liggghts_script_contacts
 
   !> The walls' inward normals: towards the box's centre when `create_box`
   !> names a block region, else, on an axis with planes at two or more

@@ -10,7 +10,8 @@ module test_liggghts_script
   use demstep_text, only: int_text
   use demstep_liggghts_formula, only: liggghts_variable_type, liggghts_evaluate, liggghts_number_text
   use demstep_liggghts_script, only: liggghts_script_type, read_liggghts_script, parse_liggghts_script, &
-    liggghts_units
+    liggghts_units, liggghts_contacts_type, liggghts_script_contacts
+  use demstep_material, only: code_convention
   use test_support, only: write_file, work_dir
   implicit none
   private
@@ -31,7 +32,9 @@ contains
       new_unittest("variables: ${}, $x, $( ), styles, 15 digits", test_variables), &
       new_unittest("include, continuation, comments, quotes", test_syntax), &
       new_unittest("what is not read is named by file, line and command", test_refused), &
-      new_unittest("Debian's liggghts-doc tutorial scripts", test_tutorials) &
+      new_unittest("Debian's liggghts-doc tutorial scripts", test_tutorials), &
+      new_unittest("contacts from the validation scripts = the hand-written decks", test_contacts), &
+      new_unittest("contacts: what demstep's conventions do not cover is named", test_contacts_refused) &
       ]
   end subroutine collect_liggghts_script
 
@@ -466,5 +469,121 @@ contains
         name//": "//status_text(status))
     end subroutine tutorial
   end subroutine test_tutorials
+
+  !> The scene's inputs from a validation script and from its hand-written
+  !> deck (validation/liggghts/demstep/*.nml) are the same values.
+  subroutine test_contacts(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(liggghts_script_type) :: s
+    type(liggghts_contacts_type) :: c
+    type(demstep_status_type) :: status
+    ! a_hertz.nml: liggghts_hertz, young 1e7, poisson 0.3, restitution 0.5,
+    ! the box's six walls (point, inward normal), wall_type 1
+    real(dp), parameter :: walls(6, 6) = reshape([-0.01_dp, 0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, &
+      0.01_dp, 0.0_dp, 0.0_dp, -1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, -0.01_dp, 0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, &
+      0.0_dp, 0.01_dp, 0.0_dp, 0.0_dp, -1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, &
+      0.0_dp, 0.0_dp, 0.05_dp, 0.0_dp, 0.0_dp, -1.0_dp], [6, 6])
+    call read_ok(inputs//"in.export_a_hertz", s, error)
+    if (allocated(error)) return
+    call liggghts_script_contacts(s, c, status)
+    call check(error, status%stat == demstep_stat%ok, "a_hertz: "//status_text(status))
+    if (allocated(error)) return
+    call check(error, c%convention == code_convention%liggghts_hertz .and. all(c%young == [1.0e7_dp]) .and. &
+      all(c%poisson == [0.3_dp]) .and. c%restitution == 0.5_dp .and. c%tangential_damping .and. &
+      c%rolling_ratio == 0.0_dp .and. c%wall_type == 1 .and. .not. any(c%periodic), "a_hertz.nml's values")
+    if (allocated(error)) return
+    call check(error, all(c%wall_points == walls(1:3, :)) .and. all(c%wall_normals == walls(4:6, :)), &
+      "a_hertz.nml's walls")
+    if (allocated(error)) return
+    ! b_hooke.nml: liggghts_hooke, restitution 0.3, impact_velocity 0.5
+    call read_ok(inputs//"in.export_b_hooke", s, error)
+    if (allocated(error)) return
+    call liggghts_script_contacts(s, c, status)
+    call check(error, status%stat == demstep_stat%ok .and. c%convention == code_convention%liggghts_hooke .and. &
+      c%restitution == 0.3_dp .and. c%impact_velocity == 0.5_dp, "b_hooke.nml's values: "//status_text(status))
+    if (allocated(error)) return
+    ! c_epsd2.nml: rolling_ratio 1
+    call read_ok(inputs//"in.export_c_epsd2", s, error)
+    if (allocated(error)) return
+    call liggghts_script_contacts(s, c, status)
+    call check(error, status%stat == demstep_stat%ok .and. c%rolling_ratio == 1.0_dp, "c_epsd2.nml's rolling")
+    if (allocated(error)) return
+    ! d_periodic: periodic, no walls (the build script states 'boundary p p p';
+    ! the export script's read_restart takes it from the restart file)
+    call read_ok(inputs//"in.build_d_periodic", s, error)
+    if (allocated(error)) return
+    call liggghts_script_contacts(s, c, status)
+    call check(error, status%stat == demstep_stat%ok .and. all(c%periodic) .and. c%wall_type == 0 .and. &
+      size(c%wall_points, 2) == 0, "d_periodic: "//status_text(status))
+    if (allocated(error)) return
+    ! f_tdoff.nml: tangential_damping = F
+    call read_ok(inputs//"in.export_f_tdoff", s, error)
+    if (allocated(error)) return
+    call liggghts_script_contacts(s, c, status)
+    call check(error, status%stat == demstep_stat%ok .and. .not. c%tangential_damping, "f_tdoff")
+    if (allocated(error)) return
+    ! e_undamped and g_hooke_undamped: restitution 1
+    call read_ok(inputs//"in.export_g_hooke_undamped", s, error)
+    if (allocated(error)) return
+    call liggghts_script_contacts(s, c, status)
+    call check(error, status%stat == demstep_stat%ok .and. c%restitution == 1.0_dp .and. &
+      c%convention == code_convention%liggghts_hooke, "g_hooke_undamped")
+  end subroutine test_contacts
+
+  subroutine expect_contacts_refusal(error, text, start)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), intent(in) :: text, start
+    type(liggghts_script_type) :: s
+    type(liggghts_contacts_type) :: c
+    type(demstep_status_type) :: status
+    call parse_ok(text, s, error)
+    if (allocated(error)) return
+    call liggghts_script_contacts(s, c, status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. index(status_text(status), start) == 1, &
+      "'"//status_text(status)//"' starts with '"//start//"'")
+  end subroutine expect_contacts_refusal
+
+  subroutine test_contacts_refused(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), parameter :: materials = "fix m1 all property/global youngsModulus peratomtype 1e7 1e7" &
+      //nl//"fix m2 all property/global poissonsRatio peratomtype 0.3 0.3"//nl
+    call expect_contacts_refusal(error, "units si", "script: pair_style: missing")
+    if (allocated(error)) return
+    call expect_contacts_refusal(error, materials//"pair_style gran model hertz/stiffness tangential history", &
+      "script: line 3: pair_style: model 'hertz/stiffness'")
+    if (allocated(error)) return
+    call expect_contacts_refusal(error, materials//"pair_style gran model hertz tangential no_history", &
+      "script: line 3: pair_style: tangential 'no_history'")
+    if (allocated(error)) return
+    call expect_contacts_refusal(error, materials//"pair_style gran model hertz tangential history " &
+      //"rolling_friction epsd", "script: line 3: pair_style: rolling_friction 'epsd'")
+    if (allocated(error)) return
+    call expect_contacts_refusal(error, "pair_style gran model hertz tangential history", &
+      "script: youngsModulus: missing")
+    if (allocated(error)) return
+    call expect_contacts_refusal(error, materials//"pair_style gran model hertz tangential history"//nl// &
+      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.6 0.6 0.5", &
+      "script: line 4: fix property/global: coefficientRestitution differs between type pairs")
+    if (allocated(error)) return
+    call expect_contacts_refusal(error, materials//"pair_style gran model hooke tangential history"//nl// &
+      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5", &
+      "script: line 3: pair_style: model hooke needs")
+    if (allocated(error)) return
+    call expect_contacts_refusal(error, materials//"pair_style gran model hertz tangential history"//nl// &
+      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5"//nl// &
+      "fix w1 all wall/gran model hertz tangential history primitive type 1 zplane 0"//nl// &
+      "fix w2 all wall/gran model hertz tangential history primitive type 2 zplane 1", &
+      "script: line 6: fix wall/gran: wall 'w2' is of type 2, wall 'w1' of type 1")
+    if (allocated(error)) return
+    call expect_contacts_refusal(error, materials//"pair_style gran model hertz tangential history"//nl// &
+      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5"//nl// &
+      "fix w1 all wall/gran model hooke tangential history primitive type 1 zplane 0", &
+      "script: line 5: fix wall/gran: wall 'w1': its model differs")
+    if (allocated(error)) return
+    call expect_contacts_refusal(error, materials//"pair_style gran model hertz tangential history"//nl// &
+      "fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5"//nl// &
+      "fix w1 all wall/gran model hertz tangential history primitive type 1 zplane 0", &
+      "script: line 5: fix wall/gran: wall 'w1': the script does not tell its side")
+  end subroutine test_contacts_refused
 
 end module test_liggghts_script
