@@ -1,4 +1,5 @@
-!> What MFiX computes for its DEM solids time step, from an MFiX deck.
+!> What MFiX computes for its DEM solids time step, from a deck's DEM inputs
+!> ([[demstep_mfix_input]], coarse-grained phases already scaled as MFiX scales them).
 !>
 !> Re-derived from MFiX 21.3, model/check_data/check_solids_dem.f:
 !> GET_REF_PARTICLE_SIZE_AND_MASS (reference radius `D_P0/2` and mass
