@@ -4,8 +4,8 @@
 module demstep_cli_mfix
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, mfix_deck_type, mfix_input_type, &
     mfix_result_type, mfix_assessment_type, mfix_input_from_deck, mfix_compute, mfix_assess
-  use demstep_mfix, only: mfix_units, mfix_model, mfix_integrator
-  use demstep_mfix_deck, only: parse_mfix_deck
+  use demstep_mfix_input, only: mfix_units, mfix_model, mfix_integrator
+  use demstep_mfix_deck, only: parse_mfix_deck, mfix_upper
   use demstep_recommend, only: step_governs, default_safety
   use demstep_cli, only: report_row, record_step, cli_context, fmt_real, fmt_int
   implicit none
@@ -38,30 +38,33 @@ contains
     call mfix_compute(input, result, status)
     if (status%stat /= demstep_stat%ok) return
     if (velocity > 0.0_dp) then
-      call mfix_assess(deck, input, result, a, status, tolerance=tolerance, velocity=velocity)
+      call mfix_assess(input, result, a, status, tolerance=tolerance, velocity=velocity)
     else
-      call mfix_assess(deck, input, result, a, status, tolerance=tolerance)
+      call mfix_assess(input, result, a, status, tolerance=tolerance)
     end if
     if (status%stat /= demstep_stat%ok) then
       ! the command line's names for the library's
-      if (index(status%message, "tolerance: ") == 1) status%message = "--tolerance: "//status%message(12:)
-      if (index(status%message, "velocity: ") == 1) status%message = "--velocity: "//status%message(11:)
+      if (allocated(status%where)) then
+        if (status%where == "tolerance" .or. status%where == "velocity") &
+          status%message = "--"//status%where//": "//status%detail
+      end if
       return
     end if
-    call report(ctx%report, input, result, a, tolerance_given)
+    call report(ctx%report, deck, input, result, a, tolerance_given)
     if (a%linearised) call record_step(ctx, "single-contact step", a%dt_recommended, .false.)
     call write_result(ctx%results, input, result, a)
   end subroutine run_mfix
 
   !> The human report.
-  subroutine report(u, input, result, a, tolerance_given)
+  subroutine report(u, deck, input, result, a, tolerance_given)
     integer, intent(in) :: u
+    type(mfix_deck_type), intent(in) :: deck
     type(mfix_input_type), intent(in) :: input
     type(mfix_result_type), intent(in) :: result
     type(mfix_assessment_type), intent(in) :: a
     logical, intent(in) :: tolerance_given
     character(len=:), allocatable :: mass_unit, k_unit, eta_unit, len_unit, model
-    integer :: p, np, k
+    integer :: p, np, k, i
     logical :: si, lsd
     si = input%units == mfix_units%si
     lsd = input%model == mfix_model%lsd
@@ -80,6 +83,23 @@ contains
       "', DES_INTG_METHOD = '"//trim(merge("EULER          ", "ADAMS_BASHFORTH", &
       input%integrator == mfix_integrator%euler))//"', "//fmt_int(int(input%n_phases, i8))//" DEM phase" &
       //trim(merge("s", " ", input%n_phases > 1))
+    ! MFiX's @( ) arithmetic, as MFiX evaluates it (model/parse_line.f, PARSE_ARITH)
+    do i = 1, deck%n_items
+      do k = 1, size(deck%items(i)%values)
+        if (.not. deck%items(i)%values(k)%arithmetic) cycle
+        write(u, '(2x, a)') "line "//fmt_int(int(deck%items(i)%line, i8))//": "//keyword_label(deck, i, k) &
+          //" = "//deck%items(i)%values(k)%expression//" = "//deck%items(i)%values(k)%text &
+          //"  (MFiX's @( ) arithmetic: * and / left to right, 15 digits)"
+      end do
+    end do
+    if (input%coarse_grained) then
+      do k = 1, input%n_phases
+        write(u, '(2x, a)') "coarse-grained: phase "//fmt_int(int(input%phase(k), i8))//": D_P0 = " &
+          //fmt_real(input%d_p0_real(k))//" x CGP_STAT_WT^(1/3) with CGP_STAT_WT = " &
+          //fmt_real(input%cgp_stat_wt(k))//": "//fmt_real(input%d_p0(k))//" "//trim(len_unit) &
+          //"  (check_solids_common_discrete.f)"
+      end do
+    end if
     write(u, '(2x, a)') "what MFiX computes (check_solids_dem.f; mass in "//trim(mass_unit)//", k_n in " &
       //trim(k_unit)//", eta_n in "//trim(eta_unit)//", times in s):"
     write(u, '(2x, a8, 4a18)') "pair", "m_eff", "k_n", "eta_n", "t_coll"
@@ -134,9 +154,10 @@ contains
       //fmt_real(minval(a%dt_critical(:np)))//" s); MFiX leaves walls out of TCOLL."
     if (a%psd) then
       do k = 1, input%n_phases
-        if (a%d_min(k) > 0.0_dp .and. a%d_min(k) < input%d_p0(k)) write(u, '(2x, a)') "size distribution: " &
-          //"phase "//fmt_int(int(input%phase(k), i8))//" has particles of "//fmt_real(a%d_min(k))//" " &
-          //trim(len_unit)//" (line "//fmt_int(int(a%d_min_line(k), i8))//"), below D_P0 = " &
+        if (input%d_min(k) > 0.0_dp .and. input%d_min(k) < input%d_p0(k)) write(u, '(2x, a)') "size " &
+          //"distribution: phase "//fmt_int(int(input%phase(k), i8))//" has particles of " &
+          //fmt_real(input%d_min(k))//" "//trim(len_unit)//" (line "//fmt_int(int(input%d_min_line(k), i8)) &
+          //"), below D_P0 = " &
           //fmt_real(input%d_p0(k))//"; MFiX's TCOLL ignores them."
       end do
       write(u, '(2x, a)') "  with the smallest particles: TCOLL would be "//fmt_real(a%tcoll_psd)// &
@@ -167,6 +188,27 @@ contains
     call report_row(u, 2, "single-contact step", fmt_real(a%dt_recommended)//" s  (the smallest over the pairs)")
     write(u, '(a)') ""
   end subroutine report
+
+  !> The keyword of value k of item i as written in upper case, with the
+  !> element's subscript: `KT_FAC`, `SPX_DT(1)`, `IC_X_S(1,2)`.
+  pure function keyword_label(deck, i, k) result(label)
+    type(mfix_deck_type), intent(in) :: deck
+    integer, intent(in) :: i, k
+    character(len=:), allocatable :: label
+    integer :: j
+    associate (it => deck%items(i))
+      label = mfix_upper(it%name)
+      if (it%n_sub == 1) then
+        label = label//"("//fmt_int(int(it%lo(1) + k - 1, i8))//")"
+      else if (it%n_sub > 1) then
+        label = label//"("//fmt_int(int(it%lo(1), i8))
+        do j = 2, it%n_sub
+          label = label//","//fmt_int(int(it%lo(j), i8))
+        end do
+        label = label//")"
+      end if
+    end associate
+  end function keyword_label
 
   !> `1-2` for particle phases 1 and 2, `1-W` for phase 1 against walls.
   pure function pair_label(result, p) result(label)

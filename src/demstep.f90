@@ -28,8 +28,10 @@
 !> - Materials in each DEM code's convention and the peers' step rules:
 !>   `material_type`, `effective_pair`, `contact_parameters` (`code_convention%...`),
 !>   `rayleigh_time`, `hertz_contact_duration`, `peer_time_steps`.
-!> - MFiX decks: `read_mfix_deck`, `mfix_input_from_deck`, `mfix_compute`,
-!>   `mfix_assess`.
+!> - MFiX decks: `read_mfix_deck`, `mfix_input_from_deck` (`@( )` arithmetic and
+!>   CGP as MFiX does them), `mfix_compute` (what MFiX computes), `mfix_assess`.
+!> - LIGGGHTS input scripts as they are: `read_liggghts_script`,
+!>   `liggghts_script_contacts`.
 !> - Snapshots from DEM codes' files: `snapshot_type`, `read_snapshot`.
 !> - One recommended step: `recommended_step`, `assess_contact`.
 !> - Results read back by name: `read_result`, `result_get`.
@@ -87,8 +89,12 @@ module demstep
     peer_rule, rayleigh_time, hertz_contact_duration
   ! MFiX decks: what MFiX computes for its DEM solids step, and demstep's answer
   use demstep_mfix_deck, only: mfix_deck_type, read_mfix_deck
-  use demstep_mfix, only: mfix_input_type, mfix_input_from_deck, mfix_result_type, mfix_compute, &
-    mfix_assessment_type, mfix_assess
+  use demstep_mfix_input, only: mfix_input_type, mfix_input_from_deck
+  use demstep_mfix, only: mfix_result_type, mfix_compute
+  use demstep_mfix_assess, only: mfix_assessment_type, mfix_assess
+  ! LIGGGHTS input scripts as they are, and the contacts they define
+  use demstep_liggghts_script, only: liggghts_script_type, read_liggghts_script, liggghts_contacts_type, &
+    liggghts_script_contacts
   ! particle snapshots from DEM codes' files
   use demstep_snapshot, only: snapshot_type, snapshot_format, read_snapshot
   ! one recommended step

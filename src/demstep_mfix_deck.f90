@@ -6,32 +6,37 @@
 !> reals `1.0d-3`, quoted strings, `#` and `!` comments (which also cover the GUI's
 !> `#!MFIX-GUI` lines). This module splits a deck into such assignments, keeping
 !> each value as text with its line, and converts on request, reporting a bad
-!> value by line and keyword. MFiX's `@(...)` arithmetic is kept as a marked value
-!> and refused, naming the line, only when a keyword that is used holds one.
+!> value by line and keyword. MFiX's `@(...)` arithmetic is evaluated as MFiX
+!> evaluates it ([[demstep_mfix_expression]]) when the line is read, as MFiX
+!> does (model/read_namelist.f:345); the value keeps the expression as written.
 !> Reaction blocks (`@(RXNS)` ... `@(END)`, `@(DES_RXNS)` ... `@(END)`) and the
 !> `THERMO DATA` section are skipped, as MFiX's own keyword reader does.
 module demstep_mfix_deck
   use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_text, only: int_text
+  use demstep_text, only: int_text, comment_start
   use demstep_namelist, only: read_text_file, lowercase
+  use demstep_mfix_expression, only: mfix_evaluate_expression
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
   public :: read_mfix_deck, parse_mfix_deck, mfix_get_real, mfix_get_integer, mfix_get_string, &
     mfix_get_real_array, mfix_get_string_array, mfix_has_keyword, mfix_min_by_second_index, &
-    mfix_looks_like_deck
+    mfix_looks_like_deck, mfix_upper
 
   !> Largest repeat count `r*value` accepted.
   integer, parameter, public :: mfix_max_repeat = 100000
 
   !> One value as written.
   type, public :: mfix_value_type
-    !> The text (a quoted string without its quotes).
+    !> The text (a quoted string without its quotes; for `@(...)` the value as
+    !> MFiX writes it, 15 significant digits).
     character(len=:), allocatable :: text
     !> True for MFiX's `@(...)` arithmetic.
     logical :: arithmetic = .false.
+    !> The arithmetic as written, `@(...)` (unallocated for other values).
+    character(len=:), allocatable :: expression
     !> True for a quoted string.
     logical :: quoted = .false.
   end type mfix_value_type
@@ -40,10 +45,11 @@ module demstep_mfix_deck
   type, public :: mfix_item_type
     !> Keyword, lower case.
     character(len=:), allocatable :: name
-    !> Number of subscripts (0, 1 or 2).
+    !> Number of subscripts (0 to 3; MFiX's species keywords such as
+    !> `IC_X_S(ic, m, n)` have three).
     integer :: n_sub = 0
     !> Subscript ranges: `KEY(lo:hi)`; a single subscript has `lo = hi`.
-    integer :: lo(2) = 1, hi(2) = 1
+    integer :: lo(3) = 1, hi(3) = 1
     !> The values, repeat counts expanded.
     type(mfix_value_type), allocatable :: values(:)
     !> Line in the deck.
@@ -114,8 +120,8 @@ contains
       low = lowercase(adjustl(text(start:max(start, last)))//" ")
       if (last < start) low = " "
       if (in_block) then
-        if (index(low, "@(end)") == 1) in_block = .false.
-      else if (index(low, "@(rxns)") == 1 .or. index(low, "@(des_rxns)") == 1) then
+        if (block_mark(low, "end")) in_block = .false.
+      else if (block_mark(low, "rxns")) then
         in_block = .true.
       else if (index(low, "thermo data") == 1) then
         exit
@@ -126,6 +132,22 @@ contains
       start = finish + 1
     end do
   end subroutine parse_mfix_deck
+
+  !> MFiX's reaction block marks (model/parse_line.f, PARSE_LINE and its
+  !> START_RXN/END_RXN; the words in parse_mod.f:19-21): the line's first
+  !> `@(` ... `)` outside a comment contains `word` (`@(RXNS)`, `@(DES_RXNS)`
+  !> start a block; `@(END)`, `@(DES_END)` end it).
+  pure logical function block_mark(low, word)
+    character(len=*), intent(in) :: low, word
+    integer :: a, b, c
+    block_mark = .false.
+    c = comment_start(low, "#!")
+    a = index(low(1:c-1), "@(")
+    if (a == 0) return
+    b = index(low(a:c-1), ")")
+    if (b == 0) return
+    block_mark = index(low(a:a+b-1), word) > 0
+  end function block_mark
 
   !> Position of the newline ending the line that starts at `start` (len + 1 for the last).
   pure integer function line_end(text, start) result(finish)
@@ -195,11 +217,11 @@ contains
     integer, intent(in) :: line
     type(mfix_deck_type), intent(inout) :: deck
     type(demstep_status_type), intent(out) :: status
-    integer :: p, n, q, name_start
+    integer :: p, n, q, name_start, name_end
     type(mfix_item_type) :: item
     character(len=:), allocatable :: loc
     status%stat = demstep_stat%ok
-    n = comment_start(s) - 1
+    n = comment_start(s, "#!") - 1
     p = 1
     do
       do while (p <= n)
@@ -218,6 +240,7 @@ contains
         if (.not. is_name_char(s(p:p))) exit
         p = p + 1
       end do
+      name_end = p - 1
       item%name = lowercase(s(name_start:p-1))
       item%line = line
       item%n_sub = 0
@@ -253,7 +276,7 @@ contains
         return
       end if
       p = p + 1
-      call parse_values(s(1:n), p, item, loc, status)
+      call parse_values(s(1:n), p, item, loc, s(name_start:name_end), status)
       if (status%stat /= demstep_stat%ok) return
       if (size(item%values) == 0) then
         call set_status(status, demstep_stat%invalid_input, loc//": no value after '='")
@@ -262,25 +285,6 @@ contains
       call append_item(deck, item)
     end do
   end subroutine parse_line
-
-  !> Position of the comment (`#` or `!` outside quotes), or len + 1.
-  pure integer function comment_start(s) result(k)
-    character(len=*), intent(in) :: s
-    character :: quote
-    integer :: i
-    quote = " "
-    k = len(s) + 1
-    do i = 1, len(s)
-      if (quote /= " ") then
-        if (s(i:i) == quote) quote = " "
-      else if (s(i:i) == "'" .or. s(i:i) == '"') then
-        quote = s(i:i)
-      else if (s(i:i) == "#" .or. s(i:i) == "!") then
-        k = i
-        return
-      end if
-    end do
-  end function comment_start
 
   !> At most 40 characters of text for a message.
   pure function clip(s) result(t)
@@ -311,8 +315,8 @@ contains
       end if
       item%n_sub = item%n_sub + 1
       k = item%n_sub
-      if (k > 2) then
-        call set_status(status, demstep_stat%invalid_input, loc//": more than two subscripts")
+      if (k > 3) then
+        call set_status(status, demstep_stat%invalid_input, loc//": more than three subscripts")
         return
       end if
       colon = index(part, ":")
@@ -339,15 +343,17 @@ contains
   end subroutine parse_subscripts
 
   !> The values of one assignment, from position p up to the next assignment.
-  pure subroutine parse_values(s, p, item, loc, status)
+  pure subroutine parse_values(s, p, item, loc, key, status)
     character(len=*), intent(in) :: s
     integer, intent(inout) :: p
     type(mfix_item_type), intent(inout) :: item
-    character(len=*), intent(in) :: loc
+    !> `line N: KEY` and the keyword as written.
+    character(len=*), intent(in) :: loc, key
     type(demstep_status_type), intent(out) :: status
     type(mfix_value_type), allocatable :: vals(:)
     type(mfix_value_type) :: v
-    integer :: n, count, q, repeat, depth, ios, k
+    integer :: n, count, q, repeat, ios, k, column
+    real(dp) :: x
     n = len(s)
     allocate(vals(4))
     count = 0
@@ -384,20 +390,31 @@ contains
       v%text = ""
       v%arithmetic = .false.
       v%quoted = .false.
+      if (allocated(v%expression)) deallocate(v%expression)
       if (s(p:min(n, p+1)) == "@(") then
-        depth = 0
-        q = p + 1
-        do while (q <= n)
-          if (s(q:q) == "(") depth = depth + 1
-          if (s(q:q) == ")") depth = depth - 1
-          if (depth == 0) exit
-          q = q + 1
-        end do
-        if (q > n) then
+        ! MFiX: the first ')' closes it (model/parse_line.f:508)
+        q = index(s(p:n), ")")
+        if (q == 0) then
           call set_status(status, demstep_stat%invalid_input, loc//": '@(' without ')'")
           return
         end if
-        v%text = s(p:q)
+        q = p + q - 1
+        if (repeat > 1 .or. s(max(1, p-1):max(1, p-1)) == "*") then
+          ! MFiX writes the value with a leading blank: 'r* ' is r null values
+          call set_status(status, demstep_stat%invalid_input, "'"//s(p-1:p-1)//"' before '@(': MFiX writes " &
+            //"the value with a leading blank, so its namelist read takes 'r*' as r null values; write " &
+            //"the expression r times", where=mfix_upper(key))
+          status%message = "line "//int_text(item%line)//", column "//int_text(p)//": "//status%message
+          return
+        end if
+        call mfix_evaluate_expression(s(p+2:q-1), x, v%text, column, status)
+        if (status%stat /= demstep_stat%ok) then
+          call set_status(status, demstep_stat%invalid_input, s(p:q)//": "//status%detail, where=mfix_upper(key))
+          status%message = "line "//int_text(item%line)//", column "//int_text(p + 1 + column)//": " &
+            //status%message
+          return
+        end if
+        v%expression = s(p:q)
         v%arithmetic = .true.
         p = q + 1
       else if (s(p:p) == "'" .or. s(p:p) == '"') then
@@ -501,29 +518,33 @@ contains
     character(len=*), intent(in) :: name
     integer, intent(in) :: line, idx
     character(len=:), allocatable :: w
-    w = "line "//int_text(line)//": "//upper(name)
+    w = "line "//int_text(line)//": "//mfix_upper(name)
     if (idx /= no_sub) w = w//"("//int_text(idx)//")"
     w = w//": "
   end function key_where
 
-  pure function upper(s) result(t)
+  !> A keyword or word as MFiX writes it: upper case, without surrounding blanks.
+  pure function mfix_upper(s) result(t)
+    !> The word.
     character(len=*), intent(in) :: s
-    character(len=len(s)) :: t
+    character(len=:), allocatable :: t
     integer :: i
-    t = s
-    do i = 1, len(s)
+    t = trim(adjustl(s))
+    do i = 1, len(t)
       if (t(i:i) >= "a" .and. t(i:i) <= "z") t(i:i) = achar(iachar(t(i:i)) - 32)
     end do
-  end function upper
+  end function mfix_upper
 
-  !> Status `invalid_input` for MFiX's `@(...)` arithmetic, ok otherwise.
+  !> Status `invalid_input` for MFiX's `@(...)` arithmetic in an integer
+  !> keyword (MFiX writes the value as a real, which its namelist read of an
+  !> integer refuses), ok otherwise.
   pure subroutine refuse_arithmetic(v, loc, status)
     type(mfix_value_type), intent(in) :: v
     character(len=*), intent(in) :: loc
     type(demstep_status_type), intent(out) :: status
     status%stat = demstep_stat%ok
-    if (v%arithmetic) call set_status(status, demstep_stat%invalid_input, loc//"MFiX's "//clip(v%text)// &
-      " arithmetic is not supported; write the value as a number")
+    if (v%arithmetic) call set_status(status, demstep_stat%invalid_input, loc//clip(v%expression)// &
+      " gives the real "//v%text//", which MFiX's namelist read of an integer keyword refuses; write the integer")
   end subroutine refuse_arithmetic
 
   !> Convert a value to a real (`1.0`, `1.0d-3`, `2E5`, `3`).
@@ -534,8 +555,6 @@ contains
     type(demstep_status_type), intent(out) :: status
     integer :: ios
     x = 0.0_dp
-    call refuse_arithmetic(v, loc, status)
-    if (status%stat /= demstep_stat%ok) return
     if (v%quoted .or. len_trim(v%text) == 0 .or. verify(trim(v%text), "0123456789.+-eEdD") > 0) then
       call set_status(status, demstep_stat%invalid_input, loc//"'"//clip(v%text)//"' is not a number")
       return
@@ -757,7 +776,7 @@ contains
         ! the second subscript is the phase: as D_P0's index, refused outside [1, n]
         if (min(it%lo(1), it%lo(2)) < 1 .or. it%hi(2) > n) then
           call set_status(status, demstep_stat%invalid_input, "line "//int_text(it%line)//": " &
-            //upper(name)//"("//int_text(it%lo(1))//","//int_text(merge(it%lo(2), it%hi(2), &
+            //mfix_upper(name)//"("//int_text(it%lo(1))//","//int_text(merge(it%lo(2), it%hi(2), &
             it%lo(2) < 1))//"): index out of range (the first >= 1, the second, the phase, in [1, " &
             //int_text(n)//"])")
           return
@@ -801,7 +820,7 @@ contains
     call array_elements(deck, name, n, idx, vals, ln, count, status)
     if (status%stat /= demstep_stat%ok) return
     do k = 1, count
-      s(idx(k)) = upper(trim(adjustl(vals(k)%text)))
+      s(idx(k)) = mfix_upper(trim(adjustl(vals(k)%text)))
       set(idx(k)) = .true.
       lines(idx(k)) = ln(k)
     end do

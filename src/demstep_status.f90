@@ -62,8 +62,9 @@ module demstep_status
 contains
 
   !> Set a status code, its location and message. With `where`, the message
-  !> becomes `where: detail` (the detail names the element where one applies).
-  pure subroutine set_status(status, stat, message, where, index)
+  !> becomes `where: detail` (the detail names the element where one applies),
+  !> or `where(index): detail` with `subscript` (a deck's subscripted keyword).
+  pure subroutine set_status(status, stat, message, where, index, subscript)
     !> Status to set.
     type(demstep_status_type), intent(out) :: status
     !> Code from `demstep_stat`.
@@ -74,6 +75,9 @@ contains
     character(len=*), intent(in), optional :: where
     !> Its element or row (1-based).
     integer, intent(in), optional :: index
+    !> Write the location as `where(index)` (when index > 0).
+    logical, intent(in), optional :: subscript
+    character(len=24) :: buf
     status%stat = stat
     status%detail = message
     status%where = ""
@@ -81,6 +85,12 @@ contains
     if (present(index)) status%index = index
     if (len(status%where) > 0) then
       status%message = status%where//": "//message
+      if (present(subscript)) then
+        if (subscript .and. status%index > 0) then
+          write(buf, '(i0)') status%index
+          status%message = status%where//"("//trim(buf)//"): "//message
+        end if
+      end if
     else
       status%message = message
     end if

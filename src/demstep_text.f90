@@ -4,7 +4,7 @@ module demstep_text
   implicit none
   private
 
-  public :: int_text, real_text, integer_of, printable
+  public :: int_text, real_text, integer_of, printable, comment_start
 
   !> An integer as text, without blanks.
   interface int_text
@@ -128,5 +128,28 @@ contains
     if (.not. negative) value = -value
     ok = .true.
   end subroutine integer_of
+
+  !> Position of the first character of `marks` outside single or double
+  !> quotes (a comment's start in MFiX decks and LIGGGHTS scripts), len + 1 for none.
+  pure integer function comment_start(text, marks) result(k)
+    !> A line.
+    character(len=*), intent(in) :: text
+    !> The comment characters.
+    character(len=*), intent(in) :: marks
+    character :: quote
+    integer :: i
+    quote = " "
+    k = len(text) + 1
+    do i = 1, len(text)
+      if (quote /= " ") then
+        if (text(i:i) == quote) quote = " "
+      else if (text(i:i) == "'" .or. text(i:i) == '"') then
+        quote = text(i:i)
+      else if (index(marks, text(i:i)) > 0) then
+        k = i
+        return
+      end if
+    end do
+  end function comment_start
 
 end module demstep_text

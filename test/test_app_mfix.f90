@@ -38,6 +38,8 @@ contains
       new_unittest("fluid bed tutorial: MFiX's DTSOLID, exact limit, recommended step", test_fluid_bed), &
       new_unittest("hopper tutorial: two phases in MFiX's pair order", test_hopper), &
       new_unittest("Hertzian CGS deck: undefined without a velocity, linearised with one", test_hertz), &
+      new_unittest("CGP tutorial: coarse-grained phases scaled as MFiX scales them", test_cgp), &
+      new_unittest("DEM05 test deck: MFiX's @( ) arithmetic read, its value reported", test_dem05), &
       new_unittest("recognition: MFiX lines, namelist groups, --format", test_recognition), &
       new_unittest("walls above KN and a size distribution are pointed out", test_misleads), &
       new_unittest("bad decks and options: one line with file and line", test_bad) &
@@ -260,6 +262,72 @@ contains
     call check_recommendation(error, r, stdout)
   end subroutine test_hertz
 
+  !> MFiX 21.3's tutorials/cgp/fluidbed_cgp_3d: D_P0 := D_P0 CGP_STAT_WT^(1/3)
+  !> (check_solids_common_discrete.f:147) with weight 8 doubles both diameters;
+  !> the same scaling from CGP_D_P0 (weight (CGP_D_P0/D_P0)^3, :132).
+  subroutine test_cgp(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(mfix_read_type) :: r
+    character(len=:), allocatable :: stdout
+    character(len=100) :: lines(40)
+    real(qp) :: m1, m2, t(3)
+    integer :: unit, ios, n
+    call run_read(data_dir//"fluidbed_cgp_3d.mfx", r, stdout, error)
+    if (allocated(error)) return
+    m1 = pq/6*0.002_qp**3*2500
+    m2 = pq/6*0.003_qp**3*500
+    t = [lsd_tcoll(m1/2, 100.0_qp, 0.9_qp), lsd_tcoll(m1*m2/(m1 + m2), 100.0_qp, 0.6_qp), &
+      lsd_tcoll(m2/2, 100.0_qp, 0.6_qp)]
+    call check_rel(error, r%tcoll, minval(t), "TCOLL of the coarse-grained particles")
+    if (allocated(error)) return
+    call check_rel(error, r%dtsolid, minval(t)/50, "DTSOLID")
+    if (allocated(error)) return
+    call check_rel(error, r%m_eff(1), m1/2, "m_eff 1-1: 8 times the real particles'")
+    if (allocated(error)) return
+    call check(error, index(stdout, "coarse-grained: phase 2: D_P0 = 0.0015 x CGP_STAT_WT^(1/3) with " &
+      //"CGP_STAT_WT = 8: 0.003 m") > 0, "the scaling is reported: "//stdout)
+    if (allocated(error)) return
+    ! the same deck with the coarse-grained diameters instead of the weights
+    n = 0
+    open(newunit=unit, file=data_dir//"fluidbed_cgp_3d.mfx", status="old", action="read", iostat=ios)
+    call check(error, ios, 0, message="fixture readable")
+    if (allocated(error)) return
+    do while (n < size(lines))
+      read(unit, '(a)', iostat=ios) lines(n + 1)
+      if (ios /= 0) exit
+      n = n + 1
+      if (index(lines(n), "cgp_stat_wt(1)") == 1) lines(n) = "cgp_d_p0(1) = 0.002"
+      if (index(lines(n), "cgp_stat_wt(2)") == 1) lines(n) = "cgp_d_p0(2) = 0.003"
+    end do
+    close(unit)
+    call write_file(deck, lines(1:n))
+    call run_read(deck, r, stdout, error)
+    if (allocated(error)) return
+    call check_rel(error, r%dtsolid, minval(t)/50, "DTSOLID from CGP_D_P0")
+  end subroutine test_cgp
+
+  !> MFiX 21.3's tests/dem/DEM05: elastic LSD contacts (e = 1, no dashpot),
+  !> KT_FAC = @(1.48/1.72).
+  subroutine test_dem05(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(mfix_read_type) :: r
+    character(len=:), allocatable :: stdout
+    real(qp) :: m1, m2, t(3)
+    call run_read(data_dir//"dem05.dat", r, stdout, error)
+    if (allocated(error)) return
+    m1 = pq/6*0.005_qp**3*4000
+    m2 = pq/6*0.005_qp**3*5000
+    t = [lsd_tcoll(m1/2, 1.72e7_qp, 1.0_qp), lsd_tcoll(m1*m2/(m1 + m2), 1.72e7_qp, 1.0_qp), &
+      lsd_tcoll(m2/2, 1.72e7_qp, 1.0_qp)]
+    call check_rel(error, r%dtsolid, minval(t)/50, "DTSOLID")
+    if (allocated(error)) return
+    call check_rel(error, r%t_coll(2), t(2), "t_coll of the pair 1-2")
+    if (allocated(error)) return
+    call check(error, index(stdout, "line 15: KT_FAC = @(1.48/1.72) = 0.860465116279070") > 0 .and. &
+      index(stdout, "line 16: KT_W_FAC = @(1.48/1.72) = 0.860465116279070") > 0, &
+      "the evaluated values are reported: "//stdout)
+  end subroutine test_dem05
+
   subroutine test_recognition(error)
     type(error_type), allocatable, intent(out) :: error
     integer :: rc
@@ -368,9 +436,10 @@ contains
     call write_file(deck, lines)
     call expect(deck, "demstep: "//deck//": D_P0(2): missing for DEM solids phase 2")
     if (allocated(error)) return
-    lines(4) = "d_p0 = 0.004 @(2*0.002)"
+    lines(4) = "d_p0 = 0.004 @(2+0.002)"
     call write_file(deck, lines)
-    call expect(deck, "demstep: "//deck//": line 4: D_P0(2): MFiX's @(2*0.002) arithmetic is not supported")
+    call expect(deck, "demstep: "//deck//": line 4, column 17: D_P0: @(2+0.002): '2+0.002': MFiX's @( ) has " &
+      //"no '+' or '-' operator")
     if (allocated(error)) return
     lines(4) = "d_p0 = 2*0.004"
     lines(6) = "des_en_input = 0.9 1.5 0.9"

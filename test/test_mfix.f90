@@ -8,7 +8,9 @@ module test_mfix
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
   use demstep_mfix_deck
+  use demstep_mfix_input
   use demstep_mfix
+  use demstep_mfix_assess
   use, intrinsic :: iso_fortran_env, only: qp => real128
   implicit none
   private
@@ -25,13 +27,18 @@ contains
     testsuite = [ &
       new_unittest("namelist syntax of keyword lines", test_syntax), &
       new_unittest("malformed lines reported by line and keyword", test_bad_lines), &
+      new_unittest("reaction blocks end at MFiX's marks; three subscripts", test_blocks), &
+      new_unittest("MFiX's @( ) arithmetic: operators, order, PI, 15 digits", test_arithmetic), &
+      new_unittest("MFiX's @( ) arithmetic: errors by line and column", test_arithmetic_errors), &
       new_unittest("bad values and missing phases reported by keyword", test_bad_values), &
       new_unittest("packed restitution in MFiX's pair order", test_packed_order), &
       new_unittest("LSD: m_eff, k_n, eta_n, TCOLL, DTSOLID by hand", test_lsd_hand), &
       new_unittest("Hertzian (CGS deck): MFiX's arithmetic by hand", test_hertz_hand), &
       new_unittest("the same deck in CGS and SI", test_cgs_si), &
       new_unittest("tutorial decks: MFiX's DTSOLID", test_tutorials), &
-      new_unittest("walls are left out of TCOLL", test_walls) &
+      new_unittest("walls are left out of TCOLL", test_walls), &
+      new_unittest("CGP: MFiX's scaling of D_P0 and its size distributions", test_cgp), &
+      new_unittest("CGP: MFiX's errors 400, 410, 440, 500 by keyword", test_cgp_errors) &
       ]
   end subroutine collect_mfix
 
@@ -139,16 +146,154 @@ contains
     call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, "line 13: SPECIES_EQ(0)") == 1, &
       "index out of range named")
     if (allocated(error)) return
-    ! the arithmetic is refused only when the keyword is used, naming the line
+    ! MFiX's arithmetic (tests/dem/DEM05's KT_FAC): 1.48/1.72 to 15 digits
     call mfix_get_real(deck, "kt_fac", x, found, line, status)
-    call check(error, status%stat == demstep_stat%invalid_input .and. &
-      index(status%message, "line 9: KT_FAC: MFiX's @(1.48/1.72) arithmetic is not supported") == 1, &
-      "arithmetic reported: "//status%message)
+    call check(error, status%stat == demstep_stat%ok .and. x == 0.860465116279070_dp .and. line == 9, &
+      "@(1.48/1.72) evaluated as MFiX does")
     if (allocated(error)) return
     ! reaction block and THERMO DATA skipped
     call check(error, .not. mfix_has_keyword(deck, "nonsense") .and. .not. mfix_has_keyword(deck, "not"), &
       "blocks skipped")
   end subroutine test_syntax
+
+  !> `kt_fac = expr` read back: exactly the double nearest `want`, a decimal
+  !> of 15 significant digits (MFiX's G22.15 text, parse_line.f:562), so the
+  !> comparison is exact.
+  subroutine check_arithmetic(error, expr, want)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), intent(in) :: expr
+    real(dp), intent(in) :: want
+    type(mfix_deck_type) :: deck
+    type(demstep_status_type) :: status
+    real(dp) :: x
+    logical :: found
+    integer :: line
+    call parse_ok("kt_fac = "//expr, deck, error)
+    if (allocated(error)) return
+    call mfix_get_real(deck, "kt_fac", x, found, line, status)
+    call check(error, status%stat == demstep_stat%ok .and. x == want, expr//": value")
+    if (allocated(error)) return
+    call check(error, deck%items(1)%values(1)%arithmetic .and. deck%items(1)%values(1)%expression == expr, &
+      expr//": the expression is kept for the report")
+  end subroutine check_arithmetic
+
+  subroutine test_arithmetic(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(mfix_deck_type) :: deck
+    type(demstep_status_type) :: status
+    real(dp) :: arr(4)
+    logical :: set(4)
+    integer :: lines(4)
+    call check_arithmetic(error, "@(1.48/1.72)", 0.860465116279070_dp)
+    if (allocated(error)) return
+    ! one precedence, left to right: (6/2)*3, not 6/(2*3)
+    call check_arithmetic(error, "@(6/2*3)", 9.0_dp)
+    if (allocated(error)) return
+    call check_arithmetic(error, "@(1/4/2)", 0.125_dp)
+    if (allocated(error)) return
+    ! PI in any case, blanks skipped
+    call check_arithmetic(error, "@(2*PI)", 6.28318530717959_dp)
+    if (allocated(error)) return
+    call check_arithmetic(error, "@( pi / 4 )", 0.785398163397448_dp)
+    if (allocated(error)) return
+    ! 15 significant digits, not the double 1/3
+    call check_arithmetic(error, "@(1/3)", 0.333333333333333_dp)
+    if (allocated(error)) return
+    call check(error, 0.333333333333333_dp /= 1.0_dp/3.0_dp, "the rounding is visible")
+    if (allocated(error)) return
+    ! signed operands, Fortran exponents, one operand
+    call check_arithmetic(error, "@(-2.5d-1*4)", -1.0_dp)
+    if (allocated(error)) return
+    call check_arithmetic(error, "@(7)", 7.0_dp)
+    if (allocated(error)) return
+    call check_arithmetic(error, "@(1.0E+20*3)", 3.0e20_dp)
+    if (allocated(error)) return
+    ! among other values of an array keyword
+    call parse_ok("des_en_input = 0.9 @(0.8) 0.7", deck, error)
+    if (allocated(error)) return
+    call mfix_get_real_array(deck, "des_en_input", 4, arr, set, lines, status)
+    call check(error, status%stat == demstep_stat%ok .and. all(arr(1:3) == [0.9_dp, 0.8_dp, 0.7_dp]) &
+      .and. .not. set(4), "an array element")
+  end subroutine test_arithmetic
+
+  subroutine test_arithmetic_errors(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(mfix_deck_type) :: deck
+    type(demstep_status_type) :: status
+    integer :: i, line
+    logical :: found
+    ! MFiX's READ would take 1+2 as 1e+2 = 100: refused at the '+'
+    call expect_parse_error(error, "kn = @(1+2)", "line 1, column 9: KN: @(1+2): '1+2': MFiX's @( ) has no '+'")
+    if (allocated(error)) return
+    call parse_mfix_deck("units = 'SI'"//nl//"  kn = @(1+2)", deck, status)
+    call check(error, status%where == "KN" .and. status%index == 0 .and. index(status%message, "line 2, column 11:") &
+      == 1, "structured location: "//status%message)
+    if (allocated(error)) return
+    call expect_parse_error(error, "kn = @(2-1)", "line 1, column 9: KN: @(2-1): '2-1': MFiX's @( ) has no '+'")
+    if (allocated(error)) return
+    ! no parentheses inside: the first ')' closes
+    call expect_parse_error(error, "kn = @((1/2))", "line 1, column 8: KN: @((1/2): '(': MFiX's @( ) ends at " &
+      //"the first ')'")
+    if (allocated(error)) return
+    ! no functions
+    call expect_parse_error(error, "kn = @(sqrt(2))", "line 1, column 8: KN: @(sqrt(2): 'sqrt(2' is neither a " &
+      //"number nor PI")
+    if (allocated(error)) return
+    ! missing operands (MFiX's "Invalid operator")
+    call expect_parse_error(error, "kn = @(2**3)", "line 1, column 10: KN: @(2**3): an operand is missing " &
+      //"before '*'")
+    if (allocated(error)) return
+    call expect_parse_error(error, "kn = @(*3)", "line 1, column 8: KN: @(*3): an operand is missing before '*'")
+    if (allocated(error)) return
+    call expect_parse_error(error, "kn = @(3/)", "line 1, column 10: KN: @(3/): an operand is missing before ')'")
+    if (allocated(error)) return
+    call expect_parse_error(error, "kn = @()", "line 1, column 8: KN: @(): an operand is missing before ')'")
+    if (allocated(error)) return
+    call expect_parse_error(error, "kn = @(1/0)", "line 1, column 10: KN: @(1/0): division by zero")
+    if (allocated(error)) return
+    call expect_parse_error(error, "kn = @(1e300*1e300)", "line 1, column 14: KN: @(1e300*1e300): the value " &
+      //"leaves the double range")
+    if (allocated(error)) return
+    call expect_parse_error(error, "kn = @(1.5e)", "line 1, column 11: KN: @(1.5e): '1.5e' is neither")
+    if (allocated(error)) return
+    call expect_parse_error(error, nl//"kn = @(1", "line 2: kn: '@(' without ')'")
+    if (allocated(error)) return
+    ! 'r*@( )': MFiX's leading blank makes r null values
+    call expect_parse_error(error, "des_en_input = 3*@(1/2)", "line 1, column 18: DES_EN_INPUT: '*' before '@('")
+    if (allocated(error)) return
+    ! an integer keyword: MFiX's namelist read refuses the real it writes
+    call parse_ok("mmax = @(2)", deck, error)
+    if (allocated(error)) return
+    i = 0
+    call mfix_get_integer(deck, "mmax", i, found, line, status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, &
+      "line 1: MMAX: @(2) gives the real 2.00000000000000") == 1, "integer keyword: "//status%message)
+  end subroutine test_arithmetic_errors
+
+  !> MFiX ends a reaction block at any `@( )` holding END (parse_line.f,
+  !> END_RXN), so `@(DES_END)` too; species keywords take three subscripts
+  !> (the legacy dem-tests condensation, evaporation and reactive-chemistry decks).
+  subroutine test_blocks(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(mfix_deck_type) :: deck
+    type(demstep_status_type) :: status
+    real(dp) :: x
+    logical :: found
+    integer :: line
+    call parse_ok("@(DES_RXNS)"//nl//"  Drying { chem_eq = 'x --> y' }"//nl//"@(DES_END)"//nl// &
+      "kn = 10.0"//nl//"ic_x_s(1,1,1) = 1.0   ! liquid water"//nl//"  ! @(RXNS) in a comment"//nl// &
+      "kn_w = 20.0", deck, error)
+    if (allocated(error)) return
+    call mfix_get_real(deck, "kn", x, found, line, status)
+    call check(error, found .and. x == 10.0_dp .and. line == 4, "@(DES_END) ends the block")
+    if (allocated(error)) return
+    call mfix_get_real(deck, "kn_w", x, found, line, status)
+    call check(error, found .and. x == 20.0_dp .and. line == 7, "a mark in a comment starts no block")
+    if (allocated(error)) return
+    call check(error, deck%items(2)%n_sub == 3 .and. deck%items(2)%lo(3) == 1, "three subscripts")
+    if (allocated(error)) return
+    call expect_parse_error(error, "x(1,2,3,4) = 1", "line 1: x: more than three subscripts")
+  end subroutine test_blocks
 
   subroutine expect_parse_error(error, text, prefix)
     type(error_type), allocatable, intent(out) :: error
@@ -263,8 +408,9 @@ contains
     call expect_deck_error(error, lsd_deck("solids_model", "solids_model(1:2) = 'DEM' 'TFM'"), &
       "line 3: SOLIDS_MODEL(2): MFiX requires the TFM phases before the DEM phases")
     if (allocated(error)) return
-    call expect_deck_error(error, lsd_deck("des_etat_fac", "des_etat_fac = @(1/2)"), &
-      "line 12: DES_ETAT_FAC: MFiX's @(1/2) arithmetic is not supported")
+    ! an evaluated value is checked as a written one
+    call expect_deck_error(error, lsd_deck("des_etat_fac", "des_etat_fac = @(3/2)"), &
+      "line 12: DES_ETAT_FAC: must lie in [0, 1]")
     if (allocated(error)) return
     call expect_deck_error(error, lsd_deck("kn_w", "des_coll_model = 'hertzian'"), &
       "DES_ET_INPUT(1): missing")
@@ -504,5 +650,81 @@ contains
     if (allocated(error)) return
     call check(error, result%tcoll == minval(result%t_coll(1:3)), "TCOLL from particle pairs only")
   end subroutine test_walls
+
+  !> A two-phase deck, phase 1 'CGP' and phase 2 'DEM', with extra lines.
+  function cgp_deck(extra) result(text)
+    character(len=*), intent(in) :: extra
+    character(len=:), allocatable :: text
+    text = "units = 'SI'"//nl//"mmax = 2"//nl//"solids_model(1:2) = 'CGP' 'DEM'"//nl// &
+      "d_p0 = 1.0e-3 2.0e-3"//nl//"ro_s0 = 2500.0 1000.0"//nl//"kn = 1000.0"//nl//"kn_w = 1000.0"//nl// &
+      "des_en_input = 3*0.9"//nl//"des_en_wall_input = 2*0.9"//nl//extra
+  end function cgp_deck
+
+  subroutine test_cgp(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(mfix_input_type) :: input
+    type(mfix_result_type) :: result
+    type(demstep_status_type) :: status
+    ! weight 27 (check_solids_common_discrete.f:147): the same double operations
+    call compute_text(cgp_deck("cgp_stat_wt = 27.0 1.0"//nl//"ic_psd_min_dp(1,1) = 0.5e-3"//nl// &
+      "bc_psd_min_dp(2,2) = 1.0e-3"), input, result, status)
+    call check(error, status%stat, demstep_stat%ok, "weights: "//status%message)
+    if (allocated(error)) return
+    call check(error, input%coarse_grained .and. input%d_p0(1) == 1.0e-3_dp*27.0_dp**(1.0_dp/3.0_dp) .and. &
+      input%d_p0(2) == 2.0e-3_dp .and. all(input%d_p0_real == [1.0e-3_dp, 2.0e-3_dp]) .and. &
+      all(input%cgp_stat_wt == [27.0_dp, 1.0_dp]), "D_P0 := D_P0 CGP_STAT_WT^(1/3), every discrete phase")
+    if (allocated(error)) return
+    ! the size distributions scale with the weight (check_solids_common_discrete.f:191, check_bc_dem.f:159)
+    call check(error, input%d_min(1) == 0.5e-3_dp*27.0_dp**(1.0_dp/3.0_dp) .and. input%d_min(2) == 1.0e-3_dp, &
+      "PSD_MIN_DP scaled by the weight")
+    if (allocated(error)) return
+    ! the coarse-grained particles' mass: 27 times the real one's
+    call check_rel(error, result%m_eff(1), pq/6*(1.0e-3_qp*3)**3*2500/2, "m_eff 1-1")
+    if (allocated(error)) return
+    ! CGP_D_P0 alone: weight (CGP_D_P0/D_P0)^3 (:132), the size distribution not scaled
+    call compute_text(cgp_deck("cgp_d_p0(1) = 3.0e-3"//nl//"cgp_stat_wt(2) = 1.0"//nl// &
+      "ic_psd_min_dp(1,1) = 0.5e-3"), input, result, status)
+    call check(error, status%stat, demstep_stat%ok, "CGP_D_P0: "//status%message)
+    if (allocated(error)) return
+    call check(error, input%cgp_stat_wt(1) == (3.0e-3_dp/1.0e-3_dp)**3 .and. &
+      input%d_p0(1) == 1.0e-3_dp*((3.0e-3_dp/1.0e-3_dp)**3)**(1.0_dp/3.0_dp) .and. &
+      input%d_min(1) == 0.5e-3_dp, "CGP_D_P0 gives the weight")
+    if (allocated(error)) return
+    ! 1e-15: MFiX's cube and cube root of 3 round twice
+    call check(error, abs(input%d_p0(1) - 3.0e-3_dp) < 1.0e-15_dp*3.0e-3_dp, "CGP_D_P0 is the diameter used")
+    if (allocated(error)) return
+    ! without a 'CGP' phase the keywords do nothing (MFiX's CGDEM is false)
+    call compute_text(lsd_deck("", "")//"cgp_stat_wt = 8.0 8.0"//nl, input, result, status)
+    call check(error, status%stat == demstep_stat%ok .and. .not. input%coarse_grained .and. &
+      all(input%d_p0 == input%d_p0_real) .and. all(input%cgp_stat_wt == 1.0_dp), "DEM only: not scaled")
+  end subroutine test_cgp
+
+  subroutine test_cgp_errors(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(mfix_input_type) :: input
+    type(mfix_result_type) :: result
+    type(demstep_status_type) :: status
+    ! 410: the 'DEM' phase needs a weight too
+    call compute_text(cgp_deck("cgp_stat_wt(1) = 8.0"), input, result, status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "CGP_STAT_WT" .and. &
+      status%index == 2 .and. index(status%message, "CGP_STAT_WT(2): missing: with a 'CGP' phase") == 1, &
+      "error 410: "//status%message)
+    if (allocated(error)) return
+    ! 400: both
+    call compute_text(cgp_deck("cgp_stat_wt = 8.0 1.0"//nl//"cgp_d_p0(1) = 2.0e-3"), input, result, status)
+    call check(error, status%where == "CGP_D_P0" .and. status%index == 1 .and. &
+      index(status%message, "line 11: CGP_D_P0(1): not allowed together with CGP_STAT_WT(1)") == 1, &
+      "error 400: "//status%message)
+    if (allocated(error)) return
+    ! 440: coarse-grained smaller than real
+    call compute_text(cgp_deck("cgp_d_p0(1) = 0.5e-3"//nl//"cgp_stat_wt(2) = 1.0"), input, result, status)
+    call check(error, status%where == "CGP_D_P0" .and. &
+      index(status%message, "line 10: CGP_D_P0(1): must be >= D_P0(1) = 0.001") == 1, "error 440: "//status%message)
+    if (allocated(error)) return
+    ! 500: a weight below 1
+    call compute_text(cgp_deck("cgp_stat_wt = 0.5 1.0"), input, result, status)
+    call check(error, status%where == "CGP_STAT_WT" .and. status%index == 1 .and. &
+      index(status%message, "line 10: CGP_STAT_WT(1): must be >= 1") == 1, "error 500: "//status%message)
+  end subroutine test_cgp_errors
 
 end module test_mfix
