@@ -8,10 +8,10 @@ module demstep_cli
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_namelist, only: nml_group_type, nml_item_type, excerpt
-  ! integers as text: the library's (`fmt_int` beside `fmt_real` in the app)
   use demstep_text, only: fmt_int => int_text
   use demstep_words, only: word_list
   use demstep_cli_files, only: input_file_type
+  ! integers as text: the library's (`fmt_int` beside `fmt_real` in the app)
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
   implicit none
   private

@@ -1,28 +1,25 @@
 !> Groups `&contact_error` and `&accuracy_cost`: exact discrete contact errors,
 !> and what a tolerance costs in steps and run time (table, CSV, figure).
 module demstep_cli_accuracy
-  use demstep, only: dp, i8, demstep_status_type, demstep_stat, discrete_contact_type, &
-    contact_with_onset, contact_worst_case, quantity_kind, n_for_tolerance, harmonic_error, &
-    spring_type, new_spring, spring_period, run_prediction_type, predict_run, critical_time_step, &
-    recommended_step, text_progress_type
-  use demstep_contact, only: n_quantities, quantity_kind_names, quantity_kind_from_name
-  use demstep_cost, only: worst_error, n_for_harmonic_tolerance, measure_step_cost
-  use demstep_namelist, only: nml_group_type
-  use demstep_recommend, only: step_governs, default_safety
-  use demstep_kinds, only: pi
-  use demstep_status, only: set_status
-  use demstep_namelist, only: lowercase
-  use demstep_cost, only: default_cost_n_max
-  use demstep_contact, only: check_contact_damping
-  use, intrinsic :: iso_fortran_env, only: error_unit
+  use demstep_contact, only: discrete_contact_type, contact_with_onset, contact_worst_case, &
+    quantity_kind, n_quantities, quantity_kind_names, quantity_kind_from_name, check_contact_damping
+  use demstep_cost, only: n_for_tolerance, run_prediction_type, predict_run, worst_error, &
+    n_for_harmonic_tolerance, measure_step_cost, default_cost_n_max
+  use demstep_harmonic, only: harmonic_error
+  use demstep_kinds, only: dp, i8, pi
+  use demstep_progress, only: text_progress_type
+  use demstep_recommend, only: recommended_step, step_governs, default_safety
+  use demstep_spring, only: spring_type, new_spring, spring_period, critical_time_step
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_namelist, only: nml_group_type, lowercase
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
-    next_assignment, group_reading, &
-    check_real, new_array, array_length, broadcast, common_length, default_text, max_values, &
-    capacity_of, in_group
+    next_assignment, group_reading, check_real, new_array, array_length, broadcast, common_length, &
+    default_text, max_values, capacity_of, in_group
   use demstep_words, only: unknown_word
-  use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &
-    rename_file, process_id, refuse_input
+  use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, rename_file, &
+    process_id, refuse_input
   use demstep_results, only: write_contact_error_result, write_accuracy_cost_result
+  use, intrinsic :: iso_fortran_env, only: error_unit
   implicit none
   private
 

@@ -1,13 +1,12 @@
 !> Group `&harmonic_error`: the paper's error E(N, lambda, n) for arrays of inputs.
 module demstep_cli_harmonic
-  use demstep, only: dp, i8, demstep_status_type, demstep_stat, evaluate_error => harmonic_error
-  use demstep_harmonic, only: harmonic_error_check
+  use demstep_harmonic, only: evaluate_error => harmonic_error, harmonic_error_check
+  use demstep_kinds, only: dp, i8
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_namelist, only: nml_group_type
-  use demstep_status, only: set_status
   use demstep_cli, only: var_spec, var, given, begin_group, fmt_real, fmt_real_column, fmt_int, &
-    next_assignment, group_reading, &
-    cli_context, new_array, array_length, broadcast, common_length, max_values, &
-    capacity_of, in_group
+    next_assignment, group_reading, cli_context, new_array, array_length, broadcast, common_length, &
+    max_values, capacity_of, in_group
   use demstep_results, only: write_harmonic_error_result
   implicit none
   private

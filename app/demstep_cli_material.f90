@@ -3,21 +3,19 @@
 !> convention, the time scales, the peers' time-step rules beside demstep's
 !> exact limit, and one recommended step.
 module demstep_cli_material
-  use demstep, only: dp, i8, demstep_status_type, demstep_stat, material_type, material_pair_type, &
-    effective_pair_type, contact_parameters_type, peer_steps_type, effective_pair, &
-    contact_parameters, peer_time_steps, code_convention, recommended_step, contact_assessment_type
-  use demstep_material, only: code_convention_names, code_convention_from_name, peer_rule_names
-  use demstep_namelist, only: nml_group_type
-  use demstep_recommend, only: step_governs, default_safety
-  use demstep_material, only: convention_limit, n_conventions, n_peer_rules, liggghts_velocity_factor, &
-    check_pair
-  use demstep_recommend, only: assess_material_pair
+  use demstep_kinds, only: dp, i8
+  use demstep_material, only: material_type, material_pair_type, effective_pair_type, &
+    contact_parameters_type, peer_steps_type, effective_pair, contact_parameters, peer_time_steps, &
+    code_convention, code_convention_names, code_convention_from_name, peer_rule_names, convention_limit, &
+    n_conventions, n_peer_rules, liggghts_velocity_factor, check_pair
+  use demstep_recommend, only: recommended_step, contact_assessment_type, step_governs, default_safety, &
+    assess_material_pair
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status, status_restate
+  use demstep_namelist, only: nml_group_type, lowercase
   use demstep_cost, only: default_cost_n_max
-  use demstep_status, only: set_status, status_restate
-  use demstep_namelist, only: lowercase
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
-    next_assignment, group_reading, &
-    new_array, array_length, common_length, broadcast, capacity_of, report_row, in_group
+    next_assignment, group_reading, new_array, array_length, common_length, broadcast, capacity_of, &
+    report_row, in_group
   use demstep_words, only: word_list
   use demstep_results, only: write_material_result
   implicit none

@@ -2,10 +2,13 @@
 !> step, demstep's exact answers at that step, and the DTSOLID_FACTOR that
 !> meets a tolerance, written as a line MFiX reads.
 module demstep_cli_mfix
-  use demstep, only: dp, i8, demstep_status_type, demstep_stat, mfix_deck_type, mfix_input_type, &
-    mfix_result_type, mfix_assessment_type, mfix_input_from_deck, mfix_compute, mfix_assess
-  use demstep_mfix_input, only: mfix_units, mfix_model, mfix_integrator
-  use demstep_mfix_deck, only: parse_mfix_deck, mfix_upper
+  use demstep_kinds, only: dp, i8
+  use demstep_mfix, only: mfix_result_type, mfix_compute
+  use demstep_mfix_assess, only: mfix_assessment_type, mfix_assess
+  use demstep_mfix_deck, only: mfix_deck_type, parse_mfix_deck, mfix_upper
+  use demstep_mfix_input, only: mfix_input_type, mfix_input_from_deck, mfix_units, mfix_model, &
+    mfix_integrator
+  use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_recommend, only: step_governs, default_safety
   use demstep_cli, only: report_row, record_step, cli_context, fmt_real, fmt_int
   implicit none

@@ -1,24 +1,27 @@
 !> Group `&scene`: a particle assembly, its critical time steps by four methods,
 !> and optionally a run that simulates only the effects it switches on.
 module demstep_cli_scene
-  use demstep_status, only: set_status
-  use demstep_namelist, only: lowercase
+  use demstep_status, only: set_status, demstep_status_type, demstep_stat
+  use demstep_namelist, only: lowercase, nml_group_type
   use demstep_table_io, only: read_table
-  use demstep_scene, only: has_tangential
-  use demstep, only: dp, i8, demstep_status_type, demstep_stat, scene_type, scene_summary_type, &
-    new_scene, scene_add_bonds, scene_add_walls, scene_run, contact_law, scene_effect, &
-    scene_set_contacts, scene_set_cell, scene_set_law, scene_set_bond_stiffness, scene_set_gravity, &
-    scene_set_types, scene_set_hertz_types, scene_set_damping, scene_set_friction, scene_set_rolling, &
-    scene_set_local_damping, scene_set_materials, critical_step_type, assembly_critical_steps, &
-    text_progress_type, assembly_step_for_n_per_period, demstep_eigen_solver => eigen_solver
-  use demstep_assembly, only: hertz_linearization_from_name, hertz_linearization_names, &
-    dashpot_names, default_max_eigen_dof, eigen_solver_name, eigen_solver_from_name, &
-    eigen_solver_names
+  use demstep_scene, only: has_tangential, scene_effect_from_name, restitution_to_damping_ratio, &
+    contact_law_from_name, contact_law_names, n_effects, scene_effect_names
+  use demstep_assembly, only: critical_step_type, assembly_critical_steps, &
+    assembly_step_for_n_per_period, demstep_eigen_solver => eigen_solver, hertz_linearization_from_name, &
+    hertz_linearization_names, dashpot_names, default_max_eigen_dof, eigen_solver_name, &
+    eigen_solver_from_name, eigen_solver_names
+  use demstep_interaction, only: contact_law
+  use demstep_kinds, only: dp, i8
+  use demstep_progress, only: text_progress_type
+  use demstep_scene_builders, only: new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, &
+    scene_set_cell, scene_set_law, scene_set_bond_stiffness, scene_set_gravity, scene_set_types, &
+    scene_set_hertz_types, scene_set_damping, scene_set_friction, scene_set_rolling, &
+    scene_set_local_damping
+  use demstep_scene_data, only: scene_type, scene_summary_type, scene_effect
+  use demstep_scene_materials, only: scene_set_materials
+  use demstep_stepper, only: scene_run
   use demstep_cost, only: measure_step_cost
   use demstep_lanczos, only: lanczos_tolerance_default
-  use demstep_namelist, only: nml_group_type
-  use demstep_scene, only: scene_effect_from_name, restitution_to_damping_ratio, &
-    contact_law_from_name, contact_law_names, n_effects, scene_effect_names
   use demstep_recommend, only: recommended_step, default_safety
   use demstep_snapshot, only: snapshot_type, read_snapshot, snapshot_format, snapshot_format_names, &
     snapshot_masses_from_types
@@ -27,13 +30,12 @@ module demstep_cli_scene
     n_conventions, n_peer_rules
   use demstep_cli_material, only: read_material
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
-    next_assignment, group_reading, &
-    check_real, new_array, array_length, new_int_array, int_array_length, max_values, &
-    capacity_of, in_group
+    next_assignment, group_reading, check_real, new_array, array_length, new_int_array, int_array_length, &
+    max_values, capacity_of, in_group
   use demstep_words, only: word_list, unknown_word
+  use demstep_results, only: write_scene_result, write_snapshot_result
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use, intrinsic :: iso_fortran_env, only: error_unit
-  use demstep_results, only: write_scene_result, write_snapshot_result
   implicit none
   private
 

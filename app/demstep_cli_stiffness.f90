@@ -1,25 +1,23 @@
 !> Group `&simulated_stiffness`: the whole simulated-stiffness procedure
 !> (paper eqs. 25-29): dt = T*/N* and K' = lambda*^2 K*.
 module demstep_cli_stiffness
-  use demstep, only: dp, i8, demstep_status_type, demstep_stat, stiffness_input_type, &
-    stiffness_result_type, run_procedure => simulated_stiffness, step_kind, new_step_policy, &
-    pick_kind, aggregate_kind, text_progress_type, spring_type, new_spring, critical_time_step, &
-    recommended_step
-  use demstep_harmonic, only: step_kind_from_name, step_kind_names
-  use demstep_namelist, only: nml_group_type
-  use demstep_recommend, only: step_governs, default_safety
-  use demstep_stiffness, only: interval_kind, pick_kind_from_name, pick_kind_names, &
-    aggregate_kind_from_name, aggregate_kind_names
-  use demstep_status, only: set_status
-  use demstep_namelist, only: lowercase
-  use demstep_stiffness, only: default_n_max, default_resolution
-  use demstep_stiffness, only: procedure_cost, measure_evaluation_cost, max_procedure_evaluations
-  use, intrinsic :: iso_fortran_env, only: error_unit
+  use demstep_harmonic, only: step_kind, new_step_policy, step_kind_from_name, step_kind_names
+  use demstep_kinds, only: dp, i8
+  use demstep_progress, only: text_progress_type
+  use demstep_recommend, only: recommended_step, step_governs, default_safety
+  use demstep_spring, only: spring_type, new_spring, critical_time_step
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_stiffness, only: stiffness_input_type, stiffness_result_type, &
+    run_procedure => simulated_stiffness, pick_kind, aggregate_kind, interval_kind, pick_kind_from_name, &
+    pick_kind_names, aggregate_kind_from_name, aggregate_kind_names, default_n_max, default_resolution, &
+    procedure_cost, measure_evaluation_cost, max_procedure_evaluations
+  use demstep_namelist, only: nml_group_type, lowercase
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
-    next_assignment, group_reading, &
-    new_array, array_length, default_text, max_values, capacity_of, in_group
+    next_assignment, group_reading, new_array, array_length, default_text, max_values, capacity_of, &
+    in_group
   use demstep_words, only: unknown_word
   use demstep_results, only: write_simulated_stiffness_result
+  use, intrinsic :: iso_fortran_env, only: error_unit
   implicit none
   private
 

@@ -1,20 +1,16 @@
 !> Group `&system`: one mass on a contact spring (the seed's model).
 module demstep_cli_system
-  use demstep, only: dp, i8, demstep_status_type, demstep_stat, spring_type, new_spring, &
-    spring_period, critical_time_step, growth_factor, discrete_contact_type, spring_contact, &
-    dashpot_kind, check_time_step, step_for_n_per_period, recommended_step
-  use demstep_namelist, only: nml_group_type
-  use demstep_recommend, only: default_safety
-  use demstep_spring, only: spring_omega, spring_damping_ratio, numerical_phase, &
-    dashpot_kind_from_name, dashpot_kind_names
-  use demstep_kinds, only: pi
-  use demstep_namelist, only: lowercase
-  use demstep_status, only: set_status
+  use demstep_contact, only: discrete_contact_type, spring_contact
+  use demstep_kinds, only: dp, i8, pi
+  use demstep_recommend, only: recommended_step, default_safety
+  use demstep_spring, only: spring_type, new_spring, spring_period, critical_time_step, growth_factor, &
+    dashpot_kind, check_time_step, step_for_n_per_period, spring_omega, spring_damping_ratio, &
+    numerical_phase, dashpot_kind_from_name, dashpot_kind_names
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_namelist, only: nml_group_type, lowercase
   use demstep_words, only: unknown_word
   use demstep_cli, only: report_row, record_step, var_spec, var, given, begin_group, check_real, &
-    next_assignment, group_reading, &
-    fmt_real, fmt_int, in_group, &
-    cli_context
+    next_assignment, group_reading, fmt_real, fmt_int, in_group, cli_context
   use demstep_results, only: write_system_result
   implicit none
   private

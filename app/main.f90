@@ -4,7 +4,9 @@
 !> Exit status: 0 success, 2 bad input or usage, 1 failure to write the output.
 program demstep_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
-  use demstep, only: i8, demstep_version_string, demstep_status_type, demstep_stat, dp
+  use demstep_kinds, only: i8, dp
+  use demstep_status, only: demstep_status_type, demstep_stat
+  use demstep_version, only: demstep_version_string
   use demstep_mfix_deck, only: mfix_looks_like_deck
   use demstep_namelist, only: nml_group_type, read_text_file, scan_namelist
   use demstep_cli, only: cli_context, write_template, fmt_int, group_spec, deck_recommendation
