@@ -4,20 +4,19 @@ module demstep_cli_scene
   use demstep_status, only: set_status, demstep_status_type, demstep_stat
   use demstep_namelist, only: lowercase, nml_group_type
   use demstep_table_io, only: read_table
-  use demstep_scene, only: has_tangential, scene_effect_from_name, restitution_to_damping_ratio, &
-    contact_law_from_name, contact_law_names, n_effects, scene_effect_names
+  use demstep_scene_data, only: has_tangential, scene_effect_from_name, n_effects, scene_effect_names, &
+    scene_type, scene_summary_type, scene_effect
+  use demstep_scene_builders, only: restitution_to_damping_ratio, new_scene, scene_add_bonds, &
+    scene_add_walls, scene_set_contacts, scene_set_cell, scene_set_law, scene_set_bond_stiffness, &
+    scene_set_gravity, scene_set_types, scene_set_hertz_types, scene_set_damping, scene_set_friction, &
+    scene_set_rolling, scene_set_local_damping
+  use demstep_interaction, only: contact_law_from_name, contact_law_names, contact_law
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, &
     assembly_step_for_n_per_period, demstep_eigen_solver => eigen_solver, hertz_linearization_from_name, &
     hertz_linearization_names, dashpot_names, default_max_eigen_dof, eigen_solver_name, &
     eigen_solver_from_name, eigen_solver_names
-  use demstep_interaction, only: contact_law
   use demstep_kinds, only: dp, i8
   use demstep_progress, only: text_progress_type
-  use demstep_scene_builders, only: new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, &
-    scene_set_cell, scene_set_law, scene_set_bond_stiffness, scene_set_gravity, scene_set_types, &
-    scene_set_hertz_types, scene_set_damping, scene_set_friction, scene_set_rolling, &
-    scene_set_local_damping
-  use demstep_scene_data, only: scene_type, scene_summary_type, scene_effect
   use demstep_scene_materials, only: scene_set_materials
   use demstep_stepper, only: scene_run
   use demstep_cost, only: measure_step_cost

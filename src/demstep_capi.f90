@@ -17,15 +17,16 @@ module demstep_capi
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_spring, only: spring_type, spring_state_type, new_spring, spring_step, &
-    critical_time_step
+  use demstep_spring, only: spring_type, spring_state_type, new_spring, spring_step, critical_time_step
   use demstep_harmonic, only: harmonic_error, step_policy_type, new_step_policy, step_kind
   use demstep_stiffness, only: nroots_options_type, nroots_type, n_roots, stiffness_input_type, &
     stiffness_result_type, simulated_stiffness
   use demstep_text, only: int_text
-  use demstep_scene, only: scene_type, new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, &
+  use demstep_scene_data, only: scene_type, n_effects, scene_effect, scene_effect_names
+  use demstep_scene_builders, only: new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, &
     scene_set_cell, scene_set_types, scene_set_hertz_types, scene_set_law, scene_set_bond_stiffness, &
-    scene_set_gravity, n_effects, scene_effect, scene_effect_names, contact_law, scene_set_damping, scene_set_rolling
+    scene_set_gravity, scene_set_damping, scene_set_rolling
+  use demstep_interaction, only: contact_law
   use demstep_material, only: material_type
   use demstep_scene_materials, only: scene_set_materials
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, hertz_linearization, &

@@ -7,7 +7,9 @@ module demstep_cost
     n_quantities, check_contact_damping
   use demstep_spring, only: saturated_count, ceiling_real
   use demstep_text, only: real_text
-  use demstep_scene, only: scene_type, scene_summary_type, cubic_lattice, scene_run
+  use demstep_scene_data, only: scene_type, scene_summary_type
+  use demstep_scene_builders, only: cubic_lattice
+  use demstep_stepper, only: scene_run
   use demstep_stiffness, only: nroots_options_type, nroots_type, n_roots
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none

@@ -13,9 +13,8 @@
 !> or of a Hertz linearisation. It buys stability only: near the limit a contact
 !> lasts one or two steps, so accuracy needs a tolerance.
 module demstep_recommend
-  use demstep_kinds, only: dp, i8
+  use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_kinds, only: pi
   use demstep_text, only: real_text
   use demstep_spring, only: damped_limit
   use demstep_contact, only: discrete_contact_type, contact_with_onset, contact_worst_case, &
@@ -23,9 +22,9 @@ module demstep_recommend
   use demstep_cost, only: n_for_tolerance
   use demstep_material, only: material_pair_type, effective_pair_type, effective_pair, &
     hertz_impact_stiffness
-  use demstep_scene, only: restitution_to_damping_ratio
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use demstep_scene_builders, only: restitution_to_damping_ratio
   use demstep_words, only: word_index, word_of
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 

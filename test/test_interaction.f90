@@ -5,9 +5,9 @@
 module test_interaction
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
-  use demstep_scene, only: contact_list
-  use demstep_assembly, only: assembly_matrix, eigen_solver_name, assembly_operator_apply
-  use demstep_assembly, only: assembly_operator, assembly_operator_type
+  use demstep_neighbours, only: contact_list
+  use demstep_assembly, only: assembly_matrix, eigen_solver_name, assembly_operator_apply, &
+    assembly_operator, assembly_operator_type
   use demstep_kinds, only: pi
   use demstep_interaction, only: contact_block, contact_forces, normal_force, normal_stiffness, &
     tangential_stiffness, reduced_radius
