@@ -3,7 +3,7 @@
 !> messages, never a crash.
 module test_capi
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_loc, c_null_ptr, c_null_char, c_ptr, &
-    c_associated, c_f_pointer, c_sizeof, c_size_t
+    c_associated, c_f_pointer, c_sizeof, c_size_t, c_char, c_int64_t
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
   use demstep_kinds, only: pi
@@ -16,7 +16,7 @@ module test_capi
     c_scene_set_types, c_scene_set_hertz_types, c_scene_add_walls, c_scene_set_contacts, &
     c_scene_set_effects, c_scene_set_cell, c_scene_set_damping, c_scene_set_gravity, c_scene_compute, &
     c_scene_set_dashpots, c_scene_set_rolling, c_scene_set_materials, &
-    c_scene_set_eigen_solver
+    c_scene_set_eigen_solver, demstep_snapshot_info_c, c_snapshot_read, c_snapshot_get, c_snapshot_free
   use test_support, only: ieee_nan, read_file
   implicit none
   private
@@ -39,7 +39,9 @@ contains
       new_unittest("scene handle: wall, periodic cell, Hertz impact, types: closed forms", test_scene_models), &
       new_unittest("scene handle: each C effect flag switches its library effect", test_scene_effects), &
       new_unittest("scene handle: NULL pointers, bad enums, use after a failed call, free", &
-        test_scene_bad_input) &
+        test_scene_bad_input), &
+      new_unittest("snapshot handle: read_snapshot's arrays bit for bit; bad input as statuses", &
+        test_snapshot) &
       ]
   end subroutine collect_capi
 
@@ -64,7 +66,8 @@ contains
       "HERTZ_CURRENT", "HERTZ_IMPACT", "EIGEN_AUTO", "EIGEN_DENSE", "EIGEN_LANCZOS", "EIGEN_NONE", &
       "CODE_LIGGGHTS_HOOKE", "CODE_LIGGGHTS_HERTZ", "CODE_YADE_FRICTPHYS", "CODE_YADE_VISCELPHYS", &
       "CODE_MFIX_LSD", "CODE_MFIX_HERTZIAN", "CODE_MERCURYDPM_LINEAR", "CODE_LAMMPS_HOOKE", &
-      "CODE_LAMMPS_HERTZ_MATERIAL"]
+      "CODE_LAMMPS_HERTZ_MATERIAL", "SNAPSHOT_AUTO", "SNAPSHOT_LAMMPS_DUMP", "SNAPSHOT_LAMMPS_DATA", &
+      "SNAPSHOT_YADE_TEXT"]
     values = [demstep_stat%ok, demstep_stat%invalid_input, demstep_stat%unstable, demstep_stat%pole, &
       demstep_stat%not_converged, demstep_stat%not_found, demstep_stat%lapack_failure, &
       demstep_stat%io_error, demstep_stat%blow_up, demstep_stat%at_stability_limit, &
@@ -79,7 +82,8 @@ contains
       eigen_solver%auto, eigen_solver%dense, eigen_solver%lanczos, eigen_solver%none, &
       code_convention%liggghts_hooke, code_convention%liggghts_hertz, code_convention%yade_frictphys, &
       code_convention%yade_viscelphys, code_convention%mfix_lsd, code_convention%mfix_hertzian, &
-      code_convention%mercurydpm_linear, code_convention%lammps_hooke, code_convention%lammps_hertz_material]
+      code_convention%mercurydpm_linear, code_convention%lammps_hooke, code_convention%lammps_hertz_material, &
+      snapshot_format%auto, snapshot_format%lammps_dump, snapshot_format%lammps_data, snapshot_format%yade_text]
     allocate(seen(size(names)), source=.false.)
     call read_file("include/demstep.h", text)
     call check(error, len(text) > 0, "include/demstep.h read")
@@ -918,5 +922,91 @@ contains
       if (allocated(error)) return
     end do
   end subroutine test_bad_enums
+
+  !> demstep_snapshot_read/_get/_free on LIGGGHTS' own dump and data file: the
+  !> arrays read_snapshot gives (types 0-based), masses from a density per type;
+  !> a missing file, a bad format, NULLs and a dead handle as statuses.
+  subroutine test_snapshot(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(demstep_error_c), target :: e
+    type(demstep_snapshot_info_c), target :: info
+    type(c_ptr), target :: handle
+    type(snapshot_type) :: f
+    type(demstep_status_type) :: status
+    character(kind=c_char, len=:), allocatable, target :: path
+    integer(c_int64_t), allocatable, target :: ids(:)
+    integer(c_int), allocatable, target :: types(:)
+    real(c_double), allocatable, target :: x(:, :), mass(:), density(:)
+    real(c_double), target :: rho(2)
+    integer(c_int) :: code
+    path = "test/data/liggghts/dump.liggghts"//c_null_char
+    call read_snapshot(path(:len(path) - 1), f, status)
+    call check(error, is_ok(status), "read_snapshot")
+    if (allocated(error)) return
+    code = c_snapshot_read(c_loc(path), snapshot_format%auto, 0, 0, c_null_ptr, c_loc(handle), c_loc(info), &
+      c_loc(e))
+    call check(error, code, demstep_stat%ok, message=message_of(e))
+    if (allocated(error)) return
+    call check(error, info%n == f%n .and. info%format == f%format .and. info%frame == f%frame .and. &
+      info%n_frames == f%n_frames .and. info%timestep == f%timestep, "info counts")
+    if (allocated(error)) return
+    call check(error, all(info%lo == f%lo) .and. all(info%hi == f%hi) .and. &
+      all((info%periodic == 1) .eqv. f%periodic) .and. (info%has_mass == 1 .eqv. f%has_mass), "info box")
+    if (allocated(error)) return
+    allocate(ids(f%n), types(f%n), x(3, f%n), mass(f%n))
+    code = c_snapshot_get(handle, c_loc(ids), c_loc(types), c_loc(x), c_null_ptr, c_null_ptr, c_null_ptr, &
+      c_loc(mass), c_null_ptr, c_loc(e))
+    call check(error, code, demstep_stat%ok, message=message_of(e))
+    if (allocated(error)) return
+    call check(error, all(ids == f%id) .and. all(types == f%type - 1) .and. all(x == f%x) .and. &
+      all(mass == f%mass), "arrays equal read_snapshot's")
+    if (allocated(error)) return
+    code = c_snapshot_free(c_loc(handle), c_loc(e))
+    call check(error, code == demstep_stat%ok .and. .not. c_associated(handle), "free sets the handle to NULL")
+    if (allocated(error)) return
+    code = c_snapshot_free(c_loc(handle), c_loc(e))
+    call check(error, code, demstep_stat%ok, message="a second free does nothing")
+    if (allocated(error)) return
+    ! a data file with masses from the densities per type given
+    path = "test/data/liggghts/data.liggghts"//c_null_char
+    rho = [1000.0_dp, 3000.0_dp]
+    call read_snapshot(path(:len(path) - 1), f, status, type_density=rho)
+    code = c_snapshot_read(c_loc(path), snapshot_format%lammps_data, 0, 2, c_loc(rho), c_loc(handle), &
+      c_loc(info), c_loc(e))
+    call check(error, code, demstep_stat%ok, message=message_of(e))
+    if (allocated(error)) return
+    allocate(density(info%n))
+    deallocate(mass)
+    allocate(mass(info%n))
+    code = c_snapshot_get(handle, c_null_ptr, c_null_ptr, c_null_ptr, c_null_ptr, c_null_ptr, c_null_ptr, &
+      c_loc(mass), c_loc(density), c_loc(e))
+    call check(error, code == demstep_stat%ok .and. all(mass == f%mass) .and. all(density == f%density), &
+      "data file: masses and densities")
+    if (allocated(error)) return
+    code = c_snapshot_free(c_loc(handle), c_loc(e))
+    ! bad input
+    path = "test/data/liggghts/no_such_file"//c_null_char
+    code = c_snapshot_read(c_loc(path), snapshot_format%auto, 0, 0, c_null_ptr, c_loc(handle), c_loc(info), &
+      c_loc(e))
+    call check(error, code == demstep_stat%io_error .and. .not. c_associated(handle) .and. &
+      index(message_of(e), "demstep_snapshot_read: test/data/liggghts/no_such_file") == 1, message_of(e))
+    if (allocated(error)) return
+    code = c_snapshot_read(c_loc(path), 7, 0, 0, c_null_ptr, c_loc(handle), c_loc(info), c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "format: 7 is not") > 0, &
+      message_of(e))
+    if (allocated(error)) return
+    code = c_snapshot_read(c_loc(path), 0, 0, 2, c_null_ptr, c_loc(handle), c_loc(info), c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "type_density") > 0, &
+      message_of(e))
+    if (allocated(error)) return
+    code = c_snapshot_read(c_null_ptr, 0, 0, 0, c_null_ptr, c_loc(handle), c_loc(info), c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "is NULL") > 0, &
+      message_of(e))
+    if (allocated(error)) return
+    code = c_snapshot_get(c_null_ptr, c_null_ptr, c_null_ptr, c_null_ptr, c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_null_ptr, c_null_ptr, c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "snapshot is NULL") > 0, &
+      message_of(e))
+  end subroutine test_snapshot
 
 end module test_capi

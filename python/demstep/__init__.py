@@ -18,10 +18,11 @@ from ._arrays import as_array, count, pointer
 from ._common import CONSTANTS, call as _call, enum as _enum, fill as _fill, record as _record
 from ._errors import DemstepError
 from ._scene import Scene, SceneResult
+from ._snapshot import Snapshot, read_snapshot
 
 __all__ = ["DemstepError", "CONSTANTS", "Spring", "SpringState", "NRoots", "StiffnessResult",
            "Contact", "SceneResult", "Scene", "harmonic_error", "n_roots", "simulated_stiffness",
-           "contact_with_onset", "n_for_tolerance", "library_path"]
+           "contact_with_onset", "n_for_tolerance", "library_path", "Snapshot", "read_snapshot"]
 
 library_path = _capi.library_path
 

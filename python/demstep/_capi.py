@@ -85,6 +85,13 @@ class SceneResult(C.Structure):
         ("damped_solves", C.c_int)]
 
 
+class SnapshotInfo(C.Structure):
+    _fields_ = [("n", C.c_int), ("format", C.c_int), ("frame", C.c_int), ("n_frames", C.c_int),
+                ("timestep", C.c_int64), ("has_velocity", C.c_int), ("has_omega", C.c_int),
+                ("has_mass", C.c_int), ("has_density", C.c_int), ("has_box", C.c_int),
+                ("periodic", C.c_int * 3), ("lo", C.c_double * 3), ("hi", C.c_double * 3)]
+
+
 _p = C.c_void_p
 _i = C.c_int
 _d = C.c_double
@@ -118,6 +125,9 @@ PROTOTYPES = {
     "demstep_scene_compute": [_p, _i, _d, _i, _i, _p, C.c_size_t, _p],
     "demstep_contact_with_onset": [_d, _d, _d, _p, _p],
     "demstep_n_for_tolerance": [_i, _d, _d, _d, _p, _p],
+    "demstep_snapshot_read": [C.c_char_p, _i, _i, _i, _p, _p, _p, _p],
+    "demstep_snapshot_get": [_p, _p, _p, _p, _p, _p, _p, _p, _p, _p],
+    "demstep_snapshot_free": [_p, _p],
 }
 
 for _name, _args in PROTOTYPES.items():

@@ -5,8 +5,7 @@ import numpy as np
 
 from . import _capi
 from ._arrays import as_array, count, pointer
-from ._common import CONSTANTS, call, enum, fill, record
-from ._errors import invalid
+from ._common import call, enum, fill, record
 
 SceneResult = record(_capi.SceneResult, "SceneResult",
                      "The critical steps of a scene (struct demstep_scene_result).")

@@ -166,3 +166,17 @@ def test_free_twice_and_after_free():
     scene.free()
     e = raised(lambda: scene.compute())
     assert e.message == "demstep_scene_compute: scene is NULL"
+
+
+def test_snapshot_errors(root, tmp_path):
+    e = raised(lambda: demstep.read_snapshot(tmp_path / "no_such.dump"))
+    assert e.code == demstep.CONSTANTS["DEMSTEP_IO_ERROR"] and e.code_name == "DEMSTEP_IO_ERROR"
+    assert e.message.startswith(f"demstep_snapshot_read: {tmp_path / 'no_such.dump'}")
+    e = raised(lambda: demstep.read_snapshot(root / "test/data/liggghts/dump.liggghts", format="xyz"))
+    assert e.where == "format" and "'lammps_dump'" in e.message
+    e = raised(lambda: demstep.read_snapshot(root / "test/data/liggghts/data.liggghts", type_density=[[1.0]]))
+    assert e.where == "type_density"
+    bad = tmp_path / "bad.dump"
+    bad.write_text((root / "test/data/liggghts/dump.liggghts").read_text().replace("ITEM: ATOMS id", "ITEM: ATOMS idx"))
+    e = raised(lambda: demstep.read_snapshot(bad))
+    assert e.code == INVALID and str(bad) in e.message and "line" in e.message

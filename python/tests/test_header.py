@@ -13,7 +13,7 @@ C_TYPES = {"double": C.c_double, "int": C.c_int, "int64_t": C.c_int64, "char": C
 STRUCTS = {"demstep_error": _capi.Error, "demstep_spring": _capi.Spring,
            "demstep_spring_state": _capi.SpringState, "demstep_nroots": _capi.NRoots,
            "demstep_stiffness_result": _capi.StiffnessResult, "demstep_contact": _capi.Contact,
-           "demstep_scene_result": _capi.SceneResult}
+           "demstep_scene_result": _capi.SceneResult, "demstep_snapshot_info": _capi.SnapshotInfo}
 
 
 def header_text():

@@ -88,3 +88,23 @@ def test_liggghts_hertz_scene_equals_the_app(root, run_app):
     for name in ("omega_max", "dt_critical_eigen", "dt_critical_bound", "dt_critical_damped",
                  "dt_critical_damped_bound"):
         assert getattr(c, name) == app[name], name
+
+
+def test_liggghts_scene_through_read_snapshot_equals_the_app(root, run_app):
+    """The same a_hertz scene with its dump read by the library's snapshot reader
+    (demstep_snapshot_read), as the app reads the deck's snapshot_file."""
+    deck = root / "validation/liggghts/demstep/a_hertz.nml"
+    app = run_app(deck)
+    snap = demstep.read_snapshot(deck.parent / "a_hertz.dump")
+    assert snap.n == 729 and snap.has_mass and snap.has_velocity and not snap.periodic.any()
+    walls = np.array([[-0.01, 0, 0, 1, 0, 0], [0.01, 0, 0, -1, 0, 0], [0, -0.01, 0, 0, 1, 0],
+                      [0, 0.01, 0, 0, -1, 0], [0, 0, 0, 0, 0, 1], [0, 0, 0.05, 0, 0, -1]], dtype=float)
+    with demstep.Scene(3) as scene:
+        scene.set_particles(snap.x, snap.mass, snap.radius, velocity=snap.v)
+        scene.set_materials(snap.type, [1.0e7] * 3, [0.3] * 3, [2500.0] * 3, [0.001, 0.00125, 0.0015],
+                            "liggghts_hertz", 0.5, 1.0, wall_type=0)
+        scene.add_walls(walls[:, :3], walls[:, 3:])
+        scene.set_effects(["contacts", "rotation", "walls", "damping"])
+        c = scene.compute("current")
+    for name in ("omega_max", "dt_critical_eigen", "dt_critical_bound", "dt_critical_damped"):
+        assert getattr(c, name) == app[name], name
