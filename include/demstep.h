@@ -369,6 +369,54 @@ int demstep_snapshot_get(const demstep_snapshot *snapshot, int64_t *id, int *typ
 /* Free the snapshot *snapshot and set *snapshot to NULL (NULL: nothing to do). */
 int demstep_snapshot_free(demstep_snapshot **snapshot, demstep_error *err);
 
+/* ---- Materials of a pair and the peers' rules (appended) ---- */
+
+/* One particle type: Young's modulus (> 0), Poisson's ratio (-1, 0.5], density and radius (> 0). */
+typedef struct {
+  double young, poisson, density, radius;
+} demstep_material;
+
+/* A contact between types a and b and its loading: normal restitution (0, 1];
+   tangential restitution (0: the normal one); impact velocity (> 0); the
+   collision time of the codes set from one (0: the Hertz duration); the linear
+   stiffness of the codes that take one (0: LIGGGHTS' Hooke stiffness). */
+typedef struct {
+  demstep_material a, b;
+  double restitution, restitution_t, impact_velocity, contact_time, stiffness;
+} demstep_material_pair;
+
+/* A pair's contact in one code's convention: springs and dashpots (Hertz
+   conventions: secant values at `overlap`, the largest overlap of the impact),
+   the contact duration, the collision time the code computes (0: none), m* and
+   the exact stability limit of the contact as the code steps it. */
+typedef struct {
+  double k_n, k_t, gamma_n, gamma_t, overlap, t_contact, code_collision_time, m_star, dt_code;
+} demstep_code_contact;
+
+/* The peers' rules of thumb, indices of demstep_peer_steps.dt (0-based: rule - 1). */
+enum {
+  DEMSTEP_PEER_EDEM_RAYLEIGH_20 = 1, DEMSTEP_PEER_EDEM_RAYLEIGH_40 = 2,
+  DEMSTEP_PEER_LIGGGHTS_RAYLEIGH_10 = 3, DEMSTEP_PEER_LIGGGHTS_HERTZ_10 = 4,
+  DEMSTEP_PEER_MFIX_LSD_TC50 = 5, DEMSTEP_PEER_MFIX_HERTZIAN_TC50 = 6,
+  DEMSTEP_PEER_MERCURYDPM_TC50 = 7, DEMSTEP_PEER_YADE_PWAVE = 8, DEMSTEP_PEER_YADE_PWAVE_30 = 9
+};
+
+/* A pair's time scales (Rayleigh time with LIGGGHTS'/EDEM's and with Yade's
+   constant, the Hertz duration at the impact velocity, LIGGGHTS' Hertz time)
+   and the step each peer's rule picks (dt[DEMSTEP_PEER_... - 1]). */
+typedef struct {
+  double rayleigh, rayleigh_yade, hertz_duration, hertz_liggghts;
+  double dt[9];
+} demstep_peer_steps;
+
+/* The contact of a pair in convention (DEMSTEP_CODE_...), as the &material report. */
+int demstep_contact_parameters(const demstep_material_pair *pair, int convention,
+                               demstep_code_contact *params, demstep_error *err);
+
+/* The pair's time scales and the peers' rules, as the &material report. */
+int demstep_peer_time_steps(const demstep_material_pair *pair, demstep_peer_steps *steps,
+                            demstep_error *err);
+
 #ifdef __cplusplus
 }
 #endif

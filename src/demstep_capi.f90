@@ -26,7 +26,9 @@ module demstep_capi
   use demstep_scene, only: scene_type, new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, &
     scene_set_cell, scene_set_types, scene_set_hertz_types, scene_set_law, scene_set_bond_stiffness, &
     scene_set_gravity, n_effects, scene_effect, effect_names, contact_law, scene_set_damping, scene_set_rolling
-  use demstep_material, only: material_type
+  use demstep_material, only: material_type, material_pair_type, effective_pair_type, effective_pair, &
+    contact_parameters_type, contact_parameters, convention_limit, peer_steps_type, peer_time_steps, &
+    n_peer_rules, code_convention
   use demstep_scene_materials, only: scene_set_materials
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, hertz_linearization, &
     default_max_eigen_dof, eigen_solver
@@ -163,6 +165,31 @@ module demstep_capi
     real(c_double) :: lo(3) = 0.0_dp, hi(3) = 0.0_dp
   end type demstep_snapshot_info_c
 
+  !> struct demstep_material.
+  type, bind(C), public :: demstep_material_c
+    real(c_double) :: young = 0.0_dp, poisson = 0.0_dp, density = 0.0_dp, radius = 0.0_dp
+  end type demstep_material_c
+
+  !> struct demstep_material_pair.
+  type, bind(C), public :: demstep_material_pair_c
+    type(demstep_material_c) :: a, b
+    real(c_double) :: restitution = 1.0_dp, restitution_t = 0.0_dp, impact_velocity = 1.0_dp, &
+      contact_time = 0.0_dp, stiffness = 0.0_dp
+  end type demstep_material_pair_c
+
+  !> struct demstep_code_contact.
+  type, bind(C), public :: demstep_code_contact_c
+    real(c_double) :: k_n = 0.0_dp, k_t = 0.0_dp, gamma_n = 0.0_dp, gamma_t = 0.0_dp, overlap = 0.0_dp, &
+      t_contact = 0.0_dp, code_collision_time = 0.0_dp, m_star = 0.0_dp, dt_code = 0.0_dp
+  end type demstep_code_contact_c
+
+  !> struct demstep_peer_steps.
+  type, bind(C), public :: demstep_peer_steps_c
+    real(c_double) :: rayleigh = 0.0_dp, rayleigh_yade = 0.0_dp, hertz_duration = 0.0_dp, &
+      hertz_liggghts = 0.0_dp
+    real(c_double) :: dt(n_peer_rules) = 0.0_dp
+  end type demstep_peer_steps_c
+
   public :: c_contact_with_onset, c_n_for_tolerance
   public :: c_spring_new, c_spring_step, c_critical_time_step, c_harmonic_error, c_n_roots, &
     c_simulated_stiffness
@@ -172,6 +199,7 @@ module demstep_capi
     c_scene_set_dashpots, c_scene_set_rolling, c_scene_set_materials, &
     c_scene_set_gravity, c_scene_compute, c_scene_set_eigen_solver
   public :: c_snapshot_read, c_snapshot_get, c_snapshot_free
+  public :: c_contact_parameters, c_peer_time_steps
 
 contains
 
@@ -1328,5 +1356,87 @@ contains
     end if
     live_snapshot = .true.
   end function live_snapshot
+
+  !> The library's pair of a struct demstep_material_pair.
+  pure function pair_of(c) result(pair)
+    type(demstep_material_pair_c), intent(in) :: c
+    type(material_pair_type) :: pair
+    pair%a = material_type(c%a%young, c%a%poisson, c%a%density, c%a%radius)
+    pair%b = material_type(c%b%young, c%b%poisson, c%b%density, c%b%radius)
+    pair%restitution = c%restitution
+    pair%restitution_t = c%restitution_t
+    pair%impact_velocity = c%impact_velocity
+    pair%contact_time = c%contact_time
+    pair%stiffness = c%stiffness
+  end function pair_of
+
+  !> int demstep_contact_parameters(const demstep_material_pair *pair, int convention,
+  !>   demstep_code_contact *params, demstep_error *err)
+  !>
+  !> The library's contact_parameters of a pair in one code's convention, with
+  !> m* and the exact limit of the contact as that code steps it (convention_limit).
+  function c_contact_parameters(pair, convention, params, err) result(code) &
+      bind(C, name="demstep_contact_parameters")
+    type(c_ptr), value :: pair, params, err
+    integer(c_int), value :: convention
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_contact_parameters"
+    type(demstep_material_pair_c), pointer :: pc
+    type(demstep_code_contact_c), pointer :: out
+    type(material_pair_type) :: p
+    type(effective_pair_type) :: eff
+    type(contact_parameters_type) :: cp
+    type(demstep_status_type) :: status
+    real(dp) :: dt
+    if (.not. (c_associated(pair) .and. c_associated(params))) then
+      code = invalid(err, name//": pair or params is NULL")
+      return
+    end if
+    if (convention < code_convention%liggghts_hooke .or. convention > code_convention%lammps_hertz_material) then
+      code = invalid(err, name//": convention: "//int_text(convention)//" is not a DEMSTEP_CODE_* value (" &
+        //int_text(code_convention%liggghts_hooke)//" to "//int_text(code_convention%lammps_hertz_material)//")")
+      return
+    end if
+    call c_f_pointer(pair, pc)
+    p = pair_of(pc)
+    call contact_parameters(p, int(convention), cp, status)
+    if (status%stat == demstep_stat%ok) call effective_pair(p%a, p%b, eff, status)
+    if (status%stat == demstep_stat%ok) call convention_limit(cp, eff%m_star, dt, status)
+    if (status%stat /= demstep_stat%ok) status%message = name//": "//status%message
+    code = report(err, status)
+    call guard_finite([cp%k_n, cp%k_t, cp%gamma_n, cp%gamma_t, cp%overlap, cp%t_contact, &
+      cp%code_collision_time, eff%m_star, dt], name, err, code)
+    if (code /= demstep_stat%ok) return
+    call c_f_pointer(params, out)
+    out = demstep_code_contact_c(cp%k_n, cp%k_t, cp%gamma_n, cp%gamma_t, cp%overlap, cp%t_contact, &
+      cp%code_collision_time, eff%m_star, dt)
+  end function c_contact_parameters
+
+  !> int demstep_peer_time_steps(const demstep_material_pair *pair, demstep_peer_steps *steps,
+  !>   demstep_error *err)
+  !>
+  !> The library's peer_time_steps: the pair's time scales and each peer's rule.
+  function c_peer_time_steps(pair, steps, err) result(code) bind(C, name="demstep_peer_time_steps")
+    type(c_ptr), value :: pair, steps, err
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_peer_time_steps"
+    type(demstep_material_pair_c), pointer :: pc
+    type(demstep_peer_steps_c), pointer :: out
+    type(peer_steps_type) :: ps
+    type(demstep_status_type) :: status
+    if (.not. (c_associated(pair) .and. c_associated(steps))) then
+      code = invalid(err, name//": pair or steps is NULL")
+      return
+    end if
+    call c_f_pointer(pair, pc)
+    call peer_time_steps(pair_of(pc), ps, status)
+    if (status%stat /= demstep_stat%ok) status%message = name//": "//status%message
+    code = report(err, status)
+    call guard_finite([ps%rayleigh, ps%rayleigh_yade, ps%hertz_duration, ps%hertz_liggghts, ps%dt], name, &
+      err, code)
+    if (code /= demstep_stat%ok) return
+    call c_f_pointer(steps, out)
+    out = demstep_peer_steps_c(ps%rayleigh, ps%rayleigh_yade, ps%hertz_duration, ps%hertz_liggghts, ps%dt)
+  end function c_peer_time_steps
 
 end module demstep_capi

@@ -19,10 +19,12 @@ from ._common import CONSTANTS, call as _call, enum as _enum, fill as _fill, rec
 from ._errors import DemstepError
 from ._scene import Scene, SceneResult
 from ._snapshot import Snapshot, read_snapshot
+from ._material import PEER_RULES, ContactParameters, Material, PeerSteps, contact_parameters, peer_time_steps
 
 __all__ = ["DemstepError", "CONSTANTS", "Spring", "SpringState", "NRoots", "StiffnessResult",
            "Contact", "SceneResult", "Scene", "harmonic_error", "n_roots", "simulated_stiffness",
-           "contact_with_onset", "n_for_tolerance", "library_path", "Snapshot", "read_snapshot"]
+           "contact_with_onset", "n_for_tolerance", "library_path", "Snapshot", "read_snapshot",
+           "Material", "ContactParameters", "PeerSteps", "PEER_RULES", "contact_parameters", "peer_time_steps"]
 
 library_path = _capi.library_path
 

@@ -92,6 +92,28 @@ class SnapshotInfo(C.Structure):
                 ("periodic", C.c_int * 3), ("lo", C.c_double * 3), ("hi", C.c_double * 3)]
 
 
+class Material(C.Structure):
+    _fields_ = [("young", C.c_double), ("poisson", C.c_double), ("density", C.c_double),
+                ("radius", C.c_double)]
+
+
+class MaterialPair(C.Structure):
+    _fields_ = [("a", Material), ("b", Material), ("restitution", C.c_double),
+                ("restitution_t", C.c_double), ("impact_velocity", C.c_double),
+                ("contact_time", C.c_double), ("stiffness", C.c_double)]
+
+
+class ContactParameters(C.Structure):
+    _fields_ = [("k_n", C.c_double), ("k_t", C.c_double), ("gamma_n", C.c_double),
+                ("gamma_t", C.c_double), ("overlap", C.c_double), ("t_contact", C.c_double),
+                ("code_collision_time", C.c_double), ("m_star", C.c_double), ("dt_code", C.c_double)]
+
+
+class PeerSteps(C.Structure):
+    _fields_ = [("rayleigh", C.c_double), ("rayleigh_yade", C.c_double), ("hertz_duration", C.c_double),
+                ("hertz_liggghts", C.c_double), ("dt", C.c_double * 9)]
+
+
 _p = C.c_void_p
 _i = C.c_int
 _d = C.c_double
@@ -128,6 +150,8 @@ PROTOTYPES = {
     "demstep_snapshot_read": [C.c_char_p, _i, _i, _i, _p, _p, _p, _p],
     "demstep_snapshot_get": [_p, _p, _p, _p, _p, _p, _p, _p, _p, _p],
     "demstep_snapshot_free": [_p, _p],
+    "demstep_contact_parameters": [_p, _i, _p, _p],
+    "demstep_peer_time_steps": [_p, _p, _p],
 }
 
 for _name, _args in PROTOTYPES.items():

@@ -180,3 +180,17 @@ def test_snapshot_errors(root, tmp_path):
     bad.write_text((root / "test/data/liggghts/dump.liggghts").read_text().replace("ITEM: ATOMS id", "ITEM: ATOMS idx"))
     e = raised(lambda: demstep.read_snapshot(bad))
     assert e.code == INVALID and str(bad) in e.message and "line" in e.message
+
+
+def test_pair_errors():
+    glass = demstep.Material(6.3e10, 0.22, 2500.0, 1.0e-3)
+    e = raised(lambda: demstep.contact_parameters(glass, [6.3e10, 0.22, 2500.0], "liggghts_hertz", 0.9, 1.0))
+    assert e.where == "b" and "must have shape (4,)" in e.message
+    e = raised(lambda: demstep.contact_parameters(glass, glass, "edem", 0.9, 1.0))
+    assert e.where == "convention" and "'mfix_lsd'" in e.message
+    e = raised(lambda: demstep.contact_parameters(glass, glass, 42, 0.9, 1.0))
+    assert e.code == INVALID and "convention: 42 is not a DEMSTEP_CODE_* value" in e.message
+    e = raised(lambda: demstep.peer_time_steps(glass, glass._replace(poisson=np.nan), 0.9, 1.0))
+    assert e.code == INVALID and e.function == "demstep_peer_time_steps"
+    e = raised(lambda: demstep.peer_time_steps(glass, glass, 1.5, 1.0))
+    assert e.code == INVALID and "restitution" in e.message

@@ -13,7 +13,9 @@ C_TYPES = {"double": C.c_double, "int": C.c_int, "int64_t": C.c_int64, "char": C
 STRUCTS = {"demstep_error": _capi.Error, "demstep_spring": _capi.Spring,
            "demstep_spring_state": _capi.SpringState, "demstep_nroots": _capi.NRoots,
            "demstep_stiffness_result": _capi.StiffnessResult, "demstep_contact": _capi.Contact,
-           "demstep_scene_result": _capi.SceneResult, "demstep_snapshot_info": _capi.SnapshotInfo}
+           "demstep_scene_result": _capi.SceneResult, "demstep_snapshot_info": _capi.SnapshotInfo,
+           "demstep_material": _capi.Material, "demstep_material_pair": _capi.MaterialPair,
+           "demstep_code_contact": _capi.ContactParameters, "demstep_peer_steps": _capi.PeerSteps}
 
 
 def header_text():
@@ -28,12 +30,13 @@ def header_structs():
             words = declaration.split()
             if not words:
                 continue
-            ctype = C_TYPES[words[0]]
+            ctype = C_TYPES.get(words[0]) or STRUCTS[words[0]]  # a struct declared above
             for item in " ".join(words[1:]).split(","):
                 item = item.strip()
                 array = re.fullmatch(r"(\w+)\[(\d+)\]", item)
                 fields.append((array.group(1), ctype * int(array.group(2))) if array else (item, ctype))
         structs[name] = fields
+    assert set(structs) == set(STRUCTS)
     return structs
 
 

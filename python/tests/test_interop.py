@@ -108,3 +108,26 @@ def test_liggghts_scene_through_read_snapshot_equals_the_app(root, run_app):
         c = scene.compute("current")
     for name in ("omega_max", "dt_critical_eigen", "dt_critical_bound", "dt_critical_damped"):
         assert getattr(c, name) == app[name], name
+
+
+def test_materials_and_peer_rules_equal_the_app(root, run_app):
+    """example/material.nml (glass, 0.5 and 1 mm radii, e = 0.9, 1 m/s, code 'all'):
+    each pair's contact in every convention and each peer's rule, as the app's
+    &material_result (conventions fastest, then pairs 1-1, 1-2, 2-2)."""
+    app = run_app(root / "example/material.nml", arrays=True)
+    glass = [demstep.Material(6.3e10, 0.22, 2500.0, r) for r in (0.5e-3, 1.0e-3)]
+    conventions = [name[len("DEMSTEP_CODE_"):].lower() for name, _ in
+                   sorted((n, v) for n, v in demstep.CONSTANTS.items() if n.startswith("DEMSTEP_CODE_"))]
+    conventions.sort(key=lambda c: demstep.CONSTANTS["DEMSTEP_CODE_" + c.upper()])
+    pairs = list(zip(app["type_i"], app["type_j"]))
+    assert pairs == [(1, 1), (1, 2), (2, 2)] and len(app["dt_code"]) == 9 * 3
+    for p, (i, j) in enumerate(pairs):
+        a, b = glass[int(i) - 1], glass[int(j) - 1]
+        for c, code in enumerate(conventions):
+            got = demstep.contact_parameters(a, b, code, 0.9, 1.0)
+            for field in ("k_n", "k_t", "gamma_n", "gamma_t", "dt_code"):
+                assert getattr(got, field) == app[field][9 * p + c], (pairs[p], code, field)
+        assert got.m_star == app["m_star"][p]
+        peers = demstep.peer_time_steps(a, b, 0.9, 1.0)
+        assert list(peers.dt.values()) == app["peer_dt"][9 * p:9 * p + 9]
+        assert peers.rayleigh == app["rayleigh_time"][p] and peers.hertz_duration == app["hertz_duration"][p]
