@@ -1,5 +1,6 @@
 """Scene: the C API's scene handle, built call by call from numpy arrays."""
 import ctypes as C
+import numbers
 
 import numpy as np
 
@@ -39,7 +40,10 @@ class Scene:
 
     def __del__(self):
         if getattr(self, "_handle", None) is not None and self._handle.value:
-            self.free()
+            try:
+                self.free()
+            except Exception:  # at interpreter exit the module may be gone: the OS frees it
+                pass
 
     def free(self):
         """Free the scene (demstep_scene_free); a second free does nothing."""
@@ -143,7 +147,9 @@ class Scene:
         f = "demstep_scene_set_effects"
         if isinstance(effects, str):
             effects = [effects]
-        if not isinstance(effects, int):
+        if isinstance(effects, numbers.Integral) and not isinstance(effects, bool):
+            effects = int(effects)
+        else:
             effects = sum({enum(_EFFECT, name, f, "effects") for name in effects})
         call(f, self._handle, effects)
 
