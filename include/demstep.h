@@ -323,6 +323,100 @@ int demstep_contact_with_onset(double n_per_period, double onset, double damping
 int demstep_n_for_tolerance(int quantity, double tolerance, double damping_ratio, double n_max,
                             double *n, demstep_error *err);
 
+/* ---- Snapshots: the particles of a DEM code's file (appended) ----
+ *
+ *   demstep_snapshot *snap = NULL;
+ *   demstep_snapshot_info info;
+ *   demstep_snapshot_read("dump.liggghts", DEMSTEP_SNAPSHOT_AUTO, 0, 0, NULL, &snap, &info, &err);
+ *   demstep_snapshot_get(snap, NULL, types, x, NULL, NULL, radius, mass, NULL, &err);
+ *   demstep_snapshot_free(&snap, &err);
+ *
+ * The library's snapshot readers: LAMMPS/LIGGGHTS dumps and data files (atom
+ * style sphere) and Yade's text export, each refused in one line naming the
+ * file and the line (DEMSTEP_IO_ERROR for a file that cannot be read). */
+enum { DEMSTEP_SNAPSHOT_AUTO = 0, DEMSTEP_SNAPSHOT_LAMMPS_DUMP = 1, DEMSTEP_SNAPSHOT_LAMMPS_DATA = 2,
+       DEMSTEP_SNAPSHOT_YADE_TEXT = 3 };
+
+typedef struct demstep_snapshot demstep_snapshot;
+
+/* What a snapshot holds: n particles, the format read, the dump's frame (1-based)
+   of n_frames and its timestep; flags (1: present) for velocities, angular
+   velocities, masses, densities and the box; periodic axes; box bounds (0 when
+   has_box is 0: Yade writes none). */
+typedef struct {
+  int n, format, frame, n_frames;
+  int64_t timestep;
+  int has_velocity, has_omega, has_mass, has_density, has_box;
+  int periodic[3];
+  double lo[3], hi[3];
+} demstep_snapshot_info;
+
+/* Read path (NUL-terminated) in format (DEMSTEP_SNAPSHOT_AUTO: detected); frame:
+   a dump's frame, 1-based, 0 the last, negative from the end; type_density
+   (n_types densities, or n_types = 0 and NULL): masses from a density per type
+   when the file has none. *snapshot receives the handle (NULL on failure). */
+int demstep_snapshot_read(const char *path, int format, int frame, int n_types,
+                          const double *type_density, demstep_snapshot **snapshot,
+                          demstep_snapshot_info *info, demstep_error *err);
+
+/* Copy the snapshot's arrays: n values each, 3 per particle for x, v and omega
+   (zeros where the file had none); any may be NULL (not copied). Types are
+   0-based (the file's type minus 1; Yade's matId). */
+int demstep_snapshot_get(const demstep_snapshot *snapshot, int64_t *id, int *type, double *x,
+                         double *v, double *omega, double *radius, double *mass, double *density,
+                         demstep_error *err);
+
+/* Free the snapshot *snapshot and set *snapshot to NULL (NULL: nothing to do). */
+int demstep_snapshot_free(demstep_snapshot **snapshot, demstep_error *err);
+
+/* ---- Materials of a pair and the peers' rules (appended) ---- */
+
+/* One particle type: Young's modulus (> 0), Poisson's ratio (-1, 0.5], density and radius (> 0). */
+typedef struct {
+  double young, poisson, density, radius;
+} demstep_material;
+
+/* A contact between types a and b and its loading: normal restitution (0, 1];
+   tangential restitution (0: the normal one); impact velocity (> 0); the
+   collision time of the codes set from one (0: the Hertz duration); the linear
+   stiffness of the codes that take one (0: LIGGGHTS' Hooke stiffness). */
+typedef struct {
+  demstep_material a, b;
+  double restitution, restitution_t, impact_velocity, contact_time, stiffness;
+} demstep_material_pair;
+
+/* A pair's contact in one code's convention: springs and dashpots (Hertz
+   conventions: secant values at `overlap`, the largest overlap of the impact),
+   the contact duration, the collision time the code computes (0: none), m* and
+   the exact stability limit of the contact as the code steps it. */
+typedef struct {
+  double k_n, k_t, gamma_n, gamma_t, overlap, t_contact, code_collision_time, m_star, dt_code;
+} demstep_code_contact;
+
+/* The peers' rules of thumb, indices of demstep_peer_steps.dt (0-based: rule - 1). */
+enum {
+  DEMSTEP_PEER_EDEM_RAYLEIGH_20 = 1, DEMSTEP_PEER_EDEM_RAYLEIGH_40 = 2,
+  DEMSTEP_PEER_LIGGGHTS_RAYLEIGH_10 = 3, DEMSTEP_PEER_LIGGGHTS_HERTZ_10 = 4,
+  DEMSTEP_PEER_MFIX_LSD_TC50 = 5, DEMSTEP_PEER_MFIX_HERTZIAN_TC50 = 6,
+  DEMSTEP_PEER_MERCURYDPM_TC50 = 7, DEMSTEP_PEER_YADE_PWAVE = 8, DEMSTEP_PEER_YADE_PWAVE_30 = 9
+};
+
+/* A pair's time scales (Rayleigh time with LIGGGHTS'/EDEM's and with Yade's
+   constant, the Hertz duration at the impact velocity, LIGGGHTS' Hertz time)
+   and the step each peer's rule picks (dt[DEMSTEP_PEER_... - 1]). */
+typedef struct {
+  double rayleigh, rayleigh_yade, hertz_duration, hertz_liggghts;
+  double dt[9];
+} demstep_peer_steps;
+
+/* The contact of a pair in convention (DEMSTEP_CODE_...), as the &material report. */
+int demstep_contact_parameters(const demstep_material_pair *pair, int convention,
+                               demstep_code_contact *params, demstep_error *err);
+
+/* The pair's time scales and the peers' rules, as the &material report. */
+int demstep_peer_time_steps(const demstep_material_pair *pair, demstep_peer_steps *steps,
+                            demstep_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -27,13 +27,16 @@ module demstep_capi
     scene_set_cell, scene_set_types, scene_set_hertz_types, scene_set_law, scene_set_bond_stiffness, &
     scene_set_gravity, scene_set_damping, scene_set_rolling
   use demstep_interaction, only: contact_law
-  use demstep_material, only: material_type
+  use demstep_material, only: material_type, material_pair_type, effective_pair_type, effective_pair, &
+    contact_parameters_type, contact_parameters, convention_limit, peer_steps_type, peer_time_steps, &
+    n_peer_rules, code_convention
   use demstep_scene_materials, only: scene_set_materials
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, hertz_linearization, &
     default_max_eigen_dof, eigen_solver
   use demstep_lanczos, only: lanczos_tolerance_default, check_lanczos_options
   use demstep_contact, only: discrete_contact_type, contact_with_onset
   use demstep_cost, only: n_for_tolerance
+  use demstep_snapshot, only: snapshot_type, snapshot_format, read_snapshot
   implicit none
   private
 
@@ -139,6 +142,55 @@ module demstep_capi
   !> sizeof(demstep_scene_result) of the first version: the least result_size accepted.
   integer(c_size_t), parameter, public :: capi_scene_result_size_v1 = 7*8 + 8*4
 
+  !> The snapshot behind a `demstep_snapshot *` handle (demstep_snapshot_read
+  !> to demstep_snapshot_free).
+  type, public :: capi_snapshot_type
+    !> `snapshot_tag` while the handle is live.
+    integer :: tag = 0
+    !> The snapshot read.
+    type(snapshot_type) :: snapshot
+  end type capi_snapshot_type
+
+  !> Marks a live snapshot handle.
+  integer, parameter :: snapshot_tag = 27182818
+
+  !> The longest path demstep_snapshot_read takes (with its NUL).
+  integer, parameter :: capi_path_length = 4096
+
+  !> struct demstep_snapshot_info.
+  type, bind(C), public :: demstep_snapshot_info_c
+    integer(c_int) :: n = 0, format = 0, frame = 0, n_frames = 0
+    integer(c_int64_t) :: timestep = 0
+    integer(c_int) :: has_velocity = 0, has_omega = 0, has_mass = 0, has_density = 0, has_box = 0
+    integer(c_int) :: periodic(3) = 0
+    real(c_double) :: lo(3) = 0.0_dp, hi(3) = 0.0_dp
+  end type demstep_snapshot_info_c
+
+  !> struct demstep_material.
+  type, bind(C), public :: demstep_material_c
+    real(c_double) :: young = 0.0_dp, poisson = 0.0_dp, density = 0.0_dp, radius = 0.0_dp
+  end type demstep_material_c
+
+  !> struct demstep_material_pair.
+  type, bind(C), public :: demstep_material_pair_c
+    type(demstep_material_c) :: a, b
+    real(c_double) :: restitution = 1.0_dp, restitution_t = 0.0_dp, impact_velocity = 1.0_dp, &
+      contact_time = 0.0_dp, stiffness = 0.0_dp
+  end type demstep_material_pair_c
+
+  !> struct demstep_code_contact.
+  type, bind(C), public :: demstep_code_contact_c
+    real(c_double) :: k_n = 0.0_dp, k_t = 0.0_dp, gamma_n = 0.0_dp, gamma_t = 0.0_dp, overlap = 0.0_dp, &
+      t_contact = 0.0_dp, code_collision_time = 0.0_dp, m_star = 0.0_dp, dt_code = 0.0_dp
+  end type demstep_code_contact_c
+
+  !> struct demstep_peer_steps.
+  type, bind(C), public :: demstep_peer_steps_c
+    real(c_double) :: rayleigh = 0.0_dp, rayleigh_yade = 0.0_dp, hertz_duration = 0.0_dp, &
+      hertz_liggghts = 0.0_dp
+    real(c_double) :: dt(n_peer_rules) = 0.0_dp
+  end type demstep_peer_steps_c
+
   public :: c_contact_with_onset, c_n_for_tolerance
   public :: c_spring_new, c_spring_step, c_critical_time_step, c_harmonic_error, c_n_roots, &
     c_simulated_stiffness
@@ -147,6 +199,8 @@ module demstep_capi
     c_scene_add_walls, c_scene_set_contacts, c_scene_set_effects, c_scene_set_cell, c_scene_set_damping, &
     c_scene_set_dashpots, c_scene_set_rolling, c_scene_set_materials, &
     c_scene_set_gravity, c_scene_compute, c_scene_set_eigen_solver
+  public :: c_snapshot_read, c_snapshot_get, c_snapshot_free
+  public :: c_contact_parameters, c_peer_time_steps
 
 contains
 
@@ -1144,5 +1198,246 @@ contains
     call c_f_pointer(n, out)
     out = value
   end function c_n_for_tolerance
+
+  !> int demstep_snapshot_read(const char *path, int format, int frame, int n_types,
+  !>   const double *type_density, demstep_snapshot **snapshot, demstep_snapshot_info *info,
+  !>   demstep_error *err)
+  !>
+  !> The library's read_snapshot into a new handle (*snapshot; NULL on failure).
+  function c_snapshot_read(path, format, frame, n_types, type_density, snapshot, info, err) result(code) &
+      bind(C, name="demstep_snapshot_read")
+    type(c_ptr), value :: path, type_density, snapshot, info, err
+    integer(c_int), value :: format, frame, n_types
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_snapshot_read"
+    character(kind=c_char), pointer :: chars(:)
+    character(len=:), allocatable :: file
+    type(c_ptr), pointer :: out
+    real(c_double), pointer :: pd(:)
+    type(demstep_snapshot_info_c), pointer :: p_info
+    type(capi_snapshot_type), pointer :: h
+    type(demstep_status_type) :: status
+    integer :: k
+    if (.not. (c_associated(path) .and. c_associated(snapshot) .and. c_associated(info))) then
+      code = invalid(err, name//": path, snapshot or info is NULL")
+      return
+    end if
+    call c_f_pointer(snapshot, out)
+    out = c_null_ptr
+    if (format < snapshot_format%auto .or. format > snapshot_format%yade_text) then
+      code = invalid(err, name//": format: "//int_text(format)//" is not a DEMSTEP_SNAPSHOT_* value (" &
+        //int_text(snapshot_format%auto)//" to "//int_text(snapshot_format%yade_text)//")")
+      return
+    end if
+    if (n_types < 0 .or. (n_types > 0 .and. .not. c_associated(type_density))) then
+      code = invalid(err, name//": n_types must be >= 0, and type_density not NULL when it is > 0")
+      return
+    end if
+    ! the path up to its NUL, read no further
+    call c_f_pointer(path, chars, [capi_path_length])
+    k = 0
+    do while (k < capi_path_length)
+      if (chars(k + 1) == c_null_char) exit
+      k = k + 1
+    end do
+    if (k == 0 .or. k == capi_path_length) then
+      code = invalid(err, name//": path: empty, or not NUL-terminated within "//int_text(capi_path_length)// &
+        " characters")
+      return
+    end if
+    allocate(character(len=k) :: file)
+    do k = 1, len(file)
+      file(k:k) = chars(k)
+    end do
+    allocate(h)
+    if (n_types > 0) then
+      call c_f_pointer(type_density, pd, [n_types])
+      call read_snapshot(file, h%snapshot, status, format=int(format), frame=int(frame), type_density=pd)
+    else
+      call read_snapshot(file, h%snapshot, status, format=int(format), frame=int(frame))
+    end if
+    if (status%stat /= demstep_stat%ok) then
+      status%message = name//": "//status%message
+      code = report(err, status)
+      deallocate(h)
+      return
+    end if
+    h%tag = snapshot_tag
+    call c_f_pointer(info, p_info)
+    associate(d => h%snapshot)
+      p_info = demstep_snapshot_info_c(d%n, d%format, d%frame, d%n_frames, int(d%timestep, c_int64_t), &
+        flag(d%has_velocity), flag(d%has_omega), flag(d%has_mass), flag(d%has_density), flag(d%has_box), &
+        flag(d%periodic), d%lo, d%hi)
+    end associate
+    out = c_loc(h)
+    code = ok(err)
+  end function c_snapshot_read
+
+  !> int demstep_snapshot_get(const demstep_snapshot *snapshot, int64_t *id, int *type,
+  !>   double *x, double *v, double *omega, double *radius, double *mass, double *density,
+  !>   demstep_error *err)
+  !>
+  !> Copies the snapshot's arrays (n each; x, v, omega 3 per particle); a NULL
+  !> array is skipped. Types are 0-based (the file's minus 1).
+  function c_snapshot_get(snapshot, id, types, x, v, omega, radius, mass, density, err) result(code) &
+      bind(C, name="demstep_snapshot_get")
+    type(c_ptr), value :: snapshot, id, types, x, v, omega, radius, mass, density, err
+    integer(c_int) :: code
+    type(capi_snapshot_type), pointer :: h
+    integer(c_int64_t), pointer :: p_id(:)
+    integer(c_int), pointer :: p_type(:)
+    if (.not. live_snapshot(snapshot, "demstep_snapshot_get", h, err, code)) return
+    associate(d => h%snapshot)
+      if (c_associated(id)) then
+        call c_f_pointer(id, p_id, [d%n])
+        p_id = int(d%id, c_int64_t)
+      end if
+      if (c_associated(types)) then
+        call c_f_pointer(types, p_type, [d%n])
+        p_type = int(d%type - 1, c_int)
+      end if
+      call put_rows(x, d%x)
+      call put_rows(v, d%v)
+      call put_rows(omega, d%omega)
+      call put_rows(radius, reshape(d%radius, [1, d%n]))
+      call put_rows(mass, reshape(d%mass, [1, d%n]))
+      call put_rows(density, reshape(d%density, [1, d%n]))
+    end associate
+    code = ok(err)
+  end function c_snapshot_get
+
+  !> Copy values (rows by particles) to a caller's array, unless it is NULL.
+  subroutine put_rows(to, values)
+    type(c_ptr), intent(in) :: to
+    real(dp), intent(in) :: values(:, :)
+    real(c_double), pointer :: p(:, :)
+    if (.not. c_associated(to)) return
+    call c_f_pointer(to, p, shape(values))
+    p = values
+  end subroutine put_rows
+
+  !> int demstep_snapshot_free(demstep_snapshot **snapshot, demstep_error *err)
+  function c_snapshot_free(snapshot, err) result(code) bind(C, name="demstep_snapshot_free")
+    type(c_ptr), value :: snapshot, err
+    integer(c_int) :: code
+    type(c_ptr), pointer :: handle
+    type(capi_snapshot_type), pointer :: h
+    code = ok(err)
+    if (.not. c_associated(snapshot)) return
+    call c_f_pointer(snapshot, handle)
+    if (.not. c_associated(handle)) return
+    call c_f_pointer(handle, h)
+    if (h%tag /= snapshot_tag) then
+      code = invalid(err, "demstep_snapshot_free: *snapshot is not a live handle of demstep_snapshot_read")
+      return
+    end if
+    h%tag = 0
+    deallocate(h)
+    handle = c_null_ptr
+  end function c_snapshot_free
+
+  !> Whether `snapshot` is a live handle (h points to it); otherwise the error is reported.
+  logical function live_snapshot(snapshot, name, h, err, code)
+    type(c_ptr), intent(in) :: snapshot, err
+    character(len=*), intent(in) :: name
+    type(capi_snapshot_type), pointer, intent(out) :: h
+    integer(c_int), intent(out) :: code
+    live_snapshot = .false.
+    h => null()
+    code = demstep_stat%ok
+    if (.not. c_associated(snapshot)) then
+      code = invalid(err, name//": snapshot is NULL")
+      return
+    end if
+    call c_f_pointer(snapshot, h)
+    if (h%tag /= snapshot_tag) then
+      code = invalid(err, name//": snapshot is not a live handle of demstep_snapshot_read")
+      h => null()
+      return
+    end if
+    live_snapshot = .true.
+  end function live_snapshot
+
+  !> The library's pair of a struct demstep_material_pair.
+  pure function pair_of(c) result(pair)
+    type(demstep_material_pair_c), intent(in) :: c
+    type(material_pair_type) :: pair
+    pair%a = material_type(c%a%young, c%a%poisson, c%a%density, c%a%radius)
+    pair%b = material_type(c%b%young, c%b%poisson, c%b%density, c%b%radius)
+    pair%restitution = c%restitution
+    pair%restitution_t = c%restitution_t
+    pair%impact_velocity = c%impact_velocity
+    pair%contact_time = c%contact_time
+    pair%stiffness = c%stiffness
+  end function pair_of
+
+  !> int demstep_contact_parameters(const demstep_material_pair *pair, int convention,
+  !>   demstep_code_contact *params, demstep_error *err)
+  !>
+  !> The library's contact_parameters of a pair in one code's convention, with
+  !> m* and the exact limit of the contact as that code steps it (convention_limit).
+  function c_contact_parameters(pair, convention, params, err) result(code) &
+      bind(C, name="demstep_contact_parameters")
+    type(c_ptr), value :: pair, params, err
+    integer(c_int), value :: convention
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_contact_parameters"
+    type(demstep_material_pair_c), pointer :: pc
+    type(demstep_code_contact_c), pointer :: out
+    type(material_pair_type) :: p
+    type(effective_pair_type) :: eff
+    type(contact_parameters_type) :: cp
+    type(demstep_status_type) :: status
+    real(dp) :: dt
+    if (.not. (c_associated(pair) .and. c_associated(params))) then
+      code = invalid(err, name//": pair or params is NULL")
+      return
+    end if
+    if (convention < code_convention%liggghts_hooke .or. convention > code_convention%lammps_hertz_material) then
+      code = invalid(err, name//": convention: "//int_text(convention)//" is not a DEMSTEP_CODE_* value (" &
+        //int_text(code_convention%liggghts_hooke)//" to "//int_text(code_convention%lammps_hertz_material)//")")
+      return
+    end if
+    call c_f_pointer(pair, pc)
+    p = pair_of(pc)
+    call contact_parameters(p, int(convention), cp, status)
+    if (status%stat == demstep_stat%ok) call effective_pair(p%a, p%b, eff, status)
+    if (status%stat == demstep_stat%ok) call convention_limit(cp, eff%m_star, dt, status)
+    if (status%stat /= demstep_stat%ok) status%message = name//": "//status%message
+    code = report(err, status)
+    call guard_finite([cp%k_n, cp%k_t, cp%gamma_n, cp%gamma_t, cp%overlap, cp%t_contact, &
+      cp%code_collision_time, eff%m_star, dt], name, err, code)
+    if (code /= demstep_stat%ok) return
+    call c_f_pointer(params, out)
+    out = demstep_code_contact_c(cp%k_n, cp%k_t, cp%gamma_n, cp%gamma_t, cp%overlap, cp%t_contact, &
+      cp%code_collision_time, eff%m_star, dt)
+  end function c_contact_parameters
+
+  !> int demstep_peer_time_steps(const demstep_material_pair *pair, demstep_peer_steps *steps,
+  !>   demstep_error *err)
+  !>
+  !> The library's peer_time_steps: the pair's time scales and each peer's rule.
+  function c_peer_time_steps(pair, steps, err) result(code) bind(C, name="demstep_peer_time_steps")
+    type(c_ptr), value :: pair, steps, err
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_peer_time_steps"
+    type(demstep_material_pair_c), pointer :: pc
+    type(demstep_peer_steps_c), pointer :: out
+    type(peer_steps_type) :: ps
+    type(demstep_status_type) :: status
+    if (.not. (c_associated(pair) .and. c_associated(steps))) then
+      code = invalid(err, name//": pair or steps is NULL")
+      return
+    end if
+    call c_f_pointer(pair, pc)
+    call peer_time_steps(pair_of(pc), ps, status)
+    if (status%stat /= demstep_stat%ok) status%message = name//": "//status%message
+    code = report(err, status)
+    call guard_finite([ps%rayleigh, ps%rayleigh_yade, ps%hertz_duration, ps%hertz_liggghts, ps%dt], name, &
+      err, code)
+    if (code /= demstep_stat%ok) return
+    call c_f_pointer(steps, out)
+    out = demstep_peer_steps_c(ps%rayleigh, ps%rayleigh_yade, ps%hertz_duration, ps%hertz_liggghts, ps%dt)
+  end function c_peer_time_steps
 
 end module demstep_capi

@@ -3,20 +3,23 @@
 !> messages, never a crash.
 module test_capi
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_loc, c_null_ptr, c_null_char, c_ptr, &
-    c_associated, c_f_pointer, c_sizeof, c_size_t
+    c_associated, c_f_pointer, c_sizeof, c_size_t, c_char, c_int64_t
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
   use demstep_scene_data, only: scene_effect_names, n_effects
   use demstep_kinds, only: pi
-  use demstep_capi, only: demstep_error_c, demstep_spring_c, demstep_spring_state_c, demstep_nroots_c, &
-    demstep_stiffness_result_c, c_spring_new, c_spring_step, c_critical_time_step, c_harmonic_error, &
-    c_n_roots, c_simulated_stiffness, demstep_contact_c, c_contact_with_onset, c_n_for_tolerance, &
-    capi_scene_type, capi_effect, capi_effect_map, demstep_scene_result_c, capi_scene_result_size_v1, &
-    c_scene_create, c_scene_free, c_scene_set_particles, c_scene_add_bonds, c_scene_set_bond_stiffness, &
-    c_scene_set_contact_law, c_scene_set_types, c_scene_set_hertz_types, c_scene_add_walls, &
-    c_scene_set_contacts, c_scene_set_effects, c_scene_set_cell, c_scene_set_damping, &
-    c_scene_set_gravity, c_scene_compute, c_scene_set_dashpots, c_scene_set_rolling, &
-    c_scene_set_materials, c_scene_set_eigen_solver
+  use demstep_capi, only: demstep_error_c, demstep_spring_c, demstep_spring_state_c, &
+    demstep_nroots_c, demstep_stiffness_result_c, c_spring_new, &
+    c_spring_step, c_critical_time_step, c_harmonic_error, c_n_roots, c_simulated_stiffness, &
+    demstep_contact_c, c_contact_with_onset, c_n_for_tolerance, capi_scene_type, capi_effect, &
+    capi_effect_map, demstep_scene_result_c, capi_scene_result_size_v1, c_scene_create, c_scene_free, &
+    c_scene_set_particles, c_scene_add_bonds, c_scene_set_bond_stiffness, c_scene_set_contact_law, &
+    c_scene_set_types, c_scene_set_hertz_types, c_scene_add_walls, c_scene_set_contacts, &
+    c_scene_set_effects, c_scene_set_cell, c_scene_set_damping, c_scene_set_gravity, c_scene_compute, &
+    c_scene_set_dashpots, c_scene_set_rolling, c_scene_set_materials, &
+    c_scene_set_eigen_solver, demstep_snapshot_info_c, c_snapshot_read, c_snapshot_get, c_snapshot_free, &
+    demstep_material_c, demstep_material_pair_c, demstep_code_contact_c, demstep_peer_steps_c, &
+    c_contact_parameters, c_peer_time_steps
   use test_support, only: ieee_nan, read_file
   implicit none
   private
@@ -39,7 +42,11 @@ contains
       new_unittest("scene handle: wall, periodic cell, Hertz impact, types: closed forms", test_scene_models), &
       new_unittest("scene handle: each C effect flag switches its library effect", test_scene_effects), &
       new_unittest("scene handle: NULL pointers, bad enums, use after a failed call, free", &
-        test_scene_bad_input) &
+        test_scene_bad_input), &
+      new_unittest("snapshot handle: read_snapshot's arrays bit for bit; bad input as statuses", &
+        test_snapshot), &
+      new_unittest("a pair's contact per convention and the peers' rules: the library's numbers", &
+        test_pair_and_peers) &
       ]
   end subroutine collect_capi
 
@@ -64,7 +71,10 @@ contains
       "HERTZ_CURRENT", "HERTZ_IMPACT", "EIGEN_AUTO", "EIGEN_DENSE", "EIGEN_LANCZOS", "EIGEN_NONE", &
       "CODE_LIGGGHTS_HOOKE", "CODE_LIGGGHTS_HERTZ", "CODE_YADE_FRICTPHYS", "CODE_YADE_VISCELPHYS", &
       "CODE_MFIX_LSD", "CODE_MFIX_HERTZIAN", "CODE_MERCURYDPM_LINEAR", "CODE_LAMMPS_HOOKE", &
-      "CODE_LAMMPS_HERTZ_MATERIAL"]
+      "CODE_LAMMPS_HERTZ_MATERIAL", "SNAPSHOT_AUTO", "SNAPSHOT_LAMMPS_DUMP", "SNAPSHOT_LAMMPS_DATA", &
+      "SNAPSHOT_YADE_TEXT", "PEER_EDEM_RAYLEIGH_20", "PEER_EDEM_RAYLEIGH_40", "PEER_LIGGGHTS_RAYLEIGH_10", &
+      "PEER_LIGGGHTS_HERTZ_10", "PEER_MFIX_LSD_TC50", "PEER_MFIX_HERTZIAN_TC50", "PEER_MERCURYDPM_TC50", &
+      "PEER_YADE_PWAVE", "PEER_YADE_PWAVE_30"]
     values = [demstep_stat%ok, demstep_stat%invalid_input, demstep_stat%unstable, demstep_stat%pole, &
       demstep_stat%not_converged, demstep_stat%not_found, demstep_stat%lapack_failure, &
       demstep_stat%io_error, demstep_stat%blow_up, demstep_stat%at_stability_limit, &
@@ -79,7 +89,11 @@ contains
       eigen_solver%auto, eigen_solver%dense, eigen_solver%lanczos, eigen_solver%none, &
       code_convention%liggghts_hooke, code_convention%liggghts_hertz, code_convention%yade_frictphys, &
       code_convention%yade_viscelphys, code_convention%mfix_lsd, code_convention%mfix_hertzian, &
-      code_convention%mercurydpm_linear, code_convention%lammps_hooke, code_convention%lammps_hertz_material]
+      code_convention%mercurydpm_linear, code_convention%lammps_hooke, code_convention%lammps_hertz_material, &
+      snapshot_format%auto, snapshot_format%lammps_dump, snapshot_format%lammps_data, snapshot_format%yade_text, &
+      peer_rule%edem_rayleigh_20, peer_rule%edem_rayleigh_40, peer_rule%liggghts_rayleigh_10, &
+      peer_rule%liggghts_hertz_10, peer_rule%mfix_lsd_tc50, peer_rule%mfix_hertzian_tc50, &
+      peer_rule%mercurydpm_tc50, peer_rule%yade_pwave, peer_rule%yade_pwave_30]
     allocate(seen(size(names)), source=.false.)
     call read_file("include/demstep.h", text)
     call check(error, len(text) > 0, "include/demstep.h read")
@@ -90,10 +104,10 @@ contains
       k = index(text(i:), "DEMSTEP_")
       if (k == 0) exit
       i = i + k - 1 + len("DEMSTEP_")
-      ! a name of capitals and underscores, then " = value"
+      ! a name of capitals, digits and underscores, then " = value"
       j = i
       do while (j <= len(text))
-        if (index("ABCDEFGHIJKLMNOPQRSTUVWXYZ_", text(j:j)) == 0) exit
+        if (index("ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_", text(j:j)) == 0) exit
         j = j + 1
       end do
       name = text(i:j-1)
@@ -918,5 +932,151 @@ contains
       if (allocated(error)) return
     end do
   end subroutine test_bad_enums
+
+  !> demstep_snapshot_read/_get/_free on LIGGGHTS' own dump and data file: the
+  !> arrays read_snapshot gives (types 0-based), masses from a density per type;
+  !> a missing file, a bad format, NULLs and a dead handle as statuses.
+  subroutine test_snapshot(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(demstep_error_c), target :: e
+    type(demstep_snapshot_info_c), target :: info
+    type(c_ptr), target :: handle
+    type(snapshot_type) :: f
+    type(demstep_status_type) :: status
+    character(kind=c_char, len=:), allocatable, target :: path
+    integer(c_int64_t), allocatable, target :: ids(:)
+    integer(c_int), allocatable, target :: types(:)
+    real(c_double), allocatable, target :: x(:, :), mass(:), density(:)
+    real(c_double), target :: rho(2)
+    integer(c_int) :: code
+    path = "test/data/liggghts/dump.liggghts"//c_null_char
+    call read_snapshot(path(:len(path) - 1), f, status)
+    call check(error, is_ok(status), "read_snapshot")
+    if (allocated(error)) return
+    code = c_snapshot_read(c_loc(path), snapshot_format%auto, 0, 0, c_null_ptr, c_loc(handle), c_loc(info), &
+      c_loc(e))
+    call check(error, code, demstep_stat%ok, message=message_of(e))
+    if (allocated(error)) return
+    call check(error, info%n == f%n .and. info%format == f%format .and. info%frame == f%frame .and. &
+      info%n_frames == f%n_frames .and. info%timestep == f%timestep, "info counts")
+    if (allocated(error)) return
+    call check(error, all(info%lo == f%lo) .and. all(info%hi == f%hi) .and. &
+      all((info%periodic == 1) .eqv. f%periodic) .and. (info%has_mass == 1 .eqv. f%has_mass), "info box")
+    if (allocated(error)) return
+    allocate(ids(f%n), types(f%n), x(3, f%n), mass(f%n))
+    code = c_snapshot_get(handle, c_loc(ids), c_loc(types), c_loc(x), c_null_ptr, c_null_ptr, c_null_ptr, &
+      c_loc(mass), c_null_ptr, c_loc(e))
+    call check(error, code, demstep_stat%ok, message=message_of(e))
+    if (allocated(error)) return
+    call check(error, all(ids == f%id) .and. all(types == f%type - 1) .and. all(x == f%x) .and. &
+      all(mass == f%mass), "arrays equal read_snapshot's")
+    if (allocated(error)) return
+    code = c_snapshot_free(c_loc(handle), c_loc(e))
+    call check(error, code == demstep_stat%ok .and. .not. c_associated(handle), "free sets the handle to NULL")
+    if (allocated(error)) return
+    code = c_snapshot_free(c_loc(handle), c_loc(e))
+    call check(error, code, demstep_stat%ok, message="a second free does nothing")
+    if (allocated(error)) return
+    ! a data file with masses from the densities per type given
+    path = "test/data/liggghts/data.liggghts"//c_null_char
+    rho = [1000.0_dp, 3000.0_dp]
+    call read_snapshot(path(:len(path) - 1), f, status, type_density=rho)
+    code = c_snapshot_read(c_loc(path), snapshot_format%lammps_data, 0, 2, c_loc(rho), c_loc(handle), &
+      c_loc(info), c_loc(e))
+    call check(error, code, demstep_stat%ok, message=message_of(e))
+    if (allocated(error)) return
+    allocate(density(info%n))
+    deallocate(mass)
+    allocate(mass(info%n))
+    code = c_snapshot_get(handle, c_null_ptr, c_null_ptr, c_null_ptr, c_null_ptr, c_null_ptr, c_null_ptr, &
+      c_loc(mass), c_loc(density), c_loc(e))
+    call check(error, code == demstep_stat%ok .and. all(mass == f%mass) .and. all(density == f%density), &
+      "data file: masses and densities")
+    if (allocated(error)) return
+    code = c_snapshot_free(c_loc(handle), c_loc(e))
+    ! bad input
+    path = "test/data/liggghts/no_such_file"//c_null_char
+    code = c_snapshot_read(c_loc(path), snapshot_format%auto, 0, 0, c_null_ptr, c_loc(handle), c_loc(info), &
+      c_loc(e))
+    call check(error, code == demstep_stat%io_error .and. .not. c_associated(handle) .and. &
+      index(message_of(e), "demstep_snapshot_read: test/data/liggghts/no_such_file") == 1, message_of(e))
+    if (allocated(error)) return
+    code = c_snapshot_read(c_loc(path), 7, 0, 0, c_null_ptr, c_loc(handle), c_loc(info), c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "format: 7 is not") > 0, &
+      message_of(e))
+    if (allocated(error)) return
+    code = c_snapshot_read(c_loc(path), 0, 0, 2, c_null_ptr, c_loc(handle), c_loc(info), c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "type_density") > 0, &
+      message_of(e))
+    if (allocated(error)) return
+    code = c_snapshot_read(c_null_ptr, 0, 0, 0, c_null_ptr, c_loc(handle), c_loc(info), c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "is NULL") > 0, &
+      message_of(e))
+    if (allocated(error)) return
+    code = c_snapshot_get(c_null_ptr, c_null_ptr, c_null_ptr, c_null_ptr, c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_null_ptr, c_null_ptr, c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "snapshot is NULL") > 0, &
+      message_of(e))
+  end subroutine test_snapshot
+
+  !> demstep_contact_parameters and demstep_peer_time_steps on example/material.nml's
+  !> glass pair (1 and 2 mm beads, e = 0.9, 1 m/s): the library's numbers bit for
+  !> bit in every convention; a bad convention, a bad Poisson ratio and NULLs as statuses.
+  subroutine test_pair_and_peers(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(demstep_error_c), target :: e
+    type(demstep_material_pair_c), target :: cp
+    type(demstep_code_contact_c), target :: out
+    type(demstep_peer_steps_c), target :: peers
+    type(material_pair_type) :: p
+    type(effective_pair_type) :: eff
+    type(contact_parameters_type) :: params
+    type(peer_steps_type) :: steps
+    type(demstep_status_type) :: status
+    real(dp) :: dt
+    integer(c_int) :: code
+    integer :: convention
+    cp%a = demstep_material_c(6.3e10_dp, 0.22_dp, 2500.0_dp, 0.5e-3_dp)
+    cp%b = demstep_material_c(6.3e10_dp, 0.22_dp, 2500.0_dp, 1.0e-3_dp)
+    cp%restitution = 0.9_dp
+    cp%impact_velocity = 1.0_dp
+    p%a = material_type(6.3e10_dp, 0.22_dp, 2500.0_dp, 0.5e-3_dp)
+    p%b = material_type(6.3e10_dp, 0.22_dp, 2500.0_dp, 1.0e-3_dp)
+    p%restitution = 0.9_dp
+    p%impact_velocity = 1.0_dp
+    call effective_pair(p%a, p%b, eff, status)
+    do convention = code_convention%liggghts_hooke, code_convention%lammps_hertz_material
+      call contact_parameters(p, convention, params, status)
+      call convention_limit(params, eff%m_star, dt, status)
+      code = c_contact_parameters(c_loc(cp), convention, c_loc(out), c_loc(e))
+      call check(error, code, demstep_stat%ok, message=message_of(e))
+      if (allocated(error)) return
+      call check(error, out%k_n == params%k_n .and. out%k_t == params%k_t .and. out%gamma_n == params%gamma_n &
+        .and. out%gamma_t == params%gamma_t .and. out%overlap == params%overlap .and. &
+        out%t_contact == params%t_contact .and. out%code_collision_time == params%code_collision_time .and. &
+        out%m_star == eff%m_star .and. out%dt_code == dt .and. dt > 0.0_dp, &
+        "convention "//convention_names(convention))
+      if (allocated(error)) return
+    end do
+    call peer_time_steps(p, steps, status)
+    code = c_peer_time_steps(c_loc(cp), c_loc(peers), c_loc(e))
+    call check(error, code == demstep_stat%ok .and. peers%rayleigh == steps%rayleigh .and. &
+      peers%rayleigh_yade == steps%rayleigh_yade .and. peers%hertz_duration == steps%hertz_duration .and. &
+      peers%hertz_liggghts == steps%hertz_liggghts .and. all(peers%dt == steps%dt) .and. &
+      all(peers%dt > 0.0_dp), "peer rules")
+    if (allocated(error)) return
+    code = c_contact_parameters(c_loc(cp), 10, c_loc(out), c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "convention: 10 is not") > 0, &
+      message_of(e))
+    if (allocated(error)) return
+    cp%b%poisson = 0.7_dp
+    code = c_peer_time_steps(c_loc(cp), c_loc(peers), c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. &
+      index(message_of(e), "demstep_peer_time_steps: ") == 1, message_of(e))
+    if (allocated(error)) return
+    code = c_peer_time_steps(c_null_ptr, c_loc(peers), c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "is NULL") > 0, &
+      message_of(e))
+  end subroutine test_pair_and_peers
 
 end module test_capi
