@@ -6,20 +6,20 @@ module test_capi
     c_associated, c_f_pointer, c_sizeof, c_size_t, c_char, c_int64_t
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
+  use demstep_material, only: convention_limit, code_convention_names
   use demstep_scene_data, only: scene_effect_names, n_effects
   use demstep_kinds, only: pi
-  use demstep_capi, only: demstep_error_c, demstep_spring_c, demstep_spring_state_c, &
-    demstep_nroots_c, demstep_stiffness_result_c, c_spring_new, &
-    c_spring_step, c_critical_time_step, c_harmonic_error, c_n_roots, c_simulated_stiffness, &
-    demstep_contact_c, c_contact_with_onset, c_n_for_tolerance, capi_scene_type, capi_effect, &
-    capi_effect_map, demstep_scene_result_c, capi_scene_result_size_v1, c_scene_create, c_scene_free, &
-    c_scene_set_particles, c_scene_add_bonds, c_scene_set_bond_stiffness, c_scene_set_contact_law, &
-    c_scene_set_types, c_scene_set_hertz_types, c_scene_add_walls, c_scene_set_contacts, &
-    c_scene_set_effects, c_scene_set_cell, c_scene_set_damping, c_scene_set_gravity, c_scene_compute, &
-    c_scene_set_dashpots, c_scene_set_rolling, c_scene_set_materials, &
-    c_scene_set_eigen_solver, demstep_snapshot_info_c, c_snapshot_read, c_snapshot_get, c_snapshot_free, &
-    demstep_material_c, demstep_material_pair_c, demstep_code_contact_c, demstep_peer_steps_c, &
-    c_contact_parameters, c_peer_time_steps
+  use demstep_capi, only: demstep_error_c, demstep_spring_c, demstep_spring_state_c, demstep_nroots_c, &
+    demstep_stiffness_result_c, c_spring_new, c_spring_step, c_critical_time_step, c_harmonic_error, &
+    c_n_roots, c_simulated_stiffness, demstep_contact_c, c_contact_with_onset, c_n_for_tolerance, &
+    capi_scene_type, capi_effect, capi_effect_map, demstep_scene_result_c, capi_scene_result_size_v1, &
+    c_scene_create, c_scene_free, c_scene_set_particles, c_scene_add_bonds, c_scene_set_bond_stiffness, &
+    c_scene_set_contact_law, c_scene_set_types, c_scene_set_hertz_types, c_scene_add_walls, &
+    c_scene_set_contacts, c_scene_set_effects, c_scene_set_cell, c_scene_set_damping, &
+    c_scene_set_gravity, c_scene_compute, c_scene_set_dashpots, c_scene_set_rolling, &
+    c_scene_set_materials, c_scene_set_eigen_solver, demstep_snapshot_info_c, c_snapshot_read, &
+    c_snapshot_get, c_snapshot_free, demstep_material_c, demstep_material_pair_c, demstep_code_contact_c, &
+    demstep_peer_steps_c, c_contact_parameters, c_peer_time_steps
   use test_support, only: ieee_nan, read_file
   implicit none
   private
@@ -1055,7 +1055,7 @@ contains
         .and. out%gamma_t == params%gamma_t .and. out%overlap == params%overlap .and. &
         out%t_contact == params%t_contact .and. out%code_collision_time == params%code_collision_time .and. &
         out%m_star == eff%m_star .and. out%dt_code == dt .and. dt > 0.0_dp, &
-        "convention "//convention_names(convention))
+        "convention "//code_convention_names(convention))
       if (allocated(error)) return
     end do
     call peer_time_steps(p, steps, status)
