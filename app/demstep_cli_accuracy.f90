@@ -9,7 +9,7 @@ module demstep_cli_accuracy
     text_progress_type
   use demstep_kinds, only: pi
   use demstep_status, only: set_status
-  use demstep_namelist, only: lowercase
+  use demstep_text, only: lowercase
   use demstep_cost, only: default_cost_n_max
   use demstep_contact, only: check_contact_damping
   use, intrinsic :: iso_fortran_env, only: error_unit

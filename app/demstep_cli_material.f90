@@ -12,7 +12,7 @@ module demstep_cli_material
   use demstep_recommend, only: assess_material_pair
   use demstep_cost, only: default_cost_n_max
   use demstep_status, only: set_status
-  use demstep_namelist, only: lowercase
+  use demstep_text, only: lowercase
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, &
     new_array, array_length, common_length, broadcast, capacity_of, word_list, report_row

@@ -2,7 +2,7 @@
 !> and optionally a run that simulates only the effects it switches on.
 module demstep_cli_scene
   use demstep_status, only: set_status
-  use demstep_namelist, only: lowercase
+  use demstep_text, only: lowercase
   use demstep_table_io, only: read_table
   use demstep_scene, only: has_tangential
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, nml_group_type, &
@@ -21,7 +21,8 @@ module demstep_cli_scene
   use demstep_material, only: material_type, material_pair_type, contact_parameters_type, &
     peer_steps_type, contact_parameters, peer_time_steps, convention_names, peer_rule_names, &
     n_conventions, n_peer_rules
-  use demstep_namelist, only: read_text_file, scan_namelist
+  use demstep_namelist, only: scan_namelist
+  use demstep_text, only: read_text_file
   use demstep_cli_material, only: read_material
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, &

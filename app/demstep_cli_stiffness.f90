@@ -6,7 +6,7 @@ module demstep_cli_stiffness
     new_step_policy, pick_kind, aggregate_kind, interval_kind, text_progress_type, spring_type, &
     new_spring, critical_time_step, recommended_step, step_governs, default_safety
   use demstep_status, only: set_status
-  use demstep_namelist, only: lowercase
+  use demstep_text, only: lowercase
   use demstep_stiffness, only: default_n_max, default_resolution
   use demstep_stiffness, only: procedure_cost, measure_evaluation_cost, max_procedure_evaluations
   use, intrinsic :: iso_fortran_env, only: error_unit

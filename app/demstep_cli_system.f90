@@ -5,7 +5,7 @@ module demstep_cli_system
     growth_factor, discrete_contact_type, spring_contact, dashpot_kind, nml_group_type, &
     check_time_step, step_for_n_per_period, recommended_step, default_safety
   use demstep_kinds, only: pi
-  use demstep_namelist, only: lowercase
+  use demstep_text, only: lowercase
   use demstep_status, only: set_status
   use demstep_cli, only: report_row, record_step, var_spec, var, given, begin_group, check_real, &
     next_assignment, group_reading, &

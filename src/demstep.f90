@@ -99,7 +99,8 @@ module demstep
     lanczos_restarts_default, lanczos_solver_name, csr_matrix_type, csr_from_springs, csr_apply
   ! progress, and reading namelist decks and tables
   use demstep_progress, only: progress_type, text_progress_type
-  use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, scan_namelist
+  use demstep_namelist, only: nml_group_type, nml_item_type, scan_namelist
+  use demstep_text, only: read_text_file
   use demstep_table_io, only: read_table
   ! materials in each code's convention, into a scene's contacts, and the peers' time-step rules
   use demstep_scene_materials, only: scene_set_materials

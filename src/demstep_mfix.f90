@@ -25,7 +25,7 @@ module demstep_mfix
   use demstep_spring, only: ceiling_real
   use demstep_cost, only: default_cost_n_max
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_text, only: int_text, real_text
+  use demstep_text, only: int_text, real_text, uppercase
   use demstep_mfix_deck, only: mfix_deck_type, mfix_get_real, mfix_get_integer, mfix_get_string, &
     mfix_get_real_array, mfix_get_string_array
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -427,12 +427,13 @@ contains
       code = 1
       call mfix_get_string(deck, name, word, there, ln, st)
       if (st%stat /= demstep_stat%ok .or. .not. there) return
-      if (upper_trim(word) == trim(first)) then
+      if (uppercase(trim(adjustl(word))) == trim(first)) then
         code = 1
-      else if (upper_trim(word) == trim(second)) then
+      else if (uppercase(trim(adjustl(word))) == trim(second)) then
         code = 2
       else
-        call set_status(st, demstep_stat%invalid_input, "line "//int_text(ln)//": "//upper_trim(name)// &
+        call set_status(st, demstep_stat%invalid_input, "line "//int_text(ln)//": " &
+          //uppercase(trim(adjustl(name)))// &
           ": '"//word//"' is neither '"//trim(first)//"' nor '"//trim(second)//"'")
       end if
     end subroutine choice
@@ -445,7 +446,7 @@ contains
       logical, intent(in) :: is_set
       type(demstep_status_type), intent(out) :: st
       if (.not. is_set) then
-        call set_status(st, demstep_stat%invalid_input, upper_trim(name)//"("//int_text(idx)// &
+        call set_status(st, demstep_stat%invalid_input, uppercase(trim(adjustl(name)))//"("//int_text(idx)// &
           "): missing ("//what//")")
       else if (e > 1.0_dp .or. e < 0.0_dp) then
         call set_status(st, demstep_stat%invalid_input, where_key(name, idx, ln)//"must lie in [0, 1]")
@@ -469,13 +470,16 @@ contains
       call mfix_get_real(deck, name, x, there, ln, st)
       if (st%stat /= demstep_stat%ok) return
       if (required .and. .not. there) then
-        call set_status(st, demstep_stat%invalid_input, upper_trim(name)//": missing (DES_COLL_MODEL = '"// &
+        call set_status(st, demstep_stat%invalid_input, uppercase(trim(adjustl(name))) &
+          //": missing (DES_COLL_MODEL = '"// &
           trim(merge("LSD     ", "HERTZIAN", input%model == mfix_model%lsd))//"')")
       else if (required .and. .not. (x > 0.0_dp)) then
-        call set_status(st, demstep_stat%invalid_input, "line "//int_text(ln)//": "//upper_trim(name)// &
+        call set_status(st, demstep_stat%invalid_input, "line "//int_text(ln)//": " &
+          //uppercase(trim(adjustl(name)))// &
           ": must be > 0")
       else if (.not. required .and. (x > 1.0_dp .or. x < 0.0_dp)) then
-        call set_status(st, demstep_stat%invalid_input, "line "//int_text(ln)//": "//upper_trim(name)// &
+        call set_status(st, demstep_stat%invalid_input, "line "//int_text(ln)//": " &
+          //uppercase(trim(adjustl(name)))// &
           ": must lie in [0, 1]")
       end if
     end subroutine real_keyword
@@ -486,19 +490,9 @@ contains
     character(len=*), intent(in) :: name
     integer, intent(in) :: idx, line
     character(len=:), allocatable :: w
-    w = upper_trim(name)//"("//int_text(idx)//"): "
+    w = uppercase(trim(adjustl(name)))//"("//int_text(idx)//"): "
     if (line > 0) w = "line "//int_text(line)//": "//w
   end function where_key
-
-  pure function upper_trim(s) result(t)
-    character(len=*), intent(in) :: s
-    character(len=:), allocatable :: t
-    integer :: i
-    t = trim(adjustl(s))
-    do i = 1, len(t)
-      if (t(i:i) >= "a" .and. t(i:i) <= "z") t(i:i) = achar(iachar(t(i:i)) - 32)
-    end do
-  end function upper_trim
 
   !> MFiX's per-pair quantities, TCOLL and DTSOLID (see the module's notes).
   !> `invalid_input` when a pair is overdamped or a value leaves the double range.

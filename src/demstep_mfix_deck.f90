@@ -13,8 +13,8 @@
 module demstep_mfix_deck
   use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_text, only: int_text
-  use demstep_namelist, only: read_text_file, lowercase
+  use demstep_text, only: int_text, read_text_file, lowercase, uppercase, is_blank, is_letter, &
+    is_name_char
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -58,7 +58,7 @@ module demstep_mfix_deck
     integer :: n_items = 0
   end type mfix_deck_type
 
-  character(len=*), parameter :: lf = achar(10), cr = achar(13), tab = achar(9)
+  character(len=*), parameter :: lf = achar(10), cr = achar(13)
   !> Keywords that mark a text as an MFiX deck.
   character(len=*), parameter :: mfix_marks(10) = [character(len=16) :: "units", "mmax", &
     "solids_model", "d_p0", "ro_s0", "des_en_input", "des_coll_model", "kn", "e_young", "run_name"]
@@ -139,21 +139,6 @@ contains
     end if
   end function line_end
 
-  pure logical function is_name_start(c)
-    character, intent(in) :: c
-    is_name_start = (c >= "a" .and. c <= "z") .or. (c >= "A" .and. c <= "Z")
-  end function is_name_start
-
-  pure logical function is_name_char(c)
-    character, intent(in) :: c
-    is_name_char = is_name_start(c) .or. (c >= "0" .and. c <= "9") .or. c == "_"
-  end function is_name_char
-
-  pure logical function is_blank(c)
-    character, intent(in) :: c
-    is_blank = c == " " .or. c == tab .or. c == cr
-  end function is_blank
-
   !> Does an assignment `NAME[(...)] =` start at position p?
   pure logical function assignment_at(s, p)
     character(len=*), intent(in) :: s
@@ -161,7 +146,7 @@ contains
     integer :: q, depth
     assignment_at = .false.
     if (p > len(s)) return
-    if (.not. is_name_start(s(p:p))) return
+    if (.not. is_letter(s(p:p))) return
     q = p
     do while (q <= len(s))
       if (.not. is_name_char(s(q:q))) exit
@@ -208,7 +193,7 @@ contains
       end do
       if (p > n) exit
       loc = "line "//int_text(line)//": "
-      if (.not. is_name_start(s(p:p))) then
+      if (.not. is_letter(s(p:p))) then
         call set_status(status, demstep_stat%invalid_input, loc// &
           "expected a keyword assignment KEY = value, found '"//clip(s(p:n))//"'")
         return
@@ -501,20 +486,10 @@ contains
     character(len=*), intent(in) :: name
     integer, intent(in) :: line, idx
     character(len=:), allocatable :: w
-    w = "line "//int_text(line)//": "//upper(name)
+    w = "line "//int_text(line)//": "//uppercase(name)
     if (idx /= no_sub) w = w//"("//int_text(idx)//")"
     w = w//": "
   end function key_where
-
-  pure function upper(s) result(t)
-    character(len=*), intent(in) :: s
-    character(len=len(s)) :: t
-    integer :: i
-    t = s
-    do i = 1, len(s)
-      if (t(i:i) >= "a" .and. t(i:i) <= "z") t(i:i) = achar(iachar(t(i:i)) - 32)
-    end do
-  end function upper
 
   !> Status `invalid_input` for MFiX's `@(...)` arithmetic, ok otherwise.
   pure subroutine refuse_arithmetic(v, loc, status)
@@ -757,7 +732,7 @@ contains
         ! the second subscript is the phase: as D_P0's index, refused outside [1, n]
         if (min(it%lo(1), it%lo(2)) < 1 .or. it%hi(2) > n) then
           call set_status(status, demstep_stat%invalid_input, "line "//int_text(it%line)//": " &
-            //upper(name)//"("//int_text(it%lo(1))//","//int_text(merge(it%lo(2), it%hi(2), &
+            //uppercase(name)//"("//int_text(it%lo(1))//","//int_text(merge(it%lo(2), it%hi(2), &
             it%lo(2) < 1))//"): index out of range (the first >= 1, the second, the phase, in [1, " &
             //int_text(n)//"])")
           return
@@ -801,7 +776,7 @@ contains
     call array_elements(deck, name, n, idx, vals, ln, count, status)
     if (status%stat /= demstep_stat%ok) return
     do k = 1, count
-      s(idx(k)) = upper(trim(adjustl(vals(k)%text)))
+      s(idx(k)) = uppercase(trim(adjustl(vals(k)%text)))
       set(idx(k)) = .true.
       lines(idx(k)) = ln(k)
     end do

@@ -4,7 +4,7 @@
 module demstep_scene_builders
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_text, only: int_text
+  use demstep_text, only: int_text, real_text
   use demstep_scene_data, only: scene_type, scene_effect, branch_vector, effect_index, n_effects, &
     max_damping_ratio
   use demstep_interaction, only: hertz_e_star, mindlin_g_star, contact_law
@@ -204,7 +204,7 @@ contains
       if (hi(ax) - lo(ax) < 2.0_dp*longest) then
         call set_status(status, demstep_stat%invalid_input, "cell_hi: axis "//int_text(ax)//": the " &
           //"periodic cell must be at least twice the longest contact or bond ("// &
-          trim(real_text(2.0_dp*longest))//") long")
+          real_text(2.0_dp*longest, 6)//") long")
         return
       end if
     end do
@@ -226,14 +226,6 @@ contains
       scene%x(ax, :) = scene%cell_lo(ax) + modulo(scene%x(ax, :) - scene%cell_lo(ax), box)
     end do
   end subroutine wrap_positions
-
-  !> A real number as text (for messages).
-  pure function real_text(x) result(text)
-    real(dp), intent(in) :: x
-    character(len=24) :: text
-    write(text, '(es12.5)') x
-    text = adjustl(text)
-  end function real_text
 
   !> Replace contact detection by an explicit list: pairs (2, nc) of particle
   !> numbers and per contact k (m, nc) with m = 2 (k_n, k_t), 4 (and the

@@ -35,8 +35,7 @@
 module demstep_snapshot
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_text, only: int_text, real_text, integer_of, printable
-  use demstep_namelist, only: read_text_file, lowercase
+  use demstep_text, only: int_text, real_text, integer_of, printable, read_text_file, lowercase
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
