@@ -35,7 +35,8 @@
 module demstep_snapshot
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_text, only: int_text, real_text, integer_of, printable, read_text_file, lowercase
+  use demstep_text, only: int_text, real_text, integer_of, printable, read_text_file, lowercase, is_letter
+  use demstep_decimal, only: real_of
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -119,14 +120,23 @@ contains
   pure integer function snapshot_format_of(text) result(format)
     !> The file's text.
     character(len=*), intent(in) :: text
-    type(lines_type) :: lines
     character(len=:), allocatable :: s
-    integer :: k, nf
+    integer :: k, nf, first, last, next
     integer :: a(64), b(64)
     format = snapshot_format%auto
-    call split_lines(text, lines)
-    do k = 1, lines%n
-      s = lowercase(trim(adjustl(line_of(text, lines, k))))
+    ! line by line (as split_lines cuts them) up to the first line that decides
+    next = 1
+    k = 0
+    do while (next <= len(text))
+      first = next
+      last = index(text(first:), lf) + first - 2
+      if (last < first - 1) last = len(text)
+      next = last + 2
+      if (last >= first) then
+        if (text(last:last) == cr) last = last - 1
+      end if
+      k = k + 1
+      s = lowercase(trim(adjustl(text(first:last))))
       if (len(s) == 0) cycle
       if (index(s, "item:") == 1) then
         format = snapshot_format%lammps_dump
@@ -595,7 +605,7 @@ contains
       ! the rows start after the keyword and one blank line
       j = k + 1
       do while (j <= lines%n)
-        if (len_trim(line_of(text, lines, j)) > 0) exit
+        if (len_trim(text(lines%first(j):lines%last(j))) > 0) exit
         j = j + 1
       end do
       select case (word)
@@ -626,7 +636,7 @@ contains
         ! every row's field count first: the arrays are then bounded by the
         ! rows' bytes (14 or more each), not by the header's count
         do i = 1, n_atoms
-          call fields(strip_comment(line_of(text, lines, j + i - 1)), a, b, nf)
+          call fields(text(lines%first(j + i - 1):uncommented_last(text, lines, j + i - 1)), a, b, nf)
           if (nf /= 7 .and. nf /= 10) then
             call fail_at(status, j + i - 1, "an Atoms row of style sphere has 7 values (id type diameter density " &
               //"x y z) or 10 (with ix iy iz), found "//int_text(nf))
@@ -637,7 +647,7 @@ contains
         call allocate_snapshot(s, n_atoms)
         s%has_density = .true.
         do i = 1, n_atoms
-          call fields(strip_comment(line_of(text, lines, j + i - 1)), a, b, nf)
+          call fields(text(lines%first(j + i - 1):uncommented_last(text, lines, j + i - 1)), a, b, nf)
           ! ids and types: integers from 1, as LAMMPS requires
           call line_numbers(text, lines, j + i - 1, nf, vals, status, &
             columns="id type diameter density x y z ix iy iz", strip=.true., whole=[1, 2], low=[1_i8, 1_i8], &
@@ -705,7 +715,7 @@ contains
         ! skip the section's rows: up to the next keyword
         k = j
         do while (k <= lines%n)
-          if (len(section_word(lowercase(strip_comment(line_of(text, lines, k))))) > 0) exit
+          if (len(section_at(text, lines, k)) > 0) exit
           k = k + 1
         end do
       end select
@@ -734,8 +744,8 @@ contains
       rows = 0
       next = j0
       do while (next <= lines%n)
-        if (len(section_word(lowercase(strip_comment(line_of(text, lines, next))))) > 0) exit
-        if (len_trim(line_of(text, lines, next)) > 0) rows = rows + 1
+        if (len(section_at(text, lines, next)) > 0) exit
+        if (len_trim(text(lines%first(next):lines%last(next))) > 0) rows = rows + 1
         next = next + 1
       end do
     end subroutine rows_present
@@ -797,6 +807,36 @@ contains
     end if
   end function strip_comment
 
+  !> The section keyword line k holds ('' for none): [[section_word]] of it,
+  !> looked up only when the line starts (after blanks) with a letter.
+  pure function section_at(text, lines, k) result(word)
+    character(len=*), intent(in) :: text
+    type(lines_type), intent(in) :: lines
+    integer, intent(in) :: k
+    character(len=:), allocatable :: word
+    integer :: j
+    word = ""
+    j = verify(text(lines%first(k):lines%last(k)), " ")
+    if (j == 0) return
+    if (.not. is_letter(text(lines%first(k)+j-1:lines%first(k)+j-1))) return
+    word = section_word(lowercase(strip_comment(line_of(text, lines, k))))
+  end function section_at
+
+  !> The last character of line k before a `#` comment.
+  pure integer function uncommented_last(text, lines, k) result(last)
+    character(len=*), intent(in) :: text
+    type(lines_type), intent(in) :: lines
+    integer, intent(in) :: k
+    integer :: i
+    last = lines%last(k)
+    do i = lines%first(k), last
+      if (iachar(text(i:i)) == 35) then
+        last = i - 1
+        return
+      end if
+    end do
+  end function uncommented_last
+
   ! ------------------------------------------------------------- Yade exports
 
   subroutine parse_yade(text, lines, s, status)
@@ -804,7 +844,7 @@ contains
     type(lines_type), intent(in) :: lines
     type(snapshot_type), intent(out) :: s
     type(demstep_status_type), intent(out) :: status
-    integer :: k, n, a(64), b(64), nf, ncol, i, min_col, pass
+    integer :: k, n, a(64), b(64), nf, ncol, i, min_col, pass, j
     character(len=:), allocatable :: l, layout
     real(dp) :: vals(64)
     integer(i8) :: ints(1)
@@ -814,9 +854,10 @@ contains
     n = 0
     ncol = 0
     do k = 1, lines%n
-      l = trim(adjustl(line_of(text, lines, k)))
-      if (len(l) == 0) cycle
-      if (l(1:1) == "#") then
+      j = verify(text(lines%first(k):lines%last(k)), " ")
+      if (j == 0) cycle
+      if (text(lines%first(k)+j-1:lines%first(k)+j-1) == "#") then
+        l = trim(adjustl(line_of(text, lines, k)))
         if (index(lowercase(l), "#format") == 1) then
           layout = trim(adjustl(l(8:)))
           select case (layout)
@@ -842,10 +883,10 @@ contains
       end if
       i = 0
       do k = 1, lines%n
-        l = trim(adjustl(line_of(text, lines, k)))
-        if (len(l) == 0) cycle
-        if (l(1:1) == "#") cycle
-        call fields(l, a, b, nf)
+        j = verify(text(lines%first(k):lines%last(k)), " ")
+        if (j == 0) cycle
+        if (text(lines%first(k)+j-1:lines%first(k)+j-1) == "#") cycle
+        call fields(text(lines%first(k):lines%last(k)), a, b, nf)
         i = i + 1
         if (pass == 2) then
           if (i == 1) ncol = nf
@@ -928,7 +969,7 @@ contains
     integer :: i, n, start
     n = 0
     do i = 1, len(text)
-      if (text(i:i) == lf) n = n + 1
+      if (iachar(text(i:i)) == 10) n = n + 1
     end do
     if (len(text) > 0) then
       if (text(len(text):len(text)) /= lf) n = n + 1
@@ -938,7 +979,7 @@ contains
     start = 1
     n = 0
     do i = 1, len(text)
-      if (text(i:i) == lf) then
+      if (iachar(text(i:i)) == 10) then
         n = n + 1
         lines%first(n) = start
         lines%last(n) = i - 1
@@ -971,12 +1012,13 @@ contains
     character(len=*), intent(in) :: s
     integer, intent(out) :: a(:), b(:)
     integer, intent(out) :: nf
-    integer :: i
+    integer :: i, c
     logical :: in_field
     nf = 0
     in_field = .false.
     do i = 1, len(s)
-      if (s(i:i) == " " .or. s(i:i) == tab) then
+      c = iachar(s(i:i))
+      if (c == 32 .or. c == 9) then
         if (in_field) then
           if (nf <= size(b)) b(nf) = i - 1
           in_field = .false.
@@ -1007,14 +1049,16 @@ contains
     integer, intent(in), optional :: whole(:)
     integer(i8), intent(in), optional :: low(:), high(:)
     integer(i8), intent(out), optional :: ints(:)
-    character(len=:), allocatable :: l
-    integer :: a(64), b(64), nf, j, ios, expect, w
+    integer :: a(64), b(64), nf, j, expect, w, first, last
     logical :: ok, too_large
-    l = line_of(text, lines, k)
+    first = lines%first(k)
+    last = lines%last(k)
     if (present(strip)) then
-      if (strip) l = strip_comment(l)
+      if (strip) last = uncommented_last(text, lines, k)
     end if
-    call fields(l, a, b, nf)
+    call fields(text(first:last), a, b, nf)
+    a(:min(nf, size(a))) = a(:min(nf, size(a))) + first - 1
+    b(:min(nf, size(b))) = b(:min(nf, size(b))) + first - 1
     expect = count
     if (present(words)) expect = count + words
     if (nf /= expect) then
@@ -1027,28 +1071,25 @@ contains
       w = 0
       if (present(whole)) w = findloc(whole, j, dim=1)
       if (w > 0) then
-        call integer_of(l(a(j):b(j)), ints(w), ok, too_large)
+        call integer_of(text(a(j):b(j)), ints(w), ok, too_large)
         if (.not. ok .and. .not. too_large) then
           call set_status(status, demstep_stat%invalid_input, "line "//int_text(k)//": "//column_name(j)// &
-            ": '"//clipped(l(a(j):b(j)))//"' is not an integer")
+            ": '"//clipped(text(a(j):b(j)))//"' is not an integer")
           return
         end if
         if (too_large .or. ints(w) < low(w) .or. ints(w) > high(w)) then
           call set_status(status, demstep_stat%invalid_input, "line "//int_text(k)//": "//column_name(j)// &
-            ": '"//clipped(l(a(j):b(j)))//"' must lie in ["//int_text(low(w))//", "//int_text(high(w))//"]")
+            ": '"//clipped(text(a(j):b(j)))//"' must lie in ["//int_text(low(w))//", "//int_text(high(w))//"]")
           return
         end if
         vals(j) = real(ints(w), dp)
         cycle
       end if
-      ios = 1
-      if (verify(l(a(j):b(j)), "0123456789.+-eEdD") == 0) read(l(a(j):b(j)), *, iostat=ios) vals(j)
-      if (ios == 0) then
-        if (.not. ieee_is_finite(vals(j))) ios = 1
-      end if
-      if (ios /= 0) then
+      call real_of(text(a(j):b(j)), vals(j), ok)
+      if (ok) ok = ieee_is_finite(vals(j))
+      if (.not. ok) then
         call set_status(status, demstep_stat%invalid_input, "line "//int_text(k)//": "//column_name(j)//": '"// &
-          clipped(l(a(j):b(j)))//"' is not a number")
+          clipped(text(a(j):b(j)))//"' is not a number")
         return
       end if
     end do

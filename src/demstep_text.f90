@@ -189,8 +189,8 @@ contains
     if (first > len(text)) return
     ! accumulated as a negative number: -huge - 1 is in range too
     do i = first, len(text)
-      d = index("0123456789", text(i:i)) - 1
-      if (d < 0) then
+      d = iachar(text(i:i)) - iachar("0")
+      if (d < 0 .or. d > 9) then
         value = 0
         return
       end if
