@@ -71,7 +71,7 @@ module demstep
     quantity_kind, n_quantities, quantity_names
   ! what accuracy costs
   use demstep_cost, only: n_for_tolerance, n_for_harmonic_tolerance, worst_error, &
-    run_prediction_type, predict_run, measure_step_cost
+    run_prediction_type, predict_run
   ! the paper's error and the simulated-stiffness method
   use demstep_harmonic, only: step_policy_type, step_kind, new_step_policy, policy_steps, &
     harmonic_sum, harmonic_error, harmonic_error_steps, harmonic_error_check
@@ -88,7 +88,7 @@ module demstep
     random_periodic_packing, tile_scene, scene_set_damping, scene_set_friction, scene_set_local_damping, &
     scene_set_rolling, scene_set_effects, restitution_to_damping_ratio, contact_law_enum, &
     contact_law, scene_effect_enum, scene_effect, n_effects, effect_names, max_coordinate, &
-    contact_limit, max_damping_ratio
+    contact_limit, max_damping_ratio, measure_step_cost
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, hertz_linearization_enum, &
     hertz_linearization, default_max_eigen_dof, assembly_step_for_n_per_period, eigen_solver_enum, &
     eigen_solver, eigen_solver_name, eigen_solver_value, eigen_solver_names, assembly_operator_type, assembly_operator, &

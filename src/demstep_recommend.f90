@@ -17,13 +17,12 @@ module demstep_recommend
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_kinds, only: pi
   use demstep_text, only: real_text
-  use demstep_spring, only: damped_limit
+  use demstep_spring, only: damped_limit, restitution_to_damping_ratio
   use demstep_contact, only: discrete_contact_type, contact_with_onset, contact_worst_case, &
     quantity_kind
   use demstep_cost, only: n_for_tolerance
   use demstep_material, only: material_pair_type, effective_pair_type, effective_pair, &
     hertz_impact_stiffness
-  use demstep_scene, only: restitution_to_damping_ratio
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private

@@ -172,7 +172,7 @@ contains
     !> Density of each particle type (index = type), for the masses.
     real(dp), intent(in), optional :: type_density(:)
     type(lines_type) :: lines
-    integer :: f, fr, i
+    integer :: f, fr
     f = snapshot_format%auto
     if (present(format)) f = format
     fr = 0
@@ -850,7 +850,7 @@ contains
     type(lines_type), intent(in) :: lines
     type(snapshot_type), intent(out) :: s
     type(demstep_status_type), intent(out) :: status
-    integer :: k, n, a(64), b(64), nf, ncol, i, min_col, pass, j
+    integer :: k, n, nf, ncol, i, min_col, pass, j
     character(len=:), allocatable :: l, layout
     real(dp) :: vals(64)
     integer(i8) :: ints(1)
