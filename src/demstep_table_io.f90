@@ -107,6 +107,9 @@ contains
       status%message = path//": "//status%message
       return
     end if
+    ! a size of 0: an empty file, or a device or pipe whose size is not known
+    if (len(text) == 0) call read_by_records(path, text, status)
+    if (status%stat /= demstep_stat%ok) return
     allocate(values(maxval(allowed)), field_first(maxval(allowed)), field_last(maxval(allowed)))
     ! pass 1: the text checked (no control character, no endless line), the
     ! rows found (their extent without the comment, and their line), the layout
@@ -212,6 +215,82 @@ contains
       call set_status(status, stat, path//": "//what)
     end subroutine fail
   end subroutine read_table_allowed
+
+  !> A file whose size the system does not tell (a device such as /dev/zero, a
+  !> pipe; or an empty file): read record by record in chunks of 1024
+  !> characters, each checked at once, so that a binary stream or an endless
+  !> line is refused after one chunk (status as [[read_table]]'s); the records
+  !> joined by line feeds.
+  subroutine read_by_records(path, text, status)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable, intent(out) :: text
+    type(demstep_status_type), intent(out) :: status
+    integer, parameter :: chunk = 1024
+    character(len=chunk) :: buf
+    character(len=:), allocatable :: bigger
+    integer :: unit, ios, n_read, line, got, k
+    integer(i8) :: used
+    open(newunit=unit, file=path, status="old", action="read", form="formatted", access="sequential", &
+      iostat=ios)
+    if (ios /= 0) then
+      call set_status(status, demstep_stat%io_error, path//": cannot open")
+      return
+    end if
+    allocate(character(len=16*chunk) :: text)
+    used = 0
+    line = 0
+    do
+      got = 0
+      do
+        read(unit, '(a)', advance="no", size=n_read, iostat=ios) buf
+        if (is_iostat_end(ios) .and. got == 0) exit
+        k = 0
+        do while (k < n_read)
+          k = k + 1
+          if ((iachar(buf(k:k)) < 32 .and. iachar(buf(k:k)) /= 9) .or. iachar(buf(k:k)) == 127) then
+            call fail(demstep_stat%invalid_input, "line "//int_text(line + 1)//": not a text file (byte "// &
+              int_text(iachar(buf(k:k)))//" in column "//int_text(got + k)//")")
+            return
+          end if
+        end do
+        call append(buf(:n_read))
+        got = got + n_read
+        if (got > table_max_line) then
+          call fail(demstep_stat%invalid_input, "line "//int_text(line + 1)//": longer than "// &
+            int_text(table_max_line)//" characters")
+          return
+        end if
+        if (ios /= 0) exit
+      end do
+      if (is_iostat_end(ios) .and. got == 0) exit
+      line = line + 1
+      if (ios /= 0 .and. .not. (is_iostat_eor(ios) .or. is_iostat_end(ios))) then
+        call fail(demstep_stat%io_error, "line "//int_text(line)//": cannot be read")
+        return
+      end if
+      call append(achar(lf))
+    end do
+    close(unit)
+    text = text(:used)
+    status%stat = demstep_stat%ok
+  contains
+    subroutine append(part)
+      character(len=*), intent(in) :: part
+      if (used + len(part) > len(text, i8)) then
+        allocate(character(len=2*len(text, i8) + len(part)) :: bigger)
+        bigger(:used) = text(:used)
+        call move_alloc(bigger, text)
+      end if
+      text(used+1:used+len(part)) = part
+      used = used + len(part)
+    end subroutine append
+    subroutine fail(stat, what)
+      integer, intent(in) :: stat
+      character(len=*), intent(in) :: what
+      call set_status(status, stat, path//": "//what)
+      close(unit)
+    end subroutine fail
+  end subroutine read_by_records
 
   !> The line starting at `next`, in one pass over its bytes: its first and
   !> last character (last < first for an empty line), without its end (a line

@@ -255,12 +255,7 @@ contains
     !> Text to convert.
     character(len=*), intent(in) :: text
     character(len=len(text)) :: out
-    integer :: i, c
-    out = text
-    do i = 1, len(text)
-      c = iachar(text(i:i))
-      if (c >= iachar("A") .and. c <= iachar("Z")) out(i:i) = achar(c + 32)
-    end do
+    out = case_shifted(text, "A", "Z", 32)
   end function lowercase
 
   !> ASCII upper case (other bytes unchanged).
@@ -268,13 +263,21 @@ contains
     !> Text to convert.
     character(len=*), intent(in) :: text
     character(len=len(text)) :: out
-    integer :: i, c
+    out = case_shifted(text, "a", "z", -32)
+  end function uppercase
+
+  !> The text with the letters `first` .. `last` moved by `shift` codes.
+  pure function case_shifted(text, first, last, shift) result(out)
+    character(len=*), intent(in) :: text
+    character, intent(in) :: first, last
+    integer, intent(in) :: shift
+    character(len=len(text)) :: out
+    integer :: i
     out = text
     do i = 1, len(text)
-      c = iachar(text(i:i))
-      if (c >= iachar("a") .and. c <= iachar("z")) out(i:i) = achar(c - 32)
+      if (text(i:i) >= first .and. text(i:i) <= last) out(i:i) = achar(iachar(text(i:i)) + shift)
     end do
-  end function uppercase
+  end function case_shifted
 
   !> A blank, tab, carriage return or line feed.
   elemental logical function is_blank(c)
