@@ -605,7 +605,7 @@ contains
       ! the rows start after the keyword and one blank line
       j = k + 1
       do while (j <= lines%n)
-        if (len_trim(text(lines%first(j):lines%last(j))) > 0) exit
+        if (first_nonblank(text, lines, j) > 0) exit
         j = j + 1
       end do
       select case (word)
@@ -745,7 +745,7 @@ contains
       next = j0
       do while (next <= lines%n)
         if (len(section_at(text, lines, next)) > 0) exit
-        if (len_trim(text(lines%first(next):lines%last(next))) > 0) rows = rows + 1
+        if (first_nonblank(text, lines, next) > 0) rows = rows + 1
         next = next + 1
       end do
     end subroutine rows_present
@@ -816,7 +816,7 @@ contains
     character(len=:), allocatable :: word
     integer :: j
     word = ""
-    j = verify(text(lines%first(k):lines%last(k)), " ")
+    j = first_nonblank(text, lines, k)
     if (j == 0) return
     if (.not. is_letter(text(lines%first(k)+j-1:lines%first(k)+j-1))) return
     word = section_word(lowercase(strip_comment(line_of(text, lines, k))))
@@ -860,7 +860,7 @@ contains
     n = 0
     ncol = 0
     do k = 1, lines%n
-      j = verify(text(lines%first(k):lines%last(k)), " ")
+      j = first_nonblank(text, lines, k)
       if (j == 0) cycle
       if (text(lines%first(k)+j-1:lines%first(k)+j-1) == "#") then
         l = trim(adjustl(line_of(text, lines, k)))
@@ -889,7 +889,7 @@ contains
       end if
       i = 0
       do k = 1, lines%n
-        j = verify(text(lines%first(k):lines%last(k)), " ")
+        j = first_nonblank(text, lines, k)
         if (j == 0) cycle
         if (text(lines%first(k)+j-1:lines%first(k)+j-1) == "#") cycle
         nf = field_count(text(lines%first(k):lines%last(k)))
@@ -1004,6 +1004,22 @@ contains
       end if
     end do
   end subroutine split_lines
+
+  !> The column of the first character of line k that is not a blank (' '),
+  !> 0 for a line of blanks: `verify(line, " ")` without a library call per line.
+  pure integer function first_nonblank(text, lines, k) result(j)
+    character(len=*), intent(in) :: text
+    type(lines_type), intent(in) :: lines
+    integer, intent(in) :: k
+    integer :: i
+    j = 0
+    do i = lines%first(k), lines%last(k)
+      if (iachar(text(i:i)) /= 32) then
+        j = i - lines%first(k) + 1
+        return
+      end if
+    end do
+  end function first_nonblank
 
   pure function line_of(text, lines, k) result(l)
     character(len=*), intent(in) :: text
