@@ -8,10 +8,9 @@ module demstep_cli
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_namelist, only: nml_group_type, nml_item_type, excerpt
-  use demstep_text, only: fmt_int => int_text
+  use demstep_text, only: fmt_int => int_text, real_text, real_column
   use demstep_words, only: word_list
   use demstep_cli_files, only: input_file_type
-  ! integers as text: the library's (`fmt_int` beside `fmt_real` in the app)
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
   implicit none
   private
@@ -27,6 +26,8 @@ module demstep_cli
   real(dp), parameter, public :: unset = -huge(1.0_dp)
   !> Marks integer array elements the input did not set.
   integer, parameter, public :: unset_int = -huge(1)
+  !> Significant digits of the numbers the app prints ([[fmt_real]]).
+  integer, parameter :: app_digits = 10
 
   !> Where a group handler writes: the human report and the result namelist.
   type :: cli_context
@@ -634,92 +635,21 @@ contains
     end if
   end subroutine check_real
 
-  !> A real with 10 significant digits, trailing zeros dropped: fixed notation for
-  !> magnitudes 1e-3 .. 1e7, else `1.25e-8`.
+  !> A real as the app prints it: the library's [[real_text]] with 10
+  !> significant digits (`0.25`, `1234567.5`, `1.25e-8`).
   pure function fmt_real(x) result(text)
     real(dp), intent(in) :: x
     character(len=:), allocatable :: text
-    character(len=24) :: cell
-    cell = ""
-    if (ieee_is_finite(x) .and. x /= 0.0_dp) write(cell, '(es24.9e3)') x
-    text = real_text(x, cell)
+    text = real_text(x, app_digits)
   end function fmt_real
 
-  !> [[fmt_real]] of each element, left-adjusted in cells of 24 characters, with one
-  !> formatted write for the whole array (long tables: the per-statement cost of
-  !> formatted output would dominate).
+  !> [[fmt_real]] of each element, left-adjusted in cells of 24 characters
+  !> (one formatted write for the whole array).
   pure function fmt_real_column(x) result(cells)
     real(dp), intent(in) :: x(:)
     character(len=24), allocatable :: cells(:)
-    character(len=24), allocatable :: es(:)
-    integer :: i
-    allocate(es(size(x)), cells(size(x)))
-    if (size(x) > 0) write(es, '(es24.9e3)') x
-    do i = 1, size(x)
-      cells(i) = real_text(x(i), es(i))
-    end do
+    cells = real_column(x, app_digits)
   end function fmt_real_column
-
-  !> The text of [[fmt_real]] from x and its `es24.9e3` edit (used when x is
-  !> finite and nonzero).
-  pure function real_text(x, cell) result(text)
-    real(dp), intent(in) :: x
-    character(len=24), intent(in) :: cell
-    character(len=:), allocatable :: text
-    character(len=10) :: digits
-    character :: sign
-    integer :: e, k, m
-    if (ieee_is_nan(x)) then
-      text = "NaN"
-      return
-    else if (.not. ieee_is_finite(x)) then
-      text = merge("+Inf", "-Inf", x > 0.0_dp)
-      return
-    else if (x == 0.0_dp) then
-      text = "0"
-      return
-    end if
-    ! the es edit gives the 10 rounded significant digits and the exponent of the
-    ! rounded value; the fixed notation places the decimal point in those same
-    ! digits (rounding at 10 digits lands on the same decimal place there)
-    k = index(cell, "E")
-    e = exponent_value(cell(k+1:))
-    if (e >= -3 .and. e <= 6) then
-      m = verify(cell, " ")
-      sign = merge("-", " ", cell(m:m) == "-")
-      if (sign == "-") m = m + 1
-      digits = cell(m:m)//cell(m+2:k-1)
-      if (e >= 0) then
-        text = drop_zeros(trim(sign)//digits(1:e+1)//"."//digits(e+2:))
-      else
-        text = drop_zeros(trim(sign)//"0."//repeat("0", -e-1)//digits)
-      end if
-    else
-      text = drop_zeros(trim(adjustl(cell(1:k-1))))//"e"//fmt_int(int(e, i8))
-    end if
-  end function real_text
-
-  !> The exponent field of an `es` edit (`+005`, `-012`) as an integer.
-  pure integer function exponent_value(field) result(e)
-    character(len=*), intent(in) :: field
-    integer :: i
-    e = 0
-    do i = 2, len_trim(field)
-      e = 10*e + (iachar(field(i:i)) - iachar("0"))
-    end do
-    if (field(1:1) == "-") e = -e
-  end function exponent_value
-
-  pure function drop_zeros(number) result(text)
-    character(len=*), intent(in) :: number
-    character(len=:), allocatable :: text
-    integer :: last
-    text = number
-    if (index(text, ".") == 0) return
-    last = verify(text, "0", back=.true.)
-    if (text(last:last) == ".") last = last - 1
-    text = text(1:last)
-  end function drop_zeros
 
   !> Write a commented input group for the template, from the group's table: its
   !> documentation, and per variable the example, the documentation and the

@@ -4,14 +4,16 @@ module demstep_cli_accuracy
   use demstep_contact, only: discrete_contact_type, contact_with_onset, contact_worst_case, &
     quantity_kind, n_quantities, quantity_kind_names, quantity_kind_from_name, check_contact_damping
   use demstep_cost, only: n_for_tolerance, run_prediction_type, predict_run, worst_error, &
-    n_for_harmonic_tolerance, measure_step_cost, default_cost_n_max
+    n_for_harmonic_tolerance, default_cost_n_max
+  use demstep_step_cost, only: measure_step_cost
   use demstep_harmonic, only: harmonic_error
   use demstep_kinds, only: dp, i8, pi
   use demstep_progress, only: text_progress_type
   use demstep_recommend, only: recommended_step, step_governs, default_safety
   use demstep_spring, only: spring_type, new_spring, spring_period, critical_time_step
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_namelist, only: nml_group_type, lowercase
+  use demstep_namelist, only: nml_group_type
+  use demstep_text, only: lowercase
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, check_real, new_array, array_length, broadcast, common_length, &
     default_text, max_values, capacity_of, in_group

@@ -11,7 +11,8 @@ module demstep_cli_material
   use demstep_recommend, only: recommended_step, contact_assessment_type, step_governs, default_safety, &
     assess_material_pair
   use demstep_status, only: demstep_status_type, demstep_stat, set_status, status_restate
-  use demstep_namelist, only: nml_group_type, lowercase
+  use demstep_namelist, only: nml_group_type
+  use demstep_text, only: lowercase
   use demstep_cost, only: default_cost_n_max
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, new_array, array_length, common_length, broadcast, capacity_of, &

@@ -2,14 +2,16 @@
 !> and optionally a run that simulates only the effects it switches on.
 module demstep_cli_scene
   use demstep_status, only: set_status, demstep_status_type, demstep_stat
-  use demstep_namelist, only: lowercase, nml_group_type
+  use demstep_namelist, only: nml_group_type
+  use demstep_text, only: lowercase
   use demstep_table_io, only: read_table
   use demstep_scene_data, only: has_tangential, scene_effect_from_name, n_effects, scene_effect_names, &
     scene_type, scene_summary_type, scene_effect
-  use demstep_scene_builders, only: restitution_to_damping_ratio, new_scene, scene_add_bonds, &
-    scene_add_walls, scene_set_contacts, scene_set_cell, scene_set_law, scene_set_bond_stiffness, &
-    scene_set_gravity, scene_set_types, scene_set_hertz_types, scene_set_damping, scene_set_friction, &
-    scene_set_rolling, scene_set_local_damping
+  use demstep_scene_builders, only: new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, &
+    scene_set_cell, scene_set_law, scene_set_bond_stiffness, scene_set_gravity, scene_set_types, &
+    scene_set_hertz_types, scene_set_damping, scene_set_friction, scene_set_rolling, &
+    scene_set_local_damping
+  use demstep_spring, only: restitution_to_damping_ratio
   use demstep_interaction, only: contact_law_from_name, contact_law_names, contact_law
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, &
     assembly_step_for_n_per_period, demstep_eigen_solver => eigen_solver, hertz_linearization_from_name, &
@@ -19,7 +21,7 @@ module demstep_cli_scene
   use demstep_progress, only: text_progress_type
   use demstep_scene_materials, only: scene_set_materials
   use demstep_stepper, only: scene_run
-  use demstep_cost, only: measure_step_cost
+  use demstep_step_cost, only: measure_step_cost
   use demstep_lanczos, only: lanczos_tolerance_default
   use demstep_recommend, only: recommended_step, default_safety
   use demstep_snapshot, only: snapshot_type, read_snapshot, snapshot_format, snapshot_format_names, &
@@ -1020,8 +1022,8 @@ contains
     end if
     call read_snapshot(path, snap, status, format=code, frame=frame)
     if (status%stat /= demstep_stat%ok) then
-      if (index(status%message, path//": frame: ") == 1) then
-        status%message = g//"snapshot_frame: "//path//": "//status%message(len(path)+10:)
+      if (status%where == "frame") then
+        status%message = g//"snapshot_frame: "//path//": "//status%detail
       else
         status%message = g//"snapshot_file: "//status%message
       end if

@@ -11,7 +11,8 @@ module demstep_cli_stiffness
     run_procedure => simulated_stiffness, pick_kind, aggregate_kind, interval_kind, pick_kind_from_name, &
     pick_kind_names, aggregate_kind_from_name, aggregate_kind_names, default_n_max, default_resolution, &
     procedure_cost, measure_evaluation_cost, max_procedure_evaluations
-  use demstep_namelist, only: nml_group_type, lowercase
+  use demstep_namelist, only: nml_group_type
+  use demstep_text, only: lowercase
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, new_array, array_length, default_text, max_values, capacity_of, &
     in_group

@@ -8,7 +8,8 @@ program demstep_main
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_version, only: demstep_version_string
   use demstep_mfix_deck, only: mfix_looks_like_deck
-  use demstep_namelist, only: nml_group_type, read_text_file, scan_namelist
+  use demstep_namelist, only: nml_group_type, scan_namelist
+  use demstep_text, only: read_text_file
   use demstep_cli, only: cli_context, write_template, fmt_int, group_spec, deck_recommendation
   use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, &
     refuse_input

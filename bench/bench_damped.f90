@@ -15,7 +15,8 @@ program bench_damped
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_progress, only: progress_seconds
   use demstep_scene_data, only: scene_type, scene_effect
-  use demstep_scene_builders, only: random_periodic_packing, tile_scene, scene_set_damping, scene_set_rolling
+  use demstep_scene_builders, only: scene_set_damping, scene_set_rolling
+  use demstep_packing, only: random_periodic_packing, tile_scene
   use demstep_assembly, only: assembly_critical_steps, critical_step_type, eigen_solver
   implicit none
   integer, parameter :: n_cases = 3

@@ -23,7 +23,7 @@ program bench_scene_eigen
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_progress, only: progress_seconds
   use demstep_scene_data, only: scene_type
-  use demstep_scene_builders, only: random_periodic_packing, tile_scene
+  use demstep_packing, only: random_periodic_packing, tile_scene
   use demstep_neighbours, only: contact_list
   use demstep_assembly, only: assembly_critical_steps, critical_step_type, eigen_solver, &
     assembly_operator, assembly_operator_type, assembly_matrix

@@ -76,7 +76,8 @@ module demstep
   use demstep_scene_builders, only: new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, &
     scene_set_cell, scene_set_law, scene_set_types, scene_set_hertz_types, scene_set_bond_stiffness, &
     scene_set_gravity, scene_set_damping, scene_set_friction, scene_set_rolling, scene_set_local_damping, &
-    scene_set_effects, random_periodic_packing, tile_scene, cubic_lattice
+    scene_set_effects, cubic_lattice
+  use demstep_packing, only: random_periodic_packing, tile_scene
   use demstep_scene_materials, only: scene_set_materials
   use demstep_stepper, only: scene_run
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, assembly_step_for_n_per_period, &

@@ -7,15 +7,12 @@ module demstep_cost
     n_quantities, check_contact_damping
   use demstep_spring, only: saturated_count, ceiling_real
   use demstep_text, only: real_text
-  use demstep_scene_data, only: scene_type, scene_summary_type
-  use demstep_scene_builders, only: cubic_lattice
-  use demstep_stepper, only: scene_run
   use demstep_stiffness, only: nroots_options_type, nroots_type, n_roots
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
-  public :: worst_error, n_for_tolerance, n_for_harmonic_tolerance, measure_step_cost, predict_run
+  public :: worst_error, n_for_tolerance, n_for_harmonic_tolerance, predict_run
 
   !> Largest N searched by default.
   real(dp), parameter, public :: default_cost_n_max = 1.0e7_dp
@@ -257,42 +254,5 @@ contains
     end if
     status%stat = demstep_stat%ok
   end subroutine predict_run
-
-  !> Measure the stepper's cost on the spot: a 3D cubic lattice of about 8000
-  !> particles, bonds and contacts on (a typical DEM load), stepped for about
-  !> `seconds` (default 0.2) three times; the median, in seconds per
-  !> particle-step.
-  subroutine measure_step_cost(cost, status, seconds)
-    real(dp), intent(out) :: cost
-    type(demstep_status_type), intent(out) :: status
-    real(dp), intent(in), optional :: seconds
-    type(scene_type) :: start, scene
-    type(scene_summary_type) :: summary
-    integer, parameter :: m = 20
-    real(dp) :: budget, times(3), t
-    integer :: r
-    integer(i8) :: c0, c1, rate, steps
-    budget = 0.2_dp
-    if (present(seconds)) budget = seconds
-    cost = 0.0_dp
-    call cubic_lattice(start, m, 0.5_dp, 100.0_dp, status)
-    if (status%stat /= demstep_stat%ok) return
-    ! a first short run sizes the measured ones
-    steps = 5_i8
-    do r = 0, 3
-      scene = start
-      call system_clock(c0, rate)
-      call scene_run(scene, 0.01_dp, steps, summary, status, sample_every=steps)
-      call system_clock(c1)
-      t = real(c1 - c0, dp)/real(rate, dp)
-      if (r == 0) then
-        steps = max(5_i8, int(steps*budget/max(t, 1.0e-6_dp)/3.0_dp, i8))
-      else
-        times(r) = t/real(steps*start%n, dp)
-      end if
-    end do
-    cost = times(1) + times(2) + times(3) - maxval(times) - minval(times)
-    status%stat = demstep_stat%ok
-  end subroutine measure_step_cost
 
 end module demstep_cost

@@ -34,7 +34,7 @@ module demstep_liggghts_script
   use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text, comment_start
-  use demstep_namelist, only: read_text_file
+  use demstep_text, only: read_text_file
   use demstep_material, only: code_convention
   use demstep_liggghts_formula, only: liggghts_variable_type, liggghts_evaluate, liggghts_number_text, &
     liggghts_find_variable

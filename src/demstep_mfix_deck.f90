@@ -14,8 +14,8 @@
 module demstep_mfix_deck
   use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_text, only: int_text, comment_start
-  use demstep_namelist, only: read_text_file, lowercase
+  use demstep_text, only: int_text, comment_start, read_text_file, lowercase, uppercase, is_blank, is_letter, &
+    is_name_char
   use demstep_mfix_expression, only: mfix_evaluate_expression
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
@@ -64,7 +64,7 @@ module demstep_mfix_deck
     integer :: n_items = 0
   end type mfix_deck_type
 
-  character(len=*), parameter :: lf = achar(10), cr = achar(13), tab = achar(9)
+  character(len=*), parameter :: lf = achar(10), cr = achar(13)
   !> Keywords that mark a text as an MFiX deck.
   character(len=*), parameter :: mfix_marks(10) = [character(len=16) :: "units", "mmax", &
     "solids_model", "d_p0", "ro_s0", "des_en_input", "des_coll_model", "kn", "e_young", "run_name"]
@@ -161,21 +161,6 @@ contains
     end if
   end function line_end
 
-  pure logical function is_name_start(c)
-    character, intent(in) :: c
-    is_name_start = (c >= "a" .and. c <= "z") .or. (c >= "A" .and. c <= "Z")
-  end function is_name_start
-
-  pure logical function is_name_char(c)
-    character, intent(in) :: c
-    is_name_char = is_name_start(c) .or. (c >= "0" .and. c <= "9") .or. c == "_"
-  end function is_name_char
-
-  pure logical function is_blank(c)
-    character, intent(in) :: c
-    is_blank = c == " " .or. c == tab .or. c == cr
-  end function is_blank
-
   !> Does an assignment `NAME[(...)] =` start at position p?
   pure logical function assignment_at(s, p)
     character(len=*), intent(in) :: s
@@ -183,7 +168,7 @@ contains
     integer :: q, depth
     assignment_at = .false.
     if (p > len(s)) return
-    if (.not. is_name_start(s(p:p))) return
+    if (.not. is_letter(s(p:p))) return
     q = p
     do while (q <= len(s))
       if (.not. is_name_char(s(q:q))) exit
@@ -230,7 +215,7 @@ contains
       end do
       if (p > n) exit
       loc = "line "//int_text(line)//": "
-      if (.not. is_name_start(s(p:p))) then
+      if (.not. is_letter(s(p:p))) then
         call set_status(status, demstep_stat%invalid_input, loc// &
           "expected a keyword assignment KEY = value, found '"//clip(s(p:n))//"'")
         return
@@ -528,11 +513,7 @@ contains
     !> The word.
     character(len=*), intent(in) :: s
     character(len=:), allocatable :: t
-    integer :: i
-    t = trim(adjustl(s))
-    do i = 1, len(t)
-      if (t(i:i) >= "a" .and. t(i:i) <= "z") t(i:i) = achar(iachar(t(i:i)) - 32)
-    end do
+    t = uppercase(trim(adjustl(s)))
   end function mfix_upper
 
   !> Status `invalid_input` for MFiX's `@(...)` arithmetic in an integer

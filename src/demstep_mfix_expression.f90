@@ -24,7 +24,7 @@
 module demstep_mfix_expression
   use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_namelist, only: lowercase
+  use demstep_text, only: lowercase
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private

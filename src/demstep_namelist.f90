@@ -8,11 +8,11 @@
 !> runtime to convert (`read(text, nml=...)`).
 module demstep_namelist
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_text, only: int_text
+  use demstep_text, only: int_text, lowercase, is_blank, is_letter, is_name_char
   implicit none
   private
 
-  public :: read_text_file, scan_namelist, lowercase, excerpt
+  public :: scan_namelist, excerpt
 
   !> One assignment `designator = values` of a group.
   type, public :: nml_item_type
@@ -42,44 +42,6 @@ module demstep_namelist
   integer, parameter :: max_name_length = 63
 
 contains
-
-  !> Read a whole file into a string.
-  subroutine read_text_file(path, text, status)
-    !> File name.
-    character(len=*), intent(in) :: path
-    !> Its contents.
-    character(len=:), allocatable, intent(out) :: text
-    !> `io_error` when the file is missing or unreadable.
-    type(demstep_status_type), intent(out) :: status
-    integer :: unit, ios, length
-    logical :: exists
-    character(len=256) :: msg
-    inquire(file=path, exist=exists)
-    if (.not. exists) then
-      call set_status(status, demstep_stat%io_error, "no such file")
-      return
-    end if
-    open(newunit=unit, file=path, access="stream", form="unformatted", action="read", &
-      status="old", iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      call set_status(status, demstep_stat%io_error, "cannot open: "//trim(msg))
-      return
-    end if
-    inquire(unit=unit, size=length)
-    if (length < 0) then
-      close(unit)
-      call set_status(status, demstep_stat%io_error, "cannot determine the size (not a regular file?)")
-      return
-    end if
-    allocate(character(len=length) :: text)
-    if (length > 0) read(unit, iostat=ios, iomsg=msg) text
-    close(unit)
-    if (ios /= 0) then
-      call set_status(status, demstep_stat%io_error, "cannot read: "//trim(msg))
-      return
-    end if
-    status%stat = demstep_stat%ok
-  end subroutine read_text_file
 
   !> Split a namelist deck into groups and assignments, in time linear in the
   !> deck's length (groups and items grow by doubling, text is copied once).
@@ -472,34 +434,5 @@ contains
     end do
     out = buffer(1:m)
   end function compact
-
-  !> ASCII lower case.
-  pure function lowercase(text) result(out)
-    !> Text to convert.
-    character(len=*), intent(in) :: text
-    character(len=len(text)) :: out
-    integer :: i, c
-    out = text
-    do i = 1, len(text)
-      c = iachar(text(i:i))
-      if (c >= iachar("A") .and. c <= iachar("Z")) out(i:i) = achar(c + 32)
-    end do
-  end function lowercase
-
-
-  elemental logical function is_blank(c)
-    character, intent(in) :: c
-    is_blank = c == " " .or. c == tab .or. c == lf .or. c == cr
-  end function is_blank
-
-  elemental logical function is_letter(c)
-    character, intent(in) :: c
-    is_letter = (c >= "a" .and. c <= "z") .or. (c >= "A" .and. c <= "Z")
-  end function is_letter
-
-  elemental logical function is_name_char(c)
-    character, intent(in) :: c
-    is_name_char = is_letter(c) .or. (c >= "0" .and. c <= "9") .or. c == "_"
-  end function is_name_char
 
 end module demstep_namelist

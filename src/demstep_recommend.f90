@@ -16,13 +16,12 @@ module demstep_recommend
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: real_text
-  use demstep_spring, only: damped_limit
+  use demstep_spring, only: damped_limit, restitution_to_damping_ratio
   use demstep_contact, only: discrete_contact_type, contact_with_onset, contact_worst_case, &
     quantity_kind
   use demstep_cost, only: n_for_tolerance
   use demstep_material, only: material_pair_type, effective_pair_type, effective_pair, &
     hertz_impact_stiffness
-  use demstep_scene_builders, only: restitution_to_damping_ratio
   use demstep_words, only: word_index, word_of
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none

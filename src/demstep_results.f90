@@ -15,7 +15,8 @@ module demstep_results
   use demstep_kinds, only: dp, i8
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_namelist, only: nml_group_type, read_text_file, scan_namelist, lowercase
+  use demstep_namelist, only: nml_group_type, scan_namelist
+  use demstep_text, only: read_text_file, lowercase
   use demstep_scene_data, only: scene_type, scene_summary_type
   use demstep_assembly, only: critical_step_type, eigen_solver_name
   use demstep_stiffness, only: stiffness_result_type, interval_kind

@@ -17,7 +17,7 @@ module demstep_scene_data
   private
 
   public :: effective_mass, effective_inertia, branch_vector, contact_values, wall_values, contact_dashpots, &
-    has_tangential, has_rolling, check_scene_damping
+    has_tangential, has_rolling, check_scene_damping, wrap_positions
 
   !> Effects, by index into `scene_type`%effects: `scene_effect%gravity`.
   type, public :: scene_effect_enum
@@ -156,6 +156,18 @@ contains
     if (mi >= huge(1.0_dp) .and. mj >= huge(1.0_dp)) mi = scene%mass(i)
     m = reduced_mass(mi, mj)
   end function effective_mass
+
+  !> Wrap the positions along the periodic axes into [cell_lo, cell_hi).
+  pure subroutine wrap_positions(scene)
+    type(scene_type), intent(inout) :: scene
+    integer :: ax
+    real(dp) :: box
+    do ax = 1, 3
+      if (.not. scene%periodic(ax)) cycle
+      box = scene%cell_hi(ax) - scene%cell_lo(ax)
+      scene%x(ax, :) = scene%cell_lo(ax) + modulo(scene%x(ax, :) - scene%cell_lo(ax), box)
+    end do
+  end subroutine wrap_positions
 
   !> x_j - x_i, through the nearest periodic image along the periodic axes.
   pure function branch_vector(scene, i, j) result(d)

@@ -35,8 +35,8 @@
 module demstep_snapshot
   use demstep_kinds, only: dp, i8, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_text, only: int_text, real_text, integer_of, printable
-  use demstep_namelist, only: read_text_file, lowercase
+  use demstep_text, only: int_text, real_text, integer_of, printable, read_text_file, lowercase, is_letter
+  use demstep_decimal, only: real_of
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -120,14 +120,23 @@ contains
   pure integer function snapshot_format_of(text) result(format)
     !> The file's text.
     character(len=*), intent(in) :: text
-    type(lines_type) :: lines
     character(len=:), allocatable :: s
-    integer :: k, nf
+    integer :: k, nf, first, last, next
     integer :: a(64), b(64)
     format = snapshot_format%auto
-    call split_lines(text, lines)
-    do k = 1, lines%n
-      s = lowercase(trim(adjustl(line_of(text, lines, k))))
+    ! line by line (as split_lines cuts them) up to the first line that decides
+    next = 1
+    k = 0
+    do while (next <= len(text))
+      first = next
+      last = index(text(first:), lf) + first - 2
+      if (last < first - 1) last = len(text)
+      next = last + 2
+      if (last >= first) then
+        if (text(last:last) == cr) last = last - 1
+      end if
+      k = k + 1
+      s = lowercase(trim(adjustl(text(first:last))))
       if (len(s) == 0) cycle
       if (index(s, "item:") == 1) then
         format = snapshot_format%lammps_dump
@@ -163,7 +172,7 @@ contains
     !> Density of each particle type (index = type), for the masses.
     real(dp), intent(in), optional :: type_density(:)
     type(lines_type) :: lines
-    integer :: f, fr, i
+    integer :: f, fr
     f = snapshot_format%auto
     if (present(format)) f = format
     fr = 0
@@ -211,8 +220,8 @@ contains
     if (.not. snapshot%has_density .and. size(type_density) > 0) then
       do i = 1, snapshot%n
         if (snapshot%type(i) < 1 .or. snapshot%type(i) > size(type_density)) then
-          call set_status(status, demstep_stat%invalid_input, "type_density: no density for particle " &
-            //"type "//int_text(snapshot%type(i))//" (particle "//int_text(snapshot%id(i))//")")
+          call set_status(status, demstep_stat%invalid_input, "no density for particle " &
+            //"type "//int_text(snapshot%type(i))//" (particle "//int_text(snapshot%id(i))//")", where="type_density")
           return
         end if
         snapshot%density(i) = type_density(snapshot%type(i))
@@ -221,7 +230,7 @@ contains
     end if
     if (snapshot%has_density) then
       if (.not. all(snapshot%density > 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "density: must be > 0 for every particle")
+        call set_status(status, demstep_stat%invalid_input, "must be > 0 for every particle", where="density")
         return
       end if
       snapshot%mass = (4.0_dp*pi/3.0_dp)*snapshot%radius**3*snapshot%density
@@ -284,8 +293,8 @@ contains
     want = frame
     if (want <= 0) want = n_frames + frame
     if (want < 1 .or. want > n_frames) then
-      call set_status(status, demstep_stat%invalid_input, "frame: the file has "//int_text(n_frames)// &
-        " frames (1 to "//int_text(n_frames)//", 0 the last), asked for "//int_text(frame))
+      call set_status(status, demstep_stat%invalid_input, "the file has "//int_text(n_frames)// &
+        " frames (1 to "//int_text(n_frames)//", 0 the last), asked for "//int_text(frame), where="frame")
       return
     end if
     s%n_frames = n_frames
@@ -353,7 +362,7 @@ contains
     !> Read the frame starting at line k0 into s.
     subroutine read_frame(k0)
       integer, intent(in) :: k0
-      integer :: a(64), b(64), nf, j, c, i, ncol, row, first, second, ra(64), rb(64), nf_row
+      integer :: a(64), b(64), nf, j, c, i, ncol, row, first, second, nf_row
       integer(i8) :: count, ints(2)
       integer(i8), allocatable :: table(:)
       integer, allocatable :: slot(:)
@@ -475,7 +484,7 @@ contains
       ! bytes (2 ncol or more each), not by the header's count
       do i = 1, s%n
         row = k0 + 8 + i
-        call fields(text(lines%first(row):lines%last(row)), ra, rb, nf_row)
+        nf_row = field_count(text(lines%first(row):lines%last(row)))
         if (nf_row /= ncol) then
           call line_numbers(text, lines, row, ncol, vals, status)
           return
@@ -596,7 +605,7 @@ contains
       ! the rows start after the keyword and one blank line
       j = k + 1
       do while (j <= lines%n)
-        if (len_trim(line_of(text, lines, j)) > 0) exit
+        if (first_nonblank(text, lines, j) > 0) exit
         j = j + 1
       end do
       select case (word)
@@ -627,7 +636,7 @@ contains
         ! every row's field count first: the arrays are then bounded by the
         ! rows' bytes (14 or more each), not by the header's count
         do i = 1, n_atoms
-          call fields(strip_comment(line_of(text, lines, j + i - 1)), a, b, nf)
+          nf = field_count(text(lines%first(j + i - 1):uncommented_last(text, lines, j + i - 1)))
           if (nf /= 7 .and. nf /= 10) then
             call fail_at(status, j + i - 1, "an Atoms row of style sphere has 7 values (id type diameter density " &
               //"x y z) or 10 (with ix iy iz), found "//int_text(nf))
@@ -638,7 +647,7 @@ contains
         call allocate_snapshot(s, n_atoms)
         s%has_density = .true.
         do i = 1, n_atoms
-          call fields(strip_comment(line_of(text, lines, j + i - 1)), a, b, nf)
+          nf = field_count(text(lines%first(j + i - 1):uncommented_last(text, lines, j + i - 1)))
           ! ids and types: integers from 1, as LAMMPS requires
           call line_numbers(text, lines, j + i - 1, nf, vals, status, &
             columns="id type diameter density x y z ix iy iz", strip=.true., whole=[1, 2], low=[1_i8, 1_i8], &
@@ -706,7 +715,7 @@ contains
         ! skip the section's rows: up to the next keyword
         k = j
         do while (k <= lines%n)
-          if (len(section_word(lowercase(strip_comment(line_of(text, lines, k))))) > 0) exit
+          if (len(section_at(text, lines, k)) > 0) exit
           k = k + 1
         end do
       end select
@@ -735,8 +744,8 @@ contains
       rows = 0
       next = j0
       do while (next <= lines%n)
-        if (len(section_word(lowercase(strip_comment(line_of(text, lines, next))))) > 0) exit
-        if (len_trim(line_of(text, lines, next)) > 0) rows = rows + 1
+        if (len(section_at(text, lines, next)) > 0) exit
+        if (first_nonblank(text, lines, next) > 0) rows = rows + 1
         next = next + 1
       end do
     end subroutine rows_present
@@ -798,6 +807,42 @@ contains
     end if
   end function strip_comment
 
+  !> The section keyword line k holds ('' for none): [[section_word]] of it,
+  !> looked up only when the line starts (after blanks) with a letter.
+  pure function section_at(text, lines, k) result(word)
+    character(len=*), intent(in) :: text
+    type(lines_type), intent(in) :: lines
+    integer, intent(in) :: k
+    character(len=:), allocatable :: word
+    integer :: j
+    word = ""
+    j = first_nonblank(text, lines, k)
+    if (j == 0) return
+    if (.not. is_letter(text(lines%first(k)+j-1:lines%first(k)+j-1))) return
+    word = section_word(lowercase(strip_comment(line_of(text, lines, k))))
+  end function section_at
+
+  !> The last character of line k before a `#` comment.
+  pure integer function uncommented_last(text, lines, k) result(last)
+    character(len=*), intent(in) :: text
+    type(lines_type), intent(in) :: lines
+    integer, intent(in) :: k
+    integer :: i, n
+    last = lines%last(k)
+    ! most lines have no comment: counted without a branch, looked for if any
+    n = 0
+    do i = lines%first(k), last
+      n = n + merge(1, 0, iachar(text(i:i)) == 35)
+    end do
+    if (n == 0) return
+    do i = lines%first(k), last
+      if (iachar(text(i:i)) == 35) then
+        last = i - 1
+        return
+      end if
+    end do
+  end function uncommented_last
+
   ! ------------------------------------------------------------- Yade exports
 
   subroutine parse_yade(text, lines, s, status)
@@ -805,7 +850,7 @@ contains
     type(lines_type), intent(in) :: lines
     type(snapshot_type), intent(out) :: s
     type(demstep_status_type), intent(out) :: status
-    integer :: k, n, a(64), b(64), nf, ncol, i, min_col, pass
+    integer :: k, n, nf, ncol, i, min_col, pass, j
     character(len=:), allocatable :: l, layout
     real(dp) :: vals(64)
     integer(i8) :: ints(1)
@@ -815,9 +860,10 @@ contains
     n = 0
     ncol = 0
     do k = 1, lines%n
-      l = trim(adjustl(line_of(text, lines, k)))
-      if (len(l) == 0) cycle
-      if (l(1:1) == "#") then
+      j = first_nonblank(text, lines, k)
+      if (j == 0) cycle
+      if (text(lines%first(k)+j-1:lines%first(k)+j-1) == "#") then
+        l = trim(adjustl(line_of(text, lines, k)))
         if (index(lowercase(l), "#format") == 1) then
           layout = trim(adjustl(l(8:)))
           select case (layout)
@@ -843,10 +889,10 @@ contains
       end if
       i = 0
       do k = 1, lines%n
-        l = trim(adjustl(line_of(text, lines, k)))
-        if (len(l) == 0) cycle
-        if (l(1:1) == "#") cycle
-        call fields(l, a, b, nf)
+        j = first_nonblank(text, lines, k)
+        if (j == 0) cycle
+        if (text(lines%first(k)+j-1:lines%first(k)+j-1) == "#") cycle
+        nf = field_count(text(lines%first(k):lines%last(k)))
         i = i + 1
         if (pass == 2) then
           if (i == 1) ncol = nf
@@ -929,7 +975,7 @@ contains
     integer :: i, n, start
     n = 0
     do i = 1, len(text)
-      if (text(i:i) == lf) n = n + 1
+      if (iachar(text(i:i)) == 10) n = n + 1
     end do
     if (len(text) > 0) then
       if (text(len(text):len(text)) /= lf) n = n + 1
@@ -939,7 +985,7 @@ contains
     start = 1
     n = 0
     do i = 1, len(text)
-      if (text(i:i) == lf) then
+      if (iachar(text(i:i)) == 10) then
         n = n + 1
         lines%first(n) = start
         lines%last(n) = i - 1
@@ -959,6 +1005,22 @@ contains
     end do
   end subroutine split_lines
 
+  !> The column of the first character of line k that is not a blank (' '),
+  !> 0 for a line of blanks: `verify(line, " ")` without a library call per line.
+  pure integer function first_nonblank(text, lines, k) result(j)
+    character(len=*), intent(in) :: text
+    type(lines_type), intent(in) :: lines
+    integer, intent(in) :: k
+    integer :: i
+    j = 0
+    do i = lines%first(k), lines%last(k)
+      if (iachar(text(i:i)) /= 32) then
+        j = i - lines%first(k) + 1
+        return
+      end if
+    end do
+  end function first_nonblank
+
   pure function line_of(text, lines, k) result(l)
     character(len=*), intent(in) :: text
     type(lines_type), intent(in) :: lines
@@ -972,12 +1034,13 @@ contains
     character(len=*), intent(in) :: s
     integer, intent(out) :: a(:), b(:)
     integer, intent(out) :: nf
-    integer :: i
+    integer :: i, c
     logical :: in_field
     nf = 0
     in_field = .false.
     do i = 1, len(s)
-      if (s(i:i) == " " .or. s(i:i) == tab) then
+      c = iachar(s(i:i))
+      if (c == 32 .or. c == 9) then
         if (in_field) then
           if (nf <= size(b)) b(nf) = i - 1
           in_field = .false.
@@ -990,6 +1053,26 @@ contains
     end do
     if (in_field .and. nf <= size(b)) b(nf) = len(s)
   end subroutine fields
+
+  !> The number of blank- or tab-separated fields of s (as [[fields]] counts
+  !> them): the characters that start a field, counted without a carried
+  !> state so that the compiler can vectorise the loop.
+  pure integer function field_count(s) result(nf)
+    character(len=*), intent(in) :: s
+    integer :: i, c, p, c_blank, p_blank
+    nf = 0
+    if (len(s) == 0) return
+    c = iachar(s(1:1))
+    if (c /= 32 .and. c /= 9) nf = 1
+    do i = 2, len(s)
+      c = iachar(s(i:i))
+      p = iachar(s(i-1:i-1))
+      ! 0 or 1 each, without a branch
+      c_blank = merge(1, 0, c == 32) + merge(1, 0, c == 9)
+      p_blank = merge(1, 0, p == 32) + merge(1, 0, p == 9)
+      nf = nf + (1 - c_blank)*p_blank
+    end do
+  end function field_count
 
   !> Exactly `count` finite numbers at the start of line k, followed by exactly
   !> `words` words (default 0; `xlo xhi` lines have 2). `columns` names the
@@ -1008,14 +1091,16 @@ contains
     integer, intent(in), optional :: whole(:)
     integer(i8), intent(in), optional :: low(:), high(:)
     integer(i8), intent(out), optional :: ints(:)
-    character(len=:), allocatable :: l
-    integer :: a(64), b(64), nf, j, ios, expect, w
+    integer :: a(64), b(64), nf, i, j, expect, w, first, last
     logical :: ok, too_large
-    l = line_of(text, lines, k)
+    first = lines%first(k)
+    last = lines%last(k)
     if (present(strip)) then
-      if (strip) l = strip_comment(l)
+      if (strip) last = uncommented_last(text, lines, k)
     end if
-    call fields(l, a, b, nf)
+    call fields(text(first:last), a, b, nf)
+    a(:min(nf, size(a))) = a(:min(nf, size(a))) + first - 1
+    b(:min(nf, size(b))) = b(:min(nf, size(b))) + first - 1
     expect = count
     if (present(words)) expect = count + words
     if (nf /= expect) then
@@ -1026,30 +1111,34 @@ contains
     if (present(ints)) ints = 0
     do j = 1, count
       w = 0
-      if (present(whole)) w = findloc(whole, j, dim=1)
+      if (present(whole)) then
+        do i = 1, size(whole)
+          if (whole(i) == j) then
+            w = i
+            exit
+          end if
+        end do
+      end if
       if (w > 0) then
-        call integer_of(l(a(j):b(j)), ints(w), ok, too_large)
+        call integer_of(text(a(j):b(j)), ints(w), ok, too_large)
         if (.not. ok .and. .not. too_large) then
           call set_status(status, demstep_stat%invalid_input, "line "//int_text(k)//": "//column_name(j)// &
-            ": '"//clipped(l(a(j):b(j)))//"' is not an integer")
+            ": '"//clipped(text(a(j):b(j)))//"' is not an integer")
           return
         end if
         if (too_large .or. ints(w) < low(w) .or. ints(w) > high(w)) then
           call set_status(status, demstep_stat%invalid_input, "line "//int_text(k)//": "//column_name(j)// &
-            ": '"//clipped(l(a(j):b(j)))//"' must lie in ["//int_text(low(w))//", "//int_text(high(w))//"]")
+            ": '"//clipped(text(a(j):b(j)))//"' must lie in ["//int_text(low(w))//", "//int_text(high(w))//"]")
           return
         end if
         vals(j) = real(ints(w), dp)
         cycle
       end if
-      ios = 1
-      if (verify(l(a(j):b(j)), "0123456789.+-eEdD") == 0) read(l(a(j):b(j)), *, iostat=ios) vals(j)
-      if (ios == 0) then
-        if (.not. ieee_is_finite(vals(j))) ios = 1
-      end if
-      if (ios /= 0) then
+      call real_of(text(a(j):b(j)), vals(j), ok)
+      if (ok) ok = ieee_is_finite(vals(j))
+      if (.not. ok) then
         call set_status(status, demstep_stat%invalid_input, "line "//int_text(k)//": "//column_name(j)//": '"// &
-          clipped(l(a(j):b(j)))//"' is not a number")
+          clipped(text(a(j):b(j)))//"' is not a number")
         return
       end if
     end do

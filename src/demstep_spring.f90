@@ -27,7 +27,7 @@ module demstep_spring
   public :: numerical_phase, numerical_period, growth_factor
   public :: exact_discrete_state, paper_closed_form_velocity
   public :: check_time_step, step_for_n_per_period, saturated_count, ceiling_real
-  public :: damped_limit, scheme_phase, phase_factor
+  public :: damped_limit, scheme_phase, phase_factor, restitution_to_damping_ratio
 
   !> The velocity a dashpot uses, by name: `dashpot_kind%lagged`.
   type, public :: dashpot_kind_enum
@@ -211,6 +211,14 @@ contains
       dt_critical = 2.0_dp/spring_omega(spring)
     end if
   end function critical_time_step
+
+  !> Damping ratio of a linear spring-dashpot whose restitution coefficient is e:
+  !> zeta = -ln e / sqrt(pi^2 + ln^2 e).
+  elemental real(dp) function restitution_to_damping_ratio(e) result(zeta)
+    !> Restitution coefficient in (0, 1].
+    real(dp), intent(in) :: e
+    zeta = -log(e)/sqrt(pi**2 + log(e)**2)
+  end function restitution_to_damping_ratio
 
   !> The stability limit of a lagged dashpot from the undamped one:
   !> `dt_undamped (sqrt(1 + zeta^2) - zeta)`, the damped-limit factor written as

@@ -34,10 +34,10 @@ module demstep_stepper
     normal_energy, dashpot_coefficient, contact_forces, rolling_moments, contact_product, add_bond_forces, &
     contact_arm
   use demstep_scene_data, only: scene_type, scene_summary_type, scene_effect, effective_mass, &
-    contact_values, wall_values, contact_dashpots, has_tangential, has_rolling, check_scene_damping
+    contact_values, wall_values, contact_dashpots, has_tangential, has_rolling, check_scene_damping, &
+    wrap_positions
   use demstep_neighbours, only: search_type, prepare_search, find_contacts, find_wall_contacts, &
     contact_limit, history_size
-  use demstep_scene_builders, only: wrap_positions
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private

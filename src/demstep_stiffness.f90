@@ -28,7 +28,7 @@ module demstep_stiffness
   use demstep_roots, only: root_context_type, find_root, sort_ascending, scan_roots, append, &
     scan_break, scan_cell_type
   use demstep_progress, only: progress_type
-  use demstep_text, only: int_text, value_text => real_text
+  use demstep_text, only: int_text, real_text
   use demstep_spring, only: spring_type, new_spring, spring_period
   use demstep_kinds, only: i8
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -861,46 +861,12 @@ contains
     character(len=:), allocatable :: text
     if (ieee_is_finite(x)) then
       text = "about "//real_text(x)
+    else if (x > 0.0_dp) then
+      text = "more than 1e308"
     else
       text = real_text(x)
     end if
   end function count_text
-
-  !> A number for a message: 4 significant digits, or `digits` (at most 17).
-  pure function real_text(x, digits) result(text)
-    real(dp), intent(in) :: x
-    integer, intent(in), optional :: digits
-    character(len=:), allocatable :: text
-    character(len=40) :: buf
-    character(len=24) :: form
-    real(dp) :: m
-    integer :: e, d
-    if (.not. ieee_is_finite(x)) then
-      text = "more than 1e308"
-      if (x /= x) text = "NaN"
-      return
-    end if
-    if (x == 0.0_dp) then
-      text = "0"
-      return
-    end if
-    d = 4
-    if (present(digits)) d = max(1, min(17, digits))
-    e = floor(log10(abs(x)))
-    if (e < -290) then
-      ! 10^e would be subnormal or 0
-      m = (x*1.0e30_dp)/10.0_dp**(e + 30)
-    else
-      m = x/10.0_dp**e
-    end if
-    if (abs(m) >= 10.0_dp - 0.5_dp*10.0_dp**(1 - d)) then
-      e = e + 1
-      m = m/10.0_dp
-    end if
-    write(form, '(a, i0, a)') '(f0.', d - 1, ', "e", i0)'
-    write(buf, form) m, e
-    text = trim(buf)
-  end function real_text
 
   pure logical function valid_policy(policy)
     type(step_policy_type), intent(in) :: policy
@@ -1093,14 +1059,14 @@ contains
     else if (any(.not. (input%lambdas > 0.0_dp .and. input%lambdas < 1.0_dp))) then
       i = findloc(input%lambdas > 0.0_dp .and. input%lambdas < 1.0_dp, .false., dim=1)
       call set_status(status, demstep_stat%invalid_input, "element "//int_text(i)//" is " &
-        //value_text(input%lambdas(i))//"; must be in (0, 1)", where="lambda", index=int(i))
+        //real_text(input%lambdas(i))//"; must be in (0, 1)", where="lambda", index=int(i))
     end if
     if (status%stat /= demstep_stat%ok) return
     n = size(input%lambdas)
     do i = 2, n
       if (.not. input%lambdas(i) > input%lambdas(i-1)) then
         call set_status(status, demstep_stat%invalid_input, "the set must increase (element " &
-          //int_text(i)//" is "//value_text(input%lambdas(i))//")", where="lambda")
+          //int_text(i)//" is "//real_text(input%lambdas(i))//")", where="lambda")
         return
       end if
     end do
@@ -1113,7 +1079,7 @@ contains
       else if (any(.not. (input%weights >= 0.0_dp .and. input%weights <= huge(1.0_dp)))) then
         i = findloc(input%weights >= 0.0_dp .and. input%weights <= huge(1.0_dp), .false., dim=1)
         call set_status(status, demstep_stat%invalid_input, "element "//int_text(i)//" is " &
-          //value_text(input%weights(i))//"; must be finite and >= 0", where="weights", index=int(i))
+          //real_text(input%weights(i))//"; must be finite and >= 0", where="weights", index=int(i))
       else if (.not. any(input%weights > 0.0_dp)) then
         call set_status(status, demstep_stat%invalid_input, "must not all be 0", where="weights")
       end if

@@ -3,13 +3,18 @@
 !> A table has numbers separated by blanks, tabs or commas; `#` starts a comment
 !> and blank lines are skipped. Every row has the same number of columns, one of
 !> the counts the caller allows (a fixed layout, or a layout with optional
-!> columns). The file is read in time linear in its size: one pass counts the
-!> rows and checks the text, the rows are allocated once, a second pass fills
-!> them. A binary file (a control character), an endless line, a field that is
+!> columns). The file is read whole (one stream read) and parsed in memory in
+!> time linear in its size: one pass checks the text, counts the rows and finds
+!> the layout, the rows are allocated once, a second pass converts them (see
+!> [[real_of]]: the values are bit for bit those of a list-directed read). Lines
+!> end at a line feed, a carriage return and line feed, or a lone carriage
+!> return (as the Fortran runtime's formatted reads count them). A binary file
+!> (a control character), a line longer than `table_max_line`, a field that is
 !> not a plain number and a row of the wrong length are refused; the status
 !> message names the file, the line and what is wrong. Columns of particle
 !> numbers (`index_columns`) must hold integers from 1 to `huge(1)`, written as
 !> integers (`2`, not `2.0` or `1.5`): the message then names the column too.
+!> Memory: the file's text, the rows and their lines.
 !>
 !> ```fortran
 !> real(dp), allocatable :: rows(:, :)
@@ -20,7 +25,8 @@
 module demstep_table_io
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_text, only: int_text, integer_of, printable
+  use demstep_text, only: int_text, integer_of, printable, read_text_file
+  use demstep_decimal, only: real_of
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -34,10 +40,12 @@ module demstep_table_io
 
   !> Longest line read (characters, comment included).
   integer, parameter, public :: table_max_line = 64512
-  !> The line is read in chunks of this many characters, each checked at once.
-  integer, parameter :: chunk = 1024
-  !> What separates the numbers of a row: blank, comma, tab, carriage return.
-  character(len=*), parameter :: separators = " ,"//achar(9)//achar(13)
+  !> A longer line is refused for a control character in its first this many
+  !> columns, else for its length (the columns the former chunked reads saw).
+  integer, parameter :: checked_columns = 65536
+  !> Byte classes: a separator, a character of a number, anything else.
+  integer, parameter :: other_byte = 0, separator_byte = 1, number_byte = 2
+  integer, parameter :: lf = 10, cr = 13
 
 contains
 
@@ -77,12 +85,14 @@ contains
     integer, allocatable, intent(out), optional :: lines(:)
     !> Columns of particle numbers: integers in [1, huge(1)].
     integer, intent(in), optional :: index_columns(:)
-    integer :: unit, ios, line, n, n_rows, got, pass, k, count, n_read, ncol, first_line, c
-    integer(i8) :: number
-    logical :: whole, too_large
-    character(len=table_max_line + chunk) :: buf
+    character(len=:), allocatable :: text
     real(dp), allocatable :: values(:)
-    logical :: exists
+    integer(i8), allocatable :: row_first(:), row_last(:), field_first(:), field_last(:)
+    integer, allocatable :: row_line(:)
+    integer(i8) :: first, last, next, comment, control
+    integer(i8) :: number
+    integer :: line, n, n_rows, count, ncol, first_line, c, j
+    logical :: exists, whole, too_large, blank
     inquire(file=path, exist=exists)
     if (.not. exists) then
       call set_status(status, demstep_stat%io_error, path//": no such file")
@@ -92,135 +102,253 @@ contains
       call set_status(status, demstep_stat%invalid_input, path//": no column count allowed")
       return
     end if
-    open(newunit=unit, file=path, status="old", action="read", form="formatted", &
-      access="sequential", iostat=ios)
+    call read_text_file(path, text, status)
+    if (status%stat /= demstep_stat%ok) then
+      status%message = path//": "//status%message
+      return
+    end if
+    ! a size of 0: an empty file, or a device or pipe whose size is not known
+    if (len(text) == 0) call read_by_records(path, text, status)
+    if (status%stat /= demstep_stat%ok) return
+    allocate(values(maxval(allowed)), field_first(maxval(allowed)), field_last(maxval(allowed)))
+    ! pass 1: the text checked (no control character, no endless line), the
+    ! rows found (their extent without the comment, and their line), the layout
+    allocate(row_first(1024), row_last(1024), row_line(1024))
+    n_rows = 0
+    ncol = 0
+    first_line = 0
+    line = 0
+    next = 1
+    do while (next <= len(text, i8))
+      call next_line(text, next, first, last, comment, control, blank)
+      if (line == huge(line)) then
+        call set_status(status, demstep_stat%invalid_input, path//": more than "//int_text(huge(line))//" lines")
+        return
+      end if
+      line = line + 1
+      if (control > 0) then
+        call set_status(status, demstep_stat%invalid_input, path//": line "//int_text(line)//": not a text " &
+          //"file (byte "//int_text(iachar(text(first+control-1:first+control-1)))//" in column "// &
+          int_text(control)//")")
+        return
+      end if
+      if (last - first + 1 > table_max_line) then
+        call set_status(status, demstep_stat%invalid_input, path//": line "//int_text(line)//": longer than " &
+          //int_text(table_max_line)//" characters")
+        return
+      end if
+      ! blank: spaces only (a tab or a comma makes a row without numbers)
+      if (blank) cycle
+      if (n_rows == size(row_first)) call grow_rows(row_first, row_last, row_line)
+      n_rows = n_rows + 1
+      row_first(n_rows) = first
+      row_last(n_rows) = first + comment - 2
+      row_line(n_rows) = line
+      ! the layout: the first row of an allowed count whose numbers read
+      if (ncol == 0) then
+        call parse_row(text(first:first+comment-2), values, count, field_first, field_last)
+        if (count >= 0 .and. any(allowed == count)) then
+          ncol = count
+          first_line = line
+        end if
+      end if
+    end do
+    ! an empty table has the widest layout; a table without a row of an
+    ! allowed count fails below, at its first row
+    if (n_rows == 0) ncol = maxval(allowed)
+    allocate(rows(ncol, n_rows))
+    if (present(lines)) lines = row_line(:n_rows)
+    ! pass 2: the rows converted and checked, in file order
+    do n = 1, n_rows
+      first = row_first(n)
+      last = row_last(n)
+      line = row_line(n)
+      call parse_row(text(first:last), values, count, field_first, field_last)
+      if (count >= 0 .and. count /= ncol) then
+        if (ncol == 0) then
+          ! no row has an allowed count: the layout is not known
+          call fail(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
+            counts_text(allowed)//" numbers, found "//int_text(count))
+        else if (any(allowed == count)) then
+          call fail(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
+            int_text(ncol)//" numbers, found "//int_text(count)//" (line "//int_text(first_line) &
+            //" has "//int_text(ncol)//"; every row the same)")
+        else
+          call fail(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
+            int_text(ncol)//" numbers, found "//int_text(count))
+        end if
+        return
+      end if
+      if (count >= 0) then
+        if (.not. all(ieee_is_finite(values(:ncol)))) count = -1
+      end if
+      if (count < 0) then
+        call fail(demstep_stat%invalid_input, "line "//int_text(line)//": cannot read '"// &
+          shortened(trim(adjustl(text(first:last))))//"' as finite numbers")
+        return
+      end if
+      rows(:, n) = values(:ncol)
+      if (present(index_columns)) then
+        do j = 1, size(index_columns)
+          c = index_columns(j)
+          if (c < 1 .or. c > ncol) cycle
+          associate(f => text(first+field_first(c)-1:first+field_last(c)-1))
+            call integer_of(f, number, whole, too_large)
+            if (.not. (whole .or. too_large)) then
+              call fail(demstep_stat%invalid_input, "line "//int_text(line)//": column "//int_text(c)// &
+                ": '"//shortened(f)//"' is not an integer (a particle number)")
+              return
+            else if (too_large .or. number < 1 .or. number > huge(1)) then
+              call fail(demstep_stat%invalid_input, "line "//int_text(line)//": column "//int_text(c)// &
+                ": particle number '"//shortened(f)//"' must lie in [1, "//int_text(huge(1))//"]")
+              return
+            end if
+          end associate
+        end do
+      end if
+    end do
+    status%stat = demstep_stat%ok
+  contains
+    subroutine fail(stat, what)
+      integer, intent(in) :: stat
+      character(len=*), intent(in) :: what
+      call set_status(status, stat, path//": "//what)
+    end subroutine fail
+  end subroutine read_table_allowed
+
+  !> A file whose size the system does not tell (a device such as /dev/zero, a
+  !> pipe; or an empty file): read record by record in chunks of 1024
+  !> characters, each checked at once, so that a binary stream or an endless
+  !> line is refused after one chunk (status as [[read_table]]'s); the records
+  !> joined by line feeds.
+  subroutine read_by_records(path, text, status)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable, intent(out) :: text
+    type(demstep_status_type), intent(out) :: status
+    integer, parameter :: chunk = 1024
+    character(len=chunk) :: buf
+    character(len=:), allocatable :: bigger
+    integer :: unit, ios, n_read, line, got, k
+    integer(i8) :: used
+    open(newunit=unit, file=path, status="old", action="read", form="formatted", access="sequential", &
+      iostat=ios)
     if (ios /= 0) then
       call set_status(status, demstep_stat%io_error, path//": cannot open")
       return
     end if
-    allocate(values(maxval(allowed)))
-    n_rows = 0
-    ncol = 0
-    first_line = 0
-    n = 0
-    do pass = 1, 2
-      if (pass == 2) then
-        ! an empty table has the widest layout; a table without a row of an
-        ! allowed count fails below, at its first line
-        if (n_rows == 0) ncol = maxval(allowed)
-        allocate(rows(ncol, n_rows))
-        if (present(lines)) allocate(lines(n_rows))
-        rewind(unit, iostat=ios)
-        if (ios /= 0) then
-          call fail_at(demstep_stat%io_error, "cannot read it twice (a regular file is needed)")
-          return
-        end if
-      end if
-      n = 0
-      line = 0
+    allocate(character(len=16*chunk) :: text)
+    used = 0
+    line = 0
+    do
+      got = 0
       do
-        ! the line in chunks: each is checked before the next is read, so a
-        ! binary file or an endless line is refused after one chunk
-        got = 0
-        do
-          read(unit, '(a)', advance="no", size=n_read, iostat=ios) buf(got+1:got+chunk)
-          if (is_iostat_end(ios) .and. got == 0) exit
-          k = scan(buf(got+1:got+n_read), control_characters())
-          if (k > 0) then
-            call fail_at(demstep_stat%invalid_input, "line "//int_text(line + 1)//": not a " &
-              //"text file (byte "//int_text(iachar(buf(got+k:got+k)))//" in column "// &
-              int_text(got + k)//")")
-            return
-          end if
-          got = got + n_read
-          if (got > table_max_line) then
-            call fail_at(demstep_stat%invalid_input, "line "//int_text(line + 1)//": longer " &
-              //"than "//int_text(table_max_line)//" characters")
-            return
-          end if
-          if (ios /= 0) exit
-        end do
+        read(unit, '(a)', advance="no", size=n_read, iostat=ios) buf
         if (is_iostat_end(ios) .and. got == 0) exit
-        line = line + 1
-        if (ios /= 0 .and. .not. (is_iostat_eor(ios) .or. is_iostat_end(ios))) then
-          call fail_at(demstep_stat%io_error, "line "//int_text(line)//": cannot be read")
-          return
-        end if
-        k = index(buf(:got), "#")
-        if (k > 0) got = k - 1
-        if (len_trim(buf(:got)) == 0) cycle
-        n = n + 1
-        if (pass == 2 .and. n > n_rows) then
-          call fail_at(demstep_stat%io_error, "changed while it was read")
-          return
-        end if
-        call parse_row(buf(:got), values, count)
-        if (pass == 1) then
-          ! the layout: the first row's count, which every row must repeat
-          if (count >= 0 .and. ncol == 0) then
-            if (any(allowed == count)) then
-              ncol = count
-              first_line = line
-            end if
+        k = 0
+        do while (k < n_read)
+          k = k + 1
+          if ((iachar(buf(k:k)) < 32 .and. iachar(buf(k:k)) /= 9) .or. iachar(buf(k:k)) == 127) then
+            call fail(demstep_stat%invalid_input, "line "//int_text(line + 1)//": not a text file (byte "// &
+              int_text(iachar(buf(k:k)))//" in column "//int_text(got + k)//")")
+            return
           end if
-          cycle
-        end if
-        if (count >= 0 .and. count /= ncol) then
-          if (ncol == 0) then
-            ! no row has an allowed count: the layout is not known
-            call fail_at(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
-              counts_text(allowed)//" numbers, found "//int_text(count))
-          else if (any(allowed == count)) then
-            call fail_at(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
-              int_text(ncol)//" numbers, found "//int_text(count)//" (line "//int_text(first_line) &
-              //" has "//int_text(ncol)//"; every row the same)")
-          else
-            call fail_at(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
-              int_text(ncol)//" numbers, found "//int_text(count))
-          end if
+        end do
+        call append(buf(:n_read))
+        got = got + n_read
+        if (got > table_max_line) then
+          call fail(demstep_stat%invalid_input, "line "//int_text(line + 1)//": longer than "// &
+            int_text(table_max_line)//" characters")
           return
         end if
-        if (count < 0 .or. .not. all(ieee_is_finite(values(:max(count, 1))))) then
-          call fail_at(demstep_stat%invalid_input, "line "//int_text(line)//": cannot read '"// &
-            shortened(trim(adjustl(buf(:got))))//"' as finite numbers")
-          return
-        end if
-        if (present(index_columns)) then
-          do k = 1, size(index_columns)
-            c = index_columns(k)
-            if (c < 1 .or. c > ncol) cycle
-            call integer_of(field(buf(:got), c), number, whole, too_large)
-            if (.not. (whole .or. too_large)) then
-              call fail_at(demstep_stat%invalid_input, "line "//int_text(line)//": column "//int_text(c)// &
-                ": '"//shortened(field(buf(:got), c))//"' is not an integer (a particle number)")
-              return
-            else if (too_large .or. number < 1 .or. number > huge(1)) then
-              call fail_at(demstep_stat%invalid_input, "line "//int_text(line)//": column "//int_text(c)// &
-                ": particle number '"//shortened(field(buf(:got), c))//"' must lie in [1, "// &
-                int_text(huge(1))//"]")
-              return
-            end if
-          end do
-        end if
-        rows(:, n) = values(:ncol)
-        if (present(lines)) lines(n) = line
+        if (ios /= 0) exit
       end do
-      if (pass == 1) n_rows = n
+      if (is_iostat_end(ios) .and. got == 0) exit
+      line = line + 1
+      if (ios /= 0 .and. .not. (is_iostat_eor(ios) .or. is_iostat_end(ios))) then
+        call fail(demstep_stat%io_error, "line "//int_text(line)//": cannot be read")
+        return
+      end if
+      call append(achar(lf))
     end do
     close(unit)
-    if (n /= n_rows) then
-      call set_status(status, demstep_stat%io_error, path//": changed while it was read")
-      return
-    end if
+    text = text(:used)
     status%stat = demstep_stat%ok
   contains
-    subroutine fail_at(stat, what)
+    subroutine append(part)
+      character(len=*), intent(in) :: part
+      if (used + len(part) > len(text, i8)) then
+        allocate(character(len=2*len(text, i8) + len(part)) :: bigger)
+        bigger(:used) = text(:used)
+        call move_alloc(bigger, text)
+      end if
+      text(used+1:used+len(part)) = part
+      used = used + len(part)
+    end subroutine append
+    subroutine fail(stat, what)
       integer, intent(in) :: stat
       character(len=*), intent(in) :: what
       call set_status(status, stat, path//": "//what)
       close(unit)
-    end subroutine fail_at
-  end subroutine read_table_allowed
+    end subroutine fail
+  end subroutine read_by_records
+
+  !> The line starting at `next`, in one pass over its bytes: its first and
+  !> last character (last < first for an empty line), without its end (a line
+  !> feed, a carriage return and line feed, or a lone carriage return); the
+  !> column of its first `#` (its length + 1 if none); the column of its first
+  !> control character (bytes 0 to 31 but tab, and 127) among its first
+  !> `checked_columns`, 0 if none; and whether it holds only spaces before the
+  !> `#`. `next` moves past the line's end.
+  pure subroutine next_line(text, next, first, last, comment, control, blank)
+    character(len=*), intent(in) :: text
+    integer(i8), intent(inout) :: next
+    integer(i8), intent(out) :: first, last, comment, control
+    logical, intent(out) :: blank
+    integer(i8) :: i, n
+    integer :: b
+    first = next
+    n = len(text, i8)
+    comment = 0
+    control = 0
+    blank = .true.
+    i = next
+    do while (i <= n)
+      b = iachar(text(i:i))
+      if (b < 32 .or. b == 127 .or. b == 35) then
+        if (b == lf .or. b == cr) exit
+        if (b == 35) then
+          if (comment == 0) comment = i - first + 1
+        else if (b /= 9 .and. control == 0 .and. i - first < checked_columns) then
+          control = i - first + 1
+        end if
+      end if
+      if (b /= 32 .and. comment == 0) blank = .false.
+      i = i + 1
+    end do
+    last = i - 1
+    if (comment == 0) comment = last - first + 2
+    next = i + 1
+    if (i < n) then
+      if (iachar(text(i:i)) == cr .and. iachar(text(i+1:i+1)) == lf) next = i + 2
+    end if
+  end subroutine next_line
+
+  !> Double the capacity of the row lists, keeping their values.
+  pure subroutine grow_rows(row_first, row_last, row_line)
+    integer(i8), allocatable, intent(inout) :: row_first(:), row_last(:)
+    integer, allocatable, intent(inout) :: row_line(:)
+    integer(i8), allocatable :: f(:), l(:)
+    integer, allocatable :: k(:)
+    integer :: n
+    n = size(row_first)
+    allocate(f(2*n), l(2*n), k(2*n))
+    f(:n) = row_first
+    l(:n) = row_last
+    k(:n) = row_line
+    call move_alloc(f, row_first)
+    call move_alloc(l, row_last)
+    call move_alloc(k, row_line)
+  end subroutine grow_rows
 
   !> The allowed counts as prose: `7`, `7 or 8`, `2, 3 or 4`.
   pure function counts_text(allowed) result(text)
@@ -237,79 +365,62 @@ contains
     end do
   end function counts_text
 
-  !> Bytes 0 to 31 and 127, except tab and carriage return.
-  pure function control_characters() result(set)
-    character(len=31) :: set
-    integer :: i, k
-    k = 0
-    do i = 0, 31
-      if (i == 9 .or. i == 13) cycle
-      k = k + 1
-      set(k:k) = achar(i)
-    end do
-    set(31:31) = achar(127)
-  end function control_characters
-
-  !> The numbers of one row (blanks, tabs, carriage returns and commas separate
-  !> them). `count` is the number of fields, or -1 when a field is not a plain
-  !> number: only digits, signs, '.' and the exponent letters e and d may appear,
-  !> so list-directed extras (`2*0` repeats, `/`, quotes) cannot hide or invent a
-  !> column. The values are read only when the count fits `values`.
-  subroutine parse_row(text, values, count)
+  !> The numbers of one row (blanks, tabs and commas separate them). `count` is
+  !> the number of fields, or -1 when a field is not a plain number: only
+  !> digits, signs, '.' and the exponent letters e and d may appear, so
+  !> list-directed extras (`2*0` repeats, `/`, quotes) cannot hide or invent a
+  !> column. When the count fits `values`, the fields are read into it (one
+  !> that does not read makes the count -1) and their columns in the row are
+  !> `field_first`, `field_last`.
+  pure subroutine parse_row(text, values, count, field_first, field_last)
     character(len=*), intent(in) :: text
     real(dp), intent(out) :: values(:)
     integer, intent(out) :: count
-    character(len=len(text)) :: clean
-    integer :: i, ios
-    logical :: inside, sep
-    clean = text
-    values = 0.0_dp
+    integer(i8), intent(out) :: field_first(:), field_last(:)
+    integer(i8) :: i, start, n
+    logical :: ok, all_read
+    n = len(text, i8)
     count = 0
-    inside = .false.
-    do i = 1, len(clean)
-      if (index(separators, clean(i:i)) > 0) then
-        clean(i:i) = " "
-        sep = .true.
-      else if (index("0123456789+-.eEdD", clean(i:i)) > 0) then
-        sep = .false.
-      else
+    all_read = .true.
+    i = 1
+    do while (i <= n)
+      select case (byte_class(text(i:i)))
+      case (separator_byte)
+        i = i + 1
+      case (number_byte)
+        start = i
+        do while (i <= n)
+          if (byte_class(text(i:i)) /= number_byte) exit
+          i = i + 1
+        end do
+        count = count + 1
+        if (count <= size(values)) then
+          field_first(count) = start
+          field_last(count) = i - 1
+          call real_of(text(start:i-1), values(count), ok)
+          all_read = all_read .and. ok
+        end if
+      case default
         count = -1
         return
-      end if
-      if (.not. sep .and. .not. inside) count = count + 1
-      inside = .not. sep
+      end select
     end do
-    if (count > size(values) .or. count == 0) return
-    read(clean, *, iostat=ios) values(:count)
-    if (ios /= 0) count = -1
+    if (count <= size(values) .and. .not. all_read) count = -1
   end subroutine parse_row
 
-  !> Field `j` of a row (fields as `parse_row` separates them; '' beyond the last).
-  pure function field(text, j) result(f)
-    character(len=*), intent(in) :: text
-    integer, intent(in) :: j
-    character(len=:), allocatable :: f
-    integer :: i, start, count
-    f = ""
-    count = 0
-    i = 1
-    do while (i <= len(text))
-      if (index(separators, text(i:i)) > 0) then
-        i = i + 1
-        cycle
-      end if
-      start = i
-      do while (i <= len(text))
-        if (index(separators, text(i:i)) > 0) exit
-        i = i + 1
-      end do
-      count = count + 1
-      if (count == j) then
-        f = text(start:i-1)
-        return
-      end if
-    end do
-  end function field
+  !> The class of a byte: a separator (blank, comma, tab), a character of a
+  !> number (see [[number_characters]]) or another byte.
+  elemental integer function byte_class(c) result(class)
+    character, intent(in) :: c
+    select case (iachar(c))
+    case (32, 44, 9)
+      class = separator_byte
+    case (48:57, 43, 45, 46, 68, 69, 100, 101)
+      class = number_byte
+    case default
+      class = other_byte
+    end select
+  end function byte_class
 
   !> At most 60 characters of a text, for a message (see [[printable]]).
   pure function shortened(text) result(short)

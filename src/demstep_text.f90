@@ -1,15 +1,24 @@
-!> Numbers as text for messages, and integers read from text.
+!> Text: files read whole, numbers as text for messages, integers read from
+!> text, case folding and the character classes the readers share.
 module demstep_text
   use, intrinsic :: iso_fortran_env, only: int32, int64, real64
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
   implicit none
   private
 
-  public :: int_text, real_text, integer_of, printable, comment_start
+  public :: int_text, real_text, real_column, integer_of, printable, read_text_file, &
+    lowercase, uppercase, is_blank, is_letter, is_name_char, comment_start
 
   !> An integer as text, without blanks.
   interface int_text
     module procedure :: int32_text, int64_text
   end interface int_text
+
+  !> Significant digits of [[real_text]] when none are asked for.
+  integer, parameter :: default_digits = 4
+  !> Width of the cells of [[real_column]]: the longest text of 17 digits
+  !> (`-1.2345678901234567e-308`).
+  integer, parameter :: cell_width = 24
 
 contains
 
@@ -27,14 +36,68 @@ contains
     text = trim(buf)
   end function int64_text
 
-  !> A real as short text for messages: 4 significant digits, trailing zeros
-  !> dropped; fixed notation for magnitudes 1e-3 .. 1e5 (`0.25`), else `1.5e-8`.
-  pure function real_text(x) result(text)
+  !> A real as text: `digits` significant digits (default 4, at most 17),
+  !> trailing zeros dropped; fixed notation for magnitudes from 1e-3 below
+  !> 10^(min(digits, 6) + 1) (`0.25`, `12346` with 4 digits, `1234567.5` with
+  !> 10), else `1.5e-8`; `NaN`, `+Inf`, `-Inf`, and `0` for either zero.
+  pure function real_text(x, digits) result(text)
+    !> The number.
     real(real64), intent(in) :: x
+    !> Significant digits (1 to 17; default 4).
+    integer, intent(in), optional :: digits
     character(len=:), allocatable :: text
-    character(len=40) :: buf
-    character(len=12) :: form
-    integer :: k, e, last
+    character(len=cell_width) :: cell
+    integer :: d
+    d = default_digits
+    if (present(digits)) d = max(1, min(17, digits))
+    cell = ""
+    if (x == x .and. abs(x) <= huge(x) .and. x /= 0.0_real64) write(cell, es_format(d)) x
+    text = text_of_es(x, cell, d)
+  end function real_text
+
+  !> [[real_text]] of each element, left-adjusted in cells of 24 characters,
+  !> from one formatted write for the whole array (in long tables the cost per
+  !> write statement would dominate).
+  pure function real_column(x, digits) result(cells)
+    !> The numbers.
+    real(real64), intent(in) :: x(:)
+    !> Significant digits (1 to 17; default 4).
+    integer, intent(in), optional :: digits
+    character(len=cell_width), allocatable :: cells(:)
+    character(len=cell_width), allocatable :: es(:)
+    integer :: i, d
+    d = default_digits
+    if (present(digits)) d = max(1, min(17, digits))
+    allocate(es(size(x)), cells(size(x)))
+    ! Inf and NaN print as text, which text_of_es does not read
+    if (size(x) > 0) write(es, es_format(d)) x
+    do i = 1, size(x)
+      cells(i) = text_of_es(x(i), es(i), d)
+    end do
+  end function real_column
+
+  !> The edit `(esW.De3)` giving `d` significant digits.
+  pure function es_format(d) result(form)
+    integer, intent(in) :: d
+    character(len=16) :: form
+    write(form, '(a, i0, a, i0, a)') "(es", cell_width, ".", d - 1, "e3)"
+  end function es_format
+
+  !> The text of [[real_text]] from x and its `es_format(d)` edit `cell` (used
+  !> when x is finite and nonzero). The es edit gives the rounded significant
+  !> digits and the exponent of the rounded value; the fixed notation places
+  !> the decimal point in those same digits (rounding at d digits lands on the
+  !> same decimal place there), or, with more integer digits than d, shows the
+  !> integer part whole.
+  pure function text_of_es(x, cell, d) result(text)
+    real(real64), intent(in) :: x
+    character(len=*), intent(in) :: cell
+    integer, intent(in) :: d
+    character(len=:), allocatable :: text
+    character(len=17) :: digits
+    character(len=cell_width) :: buf
+    character :: sign
+    integer :: e, k, m, i
     if (x /= x) then
       text = "NaN"
       return
@@ -45,25 +108,43 @@ contains
       text = "0"
       return
     end if
-    write(buf, '(es12.3e3)') x
-    k = index(buf, "E")
-    read(buf(k+1:), *) e
-    if (e >= -3 .and. e <= 4) then
-      write(form, '(a, i0, a)') "(f0.", max(0, 3 - e), ")"
-      write(buf, form) x
-      text = trim(adjustl(buf))
-      if (text(1:1) == ".") text = "0"//text
-      if (text(1:2) == "-.") text = "-0"//text(2:)
+    k = index(cell, "E")
+    e = 0
+    do i = k + 2, len_trim(cell)
+      e = 10*e + (iachar(cell(i:i)) - iachar("0"))
+    end do
+    if (cell(k+1:k+1) == "-") e = -e
+    if (e >= -3 .and. e <= min(d, 6)) then
+      m = verify(cell, " ")
+      sign = merge("-", " ", cell(m:m) == "-")
+      if (sign == "-") m = m + 1
+      digits = cell(m:m)//cell(m+2:k-1)
+      if (e >= d) then
+        write(buf, '(f0.0)') x
+        text = trim(adjustl(buf))
+      else if (e >= 0) then
+        text = trim(sign)//digits(1:e+1)//"."//digits(e+2:d)
+      else
+        text = trim(sign)//"0."//repeat("0", -e-1)//digits(1:d)
+      end if
+      text = without_trailing_zeros(text)
     else
-      text = trim(adjustl(buf(1:k-1)))
+      text = without_trailing_zeros(trim(adjustl(cell(1:k-1))))//"e"//int64_text(int(e, int64))
     end if
-    if (index(text, ".") > 0) then
-      last = verify(text, "0", back=.true.)
-      if (text(last:last) == ".") last = last - 1
-      text = text(1:last)
-    end if
-    if (e < -3 .or. e > 4) text = text//"e"//int64_text(int(e, int64))
-  end function real_text
+  end function text_of_es
+
+  !> A decimal number without the zeros that end its fraction, and without a
+  !> point that ends it (`1.500` is `1.5`, `2.` is `2`).
+  pure function without_trailing_zeros(number) result(text)
+    character(len=*), intent(in) :: number
+    character(len=:), allocatable :: text
+    integer :: last
+    text = number
+    if (index(text, ".") == 0) return
+    last = verify(text, "0", back=.true.)
+    if (text(last:last) == ".") last = last - 1
+    text = text(1:last)
+  end function without_trailing_zeros
 
   !> A text as it may be quoted in a one-line message: a tab becomes a blank,
   !> every other byte outside printable ASCII (a newline, a carriage return, a
@@ -108,8 +189,8 @@ contains
     if (first > len(text)) return
     ! accumulated as a negative number: -huge - 1 is in range too
     do i = first, len(text)
-      d = index("0123456789", text(i:i)) - 1
-      if (d < 0) then
+      d = iachar(text(i:i)) - iachar("0")
+      if (d < 0 .or. d > 9) then
         value = 0
         return
       end if
@@ -151,5 +232,94 @@ contains
       end if
     end do
   end function comment_start
+  !> Read a whole file into a string (one unformatted stream read).
+  subroutine read_text_file(path, text, status)
+    !> File name.
+    character(len=*), intent(in) :: path
+    !> Its contents.
+    character(len=:), allocatable, intent(out) :: text
+    !> `io_error` when the file is missing or unreadable.
+    type(demstep_status_type), intent(out) :: status
+    integer :: unit, ios
+    integer(int64) :: length
+    logical :: exists
+    character(len=256) :: msg
+    inquire(file=path, exist=exists)
+    if (.not. exists) then
+      call set_status(status, demstep_stat%io_error, "no such file")
+      return
+    end if
+    open(newunit=unit, file=path, access="stream", form="unformatted", action="read", &
+      status="old", iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call set_status(status, demstep_stat%io_error, "cannot open: "//trim(msg))
+      return
+    end if
+    inquire(unit=unit, size=length)
+    if (length < 0) then
+      close(unit)
+      call set_status(status, demstep_stat%io_error, "cannot determine the size (not a regular file?)")
+      return
+    end if
+    allocate(character(len=length) :: text)
+    ios = 0
+    if (length > 0) read(unit, iostat=ios, iomsg=msg) text
+    close(unit)
+    if (ios /= 0) then
+      call set_status(status, demstep_stat%io_error, "cannot read: "//trim(msg))
+      return
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine read_text_file
+
+  !> ASCII lower case (other bytes unchanged).
+  pure function lowercase(text) result(out)
+    !> Text to convert.
+    character(len=*), intent(in) :: text
+    character(len=len(text)) :: out
+    out = case_shifted(text, "A", "Z", 32)
+  end function lowercase
+
+  !> ASCII upper case (other bytes unchanged).
+  pure function uppercase(text) result(out)
+    !> Text to convert.
+    character(len=*), intent(in) :: text
+    character(len=len(text)) :: out
+    out = case_shifted(text, "a", "z", -32)
+  end function uppercase
+
+  !> The text with the letters `first` .. `last` moved by `shift` codes.
+  pure function case_shifted(text, first, last, shift) result(out)
+    character(len=*), intent(in) :: text
+    character, intent(in) :: first, last
+    integer, intent(in) :: shift
+    character(len=len(text)) :: out
+    integer :: i
+    out = text
+    do i = 1, len(text)
+      if (text(i:i) >= first .and. text(i:i) <= last) out(i:i) = achar(iachar(text(i:i)) + shift)
+    end do
+  end function case_shifted
+
+  !> A blank, tab, carriage return or line feed.
+  elemental logical function is_blank(c)
+    !> One character.
+    character, intent(in) :: c
+    is_blank = c == " " .or. c == achar(9) .or. c == achar(10) .or. c == achar(13)
+  end function is_blank
+
+  !> An ASCII letter.
+  elemental logical function is_letter(c)
+    !> One character.
+    character, intent(in) :: c
+    is_letter = (c >= "a" .and. c <= "z") .or. (c >= "A" .and. c <= "Z")
+  end function is_letter
+
+  !> A character of a Fortran name: letter, digit or underscore.
+  elemental logical function is_name_char(c)
+    !> One character.
+    character, intent(in) :: c
+    is_name_char = is_letter(c) .or. (c >= "0" .and. c <= "9") .or. c == "_"
+  end function is_name_char
 
 end module demstep_text

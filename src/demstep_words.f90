@@ -4,7 +4,7 @@
 !> one message for a word that is not in a table.
 module demstep_words
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_namelist, only: lowercase
+  use demstep_text, only: lowercase
   implicit none
   private
 

@@ -7,6 +7,7 @@ program tester
   use test_spring, only: collect_spring
   use test_namelist, only: collect_namelist
   use test_table_io, only: collect_table_io
+  use test_text, only: collect_text
   use test_harmonic, only: collect_harmonic
   use test_roots, only: collect_roots
   use test_stiffness, only: collect_stiffness
@@ -47,6 +48,7 @@ program tester
     new_testsuite("spring", collect_spring), &
     new_testsuite("namelist", collect_namelist), &
     new_testsuite("table_io", collect_table_io), &
+    new_testsuite("text", collect_text), &
     new_testsuite("harmonic", collect_harmonic), &
     new_testsuite("roots", collect_roots), &
     new_testsuite("stiffness", collect_stiffness), &

@@ -8,8 +8,8 @@ module test_packing
   use demstep_kinds, only: dp, pi
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_scene_data, only: scene_type, scene_effect, branch_vector
-  use demstep_scene_builders, only: random_periodic_packing, tile_scene, cubic_lattice, &
-    scene_add_bonds, scene_set_contacts, packing_min_particles, packing_max_particles
+  use demstep_scene_builders, only: cubic_lattice, scene_add_bonds, scene_set_contacts
+  use demstep_packing, only: random_periodic_packing, tile_scene, packing_min_particles, packing_max_particles
   use demstep_neighbours, only: contact_list
   use demstep_interaction, only: contact_law
   use demstep_assembly, only: assembly_critical_steps, critical_step_type, eigen_solver, &

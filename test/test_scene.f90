@@ -4,7 +4,7 @@
 module test_scene
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
-  use demstep_scene_builders, only: restitution_to_damping_ratio
+  use demstep_spring, only: restitution_to_damping_ratio
   use demstep_neighbours, only: contact_list
   use demstep_scene_data, only: n_effects
   use demstep_kinds, only: pi

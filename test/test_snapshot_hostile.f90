@@ -17,7 +17,7 @@ module test_snapshot_hostile
   use testdrive, only: error_type, check, test_failed
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat
-  use demstep_namelist, only: read_text_file
+  use demstep_text, only: read_text_file
   use demstep_text, only: int_text
   use demstep_snapshot
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite

@@ -23,6 +23,7 @@ contains
       new_unittest("an empty table", test_empty), &
       new_unittest("malformed rows: file, line and what is wrong", test_malformed), &
       new_unittest("binary input, long lines, missing files", test_refused), &
+      new_unittest("line ends: LF, CR LF, a lone CR; devices read by records", test_line_ends), &
       new_unittest("1e5 rows, each value in its place", test_many_rows), &
       new_unittest("particle numbers: integers in [1, huge], refused by line and column", test_index_columns) &
       ]
@@ -128,6 +129,35 @@ contains
     call read_table(work_dir//"/no-such-table.txt", 2, rows, status)
     call expect(error, status, demstep_stat%io_error, work_dir//"/no-such-table.txt: no such file")
   end subroutine test_refused
+
+  !> Lines end as the runtime's formatted reads end them (a line feed, a
+  !> carriage return and line feed, or a lone carriage return), so rows and
+  !> line numbers are those of the former record-by-record reader; a device of
+  !> unknown size is read by records and refused at its first byte.
+  subroutine test_line_ends(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), allocatable :: rows(:, :)
+    integer, allocatable :: lines(:)
+    type(demstep_status_type) :: status
+    integer :: unit
+    open(newunit=unit, file=table, access="stream", status="replace", action="write")
+    write(unit) "1 2"//achar(13)//"3 4"//achar(13)//achar(10)//achar(13)//achar(10)//"5 6"//achar(13)
+    close(unit)
+    call read_table(table, 2, rows, status, lines=lines)
+    call check(error, status%stat, demstep_stat%ok, message=status%message)
+    if (allocated(error)) return
+    call check(error, size(rows, 2) == 3 .and. all(lines == [1, 2, 4]) .and. rows(2, 3) == 6.0_dp, &
+      "three rows on lines 1, 2 and 4")
+    if (allocated(error)) return
+    open(newunit=unit, file=table, access="stream", status="replace", action="write")
+    write(unit) "1 2"//achar(13)//achar(10)//"1 x"//achar(13)
+    close(unit)
+    call read_table(table, 2, rows, status)
+    call expect(error, status, demstep_stat%invalid_input, table//": line 2: cannot read '1 x' as finite numbers")
+    if (allocated(error)) return
+    call read_table("/dev/zero", 2, rows, status)
+    call expect(error, status, demstep_stat%invalid_input, "/dev/zero: line 1: not a text file (byte 0 in column 1)")
+  end subroutine test_line_ends
 
   subroutine test_many_rows(error)
     type(error_type), allocatable, intent(out) :: error
