@@ -4,6 +4,7 @@ module test_structure
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use, intrinsic :: iso_c_binding, only: c_loc, c_null_char, c_ptr, c_int, c_double, c_null_ptr
   use demstep_kinds, only: dp, i8
+  use demstep_text, only: uppercase
   use demstep_status, only: demstep_status_type, demstep_stat, set_status, status_at, status_restate
   use demstep_words, only: word_index, word_list, unknown_word
   use demstep_assembly, only: eigen_solver, eigen_solver_names, eigen_solver_from_name, eigen_solver_name, &
@@ -69,98 +70,98 @@ contains
     integer :: k, n, codes(32)
     character(len=32) :: got(32)
     do k = 1, size(eigen_solver_names)
-      codes(k) = eigen_solver_from_name("  "//upper(eigen_solver_names(k)))
+      codes(k) = eigen_solver_from_name("  "//uppercase(eigen_solver_names(k)))
       got(k) = eigen_solver_name(1 + k - 1)
     end do
     n = size(eigen_solver_names)
     call round_trip(error, eigen_solver_names, 1, codes(:n), got(:n), "eigen_solver")
     if (allocated(error)) return
     do k = 1, size(hertz_linearization_names)
-      codes(k) = hertz_linearization_from_name("  "//upper(hertz_linearization_names(k)))
+      codes(k) = hertz_linearization_from_name("  "//uppercase(hertz_linearization_names(k)))
       got(k) = hertz_linearization_name(1 + k - 1)
     end do
     n = size(hertz_linearization_names)
     call round_trip(error, hertz_linearization_names, 1, codes(:n), got(:n), "hertz_linearization")
     if (allocated(error)) return
     do k = 1, size(contact_law_names)
-      codes(k) = contact_law_from_name("  "//upper(contact_law_names(k)))
+      codes(k) = contact_law_from_name("  "//uppercase(contact_law_names(k)))
       got(k) = contact_law_name(1 + k - 1)
     end do
     n = size(contact_law_names)
     call round_trip(error, contact_law_names, 1, codes(:n), got(:n), "contact_law")
     if (allocated(error)) return
     do k = 1, size(dashpot_kind_names)
-      codes(k) = dashpot_kind_from_name("  "//upper(dashpot_kind_names(k)))
+      codes(k) = dashpot_kind_from_name("  "//uppercase(dashpot_kind_names(k)))
       got(k) = dashpot_kind_name(1 + k - 1)
     end do
     n = size(dashpot_kind_names)
     call round_trip(error, dashpot_kind_names, 1, codes(:n), got(:n), "dashpot_kind")
     if (allocated(error)) return
     do k = 1, size(interval_kind_names)
-      codes(k) = interval_kind_from_name("  "//upper(interval_kind_names(k)))
+      codes(k) = interval_kind_from_name("  "//uppercase(interval_kind_names(k)))
       got(k) = interval_kind_name(interval_kind%bounded + k - 1)
     end do
     n = size(interval_kind_names)
     call round_trip(error, interval_kind_names, interval_kind%bounded, codes(:n), got(:n), "interval_kind")
     if (allocated(error)) return
     do k = 1, size(scan_break_names)
-      codes(k) = scan_break_from_name("  "//upper(scan_break_names(k)))
+      codes(k) = scan_break_from_name("  "//uppercase(scan_break_names(k)))
       got(k) = scan_break_name(scan_break%none + k - 1)
     end do
     n = size(scan_break_names)
     call round_trip(error, scan_break_names, scan_break%none, codes(:n), got(:n), "scan_break")
     if (allocated(error)) return
     do k = 1, size(aggregate_kind_names)
-      codes(k) = aggregate_kind_from_name("  "//upper(aggregate_kind_names(k)))
+      codes(k) = aggregate_kind_from_name("  "//uppercase(aggregate_kind_names(k)))
       got(k) = aggregate_kind_name(1 + k - 1)
     end do
     n = size(aggregate_kind_names)
     call round_trip(error, aggregate_kind_names, 1, codes(:n), got(:n), "aggregate_kind")
     if (allocated(error)) return
     do k = 1, size(pick_kind_names)
-      codes(k) = pick_kind_from_name("  "//upper(pick_kind_names(k)))
+      codes(k) = pick_kind_from_name("  "//uppercase(pick_kind_names(k)))
       got(k) = pick_kind_name(1 + k - 1)
     end do
     n = size(pick_kind_names)
     call round_trip(error, pick_kind_names, 1, codes(:n), got(:n), "pick_kind")
     if (allocated(error)) return
     do k = 1, size(step_kind_names)
-      codes(k) = step_kind_from_name("  "//upper(step_kind_names(k)))
+      codes(k) = step_kind_from_name("  "//uppercase(step_kind_names(k)))
       got(k) = step_kind_name(1 + k - 1)
     end do
     n = size(step_kind_names)
     call round_trip(error, step_kind_names, 1, codes(:n), got(:n), "step_kind")
     if (allocated(error)) return
     do k = 1, size(quantity_kind_names)
-      codes(k) = quantity_kind_from_name("  "//upper(quantity_kind_names(k)))
+      codes(k) = quantity_kind_from_name("  "//uppercase(quantity_kind_names(k)))
       got(k) = quantity_kind_name(1 + k - 1)
     end do
     n = size(quantity_kind_names)
     call round_trip(error, quantity_kind_names, 1, codes(:n), got(:n), "quantity_kind")
     if (allocated(error)) return
     do k = 1, size(code_convention_names)
-      codes(k) = code_convention_from_name("  "//upper(code_convention_names(k)))
+      codes(k) = code_convention_from_name("  "//uppercase(code_convention_names(k)))
       got(k) = code_convention_name(1 + k - 1)
     end do
     n = size(code_convention_names)
     call round_trip(error, code_convention_names, 1, codes(:n), got(:n), "code_convention")
     if (allocated(error)) return
     do k = 1, size(peer_rule_names)
-      codes(k) = peer_rule_from_name("  "//upper(peer_rule_names(k)))
+      codes(k) = peer_rule_from_name("  "//uppercase(peer_rule_names(k)))
       got(k) = peer_rule_name(1 + k - 1)
     end do
     n = size(peer_rule_names)
     call round_trip(error, peer_rule_names, 1, codes(:n), got(:n), "peer_rule")
     if (allocated(error)) return
     do k = 1, size(step_governs_names)
-      codes(k) = step_governs_from_name("  "//upper(step_governs_names(k)))
+      codes(k) = step_governs_from_name("  "//uppercase(step_governs_names(k)))
       got(k) = step_governs_name(1 + k - 1)
     end do
     n = size(step_governs_names)
     call round_trip(error, step_governs_names, 1, codes(:n), got(:n), "step_governs")
     if (allocated(error)) return
     do k = 1, size(scene_effect_names)
-      codes(k) = scene_effect_from_name("  "//upper(scene_effect_names(k)))
+      codes(k) = scene_effect_from_name("  "//uppercase(scene_effect_names(k)))
       got(k) = scene_effect_name(1 + k - 1)
     end do
     n = size(scene_effect_names)
@@ -175,17 +176,6 @@ contains
     if (allocated(error)) return
     call check(error, eigen_solver_name(0) == "?" .and. eigen_solver_from_name("lanczo") == 0, &
       "no code outside the table, no word for one")
-  contains
-    pure function upper(text) result(out)
-      character(len=*), intent(in) :: text
-      character(len=len(text)) :: out
-      integer :: i, c
-      out = text
-      do i = 1, len(text)
-        c = iachar(text(i:i))
-        if (c >= iachar("a") .and. c <= iachar("z")) out(i:i) = achar(c - 32)
-      end do
-    end function upper
   end subroutine test_words
 
   subroutine test_unknown_word(error)
