@@ -35,6 +35,7 @@ program tester
   use test_damping, only: collect_damping
   use test_liggghts, only: collect_liggghts
   use test_app_safety, only: collect_app_safety
+  use test_monitor, only: collect_monitor
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -72,7 +73,8 @@ program tester
     new_testsuite("snapshot", collect_snapshot), &
     new_testsuite("app_snapshot", collect_app_snapshot), &
     new_testsuite("packing", collect_packing), &
-    new_testsuite("app_safety", collect_app_safety) &
+    new_testsuite("app_safety", collect_app_safety), &
+    new_testsuite("monitor", collect_monitor) &
     ]
   stat = 0
   total = 0
