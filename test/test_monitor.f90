@@ -8,7 +8,7 @@ module test_monitor
   use demstep
   use demstep_monitor, only: solver_critical_steps, step_monitor_type, mode_participation, top_shares, &
     monitor_verdict
-  use test_support, only: real_str, ieee_nan
+  use test_support, only: real_str, ieee_nan, run_app, write_file, work_dir
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_loc, c_null_ptr, c_sizeof, c_char
   use demstep_capi, only: c_solver_compute, demstep_scene_result_c, demstep_error_c
   implicit none
@@ -36,7 +36,8 @@ contains
       new_unittest("warm start: same value, fewer products", test_warm_start), &
       new_unittest("check: safe when unchanged, re-solve on a stiffened contact", test_check), &
       new_unittest("participation sums to 1; a light particle leads", test_participation), &
-      new_unittest("C entry point: the Fortran numbers bit for bit; bad counts refused", test_capi_solver) &
+      new_unittest("C entry point: the Fortran numbers bit for bit; bad counts refused", test_capi_solver), &
+      new_unittest("app: no contact search with contacts_file", test_app_no_search) &
       ]
   end subroutine collect_monitor
 
@@ -413,6 +414,30 @@ contains
     call check(error, code == demstep_stat%invalid_input .and. index(c_text(err%message), "pairs(3)") > 0, &
       "pair out of range: "//c_text(err%message))
   end subroutine test_capi_solver
+
+  !> Particles 1 and 3 at the same point: a contact search refuses them, but
+  !> with a contacts_file that does not list them the deck is computed (the
+  !> search is skipped: only listed pairs are contacts); without the file it
+  !> is refused.
+  subroutine test_app_no_search(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), parameter :: deck = work_dir//"/monitor_deck.nml"
+    character(len=:), allocatable :: stdout, stderr
+    integer :: rc
+    call write_file(work_dir//"/monitor_p.txt", [character(len=60) :: "0.1 0 0  0 0 0  1 0.6 0", &
+      "1.1 0 0  0 0 0  1 0.6 0", "0.1 0 0  0 0 0  1 0.6 0"])
+    call write_file(work_dir//"/monitor_c.txt", [character(len=20) :: "1 2 100 60"])
+    call write_file(deck, [character(len=100) :: "&scene dim = 3, particles_file = 'monitor_p.txt', " &
+      //"contacts_file = 'monitor_c.txt' /"])
+    call run_app(deck, rc, stdout, stderr)
+    call check(error, rc, 0, message="with contacts_file; stderr: "//stderr)
+    if (allocated(error)) return
+    call write_file(deck, [character(len=100) :: "&scene dim = 3, particles_file = 'monitor_p.txt', " &
+      //"k_normal = 100 /"])
+    call run_app(deck, rc, stdout, stderr)
+    call check(error, rc == 2 .and. index(stderr, "same point") > 0, "without contacts_file: " &
+      //"not refused: "//stderr)
+  end subroutine test_app_no_search
 
   !> A NUL-terminated C message as text.
   pure function c_text(chars) result(text)
