@@ -8,7 +8,8 @@ module test_monitor
   use demstep
   use demstep_monitor, only: solver_critical_steps, step_monitor_type, mode_participation, top_shares, &
     monitor_verdict
-  use test_support, only: real_str, ieee_nan, run_app, write_file, work_dir
+  use test_support, only: real_str, ieee_nan, run_app, write_file, work_dir, read_file, count_lines, int_str
+  use demstep_vtk, only: write_vtk_particles, vtk_field_type
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_loc, c_null_ptr, c_sizeof, c_char
   use demstep_capi, only: c_solver_compute, demstep_scene_result_c, demstep_error_c
   implicit none
@@ -37,7 +38,8 @@ contains
       new_unittest("check: safe when unchanged, re-solve on a stiffened contact", test_check), &
       new_unittest("participation sums to 1; a light particle leads", test_participation), &
       new_unittest("C entry point: the Fortran numbers bit for bit; bad counts refused", test_capi_solver), &
-      new_unittest("app: no contact search with contacts_file", test_app_no_search) &
+      new_unittest("app: no contact search with contacts_file", test_app_no_search), &
+      new_unittest("VTK: participation as a point field, contacts as lines; bad fields refused", test_vtk) &
       ]
   end subroutine collect_monitor
 
@@ -438,6 +440,46 @@ contains
     call check(error, rc == 2 .and. index(stderr, "same point") > 0, "without contacts_file: " &
       //"not refused: "//stderr)
   end subroutine test_app_no_search
+
+  subroutine test_vtk(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), parameter :: path = work_dir//"/monitor.vtk"
+    type(solver_arrays_type) :: a
+    type(step_monitor_type) :: monitor
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: ps(:), cs(:), ws(:)
+    type(vtk_field_type) :: pf(2), cf(1)
+    character(len=:), allocatable :: text
+    integer :: n, nc
+    call packing_arrays(64, a, error)
+    if (allocated(error)) return
+    n = size(a%mass)
+    nc = size(a%pairs, 2)
+    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, &
+      periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call mode_participation(monitor, nc, ps, cs, ws, status)
+    call check(error, is_ok(status), "participation: "//status_text(status))
+    if (allocated(error)) return
+    pf(1) = vtk_field_type("radius", a%radius)
+    pf(2) = vtk_field_type("participation", ps)
+    cf(1) = vtk_field_type("contact_participation", cs)
+    call write_vtk_particles(path, a%x, pf, status, pairs=a%pairs, contact_fields=cf)
+    call check(error, is_ok(status), "write: "//status_text(status))
+    if (allocated(error)) return
+    call read_file(path, text)
+    ! header 4 + points (1 + n) + cells and their types (2 (1 + n + nc)) + point
+    ! data (1 + 2 (2 + n)) + cell data (1 + 2 + n + nc)
+    call check(error, count_lines(text) == 4 + (1 + n) + 2*(1 + n + nc) + (1 + 2*(2 + n)) + &
+      (3 + n + nc), "line count")
+    if (allocated(error)) return
+    call check(error, index(text, "POINT_DATA "//int_str(int(n, i8))) > 0 .and. index(text, "SCALARS " &
+      //"participation double 1") > 0 .and. index(text, "CELL_DATA "//int_str(int(n + nc, i8))) > 0, "sections")
+    if (allocated(error)) return
+    pf(2) = vtk_field_type("two words", ps)
+    call write_vtk_particles(path, a%x, pf, status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "point_fields" &
+      .and. status%index == 2, "a blank in a field name accepted")
+  end subroutine test_vtk
 
   !> A NUL-terminated C message as text.
   pure function c_text(chars) result(text)
