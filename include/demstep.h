@@ -33,7 +33,8 @@ enum {
   DEMSTEP_BLOW_UP = 8,        /* a simulated value grew without bound */
   DEMSTEP_AT_STABILITY_LIMIT = 9, /* the tolerance already holds at the stability limit */
   DEMSTEP_DISCONTINUOUS = 10, /* a sign change or pick lies on a jump or pole, not a root */
-  DEMSTEP_EIGENSOLVER_FAILURE = 11 /* the eigensolver (ARPACK) failed */
+  DEMSTEP_EIGENSOLVER_FAILURE = 11, /* the eigensolver (ARPACK) failed */
+  DEMSTEP_BUSY = 12                /* another thread's Lanczos solve is running: call again */
 };
 
 /* Dashpots, step policies, picks, aggregation rules, contact laws, effects. */

@@ -10,6 +10,7 @@ module test_monitor
     monitor_verdict
   use test_support, only: real_str, ieee_nan, run_app, write_file, work_dir, read_file, count_lines, int_str
   use demstep_vtk, only: write_vtk_particles, vtk_field_type
+  use demstep_lanczos, only: arpack_claim, arpack_release
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_loc, c_null_ptr, c_sizeof, c_char
   use demstep_capi, only: c_solver_compute, demstep_scene_result_c, demstep_error_c
   implicit none
@@ -39,7 +40,8 @@ contains
       new_unittest("participation sums to 1; a light particle leads", test_participation), &
       new_unittest("C entry point: the Fortran numbers bit for bit; bad counts refused", test_capi_solver), &
       new_unittest("app: no contact search with contacts_file", test_app_no_search), &
-      new_unittest("VTK: participation as a point field, contacts as lines; bad fields refused", test_vtk) &
+      new_unittest("VTK: participation as a point field, contacts as lines; bad fields refused", test_vtk), &
+      new_unittest("concurrent solves: refused with busy or correct, never wrong", test_concurrent) &
       ]
   end subroutine collect_monitor
 
@@ -480,6 +482,61 @@ contains
     call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "point_fields" &
       .and. status%index == 2, "a blank in a field name accepted")
   end subroutine test_vtk
+
+  !> ARPACK's state held (as by another thread's solve): a Lanczos solve is
+  !> refused with `busy`, a dense one runs; released: it runs. Then four
+  !> solves on two threads at once: each is refused with `busy` or gives the
+  !> serial answer (the same operator and start vector: the same rounding).
+  subroutine test_concurrent(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(solver_arrays_type) :: a
+    type(critical_step_type) :: ref, r(4)
+    type(demstep_status_type) :: status, st(4)
+    integer :: t, n_ok
+    call packing_arrays(300, a, error)
+    if (allocated(error)) return
+    call arpack_claim(status)
+    call check(error, is_ok(status), "claim")
+    if (allocated(error)) return
+    call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, a%k_n, ref, status, k_t=a%k_t, &
+      periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi, solver=eigen_solver%lanczos)
+    call check(error, status%stat == demstep_stat%busy .and. status%where == "lanczos_largest", &
+      "not refused while ARPACK is held: "//status_text(status))
+    if (allocated(error)) then
+      call arpack_release()
+      return
+    end if
+    call solver_critical_steps(a%x(:, :100), a%mass(:100), a%radius(:100), a%pairs(:, 1:0), [1.0_dp], &
+      ref, status, wall_point=a%wall_point, wall_normal=a%wall_normal, wall_k=a%wall_k, &
+      solver=eigen_solver%dense)
+    call arpack_release()
+    call check(error, is_ok(status), "a dense solve refused: "//status_text(status))
+    if (allocated(error)) return
+    call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, a%k_n, ref, status, k_t=a%k_t, &
+      periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi, solver=eigen_solver%lanczos)
+    call check(error, is_ok(status), "released: "//status_text(status))
+    if (allocated(error)) return
+    !$omp parallel do num_threads(2) schedule(static, 1)
+    do t = 1, 4
+      call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, a%k_n, r(t), st(t), k_t=a%k_t, &
+        periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi, solver=eigen_solver%lanczos)
+    end do
+    !$omp end parallel do
+    n_ok = 0
+    do t = 1, 4
+      if (st(t)%stat == demstep_stat%busy) cycle
+      call check(error, is_ok(st(t)), "solve "//int_str(int(t, i8))//": "//status_text(st(t)))
+      if (allocated(error)) return
+      ! tolerance: the same products in the same order give the same bits;
+      ! 1e-14 leaves room for nothing but rounding
+      call check(error, abs(r(t)%dt_critical_eigen/ref%dt_critical_eigen - 1.0_dp) <= 1.0e-14_dp, &
+        "solve "//int_str(int(t, i8))//": "//real_str(r(t)%dt_critical_eigen)//" vs "// &
+        real_str(ref%dt_critical_eigen))
+      if (allocated(error)) return
+      n_ok = n_ok + 1
+    end do
+    call check(error, n_ok >= 1, "every concurrent solve refused")
+  end subroutine test_concurrent
 
   !> A NUL-terminated C message as text.
   pure function c_text(chars) result(text)
