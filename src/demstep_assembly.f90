@@ -210,6 +210,8 @@ module demstep_assembly
   type, extends(damped_problem_type) :: serial_damped_type
     type(assembly_operator_type), pointer :: op => null()
     integer :: choice = 0
+    !> Krylov size of the Lanczos solves.
+    integer :: ncv = scene_lanczos_ncv
     real(dp), allocatable :: vec(:)
   contains
     procedure :: top => serial_damped_top
@@ -304,8 +306,14 @@ contains
   !> springs (`prepare`, or a solver's own arrays): the per-contact rule, the
   !> bound, the exact top eigenpair (Lanczos warm-started from `vec` when it is
   !> non-zero; the undamped unit mode on return) and the damped limit. The
-  !> caller sets result%rotation and result%periodic.
-  subroutine operator_critical_steps(op, springs, rate, geo, choice, limit, tol, vec, result, status, progress)
+  !> caller sets result%rotation and result%periodic. A monitor may give
+  !> rigorous bounds of its own (`bounds` = (a, b) >= (lambda_max(A'),
+  !> lambda_max(B')), scaled: the Collatz-Wielandt bound is then not
+  !> computed), the Krylov size `ncv`, and `damped_vec`: the damped Newton
+  !> steps start from it when it is non-zero (its own quadratic's root lies at
+  !> or above the damped root as any vector's does) and it returns their last mode.
+  subroutine operator_critical_steps(op, springs, rate, geo, choice, limit, tol, vec, result, status, progress, &
+      bounds, ncv, damped_vec)
     type(assembly_operator_type), intent(inout), target :: op
     type(spring_block_type), intent(in) :: springs(:)
     !> omega = rate sqrt(lambda); whether the pre-stress is counted.
@@ -319,6 +327,9 @@ contains
     type(critical_step_type), intent(inout) :: result
     type(demstep_status_type), intent(out) :: status
     class(progress_type), intent(inout), optional :: progress
+    real(dp), intent(in), optional :: bounds(2)
+    integer, intent(in), optional :: ncv
+    real(dp), intent(inout), optional :: damped_vec(:)
     real(dp) :: lam, err, b_bound
     integer :: i, solver
     logical :: has_mode
@@ -341,9 +352,14 @@ contains
           2.0_dp*sqrt(sp%m_eff)/sqrt(max(sp%k(1), sp%k(2))))
       end associate
     end do
-    call assembly_set_bound(result, rate, operator_bound(op), status)
+    if (present(bounds)) then
+      call assembly_set_bound(result, rate, bounds(1), status)
+      b_bound = bounds(2)
+    else
+      call assembly_set_bound(result, rate, operator_bound(op), status)
+      b_bound = assembly_dashpot_bound(op)
+    end if
     if (status%stat /= demstep_stat%ok) return
-    b_bound = assembly_dashpot_bound(op)
 
     ! the exact omega_max: dense LAPACK or matrix-free Lanczos
     solver = choice
@@ -355,7 +371,7 @@ contains
     if (solver /= eigen_solver%none) then
       ! (warm start from vec when the caller gives one)
       call top_eigenpair(op, solver, tol, vec, lam, err, has_mode, result%eigen_products, &
-        result%eigen_restarts, status, progress)
+        result%eigen_restarts, status, progress, ncv)
       if (status%stat /= demstep_stat%ok) return
       result%eigen_tolerance = tol
       if (solver == eigen_solver%dense) result%eigen_tolerance = epsilon(1.0_dp)
@@ -363,7 +379,7 @@ contains
         (has_mode .and. err <= tol*lam), b_bound, status)
       if (status%stat /= demstep_stat%ok) return
       if (b_bound > 0.0_dp .and. has_mode) then
-        call damped_exact(op, solver, tol, rate, vec, result, status, progress)
+        call damped_exact(op, solver, tol, rate, vec, result, status, progress, ncv, damped_vec)
         if (status%stat /= demstep_stat%ok) return
       end if
     else
@@ -471,7 +487,7 @@ contains
   !> Rayleigh quotient `lam` of the returned unit mode and its residual `err`
   !> (measured; ARPACK's estimate when Lanczos ran out of restarts without a
   !> mode, `has_mode` false). Products and restarts are added to the counts.
-  subroutine top_eigenpair(op, choice, tol, vec, lam, err, has_mode, products, restarts, status, progress)
+  subroutine top_eigenpair(op, choice, tol, vec, lam, err, has_mode, products, restarts, status, progress, ncv)
     type(assembly_operator_type), intent(inout) :: op
     integer, intent(in) :: choice
     real(dp), intent(in) :: tol
@@ -482,10 +498,15 @@ contains
     integer, intent(inout) :: restarts
     type(demstep_status_type), intent(out) :: status
     class(progress_type), intent(inout), optional :: progress
+    !> Krylov size of a Lanczos solve (default `scene_lanczos_ncv`).
+    integer, intent(in), optional :: ncv
     type(eigen_result_type) :: lanczos
     type(csr_matrix_type) :: sparse
     real(dp), allocatable :: a(:, :), av(:), start(:)
+    integer :: m
     has_mode = .true.
+    m = scene_lanczos_ncv
+    if (present(ncv)) m = ncv
     if (choice == eigen_solver%dense) then
       ! the operator's own matrix, dense
       call assembly_matrix(op, sparse)
@@ -501,7 +522,7 @@ contains
     else
       start = vec
       call lanczos_largest(assembly_operator_apply, op, op%n, lanczos, status, eigenvector=vec, &
-        tolerance=tol, ncv=scene_lanczos_ncv, max_restarts=scene_lanczos_restarts, &
+        tolerance=tol, ncv=m, max_restarts=scene_lanczos_restarts, &
         progress=progress, start=start)
       products = products + lanczos%applications
       restarts = restarts + lanczos%iterations
@@ -519,8 +540,9 @@ contains
 
   !> The exact damped limit (see the module's notes), in place of the lower
   !> bound when it is larger: `damped_newton` on the serial operator, from the
-  !> top undamped unit mode `vec`.
-  subroutine damped_exact(op, choice, tol, rate, vec, result, status, progress)
+  !> top undamped unit mode `vec`, or from `start` when it is given non-zero
+  !> (then the last damped mode on return).
+  subroutine damped_exact(op, choice, tol, rate, vec, result, status, progress, ncv, start)
     type(assembly_operator_type), intent(inout), target :: op
     integer, intent(in) :: choice
     real(dp), intent(in) :: tol, rate
@@ -528,21 +550,48 @@ contains
     type(critical_step_type), intent(inout) :: result
     type(demstep_status_type), intent(out) :: status
     class(progress_type), intent(inout), optional :: progress
+    integer, intent(in), optional :: ncv
+    real(dp), intent(inout), optional :: start(:)
     type(serial_damped_type) :: problem
-    real(dp), allocatable :: y(:)
-    real(dp) :: lam_a, vb
+    real(dp), allocatable :: y(:), w(:)
+    real(dp) :: lam_a, vb, lam_w, vb_w
     allocate(y(op%n))
-    call operator_mix(op, 1.0_dp, 0.0_dp)
-    call assembly_operator_apply(op, vec, y)
-    lam_a = dot_product(vec, y)
-    call operator_mix(op, 0.0_dp, 1.0_dp)
-    call assembly_operator_apply(op, vec, y)
-    vb = dot_product(vec, y)
+    problem%vec = vec
+    call quotients(vec, lam_a, vb)
+    if (present(start)) then
+      if (size(start) == op%n .and. any(start /= 0.0_dp)) then
+        ! the start's quadratic root, when it is the lower (closer) of the two
+        w = start/norm2(start)
+        call quotients(w, lam_w, vb_w)
+        if (lam_w > 0.0_dp) then
+          if (damped_lower_bound(2.0_dp/sqrt(lam_w), vb_w) < damped_lower_bound(2.0_dp/sqrt(lam_a), vb)) then
+            problem%vec = w
+            lam_a = lam_w
+            vb = vb_w
+          end if
+        end if
+      end if
+    end if
     problem%op => op
     problem%choice = choice
-    problem%vec = vec
+    if (present(ncv)) problem%ncv = ncv
     call damped_newton(problem, lam_a, vb, rate, tol, result, status, progress)
     call operator_mix(op, 1.0_dp, 0.0_dp)
+    if (present(start)) then
+      if (size(start) == op%n) start = problem%vec
+    end if
+  contains
+    !> v'A'v and v'B'v of a unit vector.
+    subroutine quotients(v, a, b)
+      real(dp), intent(in) :: v(:)
+      real(dp), intent(out) :: a, b
+      call operator_mix(op, 1.0_dp, 0.0_dp)
+      call assembly_operator_apply(op, v, y)
+      a = dot_product(v, y)
+      call operator_mix(op, 0.0_dp, 1.0_dp)
+      call assembly_operator_apply(op, v, y)
+      b = dot_product(v, y)
+    end subroutine quotients
   end subroutine damped_exact
 
   !> The root of lambda(tau) = lambda_max(tau^2 A' + 2 tau B') = 4 (tau = h
@@ -617,7 +666,7 @@ contains
     real(dp), allocatable :: y(:)
     call operator_mix(problem%op, tau**2, 2.0_dp*tau)
     call top_eigenpair(problem%op, problem%choice, tol, problem%vec, theta, err, has_mode, &
-      result%eigen_products, result%eigen_restarts, status, progress)
+      result%eigen_products, result%eigen_restarts, status, progress, problem%ncv)
     if (status%stat /= demstep_stat%ok) return
     err = err + 8.0_dp*epsilon(1.0_dp)*theta
     result%damped_solves = result%damped_solves + 1

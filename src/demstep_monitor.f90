@@ -37,14 +37,28 @@ module demstep_monitor
   use demstep_interaction, only: reduced_mass, contact_arm, wall_overlap, dashpot_coefficient
   use demstep_assembly, only: critical_step_type, assembly_operator_type, spring_block_type, &
     operator_from_springs, operator_critical_steps, assembly_operator_apply, eigen_solver, &
-    default_max_eigen_dof, damped_lower_bound
+    default_max_eigen_dof, damped_lower_bound, scene_lanczos_ncv
   use demstep_lanczos, only: lanczos_tolerance_default
+  use demstep_scene_data, only: scene_type
+  use demstep_scene_builders, only: random_periodic_packing
+  use demstep_assembly, only: assembly_critical_steps
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
-  public :: solver_critical_steps, mode_participation, top_shares, cheap_bound
+  public :: solver_critical_steps, mode_participation, top_shares, cheap_bound, fresh_pour_estimate
 
+  !> Particles of the generated packing of `fresh_pour_estimate` (default).
+  integer, parameter, public :: fresh_pour_particles = 500
+  !> Default Lanczos tolerance of a monitor: a relative residual of 1e-6 on
+  !> omega_max^2 puts the error bar of the step at 5e-7 of it, far inside any
+  !> safety factor (`solver_critical_steps` keeps the scene's 1e-10).
+  real(dp), parameter, public :: monitor_tolerance_default = 1.0e-6_dp
+  !> Default Krylov size of a monitor's warm-started solves: from a start
+  !> near the mode, 8 vectors converge in about one pass (measured in
+  !> example/dem_solver: 30 products per update of a settled bed against 54
+  !> with 16).
+  integer, parameter, public :: monitor_ncv_default = 8
   !> Default relative drift of the mode's Rayleigh quotient or of the bound
   !> (omega^2) since the last update above which `check` asks for a re-solve.
   real(dp), parameter, public :: monitor_drift_default = 0.02_dp
@@ -71,8 +85,16 @@ module demstep_monitor
     !> `default_max_eigen_dof`), its relative tolerance, and the drift that asks
     !> for a re-solve.
     integer :: solver = 1
-    real(dp) :: tolerance = lanczos_tolerance_default
+    real(dp) :: tolerance = monitor_tolerance_default
     real(dp) :: drift = monitor_drift_default
+    !> Krylov size of the warm-started Lanczos solves (the first, cold, solve
+    !> takes the scene solve's, 16).
+    integer :: ncv = monitor_ncv_default
+    !> The rigorous bound of an update: the per-body bound of `check`
+    !> (`cheap_bound`, O(contacts), default) or, false, the Collatz-Wielandt
+    !> bound of `assembly_critical_steps` (tighter, about 36 products each
+    !> for the stiffness and the dashpots).
+    logical :: cheap = .true.
     !> The last update's result (`critical_step_type`), valid after an update.
     type(critical_step_type) :: last
     logical :: ready = .false.
@@ -88,7 +110,7 @@ module demstep_monitor
     !> The top undamped unit mode (scaled coordinates of `op`), the operator
     !> and springs of the update, and which particle each body is and which
     !> contact row each spring is (> 0: row of pairs; < 0: -particle on a wall).
-    real(dp), allocatable :: mode(:)
+    real(dp), allocatable :: mode(:), damped_mode(:)
     type(assembly_operator_type) :: op
     type(spring_block_type), allocatable :: springs(:)
     integer, allocatable :: body_particle(:), spring_row(:)
@@ -131,6 +153,9 @@ contains
     integer, intent(in), optional :: solver
     real(dp), intent(in), optional :: tolerance
     type(step_monitor_type) :: monitor
+    ! the same bound and tolerance as assembly_critical_steps
+    monitor%cheap = .false.
+    monitor%tolerance = lanczos_tolerance_default
     if (present(solver)) monitor%solver = solver
     if (present(tolerance)) monitor%tolerance = tolerance
     call monitor%update(x, mass, radius, pairs, k_n, status, k_t, c_n, c_t, inertia, fixed, &
@@ -154,7 +179,7 @@ contains
     logical, intent(in), optional :: periodic(:)
     real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
     logical :: rotation
-    integer :: i, nfree
+    integer :: i, nfree, ncv
     monitor%ready = .false.
     call check_solver_arrays(x, mass, radius, pairs, k_n, status, k_t, c_n, c_t, inertia, fixed, &
       wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
@@ -178,17 +203,32 @@ contains
     if (status%stat /= demstep_stat%ok) return
     ! the previous mode is a warm start while the degrees of freedom are the same
     if (allocated(monitor%mode)) then
-      if (size(monitor%mode) /= monitor%op%n) deallocate(monitor%mode)
+      if (size(monitor%mode) /= monitor%op%n) deallocate(monitor%mode, monitor%damped_mode)
     end if
-    if (.not. allocated(monitor%mode)) allocate(monitor%mode(monitor%op%n), source=0.0_dp)
+    if (.not. allocated(monitor%mode)) allocate(monitor%mode(monitor%op%n), &
+      monitor%damped_mode(monitor%op%n), source=0.0_dp)
     monitor%last = critical_step_type()
     monitor%last%rotation = rotation .and. size(x, 1) > 1
     monitor%last%periodic = .false.
     if (present(periodic)) monitor%last%periodic = any(periodic)
-    call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
-      default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status)
+    monitor%bound2 = cheap_bound(monitor%op)
+    ! a cold solve with the scene's Krylov size, a warm one with the monitor's
+    ncv = scene_lanczos_ncv
+    if (any(monitor%mode /= 0.0_dp) .and. monitor%ncv > 1) ncv = monitor%ncv
+    if (monitor%cheap) then
+      call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
+        default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status, &
+        bounds=[monitor%bound2, cheap_bound(monitor%op, dashpots=.true.)], ncv=ncv, &
+        damped_vec=monitor%damped_mode)
+    else
+      call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
+        default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status, ncv=ncv, &
+        damped_vec=monitor%damped_mode)
+    end if
+    monitor%bound2 = monitor%bound2*monitor%rate**2
     if (status%stat /= demstep_stat%ok) then
       monitor%mode = 0.0_dp
+      monitor%damped_mode = 0.0_dp
       return
     end if
     nfree = size(mass)
@@ -210,7 +250,6 @@ contains
       monitor%omega2 = monitor%last%omega_bound**2
       monitor%dt_limit = monitor%last%dt_critical_damped
     end if
-    monitor%bound2 = cheap_bound(monitor%op)*monitor%rate**2
     monitor%updates = monitor%updates + 1
     monitor%ready = .true.
   end subroutine monitor_update
@@ -335,6 +374,42 @@ contains
     end do
     if (op%n_bodies > 0) bound = maxval(row)*(1.0_dp + 1.0e-12_dp)
   end function cheap_bound
+
+  !> An ESTIMATE of a settled bed's (damped) limit before any contact exists
+  !> (a fresh pour): the exact limit of a generated packing with the solver's
+  !> size distribution and contact law (`random_periodic_packing`: n spheres,
+  !> radii uniform in r (1 +- polydispersity), jammed at a small overlap, a
+  !> periodic cell, linear springs with dashpots 2 zeta sqrt(m* k)). It stands
+  !> for the bed the pour will make; a settled frictional bed has fewer
+  !> contacts per particle than the jammed packing, so its own limit is
+  !> usually at or above this (measured in example/dem_solver). `result`
+  !> holds the packing's full report. Status as `random_periodic_packing` and
+  !> `assembly_critical_steps`.
+  subroutine fresh_pour_estimate(radius, polydispersity, density, k_n, k_t, damping_ratio, &
+      tangential_damping_ratio, result, status, n)
+    !> Mean radius, relative spread, density of the spheres.
+    real(dp), intent(in) :: radius, polydispersity, density
+    !> Contact stiffness, normal and tangential; damping ratios normal and tangential.
+    real(dp), intent(in) :: k_n, k_t, damping_ratio, tangential_damping_ratio
+    type(critical_step_type), intent(out) :: result
+    type(demstep_status_type), intent(out) :: status
+    !> Particles of the packing (default `fresh_pour_particles`).
+    integer, intent(in), optional :: n
+    type(scene_type) :: scene
+    integer :: np
+    np = fresh_pour_particles
+    if (present(n)) np = n
+    call random_periodic_packing(scene, np, status, radius=radius, polydispersity=polydispersity, &
+      density=density, k_normal=k_n, k_tangential=k_t, damping_ratio=damping_ratio)
+    if (status%stat /= demstep_stat%ok) return
+    if (.not. (ieee_is_finite(tangential_damping_ratio) .and. tangential_damping_ratio >= 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "must be >= 0 and finite", &
+        where="tangential_damping_ratio")
+      return
+    end if
+    scene%damping_ratio_tangential = tangential_damping_ratio
+    call assembly_critical_steps(scene, result, status)
+  end subroutine fresh_pour_estimate
 
   !> The top mode's share per particle (the squared amplitude of its degrees
   !> of freedom; 0 for fixed particles) and per contact row of `pairs` and per
