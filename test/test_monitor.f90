@@ -7,7 +7,7 @@ module test_monitor
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
   use demstep_monitor, only: solver_critical_steps, step_monitor_type, mode_participation, top_shares, &
-    monitor_verdict
+    monitor_verdict, fresh_pour_estimate
   use test_support, only: real_str, ieee_nan, run_app, write_file, work_dir, read_file, count_lines, int_str
   use demstep_vtk, only: write_vtk_particles, vtk_field_type
   use demstep_lanczos, only: arpack_claim, arpack_release
@@ -36,6 +36,8 @@ contains
       new_unittest("solver arrays = assembly_critical_steps on the same scene (Lanczos)", test_equals_lanczos), &
       new_unittest("bad arrays refused by name and index", test_bad_arrays), &
       new_unittest("warm start: same value, fewer products", test_warm_start), &
+      new_unittest("warm start with dashpots: the same damped limit, fewer products", test_warm_damped), &
+      new_unittest("fresh-pour estimate: the generated packing's limit; bad input refused", test_fresh_pour), &
       new_unittest("check: safe when unchanged, re-solve on a stiffened contact", test_check), &
       new_unittest("participation sums to 1; a light particle leads", test_participation), &
       new_unittest("C entry point: the Fortran numbers bit for bit; bad counts refused", test_capi_solver), &
@@ -283,6 +285,61 @@ contains
       //real_str(real(monitor%last%eigen_products, dp))//" not below cold " &
       //real_str(real(cold%eigen_products, dp)))
   end subroutine test_warm_start
+
+  subroutine test_warm_damped(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(solver_arrays_type) :: a
+    type(step_monitor_type) :: monitor
+    type(critical_step_type) :: cold
+    type(demstep_status_type) :: status
+    call packing_arrays(400, a, error)
+    if (allocated(error)) return
+    monitor%solver = eigen_solver%lanczos
+    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, c_n=a%c_n, c_t=a%c_t, &
+      periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call check(error, is_ok(status), "first update: "//status_text(status))
+    if (allocated(error)) return
+    call jiggle(a)
+    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, c_n=a%c_n, c_t=a%c_t, &
+      periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call check(error, is_ok(status) .and. monitor%last%damped_exact, "second update: "//status_text(status))
+    if (allocated(error)) return
+    call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, a%k_n, cold, status, k_t=a%k_t, c_n=a%c_n, &
+      c_t=a%c_t, periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi, solver=eigen_solver%lanczos, &
+      tolerance=monitor%tolerance)
+    call check(error, is_ok(status) .and. cold%damped_exact, "cold solve: "//status_text(status))
+    if (allocated(error)) return
+    ! both verified below the root to the eigensolves' tolerance 1e-6 (each
+    ! step's safe value within about 1e-6 of the root): 4e-6 apart at most
+    call check(error, abs(monitor%last%dt_critical_damped/cold%dt_critical_damped - 1.0_dp) <= 4.0e-6_dp, &
+      "warm "//real_str(monitor%last%dt_critical_damped)//" vs cold "//real_str(cold%dt_critical_damped))
+    if (allocated(error)) return
+    call check(error, monitor%last%eigen_products < cold%eigen_products, "warm products " &
+      //real_str(real(monitor%last%eigen_products, dp))//" not below cold " &
+      //real_str(real(cold%eigen_products, dp)))
+  end subroutine test_warm_damped
+
+  !> The estimate is the exact limit of the generated packing (the same call
+  !> by hand gives it bit for bit); a bad ratio is refused by name.
+  subroutine test_fresh_pour(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(critical_step_type) :: est, ref
+    type(scene_type) :: scene
+    type(demstep_status_type) :: status
+    call fresh_pour_estimate(1.0e-3_dp, 0.2_dp, 2500.0_dp, 200.0_dp, 60.0_dp, 0.2_dp, 0.0_dp, est, status, n=100)
+    call check(error, is_ok(status) .and. est%damped_exact, "estimate: "//status_text(status))
+    if (allocated(error)) return
+    call random_periodic_packing(scene, 100, status, radius=1.0e-3_dp, polydispersity=0.2_dp, &
+      density=2500.0_dp, k_normal=200.0_dp, k_tangential=60.0_dp, damping_ratio=0.2_dp)
+    scene%damping_ratio_tangential = 0.0_dp
+    call assembly_critical_steps(scene, ref, status)
+    call check(error, is_ok(status) .and. est%dt_critical_damped == ref%dt_critical_damped .and. &
+      est%dt_critical_damped < est%dt_critical_eigen, "not the packing's damped limit")
+    if (allocated(error)) return
+    call fresh_pour_estimate(1.0e-3_dp, 0.2_dp, 2500.0_dp, 200.0_dp, 60.0_dp, 0.2_dp, -1.0_dp, est, status, n=100)
+    call check(error, status%stat == demstep_stat%invalid_input .and. status%where == &
+      "tangential_damping_ratio", "a negative tangential ratio accepted")
+  end subroutine test_fresh_pour
 
   subroutine test_check(error)
     type(error_type), allocatable, intent(out) :: error
