@@ -37,6 +37,9 @@ program dem_solver
   integer, parameter :: n_steps = 12000, check_every = 20, update_every = 500, report_every = 1000
   real(dp), parameter :: safety = 0.9_dp
   integer, parameter :: max_history = 16
+  !> The floor z = 0 as the monitor takes walls: a point and the normal into the domain.
+  real(dp), parameter :: floor_point(3, 1) = reshape([0.0_dp, 0.0_dp, 0.0_dp], [3, 1])
+  real(dp), parameter :: floor_normal(3, 1) = reshape([0.0_dp, 0.0_dp, 1.0_dp], [3, 1])
 
   real(dp) :: x(3, n), v(3, n), w(3, n), f(3, n), tq(3, n), mass(n), radius(n), inertia(n)
   ! tangential history: partners (j > i) and spring displacements per particle; the floor's
@@ -105,8 +108,7 @@ program dem_solver
     else if (mod(step, check_every) == 0) then
       call system_clock(c0)
       call monitor%check(dt, safe, x, mass, radius, pairs(:, :nc), [k_n], status, k_t=[k_t], &
-        c_n=c_n(:nc), inertia=inertia, wall_point=reshape([0.0_dp, 0.0_dp, 0.0_dp], [3, 1]), &
-        wall_normal=reshape([0.0_dp, 0.0_dp, 1.0_dp], [3, 1]), wall_k=[k_n, k_t], &
+        c_n=c_n(:nc), inertia=inertia, wall_point=floor_point, wall_normal=floor_normal, wall_k=[k_n, k_t], &
         wall_damping=[zeta, 0.0_dp], periodic=[.true., .true., .false.], cell_lo=[0.0_dp, 0.0_dp, 0.0_dp], &
         cell_hi=[box, box, 0.0_dp])
       call system_clock(c1)
@@ -368,11 +370,7 @@ contains
   subroutine update(step)
     integer, intent(in) :: step
     call system_clock(c0)
-    call monitor%update(x, mass, radius, pairs(:, :nc), [k_n], status, k_t=[k_t], c_n=c_n(:nc), &
-      inertia=inertia, wall_point=reshape([0.0_dp, 0.0_dp, 0.0_dp], [3, 1]), &
-      wall_normal=reshape([0.0_dp, 0.0_dp, 1.0_dp], [3, 1]), wall_k=[k_n, k_t], &
-      wall_damping=[zeta, 0.0_dp], periodic=[.true., .true., .false.], cell_lo=[0.0_dp, 0.0_dp, 0.0_dp], &
-      cell_hi=[box, box, 0.0_dp])
+    call solve(monitor)
     call system_clock(c1)
     if (.not. is_ok(status)) then
       print '(a, i0, a)', "step ", step, ": "//status%message
@@ -396,6 +394,16 @@ contains
     dt = safety*dt_limit
   end subroutine update
 
+  !> One update of a monitor on the solver's current arrays: the contact
+  !> list with its dashpots, scalar stiffness, the floor and the cell.
+  subroutine solve(m)
+    type(step_monitor_type), intent(inout) :: m
+    call m%update(x, mass, radius, pairs(:, :nc), [k_n], status, k_t=[k_t], c_n=c_n(:nc), &
+      inertia=inertia, wall_point=floor_point, wall_normal=floor_normal, wall_k=[k_n, k_t], &
+      wall_damping=[zeta, 0.0_dp], periodic=[.true., .true., .false.], cell_lo=[0.0_dp, 0.0_dp, 0.0_dp], &
+      cell_hi=[box, box, 0.0_dp])
+  end subroutine solve
+
   !> On the settled bed: a cold update (a new monitor) against a warm one,
   !> products and wall time in solver steps.
   subroutine cold_and_warm()
@@ -404,20 +412,12 @@ contains
     real(dp) :: step_time
     step_time = real(t_steps, dp)/n_steps
     call system_clock(c0)
-    call fresh%update(x, mass, radius, pairs(:, :nc), [k_n], status, k_t=[k_t], c_n=c_n(:nc), &
-      inertia=inertia, wall_point=reshape([0.0_dp, 0.0_dp, 0.0_dp], [3, 1]), &
-      wall_normal=reshape([0.0_dp, 0.0_dp, 1.0_dp], [3, 1]), wall_k=[k_n, k_t], &
-      wall_damping=[zeta, 0.0_dp], periodic=[.true., .true., .false.], cell_lo=[0.0_dp, 0.0_dp, 0.0_dp], &
-      cell_hi=[box, box, 0.0_dp])
+    call solve(fresh)
     call system_clock(c1)
     if (.not. is_ok(status)) error stop status%message
     tc = c1 - c0
     call system_clock(c0)
-    call monitor%update(x, mass, radius, pairs(:, :nc), [k_n], status, k_t=[k_t], c_n=c_n(:nc), &
-      inertia=inertia, wall_point=reshape([0.0_dp, 0.0_dp, 0.0_dp], [3, 1]), &
-      wall_normal=reshape([0.0_dp, 0.0_dp, 1.0_dp], [3, 1]), wall_k=[k_n, k_t], &
-      wall_damping=[zeta, 0.0_dp], periodic=[.true., .true., .false.], cell_lo=[0.0_dp, 0.0_dp, 0.0_dp], &
-      cell_hi=[box, box, 0.0_dp])
+    call solve(monitor)
     call system_clock(c1)
     if (.not. is_ok(status)) error stop status%message
     tw = c1 - c0

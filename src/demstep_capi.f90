@@ -1050,23 +1050,27 @@ contains
       solver=h%solver, tolerance=h%tolerance)
     if (status%stat /= demstep_stat%ok) status%message = name//": "//status%message
     code = report(err, status)
-    call guard_finite([c%omega_max, c%dt_critical_eigen, c%omega_bound, c%dt_critical_bound, &
-      c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped, c%omega_upper, c%dt_critical_safe, &
-      c%eigen_residual, c%dt_critical_damped_bound], name, err, code)
-    if (code /= demstep_stat%ok) return
-    call write_result(c, result, result_size)
+    call write_result(c, name, err, code, result, result_size)
   end function c_scene_compute
 
   !> The first result_size bytes of a `demstep_scene_result` at `result` from
-  !> the critical steps (any more zeroed).
-  subroutine write_result(c, result, result_size)
+  !> the critical steps (any more zeroed), when `code` is DEMSTEP_OK and every
+  !> value is finite (`guard_finite`; nothing is written otherwise).
+  subroutine write_result(c, name, err, code, result, result_size)
     type(critical_step_type), intent(in) :: c
+    character(len=*), intent(in) :: name
+    type(c_ptr), intent(in) :: err
+    integer(c_int), intent(inout) :: code
     type(c_ptr), intent(in) :: result
     integer(c_size_t), intent(in) :: result_size
     type(demstep_scene_result_c) :: row
     character(kind=c_char), pointer :: to(:)
     character(kind=c_char), allocatable :: bytes(:)
     integer :: n_row
+    call guard_finite([c%omega_max, c%dt_critical_eigen, c%omega_bound, c%dt_critical_bound, &
+      c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped, c%omega_upper, c%dt_critical_safe, &
+      c%eigen_residual, c%dt_critical_damped_bound], name, err, code)
+    if (code /= demstep_stat%ok) return
     row = demstep_scene_result_c(c%omega_max, c%dt_critical_eigen, c%omega_bound, c%dt_critical_bound, &
       c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped, c%n_dof, c%n_springs, &
       c%dof_per_particle, flag(c%eigen_computed), flag(c%rotation), flag(c%tangential), &
@@ -1179,11 +1183,7 @@ contains
     end if
     if (status%stat /= demstep_stat%ok) status%message = name//": "//status%message
     code = report(err, status)
-    call guard_finite([c%omega_max, c%dt_critical_eigen, c%omega_bound, c%dt_critical_bound, &
-      c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped, c%omega_upper, c%dt_critical_safe, &
-      c%eigen_residual, c%dt_critical_damped_bound], name, err, code)
-    if (code /= demstep_stat%ok) return
-    call write_result(c, result, result_size)
+    call write_result(c, name, err, code, result, result_size)
   end function c_solver_compute
 
   !> A logical as a C int (1 or 0).

@@ -181,25 +181,14 @@ contains
     logical :: rotation
     integer :: i, nfree, ncv
     monitor%ready = .false.
-    call check_solver_arrays(x, mass, radius, pairs, k_n, status, k_t, c_n, c_t, inertia, fixed, &
-      wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
-    if (status%stat /= demstep_stat%ok) return
     if (monitor%solver < eigen_solver%auto .or. monitor%solver > eigen_solver%none) then
       call set_status(status, demstep_stat%invalid_input, "must be auto, dense, lanczos or none", &
         where="solver")
       return
     end if
-    call solver_springs(x, mass, radius, pairs, k_n, monitor%springs, monitor%spring_row, rotation, &
-      status, k_t, c_n, c_t, fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, &
-      cell_lo, cell_hi)
-    if (status%stat /= demstep_stat%ok) return
-    if (present(inertia)) then
-      call operator_from_springs(size(x, 1), rotation, mass, inertia, radius, monitor%springs, &
-        .false., monitor%op, monitor%rate, status, fixed)
-    else
-      call operator_from_springs(size(x, 1), rotation, mass, sphere_inertia(mass, radius), radius, &
-        monitor%springs, .false., monitor%op, monitor%rate, status, fixed)
-    end if
+    call build_operator(x, mass, radius, pairs, k_n, monitor%springs, monitor%spring_row, monitor%op, &
+      monitor%rate, rotation, status, k_t, c_n, c_t, inertia, fixed, wall_point, wall_normal, wall_k, &
+      wall_damping, periodic, cell_lo, cell_hi, keep_rows=.false.)
     if (status%stat /= demstep_stat%ok) return
     ! the previous mode is a warm start while the degrees of freedom are the same
     if (allocated(monitor%mode)) then
@@ -285,22 +274,11 @@ contains
       call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="dt")
       return
     end if
-    call check_solver_arrays(x, mass, radius, pairs, k_n, status, k_t, c_n, c_t, inertia, fixed, &
-      wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
+    call build_operator(x, mass, radius, pairs, k_n, monitor%check_springs, monitor%spring_row, &
+      monitor%check_op, rate, rotation, status, k_t, c_n, c_t, inertia, fixed, wall_point, wall_normal, &
+      wall_k, wall_damping, periodic, cell_lo, cell_hi, keep_rows=.true.)
     if (status%stat /= demstep_stat%ok) return
     monitor%checks = monitor%checks + 1
-    call solver_springs(x, mass, radius, pairs, k_n, monitor%check_springs, monitor%spring_row, rotation, &
-      status, k_t, c_n, c_t, fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, &
-      cell_lo, cell_hi, keep_rows=.true.)
-    if (status%stat /= demstep_stat%ok) return
-    if (present(inertia)) then
-      call operator_from_springs(size(x, 1), rotation, mass, inertia, radius, monitor%check_springs, &
-        .false., monitor%check_op, rate, status, fixed)
-    else
-      call operator_from_springs(size(x, 1), rotation, mass, sphere_inertia(mass, radius), radius, &
-        monitor%check_springs, .false., monitor%check_op, rate, status, fixed)
-    end if
-    if (status%stat /= demstep_stat%ok) return
     ! the rigorous bound (damped: its lower bound with the dashpots' own bound)
     a_bound = cheap_bound(monitor%check_op)
     b_bound = cheap_bound(monitor%check_op, dashpots=.true.)
@@ -494,6 +472,44 @@ contains
       end do
     end do
   end function top_shares
+
+  !> The solver's arrays checked, linearised (`solver_springs`) and made the
+  !> matrix-free operator (`operator_from_springs`; inertia default 2/5 m r^2).
+  subroutine build_operator(x, mass, radius, pairs, k_n, springs, rows, op, rate, rotation, status, k_t, &
+      c_n, c_t, inertia, fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi, &
+      keep_rows)
+    real(dp), intent(in) :: x(:, :), mass(:), radius(:)
+    integer, intent(in) :: pairs(:, :)
+    real(dp), intent(in) :: k_n(:)
+    type(spring_block_type), allocatable, intent(inout) :: springs(:)
+    integer, allocatable, intent(inout) :: rows(:)
+    type(assembly_operator_type), intent(out) :: op
+    real(dp), intent(out) :: rate
+    logical, intent(out) :: rotation
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: k_t(:), c_n(:), c_t(:), inertia(:)
+    logical, intent(in), optional :: fixed(:)
+    real(dp), intent(in), optional :: wall_point(:, :), wall_normal(:, :), wall_k(:), wall_damping(:)
+    logical, intent(in), optional :: periodic(:)
+    real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
+    !> Leave `rows` as it is (a check keeps the update's).
+    logical, intent(in) :: keep_rows
+    rate = 0.0_dp
+    rotation = .false.
+    call check_solver_arrays(x, mass, radius, pairs, k_n, status, k_t, c_n, c_t, inertia, fixed, &
+      wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
+    if (status%stat /= demstep_stat%ok) return
+    call solver_springs(x, mass, radius, pairs, k_n, springs, rows, rotation, status, k_t, c_n, c_t, fixed, &
+      wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi, keep_rows)
+    if (status%stat /= demstep_stat%ok) return
+    if (present(inertia)) then
+      call operator_from_springs(size(x, 1), rotation, mass, inertia, radius, springs, .false., op, rate, &
+        status, fixed)
+    else
+      call operator_from_springs(size(x, 1), rotation, mass, sphere_inertia(mass, radius), radius, springs, &
+        .false., op, rate, status, fixed)
+    end if
+  end subroutine build_operator
 
   !> Solid spheres' moments of inertia 2/5 m r^2 (as `new_scene`'s default).
   pure function sphere_inertia(mass, radius) result(inertia)

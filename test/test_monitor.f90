@@ -8,7 +8,7 @@ module test_monitor
   use demstep
   use demstep_monitor, only: solver_critical_steps, step_monitor_type, mode_participation, top_shares, &
     monitor_verdict, fresh_pour_estimate
-  use test_support, only: real_str, ieee_nan, run_app, write_file, work_dir, read_file, count_lines, int_str
+  use test_support, only: real_str, ieee_nan, run_app, write_file, work_dir, read_file, count_lines, int_str, seed_fixed
   use demstep_vtk, only: write_vtk_particles, vtk_field_type
   use demstep_lanczos, only: arpack_claim, arpack_release
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_loc, c_null_ptr, c_sizeof, c_char
@@ -610,14 +610,5 @@ contains
   end function c_text
 
   !> A fixed seed of the intrinsic generator.
-  subroutine seed_fixed(k)
-    integer, intent(in) :: k
-    integer :: n
-    integer, allocatable :: s(:)
-    call random_seed(size=n)
-    allocate(s(n))
-    s = 104729*k + [(n, n = 1, size(s))]
-    call random_seed(put=s)
-  end subroutine seed_fixed
 
 end module test_monitor
