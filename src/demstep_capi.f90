@@ -1024,15 +1024,7 @@ contains
     type(demstep_status_type) :: status
     integer :: limit
     if (.not. live(scene, name, h, err, code, particles=.true.)) return
-    if (.not. c_associated(result)) then
-      code = invalid(err, name//": result is NULL")
-      return
-    end if
-    if (result_size < capi_scene_result_size_v1) then
-      code = invalid(err, name//": result_size: must be sizeof(demstep_scene_result), at least "// &
-        int_text(int(capi_scene_result_size_v1, i8)))
-      return
-    end if
+    if (result_refused(result, result_size, name, err, code)) return
     if (hertz_mode /= hertz_linearization%current .and. hertz_mode /= hertz_linearization%impact) then
       code = invalid(err, name//": hertz_linearization: "//int_text(hertz_mode)//" is not " &
         //"DEMSTEP_HERTZ_CURRENT ("//int_text(hertz_linearization%current)//") or DEMSTEP_HERTZ_IMPACT (" &
@@ -1052,6 +1044,25 @@ contains
     code = report(err, status)
     call write_result(c, name, err, code, result, result_size)
   end function c_scene_compute
+
+  !> Whether a result pointer and size are refused (NULL, or smaller than the
+  !> first version's struct): the refusal is then reported in `code`.
+  logical function result_refused(result, result_size, name, err, code) result(refused)
+    type(c_ptr), intent(in) :: result, err
+    integer(c_size_t), intent(in) :: result_size
+    character(len=*), intent(in) :: name
+    integer(c_int), intent(out) :: code
+    refused = .true.
+    code = demstep_stat%ok
+    if (.not. c_associated(result)) then
+      code = invalid(err, name//": result is NULL")
+    else if (result_size < capi_scene_result_size_v1) then
+      code = invalid(err, name//": result_size: must be sizeof(demstep_scene_result), at least "// &
+        int_text(int(capi_scene_result_size_v1, i8)))
+    else
+      refused = .false.
+    end if
+  end function result_refused
 
   !> The first result_size bytes of a `demstep_scene_result` at `result` from
   !> the critical steps (any more zeroed), when `code` is DEMSTEP_OK and every
@@ -1125,8 +1136,8 @@ contains
       return
     end if
     if (.not. (c_associated(x) .and. c_associated(mass) .and. c_associated(radius) .and. &
-        c_associated(k_n) .and. c_associated(result) .and. (n_contacts == 0 .or. c_associated(pairs)))) then
-      code = invalid(err, name//": x, mass, radius, k_n, result (and pairs with contacts) must not be NULL")
+        c_associated(k_n) .and. (n_contacts == 0 .or. c_associated(pairs)))) then
+      code = invalid(err, name//": x, mass, radius, k_n (and pairs with contacts) must not be NULL")
       return
     end if
     if (n_walls > 0 .and. .not. (c_associated(wall_point) .and. c_associated(wall_normal) .and. &
@@ -1138,11 +1149,7 @@ contains
       code = invalid(err, name//": cell_lo and cell_hi must not be NULL with periodic")
       return
     end if
-    if (result_size < capi_scene_result_size_v1) then
-      code = invalid(err, name//": result_size: must be sizeof(demstep_scene_result), at least "// &
-        int_text(int(capi_scene_result_size_v1, i8)))
-      return
-    end if
+    if (result_refused(result, result_size, name, err, code)) return
     call c_f_pointer(x, px, [int(dim), int(n)])
     call c_f_pointer(mass, pm, [int(n)])
     call c_f_pointer(radius, pr, [int(n)])
