@@ -107,6 +107,8 @@ module demstep_monitor
     !> The limit the step is held against (damped when dashpots are given),
     !> omega_max^2 and the cheap bound's omega^2 at the update.
     real(dp) :: dt_limit = 0.0_dp, omega2 = 0.0_dp, bound2 = 0.0_dp
+    !> Particles of the last update.
+    integer :: n_particles = 0
     !> The top undamped unit mode (scaled coordinates of `op`), the operator
     !> and springs of the update, and which particle each body is and which
     !> contact row each spring is (> 0: row of pairs; < 0: -particle on a wall).
@@ -239,6 +241,7 @@ contains
       monitor%omega2 = monitor%last%omega_bound**2
       monitor%dt_limit = monitor%last%dt_critical_damped
     end if
+    monitor%n_particles = size(mass)
     monitor%updates = monitor%updates + 1
     monitor%ready = .true.
   end subroutine monitor_update
@@ -313,29 +316,32 @@ contains
   !> The rigorous per-body bound of lambda_max of the operator's scaled
   !> stiffness A' (or, with `dashpots`, of its scaled dashpots B'; see the
   !> module notes): max over free bodies of the sum over its springs of
-  !> 2 max(max(k_n, 2 k_t) w_u^2, 2 k_t (arm w_r)^2) (w the M'^-1/2 factors,
-  !> arm in radii), without the factor 2 on the ground. O(springs), no
-  !> product; rounding is covered by a relative 1e-12.
+  !> f max(max(k_n, 2 k_t) w_u^2, 2 k_t (arm w_r)^2 + max(k_r, k_w) (w_r/r)^2)
+  !> (w the M'^-1/2 factors, arm in radii, f = 2, or 1 on the ground; the
+  !> rolling and twisting springs on the relative rotation split between the
+  !> bodies the same way). O(springs), no product; rounding is covered by a
+  !> relative 1e-12.
   function cheap_bound(op, dashpots) result(bound)
     type(assembly_operator_type), intent(in) :: op
     logical, intent(in), optional :: dashpots
     real(dp) :: bound
     real(dp), allocatable :: row(:)
-    real(dp) :: kn, kt, arm, wu, wr, f
-    integer :: s, e, i
+    real(dp) :: k(4), arm, wu, wr, f
+    integer :: s, e, i, rot
     logical :: damped
     damped = .false.
     if (present(dashpots)) damped = dashpots
     bound = 0.0_dp
     if (damped .and. size(op%dcoef, 2) == 0) return
+    ! the first rotational component (4 to 6), 0 without rotations
+    rot = 0
+    if (any(op%comp >= 4)) rot = op%comp(findloc(op%comp >= 4, .true., 1))
     allocate(row(op%n_bodies), source=0.0_dp)
     do s = 1, op%n_springs
       if (damped) then
-        kn = op%dcoef(1, s)
-        kt = op%dcoef(2, s)
+        k = op%dcoef(:, s)
       else
-        kn = op%coef(1, s)
-        kt = op%coef(2, s)
+        k = [op%coef(1, s), op%coef(2, s), op%coef(6, s), op%coef(7, s)]
       end if
       f = 2.0_dp
       if (op%ends(1, s) == 0 .or. op%ends(2, s) == 0) f = 1.0_dp
@@ -345,9 +351,9 @@ contains
         arm = op%coef(2 + e, s)
         wu = op%w(1, i)
         wr = 0.0_dp
-        if (op%nc == 3 .or. op%nc == 6) wr = op%w(4, i)*arm
-        if (op%nc == 3) wr = op%w(6, i)*arm
-        row(i) = row(i) + f*max(max(kn, 2.0_dp*kt)*wu**2, 2.0_dp*kt*wr**2)
+        if (rot > 0) wr = op%w(rot, i)
+        row(i) = row(i) + f*max(max(k(1), 2.0_dp*k(2))*wu**2, &
+          2.0_dp*k(2)*(arm*wr)**2 + max(k(3), k(4))*(wr*op%rinv(i))**2)
       end do
     end do
     if (op%n_bodies > 0) bound = maxval(row)*(1.0_dp + 1.0e-12_dp)
@@ -410,8 +416,7 @@ contains
         where="monitor")
       return
     end if
-    np = maxval(monitor%body_particle)
-    np = max(np, maxval(abs(monitor%spring_row), mask=monitor%spring_row < 0))
+    np = monitor%n_particles
     allocate(particle_share(np), wall_share(np), source=0.0_dp)
     allocate(contact_share(n_contacts), source=0.0_dp)
     do b = 1, monitor%op%n_bodies

@@ -7,7 +7,7 @@ module test_monitor
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
   use demstep_monitor, only: solver_critical_steps, step_monitor_type, mode_participation, top_shares, &
-    monitor_verdict, fresh_pour_estimate
+    monitor_verdict, fresh_pour_estimate, cheap_bound
   use test_support, only: real_str, ieee_nan, run_app, write_file, work_dir, read_file, count_lines, int_str, seed_fixed
   use demstep_vtk, only: write_vtk_particles, vtk_field_type
   use demstep_lanczos, only: arpack_claim, arpack_release
@@ -38,6 +38,7 @@ contains
       new_unittest("warm start: same value, fewer products", test_warm_start), &
       new_unittest("warm start with dashpots: the same damped limit, fewer products", test_warm_damped), &
       new_unittest("fresh-pour estimate: the generated packing's limit; bad input refused", test_fresh_pour), &
+      new_unittest("the per-body bound holds: above omega_max^2, with rolling springs too", test_cheap_bound), &
       new_unittest("check: safe when unchanged, re-solve on a stiffened contact", test_check), &
       new_unittest("participation sums to 1; a light particle leads", test_participation), &
       new_unittest("C entry point: the Fortran numbers bit for bit; bad counts refused", test_capi_solver), &
@@ -340,6 +341,32 @@ contains
     call check(error, status%stat == demstep_stat%invalid_input .and. status%where == &
       "tangential_damping_ratio", "a negative tangential ratio accepted")
   end subroutine test_fresh_pour
+
+  !> The per-body bound of `check` against the exact top eigenvalue (dense)
+  !> of a packing with tangential springs, without and with rolling and
+  !> twisting springs: it must lie above (it is a bound) and, to be useful,
+  !> within a factor 8 of it.
+  subroutine test_cheap_bound(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: crit
+    type(assembly_operator_type) :: op
+    type(demstep_status_type) :: status
+    real(dp) :: rate, b
+    integer :: t
+    do t = 1, 2
+      call random_periodic_packing(scene, 120, status, seed=3 + t, k_tangential=0.8_dp)
+      if (t == 2) call scene_set_rolling(scene, 1.0_dp, 0.5_dp, status)
+      call assembly_critical_steps(scene, crit, status, solver=eigen_solver%dense)
+      call check(error, is_ok(status), "scene: "//status_text(status))
+      if (allocated(error)) return
+      call assembly_operator(scene, op, rate, status)
+      b = cheap_bound(op)*rate**2
+      call check(error, b >= crit%omega_max**2 .and. b <= 8.0_dp*crit%omega_max**2, "bound " &
+        //real_str(b)//" against omega_max^2 "//real_str(crit%omega_max**2))
+      if (allocated(error)) return
+    end do
+  end subroutine test_cheap_bound
 
   subroutine test_check(error)
     type(error_type), allocatable, intent(out) :: error
