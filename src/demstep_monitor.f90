@@ -46,7 +46,8 @@ module demstep_monitor
   implicit none
   private
 
-  public :: solver_critical_steps, mode_participation, top_shares, cheap_bound, fresh_pour_estimate
+  public :: solver_critical_steps, mode_participation, top_shares, cheap_bound, fresh_pour_estimate, &
+    scale_masses
 
   !> Particles of the generated packing of `fresh_pour_estimate` (default).
   integer, parameter, public :: fresh_pour_particles = 500
@@ -107,8 +108,8 @@ module demstep_monitor
     !> The limit the step is held against (damped when dashpots are given),
     !> omega_max^2 and the cheap bound's omega^2 at the update.
     real(dp) :: dt_limit = 0.0_dp, omega2 = 0.0_dp, bound2 = 0.0_dp
-    !> Particles of the last update.
-    integer :: n_particles = 0
+    !> Particles and dimension of the last update.
+    integer :: n_particles = 0, dim = 3
     !> The top undamped unit mode (scaled coordinates of `op`), the operator
     !> and springs of the update, and which particle each body is and which
     !> contact row each spring is (> 0: row of pairs; < 0: -particle on a wall).
@@ -242,6 +243,7 @@ contains
       monitor%dt_limit = monitor%last%dt_critical_damped
     end if
     monitor%n_particles = size(mass)
+    monitor%dim = size(x, 1)
     monitor%updates = monitor%updates + 1
     monitor%ready = .true.
   end subroutine monitor_update
@@ -394,6 +396,92 @@ contains
     scene%damping_ratio_tangential = tangential_damping_ratio
     call assembly_critical_steps(scene, result, status)
   end subroutine fresh_pour_estimate
+
+  !> Mass (density) scaling for a target step: per-particle factors
+  !> scale(i) >= 1 (mass and inertia both scaled, as a density would be)
+  !> with which the exact damped limit of the monitor's last update (its
+  !> springs and dashpots as they were) reaches `target`. From the top mode:
+  !> each pass scales every free particle by g^(p_i/p_max), g = (target/h)^2
+  !> (h the current limit, p_i the particle's share of the top undamped
+  !> mode), so the particles the mode sits on grow most; the limit of the
+  !> scaled operator is re-solved (warm-started) until it reaches the target.
+  !> Increasing any mass lowers every eigenvalue, so each pass's limit is at
+  !> least the last's. `result` is the scaled system's report (its
+  !> dt_critical_damped >= target), `added` the added mass over the total.
+  !> Status invalid_input naming `monitor` (no update with an eigensolve),
+  !> `mass` (not the update's particles) or `target` (not finite and > 0);
+  !> not_converged after `max_passes` (default 30) passes.
+  subroutine scale_masses(monitor, target, mass, radius, scale, added, result, status, inertia, fixed, &
+      max_passes)
+    class(step_monitor_type), intent(inout) :: monitor
+    real(dp), intent(in) :: target
+    !> The arrays of the last update.
+    real(dp), intent(in) :: mass(:), radius(:)
+    real(dp), allocatable, intent(out) :: scale(:)
+    real(dp), intent(out) :: added
+    type(critical_step_type), intent(out) :: result
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: inertia(:)
+    logical, intent(in), optional :: fixed(:)
+    integer, intent(in), optional :: max_passes
+    type(assembly_operator_type) :: op
+    real(dp), allocatable :: vec(:), dvec(:), base_inertia(:), share(:)
+    real(dp) :: rate, h, g
+    integer :: pass, passes, b, nc, ncv
+    added = 0.0_dp
+    if (.not. (monitor%ready .and. monitor%last%eigen_computed)) then
+      call set_status(status, demstep_stat%invalid_input, "needs an update with an eigensolver", &
+        where="monitor")
+      return
+    end if
+    if (size(mass) /= monitor%n_particles .or. size(radius) /= size(mass)) then
+      call set_status(status, demstep_stat%invalid_input, "must be the last update's particles", where="mass")
+      return
+    end if
+    if (.not. (ieee_is_finite(target) .and. target > 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="target")
+      return
+    end if
+    passes = 30
+    if (present(max_passes)) passes = max_passes
+    if (present(inertia)) then
+      base_inertia = inertia
+    else
+      base_inertia = sphere_inertia(mass, radius)
+    end if
+    allocate(scale(size(mass)), source=1.0_dp)
+    vec = monitor%mode
+    dvec = monitor%damped_mode
+    nc = monitor%op%nc
+    ncv = max(2, monitor%ncv)
+    do pass = 1, passes
+      call operator_from_springs(monitor%dim, monitor%last%rotation, mass*scale, base_inertia*scale, &
+        radius, monitor%springs, .false., op, rate, status, fixed)
+      if (status%stat /= demstep_stat%ok) return
+      result = critical_step_type()
+      result%rotation = monitor%last%rotation
+      result%periodic = monitor%last%periodic
+      call operator_critical_steps(op, monitor%springs, rate, .false., monitor%solver, default_max_eigen_dof, &
+        monitor%tolerance, vec, result, status, bounds=[cheap_bound(op), cheap_bound(op, dashpots=.true.)], &
+        ncv=ncv, damped_vec=dvec)
+      if (status%stat /= demstep_stat%ok) return
+      h = result%dt_critical_damped
+      if (h >= target) then
+        added = sum((scale - 1.0_dp)*mass)/sum(mass)
+        status%stat = demstep_stat%ok
+        return
+      end if
+      ! each free body's share of the top mode, and its growth
+      share = [(sum(vec((b - 1)*nc + 1:b*nc)**2), b = 1, op%n_bodies)]
+      g = (target/h)**2
+      do b = 1, op%n_bodies
+        scale(monitor%body_particle(b)) = scale(monitor%body_particle(b))*g**(share(b)/maxval(share))
+      end do
+    end do
+    added = sum((scale - 1.0_dp)*mass)/sum(mass)
+    call set_status(status, demstep_stat%not_converged, "the scaled limit stayed below the target after " &
+      //"max_passes passes", where="max_passes")
+  end subroutine scale_masses
 
   !> The top mode's share per particle (the squared amplitude of its degrees
   !> of freedom; 0 for fixed particles) and per contact row of `pairs` and per

@@ -7,7 +7,7 @@ module test_monitor
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
   use demstep_monitor, only: solver_critical_steps, step_monitor_type, mode_participation, top_shares, &
-    monitor_verdict, fresh_pour_estimate, cheap_bound
+    monitor_verdict, fresh_pour_estimate, cheap_bound, scale_masses
   use test_support, only: real_str, ieee_nan, run_app, write_file, work_dir, read_file, count_lines, int_str, seed_fixed
   use demstep_vtk, only: write_vtk_particles, vtk_field_type
   use demstep_lanczos, only: arpack_claim, arpack_release
@@ -39,6 +39,7 @@ contains
       new_unittest("warm start with dashpots: the same damped limit, fewer products", test_warm_damped), &
       new_unittest("fresh-pour estimate: the generated packing's limit; bad input refused", test_fresh_pour), &
       new_unittest("the per-body bound holds: above omega_max^2, with rolling springs too", test_cheap_bound), &
+      new_unittest("mass scaling reaches its target; the light particle grows most", test_scale_masses), &
       new_unittest("check: safe when unchanged, re-solve on a stiffened contact", test_check), &
       new_unittest("participation sums to 1; a light particle leads", test_participation), &
       new_unittest("C entry point: the Fortran numbers bit for bit; bad counts refused", test_capi_solver), &
@@ -367,6 +368,45 @@ contains
       if (allocated(error)) return
     end do
   end subroutine test_cheap_bound
+
+  !> A packing with one particle 30 times lighter: a target 1.5 times the
+  !> damped limit is reached (checked again by `solver_critical_steps` on the
+  !> scaled arrays), the light particle takes the largest factor and the
+  !> added mass stays below 5 % (the light particle grown to an ordinary one
+  !> is 0.5 %).
+  subroutine test_scale_masses(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(solver_arrays_type) :: a
+    type(step_monitor_type) :: monitor
+    type(critical_step_type) :: scaled, check_result
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: scale(:)
+    real(dp) :: added, target
+    integer, parameter :: light = 37
+    call packing_arrays(200, a, error)
+    if (allocated(error)) return
+    a%mass(light) = a%mass(light)/30.0_dp
+    a%inertia(light) = a%inertia(light)/30.0_dp
+    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, c_n=a%c_n, c_t=a%c_t, &
+      inertia=a%inertia, periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call check(error, is_ok(status), "update: "//status_text(status))
+    if (allocated(error)) return
+    target = 1.5_dp*monitor%last%dt_critical_damped
+    call scale_masses(monitor, target, a%mass, a%radius, scale, added, scaled, status, inertia=a%inertia)
+    call check(error, is_ok(status) .and. scaled%dt_critical_damped >= target, "target not reached: " &
+      //status_text(status))
+    if (allocated(error)) return
+    call check(error, minval(scale) >= 1.0_dp .and. maxloc(scale, 1) == light .and. added < 0.05_dp, &
+      "light particle's factor "//real_str(scale(light))//", added mass "//real_str(added))
+    if (allocated(error)) return
+    ! the scaled arrays through the whole path, at the scene's tolerance
+    call solver_critical_steps(a%x, a%mass*scale, a%radius, a%pairs, a%k_n, check_result, status, k_t=a%k_t, &
+      c_n=a%c_n, c_t=a%c_t, inertia=a%inertia*scale, periodic=[.true., .true., .true.], cell_lo=a%lo, &
+      cell_hi=a%hi)
+    ! (the monitor's solves are to 1e-6: the re-check may sit 1e-6 lower)
+    call check(error, is_ok(status) .and. check_result%dt_critical_damped >= (1.0_dp - 1.0e-6_dp)*target, &
+      "re-check "//real_str(check_result%dt_critical_damped)//" below the target "//real_str(target))
+  end subroutine test_scale_masses
 
   subroutine test_check(error)
     type(error_type), allocatable, intent(out) :: error
