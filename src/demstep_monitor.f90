@@ -400,10 +400,12 @@ contains
   !> Mass (density) scaling for a target step: per-particle factors
   !> scale(i) >= 1 (mass and inertia both scaled, as a density would be)
   !> with which the exact damped limit of the monitor's last update (its
-  !> springs and dashpots as they were) reaches `target`. From the top mode:
-  !> each pass scales every free particle by g^(p_i/p_max), g = (target/h)^2
-  !> (h the current limit, p_i the particle's share of the top undamped
-  !> mode), so the particles the mode sits on grow most; the limit of the
+  !> springs and dashpots as they were) reaches `target`. From the mode that
+  !> sets the limit: each pass scales every free particle by g^min(1, p_i/p_c),
+  !> g = (target/h)^2 (h the current limit, p_i the particle's share of the
+  !> damped limit's mode, or of the top undamped mode without dashpots, p_c
+  !> the smallest share of the mode's core: the largest shares that hold
+  !> half of it), so the particles the mode sits on grow most; the limit of the
   !> scaled operator is re-solved (warm-started) until it reaches the target.
   !> Increasing any mass lowers every eigenvalue, so each pass's limit is at
   !> least the last's. `result` is the scaled system's report (its
@@ -426,7 +428,7 @@ contains
     integer, intent(in), optional :: max_passes
     type(assembly_operator_type) :: op
     real(dp), allocatable :: vec(:), dvec(:), base_inertia(:), share(:)
-    real(dp) :: rate, h, g
+    real(dp) :: rate, h, g, core
     integer :: pass, passes, b, nc, ncv
     added = 0.0_dp
     if (.not. (monitor%ready .and. monitor%last%eigen_computed)) then
@@ -453,7 +455,8 @@ contains
     vec = monitor%mode
     dvec = monitor%damped_mode
     nc = monitor%op%nc
-    ncv = max(2, monitor%ncv)
+    ! (each pass moves the mode: the scene solve's Krylov size)
+    ncv = scene_lanczos_ncv
     do pass = 1, passes
       call operator_from_springs(monitor%dim, monitor%last%rotation, mass*scale, base_inertia*scale, &
         radius, monitor%springs, .false., op, rate, status, fixed)
@@ -471,11 +474,20 @@ contains
         status%stat = demstep_stat%ok
         return
       end if
-      ! each free body's share of the top mode, and its growth
-      share = [(sum(vec((b - 1)*nc + 1:b*nc)**2), b = 1, op%n_bodies)]
+      ! each free body's share of the mode that sets the limit (the damped
+      ! Newton steps' last mode when there are dashpots: the damped limit's
+      ! mode need not be the undamped top one), and its growth
+      if (result%damped_exact .and. any(dvec /= 0.0_dp)) then
+        share = [(sum(dvec((b - 1)*nc + 1:b*nc)**2), b = 1, op%n_bodies)]
+      else
+        share = [(sum(vec((b - 1)*nc + 1:b*nc)**2), b = 1, op%n_bodies)]
+      end if
       g = (target/h)**2
+      ! the mode's core: the largest shares that hold half of it grow by g,
+      ! the others in proportion to their share
+      core = core_share(share)
       do b = 1, op%n_bodies
-        scale(monitor%body_particle(b)) = scale(monitor%body_particle(b))*g**(share(b)/maxval(share))
+        scale(monitor%body_particle(b)) = scale(monitor%body_particle(b))*g**min(1.0_dp, share(b)/core)
       end do
     end do
     added = sum((scale - 1.0_dp)*mass)/sum(mass)
@@ -603,6 +615,28 @@ contains
         .false., op, rate, status, fixed)
     end if
   end subroutine build_operator
+
+  !> The smallest share of the core of a distribution of shares (>= 0): the
+  !> largest ones that together hold at least half of the total (bisection
+  !> on the threshold, O(n) per step).
+  pure real(dp) function core_share(share) result(t)
+    real(dp), intent(in) :: share(:)
+    real(dp) :: lo, hi, half
+    integer :: it
+    half = 0.5_dp*sum(share)
+    lo = 0.0_dp
+    hi = maxval(share)
+    ! the shares >= lo hold at least half of the total
+    do it = 1, 60
+      t = 0.5_dp*(lo + hi)
+      if (sum(share, mask=share >= t) >= half) then
+        lo = t
+      else
+        hi = t
+      end if
+    end do
+    t = max(lo, tiny(1.0_dp))
+  end function core_share
 
   !> Solid spheres' moments of inertia 2/5 m r^2 (as `new_scene`'s default).
   pure function sphere_inertia(mass, radius) result(inertia)
