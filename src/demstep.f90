@@ -36,7 +36,7 @@
 !> - Inside a running DEM solver: `solver_critical_steps` (the solver's own arrays
 !>   and contact list, no scene, no search), `step_monitor_type` (`update`
 !>   warm-started, `check` in O(contacts)), `mode_participation`, `top_shares`,
-!>   `fresh_pour_estimate`, and `write_vtk_particles` (participation for ParaView).
+!>   `fresh_pour_estimate`, `scale_masses`, and `write_vtk_particles` (participation for ParaView).
 !> - One recommended step: `recommended_step` (safety times the exact limit, or the
 !>   accuracy requirement), `assess_contact` (one linear contact's limit, errors at a
 !>   step and the step for a tolerance).
@@ -124,7 +124,8 @@ module demstep
     parse_snapshot, snapshot_format_of
   ! inside a running solver: its own arrays, a persistent monitor, what governs the limit
   use demstep_monitor, only: solver_critical_steps, step_monitor_type, monitor_verdict, &
-    mode_participation, top_shares, fresh_pour_estimate, monitor_tolerance_default, monitor_ncv_default
+    mode_participation, top_shares, fresh_pour_estimate, scale_masses, monitor_tolerance_default, &
+    monitor_ncv_default
   use demstep_vtk, only: write_vtk_particles, vtk_field_type
   ! one recommended step
   use demstep_recommend, only: recommended_step, default_safety, step_governs, step_governs_names, &
