@@ -329,11 +329,13 @@ contains
         is_fixed(fixed(i)) = .true.
       end do
     end if
-    ! new_scene checks the masses, radii, positions and inertias
+    ! new_scene checks the masses, radii, positions and inertias (no contact
+    ! search when the contacts are given: only listed pairs are contacts)
     if (allocated(inertia)) then
-      call new_scene(sc, dim, x, m, r, status, v=v, fixed=is_fixed, inertia=inertia)
+      call new_scene(sc, dim, x, m, r, status, v=v, fixed=is_fixed, inertia=inertia, &
+        search=.not. given(group, "contacts_file"))
     else
-      call new_scene(sc, dim, x, m, r, status, v=v, fixed=is_fixed)
+      call new_scene(sc, dim, x, m, r, status, v=v, fixed=is_fixed, search=.not. given(group, "contacts_file"))
     end if
     if (status%stat /= demstep_stat%ok) then
       if (allocated(inertia) .and. status%where == "inertia") then
@@ -360,7 +362,7 @@ contains
         call fail("cell_hi", "required with periodic axes")
         return
       end if
-      call scene_set_cell(sc, periodic, cell_lo, cell_hi, status)
+      call scene_set_cell(sc, periodic, cell_lo, cell_hi, status, search=.not. given(group, "contacts_file"))
       if (status%stat /= demstep_stat%ok) then
         call in_group(status, g)
         return

@@ -33,7 +33,8 @@ enum {
   DEMSTEP_BLOW_UP = 8,        /* a simulated value grew without bound */
   DEMSTEP_AT_STABILITY_LIMIT = 9, /* the tolerance already holds at the stability limit */
   DEMSTEP_DISCONTINUOUS = 10, /* a sign change or pick lies on a jump or pole, not a root */
-  DEMSTEP_EIGENSOLVER_FAILURE = 11 /* the eigensolver (ARPACK) failed */
+  DEMSTEP_EIGENSOLVER_FAILURE = 11, /* the eigensolver (ARPACK) failed */
+  DEMSTEP_BUSY = 12                /* another thread's Lanczos solve is running: call again */
 };
 
 /* Dashpots, step policies, picks, aggregation rules, contact laws, effects. */
@@ -313,6 +314,28 @@ int demstep_scene_set_eigen_solver(demstep_scene *scene, int solver, double tole
 int demstep_scene_compute(const demstep_scene *scene, int hertz_linearization,
                           double impact_velocity, int prestress, int max_eigen_dof,
                           demstep_scene_result *result, size_t result_size, demstep_error *err);
+
+/* ---- Inside a DEM solver: its own arrays, no scene, no contact search ----
+ *
+ * The critical steps of dim-D particles (x: dim values per particle, n of them;
+ * mass, radius; inertia NULL: 2/5 m r^2) and the solver's contact list: pairs
+ * (2 per contact, 0-based particle numbers) with k_n, k_t, c_n, c_t (each
+ * n_values long: 1, every contact the same, or n_contacts; NULL k_t, c_n, c_t:
+ * none). A listed pair acts while it overlaps, through the nearest periodic
+ * image. Walls: n_walls points and normals (dim values each) with wall_k =
+ * {k_n, k_t} and wall_damping = {zeta_n, zeta_t} (NULL: undamped). periodic:
+ * dim flags with the cell [cell_lo, cell_hi) (NULL: no periodic axis).
+ * Rotations are on when any k_t (or the walls' k_t) is > 0. solver:
+ * DEMSTEP_EIGEN_*; tolerance <= 0: 1e-10. The arrays are read in place. */
+int demstep_solver_compute(int dim, int n, const double *x, const double *mass,
+                           const double *radius, const double *inertia, int n_contacts,
+                           const int *pairs, int n_values, const double *k_n, const double *k_t,
+                           const double *c_n, const double *c_t, int n_walls,
+                           const double *wall_point, const double *wall_normal,
+                           const double *wall_k, const double *wall_damping, const int *periodic,
+                           const double *cell_lo, const double *cell_hi, int solver,
+                           double tolerance, demstep_scene_result *result, size_t result_size,
+                           demstep_error *err);
 
 /* The discrete contact at one onset. */
 int demstep_contact_with_onset(double n_per_period, double onset, double damping_ratio,

@@ -33,6 +33,10 @@
 !> - LIGGGHTS input scripts as they are: `read_liggghts_script`,
 !>   `liggghts_script_contacts`.
 !> - Snapshots from DEM codes' files: `snapshot_type`, `read_snapshot`.
+!> - Inside a running DEM solver: `solver_critical_steps` (the solver's own arrays
+!>   and contact list, no scene, no search), `step_monitor_type` (`update`
+!>   warm-started, `check` in O(contacts)), `mode_participation`, `top_shares`,
+!>   `fresh_pour_estimate`, `scale_masses`, `write_vtk_particles` (ParaView).
 !> - One recommended step: `recommended_step`, `assess_contact`.
 !> - Results read back by name: `read_result`, `result_get`.
 !> - Progress of long work: `text_progress_type`.
@@ -98,6 +102,10 @@ module demstep
     liggghts_script_contacts
   ! particle snapshots from DEM codes' files
   use demstep_snapshot, only: snapshot_type, snapshot_format, read_snapshot
+  ! inside a running solver: its own arrays, a persistent monitor, what governs the limit
+  use demstep_monitor, only: solver_critical_steps, step_monitor_type, monitor_verdict, &
+    mode_participation, top_shares, fresh_pour_estimate, scale_masses
+  use demstep_vtk, only: write_vtk_particles, vtk_field_type
   ! one recommended step
   use demstep_recommend, only: recommended_step, contact_assessment_type, assess_contact
   ! results read back by name

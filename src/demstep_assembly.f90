@@ -56,7 +56,8 @@ module demstep_assembly
   public :: assembly_critical_steps, assembly_step_for_n_per_period, assembly_operator, &
     assembly_operator_apply, assembly_matrix, assembly_matrix_rows, &
     assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_damped, &
-    damped_lower_bound, dashpot_names, damped_newton, assembly_dashpot_bound
+    damped_lower_bound, dashpot_names, damped_newton, assembly_dashpot_bound, operator_from_springs, &
+    operator_critical_steps, operator_mix
 
   !> Hertz linearisation at the current overlap, at an impact's largest
   !> overlap (`hertz_linearization%impact`), or at the larger of the two
@@ -214,6 +215,8 @@ module demstep_assembly
   type, extends(damped_problem_type) :: serial_damped_type
     type(assembly_operator_type), pointer :: op => null()
     integer :: choice = 0
+    !> Krylov size of the Lanczos solves.
+    integer :: ncv = scene_lanczos_ncv
     real(dp), allocatable :: vec(:)
   contains
     procedure :: top => serial_damped_top
@@ -221,8 +224,11 @@ module demstep_assembly
 
   !> A linearised interaction between bodies a and b (a = 0: the ground), n from
   !> a to b; lever arms and the pre-stress F_n/l (0 when not asked for).
-  type :: spring_block_type
+  !> (Public for the solver-facing builders of `demstep_monitor`.)
+  type, public :: spring_block_type
     integer :: a = 0, b = 0
+    !> The pair's reduced mass m* (for the per-contact rule).
+    real(dp) :: m_eff = 0.0_dp
     !> (k_n, k_t, k_r, k_w) and the dashpots (c_n, c_t, c_r, c_w).
     real(dp) :: k(4) = 0.0_dp, c(4) = 0.0_dp
     real(dp) :: arm_a = 0.0_dp, arm_b = 0.0_dp, geo = 0.0_dp
@@ -274,9 +280,9 @@ contains
     type(spring_block_type), allocatable :: springs(:)
     type(assembly_operator_type), target :: op
     real(dp), allocatable :: vec(:)
-    real(dp) :: lam, rate, tol, err, b_bound
-    integer :: limit, i, choice
-    logical :: geo, has_mode
+    real(dp) :: rate, tol
+    integer :: limit, choice
+    logical :: geo
 
     limit = default_max_eigen_dof
     if (present(max_eigen_dof)) limit = max_eigen_dof
@@ -297,6 +303,42 @@ contains
     if (status%stat /= demstep_stat%ok) return
     result%rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
     result%periodic = any(scene%periodic)
+    allocate(vec(op%n), source=0.0_dp)
+    call operator_critical_steps(op, springs, rate, geo, choice, limit, tol, vec, result, status, progress)
+  end subroutine assembly_critical_steps
+
+  !> The estimates of `assembly_critical_steps` from a built operator and its
+  !> springs (`prepare`, or a solver's own arrays): the per-contact rule, the
+  !> bound, the exact top eigenpair (Lanczos warm-started from `vec` when it is
+  !> non-zero; the undamped unit mode on return) and the damped limit. The
+  !> caller sets result%rotation and result%periodic. A monitor may give
+  !> rigorous bounds of its own (`bounds` = (a, b) >= (lambda_max(A'),
+  !> lambda_max(B')), scaled: the Collatz-Wielandt bound is then not
+  !> computed), the Krylov size `ncv`, and `damped_vec`: the damped Newton
+  !> steps start from it when it is non-zero (its own quadratic's root lies at
+  !> or above the damped root as any vector's does) and it returns their last mode.
+  subroutine operator_critical_steps(op, springs, rate, geo, choice, limit, tol, vec, result, status, progress, &
+      bounds, ncv, damped_vec)
+    type(assembly_operator_type), intent(inout), target :: op
+    type(spring_block_type), intent(in) :: springs(:)
+    !> omega = rate sqrt(lambda); whether the pre-stress is counted.
+    real(dp), intent(in) :: rate
+    logical, intent(in) :: geo
+    !> The eigensolver (`eigen_solver%...`), auto's dense limit, the tolerance.
+    integer, intent(in) :: choice, limit
+    real(dp), intent(in) :: tol
+    !> Warm start (size op%n; zero: none), then the top undamped unit mode.
+    real(dp), intent(inout) :: vec(:)
+    type(critical_step_type), intent(inout) :: result
+    type(demstep_status_type), intent(out) :: status
+    class(progress_type), intent(inout), optional :: progress
+    real(dp), intent(in), optional :: bounds(2)
+    integer, intent(in), optional :: ncv
+    real(dp), intent(inout), optional :: damped_vec(:)
+    real(dp) :: lam, err, b_bound
+    integer :: i, solver
+    logical :: has_mode
+    status%stat = demstep_stat%ok
     result%prestress = geo
     result%dof_per_particle = op%nc
     result%n_dof = op%n
@@ -312,39 +354,44 @@ contains
     do i = 1, size(springs)
       associate(sp => springs(i))
         if (max(sp%k(1), sp%k(2)) > 0.0_dp) result%dt_contact_rule = min(result%dt_contact_rule, &
-          2.0_dp*sqrt(effective_mass(scene, sp%b, sp%a))/sqrt(max(sp%k(1), sp%k(2))))
+          2.0_dp*sqrt(sp%m_eff)/sqrt(max(sp%k(1), sp%k(2))))
       end associate
     end do
-    call assembly_set_bound(result, rate, operator_bound(op), status)
+    if (present(bounds)) then
+      call assembly_set_bound(result, rate, bounds(1), status)
+      b_bound = bounds(2)
+    else
+      call assembly_set_bound(result, rate, operator_bound(op), status)
+      b_bound = assembly_dashpot_bound(op)
+    end if
     if (status%stat /= demstep_stat%ok) return
-    b_bound = assembly_dashpot_bound(op)
 
     ! the exact omega_max: dense LAPACK or matrix-free Lanczos
-    if (choice == eigen_solver%auto) then
-      choice = eigen_solver%lanczos
-      if (result%n_dof <= limit) choice = eigen_solver%dense
+    solver = choice
+    if (solver == eigen_solver%auto) then
+      solver = eigen_solver%lanczos
+      if (result%n_dof <= limit) solver = eigen_solver%dense
     end if
-    result%solver = choice
-    if (choice /= eigen_solver%none) then
-      ! (no warm start for the first solve: the default start vector)
-      allocate(vec(result%n_dof), source=0.0_dp)
-      call top_eigenpair(op, choice, tol, vec, lam, err, has_mode, result%eigen_products, &
-        result%eigen_restarts, status, progress)
+    result%solver = solver
+    if (solver /= eigen_solver%none) then
+      ! (warm start from vec when the caller gives one)
+      call top_eigenpair(op, solver, tol, vec, lam, err, has_mode, result%eigen_products, &
+        result%eigen_restarts, status, progress, ncv)
       if (status%stat /= demstep_stat%ok) return
       result%eigen_tolerance = tol
-      if (choice == eigen_solver%dense) result%eigen_tolerance = epsilon(1.0_dp)
-      call assembly_set_estimates(result, rate, lam, err, choice == eigen_solver%dense .or. &
+      if (solver == eigen_solver%dense) result%eigen_tolerance = epsilon(1.0_dp)
+      call assembly_set_estimates(result, rate, lam, err, solver == eigen_solver%dense .or. &
         (has_mode .and. err <= tol*lam), b_bound, status)
       if (status%stat /= demstep_stat%ok) return
       if (b_bound > 0.0_dp .and. has_mode) then
-        call damped_exact(op, choice, tol, rate, vec, result, status, progress)
+        call damped_exact(op, solver, tol, rate, vec, result, status, progress, ncv, damped_vec)
         if (status%stat /= demstep_stat%ok) return
       end if
     else
       ! no eigensolver: the damped limit's rigorous lower bound from the bound
       call assembly_set_damped(result, result%dt_critical_bound, b_bound, rate, status)
     end if
-  end subroutine assembly_critical_steps
+  end subroutine operator_critical_steps
 
   !> The options every assembly driver (serial, MPI) checks before it builds
   !> anything: the Lanczos tolerance, and the scene's damping values
@@ -448,7 +495,7 @@ contains
   !> Rayleigh quotient `lam` of the returned unit mode and its residual `err`
   !> (measured; ARPACK's estimate when Lanczos ran out of restarts without a
   !> mode, `has_mode` false). Products and restarts are added to the counts.
-  subroutine top_eigenpair(op, choice, tol, vec, lam, err, has_mode, products, restarts, status, progress)
+  subroutine top_eigenpair(op, choice, tol, vec, lam, err, has_mode, products, restarts, status, progress, ncv)
     type(assembly_operator_type), intent(inout) :: op
     integer, intent(in) :: choice
     real(dp), intent(in) :: tol
@@ -459,10 +506,15 @@ contains
     integer, intent(inout) :: restarts
     type(demstep_status_type), intent(out) :: status
     class(progress_type), intent(inout), optional :: progress
+    !> Krylov size of a Lanczos solve (default `scene_lanczos_ncv`).
+    integer, intent(in), optional :: ncv
     type(eigen_result_type) :: lanczos
     type(csr_matrix_type) :: sparse
     real(dp), allocatable :: a(:, :), av(:), start(:)
+    integer :: m
     has_mode = .true.
+    m = scene_lanczos_ncv
+    if (present(ncv)) m = ncv
     if (choice == eigen_solver%dense) then
       ! the operator's own matrix, dense
       call assembly_matrix(op, sparse)
@@ -478,7 +530,7 @@ contains
     else
       start = vec
       call lanczos_largest(assembly_operator_apply, op, op%n, lanczos, status, eigenvector=vec, &
-        tolerance=tol, ncv=scene_lanczos_ncv, max_restarts=scene_lanczos_restarts, &
+        tolerance=tol, ncv=m, max_restarts=scene_lanczos_restarts, &
         progress=progress, start=start)
       products = products + lanczos%applications
       restarts = restarts + lanczos%iterations
@@ -496,8 +548,9 @@ contains
 
   !> The exact damped limit (see the module's notes), in place of the lower
   !> bound when it is larger: `damped_newton` on the serial operator, from the
-  !> top undamped unit mode `vec`.
-  subroutine damped_exact(op, choice, tol, rate, vec, result, status, progress)
+  !> top undamped unit mode `vec`, or from `start` when it is given non-zero
+  !> (then the last damped mode on return).
+  subroutine damped_exact(op, choice, tol, rate, vec, result, status, progress, ncv, start)
     type(assembly_operator_type), intent(inout), target :: op
     integer, intent(in) :: choice
     real(dp), intent(in) :: tol, rate
@@ -505,21 +558,48 @@ contains
     type(critical_step_type), intent(inout) :: result
     type(demstep_status_type), intent(out) :: status
     class(progress_type), intent(inout), optional :: progress
+    integer, intent(in), optional :: ncv
+    real(dp), intent(inout), optional :: start(:)
     type(serial_damped_type) :: problem
-    real(dp), allocatable :: y(:)
-    real(dp) :: lam_a, vb
+    real(dp), allocatable :: y(:), w(:)
+    real(dp) :: lam_a, vb, lam_w, vb_w
     allocate(y(op%n))
-    call operator_mix(op, 1.0_dp, 0.0_dp)
-    call assembly_operator_apply(op, vec, y)
-    lam_a = dot_product(vec, y)
-    call operator_mix(op, 0.0_dp, 1.0_dp)
-    call assembly_operator_apply(op, vec, y)
-    vb = dot_product(vec, y)
+    problem%vec = vec
+    call quotients(vec, lam_a, vb)
+    if (present(start)) then
+      if (size(start) == op%n .and. any(start /= 0.0_dp)) then
+        ! the start's quadratic root, when it is the lower (closer) of the two
+        w = start/norm2(start)
+        call quotients(w, lam_w, vb_w)
+        if (lam_w > 0.0_dp) then
+          if (damped_lower_bound(2.0_dp/sqrt(lam_w), vb_w) < damped_lower_bound(2.0_dp/sqrt(lam_a), vb)) then
+            problem%vec = w
+            lam_a = lam_w
+            vb = vb_w
+          end if
+        end if
+      end if
+    end if
     problem%op => op
     problem%choice = choice
-    problem%vec = vec
+    if (present(ncv)) problem%ncv = ncv
     call damped_newton(problem, lam_a, vb, rate, tol, result, status, progress)
     call operator_mix(op, 1.0_dp, 0.0_dp)
+    if (present(start)) then
+      if (size(start) == op%n) start = problem%vec
+    end if
+  contains
+    !> v'A'v and v'B'v of a unit vector.
+    subroutine quotients(v, a, b)
+      real(dp), intent(in) :: v(:)
+      real(dp), intent(out) :: a, b
+      call operator_mix(op, 1.0_dp, 0.0_dp)
+      call assembly_operator_apply(op, v, y)
+      a = dot_product(v, y)
+      call operator_mix(op, 0.0_dp, 1.0_dp)
+      call assembly_operator_apply(op, v, y)
+      b = dot_product(v, y)
+    end subroutine quotients
   end subroutine damped_exact
 
   !> The root of lambda(tau) = lambda_max(tau^2 A' + 2 tau B') = 4 (tau = h
@@ -594,7 +674,7 @@ contains
     real(dp), allocatable :: y(:)
     call operator_mix(problem%op, tau**2, 2.0_dp*tau)
     call top_eigenpair(problem%op, problem%choice, tol, problem%vec, theta, err, has_mode, &
-      result%eigen_products, result%eigen_restarts, status, progress)
+      result%eigen_products, result%eigen_restarts, status, progress, problem%ncv)
     if (status%stat /= demstep_stat%ok) return
     err = err + 8.0_dp*epsilon(1.0_dp)*theta
     result%damped_solves = result%damped_solves + 1
@@ -895,40 +975,75 @@ contains
     !> (0 on failure).
     real(dp), intent(out) :: rate
     type(demstep_status_type), intent(out) :: status
-    integer, allocatable :: body(:)
-    real(dp), allocatable :: mdof(:, :)
-    real(dp) :: k_scale, m_scale, c_scale
-    integer :: mode, i, nfree, nc, s, e
-    integer(i8) :: p
+    integer :: mode
     real(dp) :: v_impact
-    logical :: touches, rotation
+    logical :: rotation
     mode = hertz_linearization%current
     if (present(hertz_mode)) mode = hertz_mode
     v_impact = 0.0_dp
     if (present(impact_velocity)) v_impact = impact_velocity
     rate = 0.0_dp
-    k_scale = 0.0_dp
     if (mode /= hertz_linearization%current .and. .not. (v_impact > 0.0_dp .and. ieee_is_finite(v_impact))) then
       call set_status(status, demstep_stat%invalid_input, "the Hertz linearisation " &
         //"at impact needs a finite impact velocity > 0", where="impact_velocity")
       return
     end if
     rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
-    op%comp = dof_components(scene%dim, rotation)
+    call linearise(scene, mode, v_impact, geo, springs, status)
+    if (status%stat /= demstep_stat%ok) return
+    call operator_from_springs(scene%dim, rotation, scene%mass, scene%inertia, scene%radius, springs, &
+      geo, op, rate, status, scene%fixed)
+    if (status%stat == demstep_stat%invalid_input .and. status%where == "position") then
+      if (size(scene%bonds, 2) == 0 .and. .not. (scene%effects(scene_effect%contacts) .or. &
+          scene%effects(scene_effect%walls))) then
+        call set_status(status, demstep_stat%invalid_input, "the scene has no stiffness: " &
+          //"no bonds, and neither 'contacts' nor 'walls' is switched on", where="effects")
+      end if
+    end if
+  end subroutine prepare
+
+  !> The matrix-free operator of linearised springs on bodies with these
+  !> masses, moments of inertia and radii (`fixed`: ground, default none):
+  !> degrees of freedom numbered (dim translations, and rotations when
+  !> `rotation` and dim > 1), masses scaled, springs scaled and indexed per
+  !> body. O(particles + springs). Status invalid_input naming `fixed` (every
+  !> particle fixed) or `position` (no free particle touches a spring).
+  subroutine operator_from_springs(dim, rotation, mass, inertia, radius, springs, geo, op, rate, status, fixed)
+    integer, intent(in) :: dim
+    logical, intent(in) :: rotation
+    real(dp), intent(in) :: mass(:), inertia(:), radius(:)
+    type(spring_block_type), intent(in) :: springs(:)
+    logical, intent(in) :: geo
+    type(assembly_operator_type), intent(out) :: op
+    !> omega = rate sqrt(lambda) (0 on failure).
+    real(dp), intent(out) :: rate
+    type(demstep_status_type), intent(out) :: status
+    logical, intent(in), optional :: fixed(:)
+    integer, allocatable :: body(:)
+    real(dp), allocatable :: mdof(:, :)
+    real(dp) :: k_scale, m_scale, c_scale
+    integer :: i, nfree, nc, s, e
+    integer(i8) :: p
+    logical :: touches
+    rate = 0.0_dp
+    k_scale = 0.0_dp
+    op%comp = dof_components(dim, rotation)
     nc = size(op%comp)
     op%nc = nc
     ! degrees of freedom: nc per free particle, scaled masses per component
-    allocate(body(scene%n), source=0)
-    allocate(mdof(6, scene%n), source=1.0_dp)
+    allocate(body(size(mass)), source=0)
+    allocate(mdof(6, size(mass)), source=1.0_dp)
     nfree = 0
     m_scale = huge(1.0_dp)
-    do i = 1, scene%n
-      if (scene%fixed(i)) cycle
+    do i = 1, size(mass)
+      if (present(fixed)) then
+        if (fixed(i)) cycle
+      end if
       nfree = nfree + 1
       body(i) = nfree
-      mdof(1:3, i) = scene%mass(i)
+      mdof(1:3, i) = mass(i)
       ! a rotation counts as r theta: its mass is I/r^2
-      mdof(4:6, i) = (scene%inertia(i)/scene%radius(i))/scene%radius(i)
+      mdof(4:6, i) = (inertia(i)/radius(i))/radius(i)
       m_scale = min(m_scale, minval(mdof(op%comp, i)))
     end do
     op%n_bodies = nfree
@@ -939,24 +1054,16 @@ contains
       return
     end if
     mdof = mdof/m_scale
-    call linearise(scene, mode, v_impact, geo, springs, status)
-    if (status%stat /= demstep_stat%ok) return
     touches = .false.
     do i = 1, size(springs)
       if (.not. maxval(springs(i)%k) > 0.0_dp) cycle
-      if (springs(i)%a > 0) touches = touches .or. .not. scene%fixed(springs(i)%a)
-      touches = touches .or. .not. scene%fixed(springs(i)%b)
+      if (springs(i)%a > 0) touches = touches .or. body(springs(i)%a) > 0
+      touches = touches .or. body(springs(i)%b) > 0
       k_scale = max(k_scale, springs(i)%k(1), springs(i)%k(2))
     end do
     if (.not. (touches .and. k_scale > 0.0_dp)) then
-      if (size(scene%bonds, 2) == 0 .and. .not. (scene%effects(scene_effect%contacts) .or. &
-          scene%effects(scene_effect%walls))) then
-        call set_status(status, demstep_stat%invalid_input, "the scene has no stiffness: " &
-          //"no bonds, and neither 'contacts' nor 'walls' is switched on", where="effects")
-      else
-        call set_status(status, demstep_stat%invalid_input, "the scene has no stiffness: " &
-          //"no free particle touches a bond, a contact or a wall", where="position")
-      end if
+      call set_status(status, demstep_stat%invalid_input, "the scene has no stiffness: no free " &
+        //"particle touches a bond, a contact or a wall", where="position")
       return
     end if
 
@@ -973,10 +1080,10 @@ contains
     else
       allocate(op%dcoef(4, 0))
     end if
-    do i = 1, scene%n
+    do i = 1, size(mass)
       if (body(i) > 0) then
         op%w(:, body(i)) = 1.0_dp/sqrt(mdof(:, i))
-        op%rinv(body(i)) = 1.0_dp/scene%radius(i)
+        op%rinv(body(i)) = 1.0_dp/radius(i)
       end if
     end do
     op%first = 0
@@ -986,10 +1093,10 @@ contains
         op%coef(3:4, s) = 0.0_dp
         if (sp%a > 0) then
           op%ends(1, s) = body(sp%a)
-          op%coef(3, s) = sp%arm_a/scene%radius(sp%a)
+          op%coef(3, s) = sp%arm_a/radius(sp%a)
         end if
         op%ends(2, s) = body(sp%b)
-        op%coef(4, s) = sp%arm_b/scene%radius(sp%b)
+        op%coef(4, s) = sp%arm_b/radius(sp%b)
         op%normal(:, s) = sp%n
         op%coef(1, s) = sp%k(1)/k_scale
         op%coef(2, s) = sp%k(2)/k_scale
@@ -1023,7 +1130,7 @@ contains
     op%first(1) = 1
     rate = sqrt(k_scale)/sqrt(m_scale)
     status%stat = demstep_stat%ok
-  end subroutine prepare
+  end subroutine operator_from_springs
 
   !> Every interaction of the scene, linearised at the current configuration,
   !> with its dashpots: bonds, particle contacts, wall contacts and (with
@@ -1067,7 +1174,7 @@ contains
       i = scene%bonds(1, k)
       j = scene%bonds(2, k)
       springs(k) = spring_block_type(a=i, b=j, k=[scene%k_bond, scene%k_bond_tangential, 0.0_dp, 0.0_dp], &
-        n=scene%bond_normal(:, k), kind=5)
+        n=scene%bond_normal(:, k), kind=5, m_eff=effective_mass(scene, j, i))
       if (damped) springs(k)%c(1) = dashpot_coefficient(scene%damping_ratio, effective_mass(scene, i, j), &
         scene%k_bond)
     end do
@@ -1088,7 +1195,8 @@ contains
         end if
         m = m + 1
         springs(m) = spring_block_type(a=i, b=j, k=kc, c=contact_dashpots(scene, pc(k), i, j, kc), &
-          n=pn(:, k), arm_a=contact_arm(scene%radius(i), pd(k)), arm_b=contact_arm(scene%radius(j), pd(k)))
+          n=pn(:, k), arm_a=contact_arm(scene%radius(i), pd(k)), arm_b=contact_arm(scene%radius(j), pd(k)), &
+          m_eff=effective_mass(scene, j, i))
         if (geo) then
           ! F_n at the current overlap over the branch length
           call contact_values(scene, pc(k), i, j, pd(k), f_now, k_now)
@@ -1112,7 +1220,8 @@ contains
           end if
           m = m + 1
           springs(m) = spring_block_type(a=0, b=i, k=kc, c=contact_dashpots(scene, 0, i, 0, kc), &
-            n=scene%wall_normal(:, w), arm_b=contact_arm(scene%radius(i), overlap))
+            n=scene%wall_normal(:, w), arm_b=contact_arm(scene%radius(i), overlap), &
+            m_eff=effective_mass(scene, i, 0))
         end do
       end do
     end if

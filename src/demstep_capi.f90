@@ -35,6 +35,7 @@ module demstep_capi
     default_max_eigen_dof, eigen_solver
   use demstep_lanczos, only: lanczos_tolerance_default, check_lanczos_options
   use demstep_contact, only: discrete_contact_type, contact_with_onset
+  use demstep_monitor, only: solver_critical_steps
   use demstep_cost, only: n_for_tolerance
   use demstep_snapshot, only: snapshot_type, snapshot_format, read_snapshot
   implicit none
@@ -198,7 +199,7 @@ module demstep_capi
     c_scene_set_bond_stiffness, c_scene_set_contact_law, c_scene_set_types, c_scene_set_hertz_types, &
     c_scene_add_walls, c_scene_set_contacts, c_scene_set_effects, c_scene_set_cell, c_scene_set_damping, &
     c_scene_set_dashpots, c_scene_set_rolling, c_scene_set_materials, &
-    c_scene_set_gravity, c_scene_compute, c_scene_set_eigen_solver
+    c_scene_set_gravity, c_scene_compute, c_scene_set_eigen_solver, c_solver_compute
   public :: c_snapshot_read, c_snapshot_get, c_snapshot_free
   public :: c_contact_parameters, c_peer_time_steps
 
@@ -1090,20 +1091,9 @@ contains
     type(capi_scene_type), pointer :: h
     type(critical_step_type) :: c
     type(demstep_status_type) :: status
-    type(demstep_scene_result_c) :: row
-    character(kind=c_char), pointer :: to(:)
-    character(kind=c_char), allocatable :: bytes(:)
-    integer :: limit, n_row
+    integer :: limit
     if (.not. live(scene, name, h, err, code, particles=.true.)) return
-    if (.not. c_associated(result)) then
-      code = invalid(err, name//": result is NULL")
-      return
-    end if
-    if (result_size < capi_scene_result_size_v1) then
-      code = invalid(err, name//": result_size: must be sizeof(demstep_scene_result), at least "// &
-        int_text(int(capi_scene_result_size_v1, i8)))
-      return
-    end if
+    if (result_refused(result, result_size, name, err, code)) return
     if (hertz_mode /= hertz_linearization%current .and. hertz_mode /= hertz_linearization%impact) then
       code = invalid(err, name//": hertz_linearization: "//int_text(hertz_mode)//" is not " &
         //"DEMSTEP_HERTZ_CURRENT ("//int_text(hertz_linearization%current)//") or DEMSTEP_HERTZ_IMPACT (" &
@@ -1121,6 +1111,42 @@ contains
       solver=h%solver, tolerance=h%tolerance)
     if (status%stat /= demstep_stat%ok) status%message = name//": "//status%message
     code = report(err, status)
+    call write_result(c, name, err, code, result, result_size)
+  end function c_scene_compute
+
+  !> Whether a result pointer and size are refused (NULL, or smaller than the
+  !> first version's struct): the refusal is then reported in `code`.
+  logical function result_refused(result, result_size, name, err, code) result(refused)
+    type(c_ptr), intent(in) :: result, err
+    integer(c_size_t), intent(in) :: result_size
+    character(len=*), intent(in) :: name
+    integer(c_int), intent(out) :: code
+    refused = .true.
+    code = demstep_stat%ok
+    if (.not. c_associated(result)) then
+      code = invalid(err, name//": result is NULL")
+    else if (result_size < capi_scene_result_size_v1) then
+      code = invalid(err, name//": result_size: must be sizeof(demstep_scene_result), at least "// &
+        int_text(int(capi_scene_result_size_v1, i8)))
+    else
+      refused = .false.
+    end if
+  end function result_refused
+
+  !> The first result_size bytes of a `demstep_scene_result` at `result` from
+  !> the critical steps (any more zeroed), when `code` is DEMSTEP_OK and every
+  !> value is finite (`guard_finite`; nothing is written otherwise).
+  subroutine write_result(c, name, err, code, result, result_size)
+    type(critical_step_type), intent(in) :: c
+    character(len=*), intent(in) :: name
+    type(c_ptr), intent(in) :: err
+    integer(c_int), intent(inout) :: code
+    type(c_ptr), intent(in) :: result
+    integer(c_size_t), intent(in) :: result_size
+    type(demstep_scene_result_c) :: row
+    character(kind=c_char), pointer :: to(:)
+    character(kind=c_char), allocatable :: bytes(:)
+    integer :: n_row
     call guard_finite([c%omega_max, c%dt_critical_eigen, c%omega_bound, c%dt_critical_bound, &
       c%dt_contact_rule, c%damping_ratio_top, c%dt_critical_damped, c%omega_upper, c%dt_critical_safe, &
       c%eigen_residual, c%dt_critical_damped_bound], name, err, code)
@@ -1138,7 +1164,103 @@ contains
     call c_f_pointer(result, to, [result_size])
     to = c_null_char
     to(:min(n_row, size(to))) = bytes(:min(n_row, size(to)))
-  end function c_scene_compute
+  end subroutine write_result
+
+  !> int demstep_solver_compute(int dim, int n, const double *x, const double *mass,
+  !>   const double *radius, const double *inertia, int n_contacts, const int *pairs,
+  !>   int n_values, const double *k_n, const double *k_t, const double *c_n, const double *c_t,
+  !>   int n_walls, const double *wall_point, const double *wall_normal, const double *wall_k,
+  !>   const double *wall_damping, const int *periodic, const double *cell_lo,
+  !>   const double *cell_hi, int solver, double tolerance, demstep_scene_result *result,
+  !>   size_t result_size, demstep_error *err)
+  !>
+  !> The critical steps of a solver's own arrays (`solver_critical_steps`): no
+  !> scene, no contact search; pairs 0-based; n_values 1 (every contact) or
+  !> n_contacts; NULL for inertia (2/5 m r^2), k_t, c_n, c_t, the walls
+  !> (n_walls 0) and periodic (no cell); tolerance <= 0: the default.
+  function c_solver_compute(dim, n, x, mass, radius, inertia, n_contacts, pairs, n_values, k_n, k_t, &
+      c_n, c_t, n_walls, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi, &
+      solver, tolerance, result, result_size, err) result(code) bind(C, name="demstep_solver_compute")
+    integer(c_int), value :: dim, n, n_contacts, n_values, n_walls, solver
+    type(c_ptr), value :: x, mass, radius, inertia, pairs, k_n, k_t, c_n, c_t, wall_point, wall_normal, &
+      wall_k, wall_damping, periodic, cell_lo, cell_hi, result, err
+    real(c_double), value :: tolerance
+    integer(c_size_t), value :: result_size
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_solver_compute"
+    real(c_double), pointer :: px(:, :), pm(:), pr(:), pkn(:), plo(:), phi(:)
+    real(c_double), pointer :: pi(:), pkt(:), pcn(:), pct(:), pwp(:, :), pwn(:, :), pwk(:), pwd(:)
+    integer(c_int), pointer :: pp(:, :), pper(:)
+    integer(c_int), target :: no_pairs(2, 0)
+    real(dp) :: tol, lo(3), hi(3)
+    logical :: axes(3)
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    ! (no initialisation in the declaration: that would SAVE them)
+    nullify(pi, pkt, pcn, pct, pwp, pwn, pwk, pwd)
+    if (dim < 1 .or. dim > 3 .or. n < 1 .or. n_contacts < 0 .or. n_walls < 0 .or. &
+        .not. (n_values == 1 .or. n_values == n_contacts .and. n_contacts > 0)) then
+      code = invalid(err, name//": dim 1 to 3, n >= 1, n_contacts >= 0, n_walls >= 0 and n_values " &
+        //"1 or n_contacts")
+      return
+    end if
+    if (.not. (c_associated(x) .and. c_associated(mass) .and. c_associated(radius) .and. &
+        c_associated(k_n) .and. (n_contacts == 0 .or. c_associated(pairs)))) then
+      code = invalid(err, name//": x, mass, radius, k_n (and pairs with contacts) must not be NULL")
+      return
+    end if
+    if (n_walls > 0 .and. .not. (c_associated(wall_point) .and. c_associated(wall_normal) .and. &
+        c_associated(wall_k))) then
+      code = invalid(err, name//": wall_point, wall_normal and wall_k must not be NULL with walls")
+      return
+    end if
+    if (c_associated(periodic) .and. .not. (c_associated(cell_lo) .and. c_associated(cell_hi))) then
+      code = invalid(err, name//": cell_lo and cell_hi must not be NULL with periodic")
+      return
+    end if
+    if (result_refused(result, result_size, name, err, code)) return
+    call c_f_pointer(x, px, [int(dim), int(n)])
+    call c_f_pointer(mass, pm, [int(n)])
+    call c_f_pointer(radius, pr, [int(n)])
+    pp => no_pairs
+    if (n_contacts > 0) call c_f_pointer(pairs, pp, [2, int(n_contacts)])
+    call c_f_pointer(k_n, pkn, [int(n_values)])
+    ! a NULL array stays a disassociated pointer: an absent optional argument
+    if (c_associated(inertia)) call c_f_pointer(inertia, pi, [int(n)])
+    if (c_associated(k_t)) call c_f_pointer(k_t, pkt, [int(n_values)])
+    if (c_associated(c_n)) call c_f_pointer(c_n, pcn, [int(n_values)])
+    if (c_associated(c_t)) call c_f_pointer(c_t, pct, [int(n_values)])
+    if (n_walls > 0) then
+      call c_f_pointer(wall_point, pwp, [int(dim), int(n_walls)])
+      call c_f_pointer(wall_normal, pwn, [int(dim), int(n_walls)])
+      call c_f_pointer(wall_k, pwk, [2])
+      if (c_associated(wall_damping)) call c_f_pointer(wall_damping, pwd, [2])
+    end if
+    tol = lanczos_tolerance_default
+    if (tolerance > 0.0_dp .or. ieee_is_nan(tolerance)) tol = tolerance
+    if (c_associated(periodic)) then
+      call c_f_pointer(periodic, pper, [int(dim)])
+      call c_f_pointer(cell_lo, plo, [int(dim)])
+      call c_f_pointer(cell_hi, phi, [int(dim)])
+      axes = .false.
+      lo = 0.0_dp
+      hi = 0.0_dp
+      axes(:dim) = pper /= 0
+      lo(:dim) = plo
+      hi(:dim) = phi
+      ! (pairs + 1: the library's particle numbers are 1-based)
+      call solver_critical_steps(px, pm, pr, pp + 1, pkn, c, status, k_t=pkt, c_n=pcn, c_t=pct, &
+        inertia=pi, wall_point=pwp, wall_normal=pwn, wall_k=pwk, wall_damping=pwd, periodic=axes, &
+        cell_lo=lo, cell_hi=hi, solver=int(solver), tolerance=tol)
+    else
+      call solver_critical_steps(px, pm, pr, pp + 1, pkn, c, status, k_t=pkt, c_n=pcn, c_t=pct, &
+        inertia=pi, wall_point=pwp, wall_normal=pwn, wall_k=pwk, wall_damping=pwd, solver=int(solver), &
+        tolerance=tol)
+    end if
+    if (status%stat /= demstep_stat%ok) status%message = name//": "//status%message
+    code = report(err, status)
+    call write_result(c, name, err, code, result, result_size)
+  end function c_solver_compute
 
   !> A logical as a C int (1 or 0).
   elemental integer(c_int) function flag(value)

@@ -23,6 +23,8 @@
 !> gives the second eigenvalue from below, which overstates the gap (unsafe).
 !>
 !> ARPACK keeps its state in SAVEd variables: one solve at a time per process.
+!> A solve started while another runs (another thread) is refused with status
+!> `busy` (`arpack_claim`); it never shares the state.
 module demstep_lanczos
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
@@ -37,6 +39,7 @@ module demstep_lanczos
   public :: lanczos_operator, lanczos_largest, lanczos_start_vector, check_lanczos_options, &
     lanczos_finish, lanczos_options
   public :: csr_matrix_type, csr_from_springs, csr_apply, csr_to_dense
+  public :: arpack_claim, arpack_release
 
   !> Default relative tolerance: the residual of the Ritz pair at most 1e-10 of
   !> the Ritz value (the eigenvalue itself is then good to about 1e-10 or better).
@@ -58,6 +61,11 @@ module demstep_lanczos
   !> Below this many rows a product runs on one thread: a parallel region costs
   !> more than the ~10 flops per row it would share.
   integer, parameter :: csr_parallel_rows = 20000
+
+  !> Whether an ARPACK iteration is under way in this process (its SAVEd
+  !> state is in use); set and cleared under the critical section
+  !> `demstep_arpack` (`arpack_claim`, `arpack_release`).
+  logical, save :: arpack_in_use = .false.
 
   !> Base of the caller's context: extend it with the operator's data.
   type, public :: lanczos_context_type
@@ -203,6 +211,9 @@ contains
           resid = start/norm2(start) + 1.0e-3_dp*resid/norm2(resid)
       end if
     end if
+    ! ARPACK's SAVEd state: one iteration per process at a time
+    call arpack_claim(status)
+    if (status%stat /= demstep_stat%ok) return
     iparam = 0
     iparam(1) = 1         ! exact shifts
     iparam(3) = restarts
@@ -217,6 +228,7 @@ contains
       if (ido /= -1 .and. ido /= 1) exit
       call product(workd(ipntr(1):ipntr(1) + n - 1), workd(ipntr(2):ipntr(2) + n - 1), status)
       if (status%stat /= demstep_stat%ok) then
+        call arpack_release()
         if (present(progress)) call progress%finish()
         return
       end if
@@ -228,6 +240,7 @@ contains
       ! found A x0 = 0. Under Lanczos' own assumption (x0 has a component along
       ! every eigenvector) that makes every eigenvalue zero: the zero operator
       ! (a scene without contacts, say)
+      call arpack_release()
       if (present(progress)) call progress%finish()
       result%converged = .true.
       if (present(eigenvector)) then
@@ -240,6 +253,7 @@ contains
     step_status = dsaupd_status(info)
     nconv = iparam(5)
     if (step_status%stat /= demstep_stat%ok .and. step_status%stat /= demstep_stat%not_converged) then
+      call arpack_release()
       if (present(progress)) call progress%finish()
       status = step_status
       return
@@ -252,6 +266,7 @@ contains
       result%eigenvalue = workl(ipntr(6) + itop)
       result%residual = abs(workl(ipntr(7) + itop))
       result%error_bound = result%residual + rounding_ulps*epsilon(1.0_dp)*abs(result%eigenvalue)
+      call arpack_release()
       if (present(progress)) call progress%finish()
       if (step_status%stat == demstep_stat%ok) then
         call set_status(status, demstep_stat%not_converged, "ARPACK dsaupd: no Ritz value met " &
@@ -268,6 +283,7 @@ contains
 
     call dseupd(.true., "A", select, d, z, n, 0.0_dp, "I", n, "LA", k, tol, resid, m, v, ldv, &
       iparam, ipntr, workd, workl, lworkl, info)
+    call arpack_release()
     if (info /= 0) then
       if (present(progress)) call progress%finish()
       status = dseupd_status(info)
@@ -314,6 +330,32 @@ contains
     end subroutine product
 
   end subroutine lanczos_largest
+
+  !> Claim ARPACK's SAVEd state for one iteration: status `busy` when another
+  !> solve (another thread) holds it, never a wait and never a shared state.
+  !> Every claim is followed by one `arpack_release`.
+  subroutine arpack_claim(status)
+    type(demstep_status_type), intent(out) :: status
+    logical :: was
+    !$omp critical (demstep_arpack)
+    was = arpack_in_use
+    arpack_in_use = .true.
+    !$omp end critical (demstep_arpack)
+    if (was) then
+      call set_status(status, demstep_stat%busy, "another Lanczos solve is running in this process " &
+        //"(ARPACK keeps its state in SAVEd variables: one solve at a time; call again when it is done)", &
+        where="lanczos_largest")
+      return
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine arpack_claim
+
+  !> Release ARPACK's state after `arpack_claim`.
+  subroutine arpack_release()
+    !$omp critical (demstep_arpack)
+    arpack_in_use = .false.
+    !$omp end critical (demstep_arpack)
+  end subroutine arpack_release
 
   !> The end of a Lanczos solve, serial or distributed: the result from the
   !> measured Rayleigh quotient `theta` and residual `rnorm` of the returned unit

@@ -33,8 +33,10 @@ contains
   !> mass (1/m must be finite), non-positive inertia, radius or coordinates
   !> beyond `max_coordinate`, wrong sizes, non-finite values, two particles at the
   !> same point (their contact normal is undefined), overlapping fixed particles,
-  !> more than `contact_limit` contacts.
-  subroutine new_scene(scene, dim, x, mass, radius, status, v, fixed, inertia)
+  !> more than `contact_limit` contacts. `search = .false.` skips the contact
+  !> search behind the last three (for a caller that gives its own contact
+  !> list with `scene_set_contacts`: only listed pairs are ever contacts).
+  subroutine new_scene(scene, dim, x, mass, radius, status, v, fixed, inertia, search)
     type(scene_type), intent(out) :: scene
     integer, intent(in) :: dim
     !> Positions (dim, n).
@@ -47,6 +49,8 @@ contains
     logical, intent(in), optional :: fixed(:)
     !> Moments of inertia (> 0), default 2/5 m r^2 (a solid sphere).
     real(dp), intent(in), optional :: inertia(:)
+    !> Search the contacts for the refusals above (default true).
+    logical, intent(in), optional :: search
     integer :: n, i
     scene%gravity = 0.0_dp
     if (dim < 1 .or. dim > 3) then
@@ -136,6 +140,10 @@ contains
     end do
     allocate(scene%bonds(2, 0), scene%bond_rest(3, 0), scene%bond_normal(3, 0), &
       scene%wall_point(3, 0), scene%wall_normal(3, 0), scene%contact_pairs(2, 0), scene%contact_k(8, 0))
+    status%stat = demstep_stat%ok
+    if (present(search)) then
+      if (.not. search) return
+    end if
     call check_contacts(scene, status)
   end subroutine new_scene
 
@@ -166,12 +174,15 @@ contains
   !> Status `invalid_input`: `cell_hi:` a periodic length not above 0 or shorter
   !> than twice the longest possible contact (2 (r_i + r_j), so that the nearest
   !> image is the only one in contact) or bond; `periodic:` a periodic axis
-  !> beyond dim; call it before adding bonds.
-  subroutine scene_set_cell(scene, periodic, lo, hi, status)
+  !> beyond dim; call it before adding bonds. `search = .false.`: no contact
+  !> search for coincident particles and too many contacts (as `new_scene`).
+  subroutine scene_set_cell(scene, periodic, lo, hi, status, search)
     type(scene_type), intent(inout) :: scene
     logical, intent(in) :: periodic(3)
     real(dp), intent(in) :: lo(3), hi(3)
     type(demstep_status_type), intent(out) :: status
+    !> Search the contacts for the refusals (default true).
+    logical, intent(in), optional :: search
     real(dp) :: longest
     integer :: ax
     if (any(periodic(scene%dim+1:))) then
@@ -204,6 +215,10 @@ contains
     scene%cell_lo = lo
     scene%cell_hi = hi
     call wrap_positions(scene)
+    status%stat = demstep_stat%ok
+    if (present(search)) then
+      if (.not. search) return
+    end if
     call check_contacts(scene, status)
   end subroutine scene_set_cell
 

@@ -37,6 +37,9 @@ module demstep_status
     !> The iterative eigensolver (ARPACK) failed: no Lanczos factorization could
     !> be built, or its data was inconsistent.
     integer :: eigensolver_failure = 11
+    !> The resource is in use by another thread (ARPACK's SAVEd state: one
+    !> Lanczos solve per process at a time); call again when it is done.
+    integer :: busy = 12
   end type demstep_stat_enum
 
   !> The status codes by name.

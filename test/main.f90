@@ -38,6 +38,7 @@ program tester
   use test_liggghts_script, only: collect_liggghts_script
   use test_app_safety, only: collect_app_safety
   use test_structure, only: collect_structure
+  use test_monitor, only: collect_monitor
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -78,7 +79,8 @@ program tester
     new_testsuite("app_snapshot", collect_app_snapshot), &
     new_testsuite("packing", collect_packing), &
     new_testsuite("app_safety", collect_app_safety), &
-    new_testsuite("structure", collect_structure) &
+    new_testsuite("structure", collect_structure), &
+    new_testsuite("monitor", collect_monitor) &
     ]
   stat = 0
   total = 0

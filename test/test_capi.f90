@@ -62,7 +62,7 @@ contains
     integer :: i, j, k, value, ios, found
     names = [character(len=32) :: "OK", "INVALID_INPUT", "UNSTABLE", "POLE", "NOT_CONVERGED", &
       "NOT_FOUND", "LAPACK_FAILURE", "IO_ERROR", "BLOW_UP", "AT_STABILITY_LIMIT", "DISCONTINUOUS", &
-      "EIGENSOLVER_FAILURE", &
+      "EIGENSOLVER_FAILURE", "BUSY", &
       "DASHPOT_LAGGED", "DASHPOT_CENTRED", "STEPS_FIXED", "STEPS_FRACTION", "STEPS_ROUNDED", &
       "PICK_LARGEST_STEP", "PICK_ZERO", "AGGREGATE_MEAN", "AGGREGATE_WEIGHTED", "AGGREGATE_MEDIAN", &
       "AGGREGATE_MIN", "AGGREGATE_MAX", "QUANTITY_RESTITUTION", "QUANTITY_CONTACT_TIME", &
@@ -78,7 +78,8 @@ contains
     values = [demstep_stat%ok, demstep_stat%invalid_input, demstep_stat%unstable, demstep_stat%pole, &
       demstep_stat%not_converged, demstep_stat%not_found, demstep_stat%lapack_failure, &
       demstep_stat%io_error, demstep_stat%blow_up, demstep_stat%at_stability_limit, &
-      demstep_stat%discontinuous, demstep_stat%eigensolver_failure, dashpot_kind%lagged, dashpot_kind%centred, step_kind%fixed, &
+      demstep_stat%discontinuous, demstep_stat%eigensolver_failure, demstep_stat%busy, &
+      dashpot_kind%lagged, dashpot_kind%centred, step_kind%fixed, &
       step_kind%fraction, step_kind%rounded, pick_kind%largest_step, pick_kind%zero, &
       aggregate_kind%mean, aggregate_kind%weighted, aggregate_kind%median, aggregate_kind%min, &
       aggregate_kind%max, quantity_kind%restitution, quantity_kind%contact_time, &

@@ -14,7 +14,7 @@ module test_damping
   use demstep_lanczos, only: csr_to_dense
   use demstep_assembly, only: damped_lower_bound
   use demstep_scene_data, only: contact_values, wall_values, contact_dashpots
-  use test_support, only: real_str
+  use test_support, only: real_str, seed_fixed
   implicit none
   private
   public :: collect_damping
@@ -546,15 +546,5 @@ contains
     real(dp) :: c(3)
     c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
   end function cross
-
-  subroutine seed_fixed(k)
-    integer, intent(in) :: k
-    integer :: n
-    integer, allocatable :: s(:)
-    call random_seed(size=n)
-    allocate(s(n))
-    s = 104729*k + [(n, n = 1, size(s))]
-    call random_seed(put=s)
-  end subroutine seed_fixed
 
 end module test_damping

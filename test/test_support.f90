@@ -10,7 +10,7 @@ module test_support
   public :: sinpi_q, reference, reference_steps, unit_contact
   public :: result_value
   public :: count_lines, remove, ieee_nan, real_str, int_str, app_path, run_app, write_file, read_file, &
-    file_exists, work_dir
+    file_exists, work_dir, seed_fixed
 
   !> A result group from an open unit (its remaining lines) or from text.
   interface read_group
@@ -30,6 +30,18 @@ module test_support
   character(len=*), parameter :: work_dir = "build/demstep-test-files"
 
 contains
+
+  !> Seed the intrinsic generator with a fixed sequence from k (a test's data
+  !> the same on every run).
+  subroutine seed_fixed(k)
+    integer, intent(in) :: k
+    integer :: n
+    integer, allocatable :: s(:)
+    call random_seed(size=n)
+    allocate(s(n))
+    s = 104729*k + [(n, n = 1, size(s))]
+    call random_seed(put=s)
+  end subroutine seed_fixed
 
   !> The value of a scalar `KEY=` in a result file's text (as the app writes
   !> its namelists: upper-case names), -1 when it is not there.

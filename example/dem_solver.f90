@@ -1,0 +1,466 @@
+!> A small 3D DEM solver that watches its own stability limit with demstep's
+!> monitor and adapts its step to it.
+!>
+!> 3000 polydisperse spheres (radii uniform in 0.8 to 1.2 mm, 2500 kg/m^3) are
+!> poured under gravity onto a floor in a cell periodic in x and y and settle.
+!> Contacts: linear spring-dashpot normal force (k_n, restitution 0.5), linear
+!> tangential springs with Coulomb friction (mu 0.5) and rotations; velocity
+!> Verlet (the dashpots see the half-step velocity, the scheme demstep's damped
+!> limit is exact for); a cell list each step.
+!>
+!> Before the first contact the step is demstep's fresh-pour estimate (the
+!> exact limit of a generated packing of the same spheres). From then on every
+!> `check_every` steps the monitor's cheap check is asked whether the step is
+!> still safe; on "re-solve now", and every `update_every` steps, the exact
+!> (damped) limit is re-solved, warm-started, and the step set to `safety`
+!> times it. The run ends with the mean wall time of a warm-started update and
+!> of a check, each over the mean time of one solver step, measured here:
+!>
+!>   monitor: update U solver steps, check C solver steps, particles P
+!>
+!> Run: fpm run --profile release --example dem_solver [-- mode.vtk]
+!> (with a file name: the settled bed's top mode as a VTK file).
+program dem_solver
+  use demstep, only: dp, i8, demstep_status_type, is_ok, critical_step_type
+  use demstep_monitor, only: step_monitor_type, fresh_pour_estimate, mode_participation, top_shares, &
+    monitor_verdict
+  use demstep_vtk, only: write_vtk_particles, vtk_field_type
+  implicit none
+
+  integer, parameter :: n = 3000
+  real(dp), parameter :: pi = 3.14159265358979323846_dp
+  real(dp), parameter :: r_mean = 1.0e-3_dp, poly = 0.2_dp, rho = 2500.0_dp
+  real(dp), parameter :: k_n = 200.0_dp, k_t = 2.0_dp/7.0_dp*k_n, mu = 0.5_dp, restitution = 0.5_dp
+  real(dp), parameter :: g(3) = [0.0_dp, 0.0_dp, -9.81_dp]
+  !> The periodic cell's side (x and y).
+  real(dp), parameter :: box = 30.0e-3_dp
+  integer, parameter :: n_steps = 12000, check_every = 20, update_every = 500, report_every = 1000
+  real(dp), parameter :: safety = 0.9_dp
+  integer, parameter :: max_history = 16
+  !> The floor z = 0 as the monitor takes walls: a point and the normal into the domain.
+  real(dp), parameter :: floor_point(3, 1) = reshape([0.0_dp, 0.0_dp, 0.0_dp], [3, 1])
+  real(dp), parameter :: floor_normal(3, 1) = reshape([0.0_dp, 0.0_dp, 1.0_dp], [3, 1])
+
+  real(dp) :: x(3, n), v(3, n), w(3, n), f(3, n), tq(3, n), mass(n), radius(n), inertia(n)
+  ! tangential history: partners (j > i) and spring displacements per particle; the floor's
+  integer :: h_count(n), h_partner(max_history, n), new_count(n), new_partner(max_history, n)
+  real(dp) :: h_xi(3, max_history, n), new_xi(3, max_history, n), wall_xi(3, n)
+  integer, allocatable :: pairs(:, :)
+  real(dp), allocatable :: c_n(:)
+  integer :: nc
+  ! cell list
+  integer, allocatable :: cell_start(:), cell_next(:)
+  integer :: ncell(3)
+  real(dp) :: cell_w(3)
+
+  real(dp) :: zeta, dt, t, dt_limit, ke
+  type(step_monitor_type) :: monitor
+  type(critical_step_type) :: estimate
+  type(demstep_status_type) :: status
+  integer :: step, i, n_updates, n_checks, n_resolves
+  integer(i8) :: c0, c1, rate, t_steps, t_updates, t_checks
+  ! the second half of the run (a settled bed): its updates, checks and steps
+  integer(i8) :: t2_steps, t2_updates, t2_checks
+  integer :: n2_updates, n2_checks
+  ! the first (cold) update's products and time, and the warm ones' products
+  integer(i8) :: cold_products, warm_products, t_cold
+  logical :: safe, have_limit
+  character(len=256) :: vtk_path
+
+  zeta = -log(restitution)/sqrt(pi**2 + log(restitution)**2)
+  call setup()
+
+  ! before any contact: the estimate from a generated packing of the same spheres
+  call fresh_pour_estimate(r_mean, poly, rho, k_n, k_t, zeta, 0.0_dp, estimate, status)
+  if (.not. is_ok(status)) error stop status%message
+  dt = safety*estimate%dt_critical_damped
+  print '(a, es12.5, a)', "fresh-pour estimate (a generated packing, ESTIMATE): damped limit ", &
+    estimate%dt_critical_damped, " s"
+  have_limit = .false.
+  dt_limit = estimate%dt_critical_damped
+
+  t = 0.0_dp
+  t_steps = 0
+  t_updates = 0
+  t_checks = 0
+  t2_steps = 0
+  t2_updates = 0
+  t2_checks = 0
+  n2_updates = 0
+  n2_checks = 0
+  n_updates = 0
+  n_checks = 0
+  warm_products = 0
+  n_resolves = 0
+  call system_clock(count_rate=rate)
+  call forces()
+  do step = 1, n_steps
+    call system_clock(c0)
+    call verlet_step()
+    call system_clock(c1)
+    t_steps = t_steps + (c1 - c0)
+    if (step > n_steps/2) t2_steps = t2_steps + (c1 - c0)
+    t = t + dt
+
+    if (nc == 0) cycle
+    if (.not. have_limit .or. mod(step, update_every) == 0) then
+      call update(step)
+    else if (mod(step, check_every) == 0) then
+      call system_clock(c0)
+      call monitor%check(dt, safe, x, mass, radius, pairs(:, :nc), [k_n], status, k_t=[k_t], &
+        c_n=c_n(:nc), inertia=inertia, wall_point=floor_point, wall_normal=floor_normal, wall_k=[k_n, k_t], &
+        wall_damping=[zeta, 0.0_dp], periodic=[.true., .true., .false.], cell_lo=[0.0_dp, 0.0_dp, 0.0_dp], &
+        cell_hi=[box, box, 0.0_dp])
+      call system_clock(c1)
+      if (.not. is_ok(status)) error stop status%message
+      t_checks = t_checks + (c1 - c0)
+      n_checks = n_checks + 1
+      if (step > n_steps/2) then
+        t2_checks = t2_checks + (c1 - c0)
+        n2_checks = n2_checks + 1
+      end if
+      if (.not. safe) then
+        n_resolves = n_resolves + 1
+        call update(step)
+      end if
+    end if
+    if (mod(step, report_every) == 0) then
+      ke = 0.5_dp*sum(spread(mass, 1, 3)*v**2) + 0.5_dp*sum(spread(inertia, 1, 3)*w**2)
+      print '(a, i6, a, f7.4, a, es10.3, a, es10.3, a, i6, a, es10.3)', "step ", step, "  t ", t, &
+        " s  dt ", dt, " s  limit ", dt_limit, " s  contacts ", nc, "  kinetic ", ke
+    end if
+  end do
+
+  print '(a, i0, a, i0, a, i0, a)', "updates ", n_updates, " (", n_resolves, " asked for by a check), checks ", &
+    n_checks, ""
+  print '(a, es12.5, a, es12.5, a, f6.3)', "settled bed: exact damped limit ", monitor%last%dt_critical_damped, &
+    " s (undamped ", monitor%last%dt_critical_eigen, " s); fresh-pour estimate / exact ", &
+    estimate%dt_critical_damped/monitor%last%dt_critical_damped
+  print '(a, i0, a, i0, a, i0)', "last update: Lanczos products ", monitor%last%eigen_products, &
+    ", damped solves ", monitor%last%damped_solves, ", contacts ", nc
+  print '(a, i0, a, f0.1, a, f0.1, a)', "cold first update: ", cold_products, " products, ", &
+    (real(t_cold, dp)/rate)/(real(t_steps, dp)/rate/n_steps), " solver steps; warm updates: ", &
+    real(warm_products, dp)/max(1, n_updates - 1), " products on average"
+
+  print '(a, f0.3, a, f0.3, a, f0.3, a)', "mean wall time: solver step ", &
+    1.0e3_dp*real(t_steps, dp)/rate/n_steps, " ms, warm update ", &
+    1.0e3_dp*real(t_updates, dp)/rate/max(1, n_updates - 1), " ms, check ", &
+    1.0e3_dp*real(t_checks, dp)/rate/max(1, n_checks), " ms"
+  print '(a, i0, a, f0.2, a, i0, a, f0.2, a)', "settled bed (second half of the run): ", n2_updates, &
+    " updates of ", (real(t2_updates, dp)/max(1, n2_updates))/(real(t2_steps, dp)/(n_steps - n_steps/2)), &
+    " solver steps each, ", n2_checks, " checks of ", &
+    (real(t2_checks, dp)/max(1, n2_checks))/(real(t2_steps, dp)/(n_steps - n_steps/2)), " solver steps each"
+  call cold_and_warm()
+  call governing()
+  if (command_argument_count() >= 1) then
+    call get_command_argument(1, vtk_path)
+    call write_mode(trim(vtk_path))
+  end if
+  ! (the first update is cold: the means are over the warm-started ones)
+  print '(a, f0.2, a, f0.2, a, i0)', "monitor: update ", &
+    (real(t_updates, dp)/max(1, n_updates - 1))/(real(t_steps, dp)/n_steps), " solver steps, check ", &
+    (real(t_checks, dp)/max(1, n_checks))/(real(t_steps, dp)/n_steps), " solver steps, particles ", n
+
+contains
+
+  !> Radii, masses, a loose lattice above the floor with small random velocities.
+  subroutine setup()
+    integer :: k, a, b, c, m, seed_size
+    integer, allocatable :: seed(:)
+    real(dp) :: u(3), spacing
+    call random_seed(size=seed_size)
+    allocate(seed(seed_size))
+    seed = [(12345 + 7*k, k = 1, seed_size)]
+    call random_seed(put=seed)
+    do i = 1, n
+      call random_number(u(1))
+      radius(i) = r_mean*(1.0_dp + poly*(2.0_dp*u(1) - 1.0_dp))
+    end do
+    mass = rho*4.0_dp/3.0_dp*pi*radius**3
+    inertia = 0.4_dp*mass*radius**2
+    m = 12
+    spacing = box/m
+    k = 0
+    do c = 0, n
+      do b = 0, m - 1
+        do a = 0, m - 1
+          k = k + 1
+          if (k > n) exit
+          call random_number(u)
+          x(:, k) = [(a + 0.5_dp)*spacing, (b + 0.5_dp)*spacing, (c + 0.6_dp)*spacing] + 0.1_dp*spacing*(u - 0.5_dp)
+          call random_number(u)
+          v(:, k) = 0.05_dp*(u - 0.5_dp)
+        end do
+      end do
+      if (k > n) exit
+    end do
+    w = 0.0_dp
+    h_count = 0
+    wall_xi = 0.0_dp
+    ncell(1:2) = max(3, int(box/(2.0_dp*maxval(radius))))
+    cell_w(1:2) = box/ncell(1:2)
+    cell_w(3) = 2.0_dp*maxval(radius)
+    allocate(cell_next(n), pairs(2, 8*n), c_n(8*n))
+    nc = 0
+  end subroutine setup
+
+  !> One velocity-Verlet step: half kick, drift, forces at the half-step
+  !> velocities, half kick.
+  subroutine verlet_step()
+    integer :: k
+    do k = 1, 3
+      v(k, :) = v(k, :) + 0.5_dp*dt*f(k, :)/mass
+      w(k, :) = w(k, :) + 0.5_dp*dt*tq(k, :)/inertia
+    end do
+    x = x + dt*v
+    x(1:2, :) = modulo(x(1:2, :), box)
+    call forces()
+    do k = 1, 3
+      v(k, :) = v(k, :) + 0.5_dp*dt*f(k, :)/mass
+      w(k, :) = w(k, :) + 0.5_dp*dt*tq(k, :)/inertia
+    end do
+  end subroutine verlet_step
+
+  !> Gravity, the floor and every particle contact found with the cell list.
+  subroutine forces()
+    integer :: j, c, a, b, cc, ia(3), ja(3)
+    real(dp) :: zmax
+    do i = 1, n
+      f(:, i) = mass(i)*g
+    end do
+    tq = 0.0_dp
+    ! cell list: x and y periodic, z from the floor up
+    zmax = maxval(x(3, :))
+    ncell(3) = max(1, int(zmax/cell_w(3)) + 1)
+    if (allocated(cell_start)) then
+      if (size(cell_start) < product(ncell)) deallocate(cell_start)
+    end if
+    if (.not. allocated(cell_start)) allocate(cell_start(2*product(ncell)))
+    cell_start = 0
+    do i = 1, n
+      c = cell_index(cell_of(x(:, i)))
+      cell_next(i) = cell_start(c)
+      cell_start(c) = i
+    end do
+    new_count = 0
+    nc = 0
+    do i = 1, n
+      ia = cell_of(x(:, i))
+      do a = -1, 1
+        do b = -1, 1
+          do cc = -1, 1
+            ja = [modulo(ia(1) + a, ncell(1)), modulo(ia(2) + b, ncell(2)), ia(3) + cc]
+            if (ja(3) < 0 .or. ja(3) >= ncell(3)) cycle
+            j = cell_start(cell_index(ja))
+            do while (j > 0)
+              if (j > i) call pair_force(i, j)
+              j = cell_next(j)
+            end do
+          end do
+        end do
+      end do
+      call floor_force(i)
+    end do
+    h_count = new_count
+    h_partner = new_partner
+    h_xi = new_xi
+  end subroutine forces
+
+  pure function cell_of(p) result(idx)
+    real(dp), intent(in) :: p(3)
+    integer :: idx(3)
+    idx = int(p/cell_w)
+    idx(1:2) = min(max(idx(1:2), 0), ncell(1:2) - 1)
+    idx(3) = min(max(idx(3), 0), ncell(3) - 1)
+  end function cell_of
+
+  pure integer function cell_index(idx)
+    integer, intent(in) :: idx(3)
+    cell_index = 1 + idx(1) + ncell(1)*(idx(2) + ncell(2)*idx(3))
+  end function cell_index
+
+  !> The contact of i and j (j > i) if they overlap: spring-dashpot normal
+  !> force, tangential spring with Coulomb's cap, torques; the pair joins the
+  !> contact list with its normal dashpot.
+  subroutine pair_force(i, j)
+    integer, intent(in) :: i, j
+    real(dp) :: d(3), dist, delta, nn(3), ai, aj, vr(3), vn, vt(3), fn, xi(3), ft(3), m_eff, cn, fmax
+    integer :: h
+    d = x(:, j) - x(:, i)
+    d(1:2) = d(1:2) - box*anint(d(1:2)/box)
+    dist = norm2(d)
+    delta = radius(i) + radius(j) - dist
+    if (delta <= 0.0_dp) return
+    nn = d/dist
+    ai = radius(i) - 0.5_dp*delta
+    aj = radius(j) - 0.5_dp*delta
+    vr = (v(:, j) + cross(w(:, j), -aj*nn)) - (v(:, i) + cross(w(:, i), ai*nn))
+    vn = dot_product(vr, nn)
+    vt = vr - vn*nn
+    m_eff = mass(i)*mass(j)/(mass(i) + mass(j))
+    cn = 2.0_dp*zeta*sqrt(m_eff*k_n)
+    fn = k_n*delta - cn*vn
+    ! the spring's history, turned into the current tangent plane
+    xi = 0.0_dp
+    do h = 1, h_count(i)
+      if (h_partner(h, i) == j) then
+        xi = h_xi(:, h, i)
+        exit
+      end if
+    end do
+    xi = xi - dot_product(xi, nn)*nn + dt*vt
+    fmax = mu*max(fn, 0.0_dp)
+    if (k_t*norm2(xi) > fmax) xi = xi*(fmax/(k_t*norm2(xi)))
+    ft = -k_t*xi
+    f(:, j) = f(:, j) + fn*nn + ft
+    f(:, i) = f(:, i) - fn*nn - ft
+    tq(:, i) = tq(:, i) + cross(ai*nn, -ft)
+    tq(:, j) = tq(:, j) + cross(-aj*nn, ft)
+    if (new_count(i) < max_history) then
+      new_count(i) = new_count(i) + 1
+      new_partner(new_count(i), i) = j
+      new_xi(:, new_count(i), i) = xi
+    end if
+    if (nc == size(pairs, 2)) call grow()
+    nc = nc + 1
+    pairs(:, nc) = [i, j]
+    c_n(nc) = cn
+  end subroutine pair_force
+
+  !> The floor z = 0: the same law, m* = m.
+  subroutine floor_force(i)
+    integer, intent(in) :: i
+    real(dp) :: delta, a, vc(3), vn, vt(3), fn, ft(3), fmax
+    real(dp), parameter :: ez(3) = [0.0_dp, 0.0_dp, 1.0_dp]
+    delta = radius(i) - x(3, i)
+    if (delta <= 0.0_dp) then
+      wall_xi(:, i) = 0.0_dp
+      return
+    end if
+    a = radius(i) - 0.5_dp*delta
+    vc = v(:, i) + cross(w(:, i), -a*ez)
+    vn = vc(3)
+    vt = vc - vn*ez
+    fn = k_n*delta - 2.0_dp*zeta*sqrt(mass(i)*k_n)*vn
+    wall_xi(:, i) = wall_xi(:, i) - wall_xi(3, i)*ez + dt*vt
+    fmax = mu*max(fn, 0.0_dp)
+    if (k_t*norm2(wall_xi(:, i)) > fmax) wall_xi(:, i) = wall_xi(:, i)*(fmax/(k_t*norm2(wall_xi(:, i))))
+    ft = -k_t*wall_xi(:, i)
+    f(:, i) = f(:, i) + fn*ez + ft
+    tq(:, i) = tq(:, i) + cross(-a*ez, ft)
+  end subroutine floor_force
+
+  subroutine grow()
+    integer, allocatable :: p2(:, :)
+    real(dp), allocatable :: c2(:)
+    allocate(p2(2, 2*size(pairs, 2)), c2(2*size(pairs, 2)))
+    p2(:, :nc) = pairs(:, :nc)
+    c2(:nc) = c_n(:nc)
+    call move_alloc(p2, pairs)
+    call move_alloc(c2, c_n)
+  end subroutine grow
+
+  pure function cross(a, b) result(c)
+    real(dp), intent(in) :: a(3), b(3)
+    real(dp) :: c(3)
+    c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
+  end function cross
+
+  !> The exact (damped) limit, warm-started; the step becomes safety times it.
+  subroutine update(step)
+    integer, intent(in) :: step
+    call system_clock(c0)
+    call solve(monitor)
+    call system_clock(c1)
+    if (.not. is_ok(status)) then
+      print '(a, i0, a)', "step ", step, ": "//status%message
+      error stop 1
+    end if
+    ! (the first, cold, update is not counted in the mean)
+    if (have_limit) then
+      t_updates = t_updates + (c1 - c0)
+      warm_products = warm_products + monitor%last%eigen_products
+    else
+      t_cold = c1 - c0
+      cold_products = monitor%last%eigen_products
+    end if
+    n_updates = n_updates + 1
+    if (step > n_steps/2) then
+      t2_updates = t2_updates + (c1 - c0)
+      n2_updates = n2_updates + 1
+    end if
+    have_limit = .true.
+    dt_limit = monitor%last%dt_critical_damped
+    dt = safety*dt_limit
+  end subroutine update
+
+  !> One update of a monitor on the solver's current arrays: the contact
+  !> list with its dashpots, scalar stiffness, the floor and the cell.
+  subroutine solve(m)
+    type(step_monitor_type), intent(inout) :: m
+    call m%update(x, mass, radius, pairs(:, :nc), [k_n], status, k_t=[k_t], c_n=c_n(:nc), &
+      inertia=inertia, wall_point=floor_point, wall_normal=floor_normal, wall_k=[k_n, k_t], &
+      wall_damping=[zeta, 0.0_dp], periodic=[.true., .true., .false.], cell_lo=[0.0_dp, 0.0_dp, 0.0_dp], &
+      cell_hi=[box, box, 0.0_dp])
+  end subroutine solve
+
+  !> On the settled bed: a cold update (a new monitor) against a warm one,
+  !> products and wall time in solver steps.
+  subroutine cold_and_warm()
+    type(step_monitor_type) :: fresh
+    integer(i8) :: tc, tw
+    real(dp) :: step_time
+    step_time = real(t_steps, dp)/n_steps
+    call system_clock(c0)
+    call solve(fresh)
+    call system_clock(c1)
+    if (.not. is_ok(status)) error stop status%message
+    tc = c1 - c0
+    call system_clock(c0)
+    call solve(monitor)
+    call system_clock(c1)
+    if (.not. is_ok(status)) error stop status%message
+    tw = c1 - c0
+    print '(a, i0, a, f0.1, a, i0, a, f0.1, a, es12.5, a, es12.5)', "settled bed, one state: cold update ", &
+      fresh%last%eigen_products, " products ", real(tc, dp)/step_time, " solver steps; warm ", &
+      monitor%last%eigen_products, " products ", real(tw, dp)/step_time, " solver steps; damped limits ", &
+      fresh%last%dt_critical_damped, " and ", monitor%last%dt_critical_damped
+  end subroutine cold_and_warm
+
+  !> The ten particles and contacts that carry most of the top mode.
+  subroutine governing()
+    real(dp), allocatable :: ps(:), cs(:), ws(:)
+    integer, allocatable :: top(:)
+    integer :: k
+    call mode_participation(monitor, nc, ps, cs, ws, status)
+    if (.not. is_ok(status)) error stop status%message
+    top = top_shares(ps, 10)
+    print '(a)', "top mode: the 10 particles that carry most (share, radius mm, mass mg, contacts)"
+    do k = 1, size(top)
+      print '(i6, f8.4, f8.4, f8.4, i4)', top(k), ps(top(k)), 1.0e3_dp*radius(top(k)), 1.0e6_dp*mass(top(k)), &
+        count(pairs(1, :nc) == top(k) .or. pairs(2, :nc) == top(k)) + merge(1, 0, x(3, top(k)) < radius(top(k)))
+    end do
+    top = top_shares(cs, 10)
+    print '(a)', "top mode: the 10 contacts that carry most (share, particles, k_n N/m)"
+    do k = 1, size(top)
+      print '(i6, f8.4, 2i6, f8.1)', top(k), cs(top(k)), pairs(:, top(k)), k_n
+    end do
+  end subroutine governing
+
+  !> The settled bed's top mode as a VTK file (participation per particle and contact).
+  subroutine write_mode(path)
+    character(len=*), intent(in) :: path
+    real(dp), allocatable :: ps(:), cs(:), ws(:)
+    type(vtk_field_type) :: pf(2), cf(1)
+    call mode_participation(monitor, nc, ps, cs, ws, status)
+    if (.not. is_ok(status)) error stop status%message
+    pf(1) = vtk_field_type("radius", radius)
+    pf(2) = vtk_field_type("participation", ps)
+    cf(1) = vtk_field_type("contact_participation", cs)
+    call write_vtk_particles(path, x, pf, status, pairs=pairs(:, :nc), contact_fields=cf, &
+      title="dem_solver: the settled bed's top mode")
+    if (.not. is_ok(status)) error stop status%message
+    print '(a)', "wrote "//path
+  end subroutine write_mode
+
+end program dem_solver

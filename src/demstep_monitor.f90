@@ -1,0 +1,985 @@
+!> The exact limit inside a running DEM solver, from the solver's own arrays.
+!>
+!> `solver_critical_steps` takes positions, masses, radii (and inertia), the
+!> solver's contact list `pairs(2, nc)` with scalar (size 1) or per-contact
+!> (size nc) stiffness and dashpots, walls and a periodic cell, and returns
+!> what `assembly_critical_steps` returns for the same scene: no scene is
+!> built, nothing is searched (a listed pair acts while it overlaps, through
+!> the nearest periodic image), the arrays are read in place. Rotations are
+!> on whenever any tangential stiffness is given.
+!>
+!> `step_monitor_type` keeps the operator, the springs and the top mode
+!> between calls: `update` re-solves warm-started from the previous mode
+!> (Lanczos from it: fewer products when the packing moved little), `check`
+!> says from O(contacts) work whether a step is still safe:
+!> - the rigorous per-body bound (`cheap_bound`): with K_c the contact's
+!>   stiffness, (A + B)' K_c (A + B) <= 2 A' K_c A + 2 B' K_c B splits each
+!>   contact between its bodies, and per body k_n (n.u)^2 + k_t |P u + n x phi|^2
+!>   <= max(k_n, 2 k_t) |u|^2 + 2 k_t |phi|^2 (phi = arm theta), so
+!>   omega_max^2 <= max_i sum_{c at i} 2 max(max(k_n, 2 k_t)/m_i, 2 k_t arm_i^2/I_i)
+!>   (a wall contact without the factor 2); a step below its (damped) limit is
+!>   safe whatever the mode;
+!> - the Rayleigh quotient of the previous top mode on the current contacts
+!>   (one product): a lower estimate of the new omega_max^2. The previous exact
+!>   limit scaled by sqrt(omega_then^2/quotient) is the estimate the step is
+!>   held against; when the quotient or the bound has moved by more than
+!>   `drift` since the update, or the step is above the estimate, the verdict
+!>   is "re-solve now".
+!> `mode_participation` gives each particle's share of the top mode (its
+!> degrees of freedom's squared amplitude) and each contact's share of the
+!> mode's energy v'A'v, each summing to 1 (no pre-stress).
+!>
+!> A monitor holds ARPACK's SAVEd state only during a solve: see
+!> `demstep_lanczos` (concurrent solves are refused with `demstep_stat%busy`).
+module demstep_monitor
+  use demstep_kinds, only: dp, i8
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_interaction, only: reduced_mass, contact_arm, wall_overlap, dashpot_coefficient
+  use demstep_assembly, only: critical_step_type, assembly_operator_type, spring_block_type, &
+    operator_from_springs, operator_critical_steps, assembly_operator_apply, eigen_solver, &
+    default_max_eigen_dof, damped_lower_bound, scene_lanczos_ncv
+  use demstep_lanczos, only: lanczos_tolerance_default
+  use demstep_scene_data, only: scene_type
+  use demstep_packing, only: random_periodic_packing
+  use demstep_assembly, only: assembly_critical_steps
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  implicit none
+  private
+
+  public :: solver_critical_steps, mode_participation, top_shares, cheap_bound, fresh_pour_estimate, &
+    scale_masses
+
+  !> Particles of the generated packing of `fresh_pour_estimate` (default).
+  integer, parameter, public :: fresh_pour_particles = 500
+  !> Default Lanczos tolerance of a monitor: a relative residual of 1e-6 on
+  !> omega_max^2 puts the error bar of the step at 5e-7 of it, far inside any
+  !> safety factor (`solver_critical_steps` keeps the scene's 1e-10).
+  real(dp), parameter, public :: monitor_tolerance_default = 1.0e-6_dp
+  !> Default Krylov size of a monitor's warm-started solves: from a start
+  !> near the mode, 8 vectors converge in about one pass (measured in
+  !> example/dem_solver: 30 products per update of a settled bed against 54
+  !> with 16).
+  integer, parameter, public :: monitor_ncv_default = 8
+  !> Default relative drift of the mode's Rayleigh quotient or of the bound
+  !> (omega^2) since the last update above which `check` asks for a re-solve.
+  real(dp), parameter, public :: monitor_drift_default = 0.02_dp
+  !> Largest |coordinate| and radius (as scenes: squared distances stay finite).
+  real(dp), parameter :: max_value = 1.0e150_dp
+
+  !> The verdicts of `check`.
+  type, public :: monitor_verdict_enum
+    !> The step is at or below the rigorous bound's limit: safe whatever changed.
+    integer :: safe_bound = 1
+    !> The step is below the previous exact limit scaled by the mode's
+    !> Rayleigh quotient, which moved less than `drift`: still safe (estimate).
+    integer :: safe_estimate = 2
+    !> Re-solve now (`update`): the step is above the estimate, or the
+    !> packing changed by more than `drift`, or there is no update yet.
+    integer :: resolve = 3
+  end type monitor_verdict_enum
+  !> The verdicts by name.
+  type(monitor_verdict_enum), parameter, public :: monitor_verdict = monitor_verdict_enum()
+
+  !> A persistent monitor of a running solver's stability limit.
+  type, public :: step_monitor_type
+    !> Eigensolver (`eigen_solver%...`, default auto: dense up to
+    !> `default_max_eigen_dof`), its relative tolerance, and the drift that asks
+    !> for a re-solve.
+    integer :: solver = 1
+    real(dp) :: tolerance = monitor_tolerance_default
+    real(dp) :: drift = monitor_drift_default
+    !> Krylov size of the warm-started Lanczos solves (the first, cold, solve
+    !> takes the scene solve's, 16).
+    integer :: ncv = monitor_ncv_default
+    !> The rigorous bound of an update: the per-body bound of `check`
+    !> (`cheap_bound`, O(contacts), default) or, false, the Collatz-Wielandt
+    !> bound of `assembly_critical_steps` (tighter, about 36 products each
+    !> for the stiffness and the dashpots).
+    logical :: cheap = .true.
+    !> The last update's result (`critical_step_type`), valid after an update.
+    type(critical_step_type) :: last
+    logical :: ready = .false.
+    !> Updates and checks made.
+    integer :: updates = 0, checks = 0
+    !> The last check: its verdict, the quotient's and the bound's omega^2 over
+    !> the update's, and the estimated limit it held the step against.
+    integer :: verdict = 3
+    real(dp) :: quotient_ratio = 0.0_dp, bound_ratio = 0.0_dp, dt_estimate = 0.0_dp
+    !> The limit the step is held against (damped when dashpots are given),
+    !> omega_max^2 and the cheap bound's omega^2 at the update.
+    real(dp) :: dt_limit = 0.0_dp, omega2 = 0.0_dp, bound2 = 0.0_dp
+    !> Particles and dimension of the last update.
+    integer :: n_particles = 0, dim = 3
+    !> The top undamped unit mode (scaled coordinates of `op`), the operator
+    !> and springs of the update, and which particle each body is and which
+    !> contact row each spring is (> 0: row of pairs; < 0: -particle on a wall).
+    real(dp), allocatable :: mode(:), damped_mode(:)
+    type(assembly_operator_type) :: op
+    type(spring_block_type), allocatable :: springs(:)
+    integer, allocatable :: body_particle(:), spring_row(:)
+    real(dp) :: rate = 0.0_dp
+    !> The check's own operator and springs (work arrays kept between checks).
+    type(assembly_operator_type), private :: check_op
+    type(spring_block_type), allocatable, private :: check_springs(:)
+    real(dp), allocatable, private :: work(:)
+  contains
+    !> Re-solve the exact limit, warm-started from the previous mode.
+    procedure :: update => monitor_update
+    !> Whether a step is still safe on the current contacts.
+    procedure :: check => monitor_check
+  end type step_monitor_type
+
+contains
+
+  !> The critical steps of a solver's particles and contact list (see the
+  !> module notes), equal to `assembly_critical_steps` on the same scene.
+  !> x(dim, n) (dim 1 to 3); pairs(2, nc); k_n, k_t, c_n, c_t of size 1 (every
+  !> contact) or nc; wall points and unit normals (dim, nw) with wall_k =
+  !> (k_n, k_t) and wall_damping = (zeta_n, zeta_t), dashpots 2 zeta sqrt(m k);
+  !> periodic axes with the cell [cell_lo, cell_hi). Status invalid_input with
+  !> `where` the argument and `index` the particle, contact or wall.
+  subroutine solver_critical_steps(x, mass, radius, pairs, k_n, result, status, k_t, c_n, c_t, &
+      inertia, fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi, &
+      solver, tolerance)
+    real(dp), intent(in) :: x(:, :), mass(:), radius(:)
+    integer, intent(in) :: pairs(:, :)
+    real(dp), intent(in) :: k_n(:)
+    type(critical_step_type), intent(out) :: result
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: k_t(:), c_n(:), c_t(:), inertia(:)
+    logical, intent(in), optional :: fixed(:)
+    real(dp), intent(in), optional :: wall_point(:, :), wall_normal(:, :), wall_k(:), wall_damping(:)
+    logical, intent(in), optional :: periodic(:)
+    real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
+    !> `eigen_solver%auto` (default), `%dense`, `%lanczos` or `%none`; tolerance
+    !> as `assembly_critical_steps`.
+    integer, intent(in), optional :: solver
+    real(dp), intent(in), optional :: tolerance
+    type(step_monitor_type) :: monitor
+    ! the same bound and tolerance as assembly_critical_steps
+    monitor%cheap = .false.
+    monitor%tolerance = lanczos_tolerance_default
+    if (present(solver)) monitor%solver = solver
+    if (present(tolerance)) monitor%tolerance = tolerance
+    call monitor%update(x, mass, radius, pairs, k_n, status, k_t, c_n, c_t, inertia, fixed, &
+      wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
+    if (status%stat == demstep_stat%ok) result = monitor%last
+  end subroutine solver_critical_steps
+
+  !> Re-solve the exact limit on the current arrays (as `solver_critical_steps`),
+  !> the Lanczos solve warm-started from the previous top mode when the
+  !> degrees of freedom are the same. Keeps the operator, springs and mode.
+  subroutine monitor_update(monitor, x, mass, radius, pairs, k_n, status, k_t, c_n, c_t, &
+      inertia, fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
+    class(step_monitor_type), intent(inout) :: monitor
+    real(dp), intent(in) :: x(:, :), mass(:), radius(:)
+    integer, intent(in) :: pairs(:, :)
+    real(dp), intent(in) :: k_n(:)
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: k_t(:), c_n(:), c_t(:), inertia(:)
+    logical, intent(in), optional :: fixed(:)
+    real(dp), intent(in), optional :: wall_point(:, :), wall_normal(:, :), wall_k(:), wall_damping(:)
+    logical, intent(in), optional :: periodic(:)
+    real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
+    logical :: rotation
+    integer :: i, nfree, ncv
+    monitor%ready = .false.
+    if (monitor%solver < eigen_solver%auto .or. monitor%solver > eigen_solver%none) then
+      call set_status(status, demstep_stat%invalid_input, "must be auto, dense, lanczos or none", &
+        where="solver")
+      return
+    end if
+    call build_operator(x, mass, radius, pairs, k_n, monitor%springs, monitor%spring_row, monitor%op, &
+      monitor%rate, rotation, status, k_t, c_n, c_t, inertia, fixed, wall_point, wall_normal, wall_k, &
+      wall_damping, periodic, cell_lo, cell_hi, keep_rows=.false.)
+    if (status%stat /= demstep_stat%ok) return
+    ! the previous mode is a warm start while the degrees of freedom are the same
+    if (allocated(monitor%mode)) then
+      if (size(monitor%mode) /= monitor%op%n) deallocate(monitor%mode, monitor%damped_mode)
+    end if
+    if (.not. allocated(monitor%mode)) allocate(monitor%mode(monitor%op%n), &
+      monitor%damped_mode(monitor%op%n), source=0.0_dp)
+    monitor%last = critical_step_type()
+    monitor%last%rotation = rotation .and. size(x, 1) > 1
+    monitor%last%periodic = .false.
+    if (present(periodic)) monitor%last%periodic = any(periodic)
+    monitor%bound2 = cheap_bound(monitor%op)
+    ! a cold solve with the scene's Krylov size, a warm one with the monitor's
+    ncv = scene_lanczos_ncv
+    if (any(monitor%mode /= 0.0_dp) .and. monitor%ncv > 1) ncv = monitor%ncv
+    if (monitor%cheap) then
+      call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
+        default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status, &
+        bounds=[monitor%bound2, cheap_bound(monitor%op, dashpots=.true.)], ncv=ncv, &
+        damped_vec=monitor%damped_mode)
+    else
+      call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
+        default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status, ncv=ncv, &
+        damped_vec=monitor%damped_mode)
+    end if
+    monitor%bound2 = monitor%bound2*monitor%rate**2
+    if (status%stat /= demstep_stat%ok) then
+      monitor%mode = 0.0_dp
+      monitor%damped_mode = 0.0_dp
+      return
+    end if
+    nfree = size(mass)
+    if (present(fixed)) nfree = count(.not. fixed)
+    if (allocated(monitor%body_particle)) deallocate(monitor%body_particle)
+    allocate(monitor%body_particle(nfree))
+    nfree = 0
+    do i = 1, size(mass)
+      if (present(fixed)) then
+        if (fixed(i)) cycle
+      end if
+      nfree = nfree + 1
+      monitor%body_particle(nfree) = i
+    end do
+    if (monitor%last%eigen_computed) then
+      monitor%omega2 = monitor%last%omega_max**2
+      monitor%dt_limit = monitor%last%dt_critical_damped
+    else
+      monitor%omega2 = monitor%last%omega_bound**2
+      monitor%dt_limit = monitor%last%dt_critical_damped
+    end if
+    monitor%n_particles = size(mass)
+    monitor%dim = size(x, 1)
+    monitor%updates = monitor%updates + 1
+    monitor%ready = .true.
+  end subroutine monitor_update
+
+  !> Whether the step dt is still safe on the current arrays (the same as
+  !> `update` takes), from O(contacts) work: the rigorous per-body bound and
+  !> the previous mode's Rayleigh quotient (one product). `safe` is true for
+  !> the verdicts `safe_bound` and `safe_estimate`; monitor%verdict,
+  !> %dt_estimate, %quotient_ratio and %bound_ratio say why. Without an
+  !> update yet, or when the degrees of freedom changed (particles fixed or
+  !> freed, rotations switched), the verdict is `resolve`. Status
+  !> invalid_input as `update`, or naming `dt` (not finite and > 0).
+  subroutine monitor_check(monitor, dt, safe, x, mass, radius, pairs, k_n, status, k_t, c_n, c_t, &
+      inertia, fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
+    class(step_monitor_type), intent(inout) :: monitor
+    real(dp), intent(in) :: dt
+    logical, intent(out) :: safe
+    real(dp), intent(in) :: x(:, :), mass(:), radius(:)
+    integer, intent(in) :: pairs(:, :)
+    real(dp), intent(in) :: k_n(:)
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: k_t(:), c_n(:), c_t(:), inertia(:)
+    logical, intent(in), optional :: fixed(:)
+    real(dp), intent(in), optional :: wall_point(:, :), wall_normal(:, :), wall_k(:), wall_damping(:)
+    logical, intent(in), optional :: periodic(:)
+    real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
+    logical :: rotation
+    real(dp) :: rate, a_bound, b_bound, q, dt_bound
+    safe = .false.
+    monitor%verdict = monitor_verdict%resolve
+    monitor%dt_estimate = 0.0_dp
+    if (.not. (ieee_is_finite(dt) .and. dt > 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="dt")
+      return
+    end if
+    call build_operator(x, mass, radius, pairs, k_n, monitor%check_springs, monitor%spring_row, &
+      monitor%check_op, rate, rotation, status, k_t, c_n, c_t, inertia, fixed, wall_point, wall_normal, &
+      wall_k, wall_damping, periodic, cell_lo, cell_hi, keep_rows=.true.)
+    if (status%stat /= demstep_stat%ok) return
+    monitor%checks = monitor%checks + 1
+    ! the rigorous bound (damped: its lower bound with the dashpots' own bound)
+    a_bound = cheap_bound(monitor%check_op)
+    b_bound = cheap_bound(monitor%check_op, dashpots=.true.)
+    dt_bound = damped_lower_bound(2.0_dp/sqrt(a_bound), b_bound)/rate
+    if (dt <= dt_bound) then
+      safe = .true.
+      monitor%verdict = monitor_verdict%safe_bound
+      monitor%dt_estimate = dt_bound
+    end if
+    if (.not. monitor%ready) return
+    if (monitor%check_op%n /= size(monitor%mode)) return
+    if (.not. allocated(monitor%work)) allocate(monitor%work(size(monitor%mode)))
+    if (size(monitor%work) /= size(monitor%mode)) then
+      deallocate(monitor%work)
+      allocate(monitor%work(size(monitor%mode)))
+    end if
+    call assembly_operator_apply(monitor%check_op, monitor%mode, monitor%work)
+    q = dot_product(monitor%mode, monitor%work)*rate**2
+    monitor%quotient_ratio = q/monitor%omega2
+    monitor%bound_ratio = a_bound*rate**2/monitor%bound2
+    if (safe) return
+    if (.not. (q > 0.0_dp)) return
+    monitor%dt_estimate = monitor%dt_limit*sqrt(monitor%omega2/max(q, monitor%omega2))
+    if (abs(monitor%quotient_ratio - 1.0_dp) > monitor%drift) return
+    if (monitor%bound_ratio - 1.0_dp > monitor%drift) return
+    if (dt <= monitor%dt_estimate) then
+      safe = .true.
+      monitor%verdict = monitor_verdict%safe_estimate
+    end if
+  end subroutine monitor_check
+
+  !> The rigorous per-body bound of lambda_max of the operator's scaled
+  !> stiffness A' (or, with `dashpots`, of its scaled dashpots B'; see the
+  !> module notes): max over free bodies of the sum over its springs of
+  !> f max(max(k_n, 2 k_t) w_u^2, 2 k_t (arm w_r)^2 + max(k_r, k_w) (w_r/r)^2)
+  !> (w the M'^-1/2 factors, arm in radii, f = 2, or 1 on the ground; the
+  !> rolling and twisting springs on the relative rotation split between the
+  !> bodies the same way). O(springs), no product; rounding is covered by a
+  !> relative 1e-12.
+  function cheap_bound(op, dashpots) result(bound)
+    type(assembly_operator_type), intent(in) :: op
+    logical, intent(in), optional :: dashpots
+    real(dp) :: bound
+    real(dp), allocatable :: row(:)
+    real(dp) :: k(4), arm, wu, wr, f
+    integer :: s, e, i, rot
+    logical :: damped
+    damped = .false.
+    if (present(dashpots)) damped = dashpots
+    bound = 0.0_dp
+    if (damped .and. size(op%dcoef, 2) == 0) return
+    ! the first rotational component (4 to 6), 0 without rotations
+    rot = 0
+    if (any(op%comp >= 4)) rot = op%comp(findloc(op%comp >= 4, .true., 1))
+    allocate(row(op%n_bodies), source=0.0_dp)
+    do s = 1, op%n_springs
+      if (damped) then
+        k = op%dcoef(:, s)
+      else
+        k = [op%coef(1, s), op%coef(2, s), op%coef(6, s), op%coef(7, s)]
+      end if
+      f = 2.0_dp
+      if (op%ends(1, s) == 0 .or. op%ends(2, s) == 0) f = 1.0_dp
+      do e = 1, 2
+        i = op%ends(e, s)
+        if (i == 0) cycle
+        arm = op%coef(2 + e, s)
+        wu = op%w(1, i)
+        wr = 0.0_dp
+        if (rot > 0) wr = op%w(rot, i)
+        row(i) = row(i) + f*max(max(k(1), 2.0_dp*k(2))*wu**2, &
+          2.0_dp*k(2)*(arm*wr)**2 + max(k(3), k(4))*(wr*op%rinv(i))**2)
+      end do
+    end do
+    if (op%n_bodies > 0) bound = maxval(row)*(1.0_dp + 1.0e-12_dp)
+  end function cheap_bound
+
+  !> An ESTIMATE of a settled bed's (damped) limit before any contact exists
+  !> (a fresh pour): the exact limit of a generated packing with the solver's
+  !> size distribution and contact law (`random_periodic_packing`: n spheres,
+  !> radii uniform in r (1 +- polydispersity), jammed at a small overlap, a
+  !> periodic cell, linear springs with dashpots 2 zeta sqrt(m* k)). It stands
+  !> for the bed the pour will make; a settled frictional bed has fewer
+  !> contacts per particle than the jammed packing, so its own limit is
+  !> usually at or above this (measured in example/dem_solver). `result`
+  !> holds the packing's full report. Status as `random_periodic_packing` and
+  !> `assembly_critical_steps`.
+  subroutine fresh_pour_estimate(radius, polydispersity, density, k_n, k_t, damping_ratio, &
+      tangential_damping_ratio, result, status, n)
+    !> Mean radius, relative spread, density of the spheres.
+    real(dp), intent(in) :: radius, polydispersity, density
+    !> Contact stiffness, normal and tangential; damping ratios normal and tangential.
+    real(dp), intent(in) :: k_n, k_t, damping_ratio, tangential_damping_ratio
+    type(critical_step_type), intent(out) :: result
+    type(demstep_status_type), intent(out) :: status
+    !> Particles of the packing (default `fresh_pour_particles`).
+    integer, intent(in), optional :: n
+    type(scene_type) :: scene
+    integer :: np
+    np = fresh_pour_particles
+    if (present(n)) np = n
+    call random_periodic_packing(scene, np, status, radius=radius, polydispersity=polydispersity, &
+      density=density, k_normal=k_n, k_tangential=k_t, damping_ratio=damping_ratio)
+    if (status%stat /= demstep_stat%ok) return
+    if (.not. (ieee_is_finite(tangential_damping_ratio) .and. tangential_damping_ratio >= 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "must be >= 0 and finite", &
+        where="tangential_damping_ratio")
+      return
+    end if
+    scene%damping_ratio_tangential = tangential_damping_ratio
+    call assembly_critical_steps(scene, result, status)
+  end subroutine fresh_pour_estimate
+
+  !> Mass (density) scaling for a target step: per-particle factors
+  !> scale(i) >= 1 (mass and inertia both scaled, as a density would be)
+  !> with which the exact damped limit of the monitor's last update (its
+  !> springs and dashpots as they were) reaches `target`. From the mode that
+  !> sets the limit: each pass scales every free particle by g^min(1, p_i/p_c),
+  !> g = (target/h)^2 (h the current limit, p_i the particle's share of the
+  !> damped limit's mode, or of the top undamped mode without dashpots, p_c
+  !> the smallest share of the mode's core: the largest shares that hold
+  !> half of it), so the particles the mode sits on grow most; the limit of the
+  !> scaled operator is re-solved (warm-started) until it reaches the target.
+  !> Increasing any mass lowers every eigenvalue, so each pass's limit is at
+  !> least the last's. `result` is the scaled system's report (its
+  !> dt_critical_damped >= target), `added` the added mass over the total.
+  !> Status invalid_input naming `monitor` (no update with an eigensolve),
+  !> `mass` (not the update's particles) or `target` (not finite and > 0);
+  !> not_converged after `max_passes` (default 30) passes.
+  subroutine scale_masses(monitor, target, mass, radius, scale, added, result, status, inertia, fixed, &
+      max_passes)
+    class(step_monitor_type), intent(inout) :: monitor
+    real(dp), intent(in) :: target
+    !> The arrays of the last update.
+    real(dp), intent(in) :: mass(:), radius(:)
+    real(dp), allocatable, intent(out) :: scale(:)
+    real(dp), intent(out) :: added
+    type(critical_step_type), intent(out) :: result
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: inertia(:)
+    logical, intent(in), optional :: fixed(:)
+    integer, intent(in), optional :: max_passes
+    type(assembly_operator_type) :: op
+    real(dp), allocatable :: vec(:), dvec(:), base_inertia(:), share(:)
+    real(dp) :: rate, h, g, core
+    integer :: pass, passes, b, nc, ncv
+    added = 0.0_dp
+    if (.not. (monitor%ready .and. monitor%last%eigen_computed)) then
+      call set_status(status, demstep_stat%invalid_input, "needs an update with an eigensolver", &
+        where="monitor")
+      return
+    end if
+    if (size(mass) /= monitor%n_particles .or. size(radius) /= size(mass)) then
+      call set_status(status, demstep_stat%invalid_input, "must be the last update's particles", where="mass")
+      return
+    end if
+    if (.not. (ieee_is_finite(target) .and. target > 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="target")
+      return
+    end if
+    passes = 30
+    if (present(max_passes)) passes = max_passes
+    if (present(inertia)) then
+      base_inertia = inertia
+    else
+      base_inertia = sphere_inertia(mass, radius)
+    end if
+    allocate(scale(size(mass)), source=1.0_dp)
+    vec = monitor%mode
+    dvec = monitor%damped_mode
+    nc = monitor%op%nc
+    ! (each pass moves the mode: the scene solve's Krylov size)
+    ncv = scene_lanczos_ncv
+    do pass = 1, passes
+      call operator_from_springs(monitor%dim, monitor%last%rotation, mass*scale, base_inertia*scale, &
+        radius, monitor%springs, .false., op, rate, status, fixed)
+      if (status%stat /= demstep_stat%ok) return
+      result = critical_step_type()
+      result%rotation = monitor%last%rotation
+      result%periodic = monitor%last%periodic
+      call operator_critical_steps(op, monitor%springs, rate, .false., monitor%solver, default_max_eigen_dof, &
+        monitor%tolerance, vec, result, status, bounds=[cheap_bound(op), cheap_bound(op, dashpots=.true.)], &
+        ncv=ncv, damped_vec=dvec)
+      if (status%stat /= demstep_stat%ok) return
+      h = result%dt_critical_damped
+      if (h >= target) then
+        added = sum((scale - 1.0_dp)*mass)/sum(mass)
+        status%stat = demstep_stat%ok
+        return
+      end if
+      ! each free body's share of the mode that sets the limit (the damped
+      ! Newton steps' last mode when there are dashpots: the damped limit's
+      ! mode need not be the undamped top one), and its growth
+      if (result%damped_exact .and. any(dvec /= 0.0_dp)) then
+        share = [(sum(dvec((b - 1)*nc + 1:b*nc)**2), b = 1, op%n_bodies)]
+      else
+        share = [(sum(vec((b - 1)*nc + 1:b*nc)**2), b = 1, op%n_bodies)]
+      end if
+      g = (target/h)**2
+      ! the mode's core: the largest shares that hold half of it grow by g,
+      ! the others in proportion to their share
+      core = core_share(share)
+      do b = 1, op%n_bodies
+        scale(monitor%body_particle(b)) = scale(monitor%body_particle(b))*g**min(1.0_dp, share(b)/core)
+      end do
+    end do
+    added = sum((scale - 1.0_dp)*mass)/sum(mass)
+    call set_status(status, demstep_stat%not_converged, "the scaled limit stayed below the target after " &
+      //"max_passes passes", where="max_passes")
+  end subroutine scale_masses
+
+  !> The top mode's share per particle (the squared amplitude of its degrees
+  !> of freedom; 0 for fixed particles) and per contact row of `pairs` and per
+  !> wall contact (the spring's part of v'A'v over v'A'v; wall contacts summed
+  !> per particle into `wall_share`), from the monitor's last update. Each
+  !> share is >= 0 up to rounding and each of particle_share and
+  !> contact_share + wall_share sums to 1. Status invalid_input naming
+  !> `monitor` without an update with an eigensolve.
+  subroutine mode_participation(monitor, n_contacts, particle_share, contact_share, wall_share, status)
+    class(step_monitor_type), intent(inout) :: monitor
+    !> Rows of the contact list given to the update (size of contact_share).
+    integer, intent(in) :: n_contacts
+    real(dp), allocatable, intent(out) :: particle_share(:), contact_share(:), wall_share(:)
+    type(demstep_status_type), intent(out) :: status
+    real(dp), allocatable :: y(:)
+    real(dp) :: total, e
+    integer :: b, c, s, ia, ib, np
+    if (.not. (monitor%ready .and. monitor%last%eigen_computed)) then
+      call set_status(status, demstep_stat%invalid_input, "needs an update with an eigensolver", &
+        where="monitor")
+      return
+    end if
+    np = monitor%n_particles
+    allocate(particle_share(np), wall_share(np), source=0.0_dp)
+    allocate(contact_share(n_contacts), source=0.0_dp)
+    do b = 1, monitor%op%n_bodies
+      particle_share(monitor%body_particle(b)) = sum(monitor%mode((b - 1)*monitor%op%nc + 1:b*monitor%op%nc)**2)
+    end do
+    particle_share = particle_share/sum(particle_share)
+    ! one product leaves each spring's generalised forces in op%work: its part
+    ! of v'A'v is the scaled displacement of its ends against them
+    allocate(y(monitor%op%n))
+    call assembly_operator_apply(monitor%op, monitor%mode, y)
+    total = 0.0_dp
+    do s = 1, monitor%op%n_springs
+      ia = monitor%op%ends(1, s)
+      ib = monitor%op%ends(2, s)
+      e = dot_product(monitor%op%xs(:, ia), monitor%op%work(:, 2*s - 1)) + &
+        dot_product(monitor%op%xs(:, ib), monitor%op%work(:, 2*s))
+      total = total + e
+      c = monitor%spring_row(s)
+      if (c > 0) then
+        if (c <= n_contacts) contact_share(c) = contact_share(c) + e
+      else
+        wall_share(-c) = wall_share(-c) + e
+      end if
+    end do
+    if (total > 0.0_dp) then
+      contact_share = contact_share/total
+      wall_share = wall_share/total
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine mode_participation
+
+  !> The indices of the `k` largest shares, largest first (fewer when there
+  !> are fewer entries). O(n k).
+  pure function top_shares(share, k) result(idx)
+    real(dp), intent(in) :: share(:)
+    integer, intent(in) :: k
+    integer, allocatable :: idx(:)
+    integer :: m, i, p, q
+    m = min(max(k, 0), size(share))
+    allocate(idx(m))
+    if (m == 0) return
+    p = 0
+    do i = 1, size(share)
+      if (p < m) then
+        p = p + 1
+        idx(p) = i
+        q = p
+      else
+        if (.not. share(i) > share(idx(m))) cycle
+        idx(m) = i
+        q = m
+      end if
+      ! insertion: idx(1:p) stays in descending order of share
+      do while (q > 1)
+        if (.not. share(idx(q)) > share(idx(q - 1))) exit
+        idx([q - 1, q]) = idx([q, q - 1])
+        q = q - 1
+      end do
+    end do
+  end function top_shares
+
+  !> The solver's arrays checked, linearised (`solver_springs`) and made the
+  !> matrix-free operator (`operator_from_springs`; inertia default 2/5 m r^2).
+  subroutine build_operator(x, mass, radius, pairs, k_n, springs, rows, op, rate, rotation, status, k_t, &
+      c_n, c_t, inertia, fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi, &
+      keep_rows)
+    real(dp), intent(in) :: x(:, :), mass(:), radius(:)
+    integer, intent(in) :: pairs(:, :)
+    real(dp), intent(in) :: k_n(:)
+    type(spring_block_type), allocatable, intent(inout) :: springs(:)
+    integer, allocatable, intent(inout) :: rows(:)
+    type(assembly_operator_type), intent(out) :: op
+    real(dp), intent(out) :: rate
+    logical, intent(out) :: rotation
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: k_t(:), c_n(:), c_t(:), inertia(:)
+    logical, intent(in), optional :: fixed(:)
+    real(dp), intent(in), optional :: wall_point(:, :), wall_normal(:, :), wall_k(:), wall_damping(:)
+    logical, intent(in), optional :: periodic(:)
+    real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
+    !> Leave `rows` as it is (a check keeps the update's).
+    logical, intent(in) :: keep_rows
+    rate = 0.0_dp
+    rotation = .false.
+    call check_solver_arrays(x, mass, radius, pairs, k_n, status, k_t, c_n, c_t, inertia, fixed, &
+      wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
+    if (status%stat /= demstep_stat%ok) return
+    call solver_springs(x, mass, radius, pairs, k_n, springs, rows, rotation, status, k_t, c_n, c_t, fixed, &
+      wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi, keep_rows)
+    if (status%stat /= demstep_stat%ok) return
+    if (present(inertia)) then
+      call operator_from_springs(size(x, 1), rotation, mass, inertia, radius, springs, .false., op, rate, &
+        status, fixed)
+    else
+      call operator_from_springs(size(x, 1), rotation, mass, sphere_inertia(mass, radius), radius, springs, &
+        .false., op, rate, status, fixed)
+    end if
+  end subroutine build_operator
+
+  !> The smallest share of the core of a distribution of shares (>= 0): the
+  !> largest ones that together hold at least half of the total (bisection
+  !> on the threshold, O(n) per step).
+  pure real(dp) function core_share(share) result(t)
+    real(dp), intent(in) :: share(:)
+    real(dp) :: lo, hi, half
+    integer :: it
+    half = 0.5_dp*sum(share)
+    lo = 0.0_dp
+    hi = maxval(share)
+    ! the shares >= lo hold at least half of the total
+    do it = 1, 60
+      t = 0.5_dp*(lo + hi)
+      if (sum(share, mask=share >= t) >= half) then
+        lo = t
+      else
+        hi = t
+      end if
+    end do
+    t = max(lo, tiny(1.0_dp))
+  end function core_share
+
+  !> Solid spheres' moments of inertia 2/5 m r^2 (as `new_scene`'s default).
+  pure function sphere_inertia(mass, radius) result(inertia)
+    real(dp), intent(in) :: mass(:), radius(:)
+    real(dp) :: inertia(size(mass))
+    inertia = min(0.4_dp*mass*radius, huge(1.0_dp)/max(1.0_dp, radius))*radius
+  end function sphere_inertia
+
+  !> The value of a size-1 (every contact) or per-contact array for contact c.
+  pure real(dp) function pick(a, c)
+    real(dp), intent(in) :: a(:)
+    integer, intent(in) :: c
+    pick = a(min(c, size(a)))
+  end function pick
+
+  !> Every refusal of the solver's arrays, by argument name and index.
+  subroutine check_solver_arrays(x, mass, radius, pairs, k_n, status, k_t, c_n, c_t, inertia, fixed, &
+      wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
+    real(dp), intent(in) :: x(:, :), mass(:), radius(:)
+    integer, intent(in) :: pairs(:, :)
+    real(dp), intent(in) :: k_n(:)
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: k_t(:), c_n(:), c_t(:), inertia(:)
+    logical, intent(in), optional :: fixed(:)
+    real(dp), intent(in), optional :: wall_point(:, :), wall_normal(:, :), wall_k(:), wall_damping(:)
+    logical, intent(in), optional :: periodic(:)
+    real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
+    integer :: n, nc, dim, i, c, ax
+    n = size(mass)
+    nc = size(pairs, 2)
+    dim = size(x, 1)
+    status%stat = demstep_stat%ok
+    if (dim < 1 .or. dim > 3 .or. size(x, 2) /= n) then
+      call set_status(status, demstep_stat%invalid_input, "must be (dim, n) with dim 1 to 3 and n = " &
+        //"size(mass)", where="x")
+      return
+    end if
+    if (size(radius) /= n) then
+      call set_status(status, demstep_stat%invalid_input, "one per particle (size(mass))", where="radius")
+      return
+    end if
+    do i = 1, n
+      if (.not. (all(ieee_is_finite(x(:, i))) .and. all(abs(x(:, i)) <= max_value))) then
+        call set_status(status, demstep_stat%invalid_input, "must be finite, within +-1e150", &
+          where="x", index=i, subscript=.true.)
+        return
+      end if
+      if (.not. (ieee_is_finite(mass(i)) .and. mass(i) > 0.0_dp)) then
+        call set_status(status, demstep_stat%invalid_input, "must be > 0 and finite", where="mass", index=i, subscript=.true.)
+        return
+      end if
+      if (.not. ieee_is_finite(1.0_dp/mass(i))) then
+        call set_status(status, demstep_stat%invalid_input, "must have a finite inverse", where="mass", index=i, subscript=.true.)
+        return
+      end if
+      if (.not. (ieee_is_finite(radius(i)) .and. radius(i) > 0.0_dp .and. radius(i) <= max_value)) then
+        call set_status(status, demstep_stat%invalid_input, "must be > 0, at most 1e150", where="radius", &
+          index=i, subscript=.true.)
+        return
+      end if
+    end do
+    if (present(inertia)) then
+      if (size(inertia) /= n) then
+        call set_status(status, demstep_stat%invalid_input, "one per particle", where="inertia")
+        return
+      end if
+      do i = 1, n
+        if (.not. (ieee_is_finite(inertia(i)) .and. inertia(i) > 0.0_dp)) then
+          call set_status(status, demstep_stat%invalid_input, "must be > 0 and finite", where="inertia", &
+            index=i, subscript=.true.)
+          return
+        end if
+      end do
+    end if
+    if (present(fixed)) then
+      if (size(fixed) /= n) then
+        call set_status(status, demstep_stat%invalid_input, "one per particle", where="fixed")
+        return
+      end if
+    end if
+    if (size(pairs, 1) /= 2) then
+      call set_status(status, demstep_stat%invalid_input, "must be (2, number of contacts)", where="pairs")
+      return
+    end if
+    do c = 1, nc
+      if (any(pairs(:, c) < 1) .or. any(pairs(:, c) > n)) then
+        call set_status(status, demstep_stat%invalid_input, "names a particle outside 1 to size(mass)", &
+          where="pairs", index=c, subscript=.true.)
+        return
+      end if
+      if (pairs(1, c) == pairs(2, c)) then
+        call set_status(status, demstep_stat%invalid_input, "pairs a particle with itself", where="pairs", &
+          index=c, subscript=.true.)
+        return
+      end if
+    end do
+    call check_values("k_n", k_n, nc, .true., status)
+    if (status%stat /= demstep_stat%ok) return
+    if (present(k_t)) call check_values("k_t", k_t, nc, .false., status)
+    if (status%stat /= demstep_stat%ok) return
+    if (present(c_n)) call check_values("c_n", c_n, nc, .false., status)
+    if (status%stat /= demstep_stat%ok) return
+    if (present(c_t)) call check_values("c_t", c_t, nc, .false., status)
+    if (status%stat /= demstep_stat%ok) return
+    if (present(wall_point) .neqv. present(wall_normal)) then
+      call set_status(status, demstep_stat%invalid_input, "walls need wall_point and wall_normal", &
+        where="wall_normal")
+      return
+    end if
+    if (present(wall_point)) then
+      if (size(wall_point, 1) /= dim .or. any(shape(wall_normal) /= shape(wall_point))) then
+        call set_status(status, demstep_stat%invalid_input, "must be (dim, walls) as wall_point", &
+          where="wall_normal")
+        return
+      end if
+      do i = 1, size(wall_point, 2)
+        if (.not. (all(ieee_is_finite(wall_point(:, i))) .and. all(ieee_is_finite(wall_normal(:, i))) &
+            .and. norm2(wall_normal(:, i)) > 0.0_dp)) then
+          call set_status(status, demstep_stat%invalid_input, "needs a finite point and a finite " &
+            //"non-zero normal", where="wall_normal", index=i, subscript=.true.)
+          return
+        end if
+      end do
+      if (.not. present(wall_k)) then
+        call set_status(status, demstep_stat%invalid_input, "walls need (k_n, k_t)", where="wall_k")
+        return
+      end if
+    end if
+    if (present(wall_k)) then
+      if (size(wall_k) /= 2) then
+        call set_status(status, demstep_stat%invalid_input, "must be (k_n, k_t)", where="wall_k")
+        return
+      end if
+      call check_values("wall_k", wall_k, 2, .false., status)
+      if (status%stat /= demstep_stat%ok) return
+    end if
+    if (present(wall_damping)) then
+      if (size(wall_damping) /= 2) then
+        call set_status(status, demstep_stat%invalid_input, "must be (zeta_n, zeta_t)", where="wall_damping")
+        return
+      end if
+      call check_values("wall_damping", wall_damping, 2, .false., status)
+      if (status%stat /= demstep_stat%ok) return
+    end if
+    if (present(periodic)) then
+      if (size(periodic) /= 3 .or. .not. (present(cell_lo) .and. present(cell_hi))) then
+        call set_status(status, demstep_stat%invalid_input, "three flags, with cell_lo and cell_hi", &
+          where="periodic")
+        return
+      end if
+      if (any(periodic(dim + 1:))) then
+        call set_status(status, demstep_stat%invalid_input, "only the first dim axes can be periodic", &
+          where="periodic")
+        return
+      end if
+      if (size(cell_lo) /= 3 .or. size(cell_hi) /= 3) then
+        call set_status(status, demstep_stat%invalid_input, "three values each for cell_lo and cell_hi", &
+          where="cell_hi")
+        return
+      end if
+      do ax = 1, dim
+        if (.not. periodic(ax)) cycle
+        ! the nearest image must be the only one in contact (as scene_set_cell)
+        if (.not. (ieee_is_finite(cell_hi(ax) - cell_lo(ax)) .and. &
+            cell_hi(ax) - cell_lo(ax) >= 4.0_dp*maxval(radius) .and. &
+            cell_hi(ax) - cell_lo(ax) > 0.0_dp)) then
+          call set_status(status, demstep_stat%invalid_input, "the periodic length must be finite and " &
+            //"at least twice the longest contact (4 r_max)", where="cell_hi", index=ax, subscript=.true.)
+          return
+        end if
+      end do
+    end if
+  end subroutine check_solver_arrays
+
+  !> A size-1 or per-contact array of values >= 0 (> 0 when `positive`), finite.
+  subroutine check_values(name, a, nc, positive, status)
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: a(:)
+    integer, intent(in) :: nc
+    logical, intent(in) :: positive
+    type(demstep_status_type), intent(out) :: status
+    integer :: c
+    status%stat = demstep_stat%ok
+    if (size(a) /= 1 .and. size(a) /= nc) then
+      call set_status(status, demstep_stat%invalid_input, "one value (every contact) or one per contact", &
+        where=name)
+      return
+    end if
+    do c = 1, size(a)
+      if (.not. (ieee_is_finite(a(c)) .and. (a(c) > 0.0_dp .or. (.not. positive .and. a(c) >= 0.0_dp)))) then
+        if (positive) then
+          call set_status(status, demstep_stat%invalid_input, "must be > 0 and finite", where=name, index=c, subscript=.true.)
+        else
+          call set_status(status, demstep_stat%invalid_input, "must be >= 0 and finite", where=name, index=c, subscript=.true.)
+        end if
+        return
+      end if
+    end do
+  end subroutine check_values
+
+  !> The linearised springs of the solver's overlapping listed pairs and wall
+  !> contacts (as `linearise` makes them for a scene with the same list),
+  !> with the contact row (or -particle on a wall) of each. `keep_rows`: the
+  !> rows array is left alone (a check keeps the update's). O(n walls + nc).
+  subroutine solver_springs(x, mass, radius, pairs, k_n, springs, rows, rotation, status, k_t, c_n, c_t, &
+      fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi, keep_rows)
+    real(dp), intent(in) :: x(:, :), mass(:), radius(:)
+    integer, intent(in) :: pairs(:, :)
+    real(dp), intent(in) :: k_n(:)
+    type(spring_block_type), allocatable, intent(inout) :: springs(:)
+    integer, allocatable, intent(inout) :: rows(:)
+    logical, intent(out) :: rotation
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: k_t(:), c_n(:), c_t(:)
+    logical, intent(in), optional :: fixed(:)
+    real(dp), intent(in), optional :: wall_point(:, :), wall_normal(:, :), wall_k(:), wall_damping(:)
+    logical, intent(in), optional :: periodic(:)
+    real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
+    logical, intent(in), optional :: keep_rows
+    integer :: dim, nc, c, i, j, m, w, n_walls, n_springs
+    real(dp) :: d(3), box(3), dist, reach, overlap, p(3), nw(3), mi, mj, kw(2), zw(2), xi(3)
+    logical :: wrap(3), damped, is_fixed_i, is_fixed_j, rows_too
+    dim = size(x, 1)
+    nc = size(pairs, 2)
+    rows_too = .true.
+    if (present(keep_rows)) rows_too = .not. keep_rows
+    wrap = .false.
+    box = 0.0_dp
+    if (present(periodic)) then
+      wrap(:dim) = periodic(:dim)
+      box = cell_hi - cell_lo
+    end if
+    kw = 0.0_dp
+    if (present(wall_k)) kw = wall_k
+    zw = 0.0_dp
+    if (present(wall_damping)) zw = wall_damping
+    damped = present(c_n) .or. present(c_t) .or. any(zw > 0.0_dp)
+    rotation = kw(2) > 0.0_dp
+    if (present(k_t)) rotation = rotation .or. any(k_t > 0.0_dp)
+    rotation = rotation .and. dim > 1
+    n_walls = 0
+    if (present(wall_point)) n_walls = size(wall_point, 2)
+    ! count the springs: overlapping pairs (not both fixed) and wall contacts
+    n_springs = 0
+    do c = 1, nc
+      i = pairs(1, c)
+      j = pairs(2, c)
+      if (both_fixed(i, j)) cycle
+      d = branch(i, j)
+      if (d(1)**2 + d(2)**2 + d(3)**2 < (radius(i) + radius(j))**2) n_springs = n_springs + 1
+    end do
+    do w = 1, n_walls
+      call wall_of(w, p, nw)
+      do i = 1, size(mass)
+        if (is_fixed(i)) cycle
+        xi = 0.0_dp
+        xi(:dim) = x(:, i)
+        if (wall_overlap(xi, radius(i), p, nw) > 0.0_dp) n_springs = n_springs + 1
+      end do
+    end do
+    if (allocated(springs)) then
+      if (size(springs) /= n_springs) deallocate(springs)
+    end if
+    if (.not. allocated(springs)) allocate(springs(n_springs))
+    if (rows_too) then
+      if (allocated(rows)) deallocate(rows)
+      allocate(rows(n_springs))
+    end if
+    m = 0
+    do c = 1, nc
+      i = pairs(1, c)
+      j = pairs(2, c)
+      if (both_fixed(i, j)) cycle
+      d = branch(i, j)
+      reach = radius(i) + radius(j)
+      if (d(1)**2 + d(2)**2 + d(3)**2 >= reach**2) cycle
+      dist = norm2(d)
+      if (.not. dist > 0.0_dp) then
+        call set_status(status, demstep_stat%invalid_input, "its particles are at the same point (the " &
+          //"normal is undefined)", where="pairs", index=c, subscript=.true.)
+        return
+      end if
+      overlap = reach - dist
+      m = m + 1
+      mi = huge(1.0_dp)
+      mj = huge(1.0_dp)
+      is_fixed_i = is_fixed(i)
+      is_fixed_j = is_fixed(j)
+      if (.not. is_fixed_i) mi = mass(i)
+      if (.not. is_fixed_j) mj = mass(j)
+      springs(m) = spring_block_type(a=i, b=j, n=d/dist, arm_a=contact_arm(radius(i), overlap), &
+        arm_b=contact_arm(radius(j), overlap), m_eff=reduced_mass(mj, mi))
+      springs(m)%k(1) = pick(k_n, c)
+      if (present(k_t)) springs(m)%k(2) = pick(k_t, c)
+      if (present(c_n)) springs(m)%c(1) = pick(c_n, c)
+      if (present(c_t)) springs(m)%c(2) = pick(c_t, c)
+      if (rows_too) rows(m) = c
+    end do
+    do w = 1, n_walls
+      call wall_of(w, p, nw)
+      do i = 1, size(mass)
+        if (is_fixed(i)) cycle
+        xi = 0.0_dp
+        xi(:dim) = x(:, i)
+        overlap = wall_overlap(xi, radius(i), p, nw)
+        if (.not. overlap > 0.0_dp) cycle
+        m = m + 1
+        springs(m) = spring_block_type(a=0, b=i, k=[kw(1), kw(2), 0.0_dp, 0.0_dp], n=nw, &
+          arm_b=contact_arm(radius(i), overlap), m_eff=mass(i))
+        if (damped) springs(m)%c(1:2) = dashpot_coefficient(zw, mass(i), kw)
+        if (rows_too) rows(m) = -i
+      end do
+    end do
+    status%stat = demstep_stat%ok
+  contains
+    !> x_j - x_i through the nearest image along the periodic axes.
+    pure function branch(i, j) result(dv)
+      integer, intent(in) :: i, j
+      real(dp) :: dv(3)
+      integer :: ax
+      dv = 0.0_dp
+      dv(:dim) = x(:, j) - x(:, i)
+      do ax = 1, dim
+        if (wrap(ax)) dv(ax) = dv(ax) - box(ax)*anint(dv(ax)/box(ax))
+      end do
+    end function branch
+    pure logical function is_fixed(i)
+      integer, intent(in) :: i
+      is_fixed = .false.
+      if (present(fixed)) is_fixed = fixed(i)
+    end function is_fixed
+    pure logical function both_fixed(i, j)
+      integer, intent(in) :: i, j
+      both_fixed = is_fixed(i) .and. is_fixed(j)
+    end function both_fixed
+    pure subroutine wall_of(w, point, unit)
+      integer, intent(in) :: w
+      real(dp), intent(out) :: point(3), unit(3)
+      point = 0.0_dp
+      unit = 0.0_dp
+      point(:dim) = wall_point(:, w)
+      unit(:dim) = wall_normal(:, w)/norm2(wall_normal(:, w))
+    end subroutine wall_of
+  end subroutine solver_springs
+
+end module demstep_monitor

@@ -1,0 +1,683 @@
+!> Tests of the solver-facing call and the monitor: the solver's arrays give
+!> what `assembly_critical_steps` gives for the same scene, bad arrays are
+!> refused by name and index, the warm start converges to the cold value with
+!> fewer products, the cheap check flags a stiffened contact, the top mode's
+!> participation sums to 1.
+module test_monitor
+  use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
+  use demstep
+  use demstep_assembly, only: assembly_operator_type, assembly_operator
+  use demstep_neighbours, only: contact_list
+  use demstep_monitor, only: solver_critical_steps, step_monitor_type, mode_participation, top_shares, &
+    monitor_verdict, fresh_pour_estimate, cheap_bound, scale_masses
+  use demstep_vtk, only: write_vtk_particles, vtk_field_type
+  use demstep_lanczos, only: arpack_claim, arpack_release
+  use demstep_capi, only: c_solver_compute, demstep_scene_result_c, demstep_error_c
+  use test_support, only: real_str, ieee_nan, run_app, write_file, work_dir, read_file, count_lines, int_str, seed_fixed
+  use, intrinsic :: iso_c_binding, only: c_int, c_double, c_loc, c_null_ptr, c_sizeof, c_char
+  implicit none
+  private
+  public :: collect_monitor
+
+  !> One packing as a solver holds it: arrays, its contact list and per-contact values.
+  type :: solver_arrays_type
+    real(dp), allocatable :: x(:, :), mass(:), radius(:), inertia(:)
+    integer, allocatable :: pairs(:, :)
+    real(dp), allocatable :: k_n(:), k_t(:), c_n(:), c_t(:)
+    real(dp) :: lo(3) = 0.0_dp, hi(3) = 0.0_dp
+    real(dp) :: wall_point(3, 1) = 0.0_dp, wall_normal(3, 1) = 0.0_dp
+    real(dp) :: wall_k(2) = 0.0_dp, wall_damping(2) = 0.0_dp
+  end type solver_arrays_type
+
+contains
+
+  subroutine collect_monitor(testsuite)
+    type(unittest_type), allocatable, intent(out) :: testsuite(:)
+    testsuite = [ &
+      new_unittest("solver arrays = assembly_critical_steps on the same scene (dense)", test_equals_dense), &
+      new_unittest("solver arrays = assembly_critical_steps on the same scene (Lanczos)", test_equals_lanczos), &
+      new_unittest("bad arrays refused by name and index", test_bad_arrays), &
+      new_unittest("warm start: same value, fewer products", test_warm_start), &
+      new_unittest("warm start with dashpots: the same damped limit, fewer products", test_warm_damped), &
+      new_unittest("fresh-pour estimate: the generated packing's limit; bad input refused", test_fresh_pour), &
+      new_unittest("the per-body bound holds: above omega_max^2, with rolling springs too", test_cheap_bound), &
+      new_unittest("mass scaling reaches its target; the light particle grows most", test_scale_masses), &
+      new_unittest("check: safe when unchanged, re-solve on a stiffened contact", test_check), &
+      new_unittest("participation sums to 1; a light particle leads", test_participation), &
+      new_unittest("C entry point: the Fortran numbers bit for bit; bad counts refused", test_capi_solver), &
+      new_unittest("app: no contact search with contacts_file", test_app_no_search), &
+      new_unittest("VTK: participation as a point field, contacts as lines; bad fields refused", test_vtk), &
+      new_unittest("concurrent solves: refused with busy or correct, never wrong", test_concurrent) &
+      ]
+  end subroutine collect_monitor
+
+  !> A periodic packing of n spheres as a solver's arrays: its contacts with
+  !> per-contact k_n, k_t (random within a factor 2), dashpots, and a floor
+  !> wall through the lowest particles.
+  subroutine packing_arrays(n, a, error)
+    integer, intent(in) :: n
+    type(solver_arrays_type), intent(out) :: a
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(demstep_status_type) :: status
+    integer, allocatable :: ci(:), cj(:)
+    real(dp), allocatable :: cn(:, :), cd(:), u(:)
+    integer :: nc
+    call random_periodic_packing(scene, n, status, seed=7)
+    call check(error, is_ok(status), "packing")
+    if (allocated(error)) return
+    call contact_list(scene, ci, cj, cn, cd, status)
+    nc = size(ci)
+    a%x = scene%x
+    a%mass = scene%mass
+    a%radius = scene%radius
+    a%inertia = scene%inertia
+    a%pairs = reshape([ci, cj], [nc, 2])
+    a%pairs = transpose(a%pairs)
+    allocate(u(nc))
+    call seed_fixed(17)
+    call random_number(u)
+    a%k_n = 1.0_dp + u
+    call random_number(u)
+    a%k_t = 0.3_dp*(1.0_dp + u)
+    a%c_n = 0.05_dp*sqrt(a%k_n)
+    a%c_t = 0.02_dp*sqrt(a%k_t)
+    a%lo = scene%cell_lo
+    a%hi = scene%cell_hi
+    a%wall_point(:, 1) = [0.0_dp, 0.0_dp, minval(scene%x(3, :)) + 0.5_dp]
+    a%wall_normal(:, 1) = [0.0_dp, 0.0_dp, 1.0_dp]
+    a%wall_k = [1.5_dp, 0.5_dp]
+    a%wall_damping = [0.1_dp, 0.05_dp]
+  end subroutine packing_arrays
+
+  !> The same arrays as a scene: explicit contacts (8 values each), the cell,
+  !> the wall with the scene's law and damping ratios.
+  subroutine as_scene(a, scene, error)
+    type(solver_arrays_type), intent(in) :: a
+    type(scene_type), intent(out) :: scene
+    type(error_type), allocatable, intent(out) :: error
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: k(:, :)
+    integer :: nc
+    nc = size(a%pairs, 2)
+    call new_scene(scene, 3, a%x, a%mass, a%radius, status, inertia=a%inertia)
+    if (is_ok(status)) call scene_set_cell(scene, [.true., .true., .true.], a%lo, a%hi, status)
+    allocate(k(8, nc), source=0.0_dp)
+    k(1, :) = a%k_n
+    k(2, :) = a%k_t
+    k(5, :) = a%c_n
+    k(6, :) = a%c_t
+    if (is_ok(status)) call scene_set_contacts(scene, a%pairs, k, status)
+    if (is_ok(status)) call scene_add_walls(scene, a%wall_point, a%wall_normal, status)
+    if (is_ok(status)) call scene_set_law(scene, contact_law%linear, a%wall_k(1), a%wall_k(2), status)
+    if (is_ok(status)) call scene_set_damping(scene, a%wall_damping(1), status, tangential=a%wall_damping(2))
+    call check(error, is_ok(status), "scene: "//status_text(status))
+    scene%effects(scene_effect%damping) = .true.
+  end subroutine as_scene
+
+  pure function status_text(status) result(text)
+    type(demstep_status_type), intent(in) :: status
+    character(len=:), allocatable :: text
+    text = "ok"
+    if (allocated(status%message)) text = status%message
+  end function status_text
+
+  subroutine compare(n, solver, error)
+    integer, intent(in) :: n, solver
+    type(error_type), allocatable, intent(out) :: error
+    type(solver_arrays_type) :: a
+    type(scene_type) :: scene
+    type(critical_step_type) :: ref, got
+    type(demstep_status_type) :: status
+    ! tolerance: both paths build the same springs up to the rounding of the
+    ! scene's wrapped positions; the eigensolves then agree to a few ulps
+    real(dp), parameter :: tol = 1.0e-12_dp
+    call packing_arrays(n, a, error)
+    if (allocated(error)) return
+    call as_scene(a, scene, error)
+    if (allocated(error)) return
+    call assembly_critical_steps(scene, ref, status, solver=solver)
+    call check(error, is_ok(status), "scene: "//status_text(status))
+    if (allocated(error)) return
+    call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, a%k_n, got, status, k_t=a%k_t, &
+      c_n=a%c_n, c_t=a%c_t, inertia=a%inertia, wall_point=a%wall_point, wall_normal=a%wall_normal, &
+      wall_k=a%wall_k, wall_damping=a%wall_damping, periodic=[.true., .true., .true.], cell_lo=a%lo, &
+      cell_hi=a%hi, solver=solver)
+    call check(error, is_ok(status), "solver arrays: "//status_text(status))
+    if (allocated(error)) return
+    call check(error, got%n_dof == ref%n_dof .and. got%n_springs == ref%n_springs .and. got%rotation &
+      .and. got%damped_exact .and. ref%damped_exact, "same problem")
+    if (allocated(error)) return
+    call check(error, abs(got%dt_critical_eigen/ref%dt_critical_eigen - 1.0_dp) <= tol, &
+      "undamped "//real_str(got%dt_critical_eigen)//" vs "//real_str(ref%dt_critical_eigen))
+    if (allocated(error)) return
+    call check(error, abs(got%dt_critical_damped/ref%dt_critical_damped - 1.0_dp) <= tol, &
+      "damped "//real_str(got%dt_critical_damped)//" vs "//real_str(ref%dt_critical_damped))
+    if (allocated(error)) return
+    call check(error, abs(got%dt_critical_bound/ref%dt_critical_bound - 1.0_dp) <= tol .and. &
+      abs(got%dt_contact_rule/ref%dt_contact_rule - 1.0_dp) <= tol, "bound and contact rule")
+  end subroutine compare
+
+  subroutine test_equals_dense(error)
+    type(error_type), allocatable, intent(out) :: error
+    call compare(100, eigen_solver%dense, error)
+  end subroutine test_equals_dense
+
+  subroutine test_equals_lanczos(error)
+    type(error_type), allocatable, intent(out) :: error
+    call compare(300, eigen_solver%lanczos, error)
+  end subroutine test_equals_lanczos
+
+  !> One refusal: status invalid_input with this `where` and `index`.
+  subroutine expect(status, where, index, error)
+    type(demstep_status_type), intent(in) :: status
+    character(len=*), intent(in) :: where
+    integer, intent(in) :: index
+    type(error_type), allocatable, intent(out) :: error
+    character(len=16) :: buf
+    write(buf, '(i0)') index
+    call check(error, status%stat == demstep_stat%invalid_input, where//": not refused")
+    if (allocated(error)) return
+    call check(error, status%where == where .and. status%index == index, "expected "//where//"("// &
+      trim(buf)//"), got: "//status_text(status))
+  end subroutine expect
+
+  subroutine test_bad_arrays(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(solver_arrays_type) :: a, b
+    type(critical_step_type) :: r
+    type(demstep_status_type) :: status
+    call packing_arrays(64, a, error)
+    if (allocated(error)) return
+    b = a
+    b%x(2, 3) = ieee_nan()
+    call solver_critical_steps(b%x, b%mass, b%radius, b%pairs, b%k_n, r, status)
+    call expect(status, "x", 3, error)
+    if (allocated(error)) return
+    call solver_critical_steps(a%x, a%mass, a%radius(2:), a%pairs, a%k_n, r, status)
+    call expect(status, "radius", 0, error)
+    if (allocated(error)) return
+    b = a
+    b%mass(5) = -1.0_dp
+    call solver_critical_steps(b%x, b%mass, b%radius, b%pairs, b%k_n, r, status)
+    call expect(status, "mass", 5, error)
+    if (allocated(error)) return
+    b = a
+    b%pairs(2, 4) = size(a%mass) + 1
+    call solver_critical_steps(b%x, b%mass, b%radius, b%pairs, b%k_n, r, status)
+    call expect(status, "pairs", 4, error)
+    if (allocated(error)) return
+    b%pairs(2, 4) = b%pairs(1, 4)
+    call solver_critical_steps(b%x, b%mass, b%radius, b%pairs, b%k_n, r, status)
+    call expect(status, "pairs", 4, error)
+    if (allocated(error)) return
+    call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, a%k_n(2:), r, status)
+    call expect(status, "k_n", 0, error)
+    if (allocated(error)) return
+    b = a
+    b%k_t(6) = -1.0_dp
+    call solver_critical_steps(b%x, b%mass, b%radius, b%pairs, b%k_n, r, status, k_t=b%k_t)
+    call expect(status, "k_t", 6, error)
+    if (allocated(error)) return
+    b%c_n(2) = ieee_nan()
+    call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, a%k_n, r, status, c_n=b%c_n)
+    call expect(status, "c_n", 2, error)
+    if (allocated(error)) return
+    call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, [0.0_dp], r, status)
+    call expect(status, "k_n", 1, error)
+    if (allocated(error)) return
+    call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, a%k_n, r, status, inertia=a%inertia(2:))
+    call expect(status, "inertia", 0, error)
+    if (allocated(error)) return
+    call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, a%k_n, r, status, &
+      periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%lo + 3.0_dp*maxval(a%radius))
+    call expect(status, "cell_hi", 1, error)
+    if (allocated(error)) return
+    b = a
+    b%wall_normal = 0.0_dp
+    call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, a%k_n, r, status, &
+      wall_point=b%wall_point, wall_normal=b%wall_normal, wall_k=b%wall_k)
+    call expect(status, "wall_normal", 1, error)
+    if (allocated(error)) return
+    ! two particles at one point, listed as a contact
+    b = a
+    b%x(:, b%pairs(2, 1)) = b%x(:, b%pairs(1, 1))
+    call solver_critical_steps(b%x, b%mass, b%radius, b%pairs(:, 1:1), b%k_n(1:1), r, status)
+    call expect(status, "pairs", 1, error)
+  end subroutine test_bad_arrays
+
+  !> The arrays moved a little: every particle by up to 2e-4 of its radius.
+  subroutine jiggle(a)
+    type(solver_arrays_type), intent(inout) :: a
+    real(dp), allocatable :: u(:, :)
+    allocate(u(3, size(a%mass)))
+    call seed_fixed(5)
+    call random_number(u)
+    a%x = a%x + 4.0e-4_dp*(u - 0.5_dp)*spread(a%radius, 1, 3)
+  end subroutine jiggle
+
+  subroutine test_warm_start(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(solver_arrays_type) :: a
+    type(step_monitor_type) :: monitor
+    type(critical_step_type) :: cold
+    type(demstep_status_type) :: status
+    call packing_arrays(400, a, error)
+    if (allocated(error)) return
+    monitor%solver = eigen_solver%lanczos
+    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, &
+      periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call check(error, is_ok(status), "first update: "//status_text(status))
+    if (allocated(error)) return
+    call jiggle(a)
+    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, &
+      periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call check(error, is_ok(status), "second update: "//status_text(status))
+    if (allocated(error)) return
+    call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, a%k_n, cold, status, k_t=a%k_t, &
+      periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi, solver=eigen_solver%lanczos, &
+      tolerance=monitor%tolerance)
+    call check(error, is_ok(status), "cold solve: "//status_text(status))
+    if (allocated(error)) return
+    ! the same eigenvalue: both converged to the relative residual 1e-6 of the
+    ! monitor, so each is bracketed within 1e-6 of it (Weinstein) and each
+    ! step within 5e-7
+    call check(error, abs(monitor%last%dt_critical_eigen/cold%dt_critical_eigen - 1.0_dp) <= 5.0e-7_dp, &
+      "warm "//real_str(monitor%last%dt_critical_eigen)//" vs cold "//real_str(cold%dt_critical_eigen))
+    if (allocated(error)) return
+    call check(error, monitor%last%eigen_products < cold%eigen_products, "warm products " &
+      //real_str(real(monitor%last%eigen_products, dp))//" not below cold " &
+      //real_str(real(cold%eigen_products, dp)))
+  end subroutine test_warm_start
+
+  subroutine test_warm_damped(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(solver_arrays_type) :: a
+    type(step_monitor_type) :: monitor
+    type(critical_step_type) :: cold
+    type(demstep_status_type) :: status
+    call packing_arrays(400, a, error)
+    if (allocated(error)) return
+    monitor%solver = eigen_solver%lanczos
+    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, c_n=a%c_n, c_t=a%c_t, &
+      periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call check(error, is_ok(status), "first update: "//status_text(status))
+    if (allocated(error)) return
+    call jiggle(a)
+    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, c_n=a%c_n, c_t=a%c_t, &
+      periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call check(error, is_ok(status) .and. monitor%last%damped_exact, "second update: "//status_text(status))
+    if (allocated(error)) return
+    call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, a%k_n, cold, status, k_t=a%k_t, c_n=a%c_n, &
+      c_t=a%c_t, periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi, solver=eigen_solver%lanczos, &
+      tolerance=monitor%tolerance)
+    call check(error, is_ok(status) .and. cold%damped_exact, "cold solve: "//status_text(status))
+    if (allocated(error)) return
+    ! both verified below the root to the eigensolves' tolerance 1e-6 (each
+    ! step's safe value within about 1e-6 of the root): 4e-6 apart at most
+    call check(error, abs(monitor%last%dt_critical_damped/cold%dt_critical_damped - 1.0_dp) <= 4.0e-6_dp, &
+      "warm "//real_str(monitor%last%dt_critical_damped)//" vs cold "//real_str(cold%dt_critical_damped))
+    if (allocated(error)) return
+    call check(error, monitor%last%eigen_products < cold%eigen_products, "warm products " &
+      //real_str(real(monitor%last%eigen_products, dp))//" not below cold " &
+      //real_str(real(cold%eigen_products, dp)))
+  end subroutine test_warm_damped
+
+  !> The estimate is the exact limit of the generated packing (the same call
+  !> by hand gives it bit for bit); a bad ratio is refused by name.
+  subroutine test_fresh_pour(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(critical_step_type) :: est, ref
+    type(scene_type) :: scene
+    type(demstep_status_type) :: status
+    call fresh_pour_estimate(1.0e-3_dp, 0.2_dp, 2500.0_dp, 200.0_dp, 60.0_dp, 0.2_dp, 0.0_dp, est, status, n=100)
+    call check(error, is_ok(status) .and. est%damped_exact, "estimate: "//status_text(status))
+    if (allocated(error)) return
+    call random_periodic_packing(scene, 100, status, radius=1.0e-3_dp, polydispersity=0.2_dp, &
+      density=2500.0_dp, k_normal=200.0_dp, k_tangential=60.0_dp, damping_ratio=0.2_dp)
+    scene%damping_ratio_tangential = 0.0_dp
+    call assembly_critical_steps(scene, ref, status)
+    call check(error, is_ok(status) .and. est%dt_critical_damped == ref%dt_critical_damped .and. &
+      est%dt_critical_damped < est%dt_critical_eigen, "not the packing's damped limit")
+    if (allocated(error)) return
+    call fresh_pour_estimate(1.0e-3_dp, 0.2_dp, 2500.0_dp, 200.0_dp, 60.0_dp, 0.2_dp, -1.0_dp, est, status, n=100)
+    call check(error, status%stat == demstep_stat%invalid_input .and. status%where == &
+      "tangential_damping_ratio", "a negative tangential ratio accepted")
+  end subroutine test_fresh_pour
+
+  !> The per-body bound of `check` against the exact top eigenvalue (dense)
+  !> of a packing with tangential springs, without and with rolling and
+  !> twisting springs: it must lie above (it is a bound) and, to be useful,
+  !> within a factor 8 of it.
+  subroutine test_cheap_bound(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: crit
+    type(assembly_operator_type) :: op
+    type(demstep_status_type) :: status
+    real(dp) :: rate, b
+    integer :: t
+    do t = 1, 2
+      call random_periodic_packing(scene, 120, status, seed=3 + t, k_tangential=0.8_dp)
+      if (t == 2) call scene_set_rolling(scene, 1.0_dp, 0.5_dp, status)
+      call assembly_critical_steps(scene, crit, status, solver=eigen_solver%dense)
+      call check(error, is_ok(status), "scene: "//status_text(status))
+      if (allocated(error)) return
+      call assembly_operator(scene, op, rate, status)
+      b = cheap_bound(op)*rate**2
+      call check(error, b >= crit%omega_max**2 .and. b <= 8.0_dp*crit%omega_max**2, "bound " &
+        //real_str(b)//" against omega_max^2 "//real_str(crit%omega_max**2))
+      if (allocated(error)) return
+    end do
+  end subroutine test_cheap_bound
+
+  !> A packing with one particle 30 times lighter: a target 1.5 times the
+  !> damped limit is reached (checked again by `solver_critical_steps` on the
+  !> scaled arrays), the light particle takes the largest factor and the
+  !> added mass stays below 5 % (the light particle grown to an ordinary one
+  !> is 0.5 %).
+  subroutine test_scale_masses(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(solver_arrays_type) :: a
+    type(step_monitor_type) :: monitor
+    type(critical_step_type) :: scaled, check_result
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: scale(:)
+    real(dp) :: added, target
+    integer, parameter :: light = 37
+    call packing_arrays(200, a, error)
+    if (allocated(error)) return
+    a%mass(light) = a%mass(light)/30.0_dp
+    a%inertia(light) = a%inertia(light)/30.0_dp
+    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, c_n=a%c_n, c_t=a%c_t, &
+      inertia=a%inertia, periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call check(error, is_ok(status), "update: "//status_text(status))
+    if (allocated(error)) return
+    target = 1.5_dp*monitor%last%dt_critical_damped
+    call scale_masses(monitor, target, a%mass, a%radius, scale, added, scaled, status, inertia=a%inertia)
+    call check(error, is_ok(status) .and. scaled%dt_critical_damped >= target, "target not reached: " &
+      //status_text(status))
+    if (allocated(error)) return
+    call check(error, minval(scale) >= 1.0_dp .and. maxloc(scale, 1) == light .and. added < 0.05_dp, &
+      "light particle's factor "//real_str(scale(light))//", added mass "//real_str(added))
+    if (allocated(error)) return
+    ! the scaled arrays through the whole path, at the scene's tolerance
+    call solver_critical_steps(a%x, a%mass*scale, a%radius, a%pairs, a%k_n, check_result, status, k_t=a%k_t, &
+      c_n=a%c_n, c_t=a%c_t, inertia=a%inertia*scale, periodic=[.true., .true., .true.], cell_lo=a%lo, &
+      cell_hi=a%hi)
+    ! (the monitor's solves are to 1e-6: the re-check may sit 1e-6 lower)
+    call check(error, is_ok(status) .and. check_result%dt_critical_damped >= (1.0_dp - 1.0e-6_dp)*target, &
+      "re-check "//real_str(check_result%dt_critical_damped)//" below the target "//real_str(target))
+  end subroutine test_scale_masses
+
+  subroutine test_check(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(solver_arrays_type) :: a
+    type(step_monitor_type) :: monitor
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: ps(:), cs(:), ws(:), k(:)
+    integer, allocatable :: top(:)
+    real(dp) :: dt
+    logical :: safe
+    call packing_arrays(200, a, error)
+    if (allocated(error)) return
+    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, c_n=a%c_n, &
+      c_t=a%c_t, periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call check(error, is_ok(status), "update: "//status_text(status))
+    if (allocated(error)) return
+    dt = 0.95_dp*monitor%last%dt_critical_damped
+    call monitor%check(dt, safe, a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, c_n=a%c_n, &
+      c_t=a%c_t, periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call check(error, is_ok(status) .and. safe .and. abs(monitor%quotient_ratio - 1.0_dp) < 1.0e-12_dp, &
+      "unchanged: not safe at 0.95 of the limit")
+    if (allocated(error)) return
+    ! above the limit: re-solve
+    call monitor%check(1.05_dp*monitor%last%dt_critical_damped, safe, a%x, a%mass, a%radius, a%pairs, &
+      a%k_n, status, k_t=a%k_t, c_n=a%c_n, c_t=a%c_t, periodic=[.true., .true., .true.], cell_lo=a%lo, &
+      cell_hi=a%hi)
+    call check(error, .not. safe .and. monitor%verdict == monitor_verdict%resolve, "safe above the limit")
+    if (allocated(error)) return
+    ! the contact that carries most of the mode, three times stiffer
+    call mode_participation(monitor, size(a%pairs, 2), ps, cs, ws, status)
+    top = top_shares(cs, 1)
+    k = a%k_n
+    k(top(1)) = 3.0_dp*k(top(1))
+    call monitor%check(dt, safe, a%x, a%mass, a%radius, a%pairs, k, status, k_t=a%k_t, c_n=a%c_n, &
+      c_t=a%c_t, periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call check(error, is_ok(status) .and. .not. safe .and. monitor%verdict == monitor_verdict%resolve, &
+      "a stiffened top contact not flagged (quotient ratio "//real_str(monitor%quotient_ratio)//")")
+    if (allocated(error)) return
+    ! the contact that carries least, a hundred times stiffer: the bound moves
+    top = top_shares(-cs, 1)
+    k = a%k_n
+    k(top(1)) = 100.0_dp*k(top(1))
+    call monitor%check(dt, safe, a%x, a%mass, a%radius, a%pairs, k, status, k_t=a%k_t, c_n=a%c_n, &
+      c_t=a%c_t, periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call check(error, is_ok(status) .and. .not. safe, "a contact 100 times stiffer not flagged (bound " &
+      //"ratio "//real_str(monitor%bound_ratio)//")")
+  end subroutine test_check
+
+  subroutine test_participation(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(solver_arrays_type) :: a
+    type(step_monitor_type) :: monitor
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: ps(:), cs(:), ws(:)
+    integer, allocatable :: top(:)
+    logical, allocatable :: outside(:)
+    integer :: light, k
+    call packing_arrays(200, a, error)
+    if (allocated(error)) return
+    ! one particle 30 times lighter: the top mode sits on it
+    light = 37
+    a%mass(light) = a%mass(light)/30.0_dp
+    a%inertia(light) = a%inertia(light)/30.0_dp
+    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, &
+      wall_point=a%wall_point, wall_normal=a%wall_normal, wall_k=a%wall_k, &
+      periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call check(error, is_ok(status), "update: "//status_text(status))
+    if (allocated(error)) return
+    call mode_participation(monitor, size(a%pairs, 2), ps, cs, ws, status)
+    call check(error, is_ok(status), "participation: "//status_text(status))
+    if (allocated(error)) return
+    ! sums of a few hundred non-negative terms: rounding of order 1e-14
+    call check(error, abs(sum(ps) - 1.0_dp) <= 1.0e-12_dp .and. abs(sum(cs) + sum(ws) - 1.0_dp) <= 1.0e-12_dp, &
+      "sums "//real_str(sum(ps))//", "//real_str(sum(cs) + sum(ws)))
+    if (allocated(error)) return
+    call check(error, all(ps >= 0.0_dp) .and. minval(cs) >= -1.0e-12_dp, "negative shares")
+    if (allocated(error)) return
+    top = top_shares(ps, 10)
+    call check(error, size(top) == 10 .and. top(1) == light, "the light particle does not lead")
+    if (allocated(error)) return
+    do k = 2, 10
+      call check(error, ps(top(k)) <= ps(top(k - 1)), "top 10 not in descending order")
+      if (allocated(error)) return
+    end do
+    ! every particle outside the top 10 carries at most the tenth share
+    allocate(outside(size(ps)), source=.true.)
+    outside(top) = .false.
+    call check(error, maxval(ps, mask=outside) <= ps(top(10)), "a larger share outside the top 10")
+  end subroutine test_participation
+
+  subroutine test_capi_solver(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(solver_arrays_type), target :: a
+    type(critical_step_type) :: ref
+    type(demstep_status_type) :: status
+    type(demstep_scene_result_c), target :: res
+    type(demstep_error_c), target :: err
+    integer(c_int), allocatable, target :: pairs0(:, :)
+    integer(c_int), target :: periodic(3) = [1, 1, 1]
+    integer(c_int) :: code
+    integer :: nc, n
+    call packing_arrays(100, a, error)
+    if (allocated(error)) return
+    nc = size(a%pairs, 2)
+    n = size(a%mass)
+    pairs0 = a%pairs - 1
+    call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, a%k_n, ref, status, k_t=a%k_t, &
+      c_n=a%c_n, c_t=a%c_t, wall_point=a%wall_point, wall_normal=a%wall_normal, wall_k=a%wall_k, &
+      wall_damping=a%wall_damping, periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call check(error, is_ok(status), "Fortran: "//status_text(status))
+    if (allocated(error)) return
+    code = c_solver_compute(3, n, c_loc(a%x), c_loc(a%mass), c_loc(a%radius), c_null_ptr, nc, &
+      c_loc(pairs0), nc, c_loc(a%k_n), c_loc(a%k_t), c_loc(a%c_n), c_loc(a%c_t), 1, c_loc(a%wall_point), &
+      c_loc(a%wall_normal), c_loc(a%wall_k), c_loc(a%wall_damping), c_loc(periodic), c_loc(a%lo), &
+      c_loc(a%hi), eigen_solver%auto, 0.0_dp, c_loc(res), c_sizeof(res), c_loc(err))
+    call check(error, code == 0, "C: code not 0")
+    if (allocated(error)) return
+    call check(error, res%dt_critical_eigen == ref%dt_critical_eigen .and. &
+      res%dt_critical_damped == ref%dt_critical_damped .and. res%n_springs == ref%n_springs .and. &
+      res%rotation == 1, "C result differs: "//real_str(res%dt_critical_eigen)//" vs "// &
+      real_str(ref%dt_critical_eigen))
+    if (allocated(error)) return
+    ! scalar stiffness (n_values 1), no walls, no cell: a status, not a crash, for bad counts
+    code = c_solver_compute(3, n, c_loc(a%x), c_loc(a%mass), c_loc(a%radius), c_null_ptr, nc, &
+      c_loc(pairs0), 2, c_loc(a%k_n), c_null_ptr, c_null_ptr, c_null_ptr, 0, c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_null_ptr, c_null_ptr, c_null_ptr, c_null_ptr, eigen_solver%auto, 0.0_dp, c_loc(res), &
+      c_sizeof(res), c_loc(err))
+    call check(error, code == demstep_stat%invalid_input, "n_values 2 accepted")
+    if (allocated(error)) return
+    pairs0(1, 3) = n
+    code = c_solver_compute(3, n, c_loc(a%x), c_loc(a%mass), c_loc(a%radius), c_null_ptr, nc, &
+      c_loc(pairs0), 1, c_loc(a%k_n), c_null_ptr, c_null_ptr, c_null_ptr, 0, c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_null_ptr, c_null_ptr, c_null_ptr, c_null_ptr, eigen_solver%auto, 0.0_dp, c_loc(res), &
+      c_sizeof(res), c_loc(err))
+    call check(error, code == demstep_stat%invalid_input .and. index(c_text(err%message), "pairs(3)") > 0, &
+      "pair out of range: "//c_text(err%message))
+  end subroutine test_capi_solver
+
+  !> Particles 1 and 3 at the same point: a contact search refuses them, but
+  !> with a contacts_file that does not list them the deck is computed (the
+  !> search is skipped: only listed pairs are contacts); without the file it
+  !> is refused.
+  subroutine test_app_no_search(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), parameter :: deck = work_dir//"/monitor_deck.nml"
+    character(len=:), allocatable :: stdout, stderr
+    integer :: rc
+    call write_file(work_dir//"/monitor_p.txt", [character(len=60) :: "0.1 0 0  0 0 0  1 0.6 0", &
+      "1.1 0 0  0 0 0  1 0.6 0", "0.1 0 0  0 0 0  1 0.6 0"])
+    call write_file(work_dir//"/monitor_c.txt", [character(len=20) :: "1 2 100 60"])
+    call write_file(deck, [character(len=100) :: "&scene dim = 3, particles_file = 'monitor_p.txt', " &
+      //"contacts_file = 'monitor_c.txt' /"])
+    call run_app(deck, rc, stdout, stderr)
+    call check(error, rc, 0, message="with contacts_file; stderr: "//stderr)
+    if (allocated(error)) return
+    call write_file(deck, [character(len=100) :: "&scene dim = 3, particles_file = 'monitor_p.txt', " &
+      //"k_normal = 100 /"])
+    call run_app(deck, rc, stdout, stderr)
+    call check(error, rc == 2 .and. index(stderr, "same point") > 0, "without contacts_file: " &
+      //"not refused: "//stderr)
+  end subroutine test_app_no_search
+
+  subroutine test_vtk(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), parameter :: path = work_dir//"/monitor.vtk"
+    type(solver_arrays_type) :: a
+    type(step_monitor_type) :: monitor
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: ps(:), cs(:), ws(:)
+    type(vtk_field_type) :: pf(2), cf(1)
+    character(len=:), allocatable :: text
+    integer :: n, nc
+    call packing_arrays(64, a, error)
+    if (allocated(error)) return
+    n = size(a%mass)
+    nc = size(a%pairs, 2)
+    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, &
+      periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call mode_participation(monitor, nc, ps, cs, ws, status)
+    call check(error, is_ok(status), "participation: "//status_text(status))
+    if (allocated(error)) return
+    pf(1) = vtk_field_type("radius", a%radius)
+    pf(2) = vtk_field_type("participation", ps)
+    cf(1) = vtk_field_type("contact_participation", cs)
+    call write_vtk_particles(path, a%x, pf, status, pairs=a%pairs, contact_fields=cf)
+    call check(error, is_ok(status), "write: "//status_text(status))
+    if (allocated(error)) return
+    call read_file(path, text)
+    ! header 4 + points (1 + n) + cells and their types (2 (1 + n + nc)) + point
+    ! data (1 + 2 (2 + n)) + cell data (1 + 2 + n + nc)
+    call check(error, count_lines(text) == 4 + (1 + n) + 2*(1 + n + nc) + (1 + 2*(2 + n)) + &
+      (3 + n + nc), "line count")
+    if (allocated(error)) return
+    call check(error, index(text, "POINT_DATA "//int_str(int(n, i8))) > 0 .and. index(text, "SCALARS " &
+      //"participation double 1") > 0 .and. index(text, "CELL_DATA "//int_str(int(n + nc, i8))) > 0, "sections")
+    if (allocated(error)) return
+    pf(2) = vtk_field_type("two words", ps)
+    call write_vtk_particles(path, a%x, pf, status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "point_fields" &
+      .and. status%index == 2, "a blank in a field name accepted")
+  end subroutine test_vtk
+
+  !> ARPACK's state held (as by another thread's solve): a Lanczos solve is
+  !> refused with `busy`, a dense one runs; released: it runs. Then four
+  !> solves on two threads at once: each is refused with `busy` or gives the
+  !> serial answer (the same operator and start vector: the same rounding).
+  subroutine test_concurrent(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(solver_arrays_type) :: a
+    type(critical_step_type) :: ref, r(4)
+    type(demstep_status_type) :: status, st(4)
+    integer :: t, n_ok
+    call packing_arrays(300, a, error)
+    if (allocated(error)) return
+    call arpack_claim(status)
+    call check(error, is_ok(status), "claim")
+    if (allocated(error)) return
+    call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, a%k_n, ref, status, k_t=a%k_t, &
+      periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi, solver=eigen_solver%lanczos)
+    call check(error, status%stat == demstep_stat%busy .and. status%where == "lanczos_largest", &
+      "not refused while ARPACK is held: "//status_text(status))
+    if (allocated(error)) then
+      call arpack_release()
+      return
+    end if
+    call solver_critical_steps(a%x(:, :100), a%mass(:100), a%radius(:100), a%pairs(:, 1:0), [1.0_dp], &
+      ref, status, wall_point=a%wall_point, wall_normal=a%wall_normal, wall_k=a%wall_k, &
+      solver=eigen_solver%dense)
+    call arpack_release()
+    call check(error, is_ok(status), "a dense solve refused: "//status_text(status))
+    if (allocated(error)) return
+    call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, a%k_n, ref, status, k_t=a%k_t, &
+      periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi, solver=eigen_solver%lanczos)
+    call check(error, is_ok(status), "released: "//status_text(status))
+    if (allocated(error)) return
+    !$omp parallel do num_threads(2) schedule(static, 1)
+    do t = 1, 4
+      call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, a%k_n, r(t), st(t), k_t=a%k_t, &
+        periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi, solver=eigen_solver%lanczos)
+    end do
+    !$omp end parallel do
+    n_ok = 0
+    do t = 1, 4
+      if (st(t)%stat == demstep_stat%busy) cycle
+      call check(error, is_ok(st(t)), "solve "//int_str(int(t, i8))//": "//status_text(st(t)))
+      if (allocated(error)) return
+      ! tolerance: the same products in the same order give the same bits;
+      ! 1e-14 leaves room for nothing but rounding
+      call check(error, abs(r(t)%dt_critical_eigen/ref%dt_critical_eigen - 1.0_dp) <= 1.0e-14_dp, &
+        "solve "//int_str(int(t, i8))//": "//real_str(r(t)%dt_critical_eigen)//" vs "// &
+        real_str(ref%dt_critical_eigen))
+      if (allocated(error)) return
+      n_ok = n_ok + 1
+    end do
+    call check(error, n_ok >= 1, "every concurrent solve refused")
+  end subroutine test_concurrent
+
+  !> A NUL-terminated C message as text.
+  pure function c_text(chars) result(text)
+    character(kind=c_char), intent(in) :: chars(:)
+    character(len=:), allocatable :: text
+    integer :: i
+    text = ""
+    do i = 1, size(chars)
+      if (chars(i) == achar(0)) exit
+      text = text//chars(i)
+    end do
+  end function c_text
+
+  !> A fixed seed of the intrinsic generator.
+
+end module test_monitor
