@@ -96,7 +96,8 @@ module demstep
   ! the largest eigenvalue of a large operator, matrix-free (Lanczos, ARPACK)
   use demstep_lanczos, only: lanczos_context_type, lanczos_operator, lanczos_largest, &
     eigen_result_type, lanczos_tolerance_default, lanczos_ncv_default, lanczos_nev_default, &
-    lanczos_restarts_default, lanczos_solver_name, csr_matrix_type, csr_from_springs, csr_apply
+    lanczos_restarts_default, lanczos_solver_name
+  use demstep_csr, only: csr_matrix_type, csr_from_springs, csr_apply
   ! progress, and reading namelist decks and tables
   use demstep_progress, only: progress_type, text_progress_type
   use demstep_namelist, only: nml_group_type, nml_item_type, read_text_file, scan_namelist

@@ -47,7 +47,8 @@ module demstep_assembly
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use demstep_lapack, only: largest_eigenpair
   use demstep_lanczos, only: lanczos_context_type, lanczos_largest, eigen_result_type, &
-    csr_matrix_type, csr_to_dense, lanczos_tolerance_default, check_lanczos_options
+    lanczos_tolerance_default, check_lanczos_options
+  use demstep_csr, only: csr_matrix_type, csr_to_dense
   use demstep_progress, only: progress_type
   implicit none
   private

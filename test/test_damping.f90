@@ -8,7 +8,7 @@ module test_damping
   use demstep
   use demstep_interaction, only: contact_block, contact_forces, rolling_moments, contact_product
   use demstep_lapack, only: spectral_radius
-  use demstep_lanczos, only: csr_to_dense
+  use demstep_csr, only: csr_to_dense
   use demstep_assembly, only: damped_lower_bound
   use demstep_scene_data, only: contact_values, wall_values, contact_dashpots
   use test_support, only: real_str
