@@ -55,6 +55,13 @@ module demstep_lanczos
   !> The solver's name in a result.
   character(len=*), parameter, public :: lanczos_solver_name = "lanczos (ARPACK dsaupd)"
 
+  !> Relative gap below which the next Ritz value makes the top crowded: the
+  !> top is then confirmed by a second run (see `lanczos_solve`).
+  real(dp), parameter, public :: lanczos_cluster_band = 1.0e-3_dp
+  !> ARPACK runs of one solve at most, and how far the Krylov size may grow
+  !> (a multiple of the asked ncv) when the top is crowded or restarts run out.
+  integer, parameter, public :: lanczos_runs = 3, lanczos_ncv_growth = 4
+
   !> Rounding allowance of the error bar, in units of epsilon * |theta|: the
   !> residual and the Rayleigh quotient are sums of rounded products.
   real(dp), parameter, public :: rounding_ulps = 8.0_dp
@@ -164,6 +171,19 @@ module demstep_lanczos
     procedure :: seupd_status => serial_seupd_status
   end type serial_space_type
 
+  !> What one ARPACK run found (see `arpack_run`).
+  type :: run_type
+    !> A Ritz pair met the tolerance (theta and rnorm then measured on its vector).
+    logical :: converged = .false.
+    !> The start vector was in A's null space: the zero operator.
+    logical :: zero = .false.
+    !> The top Ritz value (or Rayleigh quotient), its residual (or ARPACK's
+    !> estimate) and the second largest Ritz value.
+    real(dp) :: theta = 0.0_dp, rnorm = 0.0_dp, second = 0.0_dp
+    !> ARPACK's status (ok or not_converged).
+    type(demstep_status_type) :: step_status
+  end type run_type
+
   !> The largest eigenvalue found by an eigensolver, with its error bar and how
   !> it was obtained.
   type, public :: eigen_result_type
@@ -220,7 +240,8 @@ contains
     integer, intent(in), optional :: ncv
     !> Wanted Ritz values kept at restarts, >= 1 and < ncv. Default `lanczos_nev_default`.
     integer, intent(in), optional :: nev
-    !> Maximum implicit restarts (>= 1; ARPACK's mxiter). Default `lanczos_restarts_default`.
+    !> Maximum implicit restarts of each ARPACK run (>= 1; ARPACK's mxiter; a
+    !> solve makes at most `lanczos_runs` runs). Default `lanczos_restarts_default`.
     integer, intent(in), optional :: max_restarts
     !> Reports the products made (no total: convergence is not known ahead).
     class(progress_type), intent(inout), optional :: progress
@@ -288,7 +309,17 @@ contains
     if (present(progress)) call progress%finish()
   end subroutine lanczos_solve
 
-  !> The body of `lanczos_solve` after the options' checks.
+  !> The body of `lanczos_solve` after the options' checks: ARPACK runs until
+  !> the top is found. A run whose top Ritz pair meets the tolerance is
+  !> accepted when its top is isolated (the next Ritz value more than
+  !> `lanczos_cluster_band` below it: Lanczos from a random start finds an
+  !> isolated top first), or when it does not rise above the previous run's top
+  !> by more than the tolerance (the eigenvalue has settled). Otherwise (a
+  !> crowded top, or the restarts ran out) the next run doubles the Krylov size
+  !> (up to `lanczos_ncv_growth` times the asked one) and starts from the best
+  !> vector so far plus a fresh stretch of the start sequence (crowded; the
+  !> missing eigenvalues get a random component again) or from ARPACK's
+  !> filtered start vector (out of restarts), at most `lanczos_runs` runs.
   subroutine iterate(space, tol, k_asked, m_asked, restarts, result, status, eigenvector, &
       progress, start)
     class(lanczos_space_type), intent(inout) :: space
@@ -299,12 +330,11 @@ contains
     real(dp), intent(out), optional :: eigenvector(:)
     class(progress_type), intent(inout), optional :: progress
     real(dp), intent(in), optional :: start(:)
-    real(dp) :: theta, rnorm, znorm, norms(2), tol_used
-    integer :: n, k, m, ido, info, lworkl, nconv, itop
-    integer :: iparam(arpack_iparam_size), ipntr(arpack_iparam_size)
-    real(dp), allocatable :: v(:, :), workd(:), workl(:), resid(:), z(:, :), d(:), y(:)
-    logical, allocatable :: select(:)
-    type(demstep_status_type) :: step_status
+    real(dp) :: norms(2)
+    integer :: n, k, m, m_cap, attempt
+    real(dp), allocatable :: w(:), z(:), best_z(:), y(:)
+    type(run_type) :: run, best
+    logical :: settled
 
     n = space%n_local
     allocate(y(n))
@@ -320,20 +350,109 @@ contains
     end if
     ! small operators: the whole space (k must stay below it)
     m = min(m_asked, space%n_global)
+    m_cap = min(space%n_global, lanczos_ncv_growth*m_asked)
     k = min(k_asked, m - 1)
-    result%ncv = m
-    result%nev = k
-    lworkl = m*(m + 8)
-    allocate(v(n, m), workd(3*n), workl(lworkl), resid(n), d(k), select(m), z(n, k))
-    call lanczos_start_vector(resid, space%first_row)
+    allocate(w(n), z(n), best_z(n))
+    call lanczos_start_vector(w, space%first_row)
     if (present(start)) then
       ! (a zero, non-finite or wrongly sized start is ignored: the default start vector)
       if (space%all_ranks(size(start) == n)) then
-        norms = [space%dot(start, start), space%dot(resid, resid)]
+        norms = [space%dot(start, start), space%dot(w, w)]
         if (norms(1) > 0.0_dp .and. norms(1) <= huge(1.0_dp)) &
-          resid = start/sqrt(norms(1)) + 1.0e-3_dp*resid/sqrt(norms(2))
+          w = start/sqrt(norms(1)) + 1.0e-3_dp*w/sqrt(norms(2))
       end if
     end if
+    settled = .false.
+    do attempt = 1, lanczos_runs
+      result%ncv = m
+      result%nev = k
+      call arpack_run(space, tol, k, m, restarts, w, z, run, result, status, progress)
+      if (status%stat /= demstep_stat%ok) return
+      if (run%zero) then
+        ! the zero operator (see arpack_run): every eigenvalue is zero
+        result%converged = .true.
+        if (present(eigenvector)) then
+          call lanczos_start_vector(eigenvector, space%first_row)
+          eigenvector = eigenvector/sqrt(space%dot(eigenvector, eigenvector))
+        end if
+        return
+      end if
+      if (run%converged) then
+        ! isolated, or no higher than the last converged top: settled
+        settled = run%theta - run%second > lanczos_cluster_band*run%theta
+        if (best%converged) settled = settled .or. run%theta <= best%theta*(1.0_dp + tol)
+        if (.not. best%converged .or. run%theta > best%theta) then
+          best = run
+          best_z = z
+        end if
+        if (settled) exit
+        ! a crowded top: a larger basis from the best vector and new random components
+        call lanczos_start_vector(w, space%first_row + attempt*space%n_global)
+        w = best_z + w/sqrt(space%dot(w, w))
+      else
+        if (.not. best%converged) best = run
+        ! out of restarts: go on from ARPACK's filtered start vector, with a
+        ! larger basis
+        w = z
+        m = min(2*m, m_cap)
+        k = min(k, m - 1)
+      end if
+    end do
+
+    if (.not. best%converged) then
+      ! no run met the tolerance: the largest Ritz value of the last run and
+      ! ARPACK's Ritz estimate of its residual
+      result%eigenvalue = best%theta
+      result%residual = best%rnorm
+      result%error_bound = result%residual + rounding_ulps*epsilon(1.0_dp)*abs(result%eigenvalue)
+      status = best%step_status
+      if (status%stat == demstep_stat%ok) call set_status(status, demstep_stat%not_converged, &
+        arpack_name(space%saupd_status(1))//"no Ritz value met the tolerance")
+      status%message = status%message//" (largest Ritz value "//real_text(result%eigenvalue) &
+        //", relative residual estimate "//real_text(result%residual/max(abs(result%eigenvalue), &
+        tiny(1.0_dp)))//" after "//int_text(result%iterations)//" restarts, tolerance " &
+        //real_text(tol)//"; raise max_restarts or ncv)"
+      return
+    end if
+    if (present(eigenvector)) eigenvector = best_z
+    ! (a run whose measured residual met the tolerance converged, whatever
+    ! ARPACK said of the other wanted values)
+    run%step_status%stat = demstep_stat%ok
+    if (.not. settled) call set_status(run%step_status, demstep_stat%not_converged, &
+      space%caller//": the top of the spectrum did not settle: a new start raised the " &
+      //"largest eigenvalue by more than the tolerance")
+    call lanczos_finish(best%theta, best%rnorm, tol, run%step_status, result, status)
+  end subroutine iterate
+
+  !> One ARPACK solve from the start vector `w` with `k` wanted values in a
+  !> Krylov space of `m`: its top Ritz pair's measured Rayleigh quotient and
+  !> residual and the unit vector in `z` (converged), or the largest Ritz value
+  !> with ARPACK's estimate and the filtered start vector in `z` (out of
+  !> restarts); the second largest Ritz value of the last factorization.
+  !> `status` is ok unless the solve failed (an ARPACK error or a non-finite
+  !> product); the products and restarts are added to `result`.
+  subroutine arpack_run(space, tol, k, m, restarts, w, z, run, result, status, progress)
+    class(lanczos_space_type), intent(inout) :: space
+    real(dp), intent(in) :: tol
+    integer, intent(in) :: k, m, restarts
+    real(dp), intent(in) :: w(:)
+    real(dp), intent(out) :: z(:)
+    type(run_type), intent(out) :: run
+    type(eigen_result_type), intent(inout) :: result
+    type(demstep_status_type), intent(out) :: status
+    class(progress_type), intent(inout), optional :: progress
+    real(dp) :: rnorm, znorm, tol_used
+    integer :: n, ido, info, lworkl, nconv, itop
+    integer :: iparam(arpack_iparam_size), ipntr(arpack_iparam_size)
+    real(dp), allocatable :: v(:, :), workd(:), workl(:), resid(:), zz(:, :), d(:), y(:), ritz(:)
+    logical, allocatable :: select(:)
+
+    n = space%n_local
+    lworkl = m*(m + 8)
+    allocate(v(n, m), workd(3*n), workl(lworkl), resid(n), d(k), select(m), zz(n, k), y(n))
+    workl = 0.0_dp
+    resid = w
+    z = 0.0_dp
     iparam = 0
     iparam(1) = 1         ! exact shifts
     iparam(3) = restarts
@@ -349,48 +468,41 @@ contains
       ! every process leaves the loop together: a distributed ARPACK waits on all
       if (status%stat /= demstep_stat%ok) return
     end do
-    result%iterations = iparam(3)
+    result%iterations = result%iterations + iparam(3)
+    status%stat = demstep_stat%ok
     if (info == -9) then
       ! ARPACK's first step replaces the (nonzero) start vector x0 by A x0: it
       ! found A x0 = 0. Under Lanczos' own assumption (x0 has a component along
       ! every eigenvector) that makes every eigenvalue zero: the zero operator
       ! (a scene without contacts, say)
-      result%converged = .true.
-      if (present(eigenvector)) then
-        call lanczos_start_vector(eigenvector, space%first_row)
-        eigenvector = eigenvector/sqrt(space%dot(eigenvector, eigenvector))
-      end if
-      status%stat = demstep_stat%ok
+      run%zero = .true.
       return
     end if
-    step_status = space%saupd_status(info)
+    run%step_status = space%saupd_status(info)
     nconv = iparam(5)
-    if (step_status%stat /= demstep_stat%ok .and. step_status%stat /= demstep_stat%not_converged) then
-      status = step_status
+    if (run%step_status%stat /= demstep_stat%ok .and. &
+        run%step_status%stat /= demstep_stat%not_converged) then
+      status = run%step_status
       return
     end if
+    ! the Ritz values of the last factorization: the top two
+    ritz = workl(ipntr(6):ipntr(6) + m - 1)
+    itop = maxloc(ritz, 1)
+    run%theta = ritz(itop)
+    ritz(itop) = -huge(1.0_dp)
+    run%second = maxval(ritz)
 
     if (nconv < 1) then
       ! no Ritz pair met the tolerance: the largest of the k wanted Ritz values
-      ! and ARPACK's Ritz estimate of its residual
+      ! and ARPACK's Ritz estimate of its residual; the filtered start vector
       itop = maxloc(workl(ipntr(6):ipntr(6) + k - 1), 1) - 1
-      result%eigenvalue = workl(ipntr(6) + itop)
-      result%residual = abs(workl(ipntr(7) + itop))
-      result%error_bound = result%residual + rounding_ulps*epsilon(1.0_dp)*abs(result%eigenvalue)
-      if (step_status%stat == demstep_stat%ok) then
-        call set_status(status, demstep_stat%not_converged, arpack_name(space%saupd_status(1)) &
-          //"no Ritz value met the tolerance")
-      else
-        status = step_status
-      end if
-      status%message = status%message//" (largest Ritz value "//real_text(result%eigenvalue) &
-        //", relative residual estimate "//real_text(result%residual/max(abs(result%eigenvalue), &
-        tiny(1.0_dp)))//" after "//int_text(result%iterations)//" restarts, tolerance " &
-        //real_text(tol)//"; raise max_restarts or ncv)"
+      run%theta = workl(ipntr(6) + itop)
+      run%rnorm = abs(workl(ipntr(7) + itop))
+      z = v(:, 1)
       return
     end if
 
-    call space%seupd(.true., select, d, z, k, tol_used, resid, m, v, iparam, ipntr, workd, &
+    call space%seupd(.true., select, d, zz, k, tol_used, resid, m, v, iparam, ipntr, workd, &
       workl, info)
     if (info /= 0) then
       status = space%seupd_status(info)
@@ -398,25 +510,25 @@ contains
     end if
     ! converged values come in ascending order: the largest is the last one
     ! computed (nconv of them, nconv <= k)
-    z(:, 1) = z(:, min(nconv, k))
-    znorm = sqrt(space%dot(z(:, 1), z(:, 1)))
+    z = zz(:, min(nconv, k))
+    znorm = sqrt(space%dot(z, z))
     if (.not. (znorm > 0.0_dp)) then
       call set_status(status, demstep_stat%eigensolver_failure, arpack_name(space%seupd_status(1)) &
         //"returned a zero Ritz vector")
       return
     end if
-    z(:, 1) = z(:, 1)/znorm
+    z = z/znorm
     ! the measured Rayleigh quotient and residual of the returned vector
-    call product(space, z(:, 1), y, result, status, progress)
+    call product(space, z, y, result, status, progress)
     if (status%stat /= demstep_stat%ok) return
     ! compensated sums: a plain sum of n nearly equal terms (a lattice mode) is
     ! off by up to n*epsilon/2, 1e-12 at n = 1e5, far above the tolerance
-    theta = space%dot(z(:, 1), y)/space%dot(z(:, 1), z(:, 1))
-    y = y - theta*z(:, 1)
+    run%theta = space%dot(z, y)/space%dot(z, z)
+    y = y - run%theta*z
     rnorm = sqrt(space%dot(y, y))
-    if (present(eigenvector)) eigenvector = z(:, 1)
-    call lanczos_finish(theta, rnorm, tol, step_status, result, status)
-  end subroutine iterate
+    run%rnorm = rnorm
+    run%converged = rnorm <= tol*abs(run%theta) .or. run%step_status%stat == demstep_stat%ok
+  end subroutine arpack_run
 
   !> The routine's name that starts an ARPACK status message ("ARPACK dsaupd: ").
   pure function arpack_name(status) result(who)

@@ -9,7 +9,7 @@ module test_lanczos
   use demstep_lapack, only: largest_eigenpair
   use demstep_arpack, only: dsaupd, dsaupd_status, dseupd_status
   use demstep_lanczos, only: lanczos_largest, lanczos_context_type, eigen_result_type, &
-    lanczos_start_vector, lanczos_tolerance_default
+    lanczos_start_vector, lanczos_tolerance_default, lanczos_runs
   use demstep_csr, only: csr_matrix_type, csr_from_springs, csr_apply, csr_to_dense
   use test_support, only: real_str
   use demstep_progress, only: progress_type
@@ -236,7 +236,8 @@ contains
       call lanczos_largest(csr_apply, a, a%n, r, status, nev=4, ncv=20)
       call check_result(error, r, status, top, 4*epsilon(1.0_dp)*top, 1.0e-10_dp, label//", nev = 4")
       if (allocated(error)) return
-      call check(error, r%nev == 4 .and. r%ncv == 20, label//": nev, ncv reported")
+      ! (a crowded top is confirmed by a second run with twice the Krylov size)
+      call check(error, r%nev == 4 .and. (r%ncv == 20 .or. r%ncv == 40), label//": nev, ncv reported")
       if (allocated(error)) return
     end do
   end subroutine test_lattices
@@ -270,8 +271,9 @@ contains
     call lanczos_largest(csr_apply, a, a%n, r, status, eigenvector=z, max_restarts=1, ncv=8)
     call check(error, status%stat, demstep_stat%not_converged, "status")
     if (allocated(error)) return
-    call check(error, .not. r%converged .and. r%iterations == 2, "not converged, 2 passes: " &
-      //int_text(r%iterations))
+    ! each of the lanczos_runs runs (ncv 8, 16, 32) makes 2 passes
+    call check(error, .not. r%converged .and. r%iterations == 2*lanczos_runs .and. r%ncv == 32, &
+      "not converged, 2 passes a run: "//int_text(r%iterations))
     if (allocated(error)) return
     call check(error, index(status%message, "restarts") > 0 .and. index(status%message, &
       "max_restarts") > 0, "message: "//status%message)
