@@ -55,12 +55,10 @@ module demstep_lanczos
   !> The solver's name in a result.
   character(len=*), parameter, public :: lanczos_solver_name = "lanczos (ARPACK dsaupd)"
 
-  !> Relative gap below which the next Ritz value makes the top crowded: the
-  !> top is then confirmed by a second run (see `lanczos_solve`).
-  real(dp), parameter, public :: lanczos_cluster_band = 1.0e-3_dp
-  !> ARPACK runs of one solve at most, and how far the Krylov size may grow
-  !> (a multiple of the asked ncv) when the top is crowded or restarts run out.
-  integer, parameter, public :: lanczos_runs = 3, lanczos_ncv_growth = 4
+  !> ARPACK runs of one solve at most (a first, its confirmation, one more when
+  !> the top rose or the restarts ran out), and how far the Krylov size may
+  !> grow (a multiple of the asked ncv) when the restarts run out.
+  integer, parameter, public :: lanczos_runs = 3, lanczos_ncv_growth = 2
 
   !> Rounding allowance of the error bar, in units of epsilon * |theta|: the
   !> residual and the Rayleigh quotient are sums of rounded products.
@@ -177,9 +175,9 @@ module demstep_lanczos
     logical :: converged = .false.
     !> The start vector was in A's null space: the zero operator.
     logical :: zero = .false.
-    !> The top Ritz value (or Rayleigh quotient), its residual (or ARPACK's
-    !> estimate) and the second largest Ritz value.
-    real(dp) :: theta = 0.0_dp, rnorm = 0.0_dp, second = 0.0_dp
+    !> The top Ritz value (or Rayleigh quotient) and its residual (or ARPACK's
+    !> estimate).
+    real(dp) :: theta = 0.0_dp, rnorm = 0.0_dp
     !> ARPACK's status (ok or not_converged).
     type(demstep_status_type) :: step_status
   end type run_type
@@ -310,16 +308,17 @@ contains
   end subroutine lanczos_solve
 
   !> The body of `lanczos_solve` after the options' checks: ARPACK runs until
-  !> the top is found. A run whose top Ritz pair meets the tolerance is
-  !> accepted when its top is isolated (the next Ritz value more than
-  !> `lanczos_cluster_band` below it: Lanczos from a random start finds an
-  !> isolated top first), or when it does not rise above the previous run's top
-  !> by more than the tolerance (the eigenvalue has settled). Otherwise (a
-  !> crowded top, or the restarts ran out) the next run doubles the Krylov size
-  !> (up to `lanczos_ncv_growth` times the asked one) and starts from the best
-  !> vector so far plus a fresh stretch of the start sequence (crowded; the
-  !> missing eigenvalues get a random component again) or from ARPACK's
-  !> filtered start vector (out of restarts), at most `lanczos_runs` runs.
+  !> the top eigenvalue has settled. A small residual only says that some
+  !> eigenvalue lies near the Ritz value; on a crowded top (tiled packings,
+  !> lattices) a run can converge on an eigenvalue below the top while the
+  !> top's component is still small. So a converged top is confirmed by a
+  !> second run from its vector plus a fresh stretch of the start sequence
+  !> (every eigenvector gets a random component again), and accepted when the
+  !> second top does not rise above the first by more than the tolerance (the
+  !> larger of the two is kept); it is accepted at once only when the Krylov
+  !> space is the whole space. A run out of restarts is followed by one from
+  !> ARPACK's filtered start vector with twice the Krylov size (up to
+  !> `lanczos_ncv_growth` times the asked one); at most `lanczos_runs` runs.
   subroutine iterate(space, tol, k_asked, m_asked, restarts, result, status, eigenvector, &
       progress, start)
     class(lanczos_space_type), intent(inout) :: space
@@ -378,15 +377,15 @@ contains
         return
       end if
       if (run%converged) then
-        ! isolated, or no higher than the last converged top: settled
-        settled = run%theta - run%second > lanczos_cluster_band*run%theta
+        ! no higher than the last converged top, or the whole space: settled
+        settled = m >= space%n_global
         if (best%converged) settled = settled .or. run%theta <= best%theta*(1.0_dp + tol)
         if (.not. best%converged .or. run%theta > best%theta) then
           best = run
           best_z = z
         end if
         if (settled) exit
-        ! a crowded top: a larger basis from the best vector and new random components
+        ! confirm it: a run from the best vector and new random components
         call lanczos_start_vector(w, space%first_row + attempt*space%n_global)
         w = best_z + w/sqrt(space%dot(w, w))
       else
@@ -428,7 +427,7 @@ contains
   !> Krylov space of `m`: its top Ritz pair's measured Rayleigh quotient and
   !> residual and the unit vector in `z` (converged), or the largest Ritz value
   !> with ARPACK's estimate and the filtered start vector in `z` (out of
-  !> restarts); the second largest Ritz value of the last factorization.
+  !> restarts).
   !> `status` is ok unless the solve failed (an ARPACK error or a non-finite
   !> product); the products and restarts are added to `result`.
   subroutine arpack_run(space, tol, k, m, restarts, w, z, run, result, status, progress)
@@ -444,7 +443,7 @@ contains
     real(dp) :: rnorm, znorm, tol_used
     integer :: n, ido, info, lworkl, nconv, itop
     integer :: iparam(arpack_iparam_size), ipntr(arpack_iparam_size)
-    real(dp), allocatable :: v(:, :), workd(:), workl(:), resid(:), zz(:, :), d(:), y(:), ritz(:)
+    real(dp), allocatable :: v(:, :), workd(:), workl(:), resid(:), zz(:, :), d(:), y(:)
     logical, allocatable :: select(:)
 
     n = space%n_local
@@ -485,13 +484,6 @@ contains
       status = run%step_status
       return
     end if
-    ! the Ritz values of the last factorization: the top two
-    ritz = workl(ipntr(6):ipntr(6) + m - 1)
-    itop = maxloc(ritz, 1)
-    run%theta = ritz(itop)
-    ritz(itop) = -huge(1.0_dp)
-    run%second = maxval(ritz)
-
     if (nconv < 1) then
       ! no Ritz pair met the tolerance: the largest of the k wanted Ritz values
       ! and ARPACK's Ritz estimate of its residual; the filtered start vector
