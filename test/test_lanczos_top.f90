@@ -5,7 +5,11 @@
 !> H(k), the base's operator with each block that couples a body to another
 !> body's periodic image shifted by s cells multiplied by exp(i k . s). The
 !> tiled tops sit in clusters (K^3 copies of each base band, nearly equal near
-!> the band's top), which a short Krylov space does not separate.
+!> the band's top), which a short Krylov space does not separate: before the
+!> driver confirmed its top by a second run (and the scene's Krylov size was
+!> 16), the scene solve ran out of restarts on the K = 3, 4 tilings of seeds
+!> 1 to 3 in 5 of 6 cases at tolerance 1e-6 and in all at 1e-10, omega_max up
+!> to 4.4e-6 below the reference (its bracket still holding it).
 module test_lanczos_top
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep_kinds, only: dp, i8, pi
@@ -29,7 +33,7 @@ contains
     type(unittest_type), allocatable, intent(out) :: testsuite(:)
     testsuite = [ &
       new_unittest("Bloch reference: the dense top of small tilings", test_reference), &
-      new_unittest("random packings tiled K = 2..4: the top within tolerance", test_tilings), &
+      new_unittest("random packings tiled K = 3, 4: the top within tolerance", test_tilings), &
       new_unittest("a light needle near the band's top, tiled: its cluster found", test_needle) &
       ]
   end subroutine collect_lanczos_top
@@ -100,7 +104,7 @@ contains
     type(critical_step_type) :: dense
     real(dp) :: lam, rate
     integer :: c
-    integer, parameter :: reps(3, 2) = reshape([2, 1, 1, 1, 1, 3], [3, 2])
+    integer, parameter :: reps(3, 2) = reshape([2, 1, 1, 1, 2, 1], [3, 2])
     call random_periodic_packing(base, 64, status, seed=1)
     call check(error, status%stat, demstep_stat%ok, status%message)
     if (allocated(error)) return
@@ -128,7 +132,7 @@ contains
     type(demstep_status_type) :: status
     integer :: c, seed, k
     ! (seed, K): two bases, each tiling's top a cluster of copies of the base's bands
-    integer, parameter :: cases(2, 3) = reshape([1, 2, 2, 3, 3, 4], [2, 3])
+    integer, parameter :: cases(2, 2) = reshape([2, 3, 3, 4], [2, 2])
     do c = 1, size(cases, 2)
       seed = cases(1, c)
       k = cases(2, c)
