@@ -169,6 +169,10 @@ module demstep_lanczos
     procedure :: seupd_status => serial_seupd_status
   end type serial_space_type
 
+  !> The values of `eigen_result_type%basis`.
+  character(len=*), parameter, public :: lanczos_basis_whole = "whole space", &
+    lanczos_basis_confirmed = "confirmed by a second start", lanczos_basis_estimate = "estimate"
+
   !> What one ARPACK run found (see `arpack_run`).
   type :: run_type
     !> A Ritz pair met the tolerance (theta and rnorm then measured on its vector).
@@ -203,8 +207,15 @@ module demstep_lanczos
     integer(i8) :: applications = 0
     !> The relative tolerance asked for (residual <= tolerance * eigenvalue).
     real(dp) :: tolerance = 0.0_dp
-    !> Krylov size and number of wanted Ritz values used.
+    !> Krylov size and number of wanted Ritz values used (the last run's).
     integer :: ncv = 0, nev = 0
+    !> What the claim that `eigenvalue` is the top (within the tolerance)
+    !> rests on: `lanczos_basis_whole` (the Krylov space was the whole space),
+    !> `lanczos_basis_confirmed` (a second run from a fresh random start did
+    !> not raise it), or `lanczos_basis_estimate` (neither: not converged or
+    !> not settled). None of them excludes an eigenvalue whose eigenvector is
+    !> missing from both starts; no inertia or probabilistic bound is made.
+    character(len=:), allocatable :: basis
     !> Which solver ran.
     character(len=:), allocatable :: solver
   end type eigen_result_type
@@ -299,6 +310,7 @@ contains
     call lanczos_options(tol, m, k, restarts, tolerance, ncv, nev, max_restarts)
     result%solver = space%solver
     result%tolerance = tol
+    result%basis = lanczos_basis_estimate
     if (present(eigenvector)) eigenvector = 0.0_dp
     call check_lanczos_options(space%caller, tol, k, m, restarts, status)
     if (status%stat /= demstep_stat%ok) return
@@ -343,6 +355,7 @@ contains
       if (status%stat /= demstep_stat%ok) return
       result%eigenvalue = y(1)
       result%converged = .true.
+      result%basis = lanczos_basis_whole
       result%error_bound = rounding_ulps*epsilon(1.0_dp)*abs(y(1))
       if (present(eigenvector)) eigenvector = 1.0_dp
       return
@@ -421,6 +434,11 @@ contains
       space%caller//": the top of the spectrum did not settle: a new start raised the " &
       //"largest eigenvalue by more than the tolerance")
     call lanczos_finish(best%theta, best%rnorm, tol, run%step_status, result, status)
+    if (settled .and. m >= space%n_global) then
+      result%basis = lanczos_basis_whole
+    else if (settled) then
+      result%basis = lanczos_basis_confirmed
+    end if
   end subroutine iterate
 
   !> One ARPACK solve from the start vector `w` with `k` wanted values in a

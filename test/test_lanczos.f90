@@ -9,7 +9,8 @@ module test_lanczos
   use demstep_lapack, only: largest_eigenpair
   use demstep_arpack, only: dsaupd, dsaupd_status, dseupd_status
   use demstep_lanczos, only: lanczos_largest, lanczos_context_type, eigen_result_type, &
-    lanczos_start_vector, lanczos_tolerance_default, lanczos_runs
+    lanczos_start_vector, lanczos_tolerance_default, lanczos_runs, lanczos_basis_confirmed, &
+    lanczos_basis_estimate, lanczos_basis_whole
   use demstep_csr, only: csr_matrix_type, csr_from_springs, csr_apply, csr_to_dense
   use test_support, only: real_str
   use demstep_progress, only: progress_type
@@ -239,6 +240,9 @@ contains
       ! (a crowded top is confirmed by a second run with twice the Krylov size)
       call check(error, r%nev == 4 .and. (r%ncv == 20 .or. r%ncv == 40), label//": nev, ncv reported")
       if (allocated(error)) return
+      ! (20 < n: the top confirmed by a second start)
+      call check(error, r%basis == lanczos_basis_confirmed, label//": basis "//r%basis)
+      if (allocated(error)) return
     end do
   end subroutine test_lattices
 
@@ -287,6 +291,8 @@ contains
     call check(error, top - r%eigenvalue <= r%error_bound, "bar")
     if (allocated(error)) return
     call check(error, all(z == 0.0_dp), "no vector")
+    if (allocated(error)) return
+    call check(error, r%basis == lanczos_basis_estimate, "basis "//r%basis)
   end subroutine test_not_converged
 
   subroutine odd_apply(context, x, y)
@@ -350,6 +356,8 @@ contains
     call check(error, status%stat, demstep_stat%ok, "n = 3")
     if (allocated(error)) return
     call check(error, r%eigenvalue, 2.5_dp, thr=1.0e-14_dp, rel=.true., message="n = 3, 2.5 I")
+    if (allocated(error)) return
+    call check(error, r%basis == lanczos_basis_whole, "n = 3: basis "//r%basis)
     if (allocated(error)) return
     call check(error, r%ncv == 3 .and. r%nev == 1, "ncv capped at n")
     if (allocated(error)) return
