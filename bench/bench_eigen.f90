@@ -53,8 +53,8 @@ program bench_eigen
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_progress, only: progress_seconds
   use demstep_lapack, only: largest_eigenpair
-  use demstep_lanczos, only: lanczos_largest, lanczos_context_type, eigen_result_type, &
-    csr_matrix_type, csr_from_springs, csr_apply, csr_to_dense
+  use demstep_lanczos, only: lanczos_largest, lanczos_context_type, eigen_result_type
+  use demstep_csr, only: csr_matrix_type, csr_from_springs, csr_apply, csr_to_dense
   use bench_eigen_dense, only: dense_operator_type, dense_operator
   !$ use omp_lib, only: omp_get_max_threads
   implicit none

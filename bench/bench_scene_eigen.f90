@@ -27,7 +27,7 @@ program bench_scene_eigen
   use demstep_neighbours, only: contact_list
   use demstep_assembly, only: assembly_critical_steps, critical_step_type, eigen_solver, &
     assembly_operator, assembly_operator_type, assembly_matrix
-  use demstep_lanczos, only: csr_matrix_type
+  use demstep_csr, only: csr_matrix_type
   !$ use omp_lib, only: omp_set_num_threads
   implicit none
 

@@ -47,7 +47,8 @@ module demstep_assembly
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use demstep_lapack, only: largest_eigenpair
   use demstep_lanczos, only: lanczos_context_type, lanczos_largest, eigen_result_type, &
-    csr_matrix_type, csr_to_dense, lanczos_tolerance_default, check_lanczos_options
+    lanczos_tolerance_default, check_lanczos_options
+  use demstep_csr, only: csr_matrix_type, csr_to_dense
   use demstep_progress, only: progress_type
   use demstep_words, only: word_index, word_of
   implicit none
@@ -95,10 +96,13 @@ module demstep_assembly
   character(len=*), parameter, public :: eigen_solver_names(4) = [character(len=7) :: "auto", &
     "dense", "lanczos", "none"]
   !> Krylov size of the scene Lanczos solve: tiled packings have clusters of
-  !> nearly equal top eigenvalues, which a larger basis separates in fewer restarts.
-  integer, parameter, public :: scene_lanczos_ncv = 16
-  !> Restarts of the scene Lanczos solve before it settles for the bracket the
-  !> Ritz value and its residual estimate give (`eigen_converged` false).
+  !> nearly equal top eigenvalues, which a larger basis separates in fewer
+  !> restarts (32: a third to a quarter of the products of 16 on tilings of
+  !> random packings; the driver doubles it when the restarts run out).
+  integer, parameter, public :: scene_lanczos_ncv = 32
+  !> Restarts of each ARPACK run of the scene Lanczos solve (at most
+  !> `lanczos_runs` runs) before it settles for the bracket the Ritz value and
+  !> its residual estimate give (`eigen_converged` false).
   integer, parameter, public :: scene_lanczos_restarts = 20
   !> Collatz-Wielandt steps of the bound after Gershgorin's (see operator_bound).
   integer, parameter, public :: bound_iterations = 2
@@ -337,7 +341,7 @@ contains
     real(dp), intent(inout), optional :: damped_vec(:)
     real(dp) :: lam, err, b_bound
     integer :: i, solver
-    logical :: has_mode
+    logical :: has_mode, converged
     status%stat = demstep_stat%ok
     result%prestress = geo
     result%dof_per_particle = op%nc
@@ -376,12 +380,11 @@ contains
     if (solver /= eigen_solver%none) then
       ! (warm start from vec when the caller gives one)
       call top_eigenpair(op, solver, tol, vec, lam, err, has_mode, result%eigen_products, &
-        result%eigen_restarts, status, progress, ncv)
+        result%eigen_restarts, status, progress, ncv, converged)
       if (status%stat /= demstep_stat%ok) return
       result%eigen_tolerance = tol
       if (solver == eigen_solver%dense) result%eigen_tolerance = epsilon(1.0_dp)
-      call assembly_set_estimates(result, rate, lam, err, solver == eigen_solver%dense .or. &
-        (has_mode .and. err <= tol*lam), b_bound, status)
+      call assembly_set_estimates(result, rate, lam, err, converged, b_bound, status)
       if (status%stat /= demstep_stat%ok) return
       if (b_bound > 0.0_dp .and. has_mode) then
         call damped_exact(op, solver, tol, rate, vec, result, status, progress, ncv, damped_vec)
@@ -495,7 +498,8 @@ contains
   !> Rayleigh quotient `lam` of the returned unit mode and its residual `err`
   !> (measured; ARPACK's estimate when Lanczos ran out of restarts without a
   !> mode, `has_mode` false). Products and restarts are added to the counts.
-  subroutine top_eigenpair(op, choice, tol, vec, lam, err, has_mode, products, restarts, status, progress, ncv)
+  subroutine top_eigenpair(op, choice, tol, vec, lam, err, has_mode, products, restarts, status, &
+      progress, ncv, converged)
     type(assembly_operator_type), intent(inout) :: op
     integer, intent(in) :: choice
     real(dp), intent(in) :: tol
@@ -508,6 +512,9 @@ contains
     class(progress_type), intent(inout), optional :: progress
     !> Krylov size of a Lanczos solve (default `scene_lanczos_ncv`).
     integer, intent(in), optional :: ncv
+    !> Whether the eigensolve met its tolerance (dense: always; Lanczos: the
+    !> residual and its check that the top settled).
+    logical, intent(out), optional :: converged
     type(eigen_result_type) :: lanczos
     type(csr_matrix_type) :: sparse
     real(dp), allocatable :: a(:, :), av(:), start(:)
@@ -515,6 +522,7 @@ contains
     has_mode = .true.
     m = scene_lanczos_ncv
     if (present(ncv)) m = ncv
+    if (present(converged)) converged = .true.
     if (choice == eigen_solver%dense) then
       ! the operator's own matrix, dense
       call assembly_matrix(op, sparse)
@@ -543,6 +551,7 @@ contains
       if (status%stat /= demstep_stat%ok) return
       lam = lanczos%eigenvalue
       err = lanczos%residual
+      if (present(converged)) converged = lanczos%converged
     end if
   end subroutine top_eigenpair
 

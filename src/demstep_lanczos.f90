@@ -1,13 +1,18 @@
 !> The largest eigenvalue (and its vector) of a large symmetric positive
 !> semi-definite operator, matrix-free, by the implicitly restarted Lanczos
-!> iteration of ARPACK (`dsaupd`/`dseupd`, mode 1, `which = 'LA'`).
+!> iteration of ARPACK (`dsaupd`/`dseupd`, mode 1, `which = 'LA'`): one
+!> driver (`lanczos_solve`) for the serial and the distributed solve.
 !>
-!> The operator comes through the abstract interface `lanczos_operator`
-!> (`y = A x`) with a context: extend `lanczos_context_type` with the data the
-!> product needs and recover it with `select type`. The product may run in
-!> parallel (OpenMP inside the callback); the driver itself is serial, starts
-!> from a fixed pseudo-random vector (never ARPACK's own random one), so a
-!> result depends on the thread count only through the rounding of the product.
+!> The driver sees the problem through `lanczos_space_type`: the product
+!> y = A x on this process's block of the vectors, the global inner product,
+!> a global "and", and ARPACK's call pair with its statuses. `lanczos_largest`
+!> is the serial solve (ARPACK, a `lanczos_operator` with its context: extend
+!> `lanczos_context_type` with the data the product needs and recover it with
+!> `select type`); the MPI package extends the space with PARPACK and a
+!> row-partitioned matrix. The product may run in parallel (OpenMP inside the
+!> callback); the driver starts from a fixed pseudo-random vector (never
+!> ARPACK's own random one), so a result depends on the thread or rank count
+!> only through the rounding of the products and sums.
 !>
 !> Tolerance and error bar. ARPACK stops when the Ritz estimate of the wanted
 !> Ritz value is at most `tolerance * theta`. The driver then measures, with one
@@ -36,9 +41,8 @@ module demstep_lanczos
   implicit none
   private
 
-  public :: lanczos_operator, lanczos_largest, lanczos_start_vector, check_lanczos_options, &
-    lanczos_finish, lanczos_options
-  public :: csr_matrix_type, csr_from_springs, csr_apply, csr_to_dense
+  public :: lanczos_operator, lanczos_largest, lanczos_solve, lanczos_start_vector, &
+    check_lanczos_options, lanczos_options, accurate_dot_parts
   public :: arpack_claim, arpack_release
 
   !> Default relative tolerance: the residual of the Ritz pair at most 1e-10 of
@@ -54,18 +58,14 @@ module demstep_lanczos
   !> The solver's name in a result.
   character(len=*), parameter, public :: lanczos_solver_name = "lanczos (ARPACK dsaupd)"
 
+  !> ARPACK runs of one solve at most (a first, its confirmation, one more when
+  !> the top rose or the restarts ran out), and how far the Krylov size may
+  !> grow (a multiple of the asked ncv) when the restarts run out.
+  integer, parameter, public :: lanczos_runs = 3, lanczos_ncv_growth = 2
+
   !> Rounding allowance of the error bar, in units of epsilon * |theta|: the
   !> residual and the Rayleigh quotient are sums of rounded products.
   real(dp), parameter, public :: rounding_ulps = 8.0_dp
-
-  !> Below this many rows a product runs on one thread: a parallel region costs
-  !> more than the ~10 flops per row it would share.
-  integer, parameter :: csr_parallel_rows = 20000
-
-  !> Whether an ARPACK iteration is under way in this process (its SAVEd
-  !> state is in use); set and cleared under the critical section
-  !> `demstep_arpack` (`arpack_claim`, `arpack_release`).
-  logical, save :: arpack_in_use = .false.
 
   !> Base of the caller's context: extend it with the operator's data.
   type, public :: lanczos_context_type
@@ -80,6 +80,114 @@ module demstep_lanczos
       real(dp), intent(out) :: y(:)
     end subroutine lanczos_operator
   end interface
+
+  !> What the Lanczos driver needs of a problem, serial or distributed: every
+  !> vector is this process's block (rows first_row .. first_row + n_local - 1
+  !> of n_global). Each procedure is collective where the space is distributed.
+  type, abstract, public :: lanczos_space_type
+    !> Global order, entries held here, global index of the first of them.
+    integer :: n_global = 0, n_local = 0, first_row = 1
+    !> The public routine that runs the solve, for messages.
+    character(len=:), allocatable :: caller
+    !> The solver's name in the result.
+    character(len=:), allocatable :: solver
+  contains
+    !> y = A x on this block.
+    procedure(space_product), deferred :: product
+    !> x.y over the whole vector, as accurate as a sum in twice the precision.
+    procedure(space_dot), deferred :: dot
+    !> True when the condition holds on every process.
+    procedure(space_all), deferred :: all_ranks
+    !> One reverse-communication step of the (P)ARPACK iteration.
+    procedure(space_saupd), deferred :: saupd
+    !> The (P)ARPACK post-processing: Ritz values and vectors.
+    procedure(space_seupd), deferred :: seupd
+    !> The statuses of saupd's and seupd's `info`.
+    procedure(space_info_status), deferred :: saupd_status, seupd_status
+  end type lanczos_space_type
+
+  abstract interface
+    subroutine space_product(space, x, y)
+      import :: dp, lanczos_space_type
+      class(lanczos_space_type), intent(inout) :: space
+      real(dp), intent(in) :: x(:)
+      real(dp), intent(out) :: y(:)
+    end subroutine space_product
+    function space_dot(space, x, y) result(s)
+      import :: dp, lanczos_space_type
+      class(lanczos_space_type), intent(inout) :: space
+      real(dp), intent(in) :: x(:), y(:)
+      real(dp) :: s
+    end function space_dot
+    function space_all(space, condition) result(held)
+      import :: lanczos_space_type
+      class(lanczos_space_type), intent(inout) :: space
+      logical, intent(in) :: condition
+      logical :: held
+    end function space_all
+    !> dsaupd's arguments with bmat = 'I', which = 'LA', n = ldv = n_local.
+    subroutine space_saupd(space, ido, nev, tol, resid, ncv, v, iparam, ipntr, workd, workl, info)
+      import :: dp, lanczos_space_type
+      class(lanczos_space_type), intent(inout) :: space
+      integer, intent(inout) :: ido
+      integer, intent(in) :: nev, ncv
+      real(dp), intent(inout) :: tol
+      real(dp), intent(inout) :: resid(:), v(:, :), workd(:), workl(:)
+      integer, intent(inout) :: iparam(:), ipntr(:), info
+    end subroutine space_saupd
+    !> dseupd's arguments with howmny = 'A', sigma = 0 and saupd's settings.
+    subroutine space_seupd(space, rvec, select, d, z, nev, tol, resid, ncv, v, iparam, ipntr, &
+        workd, workl, info)
+      import :: dp, lanczos_space_type
+      class(lanczos_space_type), intent(inout) :: space
+      logical, intent(in) :: rvec
+      logical, intent(inout) :: select(:)
+      real(dp), intent(out) :: d(:)
+      real(dp), intent(inout) :: z(:, :)
+      integer, intent(in) :: nev, ncv
+      real(dp), intent(in) :: tol
+      real(dp), intent(inout) :: resid(:), v(:, :), workd(:), workl(:)
+      integer, intent(inout) :: iparam(:), ipntr(:)
+      integer, intent(out) :: info
+    end subroutine space_seupd
+    pure function space_info_status(space, info) result(status)
+      import :: lanczos_space_type, demstep_status_type
+      class(lanczos_space_type), intent(in) :: space
+      integer, intent(in) :: info
+      type(demstep_status_type) :: status
+    end function space_info_status
+  end interface
+
+  !> The serial space: ARPACK and a `lanczos_operator` with its context.
+  type, extends(lanczos_space_type) :: serial_space_type
+    procedure(lanczos_operator), pointer, nopass :: apply => null()
+    class(lanczos_context_type), pointer :: context => null()
+  contains
+    procedure :: product => serial_product
+    procedure :: dot => serial_dot
+    procedure :: all_ranks => serial_all
+    procedure :: saupd => serial_saupd
+    procedure :: seupd => serial_seupd
+    procedure :: saupd_status => serial_saupd_status
+    procedure :: seupd_status => serial_seupd_status
+  end type serial_space_type
+
+  !> The values of `eigen_result_type%basis`.
+  character(len=*), parameter, public :: lanczos_basis_whole = "whole space", &
+    lanczos_basis_confirmed = "confirmed by a second start", lanczos_basis_estimate = "estimate"
+
+  !> What one ARPACK run found (see `arpack_run`).
+  type :: run_type
+    !> A Ritz pair met the tolerance (theta and rnorm then measured on its vector).
+    logical :: converged = .false.
+    !> The start vector was in A's null space: the zero operator.
+    logical :: zero = .false.
+    !> The top Ritz value (or Rayleigh quotient) and its residual (or ARPACK's
+    !> estimate).
+    real(dp) :: theta = 0.0_dp, rnorm = 0.0_dp
+    !> ARPACK's status (ok or not_converged).
+    type(demstep_status_type) :: step_status
+  end type run_type
 
   !> The largest eigenvalue found by an eigensolver, with its error bar and how
   !> it was obtained.
@@ -102,29 +210,31 @@ module demstep_lanczos
     integer(i8) :: applications = 0
     !> The relative tolerance asked for (residual <= tolerance * eigenvalue).
     real(dp) :: tolerance = 0.0_dp
-    !> Krylov size and number of wanted Ritz values used.
+    !> Krylov size and number of wanted Ritz values used (the last run's).
     integer :: ncv = 0, nev = 0
+    !> What the claim that `eigenvalue` is the top (within the tolerance)
+    !> rests on: `lanczos_basis_whole` (the Krylov space was the whole space),
+    !> `lanczos_basis_confirmed` (a second run from a fresh random start did
+    !> not raise it), or `lanczos_basis_estimate` (neither: not converged or
+    !> not settled). None of them excludes an eigenvalue whose eigenvector is
+    !> missing from both starts; no inertia or probabilistic bound is made.
+    character(len=:), allocatable :: basis
     !> Which solver ran.
     character(len=:), allocatable :: solver
   end type eigen_result_type
 
-  !> A sparse symmetric matrix in compressed rows, usable as a Lanczos operator
-  !> (`csr_apply`). Built from springs by `csr_from_springs`.
-  type, extends(lanczos_context_type), public :: csr_matrix_type
-    !> Order.
-    integer :: n = 0
-    !> Row i holds entries row_start(i) .. row_start(i+1)-1.
-    integer(i8), allocatable :: row_start(:)
-    !> Column and value of each entry (a column may repeat within a row).
-    integer, allocatable :: col(:)
-    real(dp), allocatable :: val(:)
-  end type csr_matrix_type
+
+  !> Whether a Lanczos solve is under way in this process (ARPACK's SAVEd
+  !> state is in use); set and cleared under the critical section
+  !> `demstep_arpack` (`arpack_claim`, `arpack_release`).
+  logical, save :: arpack_in_use = .false.
 
 contains
 
   !> The largest eigenvalue of the symmetric positive semi-definite operator
   !> `apply` of order `n` and a unit eigenvector, by ARPACK's implicitly
-  !> restarted Lanczos iteration (see the module notes for the error bar).
+  !> restarted Lanczos iteration (`lanczos_solve` on the serial space; see the
+  !> module notes for the error bar).
   !>
   !> Status: `invalid_input` for a bad argument or a non-finite product,
   !> `not_converged` when the restarts ran out (the result then holds the best
@@ -132,10 +242,10 @@ contains
   !> otherwise ARPACK's own failures (`dsaupd_status`, `dseupd_status`).
   subroutine lanczos_largest(apply, context, n, result, status, eigenvector, tolerance, ncv, &
       nev, max_restarts, progress, start)
-    !> y = A x.
+    !> y = A x (a module procedure, never an internal one).
     procedure(lanczos_operator) :: apply
     !> The operator's data, passed to `apply`.
-    class(lanczos_context_type), intent(inout) :: context
+    class(lanczos_context_type), intent(inout), target :: context
     !> Order of the operator (>= 1).
     integer, intent(in) :: n
     type(eigen_result_type), intent(out) :: result
@@ -148,7 +258,8 @@ contains
     integer, intent(in), optional :: ncv
     !> Wanted Ritz values kept at restarts, >= 1 and < ncv. Default `lanczos_nev_default`.
     integer, intent(in), optional :: nev
-    !> Maximum implicit restarts (>= 1; ARPACK's mxiter). Default `lanczos_restarts_default`.
+    !> Maximum implicit restarts of each ARPACK run (>= 1; ARPACK's mxiter; a
+    !> solve makes at most `lanczos_runs` runs). Default `lanczos_restarts_default`.
     integer, intent(in), optional :: max_restarts
     !> Reports the products made (no total: convergence is not known ahead).
     class(progress_type), intent(inout), optional :: progress
@@ -156,182 +267,72 @@ contains
     !> a thousandth of the default start vector is added, so that no
     !> eigenvector is missing from it.
     real(dp), intent(in), optional :: start(:)
-    real(dp) :: tol, theta, rnorm, znorm
-    integer :: k, m, restarts, ido, info, lworkl, nconv, ldv, itop
-    integer :: iparam(arpack_iparam_size), ipntr(arpack_iparam_size)
-    real(dp), allocatable :: v(:, :), workd(:), workl(:), resid(:), z(:, :), d(:), y(:)
-    logical, allocatable :: select(:)
-    type(demstep_status_type) :: step_status
-
-    call lanczos_options(tol, m, k, restarts, tolerance, ncv, nev, max_restarts)
+    type(serial_space_type) :: space
     result%solver = lanczos_solver_name
-    result%tolerance = tol
     if (present(eigenvector)) eigenvector = 0.0_dp
-
     if (n < 1) then
-      call set_status(status, demstep_stat%invalid_input, "lanczos_largest: n: the order " &
-        //"must be at least 1, not "//int_text(n))
+      call set_status(status, demstep_stat%invalid_input, "n: the order " &
+        //"must be at least 1, not "//int_text(n), where="lanczos_largest")
       return
     end if
     if (present(eigenvector)) then
       if (size(eigenvector) /= n) then
-        call set_status(status, demstep_stat%invalid_input, "lanczos_largest: eigenvector: " &
-          //"size "//int_text(size(eigenvector))//", need n = "//int_text(n))
+        call set_status(status, demstep_stat%invalid_input, "eigenvector: " &
+          //"size "//int_text(size(eigenvector))//", need n = "//int_text(n), where="lanczos_largest")
         return
       end if
     end if
-    call check_lanczos_options("lanczos_largest", tol, k, m, restarts, status)
-    if (status%stat /= demstep_stat%ok) return
-
-    allocate(y(n))
-    if (n == 1) then
-      ! a 1-by-1 operator is its own eigenvalue; ARPACK needs nev < ncv <= n
-      y = 1.0_dp
-      call product([1.0_dp], y, status)
-      if (status%stat /= demstep_stat%ok) return
-      result%eigenvalue = y(1)
-      result%converged = .true.
-      result%error_bound = rounding_ulps*epsilon(1.0_dp)*abs(y(1))
-      if (present(eigenvector)) eigenvector = 1.0_dp
-      return
-    end if
-    ! small operators: the whole space (k must stay below it)
-    m = min(m, n)
-    k = min(k, m - 1)
-    result%ncv = m
-    result%nev = k
-    ldv = n
-    lworkl = m*(m + 8)
-    allocate(v(n, m), workd(3*n), workl(lworkl), resid(n), d(k), select(m), z(n, k))
-    call lanczos_start_vector(resid)
-    if (present(start)) then
-      ! (a zero or non-finite start is ignored: the default start vector)
-      if (size(start) == n) then
-        if (sum(start**2) > 0.0_dp .and. sum(start**2) <= huge(1.0_dp)) &
-          resid = start/norm2(start) + 1.0e-3_dp*resid/norm2(resid)
-      end if
-    end if
-    ! ARPACK's SAVEd state: one iteration per process at a time
-    call arpack_claim(status)
-    if (status%stat /= demstep_stat%ok) return
-    iparam = 0
-    iparam(1) = 1         ! exact shifts
-    iparam(3) = restarts
-    iparam(7) = 1         ! mode 1: OP = A, B = I
-    ido = 0
-    info = 1              ! start from resid, not ARPACK's random vector
-    ! how many products convergence takes is not known ahead: no total
-    if (present(progress)) call progress%start("Lanczos products", 0_i8)
-    do
-      call dsaupd(ido, "I", n, "LA", k, tol, resid, m, v, ldv, iparam, ipntr, workd, workl, &
-        lworkl, info)
-      if (ido /= -1 .and. ido /= 1) exit
-      call product(workd(ipntr(1):ipntr(1) + n - 1), workd(ipntr(2):ipntr(2) + n - 1), status)
-      if (status%stat /= demstep_stat%ok) then
-        call arpack_release()
-        if (present(progress)) call progress%finish()
-        return
-      end if
-      if (present(progress)) call progress%update(result%applications)
-    end do
-    result%iterations = iparam(3)
-    if (info == -9) then
-      ! dsaupd's first step replaces the (nonzero) start vector x0 by A x0: it
-      ! found A x0 = 0. Under Lanczos' own assumption (x0 has a component along
-      ! every eigenvector) that makes every eigenvalue zero: the zero operator
-      ! (a scene without contacts, say)
-      call arpack_release()
-      if (present(progress)) call progress%finish()
-      result%converged = .true.
-      if (present(eigenvector)) then
-        call lanczos_start_vector(eigenvector)
-        eigenvector = eigenvector/sqrt(accurate_dot(eigenvector, eigenvector))
-      end if
-      status%stat = demstep_stat%ok
-      return
-    end if
-    step_status = dsaupd_status(info)
-    nconv = iparam(5)
-    if (step_status%stat /= demstep_stat%ok .and. step_status%stat /= demstep_stat%not_converged) then
-      call arpack_release()
-      if (present(progress)) call progress%finish()
-      status = step_status
-      return
-    end if
-
-    if (nconv < 1) then
-      ! no Ritz pair met the tolerance: the largest of the k wanted Ritz values
-      ! and ARPACK's Ritz estimate of its residual
-      itop = maxloc(workl(ipntr(6):ipntr(6) + k - 1), 1) - 1
-      result%eigenvalue = workl(ipntr(6) + itop)
-      result%residual = abs(workl(ipntr(7) + itop))
-      result%error_bound = result%residual + rounding_ulps*epsilon(1.0_dp)*abs(result%eigenvalue)
-      call arpack_release()
-      if (present(progress)) call progress%finish()
-      if (step_status%stat == demstep_stat%ok) then
-        call set_status(status, demstep_stat%not_converged, "ARPACK dsaupd: no Ritz value met " &
-          //"the tolerance")
-      else
-        status = step_status
-      end if
-      status%message = status%message//" (largest Ritz value "//real_text(result%eigenvalue) &
-        //", relative residual estimate "//real_text(result%residual/max(abs(result%eigenvalue), &
-        tiny(1.0_dp)))//" after "//int_text(result%iterations)//" restarts, tolerance " &
-        //real_text(tol)//"; raise max_restarts or ncv)"
-      return
-    end if
-
-    call dseupd(.true., "A", select, d, z, n, 0.0_dp, "I", n, "LA", k, tol, resid, m, v, ldv, &
-      iparam, ipntr, workd, workl, lworkl, info)
-    call arpack_release()
-    if (info /= 0) then
-      if (present(progress)) call progress%finish()
-      status = dseupd_status(info)
-      return
-    end if
-    ! converged values come in ascending order: the largest is the last one
-    ! computed (nconv of them, nconv <= k)
-    z(:, 1) = z(:, min(nconv, k))
-    znorm = sqrt(accurate_dot(z(:, 1), z(:, 1)))
-    if (.not. (znorm > 0.0_dp)) then
-      if (present(progress)) call progress%finish()
-      call set_status(status, demstep_stat%eigensolver_failure, "ARPACK dseupd: returned a " &
-        //"zero Ritz vector")
-      return
-    end if
-    z(:, 1) = z(:, 1)/znorm
-    ! the measured Rayleigh quotient and residual of the returned vector
-    call product(z(:, 1), y, status)
-    if (present(progress)) call progress%finish()
-    if (status%stat /= demstep_stat%ok) return
-    ! compensated sums: a plain sum of n nearly equal terms (a lattice mode) is
-    ! off by up to n*epsilon/2, 1e-12 at n = 1e5, far above the tolerance
-    theta = accurate_dot(z(:, 1), y)/accurate_dot(z(:, 1), z(:, 1))
-    y = y - theta*z(:, 1)
-    rnorm = sqrt(accurate_dot(y, y))
-    if (present(eigenvector)) eigenvector = z(:, 1)
-    call lanczos_finish(theta, rnorm, tol, step_status, result, status)
-
-  contains
-
-    !> One product, counted and checked for finiteness.
-    subroutine product(x, ax, stat)
-      real(dp), intent(in) :: x(:)
-      real(dp), intent(out) :: ax(:)
-      type(demstep_status_type), intent(out) :: stat
-      call apply(context, x, ax)
-      result%applications = result%applications + 1
-      if (.not. all(ieee_is_finite(ax))) then
-        call set_status(stat, demstep_stat%invalid_input, "lanczos_largest: the operator " &
-          //"returned a non-finite value (product "//int_text(result%applications)//")")
-        return
-      end if
-      stat%stat = demstep_stat%ok
-    end subroutine product
-
+    space%n_global = n
+    space%n_local = n
+    space%first_row = 1
+    space%caller = "lanczos_largest"
+    space%solver = lanczos_solver_name
+    space%apply => apply
+    space%context => context
+    call lanczos_solve(space, result, status, eigenvector, tolerance, ncv, nev, max_restarts, &
+      progress, start)
   end subroutine lanczos_largest
 
-  !> Claim ARPACK's SAVEd state for one iteration: status `busy` when another
+  !> The Lanczos driver for any `lanczos_space_type`, serial or distributed:
+  !> the largest eigenvalue, this block of a unit eigenvector and the error bar
+  !> (see the module notes). The options are `lanczos_largest`'s; the space's
+  !> sizes must be set and the eigenvector (when present) of size n_local on
+  !> every process. Collective where the space is; the result and status are
+  !> the same on every process. Statuses as `lanczos_largest`'s, ARPACK's
+  !> through the space's `saupd_status` and `seupd_status`.
+  subroutine lanczos_solve(space, result, status, eigenvector, tolerance, ncv, nev, &
+      max_restarts, progress, start)
+    class(lanczos_space_type), intent(inout) :: space
+    type(eigen_result_type), intent(out) :: result
+    type(demstep_status_type), intent(out) :: status
+    !> This block of the unit eigenvector (n_local).
+    real(dp), intent(out), optional :: eigenvector(:)
+    real(dp), intent(in), optional :: tolerance
+    integer, intent(in), optional :: ncv, nev, max_restarts
+    class(progress_type), intent(inout), optional :: progress
+    !> This block of a start vector (n_local), the same on every process or
+    !> absent on every process.
+    real(dp), intent(in), optional :: start(:)
+    real(dp) :: tol
+    integer :: k, m, restarts
+
+    call lanczos_options(tol, m, k, restarts, tolerance, ncv, nev, max_restarts)
+    result%solver = space%solver
+    result%tolerance = tol
+    result%basis = lanczos_basis_estimate
+    if (present(eigenvector)) eigenvector = 0.0_dp
+    call check_lanczos_options(space%caller, tol, k, m, restarts, status)
+    if (status%stat /= demstep_stat%ok) return
+    ! ARPACK's SAVEd state: one solve per process at a time
+    call arpack_claim(status)
+    if (status%stat /= demstep_stat%ok) return
+    if (present(progress)) call progress%start("Lanczos products", 0_i8)
+    call iterate(space, tol, k, m, restarts, result, status, eigenvector, progress, start)
+    if (present(progress)) call progress%finish()
+    call arpack_release()
+  end subroutine lanczos_solve
+
+  !> Claim ARPACK's SAVEd state for one solve: status `busy` when another
   !> solve (another thread) holds it, never a wait and never a shared state.
   !> Every claim is followed by one `arpack_release`.
   subroutine arpack_claim(status)
@@ -357,10 +358,258 @@ contains
     !$omp end critical (demstep_arpack)
   end subroutine arpack_release
 
-  !> The end of a Lanczos solve, serial or distributed: the result from the
-  !> measured Rayleigh quotient `theta` and residual `rnorm` of the returned unit
-  !> vector (error bar `rnorm` plus the rounding allowance), and ARPACK's status
-  !> with the numbers that say how far it got when it is not ok.
+  !> The body of `lanczos_solve` after the options' checks: ARPACK runs until
+  !> the top eigenvalue has settled. A small residual only says that some
+  !> eigenvalue lies near the Ritz value; on a crowded top (tiled packings,
+  !> lattices) a run can converge on an eigenvalue below the top while the
+  !> top's component is still small. So a converged top is confirmed by a
+  !> second run from its vector plus a fresh stretch of the start sequence
+  !> (every eigenvector gets a random component again), and accepted when the
+  !> second top does not rise above the first by more than the tolerance (the
+  !> larger of the two is kept); it is accepted at once only when the Krylov
+  !> space is the whole space. A run out of restarts is followed by one from
+  !> ARPACK's filtered start vector with twice the Krylov size (up to
+  !> `lanczos_ncv_growth` times the asked one); at most `lanczos_runs` runs.
+  subroutine iterate(space, tol, k_asked, m_asked, restarts, result, status, eigenvector, &
+      progress, start)
+    class(lanczos_space_type), intent(inout) :: space
+    real(dp), intent(in) :: tol
+    integer, intent(in) :: k_asked, m_asked, restarts
+    type(eigen_result_type), intent(inout) :: result
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(out), optional :: eigenvector(:)
+    class(progress_type), intent(inout), optional :: progress
+    real(dp), intent(in), optional :: start(:)
+    real(dp) :: norms(2)
+    integer :: n, k, m, m_cap, attempt
+    real(dp), allocatable :: w(:), z(:), best_z(:), y(:)
+    type(run_type) :: run, best
+    logical :: settled
+
+    n = space%n_local
+    allocate(y(n))
+    if (space%n_global == 1) then
+      ! a 1-by-1 operator is its own eigenvalue; ARPACK needs nev < ncv <= n
+      call product(space, [1.0_dp], y, result, status, progress)
+      if (status%stat /= demstep_stat%ok) return
+      result%eigenvalue = y(1)
+      result%converged = .true.
+      result%basis = lanczos_basis_whole
+      result%error_bound = rounding_ulps*epsilon(1.0_dp)*abs(y(1))
+      if (present(eigenvector)) eigenvector = 1.0_dp
+      return
+    end if
+    ! small operators: the whole space (k must stay below it)
+    m = min(m_asked, space%n_global)
+    m_cap = min(space%n_global, lanczos_ncv_growth*m_asked)
+    k = min(k_asked, m - 1)
+    allocate(w(n), z(n), best_z(n))
+    call lanczos_start_vector(w, space%first_row)
+    if (present(start)) then
+      ! (a zero, non-finite or wrongly sized start is ignored: the default start vector)
+      if (space%all_ranks(size(start) == n)) then
+        norms = [space%dot(start, start), space%dot(w, w)]
+        if (norms(1) > 0.0_dp .and. norms(1) <= huge(1.0_dp)) &
+          w = start/sqrt(norms(1)) + 1.0e-3_dp*w/sqrt(norms(2))
+      end if
+    end if
+    settled = .false.
+    do attempt = 1, lanczos_runs
+      result%ncv = m
+      result%nev = k
+      call arpack_run(space, tol, k, m, restarts, w, z, run, result, status, progress)
+      if (status%stat /= demstep_stat%ok) return
+      if (run%zero) then
+        ! the zero operator (see arpack_run): every eigenvalue is zero
+        result%converged = .true.
+        if (present(eigenvector)) then
+          call lanczos_start_vector(eigenvector, space%first_row)
+          eigenvector = eigenvector/sqrt(space%dot(eigenvector, eigenvector))
+        end if
+        return
+      end if
+      if (run%converged) then
+        ! no higher than the last converged top, or the whole space: settled
+        settled = m >= space%n_global
+        if (best%converged) settled = settled .or. run%theta <= best%theta*(1.0_dp + tol)
+        if (.not. best%converged .or. run%theta > best%theta) then
+          best = run
+          best_z = z
+        end if
+        if (settled) exit
+        ! confirm it: a run from the best vector and new random components
+        call lanczos_start_vector(w, space%first_row + attempt*space%n_global)
+        w = best_z + w/sqrt(space%dot(w, w))
+      else
+        if (.not. best%converged) best = run
+        ! out of restarts: go on from ARPACK's filtered start vector, with a
+        ! larger basis
+        w = z
+        m = min(2*m, m_cap)
+        k = min(k, m - 1)
+      end if
+    end do
+
+    if (.not. best%converged) then
+      ! no run met the tolerance: the largest Ritz value of the last run and
+      ! ARPACK's Ritz estimate of its residual
+      result%eigenvalue = best%theta
+      result%residual = best%rnorm
+      result%error_bound = result%residual + rounding_ulps*epsilon(1.0_dp)*abs(result%eigenvalue)
+      status = best%step_status
+      if (status%stat == demstep_stat%ok) call set_status(status, demstep_stat%not_converged, &
+        arpack_name(space%saupd_status(1))//"no Ritz value met the tolerance")
+      status%message = status%message//" (largest Ritz value "//real_text(result%eigenvalue) &
+        //", relative residual estimate "//real_text(result%residual/max(abs(result%eigenvalue), &
+        tiny(1.0_dp)))//" after "//int_text(result%iterations)//" restarts, tolerance " &
+        //real_text(tol)//"; raise max_restarts or ncv)"
+      return
+    end if
+    if (present(eigenvector)) eigenvector = best_z
+    ! (a run whose measured residual met the tolerance converged, whatever
+    ! ARPACK said of the other wanted values)
+    run%step_status%stat = demstep_stat%ok
+    if (.not. settled) call set_status(run%step_status, demstep_stat%not_converged, &
+      space%caller//": the top of the spectrum did not settle: a new start raised the " &
+      //"largest eigenvalue by more than the tolerance")
+    call lanczos_finish(best%theta, best%rnorm, tol, run%step_status, result, status)
+    if (settled .and. m >= space%n_global) then
+      result%basis = lanczos_basis_whole
+    else if (settled) then
+      result%basis = lanczos_basis_confirmed
+    end if
+  end subroutine iterate
+
+  !> One ARPACK solve from the start vector `w` with `k` wanted values in a
+  !> Krylov space of `m`: its top Ritz pair's measured Rayleigh quotient and
+  !> residual and the unit vector in `z` (converged), or the largest Ritz value
+  !> with ARPACK's estimate and the filtered start vector in `z` (out of
+  !> restarts).
+  !> `status` is ok unless the solve failed (an ARPACK error or a non-finite
+  !> product); the products and restarts are added to `result`.
+  subroutine arpack_run(space, tol, k, m, restarts, w, z, run, result, status, progress)
+    class(lanczos_space_type), intent(inout) :: space
+    real(dp), intent(in) :: tol
+    integer, intent(in) :: k, m, restarts
+    real(dp), intent(in) :: w(:)
+    real(dp), intent(out) :: z(:)
+    type(run_type), intent(out) :: run
+    type(eigen_result_type), intent(inout) :: result
+    type(demstep_status_type), intent(out) :: status
+    class(progress_type), intent(inout), optional :: progress
+    real(dp) :: rnorm, znorm, tol_used
+    integer :: n, ido, info, lworkl, nconv, itop
+    integer :: iparam(arpack_iparam_size), ipntr(arpack_iparam_size)
+    real(dp), allocatable :: v(:, :), workd(:), workl(:), resid(:), zz(:, :), d(:), y(:)
+    logical, allocatable :: select(:)
+
+    n = space%n_local
+    lworkl = m*(m + 8)
+    allocate(v(n, m), workd(3*n), workl(lworkl), resid(n), d(k), select(m), zz(n, k), y(n))
+    workl = 0.0_dp
+    resid = w
+    z = 0.0_dp
+    iparam = 0
+    iparam(1) = 1         ! exact shifts
+    iparam(3) = restarts
+    iparam(7) = 1         ! mode 1: OP = A, B = I
+    ido = 0
+    info = 1              ! start from resid, not ARPACK's random vector
+    tol_used = tol
+    do
+      call space%saupd(ido, k, tol_used, resid, m, v, iparam, ipntr, workd, workl, info)
+      if (ido /= -1 .and. ido /= 1) exit
+      call product(space, workd(ipntr(1):ipntr(1) + n - 1), workd(ipntr(2):ipntr(2) + n - 1), &
+        result, status, progress)
+      ! every process leaves the loop together: a distributed ARPACK waits on all
+      if (status%stat /= demstep_stat%ok) return
+    end do
+    result%iterations = result%iterations + iparam(3)
+    status%stat = demstep_stat%ok
+    if (info == -9) then
+      ! ARPACK's first step replaces the (nonzero) start vector x0 by A x0: it
+      ! found A x0 = 0. Under Lanczos' own assumption (x0 has a component along
+      ! every eigenvector) that makes every eigenvalue zero: the zero operator
+      ! (a scene without contacts, say)
+      run%zero = .true.
+      return
+    end if
+    run%step_status = space%saupd_status(info)
+    nconv = iparam(5)
+    if (run%step_status%stat /= demstep_stat%ok .and. &
+        run%step_status%stat /= demstep_stat%not_converged) then
+      status = run%step_status
+      return
+    end if
+    if (nconv < 1) then
+      ! no Ritz pair met the tolerance: the largest of the k wanted Ritz values
+      ! and ARPACK's Ritz estimate of its residual; the filtered start vector
+      itop = maxloc(workl(ipntr(6):ipntr(6) + k - 1), 1) - 1
+      run%theta = workl(ipntr(6) + itop)
+      run%rnorm = abs(workl(ipntr(7) + itop))
+      z = v(:, 1)
+      return
+    end if
+
+    call space%seupd(.true., select, d, zz, k, tol_used, resid, m, v, iparam, ipntr, workd, &
+      workl, info)
+    if (info /= 0) then
+      status = space%seupd_status(info)
+      return
+    end if
+    ! converged values come in ascending order: the largest is the last one
+    ! computed (nconv of them, nconv <= k)
+    z = zz(:, min(nconv, k))
+    znorm = sqrt(space%dot(z, z))
+    if (.not. (znorm > 0.0_dp)) then
+      call set_status(status, demstep_stat%eigensolver_failure, arpack_name(space%seupd_status(1)) &
+        //"returned a zero Ritz vector")
+      return
+    end if
+    z = z/znorm
+    ! the measured Rayleigh quotient and residual of the returned vector
+    call product(space, z, y, result, status, progress)
+    if (status%stat /= demstep_stat%ok) return
+    ! compensated sums: a plain sum of n nearly equal terms (a lattice mode) is
+    ! off by up to n*epsilon/2, 1e-12 at n = 1e5, far above the tolerance
+    run%theta = space%dot(z, y)/space%dot(z, z)
+    y = y - run%theta*z
+    rnorm = sqrt(space%dot(y, y))
+    run%rnorm = rnorm
+    run%converged = rnorm <= tol*abs(run%theta) .or. run%step_status%stat == demstep_stat%ok
+  end subroutine arpack_run
+
+  !> The routine's name that starts an ARPACK status message ("ARPACK dsaupd: ").
+  pure function arpack_name(status) result(who)
+    type(demstep_status_type), intent(in) :: status
+    character(len=:), allocatable :: who
+    who = ""
+    if (allocated(status%message)) who = status%message(:index(status%message, ": ") + 1)
+  end function arpack_name
+
+  !> One product, counted, reported and checked for finiteness on every process.
+  subroutine product(space, x, ax, result, status, progress)
+    class(lanczos_space_type), intent(inout) :: space
+    real(dp), intent(in) :: x(:)
+    real(dp), intent(out) :: ax(:)
+    type(eigen_result_type), intent(inout) :: result
+    type(demstep_status_type), intent(out) :: status
+    class(progress_type), intent(inout), optional :: progress
+    call space%product(x, ax)
+    result%applications = result%applications + 1
+    if (present(progress)) call progress%update(result%applications)
+    if (.not. space%all_ranks(all(ieee_is_finite(ax)))) then
+      call set_status(status, demstep_stat%invalid_input, space%caller//": the operator " &
+        //"returned a non-finite value (product "//int_text(result%applications)//")")
+      return
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine product
+
+  !> The end of a Lanczos solve: the result from the measured Rayleigh quotient
+  !> `theta` and residual `rnorm` of the returned unit vector (error bar
+  !> `rnorm` plus the rounding allowance), and ARPACK's status with the
+  !> numbers that say how far it got when it is not ok.
   pure subroutine lanczos_finish(theta, rnorm, tol, step_status, result, status)
     real(dp), intent(in) :: theta, rnorm, tol
     !> The status of the iteration (ok or not_converged).
@@ -377,184 +626,113 @@ contains
       //" after "//int_text(result%iterations)//" restarts, tolerance "//real_text(tol)//")"
   end subroutine lanczos_finish
 
-  !> x.y by compensated summation (Ogita, Rump and Oishi's Dot2): as accurate
-  !> as a sum in twice the working precision, then rounded.
-  pure function accurate_dot(x, y) result(s)
+  !> x.y by compensated summation (Ogita, Rump and Oishi's Dot2) as the pair
+  !> (sum, its rounding error): sum(parts) is as accurate as a sum in twice the
+  !> working precision. The pairs of several blocks add up (a distributed dot).
+  pure function accurate_dot_parts(x, y) result(parts)
     real(dp), intent(in) :: x(:), y(:)
-    real(dp) :: s
-    real(dp) :: p, q, h, r, c
+    real(dp) :: parts(2)
+    real(dp) :: p, q, h, r
     integer :: i
-    s = 0.0_dp
-    c = 0.0_dp
+    parts = 0.0_dp
     do i = 1, size(x)
       call two_prod(x(i), y(i), h, r)
-      call two_sum(s, h, p, q)
-      s = p
-      c = c + (q + r)
+      call two_sum(parts(1), h, p, q)
+      parts(1) = p
+      parts(2) = parts(2) + (q + r)
     end do
-    s = s + c
-  end function accurate_dot
+  end function accurate_dot_parts
 
   !> The fixed start vector: a Park-Miller (minimal standard, multiplier 48271)
-  !> sequence from seed 1, mapped to (-0.5, 0.5). The same for every run and
-  !> thread count, and with a component along any eigenvector in practice.
-  pure subroutine lanczos_start_vector(x)
-    !> Filled with the sequence.
+  !> sequence from seed 1, mapped to (-0.5, 0.5). The same for every run,
+  !> thread and rank count, and with a component along any eigenvector in
+  !> practice. A block from global index `first` on is entered by modular
+  !> powers (a distributed vector's block).
+  pure subroutine lanczos_start_vector(x, first)
+    !> Filled with entries first .. first + size(x) - 1 of the sequence.
     real(dp), intent(out) :: x(:)
+    !> Global index of x(1) (default 1).
+    integer, intent(in), optional :: first
     integer(i8), parameter :: modulus = 2147483647_i8, multiplier = 48271_i8
-    integer(i8) :: state
-    integer :: i
+    integer(i8) :: state, base
+    integer :: i, k
+    ! state after first - 1 steps: multiplier**(first - 1) mod modulus
     state = 1_i8
+    base = multiplier
+    k = 0
+    if (present(first)) k = first - 1
+    do while (k > 0)
+      if (mod(k, 2) == 1) state = mod(state*base, modulus)
+      base = mod(base*base, modulus)
+      k = k/2
+    end do
     do i = 1, size(x)
       state = mod(multiplier*state, modulus)
       x(i) = real(state, dp)/real(modulus, dp) - 0.5_dp
     end do
   end subroutine lanczos_start_vector
 
-  !> Assemble the n-by-n matrix sum_e k_e (u_i - u_j)(u_i - u_j)^T + diag(ground)
-  !> of springs e between nodes i = first(e) and j = second(e) (a weighted graph
-  !> Laplacian, positive semi-definite for k_e >= 0, ground >= 0), optionally
-  !> mass-scaled: M^-1/2 (...) M^-1/2. O(n + springs) time and memory.
-  !> Status `invalid_input` for an index out of 1..n, i = j, a negative or
-  !> non-finite stiffness, ground or a non-positive mass, or mismatched sizes.
-  subroutine csr_from_springs(n, first, second, stiffness, matrix, status, ground, mass)
-    !> Number of nodes (>= 1).
-    integer, intent(in) :: n
-    !> Ends of each spring.
-    integer, intent(in) :: first(:), second(:)
-    !> Spring stiffness (>= 0).
-    real(dp), intent(in) :: stiffness(:)
-    type(csr_matrix_type), intent(out) :: matrix
-    type(demstep_status_type), intent(out) :: status
-    !> Stiffness to ground of each node (>= 0, size n); default none.
-    real(dp), intent(in), optional :: ground(:)
-    !> Mass of each node (> 0, size n); default 1.
-    real(dp), intent(in), optional :: mass(:)
-    integer :: e, i, j, ns
-    integer(i8), allocatable :: fill(:)
-    real(dp), allocatable :: scale(:)
-    ns = size(first)
-    if (n < 1 .or. size(second) /= ns .or. size(stiffness) /= ns) then
-      call set_status(status, demstep_stat%invalid_input, "csr_from_springs: need n >= 1 " &
-        //"and first, second, stiffness of one size")
-      return
-    end if
-    if (any(first < 1 .or. first > n .or. second < 1 .or. second > n .or. first == second)) then
-      call set_status(status, demstep_stat%invalid_input, "csr_from_springs: first, second: " &
-        //"each spring joins two different nodes in 1..n")
-      return
-    end if
-    if (.not. all(ieee_is_finite(stiffness) .and. stiffness >= 0.0_dp)) then
-      call set_status(status, demstep_stat%invalid_input, "csr_from_springs: stiffness: " &
-        //"must be finite and >= 0")
-      return
-    end if
-    allocate(scale(n))
-    scale = 1.0_dp
-    if (present(mass)) then
-      if (size(mass) /= n) then
-        call set_status(status, demstep_stat%invalid_input, "csr_from_springs: mass: need size n")
-        return
-      end if
-      if (.not. all(ieee_is_finite(mass) .and. mass > 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "csr_from_springs: mass: must " &
-          //"be finite and > 0")
-        return
-      end if
-      scale = 1.0_dp/sqrt(mass)
-    end if
-    if (present(ground)) then
-      if (size(ground) /= n) then
-        call set_status(status, demstep_stat%invalid_input, "csr_from_springs: ground: need size n")
-        return
-      end if
-      if (.not. all(ieee_is_finite(ground) .and. ground >= 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "csr_from_springs: ground: must " &
-          //"be finite and >= 0")
-        return
-      end if
-    end if
-    matrix%n = n
-    ! row i: its diagonal first, then one entry per spring at i
-    allocate(matrix%row_start(n + 1), fill(n))
-    fill = 1_i8
-    do e = 1, ns
-      fill(first(e)) = fill(first(e)) + 1
-      fill(second(e)) = fill(second(e)) + 1
-    end do
-    matrix%row_start(1) = 1
-    do i = 1, n
-      matrix%row_start(i + 1) = matrix%row_start(i) + fill(i)
-    end do
-    allocate(matrix%col(matrix%row_start(n + 1) - 1), matrix%val(matrix%row_start(n + 1) - 1))
-    do i = 1, n
-      matrix%col(matrix%row_start(i)) = i
-      matrix%val(matrix%row_start(i)) = 0.0_dp
-      if (present(ground)) matrix%val(matrix%row_start(i)) = ground(i)
-    end do
-    fill = matrix%row_start(1:n) + 1
-    do e = 1, ns
-      i = first(e)
-      j = second(e)
-      matrix%val(matrix%row_start(i)) = matrix%val(matrix%row_start(i)) + stiffness(e)
-      matrix%val(matrix%row_start(j)) = matrix%val(matrix%row_start(j)) + stiffness(e)
-      matrix%col(fill(i)) = j
-      matrix%val(fill(i)) = -stiffness(e)
-      fill(i) = fill(i) + 1
-      matrix%col(fill(j)) = i
-      matrix%val(fill(j)) = -stiffness(e)
-      fill(j) = fill(j) + 1
-    end do
-    if (present(mass)) then
-      do i = 1, n
-        do e = int(matrix%row_start(i)), int(matrix%row_start(i + 1) - 1)
-          matrix%val(e) = matrix%val(e)*scale(i)*scale(matrix%col(e))
-        end do
-      end do
-    end if
-    status%stat = demstep_stat%ok
-  end subroutine csr_from_springs
-
-  !> y = A x for a `csr_matrix_type` (a `lanczos_operator`). Rows run in
-  !> parallel under OpenMP; each row is summed in a fixed order by one thread,
-  !> so the result is the same for every thread count, bit for bit.
-  subroutine csr_apply(context, x, y)
-    class(lanczos_context_type), intent(inout) :: context
+  subroutine serial_product(space, x, y)
+    class(serial_space_type), intent(inout) :: space
     real(dp), intent(in) :: x(:)
     real(dp), intent(out) :: y(:)
-    integer :: i
-    integer(i8) :: p
-    real(dp) :: s
-    y = 0.0_dp
-    select type (context)
-    class is (csr_matrix_type)
-      !$omp parallel do private(i, p, s) schedule(static) if(context%n >= csr_parallel_rows)
-      do i = 1, context%n
-        s = 0.0_dp
-        do p = context%row_start(i), context%row_start(i + 1) - 1
-          s = s + context%val(p)*x(context%col(p))
-        end do
-        y(i) = s
-      end do
-      !$omp end parallel do
-    end select
-  end subroutine csr_apply
+    call space%apply(space%context, x, y)
+  end subroutine serial_product
 
-  !> The dense matrix of a `csr_matrix_type` (for small checks).
-  pure subroutine csr_to_dense(matrix, a)
-    type(csr_matrix_type), intent(in) :: matrix
-    !> n-by-n.
-    real(dp), allocatable, intent(out) :: a(:, :)
-    integer :: i
-    integer(i8) :: p
-    allocate(a(matrix%n, matrix%n))
-    a = 0.0_dp
-    do i = 1, matrix%n
-      do p = matrix%row_start(i), matrix%row_start(i + 1) - 1
-        a(i, matrix%col(p)) = a(i, matrix%col(p)) + matrix%val(p)
-      end do
-    end do
-  end subroutine csr_to_dense
+  function serial_dot(space, x, y) result(s)
+    class(serial_space_type), intent(inout) :: space
+    real(dp), intent(in) :: x(:), y(:)
+    real(dp) :: s
+    s = sum(accurate_dot_parts(x, y))
+  end function serial_dot
+
+  function serial_all(space, condition) result(held)
+    class(serial_space_type), intent(inout) :: space
+    logical, intent(in) :: condition
+    logical :: held
+    held = condition
+  end function serial_all
+
+  subroutine serial_saupd(space, ido, nev, tol, resid, ncv, v, iparam, ipntr, workd, workl, info)
+    class(serial_space_type), intent(inout) :: space
+    integer, intent(inout) :: ido
+    integer, intent(in) :: nev, ncv
+    real(dp), intent(inout) :: tol
+    real(dp), intent(inout) :: resid(:), v(:, :), workd(:), workl(:)
+    integer, intent(inout) :: iparam(:), ipntr(:), info
+    call dsaupd(ido, "I", space%n_local, "LA", nev, tol, resid, ncv, v, space%n_local, iparam, &
+      ipntr, workd, workl, size(workl), info)
+  end subroutine serial_saupd
+
+  subroutine serial_seupd(space, rvec, select, d, z, nev, tol, resid, ncv, v, iparam, ipntr, &
+      workd, workl, info)
+    class(serial_space_type), intent(inout) :: space
+    logical, intent(in) :: rvec
+    logical, intent(inout) :: select(:)
+    real(dp), intent(out) :: d(:)
+    real(dp), intent(inout) :: z(:, :)
+    integer, intent(in) :: nev, ncv
+    real(dp), intent(in) :: tol
+    real(dp), intent(inout) :: resid(:), v(:, :), workd(:), workl(:)
+    integer, intent(inout) :: iparam(:), ipntr(:)
+    integer, intent(out) :: info
+    call dseupd(rvec, "A", select, d, z, space%n_local, 0.0_dp, "I", space%n_local, "LA", nev, &
+      tol, resid, ncv, v, space%n_local, iparam, ipntr, workd, workl, size(workl), info)
+  end subroutine serial_seupd
+
+  pure function serial_saupd_status(space, info) result(status)
+    class(serial_space_type), intent(in) :: space
+    integer, intent(in) :: info
+    type(demstep_status_type) :: status
+    status = dsaupd_status(info)
+  end function serial_saupd_status
+
+  pure function serial_seupd_status(space, info) result(status)
+    class(serial_space_type), intent(in) :: space
+    integer, intent(in) :: info
+    type(demstep_status_type) :: status
+    status = dseupd_status(info)
+  end function serial_seupd_status
 
   !> The Lanczos options a driver was given, the defaults where it was not (one
   !> place for the serial and the distributed driver; `check_lanczos_options`

@@ -1,14 +1,16 @@
 !> LAPACK through explicit interfaces, in one place, with `info` turned into a
 !> message. Only what demstep needs: the largest eigenpair of a symmetric
-!> matrix, and the spectral radius of a general one (a one-step map's, the
-!> reference for the damped stability limit).
+!> matrix, the largest eigenvalue of a complex Hermitian one (a periodic
+!> system's Bloch operator, the reference for tiled packings), and the spectral
+!> radius of a general one (a one-step map's, the reference for the damped
+!> stability limit).
 module demstep_lapack
   use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   implicit none
   private
 
-  public :: largest_eigenpair, spectral_radius
+  public :: largest_eigenpair, spectral_radius, largest_hermitian_eigenvalue
 
   interface
     !> LAPACK dsyevr: selected eigenvalues (and vectors) of a real symmetric matrix
@@ -37,9 +39,55 @@ module demstep_lapack
       real(dp), intent(inout) :: work(*)
       integer, intent(out) :: info
     end subroutine dgeev
+
+    !> LAPACK zheev: all eigenvalues (and optionally vectors) of a complex
+    !> Hermitian matrix, ascending.
+    pure subroutine zheev(jobz, uplo, n, a, lda, w, work, lwork, rwork, info)
+      import :: dp
+      character(len=1), intent(in) :: jobz, uplo
+      integer, intent(in) :: n, lda, lwork
+      complex(dp), intent(inout) :: a(lda, *)
+      real(dp), intent(out) :: w(*)
+      complex(dp), intent(inout) :: work(*)
+      real(dp), intent(inout) :: rwork(*)
+      integer, intent(out) :: info
+    end subroutine zheev
   end interface
 
 contains
+
+  !> The largest eigenvalue of the complex Hermitian matrix `a` (its lower
+  !> triangle is used and destroyed), by zheev (eigenvalues only). Status
+  !> `lapack_failure` with LAPACK's info explained.
+  subroutine largest_hermitian_eigenvalue(a, eigenvalue, status)
+    !> n-by-n Hermitian matrix; destroyed.
+    complex(dp), intent(inout) :: a(:, :)
+    real(dp), intent(out) :: eigenvalue
+    type(demstep_status_type), intent(out) :: status
+    complex(dp), allocatable :: work(:)
+    complex(dp) :: work_query(1)
+    real(dp), allocatable :: w(:), rwork(:)
+    integer :: n, info
+    n = size(a, 1)
+    eigenvalue = 0.0_dp
+    if (n < 1 .or. size(a, 2) /= n) then
+      call set_status(status, demstep_stat%invalid_input, "need " &
+        //"an n-by-n matrix, n >= 1", where="largest_hermitian_eigenvalue")
+      return
+    end if
+    allocate(w(n), rwork(max(1, 3*n - 2)))
+    call zheev("N", "L", n, a, n, w, work_query, -1, rwork, info)
+    if (info == 0) then
+      allocate(work(max(1, int(real(work_query(1), dp)))))
+      call zheev("N", "L", n, a, n, w, work, size(work), rwork, info)
+    end if
+    if (info /= 0) then
+      call set_status(status, demstep_stat%lapack_failure, info_message(info, "zheev"))
+      return
+    end if
+    eigenvalue = w(n)
+    status%stat = demstep_stat%ok
+  end subroutine largest_hermitian_eigenvalue
 
   !> The largest eigenvalue of the symmetric matrix `a` (its lower triangle is
   !> used and overwritten) and a unit eigenvector, by dsyevr with an index range.

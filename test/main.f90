@@ -27,6 +27,7 @@ program tester
   use test_material, only: collect_material
   use test_mfix, only: collect_mfix
   use test_lanczos, only: collect_lanczos
+  use test_lanczos_top, only: collect_lanczos_top
   use test_app_mfix, only: collect_app_mfix
   use test_app_material, only: collect_app_material
   use test_recommend, only: collect_recommend
@@ -72,6 +73,7 @@ program tester
     new_testsuite("material", collect_material), &
     new_testsuite("mfix", collect_mfix), &
     new_testsuite("lanczos", collect_lanczos), &
+    new_testsuite("lanczos_top", collect_lanczos_top), &
     new_testsuite("app_mfix", collect_app_mfix), &
     new_testsuite("app_material", collect_app_material), &
     new_testsuite("recommend", collect_recommend), &

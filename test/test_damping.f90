@@ -6,13 +6,11 @@
 module test_damping
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
-  use demstep_assembly, only: assembly_matrix, assembly_operator
-  use demstep_lanczos, only: csr_matrix_type
-  use demstep_assembly, only: assembly_operator_type
+  use demstep_assembly, only: assembly_matrix, assembly_operator, assembly_operator_type, &
+    damped_lower_bound
+  use demstep_csr, only: csr_matrix_type, csr_to_dense
   use demstep_interaction, only: contact_block, contact_forces, rolling_moments, contact_product
   use demstep_lapack, only: spectral_radius
-  use demstep_lanczos, only: csr_to_dense
-  use demstep_assembly, only: damped_lower_bound
   use demstep_scene_data, only: contact_values, wall_values, contact_dashpots
   use test_support, only: real_str, seed_fixed
   implicit none

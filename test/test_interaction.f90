@@ -11,7 +11,7 @@ module test_interaction
   use demstep_kinds, only: pi
   use demstep_interaction, only: contact_block, contact_forces, normal_force, normal_stiffness, &
     tangential_stiffness, reduced_radius
-  use demstep_lanczos, only: csr_matrix_type, csr_to_dense
+  use demstep_csr, only: csr_matrix_type, csr_to_dense
   use demstep_lapack, only: largest_eigenpair
   use test_support, only: real_str
   !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads

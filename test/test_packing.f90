@@ -14,7 +14,7 @@ module test_packing
   use demstep_interaction, only: contact_law
   use demstep_assembly, only: assembly_critical_steps, critical_step_type, eigen_solver, &
     assembly_operator, assembly_operator_type, assembly_matrix
-  use demstep_lanczos, only: csr_matrix_type, csr_to_dense
+  use demstep_csr, only: csr_matrix_type, csr_to_dense
   use demstep_lapack, only: largest_eigenpair
   use test_support, only: real_str, ieee_nan
   implicit none

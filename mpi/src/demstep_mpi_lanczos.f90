@@ -1,7 +1,8 @@
 !> The largest eigenvalue of a symmetric positive semi-definite sparse operator
 !> whose rows are partitioned across MPI ranks, by PARPACK's Lanczos iteration:
-!> the distributed counterpart of `demstep_lanczos`'s `lanczos_largest`, with
-!> the same start vector, stopping rule and error bar.
+!> `demstep_lanczos`'s one driver (`lanczos_solve`) on a distributed space, so
+!> the same start vector, stopping rule, error bar and messages as the serial
+!> `lanczos_largest`.
 !>
 !> Partition. Rank r owns the contiguous block of global rows
 !> `first_row .. first_row + n_local - 1`; blocks follow the rank order and
@@ -23,12 +24,9 @@ module demstep_mpi_lanczos
   use mpi_f08
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_arpack, only: arpack_iparam_size
   use demstep_parpack, only: pdsaupd, pdseupd, pdsaupd_status, pdseupd_status
-  use demstep_lanczos, only: check_lanczos_options, eigen_result_type, lanczos_options, &
-    lanczos_finish, rounding_ulps
-  use demstep_double_double, only: two_sum, two_prod
-  use demstep_text, only: int_text, real_text
+  use demstep_lanczos, only: eigen_result_type, lanczos_space_type, lanczos_solve, &
+    lanczos_start_vector, accurate_dot_parts
   use demstep_progress, only: progress_type
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
@@ -63,6 +61,20 @@ module demstep_mpi_lanczos
     !> The extended vector [own x, halo] and the send buffer.
     real(dp), allocatable :: x_ext(:), send_buffer(:)
   end type dist_csr_type
+
+  !> The distributed Lanczos space: PARPACK and a `dist_csr_type`'s product,
+  !> inner products and "and" reduced over the matrix's communicator.
+  type, extends(lanczos_space_type) :: dist_space_type
+    type(dist_csr_type), pointer :: matrix => null()
+  contains
+    procedure :: product => dist_product
+    procedure :: dot => dist_dot
+    procedure :: all_ranks => dist_all
+    procedure :: saupd => dist_saupd
+    procedure :: seupd => dist_seupd
+    procedure :: saupd_status => dist_saupd_status
+    procedure :: seupd_status => dist_seupd_status
+  end type dist_space_type
 
 contains
 
@@ -298,39 +310,24 @@ contains
       + storage_size(matrix%send_buffer, i8)*size(matrix%send_buffer, kind=i8))/8_i8
   end function dist_csr_bytes
 
-  !> This rank's block of `lanczos_start_vector`'s global vector (the same
-  !> Park-Miller sequence, entered at `first_row` by modular powers), so the
-  !> distributed iteration starts where the serial one does.
+  !> This rank's block of `lanczos_start_vector`'s global vector (entered at
+  !> `first_row`), so the distributed iteration starts where the serial one does.
   pure subroutine dist_start_vector(first_row, x)
     !> Global index of x(1).
     integer, intent(in) :: first_row
     !> Filled with entries first_row .. first_row + size(x) - 1.
     real(dp), intent(out) :: x(:)
-    integer(i8), parameter :: modulus = 2147483647_i8, multiplier = 48271_i8
-    integer(i8) :: state, base
-    integer :: i, k
-    ! state after first_row - 1 steps: multiplier**(first_row - 1) mod modulus
-    state = 1_i8
-    base = multiplier
-    k = first_row - 1
-    do while (k > 0)
-      if (mod(k, 2) == 1) state = mod(state*base, modulus)
-      base = mod(base*base, modulus)
-      k = k/2
-    end do
-    do i = 1, size(x)
-      state = mod(multiplier*state, modulus)
-      x(i) = real(state, dp)/real(modulus, dp) - 0.5_dp
-    end do
+    call lanczos_start_vector(x, first_row)
   end subroutine dist_start_vector
 
   !> The largest eigenvalue of the distributed operator and this rank's block of
-  !> a unit eigenvector, by PARPACK (the arguments and statuses of
-  !> `lanczos_largest`; PARPACK's failures through `pdsaupd_status`,
-  !> `pdseupd_status`). Collective; the result is the same on every rank.
+  !> a unit eigenvector, by PARPACK: `lanczos_solve` (the serial driver's
+  !> arguments, statuses and error bar) on the distributed space, PARPACK's
+  !> failures through `pdsaupd_status`, `pdseupd_status`. Collective; the
+  !> result is the same on every rank.
   subroutine parallel_lanczos_largest(matrix, result, status, eigenvector, tolerance, ncv, &
       nev, max_restarts, progress, start)
-    type(dist_csr_type), intent(inout) :: matrix
+    type(dist_csr_type), intent(inout), target :: matrix
     type(eigen_result_type), intent(out) :: result
     type(demstep_status_type), intent(out) :: status
     !> This rank's block of the unit eigenvector (n_local).
@@ -348,189 +345,100 @@ contains
     !> This rank's block of a start vector (n_local; a warm start, as the
     !> serial `lanczos_largest`'s), the same on every rank or absent on every rank.
     real(dp), intent(in), optional :: start(:)
-    real(dp) :: tol, theta, rnorm, znorm
-    integer :: k, m, restarts, ido, info, lworkl, nconv, n, itop, fcomm
-    integer :: iparam(arpack_iparam_size), ipntr(arpack_iparam_size)
-    real(dp), allocatable :: v(:, :), workd(:), workl(:), resid(:), z(:, :), d(:), y(:)
-    logical, allocatable :: select(:)
-    type(demstep_status_type) :: step_status
-
-    call lanczos_options(tol, m, k, restarts, tolerance, ncv, nev, max_restarts)
+    type(dist_space_type) :: space
     result%solver = parallel_lanczos_solver_name
-    result%tolerance = tol
-    n = matrix%n_local
     if (present(eigenvector)) eigenvector = 0.0_dp
     if (matrix%n_global < 1) then
       call set_status(status, demstep_stat%invalid_input, "parallel_lanczos_largest: " &
         //"matrix: not built by dist_csr_create")
       return
     end if
+    space%matrix => matrix
+    space%n_global = matrix%n_global
+    space%n_local = matrix%n_local
+    space%first_row = matrix%first_row
+    space%caller = "parallel_lanczos_largest"
+    space%solver = parallel_lanczos_solver_name
     ! the arguments are the same on every rank but the eigenvector's size
     if (present(eigenvector)) then
-      if (.not. all_ranks(size(eigenvector) == n)) then
+      if (.not. space%all_ranks(size(eigenvector) == matrix%n_local)) then
         call set_status(status, demstep_stat%invalid_input, "parallel_lanczos_largest: " &
           //"eigenvector: need this rank's n_local entries on every rank")
         return
       end if
     end if
-    call check_lanczos_options("parallel_lanczos_largest", tol, k, m, restarts, status)
-    if (status%stat /= demstep_stat%ok) return
-    if (present(progress)) call progress%start("Lanczos products", 0_i8)
-    call iterate()
-    if (present(progress)) call progress%finish()
-
-  contains
-
-    !> resid = start/|start| + 1e-3 resid/|resid| (global norms), when start
-    !> is non-zero on some rank and has n_local entries on every rank.
-    subroutine warm_start()
-      real(dp) :: norms(2)
-      logical :: fits
-      fits = size(start) == n
-      call MPI_Allreduce(MPI_IN_PLACE, fits, 1, MPI_LOGICAL, MPI_LAND, matrix%graph)
-      if (.not. fits) return
-      norms = [sum(start**2), sum(resid**2)]
-      call MPI_Allreduce(MPI_IN_PLACE, norms, 2, MPI_DOUBLE_PRECISION, MPI_SUM, matrix%graph)
-      if (.not. norms(1) > 0.0_dp) return
-      resid = start/sqrt(norms(1)) + 1.0e-3_dp*resid/sqrt(norms(2))
-    end subroutine warm_start
-
-    !> The iteration, the eigenvector and the error bar.
-    subroutine iterate()
-      allocate(y(n))
-      if (matrix%n_global == 1) then
-        ! one rank, one row: the operator is its own eigenvalue
-        call product([1.0_dp], y, status)
-        if (status%stat /= demstep_stat%ok) return
-        result%eigenvalue = y(1)
-        result%converged = .true.
-        result%error_bound = rounding_ulps*epsilon(1.0_dp)*abs(y(1))
-        if (present(eigenvector)) eigenvector = 1.0_dp
-        return
-      end if
-      m = min(m, matrix%n_global)
-      k = min(k, m - 1)
-      result%ncv = m
-      result%nev = k
-      lworkl = m*(m + 8)
-      allocate(v(n, m), workd(3*n), workl(lworkl), resid(n), d(k), select(m), z(n, k))
-      call dist_start_vector(matrix%first_row, resid)
-      if (present(start)) call warm_start()
-      fcomm = matrix%graph%MPI_VAL
-      iparam = 0
-      iparam(1) = 1         ! exact shifts
-      iparam(3) = restarts
-      iparam(7) = 1         ! mode 1: OP = A, B = I
-      ido = 0
-      info = 1              ! start from resid
-      do
-        call pdsaupd(fcomm, ido, "I", n, "LA", k, tol, resid, m, v, n, iparam, ipntr, workd, &
-          workl, lworkl, info)
-        if (ido /= -1 .and. ido /= 1) exit
-        call product(workd(ipntr(1):ipntr(1) + n - 1), workd(ipntr(2):ipntr(2) + n - 1), status)
-        ! every rank leaves the loop together: PARPACK waits on all of them
-        if (status%stat /= demstep_stat%ok) return
-      end do
-      result%iterations = iparam(3)
-      if (info == -9) then
-        ! A x0 = 0 for the start vector: the zero operator (see lanczos_largest)
-        result%converged = .true.
-        if (present(eigenvector)) then
-          call dist_start_vector(matrix%first_row, eigenvector)
-          eigenvector = eigenvector/sqrt(global_dot(eigenvector, eigenvector))
-        end if
-        status%stat = demstep_stat%ok
-        return
-      end if
-      step_status = pdsaupd_status(info)
-      nconv = iparam(5)
-      if (step_status%stat /= demstep_stat%ok .and. step_status%stat /= demstep_stat%not_converged) then
-        status = step_status
-        return
-      end if
-      if (nconv < 1) then
-        itop = maxloc(workl(ipntr(6):ipntr(6) + k - 1), 1) - 1
-        result%eigenvalue = workl(ipntr(6) + itop)
-        result%residual = abs(workl(ipntr(7) + itop))
-        result%error_bound = result%residual + rounding_ulps*epsilon(1.0_dp)*abs(result%eigenvalue)
-        if (step_status%stat == demstep_stat%ok) then
-          call set_status(status, demstep_stat%not_converged, "PARPACK pdsaupd: no Ritz value " &
-            //"met the tolerance")
-        else
-          status = step_status
-        end if
-        status%message = status%message//" (largest Ritz value "//real_text(result%eigenvalue) &
-          //" after "//int_text(result%iterations)//" restarts, tolerance "//real_text(tol) &
-          //"; raise max_restarts or ncv)"
-        return
-      end if
-
-      call pdseupd(fcomm, .true., "A", select, d, z, n, 0.0_dp, "I", n, "LA", k, tol, resid, m, &
-        v, n, iparam, ipntr, workd, workl, lworkl, info)
-      if (info /= 0) then
-        status = pdseupd_status(info)
-        return
-      end if
-      z(:, 1) = z(:, min(nconv, k))
-      znorm = sqrt(global_dot(z(:, 1), z(:, 1)))
-      if (.not. (znorm > 0.0_dp)) then
-        call set_status(status, demstep_stat%eigensolver_failure, "PARPACK pdseupd: returned " &
-          //"a zero Ritz vector")
-        return
-      end if
-      z(:, 1) = z(:, 1)/znorm
-      call product(z(:, 1), y, status)
-      if (status%stat /= demstep_stat%ok) return
-      theta = global_dot(z(:, 1), y)/global_dot(z(:, 1), z(:, 1))
-      y = y - theta*z(:, 1)
-      rnorm = sqrt(global_dot(y, y))
-      if (present(eigenvector)) eigenvector = z(:, 1)
-      call lanczos_finish(theta, rnorm, tol, step_status, result, status)
-    end subroutine iterate
-
-    !> One product, counted; a non-finite value on any rank fails all of them.
-    subroutine product(x, ax, stat)
-      real(dp), intent(in) :: x(:)
-      real(dp), intent(out) :: ax(:)
-      type(demstep_status_type), intent(out) :: stat
-      call dist_csr_apply(matrix, x, ax)
-      result%applications = result%applications + 1
-      if (present(progress)) call progress%update(result%applications)
-      if (.not. all_ranks(all(ieee_is_finite(ax)))) then
-        call set_status(stat, demstep_stat%invalid_input, "parallel_lanczos_largest: the " &
-          //"operator returned a non-finite value (product "//int_text(result%applications)//")")
-        return
-      end if
-      stat%stat = demstep_stat%ok
-    end subroutine product
-
-    !> x.y over all ranks: compensated local sums, then an MPI sum of the
-    !> (value, error) pairs, rounded once.
-    function global_dot(x, y) result(s)
-      real(dp), intent(in) :: x(:), y(:)
-      real(dp) :: s
-      real(dp) :: pair(2), p, q, h, r
-      integer :: i
-      pair = 0.0_dp
-      do i = 1, size(x)
-        call two_prod(x(i), y(i), h, r)
-        call two_sum(pair(1), h, p, q)
-        pair(1) = p
-        pair(2) = pair(2) + (q + r)
-      end do
-      call MPI_Allreduce(MPI_IN_PLACE, pair, 2, MPI_DOUBLE_PRECISION, MPI_SUM, matrix%graph)
-      s = pair(1) + pair(2)
-    end function global_dot
-
-    !> True when the condition holds on every rank.
-    function all_ranks(condition) result(held)
-      logical, intent(in) :: condition
-      logical :: held
-      held = condition
-      call MPI_Allreduce(MPI_IN_PLACE, held, 1, MPI_LOGICAL, MPI_LAND, matrix%graph)
-    end function all_ranks
-
+    call lanczos_solve(space, result, status, eigenvector, tolerance, ncv, nev, max_restarts, &
+      progress, start)
   end subroutine parallel_lanczos_largest
+
+  subroutine dist_product(space, x, y)
+    class(dist_space_type), intent(inout) :: space
+    real(dp), intent(in) :: x(:)
+    real(dp), intent(out) :: y(:)
+    call dist_csr_apply(space%matrix, x, y)
+  end subroutine dist_product
+
+  !> x.y over all ranks: compensated local sums, then an MPI sum of the
+  !> (value, error) pairs, rounded once.
+  function dist_dot(space, x, y) result(s)
+    class(dist_space_type), intent(inout) :: space
+    real(dp), intent(in) :: x(:), y(:)
+    real(dp) :: s
+    real(dp) :: pair(2)
+    pair = accurate_dot_parts(x, y)
+    call MPI_Allreduce(MPI_IN_PLACE, pair, 2, MPI_DOUBLE_PRECISION, MPI_SUM, space%matrix%graph)
+    s = pair(1) + pair(2)
+  end function dist_dot
+
+  function dist_all(space, condition) result(held)
+    class(dist_space_type), intent(inout) :: space
+    logical, intent(in) :: condition
+    logical :: held
+    held = condition
+    call MPI_Allreduce(MPI_IN_PLACE, held, 1, MPI_LOGICAL, MPI_LAND, space%matrix%graph)
+  end function dist_all
+
+  subroutine dist_saupd(space, ido, nev, tol, resid, ncv, v, iparam, ipntr, workd, workl, info)
+    class(dist_space_type), intent(inout) :: space
+    integer, intent(inout) :: ido
+    integer, intent(in) :: nev, ncv
+    real(dp), intent(inout) :: tol
+    real(dp), intent(inout) :: resid(:), v(:, :), workd(:), workl(:)
+    integer, intent(inout) :: iparam(:), ipntr(:), info
+    call pdsaupd(space%matrix%graph%MPI_VAL, ido, "I", space%n_local, "LA", nev, tol, resid, &
+      ncv, v, space%n_local, iparam, ipntr, workd, workl, size(workl), info)
+  end subroutine dist_saupd
+
+  subroutine dist_seupd(space, rvec, select, d, z, nev, tol, resid, ncv, v, iparam, ipntr, &
+      workd, workl, info)
+    class(dist_space_type), intent(inout) :: space
+    logical, intent(in) :: rvec
+    logical, intent(inout) :: select(:)
+    real(dp), intent(out) :: d(:)
+    real(dp), intent(inout) :: z(:, :)
+    integer, intent(in) :: nev, ncv
+    real(dp), intent(in) :: tol
+    real(dp), intent(inout) :: resid(:), v(:, :), workd(:), workl(:)
+    integer, intent(inout) :: iparam(:), ipntr(:)
+    integer, intent(out) :: info
+    call pdseupd(space%matrix%graph%MPI_VAL, rvec, "A", select, d, z, space%n_local, 0.0_dp, &
+      "I", space%n_local, "LA", nev, tol, resid, ncv, v, space%n_local, iparam, ipntr, workd, &
+      workl, size(workl), info)
+  end subroutine dist_seupd
+
+  pure function dist_saupd_status(space, info) result(status)
+    class(dist_space_type), intent(in) :: space
+    integer, intent(in) :: info
+    type(demstep_status_type) :: status
+    status = pdsaupd_status(info)
+  end function dist_saupd_status
+
+  pure function dist_seupd_status(space, info) result(status)
+    class(dist_space_type), intent(in) :: space
+    integer, intent(in) :: info
+    type(demstep_status_type) :: status
+    status = pdseupd_status(info)
+  end function dist_seupd_status
 
   !> Ascending heap sort, in place (O(n log n), no extra memory).
   pure subroutine heap_sort(a)

@@ -198,7 +198,7 @@ contains
       if (status%stat /= demstep_stat%ok) return
       ! the unit mode's Rayleigh quotient and residual, measured by the solver
       lam = lanczos%eigenvalue
-      call assembly_set_estimates(result, rate, lam, lanczos%residual, lanczos%residual <= tol*lam, &
+      call assembly_set_estimates(result, rate, lam, lanczos%residual, lanczos%converged, &
         b_bound, status)
       if (status%stat /= demstep_stat%ok .or. .not. b_bound > 0.0_dp) return
       call exact_damped(vec, lam)

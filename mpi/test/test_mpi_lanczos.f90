@@ -9,8 +9,8 @@ program test_mpi_lanczos
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_arpack, only: dsaupd_status, dseupd_status
   use demstep_parpack, only: pdsaupd_status, pdseupd_status
-  use demstep_lanczos, only: csr_matrix_type, csr_from_springs, csr_apply, lanczos_largest, &
-    eigen_result_type, lanczos_start_vector
+  use demstep_lanczos, only: lanczos_largest, eigen_result_type, lanczos_start_vector
+  use demstep_csr, only: csr_matrix_type, csr_from_springs, csr_apply
   use demstep_mpi_lanczos, only: dist_csr_type, dist_csr_create, parallel_lanczos_largest, &
     dist_gershgorin_bound, dist_start_vector, dist_csr_free
   implicit none
