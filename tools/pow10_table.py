@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Print the powers of ten of src/demstep_decimal.f90 as Fortran double-doubles.
+"""Print the powers of ten of src/demstep/core/demstep_decimal.f90 as Fortran double-doubles.
 
 10^q for q = -280..280 as hi + lo: hi the double nearest 10^q, lo the double
 nearest 10^q - hi, both from exact rational arithmetic (float() of a Fraction is
