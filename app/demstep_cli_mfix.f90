@@ -11,6 +11,7 @@ module demstep_cli_mfix
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_recommend, only: step_governs, default_safety
   use demstep_cli, only: report_row, record_step, cli_context, fmt_real, fmt_int
+  use demstep_results, only: write_mfix_result
   implicit none
   private
 
@@ -55,7 +56,7 @@ contains
     end if
     call report(ctx%report, deck, input, result, a, tolerance_given)
     if (a%linearised) call record_step(ctx, "single-contact step", a%dt_recommended, .false.)
-    call write_result(ctx%results, input, result, a)
+    call write_mfix_result(ctx%results, input, result, a)
   end subroutine run_mfix
 
   !> The human report.
@@ -226,37 +227,5 @@ contains
     end if
   end function pair_label
 
-
-  !> The result group `&mfix_result`, per pair in MFiX's order (particle pairs
-  !> 11, 12, ..., then phase-wall pairs; `phase_j = 0` for a wall).
-  subroutine write_result(unit, input, result, a)
-    integer, intent(in) :: unit
-    type(mfix_input_type), intent(in) :: input
-    type(mfix_result_type), intent(in) :: result
-    type(mfix_assessment_type), intent(in) :: a
-    call write_group(unit, result%tcoll, result%dtsolid, input%dtsolid_factor, a%dtsolid_factor, &
-      a%dt_recommended, a%tolerance, a%dt_stability, a%dt_accuracy_min, &
-      trim(merge("stability", "accuracy ", a%governs /= step_governs%accuracy)), &
-      result%phase_i, result%phase_j, result%m_eff, result%k_n, result%eta_n, a%damping_ratio, &
-      result%t_coll, a%dt_critical, a%steps, a%restitution_error, a%overlap_error, a%dt_accuracy)
-  end subroutine write_result
-
-  subroutine write_group(unit, tcoll, dtsolid, dtsolid_factor, dtsolid_factor_recommended, &
-      dt_recommended, tolerance, dt_stability, dt_accuracy_min, governs, phase_i, phase_j, m_eff, &
-      k_n, eta_n, damping_ratio, t_coll, dt_critical, steps_per_contact, restitution_error, &
-      overlap_error, dt_accuracy)
-    integer, intent(in) :: unit
-    real(dp), intent(in) :: tcoll, dtsolid, dtsolid_factor, dtsolid_factor_recommended, &
-      dt_recommended, tolerance, dt_stability, dt_accuracy_min
-    character(len=*), intent(in) :: governs
-    integer, intent(in) :: phase_i(:), phase_j(:)
-    real(dp), intent(in) :: m_eff(:), k_n(:), eta_n(:), damping_ratio(:), t_coll(:), dt_critical(:), &
-      restitution_error(:), overlap_error(:), dt_accuracy(:)
-    integer(i8), intent(in) :: steps_per_contact(:)
-    namelist /mfix_result/ tcoll, dtsolid, dtsolid_factor, dtsolid_factor_recommended, dt_recommended, &
-      governs, tolerance, dt_stability, dt_accuracy_min, phase_i, phase_j, m_eff, k_n, eta_n, &
-      damping_ratio, t_coll, dt_critical, steps_per_contact, restitution_error, overlap_error, dt_accuracy
-    write(unit, nml=mfix_result)
-  end subroutine write_group
 
 end module demstep_cli_mfix

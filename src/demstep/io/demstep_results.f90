@@ -22,13 +22,17 @@ module demstep_results
   use demstep_stiffness, only: stiffness_result_type, interval_kind
   use demstep_snapshot, only: snapshot_type, snapshot_format_names
   use demstep_material, only: n_peer_rules, peer_rule_names
+  use demstep_mfix_input, only: mfix_input_type
+  use demstep_mfix, only: mfix_result_type
+  use demstep_mfix_assess, only: mfix_assessment_type
+  use demstep_recommend, only: step_governs
   implicit none
   private
 
   public :: read_result, parse_result, result_get, result_has
   public :: write_system_result, write_contact_error_result, write_accuracy_cost_result, &
     write_harmonic_error_result, write_material_result, write_simulated_stiffness_result, &
-    write_scene_result, write_snapshot_result
+    write_scene_result, write_snapshot_result, write_mfix_result
 
   !> `&system_result`: the spring alone, with a time step beyond the limit, or
   !> with a stable step and its discrete contact (by the arguments given).
@@ -658,5 +662,39 @@ contains
     peer_ratio = peer_dt/dt_exact
     write(unit, nml=snapshot_result)
   end subroutine write_snapshot_result
+
+  !> The result group `&mfix_result`, per pair in MFiX's order (particle pairs
+  !> 11, 12, ..., then phase-wall pairs; `phase_j = 0` for a wall).
+  !> `&mfix_result`: MFiX's TCOLL and DTSOLID, demstep's answer at MFiX's step,
+  !> per pair of phases.
+  subroutine write_mfix_result(unit, input, result, a)
+    integer, intent(in) :: unit
+    type(mfix_input_type), intent(in) :: input
+    type(mfix_result_type), intent(in) :: result
+    type(mfix_assessment_type), intent(in) :: a
+    call mfix_group(unit, result%tcoll, result%dtsolid, input%dtsolid_factor, a%dtsolid_factor, &
+      a%dt_recommended, a%tolerance, a%dt_stability, a%dt_accuracy_min, &
+      trim(merge("stability", "accuracy ", a%governs /= step_governs%accuracy)), &
+      result%phase_i, result%phase_j, result%m_eff, result%k_n, result%eta_n, a%damping_ratio, &
+      result%t_coll, a%dt_critical, a%steps, a%restitution_error, a%overlap_error, a%dt_accuracy)
+  end subroutine write_mfix_result
+
+  subroutine mfix_group(unit, tcoll, dtsolid, dtsolid_factor, dtsolid_factor_recommended, &
+      dt_recommended, tolerance, dt_stability, dt_accuracy_min, governs, phase_i, phase_j, m_eff, &
+      k_n, eta_n, damping_ratio, t_coll, dt_critical, steps_per_contact, restitution_error, &
+      overlap_error, dt_accuracy)
+    integer, intent(in) :: unit
+    real(dp), intent(in) :: tcoll, dtsolid, dtsolid_factor, dtsolid_factor_recommended, &
+      dt_recommended, tolerance, dt_stability, dt_accuracy_min
+    character(len=*), intent(in) :: governs
+    integer, intent(in) :: phase_i(:), phase_j(:)
+    real(dp), intent(in) :: m_eff(:), k_n(:), eta_n(:), damping_ratio(:), t_coll(:), dt_critical(:), &
+      restitution_error(:), overlap_error(:), dt_accuracy(:)
+    integer(i8), intent(in) :: steps_per_contact(:)
+    namelist /mfix_result/ tcoll, dtsolid, dtsolid_factor, dtsolid_factor_recommended, dt_recommended, &
+      governs, tolerance, dt_stability, dt_accuracy_min, phase_i, phase_j, m_eff, k_n, eta_n, &
+      damping_ratio, t_coll, dt_critical, steps_per_contact, restitution_error, overlap_error, dt_accuracy
+    write(unit, nml=mfix_result)
+  end subroutine mfix_group
 
 end module demstep_results
