@@ -1,4 +1,4 @@
-!> Text: files read whole, numbers as text for messages, integers read from
+!> Files read whole, numbers as text for messages, integers read from
 !> text, case folding and the character classes the readers share.
 module demstep_text
   use, intrinsic :: iso_fortran_env, only: int32, int64, real64

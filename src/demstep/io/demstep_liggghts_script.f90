@@ -79,7 +79,7 @@ module demstep_liggghts_script
     real(dp) :: position = 0.0_dp
     !> The wall's material: atom type T.
     integer :: wall_type = 0
-    !> Inward unit normal (see [[orient_walls]]; zero when the script does not
+    !> Inward unit normal (see `orient_walls`; zero when the script does not
     !> tell the side).
     real(dp) :: normal(3) = 0.0_dp
     !> Its contact model.

@@ -807,7 +807,7 @@ contains
     end if
   end function strip_comment
 
-  !> The section keyword line k holds ('' for none): [[section_word]] of it,
+  !> The section keyword line k holds ('' for none): `section_word` of it,
   !> looked up only when the line starts (after blanks) with a letter.
   pure function section_at(text, lines, k) result(word)
     character(len=*), intent(in) :: text
@@ -1054,7 +1054,7 @@ contains
     if (in_field .and. nf <= size(b)) b(nf) = len(s)
   end subroutine fields
 
-  !> The number of blank- or tab-separated fields of s (as [[fields]] counts
+  !> The number of blank- or tab-separated fields of s (as `fields` counts
   !> them): the characters that start a field, counted without a carried
   !> state so that the compiler can vectorise the loop.
   pure integer function field_count(s) result(nf)

@@ -6,7 +6,7 @@
 !> columns). The file is read whole (one stream read) and parsed in memory in
 !> time linear in its size: one pass checks the text, counts the rows and finds
 !> the layout, the rows are allocated once, a second pass converts them (see
-!> [[real_of]]: the values are bit for bit those of a list-directed read). Lines
+!> `real_of`: the values are bit for bit those of a list-directed read). Lines
 !> end at a line feed, a carriage return and line feed, or a lone carriage
 !> return (as the Fortran runtime's formatted reads count them). A binary file
 !> (a control character), a line longer than `table_max_line`, a field that is
@@ -219,7 +219,7 @@ contains
   !> A file whose size the system does not tell (a device such as /dev/zero, a
   !> pipe; or an empty file): read record by record in chunks of 1024
   !> characters, each checked at once, so that a binary stream or an endless
-  !> line is refused after one chunk (status as [[read_table]]'s); the records
+  !> line is refused after one chunk (status as `read_table`'s); the records
   !> joined by line feeds.
   subroutine read_by_records(path, text, status)
     character(len=*), intent(in) :: path
@@ -409,7 +409,7 @@ contains
   end subroutine parse_row
 
   !> The class of a byte: a separator (blank, comma, tab), a character of a
-  !> number (see [[number_characters]]) or another byte.
+  !> number (see `number_characters`) or another byte.
   elemental integer function byte_class(c) result(class)
     character, intent(in) :: c
     select case (iachar(c))
