@@ -163,17 +163,7 @@ contains
     character(len=*), intent(in) :: name
     real(dp), intent(inout) :: value
     type(demstep_status_type), intent(out) :: status
-    character(len=:), allocatable :: text
-    real(dp) :: got
-    integer :: ios
-    call field_text(result, name, text, status)
-    if (status%stat /= demstep_stat%ok) return
-    read(text, *, iostat=ios) got
-    if (ios /= 0 .or. .not. ieee_is_finite(got)) then
-      call bad_value(status, name, text)
-      return
-    end if
-    value = got
+    call get_scalar(result, name, value, status)
   end subroutine get_real
 
   subroutine get_int(result, name, value, status)
@@ -181,17 +171,7 @@ contains
     character(len=*), intent(in) :: name
     integer, intent(inout) :: value
     type(demstep_status_type), intent(out) :: status
-    character(len=:), allocatable :: text
-    integer :: got
-    integer :: ios
-    call field_text(result, name, text, status)
-    if (status%stat /= demstep_stat%ok) return
-    read(text, *, iostat=ios) got
-    if (ios /= 0) then
-      call bad_value(status, name, text)
-      return
-    end if
-    value = got
+    call get_scalar(result, name, value, status)
   end subroutine get_int
 
   subroutine get_int64(result, name, value, status)
@@ -199,17 +179,7 @@ contains
     character(len=*), intent(in) :: name
     integer(i8), intent(inout) :: value
     type(demstep_status_type), intent(out) :: status
-    character(len=:), allocatable :: text
-    integer(i8) :: got
-    integer :: ios
-    call field_text(result, name, text, status)
-    if (status%stat /= demstep_stat%ok) return
-    read(text, *, iostat=ios) got
-    if (ios /= 0) then
-      call bad_value(status, name, text)
-      return
-    end if
-    value = got
+    call get_scalar(result, name, value, status)
   end subroutine get_int64
 
   subroutine get_logical(result, name, value, status)
@@ -217,18 +187,42 @@ contains
     character(len=*), intent(in) :: name
     logical, intent(inout) :: value
     type(demstep_status_type), intent(out) :: status
+    call get_scalar(result, name, value, status)
+  end subroutine get_logical
+
+  !> One scalar field into `value` (a real, 32- or 64-bit integer or logical),
+  !> converted as a list-directed read converts it; `value` is left as it was
+  !> when the field is absent or does not convert (a real must be finite).
+  subroutine get_scalar(result, name, value, status)
+    type(result_group_type), intent(in) :: result
+    character(len=*), intent(in) :: name
+    class(*), intent(inout) :: value
+    type(demstep_status_type), intent(out) :: status
     character(len=:), allocatable :: text
-    logical :: got
-    integer :: ios
+    real(dp) :: r
+    integer :: k, ios
+    integer(i8) :: k8
+    logical :: l
     call field_text(result, name, text, status)
     if (status%stat /= demstep_stat%ok) return
-    read(text, *, iostat=ios) got
-    if (ios /= 0) then
-      call bad_value(status, name, text)
-      return
-    end if
-    value = got
-  end subroutine get_logical
+    ios = 1
+    select type (value)
+    type is (real(dp))
+      read(text, *, iostat=ios) r
+      if (ios == 0 .and. .not. ieee_is_finite(r)) ios = 1
+      if (ios == 0) value = r
+    type is (integer)
+      read(text, *, iostat=ios) k
+      if (ios == 0) value = k
+    type is (integer(i8))
+      read(text, *, iostat=ios) k8
+      if (ios == 0) value = k8
+    type is (logical)
+      read(text, *, iostat=ios) l
+      if (ios == 0) value = l
+    end select
+    if (ios /= 0) call bad_value(status, name, text)
+  end subroutine get_scalar
 
   !> A text field: one quoted value (blanks the writer padded it with trimmed),
   !> or for a list of texts the value text as written.
@@ -303,6 +297,25 @@ contains
     is_separator = c == "," .or. c == " " .or. iachar(c) < 32
   end function is_separator
 
+  !> The text of a list field and how many values it holds; `invalid_input`
+  !> for more than `capacity` (or `max_values`) values.
+  subroutine list_text(result, name, text, n, status, capacity)
+    type(result_group_type), intent(in) :: result
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable, intent(out) :: text
+    integer, intent(out) :: n
+    type(demstep_status_type), intent(out) :: status
+    integer, intent(in), optional :: capacity
+    n = 0
+    call field_text(result, name, text, status)
+    if (status%stat /= demstep_stat%ok) return
+    n = count_values(text)
+    if (present(capacity)) then
+      if (n > capacity) n = -1
+    end if
+    if (n < 0) call bad_value(status, name, text)
+  end subroutine list_text
+
   subroutine get_reals(result, name, value, status)
     type(result_group_type), intent(in) :: result
     character(len=*), intent(in) :: name
@@ -311,13 +324,8 @@ contains
     character(len=:), allocatable :: text
     real(dp), allocatable :: got(:)
     integer :: ios, n
-    call field_text(result, name, text, status)
+    call list_text(result, name, text, n, status)
     if (status%stat /= demstep_stat%ok) return
-    n = count_values(text)
-    if (n < 0) then
-      call bad_value(status, name, text)
-      return
-    end if
     allocate(got(n))
     read(text, *, iostat=ios) got
     if (ios == 0) then
@@ -338,13 +346,8 @@ contains
     character(len=:), allocatable :: text
     integer, allocatable :: got(:)
     integer :: ios, n
-    call field_text(result, name, text, status)
+    call list_text(result, name, text, n, status)
     if (status%stat /= demstep_stat%ok) return
-    n = count_values(text)
-    if (n < 0) then
-      call bad_value(status, name, text)
-      return
-    end if
     allocate(got(n))
     read(text, *, iostat=ios) got
     if (ios /= 0) then
@@ -362,13 +365,8 @@ contains
     character(len=:), allocatable :: text
     integer(i8), allocatable :: got(:)
     integer :: ios, n
-    call field_text(result, name, text, status)
+    call list_text(result, name, text, n, status)
     if (status%stat /= demstep_stat%ok) return
-    n = count_values(text)
-    if (n < 0) then
-      call bad_value(status, name, text)
-      return
-    end if
     allocate(got(n))
     read(text, *, iostat=ios) got
     if (ios /= 0) then
@@ -386,13 +384,8 @@ contains
     character(len=:), allocatable :: text
     logical, allocatable :: got(:)
     integer :: ios, n
-    call field_text(result, name, text, status)
+    call list_text(result, name, text, n, status, capacity=size(value))
     if (status%stat /= demstep_stat%ok) return
-    n = count_values(text)
-    if (n < 0 .or. n > size(value)) then
-      call bad_value(status, name, text)
-      return
-    end if
     allocate(got(n))
     read(text, *, iostat=ios) got
     if (ios /= 0) then
@@ -410,13 +403,8 @@ contains
     character(len=:), allocatable :: text
     character(len=len(value)), allocatable :: got(:)
     integer :: ios, n
-    call field_text(result, name, text, status)
+    call list_text(result, name, text, n, status, capacity=size(value))
     if (status%stat /= demstep_stat%ok) return
-    n = count_values(text)
-    if (n < 0 .or. n > size(value)) then
-      call bad_value(status, name, text)
-      return
-    end if
     allocate(got(n))
     read(text, *, iostat=ios) got
     if (ios /= 0) then
