@@ -152,6 +152,8 @@ PROTOTYPES = {
     "demstep_snapshot_free": [_p, _p],
     "demstep_contact_parameters": [_p, _i, _p, _p],
     "demstep_peer_time_steps": [_p, _p, _p],
+    "demstep_solver_compute": [_i, _i, _p, _p, _p, _p, _i, _p, _i, _p, _p, _p, _p, _i, _p, _p, _p, _p, _p,
+                               _p, _p, _i, _d, _p, C.c_size_t, _p],
 }
 
 for _name, _args in PROTOTYPES.items():

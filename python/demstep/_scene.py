@@ -193,3 +193,49 @@ class Scene:
              impact_velocity, int(bool(prestress)), max_eigen_dof, C.byref(result),
              C.sizeof(result))
         return fill(SceneResult, result)
+
+
+def solver_critical_steps(x, mass, radius, pairs, k_n, k_t=None, c_n=None, c_t=None, inertia=None,
+                          wall_point=None, wall_normal=None, wall_k=None, wall_damping=None,
+                          periodic=None, cell_lo=None, cell_hi=None, solver="auto", tolerance=0.0):
+    """The critical steps from a solver's own arrays (demstep_solver_compute): no
+    scene and no contact search. x (n, dim); mass, radius, inertia (n,); pairs
+    (n_contacts, 2), 0-based; k_n, k_t, c_n, c_t one value or one per contact;
+    walls: points and normals (n_walls, dim), wall_k = (k_n, k_t), wall_damping
+    = (zeta_n, zeta_t); periodic (dim flags) with cell_lo, cell_hi (dim). A
+    SceneResult."""
+    f = "demstep_solver_compute"
+    x = as_array(x, f, "x", (None, None), "float", "dim coordinates per particle")
+    n = count(x, f, "x")
+    dim = x.shape[1]
+    per = "one per particle"
+    m = as_array(mass, f, "mass", (n,), "float", per)
+    r = as_array(radius, f, "radius", (n,), "float", per)
+    inert = None if inertia is None else as_array(inertia, f, "inertia", (n,), "float", per)
+    p = as_array(pairs, f, "pairs", (None, 2), "int", "2 particle numbers per contact")
+    nc = count(p, f, "pairs")
+    kn = np.atleast_1d(k_n)
+    nv = kn.size
+    per_contact = "1 value or one per contact"
+    kn = as_array(kn, f, "k_n", (nv,), "float", per_contact)
+    opt = [None if v is None else as_array(np.atleast_1d(v), f, name, (nv,), "float", per_contact)
+           for v, name in ((k_t, "k_t"), (c_n, "c_n"), (c_t, "c_t"))]
+    nw = 0
+    wp = wn = wk = wd = None
+    if wall_point is not None:
+        wp = as_array(wall_point, f, "wall_point", (None, dim), "float", "dim values per wall")
+        nw = count(wp, f, "wall_point")
+        wn = as_array(wall_normal, f, "wall_normal", (nw, dim), "float", "dim values per wall")
+        wk = as_array(wall_k, f, "wall_k", (2,), "float", "k_n and k_t")
+        wd = None if wall_damping is None else as_array(wall_damping, f, "wall_damping", (2,), "float",
+                                                        "zeta_n and zeta_t")
+    per_axis = "dim values"
+    per_flag = None if periodic is None else as_array(periodic, f, "periodic", (dim,), "flag", per_axis)
+    lo = None if cell_lo is None else as_array(cell_lo, f, "cell_lo", (dim,), "float", per_axis)
+    hi = None if cell_hi is None else as_array(cell_hi, f, "cell_hi", (dim,), "float", per_axis)
+    result = _capi.SceneResult()
+    call(f, dim, n, pointer(x), pointer(m), pointer(r), pointer(inert), nc, pointer(p), nv, pointer(kn),
+         pointer(opt[0]), pointer(opt[1]), pointer(opt[2]), nw, pointer(wp), pointer(wn), pointer(wk),
+         pointer(wd), pointer(per_flag), pointer(lo), pointer(hi), enum("DEMSTEP_EIGEN_", solver, f, "solver"),
+         tolerance, C.byref(result), C.sizeof(result))
+    return fill(SceneResult, result)
