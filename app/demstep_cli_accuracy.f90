@@ -13,11 +13,10 @@ module demstep_cli_accuracy
   use demstep_spring, only: spring_type, new_spring, spring_period, critical_time_step
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_namelist, only: nml_group_type
-  use demstep_text, only: lowercase
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, check_real, new_array, array_length, broadcast, common_length, &
     default_text, max_values, capacity_of, in_group
-  use demstep_words, only: unknown_word
+  use demstep_words, only: unknown_word, word_index
   use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, rename_file, &
     process_id, refuse_input
   use demstep_results, only: write_contact_error_result, write_accuracy_cost_result
@@ -253,7 +252,7 @@ contains
       read(reading%text, nml=accuracy_cost, iostat=reading%ios)
     end do
     if (status%stat /= demstep_stat%ok) return
-    if (lowercase(trim(adjustl(quantity))) == "harmonic") then
+    if (word_index(["harmonic"], quantity) == 1) then
       q = quantity_harmonic
     else
       q = quantity_kind_from_name(quantity)

@@ -12,12 +12,11 @@ module demstep_cli_material
     assess_material_pair
   use demstep_status, only: demstep_status_type, demstep_stat, set_status, status_restate
   use demstep_namelist, only: nml_group_type
-  use demstep_text, only: lowercase
   use demstep_cost, only: default_cost_n_max
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, new_array, array_length, common_length, broadcast, capacity_of, &
     report_row, in_group
-  use demstep_words, only: word_list
+  use demstep_words, only: word_list, word_index
   use demstep_results, only: write_material_result
   implicit none
   private
@@ -92,7 +91,7 @@ contains
     namelist /material/ young, poisson, density, radius, restitution, restitution_t, impact_velocity, &
       code, tolerance
     type(var_spec), allocatable :: specs(:)
-    integer :: lengths(4), n, k
+    integer :: lengths(4), n
     character(len=*), parameter :: g = "material"
 
     first = 0
@@ -119,7 +118,7 @@ contains
     types%poisson = broadcast(poisson, lengths(2), n)
     types%density = broadcast(density, lengths(3), n)
     types%radius = broadcast(radius, lengths(4), n)
-    if (lowercase(trim(adjustl(code))) == "all") then
+    if (word_index(["all"], code) == 1) then
       first = 1
       last = n_conventions
     else

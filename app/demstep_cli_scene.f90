@@ -3,7 +3,6 @@
 module demstep_cli_scene
   use demstep_status, only: set_status, demstep_status_type, demstep_stat
   use demstep_namelist, only: nml_group_type
-  use demstep_text, only: lowercase
   use demstep_table_io, only: read_table
   use demstep_scene_data, only: has_tangential, scene_effect_from_name, n_effects, scene_effect_names, &
     scene_type, scene_summary_type, scene_effect
@@ -25,6 +24,7 @@ module demstep_cli_scene
   use demstep_lanczos, only: lanczos_tolerance_default
   use demstep_recommend, only: recommended_step, default_safety
   use demstep_snapshot, only: snapshot_type, read_snapshot, snapshot_format, snapshot_format_names, &
+    snapshot_format_from_name, &
     snapshot_masses_from_types
   use demstep_material, only: material_type, material_pair_type, contact_parameters_type, &
     peer_steps_type, contact_parameters, packing_peer_steps, code_convention_names, peer_rule_names, &
@@ -33,7 +33,7 @@ module demstep_cli_scene
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, check_real, new_array, array_length, new_int_array, int_array_length, &
     max_values, capacity_of, in_group
-  use demstep_words, only: word_list, unknown_word
+  use demstep_words, only: word_list, unknown_word, word_index
   use demstep_results, only: write_scene_result, write_snapshot_result
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use, intrinsic :: iso_fortran_env, only: error_unit
@@ -414,13 +414,13 @@ contains
       sc%effects = .false.
       do i = 1, max_effects
         if (len_trim(effects(i)) == 0) cycle
-        if (lowercase(trim(effects(i))) == "none") cycle
-        if (scene_effect_from_name(lowercase(trim(effects(i)))) == 0) then
+        if (word_index(["none"], effects(i)) == 1) cycle
+        if (scene_effect_from_name(effects(i)) == 0) then
           call fail("effects", "unknown effect '"//trim(effects(i))//"' ("//word_list(scene_effect_names(:n_effects))// &
             ", none)")
           return
         end if
-        sc%effects(scene_effect_from_name(lowercase(trim(effects(i))))) = .true.
+        sc%effects(scene_effect_from_name(effects(i))) = .true.
       end do
     end if
     ! per-type materials: the types array, or a snapshot's types with per-type stiffness
@@ -1005,18 +1005,12 @@ contains
     integer :: code, k, nt
     real(dp), allocatable :: rho(:)
     character(len=*), parameter :: g = "&scene: "
-    select case (lowercase(trim(adjustl(format_word))))
-    case ("auto")
-      code = snapshot_format%auto
-    case default
-      code = findloc([(lowercase(trim(adjustl(format_word))) == trim(snapshot_format_names(k)), &
-        k = 1, size(snapshot_format_names))], .true., dim=1)
-      if (code == 0) then
-        call set_status(status, demstep_stat%invalid_input, g//"snapshot_format: unknown word '"// &
-          trim(format_word)//"' (auto, lammps_dump, lammps_data, yade_text)")
-        return
-      end if
-    end select
+    code = snapshot_format_from_name(format_word)
+    if (code < snapshot_format%auto) then
+      call unknown_word(status, "snapshot_format", format_word, snapshot_format_names)
+      call in_group(status, "scene")
+      return
+    end if
     if (dim < 2) then
       call set_status(status, demstep_stat%invalid_input, g//"dim: a snapshot holds 3D positions: dim " &
         //"must be 3 (or 2, the z coordinates dropped)")

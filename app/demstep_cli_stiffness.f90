@@ -12,11 +12,10 @@ module demstep_cli_stiffness
     pick_kind_names, aggregate_kind_from_name, aggregate_kind_names, default_n_max, default_resolution, &
     procedure_cost, measure_evaluation_cost, max_procedure_evaluations
   use demstep_namelist, only: nml_group_type
-  use demstep_text, only: lowercase
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, new_array, array_length, default_text, max_values, capacity_of, &
     in_group
-  use demstep_words, only: unknown_word
+  use demstep_words, only: unknown_word, word_index
   use demstep_results, only: write_simulated_stiffness_result
   use, intrinsic :: iso_fortran_env, only: error_unit
   implicit none
@@ -124,7 +123,7 @@ contains
       end if
     end if
     ! step policy, pick and aggregation
-    if (lowercase(trim(adjustl(steps))) == "half_period") then
+    if (word_index(["half_period"], steps) == 1) then
       call new_step_policy(input%options%policy, step_kind%fraction, 0.5_dp, status)
     else
       kind = step_kind_from_name(steps)

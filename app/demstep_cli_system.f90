@@ -8,7 +8,6 @@ module demstep_cli_system
     numerical_phase, dashpot_kind_from_name, dashpot_kind_names
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_namelist, only: nml_group_type
-  use demstep_text, only: lowercase
   use demstep_words, only: unknown_word
   use demstep_cli, only: report_row, record_step, var_spec, var, given, begin_group, check_real, &
     next_assignment, group_reading, fmt_real, fmt_int, in_group, cli_context

@@ -24,6 +24,8 @@ module test_structure
   use demstep_scene_data, only: scene_effect_names, scene_effect_from_name, scene_effect_name
   use demstep_scene_builders, only: new_scene
   use demstep_scene_data, only: scene_type
+  use demstep_snapshot, only: snapshot_format, snapshot_format_names, snapshot_format_from_name, &
+    snapshot_format_name
   use demstep_results, only: result_group_type, parse_result, result_get, result_has
   use demstep_capi, only: demstep_error_c, c_scene_create, c_scene_set_particles, c_scene_free
   implicit none
@@ -166,6 +168,13 @@ contains
     end do
     n = size(scene_effect_names)
     call round_trip(error, scene_effect_names, 1, codes(:n), got(:n), "scene_effect")
+    if (allocated(error)) return
+    do k = 1, size(snapshot_format_names)
+      codes(k) = snapshot_format_from_name("  "//uppercase(snapshot_format_names(k - 1)))
+      got(k) = snapshot_format_name(snapshot_format%auto + k - 1)
+    end do
+    n = size(snapshot_format_names)
+    call round_trip(error, snapshot_format_names, snapshot_format%auto, codes(:n), got(:n), "snapshot_format")
     if (allocated(error)) return
     call check(error, eigen_solver_from_name("LANCZOS") == eigen_solver%lanczos, "case ignored")
     if (allocated(error)) return

@@ -28,27 +28,27 @@ module demstep_mfix_input
   !> MFiX's PI (constant_mod.f: 4 atan(1)).
   real(dp), parameter :: mfix_pi = 4.0_dp*atan(1.0_dp)
   !> Unit systems.
-  type, public :: mfix_units_codes
+  type, public :: mfix_units_enum
     !> `UNITS = 'SI'`.
     integer :: si = 1
     !> `UNITS = 'CGS'`.
     integer :: cgs = 2
-  end type mfix_units_codes
+  end type mfix_units_enum
   !> The unit systems by name.
-  type(mfix_units_codes), parameter, public :: mfix_units = mfix_units_codes()
+  type(mfix_units_enum), parameter, public :: mfix_units = mfix_units_enum()
 
   !> Collision models (`DES_COLL_MODEL`).
-  type, public :: mfix_model_codes
+  type, public :: mfix_model_enum
     !> Linear spring-dashpot, `'LSD'` (the default).
     integer :: lsd = 1
     !> `'HERTZIAN'`.
     integer :: hertzian = 2
-  end type mfix_model_codes
+  end type mfix_model_enum
   !> The collision models by name.
-  type(mfix_model_codes), parameter, public :: mfix_model = mfix_model_codes()
+  type(mfix_model_enum), parameter, public :: mfix_model = mfix_model_enum()
 
   !> Integrators (`DES_INTG_METHOD`).
-  type, public :: mfix_integrator_codes
+  type, public :: mfix_integrator_enum
     !> `'EULER'` (the default; cfnewvalues.f): `v += dt a(x_n)`, then
     !> `x += dt v_(n+1)`: the central-difference scheme (symplectic Euler).
     integer :: euler = 1
@@ -58,9 +58,9 @@ module demstep_mfix_input
     !> energy at every step (measured amplitude growth per period: 1.0008 at
     !> omega dt = 0.1, 1.115 at 0.5): there is no stability limit to meet.
     integer :: adams_bashforth = 2
-  end type mfix_integrator_codes
+  end type mfix_integrator_enum
   !> The integrators by name.
-  type(mfix_integrator_codes), parameter, public :: mfix_integrator = mfix_integrator_codes()
+  type(mfix_integrator_enum), parameter, public :: mfix_integrator = mfix_integrator_enum()
 
   !> The DEM inputs of an MFiX deck, in the deck's units.
   type, public :: mfix_input_type

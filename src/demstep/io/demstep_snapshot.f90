@@ -38,13 +38,14 @@ module demstep_snapshot
   use demstep_text, only: int_text, real_text, integer_of, printable, read_text_file, lowercase, is_letter
   use demstep_decimal, only: real_of
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use demstep_words, only: word_index, word_of
   implicit none
   private
 
   public :: read_snapshot, parse_snapshot, snapshot_format_of, snapshot_masses_from_types
 
   !> The formats, as components of a parameter.
-  type, public :: snapshot_format_codes
+  type, public :: snapshot_format_enum
     !> Decide from the text (see [[snapshot_format_of]]).
     integer :: auto = 0
     !> LAMMPS/LIGGGHTS dump file.
@@ -53,12 +54,13 @@ module demstep_snapshot
     integer :: lammps_data = 2
     !> Yade `export.text`/`textExt`.
     integer :: yade_text = 3
-  end type snapshot_format_codes
+  end type snapshot_format_enum
   !> The formats by name.
-  type(snapshot_format_codes), parameter, public :: snapshot_format = snapshot_format_codes()
-  !> Their names, indexed by code (auto excluded).
-  character(len=*), parameter, public :: snapshot_format_names(3) = [character(len=11) :: &
-    "lammps_dump", "lammps_data", "yade_text"]
+  type(snapshot_format_enum), parameter, public :: snapshot_format = snapshot_format_enum()
+  !> Their words, indexed by code (`snapshot_format_from_name`, `snapshot_format_name`).
+  character(len=*), parameter, public :: snapshot_format_names(0:3) = [character(len=11) :: &
+    "auto", "lammps_dump", "lammps_data", "yade_text"]
+  public :: snapshot_format_from_name, snapshot_format_name
 
   !> Particles read from a snapshot.
   type, public :: snapshot_type
@@ -1225,5 +1227,25 @@ contains
     ! mix the high bits in; consecutive ids land in consecutive slots
     h = int(modulo(ieor(id, ishft(id, -20)), int(m, i8)))
   end function hash
+
+  !> The `snapshot_format` code of a word (case ignored); `-huge(0)` for another word.
+  pure integer function snapshot_format_from_name(name) result(code)
+    !> The word, one of `snapshot_format_names`.
+    character(len=*), intent(in) :: name
+    code = word_index(snapshot_format_names, name)
+    if (code == 0) then
+      code = -huge(code)
+    else
+      code = code - 1
+    end if
+  end function snapshot_format_from_name
+
+  !> The word of a `snapshot_format` code (`?` for another value).
+  pure function snapshot_format_name(code) result(name)
+    !> A code of `snapshot_format`.
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    name = word_of(snapshot_format_names, code + 1)
+  end function snapshot_format_name
 
 end module demstep_snapshot
