@@ -8,7 +8,7 @@ module demstep_cli
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_namelist, only: nml_group_type, nml_item_type, excerpt
-  use demstep_text, only: fmt_int => int_text, real_text, real_column
+  use demstep_text, only: fmt_int => int_text, real_text, real_column, check_lower
   use demstep_words, only: word_list
   use demstep_cli_files, only: input_file_type
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite, ieee_is_nan
@@ -608,31 +608,9 @@ contains
     real(dp), intent(in), optional :: lower
     logical, intent(in), optional :: inclusive
     integer, intent(in), optional :: element
-    real(dp) :: bound
-    logical :: closed
-    character(len=:), allocatable :: what
     if (status%stat /= demstep_stat%ok) return
-    bound = 0.0_dp
-    if (present(lower)) bound = lower
-    closed = .false.
-    if (present(inclusive)) closed = inclusive
-    if (ieee_is_finite(x)) then
-      if (closed .and. .not. x < bound) return
-      if (.not. closed .and. x > bound) return
-    end if
-    ! the message is built only for a value that fails (this runs once per array element)
-    what = "&"//group//": "//name//": "
-    if (present(element)) what = what//"element "//fmt_int(int(element, i8))//" is "//fmt_real(x)//"; "
-    if (.not. ieee_is_finite(x)) then
-      call set_status(status, demstep_stat%invalid_input, what//"must be a finite number, not " &
-        //fmt_real(x))
-    else if (closed .and. x < bound) then
-      call set_status(status, demstep_stat%invalid_input, what//"must be >= "//fmt_real(bound)// &
-        ", got "//fmt_real(x))
-    else if (.not. closed .and. .not. x > bound) then
-      call set_status(status, demstep_stat%invalid_input, what//"must be > "//fmt_real(bound)// &
-        ", got "//fmt_real(x))
-    end if
+    call check_lower(x, name, status, lower, inclusive, element)
+    call in_group(status, group)
   end subroutine check_real
 
   !> A real as the app prints it: the library's [[real_text]] with 10

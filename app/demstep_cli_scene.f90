@@ -3,32 +3,24 @@
 module demstep_cli_scene
   use demstep_status, only: set_status, demstep_status_type, demstep_stat
   use demstep_namelist, only: nml_group_type
-  use demstep_table_io, only: read_table
-  use demstep_scene_data, only: has_tangential, scene_effect_from_name, n_effects, scene_effect_names, &
-    scene_type, scene_summary_type, scene_effect
-  use demstep_scene_builders, only: new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, &
-    scene_set_cell, scene_set_law, scene_set_bond_stiffness, scene_set_gravity, scene_set_types, &
-    scene_set_hertz_types, scene_set_damping, scene_set_friction, scene_set_rolling, &
-    scene_set_local_damping
-  use demstep_spring, only: restitution_to_damping_ratio
+  use demstep_scene_data, only: scene_effect_from_name, n_effects, scene_effect_names, scene_type, &
+    scene_summary_type
   use demstep_interaction, only: contact_law_from_name, contact_law_names, contact_law
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, &
     assembly_step_for_n_per_period, demstep_eigen_solver => eigen_solver, hertz_linearization_from_name, &
-    hertz_linearization_names, dashpot_names, default_max_eigen_dof, eigen_solver_name, &
-    eigen_solver_from_name, eigen_solver_names
+    hertz_linearization_names, dashpot_names, default_max_eigen_dof, eigen_solver_from_name, &
+    eigen_solver_names
   use demstep_kinds, only: dp, i8
   use demstep_progress, only: text_progress_type
-  use demstep_scene_materials, only: scene_set_materials
   use demstep_stepper, only: scene_run
   use demstep_step_cost, only: measure_step_cost
   use demstep_lanczos, only: lanczos_tolerance_default
   use demstep_recommend, only: recommended_step, default_safety
-  use demstep_snapshot, only: snapshot_type, read_snapshot, snapshot_format, snapshot_format_names, &
-    snapshot_format_from_name, &
-    snapshot_masses_from_types
-  use demstep_material, only: material_type, material_pair_type, contact_parameters_type, &
-    peer_steps_type, contact_parameters, packing_peer_steps, code_convention_names, peer_rule_names, &
-    n_conventions, n_peer_rules
+  use demstep_snapshot, only: snapshot_type, snapshot_format_code => snapshot_format, &
+    snapshot_format_names, snapshot_format_from_name
+  use demstep_material, only: material_set_type, peer_steps_type, packing_peer_steps, &
+    code_convention_names, peer_rule_names, n_peer_rules
+  use demstep_scene_input, only: scene_input_type, scene_setup_type, scene_from_input, scene_input_part
   use demstep_cli_material, only: read_material
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, check_real, new_array, array_length, new_int_array, int_array_length, &
@@ -50,20 +42,20 @@ module demstep_cli_scene
   !> Most effects one group may list.
   integer, parameter :: max_effects = 16
 
-  !> Most particle types of a snapshot (per-type tables are nt x nt).
-  integer, parameter :: max_snapshot_types = 1000
-
   !> The deck's `&material` group, for a snapshot's particle types.
-  type :: deck_material_type
-    logical :: found = .false.
+  type, extends(material_set_type) :: deck_material_type
     !> Line of the group in the deck.
     integer :: line = 0
-    !> One material per particle type (broadcast to the snapshot's types).
-    type(material_type), allocatable :: types(:)
-    real(dp) :: restitution = 1.0_dp, restitution_t = 0.0_dp, impact_velocity = 0.0_dp, tolerance = 0.0_dp
-    !> The conventions named by `code` (first = last: one code).
-    integer :: first = 0, last = -1
+    real(dp) :: tolerance = 0.0_dp
   end type deck_material_type
+
+  !> A `&scene` group's run: its duration, the step (given, or from
+  !> n_per_period) and the step count.
+  type :: scene_run_type
+    real(dp) :: duration = 0.0_dp, dt = 0.0_dp, n_per_period = 0.0_dp
+    logical :: dt_given = .false.
+    integer(i8) :: steps = 0_i8
+  end type scene_run_type
 
 contains
 
@@ -184,29 +176,125 @@ contains
         default=fmt_int(int(default_max_eigen_dof, i8))) ]
   end function scene_specs
 
-  !> Read, check and evaluate one `&scene` group.
+  !> Read one `&scene` group into a typed input, build its scene (the
+  !> library), analyse it, run it when asked, and report.
   subroutine handle_scene(ctx, group, file, status)
     type(cli_context), intent(in) :: ctx
     type(nml_group_type), intent(in) :: group
     !> The input deck's name: relative table file names are relative to its directory.
     character(len=*), intent(in) :: file
     type(demstep_status_type), intent(out) :: status
-    type(group_reading) :: reading
-    integer :: dim, max_eigen_dof, wall_type
-    real(dp), allocatable :: position(:), velocity(:), mass(:), radius(:), walls(:), gravity(:)
-    integer, allocatable :: fixed(:), bonds(:), types(:)
-    real(dp), allocatable :: type_k_normal(:), type_k_tangential(:), young(:), poisson(:), kk(:, :, :)
-    integer :: nty, nkn, nkt, nt
-    character(len=512) :: particles_file, bonds_file, contacts_file, snapshot_file
-    character(len=32) :: snapshot_format
-    integer :: snapshot_frame
-    type(snapshot_type) :: snap
+    character(len=*), parameter :: g = "scene"
+    type(scene_input_type) :: input
+    type(scene_run_type) :: run
     type(deck_material_type) :: deck_mat
-    integer, allocatable :: ptypes(:)
-    logical :: from_material, typed, effects_given(n_effects)
+    type(scene_setup_type) :: setup
+    type(scene_type) :: sc
+    type(critical_step_type) :: crit
+    type(scene_summary_type) :: summary
+    type(text_progress_type) :: progress
     character(len=200), allocatable :: snapshot_lines(:)
-    real(dp) :: peer_dt(n_peer_rules)
-    character(len=32) :: law, hertz_linearization, eigen_solver
+    real(dp) :: peer_dt(n_peer_rules), dt_recommended
+    integer :: part, governs
+
+    call read_scene_input(group, file, input, run, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (allocated(input%snapshot_file)) then
+      call find_deck_material(ctx%groups, deck_mat, status)
+      if (status%stat /= demstep_stat%ok) return
+    end if
+    call scene_from_input(input, deck_mat%material_set_type, sc, setup, status, part)
+    if (status%stat /= demstep_stat%ok) then
+      if (part == scene_input_part%material) then
+        call in_group(status, "material")
+      else
+        call in_group(status, g)
+      end if
+      return
+    end if
+
+    progress = text_progress_type(unit=error_unit, label="demstep: &"//g)
+    if (ctx%quiet) then
+      call assembly_critical_steps(sc, crit, status, hertz_mode=setup%hertz_mode, &
+        impact_velocity=setup%impact_velocity, max_eigen_dof=input%max_eigen_dof, prestress=input%prestress, &
+        solver=input%eigen_solver, tolerance=input%eigen_tolerance)
+    else
+      call assembly_critical_steps(sc, crit, status, hertz_mode=setup%hertz_mode, &
+        impact_velocity=setup%impact_velocity, max_eigen_dof=input%max_eigen_dof, prestress=input%prestress, &
+        solver=input%eigen_solver, tolerance=input%eigen_tolerance, progress=progress)
+    end if
+    if (status%stat /= demstep_stat%ok) then
+      if (status%where == "effects" .and. allocated(input%bonds_file)) then
+        ! the empty table is what left the scene without springs
+        call set_status(status, demstep_stat%invalid_input, input%bonds_file//": holds no bonds, and " &
+          //"neither 'contacts' nor 'walls' is in effects: the scene has no stiffness", where="bonds_file")
+      end if
+      ! the library's Lanczos tolerance is this group's eigen_tolerance
+      call in_group(status, g, reshape([character(len=15) :: "tolerance", "eigen_tolerance"], [2, 1]))
+      return
+    end if
+    if (run%duration > 0.0_dp) then
+      if (.not. run%dt_given) then
+        call assembly_step_for_n_per_period(crit, run%n_per_period, run%dt, status)
+        if (status%stat /= demstep_stat%ok) then
+          call in_group(status, g)
+          return
+        end if
+      end if
+      call plan_run(ctx, g, sc%n, crit%n_springs, run%duration, run%dt, run%steps, status)
+      if (status%stat /= demstep_stat%ok) return
+      if (ctx%quiet) then
+        call scene_run(sc, run%dt, run%steps, summary, status)
+      else
+        call scene_run(sc, run%dt, run%steps, summary, status, progress=progress)
+      end if
+      ! a blow-up is a result to report, not an input error
+      if (status%stat == demstep_stat%blow_up) status%stat = demstep_stat%ok
+      if (status%stat /= demstep_stat%ok) then
+        call in_group(status, g)
+        return
+      end if
+    else
+      run%dt = 0.0_dp
+    end if
+    ! the damped limit is that of the exact omega_max, or of the bound when the
+    ! dense solver was not run: the recommendation is safe either way
+    call recommended_step(crit%dt_critical_damped, dt_recommended, governs, status)
+    if (status%stat /= demstep_stat%ok) then
+      call in_group(status, g)
+      return
+    end if
+    if (allocated(input%snapshot_file)) then
+      call snapshot_summary(input%snapshot_file, setup%snapshot, deck_mat, setup%from_material, sc, crit, &
+        snapshot_lines, peer_dt, status)
+      if (status%stat /= demstep_stat%ok) return
+      call report(ctx%report, group, sc, crit, run%duration > 0.0_dp, run%dt, run%steps, summary, &
+        dt_recommended, snapshot_lines)
+    else
+      call report(ctx%report, group, sc, crit, run%duration > 0.0_dp, run%dt, run%steps, summary, &
+        dt_recommended)
+    end if
+    call write_scene_result(ctx%results, sc, crit, run%dt, summary, dt_recommended)
+    call record_step(ctx, "assembly step", dt_recommended, .true., group)
+    if (allocated(input%snapshot_file)) call write_snapshot_result(ctx%results, setup%snapshot, &
+      deck_mat%found, crit, peer_dt)
+  end subroutine handle_scene
+
+  !> Read a `&scene` group into the library's typed input (words to codes,
+  !> files beside the deck) and the run's settings.
+  subroutine read_scene_input(group, file, input, run, status)
+    type(nml_group_type), intent(in) :: group
+    character(len=*), intent(in) :: file
+    type(scene_input_type), intent(out) :: input
+    type(scene_run_type), intent(out) :: run
+    type(demstep_status_type), intent(out) :: status
+    type(group_reading) :: reading
+    integer :: dim, max_eigen_dof, wall_type, snapshot_frame, i, k
+    real(dp), allocatable :: position(:), velocity(:), mass(:), radius(:), walls(:), gravity(:), &
+      type_k_normal(:), type_k_tangential(:), young(:), poisson(:)
+    integer, allocatable :: fixed(:), bonds(:), types(:)
+    character(len=512) :: particles_file, bonds_file, contacts_file, snapshot_file
+    character(len=32) :: snapshot_format, law, hertz_linearization, eigen_solver
     character(len=32) :: effects(max_effects)
     real(dp) :: k_normal, e_star, k_bond, k_bond_tangential, damping_ratio, restitution, &
       local_damping, impact_velocity, duration, dt, n_per_period, k_tangential, kt_ratio, g_star, &
@@ -223,20 +311,6 @@ contains
       wall_type, tangential_damping
     type(var_spec), allocatable :: specs(:)
     character(len=*), parameter :: g = "scene"
-    type(scene_type) :: sc
-    type(critical_step_type) :: crit
-    type(scene_summary_type) :: summary
-    real(dp), allocatable :: x(:, :), v(:, :), m(:), r(:), inertia(:), contact_k(:, :)
-    integer, allocatable :: contact_pairs(:, :), contact_lines(:)
-    logical, allocatable :: is_fixed(:)
-    integer, allocatable :: pairs(:, :)
-    integer :: i, n, np, nv, nm, nr, nf, nb, nw, mode, solver, law_id
-    real(dp) :: law_values(2)
-    logical :: law_given
-    real(dp) :: dt_used, dt_recommended
-    integer :: governs
-    integer(i8) :: steps
-    type(text_progress_type) :: progress
 
     specs = scene_specs()
     position = new_array(capacity_of(specs, "position"))
@@ -258,467 +332,133 @@ contains
       read(reading%text, nml=scene, iostat=reading%ios)
     end do
     if (status%stat /= demstep_stat%ok) return
-    if (dim < 1 .or. dim > 3) then
-      call fail("dim", "must be 1, 2 or 3, got "//fmt_int(int(dim, i8)))
-      return
-    end if
 
-    ! particles: a snapshot, a table file or the arrays
-    from_material = .false.
-    if (given(group, "snapshot_file")) then
-      call find_deck_material(ctx%groups, deck_mat, status)
-      if (status%stat /= demstep_stat%ok) return
-      call snapshot_particles(beside(file, trim(snapshot_file)), snapshot_format, snapshot_frame, dim, &
-        deck_mat, snap, x, v, m, r, status)
-      if (status%stat /= demstep_stat%ok) return
-      n = size(m)
-      allocate(is_fixed(n), source=.false.)
-      ptypes = snap%type
-      ! the materials: the scene's own stiffness variables, else the &material group
-      from_material = deck_mat%found .and. .not. own_stiffness(group)
-      if (.not. (from_material .or. own_stiffness(group))) then
-        call fail("k_normal", "required with snapshot_file (or e_star, type_k_normal, young and poisson " &
-          //"per type, or a &material group in the deck)")
-        return
-      end if
-      if (from_material .and. .not. given(group, "law")) law = material_law(deck_mat)
-    else if (given(group, "particles_file")) then
-      call read_particles(beside(file, trim(particles_file)), dim, x, v, m, r, is_fixed, inertia, status)
-      if (status%stat /= demstep_stat%ok) then
-        status%message = "&"//g//": particles_file: "//status%message
-        return
-      end if
-      n = size(m)
-    else
-      call array_length(g, "position", position, np, status)
-      call array_length(g, "velocity", velocity, nv, status)
-      call array_length(g, "mass", mass, nm, status)
-      call array_length(g, "radius", radius, nr, status)
-      call int_array_length(g, "fixed", fixed, nf, status)
-      if (status%stat /= demstep_stat%ok) return
-      if (mod(np, dim) /= 0) then
-        call fail("position", fmt_int(int(np, i8))//" values are not "//fmt_int(int(dim, i8))// &
-          " per particle")
-        return
-      end if
-      n = np/dim
-      if (nv /= 0 .and. nv /= np) then
-        call fail("velocity", "needs "//fmt_int(int(np, i8))//" values, got "//fmt_int(int(nv, i8)))
-        return
-      end if
-      if (nm /= 1 .and. nm /= n) then
-        call fail("mass", "needs 1 or "//fmt_int(int(n, i8))//" values, got "//fmt_int(int(nm, i8)))
-        return
-      end if
-      if (nr /= 1 .and. nr /= n) then
-        call fail("radius", "needs 1 or "//fmt_int(int(n, i8))//" values, got "//fmt_int(int(nr, i8)))
-        return
-      end if
-      x = reshape(position(:np), [dim, n])
-      allocate(v(dim, n), source=0.0_dp)
-      if (nv > 0) v = reshape(velocity(:np), [dim, n])
-      m = merge(spread(mass(1), 1, n), mass(:n), nm == 1)
-      r = merge(spread(radius(1), 1, n), radius(:n), nr == 1)
-      allocate(is_fixed(n), source=.false.)
-      do i = 1, nf
-        if (fixed(i) < 1 .or. fixed(i) > n) then
-          call fail("fixed", "particle "//fmt_int(int(fixed(i), i8))//" does not exist (1 to "// &
-            fmt_int(int(n, i8))//")")
-          return
-        end if
-        is_fixed(fixed(i)) = .true.
-      end do
-    end if
-    ! new_scene checks the masses, radii, positions and inertias (no contact
-    ! search when the contacts are given: only listed pairs are contacts)
-    if (allocated(inertia)) then
-      call new_scene(sc, dim, x, m, r, status, v=v, fixed=is_fixed, inertia=inertia, &
-        search=.not. given(group, "contacts_file"))
-    else
-      call new_scene(sc, dim, x, m, r, status, v=v, fixed=is_fixed, search=.not. given(group, "contacts_file"))
-    end if
-    if (status%stat /= demstep_stat%ok) then
-      if (allocated(inertia) .and. status%where == "inertia") then
-        status%message = "&"//g//": particles_file: "//beside(file, trim(particles_file))//": "// &
-          status%message
-      else
-        call in_group(status, g)
-      end if
-      return
-    end if
-
-    ! the periodic cell (before bonds: their rest vectors go through the nearest image)
-    if (given(group, "snapshot_file")) then
-      ! the file's box and periodic axes, unless the deck gives them
-      if (.not. given(group, "periodic")) periodic = snap%periodic
-      periodic(dim+1:) = .false.
-      if (snap%has_box .and. .not. given(group, "cell_hi")) then
-        cell_lo = snap%lo
-        cell_hi = snap%hi
-      end if
-    end if
-    if (any(periodic)) then
-      if (.not. (given(group, "cell_hi") .or. (given(group, "snapshot_file") .and. snap%has_box))) then
-        call fail("cell_hi", "required with periodic axes")
-        return
-      end if
-      call scene_set_cell(sc, periodic, cell_lo, cell_hi, status, search=.not. given(group, "contacts_file"))
-      if (status%stat /= demstep_stat%ok) then
-        call in_group(status, g)
-        return
-      end if
-    end if
-
-    ! an explicit contact list
-    if (given(group, "contacts_file")) then
-      call read_contacts(beside(file, trim(contacts_file)), contact_pairs, contact_k, contact_lines, status)
-      if (status%stat == demstep_stat%ok) call scene_set_contacts(sc, contact_pairs, contact_k, status)
-      if (status%stat /= demstep_stat%ok) then
-        status%message = "&"//g//": contacts_file: "//row_to_line(status%message, &
-          beside(file, trim(contacts_file)), contact_lines)
-        return
-      end if
-    end if
-
-    ! bonds: a table file or the array
-    if (given(group, "bonds_file")) then
-      call read_bonds(beside(file, trim(bonds_file)), pairs, status)
-      if (status%stat /= demstep_stat%ok) then
-        status%message = "&"//g//": bonds_file: "//status%message
-        return
-      end if
-    else
-      call int_array_length(g, "bonds", bonds, nb, status)
-      if (status%stat /= demstep_stat%ok) return
-      if (mod(nb, 2) /= 0) then
-        call fail("bonds", "pairs of particle numbers: got an odd count "//fmt_int(int(nb, i8)))
-        return
-      end if
-      pairs = reshape(bonds(:nb), [2, nb/2])
-    end if
-    if (size(pairs, 2) > 0) then
-      call scene_add_bonds(sc, pairs, status)
-      if (status%stat /= demstep_stat%ok) then
-        status%message = "&"//g//": bonds: "//status%message
-        return
-      end if
-      call scene_set_bond_stiffness(sc, k_bond, k_bond_tangential, status)
-      if (status%stat /= demstep_stat%ok) then
-        call in_group(status, g)
-        return
-      end if
-    end if
-
-    ! effects
-    if (given(group, "effects")) then
-      sc%effects = .false.
-      do i = 1, max_effects
-        if (len_trim(effects(i)) == 0) cycle
-        if (word_index(["none"], effects(i)) == 1) cycle
-        if (scene_effect_from_name(effects(i)) == 0) then
-          call fail("effects", "unknown effect '"//trim(effects(i))//"' ("//word_list(scene_effect_names(:n_effects))// &
-            ", none)")
-          return
-        end if
-        sc%effects(scene_effect_from_name(effects(i))) = .true.
-      end do
-    end if
-    ! per-type materials: the types array, or a snapshot's types with per-type stiffness
-    typed = given(group, "types") .or. (given(group, "snapshot_file") .and. (from_material .or. &
-      given(group, "type_k_normal") .or. given(group, "young")))
-    law_id = contact_law_from_name(law)
-    if (law_id == 0) then
-      call unknown_word(status, "law", law, contact_law_names)
-      call in_group(status, g)
-      return
-    end if
-    if (law_id == contact_law%linear) then
-      if (given(group, "k_tangential") .and. given(group, "kt_ratio")) then
-        call fail("kt_ratio", "give either k_tangential or kt_ratio, not both")
-        return
-      end if
-      if (given(group, "kt_ratio")) then
-        ! the ratio is the app's way to give k_tangential: the library never sees it
-        call check_real(g, "kt_ratio", kt_ratio, status, inclusive=.true.)
-        if (status%stat /= demstep_stat%ok) return
-        k_tangential = kt_ratio*k_normal
-      end if
-      law_values = [k_normal, k_tangential]
-      law_given = given(group, "k_normal") .or. given(group, "k_tangential")
-    else
-      law_values = [e_star, g_star]
-      law_given = given(group, "e_star") .or. given(group, "g_star")
-    end if
-    if (law_given .or. (sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. typed)) &
-      .or. (sc%effects(scene_effect%walls) .and. .not. from_material)) then
-      call scene_set_law(sc, law_id, law_values(1), law_values(2), status)
-      if (status%stat /= demstep_stat%ok) then
-        call in_group(status, g)
-        return
-      end if
-    else
-      ! per-type or listed stiffness, or no contacts: the law's own values go unused
-      sc%law = law_id
-    end if
-    if (from_material) then
-      effects_given = sc%effects
-      call material_springs(sc, deck_mat, ptypes, wall_type, tangential_damping, status)
-      if (status%stat /= demstep_stat%ok) return
-      ! the deck's effects list, where given, has the last word
-      if (given(group, "effects")) sc%effects = effects_given
-    else if (typed) then
-      call materials()
-      if (status%stat /= demstep_stat%ok) return
-    end if
-    if (given(group, "friction")) then
-      call check_real(g, "friction", friction, status, inclusive=.true.)
-      if (status%stat /= demstep_stat%ok) return
-    end if
-    if (given(group, "rolling_friction")) then
-      call check_real(g, "rolling_friction", rolling_friction, status, inclusive=.true.)
-      if (status%stat /= demstep_stat%ok) return
-    end if
-    call scene_set_friction(sc, friction, status, rolling_friction=rolling_friction)
-    if (status%stat == demstep_stat%ok) call scene_set_rolling(sc, rolling_ratio, twisting_ratio, status)
-    if (status%stat /= demstep_stat%ok) then
-      call in_group(status, g)
-      return
-    end if
-    ! rotations come with tangential springs unless the effects say otherwise
-    if (.not. given(group, "effects") .and. has_tangential(sc)) sc%effects(scene_effect%rotation) = .true.
-    call array_length(g, "walls", walls, nw, status)
+    ! arrays: as many values as given, without gaps
+    call take_array("position", position, input%position)
+    call take_array("velocity", velocity, input%velocity)
+    call take_array("mass", mass, input%mass)
+    call take_array("radius", radius, input%radius)
+    call take_array("walls", walls, input%walls)
+    call take_array("gravity", gravity, input%gravity)
+    call take_array("type_k_normal", type_k_normal, input%type_k_normal)
+    call take_array("type_k_tangential", type_k_tangential, input%type_k_tangential)
+    call take_array("young", young, input%young)
+    call take_array("poisson", poisson, input%poisson)
+    call take_int_array("fixed", fixed, input%fixed)
+    call take_int_array("bonds", bonds, input%bonds)
+    if (given(group, "types")) call take_int_array("types", types, input%types)
     if (status%stat /= demstep_stat%ok) return
-    if (sc%effects(scene_effect%walls) .neqv. nw > 0) then
-      call fail("walls", "the 'walls' effect and the walls array go together")
-      return
+
+    ! files, beside the deck
+    if (given(group, "particles_file")) input%particles_file = beside(file, trim(particles_file))
+    if (given(group, "snapshot_file")) input%snapshot_file = beside(file, trim(snapshot_file))
+    if (given(group, "contacts_file")) input%contacts_file = beside(file, trim(contacts_file))
+    if (given(group, "bonds_file")) input%bonds_file = beside(file, trim(bonds_file))
+
+    ! words
+    input%snapshot_format = snapshot_format_from_name(snapshot_format)
+    if (input%snapshot_format < snapshot_format_code%auto) then
+      call unknown_word(status, "snapshot_format", snapshot_format, snapshot_format_names)
+    else if (given(group, "law")) then
+      input%law = contact_law_from_name(law)
+      if (input%law == 0) call unknown_word(status, "law", law, contact_law_names)
     end if
-    if (nw > 0) then
-      if (mod(nw, 2*dim) /= 0) then
-        call fail("walls", "each wall is "//fmt_int(int(2*dim, i8))//" values (a point, a normal)")
-        return
-      end if
-      call scene_add_walls(sc, reshape([(walls(2*dim*(i-1)+1:2*dim*(i-1)+dim), i = 1, nw/(2*dim))], &
-        [dim, nw/(2*dim)]), reshape([(walls(2*dim*(i-1)+dim+1:2*dim*i), i = 1, nw/(2*dim))], &
-        [dim, nw/(2*dim)]), status)
-      if (status%stat /= demstep_stat%ok) then
-        status%message = "&"//g//": walls: "//status%message
-        return
-      end if
+    if (status%stat == demstep_stat%ok .and. given(group, "hertz_linearization")) then
+      input%hertz_linearization = hertz_linearization_from_name(hertz_linearization)
+      if (input%hertz_linearization == 0) call unknown_word(status, "hertz_linearization", &
+        hertz_linearization, hertz_linearization_names)
     end if
-    if (sc%effects(scene_effect%gravity)) then
-      call array_length(g, "gravity", gravity, nv, status)
-      if (status%stat /= demstep_stat%ok) return
-      if (nv == 0) then
-        ! the default: standard gravity along the last axis
-        gravity(:dim) = 0.0_dp
-        gravity(dim) = -9.81_dp
-        nv = dim
-      end if
-      call scene_set_gravity(sc, gravity(:nv), status)
-      if (status%stat /= demstep_stat%ok) then
-        call in_group(status, g)
-        return
-      end if
+    if (status%stat == demstep_stat%ok) then
+      input%eigen_solver = eigen_solver_from_name(eigen_solver)
+      if (input%eigen_solver == 0) call unknown_word(status, "eigen_solver", eigen_solver, eigen_solver_names)
     end if
-    if (sc%effects(scene_effect%damping) .and. (given(group, "damping_ratio") .or. &
-        given(group, "restitution") .or. .not. allocated(sc%pair_damping))) then
-      ! (a code's &material gives its own dashpots: nothing more is needed)
-      if (.not. (given(group, "damping_ratio") .or. given(group, "restitution"))) then
-        call fail("damping_ratio", "the 'damping' effect needs damping_ratio or restitution (one)")
-        return
-      end if
-      if (given(group, "restitution")) then
-        call check_real(g, "restitution", restitution, status)
-        if (status%stat == demstep_stat%ok .and. restitution > 1.0_dp) call fail("restitution", &
-          "must be in (0, 1], got "//fmt_real(restitution))
-        if (status%stat /= demstep_stat%ok) return
-        damping_ratio = restitution_to_damping_ratio(restitution)
-      end if
-      if (.not. given(group, "damping_ratio_tangential")) damping_ratio_tangential = damping_ratio
-      call scene_set_damping(sc, damping_ratio, status, tangential=damping_ratio_tangential, &
-        rolling=damping_ratio_rolling, drag=drag)
-      if (status%stat /= demstep_stat%ok) then
-        call in_group(status, g)
-        return
-      end if
-    else if (given(group, "damping_ratio_tangential") .or. given(group, "damping_ratio_rolling") .or. &
-        given(group, "drag")) then
-      call fail("effects", "dashpots (damping_ratio_tangential, damping_ratio_rolling, drag) need " &
-        //"the 'damping' effect")
-      return
-    end if
-    if (from_material .and. .not. (given(group, "effects") .or. given(group, "damping_ratio") .or. &
-      given(group, "restitution"))) then
-      ! the code damps its contacts to the &material's restitution (unless its
-      ! convention has no contact damping, as Yade's FrictPhys)
-      if (material_damped(deck_mat)) then
-        call scene_set_damping(sc, restitution_to_damping_ratio(deck_mat%restitution), status)
-        if (status%stat /= demstep_stat%ok) then
-          status%message = "&material: restitution: "//status%message
-          return
-        end if
-      end if
-    end if
-    if (sc%effects(scene_effect%local_damping)) then
-      call check_real(g, "local_damping", local_damping, status, inclusive=.true.)
-      if (status%stat /= demstep_stat%ok) return
-      call scene_set_local_damping(sc, local_damping, status)
-      if (status%stat /= demstep_stat%ok) then
-        call in_group(status, g)
-        return
-      end if
-      sc%effects(scene_effect%local_damping) = .true.
-    end if
-    if (from_material .and. .not. given(group, "hertz_linearization")) then
-      ! a &material gives the impact velocity: linearise at the larger of the
-      ! current overlap and the impact's (a settled contact may be struck)
-      hertz_linearization = "larger"
-      if (.not. given(group, "impact_velocity")) impact_velocity = deck_mat%impact_velocity
-    end if
-    ! the library checks impact_velocity where the mode needs it
-    mode = hertz_linearization_from_name(hertz_linearization)
-    if (mode == 0) then
-      call unknown_word(status, "hertz_linearization", hertz_linearization, hertz_linearization_names)
+    if (status%stat /= demstep_stat%ok) then
       call in_group(status, g)
       return
     end if
+    if (given(group, "effects")) then
+      ! 'none' is no effect: the list may end up empty (bonds only)
+      allocate(input%effects(max_effects))
+      k = 0
+      do i = 1, max_effects
+        if (len_trim(effects(i)) == 0 .or. word_index(["none"], effects(i)) == 1) cycle
+        k = k + 1
+        input%effects(k) = scene_effect_from_name(effects(i))
+        if (input%effects(k) == 0) then
+          call set_status(status, demstep_stat%invalid_input, "unknown effect '"//trim(effects(i))//"' (" &
+            //word_list(scene_effect_names(:n_effects))//", none)", where="effects")
+          call in_group(status, g)
+          return
+        end if
+      end do
+      input%effects = input%effects(:k)
+    end if
+
+    ! scalars: the optional ones only when given
+    input%dim = dim
+    input%snapshot_frame = snapshot_frame
+    if (given(group, "periodic")) input%periodic = periodic
+    input%cell_lo = cell_lo
+    if (given(group, "cell_hi")) input%cell_hi = cell_hi
+    if (given(group, "k_normal")) input%k_normal = k_normal
+    if (given(group, "k_tangential")) input%k_tangential = k_tangential
+    if (given(group, "kt_ratio")) input%kt_ratio = kt_ratio
+    if (given(group, "e_star")) input%e_star = e_star
+    if (given(group, "g_star")) input%g_star = g_star
+    if (given(group, "friction")) input%friction = friction
+    if (given(group, "rolling_friction")) input%rolling_friction = rolling_friction
+    if (given(group, "damping_ratio")) input%damping_ratio = damping_ratio
+    if (given(group, "restitution")) input%restitution = restitution
+    if (given(group, "damping_ratio_tangential")) input%damping_ratio_tangential = damping_ratio_tangential
+    if (given(group, "damping_ratio_rolling")) input%damping_ratio_rolling = damping_ratio_rolling
+    if (given(group, "drag")) input%drag = drag
+    if (given(group, "impact_velocity")) input%impact_velocity = impact_velocity
+    input%k_bond = k_bond
+    input%k_bond_tangential = k_bond_tangential
+    input%rolling_ratio = rolling_ratio
+    input%twisting_ratio = twisting_ratio
+    input%local_damping = local_damping
+    input%wall_type = wall_type
+    input%tangential_damping = tangential_damping
+    input%prestress = prestress
+    input%eigen_tolerance = eigen_tolerance
+    input%max_eigen_dof = max_eigen_dof
+
+    ! the run
     call check_real(g, "duration", duration, status, inclusive=.true.)
     if (given(group, "dt")) call check_real(g, "dt", dt, status)
     if (status%stat /= demstep_stat%ok) return
     if (duration > 0.0_dp .and. .not. (given(group, "dt") .or. given(group, "n_per_period"))) then
-      call fail("dt", "a run (duration > 0) needs dt or n_per_period")
+      call set_status(status, demstep_stat%invalid_input, "&"//g//": dt: a run (duration > 0) needs dt " &
+        //"or n_per_period")
       return
     end if
-
-    solver = eigen_solver_from_name(eigen_solver)
-    if (solver == 0) then
-      call unknown_word(status, "eigen_solver", eigen_solver, eigen_solver_names)
-      call in_group(status, g)
-      return
-    end if
-    if (ctx%quiet) then
-      call assembly_critical_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
-        max_eigen_dof=max_eigen_dof, prestress=prestress, solver=solver, tolerance=eigen_tolerance)
-    else
-      progress = text_progress_type(unit=error_unit, label="demstep: &"//g)
-      call assembly_critical_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
-        max_eigen_dof=max_eigen_dof, prestress=prestress, solver=solver, tolerance=eigen_tolerance, &
-        progress=progress)
-    end if
-    if (status%stat /= demstep_stat%ok) then
-      if (status%where == "effects" .and. given(group, "bonds_file")) then
-        ! the empty table is what left the scene without springs
-        call fail("bonds_file", beside(file, trim(bonds_file))//": holds no bonds, and neither " &
-          //"'contacts' nor 'walls' is in effects: the scene has no stiffness")
-      else
-        ! the library's Lanczos tolerance is this group's eigen_tolerance
-        call in_group(status, g, reshape([character(len=15) :: "tolerance", "eigen_tolerance"], [2, 1]))
-      end if
-      return
-    end if
-    dt_used = 0.0_dp
-    steps = 0_i8
-    if (duration > 0.0_dp) then
-      if (given(group, "dt")) then
-        dt_used = dt
-      else
-        call assembly_step_for_n_per_period(crit, n_per_period, dt_used, status)
-        if (status%stat /= demstep_stat%ok) then
-          call in_group(status, g)
-          return
-        end if
-      end if
-      call plan_run(ctx, g, sc%n, crit%n_springs, duration, dt_used, steps, status)
-      if (status%stat /= demstep_stat%ok) return
-      if (ctx%quiet) then
-        call scene_run(sc, dt_used, steps, summary, status)
-      else
-        progress = text_progress_type(unit=error_unit, label="demstep: &"//g)
-        call scene_run(sc, dt_used, steps, summary, status, progress=progress)
-      end if
-      ! a blow-up is a result to report, not an input error
-      if (status%stat == demstep_stat%blow_up) status%stat = demstep_stat%ok
-      if (status%stat /= demstep_stat%ok) then
-        call in_group(status, g)
-        return
-      end if
-    end if
-    ! the damped limit is that of the exact omega_max, or of the bound when the
-    ! dense solver was not run: the recommendation is safe either way
-    call recommended_step(crit%dt_critical_damped, dt_recommended, governs, status)
-    if (status%stat /= demstep_stat%ok) then
-      call in_group(status, g)
-      return
-    end if
-    if (given(group, "snapshot_file")) then
-      call snapshot_summary(beside(file, trim(snapshot_file)), snap, deck_mat, from_material, sc, crit, &
-        snapshot_lines, peer_dt, status)
-      if (status%stat /= demstep_stat%ok) return
-      call report(ctx%report, group, sc, crit, duration > 0.0_dp, dt_used, steps, summary, dt_recommended, &
-        snapshot_lines)
-    else
-      call report(ctx%report, group, sc, crit, duration > 0.0_dp, dt_used, steps, summary, dt_recommended)
-    end if
-    call write_scene_result(ctx%results, sc, crit, dt_used, summary, dt_recommended)
-    call record_step(ctx, "assembly step", dt_recommended, .true., group)
-    if (given(group, "snapshot_file")) call write_snapshot_result(ctx%results, snap, deck_mat%found, crit, peer_dt)
+    run%duration = duration
+    run%dt = dt
+    run%dt_given = given(group, "dt")
+    run%n_per_period = n_per_period
 
   contains
 
-    subroutine fail(name, what)
-      character(len=*), intent(in) :: name, what
-      call set_status(status, demstep_stat%invalid_input, "&"//g//": "//name//": "//what)
-    end subroutine fail
+    subroutine take_array(name, x, into)
+      character(len=*), intent(in) :: name
+      real(dp), intent(in) :: x(:)
+      real(dp), allocatable, intent(out) :: into(:)
+      integer :: length
+      call array_length(g, name, x, length, status)
+      if (status%stat == demstep_stat%ok .and. length > 0) into = x(:length)
+    end subroutine take_array
 
-    !> Materials per particle type: the tables read, the library checks them.
-    subroutine materials()
-      if (.not. given(group, "snapshot_file")) then
-        call int_array_length(g, "types", types, nty, status)
-        if (status%stat /= demstep_stat%ok) return
-        if (nty /= n) then
-          call fail("types", "needs one type per particle ("//fmt_int(int(n, i8))//"), got "// &
-            fmt_int(int(nty, i8)))
-          return
-        end if
-        ptypes = types(:n)
-      end if
-      if (sc%law == contact_law%linear) then
-        call array_length(g, "type_k_normal", type_k_normal, nkn, status)
-        call array_length(g, "type_k_tangential", type_k_tangential, nkt, status)
-        if (status%stat /= demstep_stat%ok) return
-        nt = nint(sqrt(real(nkn, dp)))
-        if (nkn == 0 .or. nt*nt /= nkn) then
-          call fail("type_k_normal", "needs nt x nt values (nt types, row by row), got "// &
-            fmt_int(int(nkn, i8)))
-          return
-        end if
-        allocate(kk(2, nt, nt), source=0.0_dp)
-        kk(1, :, :) = reshape(type_k_normal(:nkn), [nt, nt])
-        if (nkt > 0) then
-          if (nkt /= nkn) then
-            call fail("type_k_tangential", "needs as many values as type_k_normal ("// &
-              fmt_int(int(nkn, i8))//"), got "//fmt_int(int(nkt, i8)))
-            return
-          end if
-          kk(2, :, :) = reshape(type_k_tangential(:nkt), [nt, nt])
-        else if (given(group, "kt_ratio")) then
-          kk(2, :, :) = kt_ratio*kk(1, :, :)
-        end if
-        call scene_set_types(sc, ptypes, kk, status)
-      else
-        call array_length(g, "young", young, nkn, status)
-        call array_length(g, "poisson", poisson, nkt, status)
-        if (status%stat /= demstep_stat%ok) return
-        if (nkn == 0) then
-          call fail("young", "required with types and the Hertz law (one per type)")
-          return
-        end if
-        call scene_set_hertz_types(sc, ptypes, young(:nkn), poisson(:nkt), status)
-      end if
-      if (status%stat /= demstep_stat%ok) call in_group(status, g)
-    end subroutine materials
+    subroutine take_int_array(name, x, into)
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: x(:)
+      integer, allocatable, intent(out) :: into(:)
+      integer :: length
+      call int_array_length(g, name, x, length, status)
+      if (status%stat == demstep_stat%ok) into = x(:length)
+    end subroutine take_int_array
 
-  end subroutine handle_scene
+  end subroutine read_scene_input
 
   !> Whether a `&scene` among `groups` takes its particle types' materials
   !> from the deck's `&material` group: a snapshot without stiffness of its own.
@@ -802,77 +542,6 @@ contains
       path = deck(:k)//name
     end if
   end function beside
-
-  !> A particles table: per row dim positions, dim velocities, mass, radius and
-  !> fixed (0 or 1), optionally the moment of inertia (the same columns on every
-  !> row); '#' starts a comment, blank lines are skipped.
-  subroutine read_particles(path, dim, x, v, m, r, fixed, inertia, status)
-    character(len=*), intent(in) :: path
-    integer, intent(in) :: dim
-    real(dp), allocatable, intent(out) :: x(:, :), v(:, :), m(:), r(:), inertia(:)
-    logical, allocatable, intent(out) :: fixed(:)
-    type(demstep_status_type), intent(out) :: status
-    real(dp), allocatable :: rows(:, :)
-    integer :: ncol, bad
-    integer, allocatable :: lines(:)
-    ncol = 2*dim + 3
-    ! an optional last column: the moment of inertia
-    call read_table(path, [ncol, ncol + 1], rows, status, lines=lines)
-    if (status%stat /= demstep_stat%ok) return
-    x = rows(1:dim, :)
-    v = rows(dim+1:2*dim, :)
-    m = rows(2*dim+1, :)
-    r = rows(2*dim+2, :)
-    fixed = rows(2*dim+3, :) /= 0.0_dp
-    if (size(rows, 1) == ncol + 1) inertia = rows(ncol + 1, :)
-    bad = findloc(rows(2*dim+3, :) /= 0.0_dp .and. rows(2*dim+3, :) /= 1.0_dp, .true., dim=1)
-    if (bad > 0) then
-      call set_status(status, demstep_stat%invalid_input, path//": line "//fmt_int(int(lines(bad), i8))// &
-        ": column "//fmt_int(int(2*dim + 3, i8))//": the fixed column must be 0 or 1")
-      return
-    end if
-    if (size(m) == 0) call set_status(status, demstep_stat%invalid_input, path//": no particles")
-  end subroutine read_particles
-
-  !> A bonds table: two particle numbers per row.
-  subroutine read_bonds(path, pairs, status)
-    character(len=*), intent(in) :: path
-    integer, allocatable, intent(out) :: pairs(:, :)
-    type(demstep_status_type), intent(out) :: status
-    real(dp), allocatable :: rows(:, :)
-    call read_table(path, 2, rows, status, index_columns=[1, 2])
-    if (status%stat /= demstep_stat%ok) return
-    pairs = nint(rows)
-  end subroutine read_bonds
-
-  !> A contacts table: per row i j k_n k_t; the line of each row is kept for messages.
-  subroutine read_contacts(path, pairs, k, lines, status)
-    character(len=*), intent(in) :: path
-    integer, allocatable, intent(out) :: pairs(:, :), lines(:)
-    real(dp), allocatable, intent(out) :: k(:, :)
-    type(demstep_status_type), intent(out) :: status
-    real(dp), allocatable :: rows(:, :)
-    ! i j, then k_n k_t [k_r k_w [c_n c_t c_r c_w]]
-    call read_table(path, [4, 6, 10], rows, status, lines=lines, index_columns=[1, 2])
-    if (status%stat /= demstep_stat%ok) return
-    pairs = nint(rows(1:2, :))
-    k = rows(3:, :)
-  end subroutine read_contacts
-
-  !> A library message "contacts: row K: what" as "PATH: line L: what".
-  function row_to_line(message, path, lines) result(text)
-    character(len=*), intent(in) :: message, path
-    integer, intent(in), allocatable :: lines(:)
-    character(len=:), allocatable :: text
-    integer :: a, b, row, ios
-    text = message
-    a = index(message, "contacts: row ")
-    if (a /= 1 .or. .not. allocated(lines)) return
-    b = index(message(15:), ":") + 13
-    read(message(15:b), *, iostat=ios) row
-    if (ios /= 0 .or. row < 1 .or. row > size(lines)) return
-    text = path//": line "//fmt_int(int(lines(row), i8))//message(b+1:)
-  end function row_to_line
 
   subroutine report(u, group, sc, crit, ran, dt_used, steps, summary, dt_recommended, extra)
     integer, intent(in) :: u
@@ -993,144 +662,6 @@ contains
     status%stat = demstep_stat%ok
   end subroutine find_deck_material
 
-  !> Read a snapshot; its particles as the scene's arrays. Masses from the
-  !> file, else from the `&material` densities per type.
-  subroutine snapshot_particles(path, format_word, frame, dim, mat, snap, x, v, m, r, status)
-    character(len=*), intent(in) :: path, format_word
-    integer, intent(in) :: frame, dim
-    type(deck_material_type), intent(inout) :: mat
-    type(snapshot_type), intent(out) :: snap
-    real(dp), allocatable, intent(out) :: x(:, :), v(:, :), m(:), r(:)
-    type(demstep_status_type), intent(out) :: status
-    integer :: code, k, nt
-    real(dp), allocatable :: rho(:)
-    character(len=*), parameter :: g = "&scene: "
-    code = snapshot_format_from_name(format_word)
-    if (code < snapshot_format%auto) then
-      call unknown_word(status, "snapshot_format", format_word, snapshot_format_names)
-      call in_group(status, "scene")
-      return
-    end if
-    if (dim < 2) then
-      call set_status(status, demstep_stat%invalid_input, g//"dim: a snapshot holds 3D positions: dim " &
-        //"must be 3 (or 2, the z coordinates dropped)")
-      return
-    end if
-    call read_snapshot(path, snap, status, format=code, frame=frame)
-    if (status%stat /= demstep_stat%ok) then
-      if (status%where == "frame") then
-        status%message = g//"snapshot_frame: "//path//": "//status%detail
-      else
-        status%message = g//"snapshot_file: "//status%message
-      end if
-      return
-    end if
-    if (snap%n == 0) then
-      call set_status(status, demstep_stat%invalid_input, g//"snapshot_file: "//path//": no particles")
-      return
-    end if
-    if (minval(snap%type) < 1 .or. maxval(snap%type) > max_snapshot_types) then
-      k = merge(minloc(snap%type, dim=1), maxloc(snap%type, dim=1), minval(snap%type) < 1)
-      call set_status(status, demstep_stat%invalid_input, g//"snapshot_file: "//path//": particle "// &
-        fmt_int(snap%id(k))//" has type "//fmt_int(int(snap%type(k), i8))//"; types count from 1 to at " &
-        //"most "//fmt_int(int(max_snapshot_types, i8)))
-      return
-    end if
-    nt = maxval(snap%type)
-    if (mat%found) then
-      ! one material for all types, or one per type
-      if (size(mat%types) == 1) then
-        mat%types = spread(mat%types(1), 1, nt)
-      else if (size(mat%types) < nt) then
-        call set_status(status, demstep_stat%invalid_input, "&material: young: one value per particle " &
-          //"type (or one for all): "//path//" has types 1 to "//fmt_int(int(nt, i8))//", the group (line " &
-          //fmt_int(int(mat%line, i8))//") gives "//fmt_int(int(size(mat%types), i8)))
-        return
-      end if
-      rho = mat%types%density
-      call snapshot_masses_from_types(snap, rho, status)
-    else
-      call snapshot_masses_from_types(snap, [real(dp) ::], status)
-    end if
-    if (status%stat /= demstep_stat%ok) then
-      status%message = g//"snapshot_file: "//path//": "//status%message
-      return
-    end if
-    if (.not. snap%has_mass) then
-      call set_status(status, demstep_stat%invalid_input, g//"snapshot_file: "//path//" gives no masses " &
-        //"(no mass or density column): add a &material group with density (one per type)")
-      return
-    end if
-    x = snap%x(:dim, :)
-    v = snap%v(:dim, :)
-    m = snap%mass
-    r = snap%radius
-    status%stat = demstep_stat%ok
-  end subroutine snapshot_particles
-
-  !> The contact law a `&material` code implies: 'hertz' for all codes or a
-  !> Hertz convention (one evaluated at an overlap), else 'linear'.
-  function material_law(mat) result(law)
-    type(deck_material_type), intent(in) :: mat
-    character(len=32) :: law
-    type(contact_parameters_type) :: params
-    type(demstep_status_type) :: status
-    law = "hertz"
-    if (mat%first /= mat%last) return
-    call contact_parameters(material_pair_type(mat%types(1), mat%types(1), mat%restitution, &
-      mat%restitution_t, mat%impact_velocity), mat%first, params, status)
-    if (status%stat == demstep_stat%ok .and. params%overlap == 0.0_dp) law = "linear"
-  end function material_law
-
-  !> Whether the `&material`'s code damps its contacts: all codes, or one whose
-  !> convention gives a normal dashpot.
-  logical function material_damped(mat) result(damped)
-    type(deck_material_type), intent(in) :: mat
-    type(contact_parameters_type) :: params
-    type(demstep_status_type) :: status
-    damped = .true.
-    if (mat%first /= mat%last) return
-    call contact_parameters(material_pair_type(mat%types(1), mat%types(1), mat%restitution, &
-      mat%restitution_t, mat%impact_velocity), mat%first, params, status)
-    if (status%stat == demstep_stat%ok) damped = params%gamma_n > 0.0_dp
-  end function material_damped
-
-  !> Per-type springs and dashpots from the `&material` group: one code named,
-  !> its own convention through the library (`scene_set_materials`: the law,
-  !> the per-pair springs and dashpots, the walls' as contacts of type
-  !> `wall_type`); all codes, Hertz E* and G* from young and poisson.
-  subroutine material_springs(sc, mat, ptypes, wall_type, tangential_damping, status)
-    type(scene_type), intent(inout) :: sc
-    type(deck_material_type), intent(in) :: mat
-    integer, intent(in) :: ptypes(:), wall_type
-    logical, intent(in) :: tangential_damping
-    type(demstep_status_type), intent(out) :: status
-    real(dp), allocatable :: young(:), poisson(:)
-    if (mat%first == mat%last) then
-      call scene_set_materials(sc, ptypes, mat%types, mat%first, mat%restitution, status, &
-        restitution_t=mat%restitution_t, impact_velocity=mat%impact_velocity, wall_type=wall_type, &
-        tangential_damping=tangential_damping)
-      if (status%stat /= demstep_stat%ok) then
-        if (status%where == "wall_type" .or. status%where == "types") then
-          call in_group(status, "scene")
-        else
-          call in_group(status, "material")
-        end if
-      end if
-      return
-    end if
-    if (sc%law == contact_law%hertz) then
-      young = mat%types%young
-      poisson = mat%types%poisson
-      call scene_set_hertz_types(sc, ptypes, young, poisson, status)
-      if (status%stat /= demstep_stat%ok) call in_group(status, "material")
-      return
-    end if
-    call set_status(status, demstep_stat%invalid_input, "&material: code: the linear law of &scene " &
-      //"takes k_n and k_t from one code's convention: name it (liggghts_hooke, yade_frictphys, " &
-      //"yade_viscelphys, mfix_lsd, mercurydpm_linear, lammps_hooke)")
-  end subroutine material_springs
-
   !> A snapshot's part of the report: what was read, and with a `&material`
   !> group the peers' rules beside demstep's exact limit (as ratios). The
   !> peers' rules take each type's smallest radius in the file (their codes
@@ -1154,7 +685,7 @@ contains
     allocate(lines(20 + n_peer_rules))
     nl = 0
     frame = ""
-    if (snap%format == snapshot_format%lammps_dump) frame = ", frame "//fmt_int(int(snap%frame, i8))//" of " &
+    if (snap%format == snapshot_format_code%lammps_dump) frame = ", frame "//fmt_int(int(snap%frame, i8))//" of " &
       //fmt_int(int(snap%n_frames, i8))//", timestep "//fmt_int(snap%timestep)
     call add("  snapshot: "//path//" ("//trim(snapshot_format_names(snap%format))//frame//"), "// &
       fmt_int(int(nt, i8))//" particle type"//trim(merge("s", " ", nt > 1)))

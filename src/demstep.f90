@@ -91,7 +91,7 @@ module demstep
   ! materials in each code's convention and the peers' time-step rules
   use demstep_material, only: material_type, material_pair_type, effective_pair_type, effective_pair, &
     contact_parameters_type, contact_parameters, code_convention, peer_steps_type, peer_time_steps, &
-    peer_rule, rayleigh_time, hertz_contact_duration
+    peer_rule, rayleigh_time, hertz_contact_duration, material_set_type
   ! MFiX decks: what MFiX computes for its DEM solids step, and demstep's answer
   use demstep_mfix_deck, only: mfix_deck_type, read_mfix_deck
   use demstep_mfix_input, only: mfix_input_type, mfix_input_from_deck
@@ -102,6 +102,8 @@ module demstep
     liggghts_script_contacts
   ! particle snapshots from DEM codes' files
   use demstep_snapshot, only: snapshot_type, snapshot_format, read_snapshot
+  ! a whole scene from typed input (arrays, tables or a snapshot, and a material set)
+  use demstep_scene_input, only: scene_input_type, scene_setup_type, scene_from_input, scene_input_part
   ! inside a running solver: its own arrays, a persistent monitor, what governs the limit
   use demstep_monitor, only: solver_critical_steps, step_monitor_type, monitor_verdict, &
     mode_participation, top_shares, fresh_pour_estimate, scale_masses

@@ -27,6 +27,11 @@ module test_structure
   use demstep_snapshot, only: snapshot_format, snapshot_format_names, snapshot_format_from_name, &
     snapshot_format_name
   use demstep_results, only: result_group_type, parse_result, result_get, result_has
+  use demstep_scene_input, only: scene_input_type, scene_setup_type, scene_from_input, scene_input_part
+  use demstep_scene_builders, only: scene_set_law
+  use demstep_assembly, only: critical_step_type, assembly_critical_steps, hertz_linearization
+  use demstep_material, only: material_set_type, n_conventions
+  use demstep_interaction, only: contact_law
   use demstep_capi, only: demstep_error_c, c_scene_create, c_scene_set_particles, c_scene_free
   implicit none
   private
@@ -45,7 +50,9 @@ contains
       new_unittest("C API: demstep_error carries where and the 0-based index", test_c_location), &
       new_unittest("results by name: scalars, lists, repeats, texts, absent fields", test_results), &
       new_unittest("results by name: hostile values refused, never allocated", test_results_hostile), &
-      new_unittest("peers' rules of a packing: the minimum over the pairs present", test_packing_peers) &
+      new_unittest("peers' rules of a packing: the minimum over the pairs present", test_packing_peers), &
+      new_unittest("scene from typed input: the builders' scene; faults at the component and part", &
+        test_scene_input) &
       ]
   end subroutine collect_structure
 
@@ -401,5 +408,67 @@ contains
     call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "type_of" .and. &
       status%index == 2, "a type without material: "//status%message)
   end subroutine test_packing_peers
+
+  !> The typed-input path builds what the builders build (the same doubles in,
+  !> the same limit out, compared exactly); each fault names the input's
+  !> component and the part holding it.
+  subroutine test_scene_input(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_input_type) :: input
+    type(material_set_type) :: set
+    type(scene_setup_type) :: setup
+    type(scene_type) :: a, b
+    type(critical_step_type) :: ca, cb
+    type(demstep_status_type) :: status
+    integer :: part
+    input%dim = 2
+    input%position = [0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, 2.0_dp, 0.1_dp]
+    input%mass = [1.0_dp, 2.0_dp, 3.0_dp]
+    input%radius = [0.6_dp]
+    input%k_normal = 1.0e4_dp
+    call scene_from_input(input, set, a, setup, status, part)
+    call check(error, status%stat, demstep_stat%ok, message=status%message)
+    if (allocated(error)) return
+    call new_scene(b, 2, reshape(input%position, [2, 3]), input%mass, [0.6_dp, 0.6_dp, 0.6_dp], status)
+    if (status%stat == demstep_stat%ok) call scene_set_law(b, contact_law%linear, 1.0e4_dp, 0.0_dp, status)
+    if (status%stat == demstep_stat%ok) call assembly_critical_steps(a, ca, status)
+    if (status%stat == demstep_stat%ok) call assembly_critical_steps(b, cb, status)
+    call check(error, status%stat, demstep_stat%ok, message=status%message)
+    if (allocated(error)) return
+    call check(error, ca%omega_max == cb%omega_max .and. ca%dt_critical_damped == cb%dt_critical_damped .and. &
+      ca%n_springs == cb%n_springs .and. ca%n_springs == 2, "the same springs and limit")
+    if (allocated(error)) return
+    call check(error, .not. setup%from_material .and. setup%hertz_mode == hertz_linearization%current, &
+      "no material set: the current overlap")
+    if (allocated(error)) return
+    ! a broadcast that does not fit: the component, the scene part
+    input%mass = [1.0_dp, 2.0_dp]
+    call scene_from_input(input, set, a, setup, status, part)
+    call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "mass" .and. &
+      part == scene_input_part%scene, "mass: "//status%message)
+    if (allocated(error)) return
+    ! a snapshot's springs from a material set in one code's convention
+    input = scene_input_type(dim=3, snapshot_file="example/liggghts_pour.dump")
+    set%found = .true.
+    set%types = [material_type(young=1.0e7_dp, poisson=0.25_dp, density=2500.0_dp, radius=1.0e-3_dp)]
+    set%restitution = 0.9_dp
+    set%impact_velocity = 1.0_dp
+    set%first = 2
+    set%last = 2
+    call scene_from_input(input, set, a, setup, status, part)
+    call check(error, status%stat, demstep_stat%ok, message=status%message)
+    if (allocated(error)) return
+    call check(error, setup%from_material .and. setup%hertz_mode == hertz_linearization%larger .and. &
+      setup%impact_velocity == 1.0_dp .and. a%law == contact_law%hertz .and. size(set%types) == 2 .and. &
+      setup%snapshot%n == 128, "the set's Hertz convention, at the larger overlap, broadcast to 2 types")
+    if (allocated(error)) return
+    ! all codes with a linear law: the set's fault, at its `code`
+    set%first = 1
+    set%last = n_conventions
+    input%law = contact_law%linear
+    call scene_from_input(input, set, a, setup, status, part)
+    call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "code" .and. &
+      part == scene_input_part%material, "code: "//status%message)
+  end subroutine test_scene_input
 
 end module test_structure

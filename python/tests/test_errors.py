@@ -116,7 +116,7 @@ def test_nan_goes_to_the_library():
         assert "unusable since a call failed (demstep_scene_set_particles: position" in e.message
     with scene3() as scene:
         e = raised(lambda: scene.set_contacts([[0, 1]], [[np.nan, 0.0]]))
-        assert e.message == "demstep_scene_set_contacts: contacts: row 1: k_n must be > 0 and finite"
+        assert e.message == "demstep_scene_set_contacts: contacts(1): k_n must be > 0 and finite"
     with scene3() as scene:
         e = raised(lambda: scene.set_gravity([0.0, 0.0, np.nan]))
         assert "gravity: needs 3 finite components" in e.message

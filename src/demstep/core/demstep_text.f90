@@ -7,7 +7,7 @@ module demstep_text
   private
 
   public :: int_text, real_text, real_column, integer_of, printable, read_text_file, &
-    lowercase, uppercase, is_blank, is_letter, is_name_char, comment_start
+    lowercase, uppercase, is_blank, is_letter, is_name_char, comment_start, check_lower
 
   !> An integer as text, without blanks.
   interface int_text
@@ -19,8 +19,47 @@ module demstep_text
   !> Width of the cells of [[real_column]]: the longest text of 17 digits
   !> (`-1.2345678901234567e-308`).
   integer, parameter :: cell_width = 24
+  !> Significant digits of the numbers in [[check_lower]]'s messages.
+  integer, parameter :: check_digits = 10
 
 contains
+
+  !> Status `invalid_input` at `where` unless `x` is finite and above `lower`
+  !> (default 0; at or above with `inclusive`); `element` names the array
+  !> element checked. Does nothing after an earlier failure (checks chain).
+  pure subroutine check_lower(x, where, status, lower, inclusive, element)
+    !> The value.
+    real(real64), intent(in) :: x
+    !> The argument or field it came from.
+    character(len=*), intent(in) :: where
+    type(demstep_status_type), intent(inout) :: status
+    real(real64), intent(in), optional :: lower
+    logical, intent(in), optional :: inclusive
+    integer, intent(in), optional :: element
+    real(real64) :: bound
+    logical :: closed
+    character(len=:), allocatable :: what
+    if (status%stat /= demstep_stat%ok) return
+    bound = 0.0_real64
+    if (present(lower)) bound = lower
+    closed = .false.
+    if (present(inclusive)) closed = inclusive
+    if (x == x .and. abs(x) <= huge(x)) then
+      if (closed .and. .not. x < bound) return
+      if (.not. closed .and. x > bound) return
+    end if
+    ! the message is built only for a value that fails (this runs per array element)
+    what = ""
+    if (present(element)) what = "element "//int_text(element)//" is "//real_text(x, check_digits)//"; "
+    if (.not. (x == x .and. abs(x) <= huge(x))) then
+      what = what//"must be a finite number, not "//real_text(x, check_digits)
+    else if (closed) then
+      what = what//"must be >= "//real_text(bound, check_digits)//", got "//real_text(x, check_digits)
+    else
+      what = what//"must be > "//real_text(bound, check_digits)//", got "//real_text(x, check_digits)
+    end if
+    call set_status(status, demstep_stat%invalid_input, what, where=where)
+  end subroutine check_lower
 
   pure function int32_text(i) result(text)
     integer(int32), intent(in) :: i

@@ -116,6 +116,20 @@ module demstep_material
     real(dp) :: radius = 0.0_dp
   end type material_type
 
+  !> The materials of a packing's particle types and how its contacts are
+  !> loaded, in one code's convention (`first` = `last`) or all of them
+  !> (`first` 1 to `last` n_conventions): what a `&material` group gives.
+  type, public :: material_set_type
+    !> Whether a set was given at all.
+    logical :: found = .false.
+    !> One material per particle type (one for all types before broadcasting).
+    type(material_type), allocatable :: types(:)
+    !> Normal and tangential restitution (0: the normal one) and impact velocity.
+    real(dp) :: restitution = 1.0_dp, restitution_t = 0.0_dp, impact_velocity = 0.0_dp
+    !> The conventions named (`code_convention%...`).
+    integer :: first = 0, last = -1
+  end type material_set_type
+
   !> A contact between two particle types and how it is loaded.
   type, public :: material_pair_type
     !> The two types (equal for a contact between like particles).

@@ -246,25 +246,25 @@ contains
     end if
     do c = 1, size(pairs, 2)
       if (any(pairs(:, c) < 1) .or. any(pairs(:, c) > scene%n)) then
-        call set_status(status, demstep_stat%invalid_input, "row "//int_text(c)//": names a " &
+        call set_status(status, demstep_stat%invalid_input, "names a " &
           //"missing particle ("//int_text(pairs(1, c))//", "//int_text(pairs(2, c))//"; there are " &
-          //int_text(scene%n)//")", where="contacts", index=int(c))
+          //int_text(scene%n)//")", where="contacts", index=int(c), subscript=.true.)
         return
       end if
       if (pairs(1, c) == pairs(2, c)) then
-        call set_status(status, demstep_stat%invalid_input, "row "//int_text(c)//": pairs " &
-          //"particle "//int_text(pairs(1, c))//" with itself", where="contacts", index=int(c))
+        call set_status(status, demstep_stat%invalid_input, "pairs " &
+          //"particle "//int_text(pairs(1, c))//" with itself", where="contacts", index=int(c), subscript=.true.)
         return
       end if
       if (.not. (ieee_is_finite(k(1, c)) .and. k(1, c) > 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "row "//int_text(c)//": k_n " &
-          //"must be > 0 and finite", where="contacts", index=int(c))
+        call set_status(status, demstep_stat%invalid_input, "k_n " &
+          //"must be > 0 and finite", where="contacts", index=int(c), subscript=.true.)
         return
       end if
       do q = 2, m
         if (.not. (ieee_is_finite(k(q, c)) .and. k(q, c) >= 0.0_dp)) then
-          call set_status(status, demstep_stat%invalid_input, "row "//int_text(c)//": " &
-            //trim(names(q))//" must be >= 0 and finite", where="contacts", index=int(c))
+          call set_status(status, demstep_stat%invalid_input, trim(names(q)) &
+            //" must be >= 0 and finite", where="contacts", index=int(c), subscript=.true.)
           return
         end if
       end do

@@ -20,13 +20,13 @@ module demstep_scene_materials
   use demstep_text, only: int_text
   use demstep_interaction, only: contact_law
   use demstep_material, only: material_type, material_pair_type, contact_parameters_type, &
-    contact_parameters, effective_pair_type, effective_pair
+    contact_parameters, effective_pair_type, effective_pair, material_set_type, code_convention_names
   use demstep_scene_data, only: scene_type, scene_effect
-  use demstep_scene_builders, only: scene_set_types
+  use demstep_scene_builders, only: scene_set_types, scene_set_hertz_types
   implicit none
   private
 
-  public :: scene_set_materials
+  public :: scene_set_materials, scene_set_material_set, material_set_law, material_set_damped
 
 contains
 
@@ -150,5 +150,84 @@ contains
     end subroutine pair_values
 
   end subroutine scene_set_materials
+
+  !> The contact law a material set implies: Hertz for all codes or a Hertz
+  !> convention (one evaluated at an overlap), else linear (`contact_law%...`).
+  pure integer function material_set_law(set) result(law)
+    type(material_set_type), intent(in) :: set
+    type(contact_parameters_type) :: params
+    type(demstep_status_type) :: status
+    law = contact_law%hertz
+    if (set%first /= set%last) return
+    call contact_parameters(material_pair_type(set%types(1), set%types(1), set%restitution, &
+      set%restitution_t, set%impact_velocity), set%first, params, status)
+    if (status%stat == demstep_stat%ok .and. params%overlap == 0.0_dp) law = contact_law%linear
+  end function material_set_law
+
+  !> Whether the set's code damps its contacts: all codes, or one whose
+  !> convention gives a normal dashpot (Yade's FrictPhys has none).
+  pure logical function material_set_damped(set) result(damped)
+    type(material_set_type), intent(in) :: set
+    type(contact_parameters_type) :: params
+    type(demstep_status_type) :: status
+    damped = .true.
+    if (set%first /= set%last) return
+    call contact_parameters(material_pair_type(set%types(1), set%types(1), set%restitution, &
+      set%restitution_t, set%impact_velocity), set%first, params, status)
+    if (status%stat == demstep_stat%ok) damped = params%gamma_n > 0.0_dp
+  end function material_set_damped
+
+  !> Per-type springs and dashpots from a material set: one code named, its own
+  !> convention ([[scene_set_materials]]); all codes, Hertz E* and G* from each
+  !> type's Young's modulus and Poisson's ratio (the scene's law must be Hertz).
+  !> `in_set` tells whether a fault lies in the set (else in `types` or
+  !> `wall_type`).
+  subroutine scene_set_material_set(scene, set, types, wall_type, tangential_damping, status, in_set)
+    type(scene_type), intent(inout) :: scene
+    type(material_set_type), intent(in) :: set
+    !> The particles' types (1 to the set's size).
+    integer, intent(in) :: types(:)
+    !> The walls' type (0: each particle's own).
+    integer, intent(in) :: wall_type
+    !> The code's tangential dashpots.
+    logical, intent(in) :: tangential_damping
+    type(demstep_status_type), intent(out) :: status
+    logical, intent(out) :: in_set
+    real(dp), allocatable :: young(:), poisson(:)
+    in_set = .true.
+    if (set%first == set%last) then
+      call scene_set_materials(scene, types, set%types, set%first, set%restitution, status, &
+        restitution_t=set%restitution_t, impact_velocity=set%impact_velocity, wall_type=wall_type, &
+        tangential_damping=tangential_damping)
+      if (status%stat /= demstep_stat%ok) in_set = .not. (status%where == "wall_type" .or. &
+        status%where == "types")
+      return
+    end if
+    if (scene%law == contact_law%hertz) then
+      young = set%types%young
+      poisson = set%types%poisson
+      call scene_set_hertz_types(scene, types, young, poisson, status)
+      return
+    end if
+    call set_status(status, demstep_stat%invalid_input, "the linear law takes k_n and k_t from one " &
+      //"code's convention: name it ("//linear_conventions(set)//")", where="code")
+  end subroutine scene_set_material_set
+
+  !> The names of the conventions whose springs are linear (evaluated at no overlap).
+  pure function linear_conventions(set) result(names)
+    type(material_set_type), intent(in) :: set
+    character(len=:), allocatable :: names
+    type(contact_parameters_type) :: params
+    type(demstep_status_type) :: status
+    integer :: c
+    names = ""
+    do c = 1, size(code_convention_names)
+      call contact_parameters(material_pair_type(set%types(1), set%types(1), set%restitution, &
+        set%restitution_t, set%impact_velocity), c, params, status)
+      if (status%stat /= demstep_stat%ok .or. params%overlap /= 0.0_dp) cycle
+      if (len(names) > 0) names = names//", "
+      names = names//trim(code_convention_names(c))
+    end do
+  end function linear_conventions
 
 end module demstep_scene_materials
