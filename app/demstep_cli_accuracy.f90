@@ -16,7 +16,7 @@ module demstep_cli_accuracy
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, check_real, new_array, array_length, broadcast, common_length, &
     default_text, max_values, capacity_of, in_group
-  use demstep_words, only: unknown_word, word_index
+  use demstep_words, only: unknown_word, word_index, word_choice
   use demstep_cli_files, only: output_file_type, open_output, commit_output, discard_output, rename_file, &
     process_id, refuse_input
   use demstep_results, only: write_contact_error_result, write_accuracy_cost_result
@@ -55,8 +55,8 @@ contains
   function accuracy_cost_specs() result(specs)
     type(var_spec), allocatable :: specs(:)
     specs = [ &
-      var("quantity", "a quoted word", "'restitution', 'contact_time', 'overlap', 'period' or " &
-        //"'harmonic' (the paper's E at lambda)", "'restitution'", required=.true.), &
+      var("quantity", "a quoted word", word_choice([character(len=12) :: quantity_kind_names, "harmonic"], &
+        [character(len=24) :: "", "", "", "", "the paper's E at lambda"]), "'restitution'", required=.true.), &
       var("tolerances", "a list of real numbers", "relative errors to meet (> 0)", "1e-2, 1e-3, 1e-4", &
         capacity=max_values, required=.true.), &
       var("duration", "a real number", "simulated time (> 0)", "1.0", required=.true.), &

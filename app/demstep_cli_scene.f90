@@ -25,7 +25,7 @@ module demstep_cli_scene
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, check_real, new_array, array_length, new_int_array, int_array_length, &
     max_values, capacity_of, in_group
-  use demstep_words, only: word_list, unknown_word, word_index
+  use demstep_words, only: word_list, unknown_word, word_index, word_choice
   use demstep_results, only: write_scene_result, write_snapshot_result
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use, intrinsic :: iso_fortran_env, only: error_unit
@@ -83,7 +83,7 @@ contains
         //"file: LAMMPS/LIGGGHTS dump or data file, Yade text export; masses from the file, else " &
         //"from a &material group's density per type", "!'dump.liggghts'", &
         excludes="position particles_file velocity mass radius fixed types"), &
-      var("snapshot_format", "a quoted word", "'auto', 'lammps_dump', 'lammps_data' or 'yade_text'", &
+      var("snapshot_format", "a quoted word", word_choice(snapshot_format_names), &
         "!'auto'", default="'auto'", needs="snapshot_file"), &
       var("snapshot_frame", "an integer", "dump frame: 1, 2, ... from the first; 0 the last, -1 the " &
         //"one before, ...", "!0", default="0", needs="snapshot_file"), &
@@ -98,7 +98,8 @@ contains
         "!1.0, 1.0, 1.0", capacity=3, default="!0, 0, 0"), &
       var("bonds_file", "a quoted file name", "table of bonds: per row two particle numbers", &
         "!'bonds.txt'", excludes="bonds"), &
-      var("law", "a quoted word", "contact law: 'linear' (k_normal) or 'hertz' (e_star)", &
+      var("law", "a quoted word", "contact law: "//word_choice(contact_law_names, [character(len=8) :: &
+        "k_normal", "e_star"]), &
         "'linear'", default="'linear'"), &
       var("k_normal", "a real number", "linear contact stiffness (> 0)", "1.0e4", default="!0"), &
       var("e_star", "a real number", "Hertz effective modulus E* (> 0)", "!1.0e8", default="!0"), &
@@ -128,9 +129,9 @@ contains
         default="0"), &
       var("walls", "a list of real numbers", "per wall: dim coordinates of a point, dim of the " &
         //"normal pointing into the domain", "!0.0, -0.5,  0.0, 1.0", capacity=64), &
-      var("effects", "a list of quoted words", "'contacts' (default), 'gravity', 'damping', " &
-        //"'local_damping', 'walls', 'rotation' (default with tangential springs); 'none' for " &
-        //"bonds only", "'contacts'", capacity=max_effects), &
+      var("effects", "a list of quoted words", word_choice(scene_effect_names, [character(len=32) :: &
+        "default", "", "", "", "", "default with tangential springs"])//"; 'none' for bonds only", &
+        "'contacts'", capacity=max_effects), &
       var("gravity", "a list of real numbers", "dim components (default -9.81 along the last axis)", &
         "!0.0, -9.81", capacity=3), &
       var("damping_ratio", "a real number", "viscous damping ratio (0 to 1e100) for 'damping'", "!0.1", &
@@ -157,8 +158,8 @@ contains
         //"0 each particle's own", "!1", default="0"), &
       var("rolling_friction", "a real number", "the rolling moment's cap rolling_friction R* F_n in " &
         //"a run (>= 0; default none)", "!0.1", default="!-1"), &
-      var("hertz_linearization", "a quoted word", "'current' overlap, 'impact' or the 'larger' of them " &
-        //"(with impact_velocity)", "!'current'", default="'current'"), &
+      var("hertz_linearization", "a quoted word", "the overlap: "//word_choice(hertz_linearization_names, &
+        [character(len=18) :: "", "at impact_velocity", "of the two"]), "!'current'", default="'current'"), &
       var("impact_velocity", "a real number", "impact speed for the 'impact' linearization (> 0)", &
         "!1.0", default="!0"), &
       var("duration", "a real number", "simulated time (>= 0; 0: no run)", "10.0", default="0"), &
@@ -166,8 +167,8 @@ contains
         excludes="n_per_period"), &
       var("n_per_period", "a real number", "steps per smallest period 2 pi/omega_max (> pi " &
         //"to be stable)", "20.0"), &
-      var("eigen_solver", "a quoted word", "exact omega_max by 'auto', 'dense' (LAPACK), " &
-        //"'lanczos' (ARPACK) or 'none' (the bound only)", "!'auto'", default="'auto'"), &
+      var("eigen_solver", "a quoted word", "exact omega_max by "//word_choice(eigen_solver_names, &
+        [character(len=14) :: "", "LAPACK", "ARPACK", "the bound only"]), "!'auto'", default="'auto'"), &
       var("eigen_tolerance", "a real number", "Lanczos: relative residual on omega_max^2, " &
         //"in [2.2e-16, 0.1]", "!"//fmt_real(lanczos_tolerance_default), &
         default=fmt_real(lanczos_tolerance_default)), &

@@ -15,7 +15,7 @@ module demstep_cli_stiffness
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, new_array, array_length, default_text, max_values, capacity_of, &
     in_group
-  use demstep_words, only: unknown_word, word_index
+  use demstep_words, only: unknown_word, word_index, word_choice
   use demstep_results, only: write_simulated_stiffness_result
   use, intrinsic :: iso_fortran_env, only: error_unit
   implicit none
@@ -45,14 +45,15 @@ contains
         needs="lambda_min lambda_count"), &
       var("lambda_count", "an integer", "number of lambdas in the even set (>= 1)", "10", &
         needs="lambda_min lambda_max"), &
-      var("steps", "a quoted word", "'half_period', 'fraction', 'rounded' " &
-        //"(nint(f N) steps) or 'fixed'", "'half_period'", default="'half_period'"), &
+      var("steps", "a quoted word", word_choice([character(len=11) :: "half_period", step_kind_names], [character(len=16) :: &
+        "", "", "", "nint(f N) steps"]), "'half_period'", default="'half_period'"), &
       var("steps_fraction", "a real number", "f for steps = 'fraction' or 'rounded' (> 0)", "!0.5", &
         default="0.5"), &
       var("n_steps", "a real number", "n for steps = 'fixed' (>= 1)", "!100.0"), &
-      var("pick", "a quoted word", "'largest_step' (smallest N with |E| <= E0) or 'zero'", &
+      var("pick", "a quoted word", word_choice(pick_kind_names, [character(len=25) :: &
+        "smallest N with |E| <= E0", ""]), &
         "'largest_step'", default="'largest_step'"), &
-      var("aggregate", "a quoted word", "'mean', 'weighted', 'median', 'min' or 'max'", &
+      var("aggregate", "a quoted word", word_choice(aggregate_kind_names), &
         "'mean'", default="'mean'"), &
       var("weights", "a list of real numbers", "one weight >= 0 per lambda, for 'weighted'", &
         "!1.0, 2.0, 1.0", capacity=max_values), &

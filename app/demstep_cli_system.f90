@@ -8,7 +8,7 @@ module demstep_cli_system
     numerical_phase, dashpot_kind_from_name, dashpot_kind_names
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_namelist, only: nml_group_type
-  use demstep_words, only: unknown_word
+  use demstep_words, only: unknown_word, word_choice
   use demstep_cli, only: report_row, record_step, var_spec, var, given, begin_group, check_real, &
     next_assignment, group_reading, fmt_real, fmt_int, in_group, cli_context
   use demstep_results, only: write_system_result
@@ -31,7 +31,8 @@ contains
       var("mass", "a real number", "mass M (> 0)", "0.01", required=.true.), &
       var("stiffness", "a real number", "normal stiffness K (> 0)", "1.0e5", required=.true.), &
       var("damping_ratio", "a real number", "viscous damping ratio zeta >= 0", "0.0", default="0"), &
-      var("dashpot", "a quoted word", "'lagged' (half-step-old velocity) or 'centred'", &
+      var("dashpot", "a quoted word", word_choice(dashpot_kind_names, [character(len=22) :: &
+        "half-step-old velocity", ""]), &
         "'lagged'", default="'lagged'"), &
       var("velocity", "a real number", "impact speed v0 > 0, scales overlaps", "1.0", default="1"), &
       var("dt", "a real number", "time step to assess (> 0), or give n_per_period", "!2.0e-4", &

@@ -8,7 +8,7 @@ module demstep_words
   implicit none
   private
 
-  public :: word_index, word_of, word_list, unknown_word
+  public :: word_index, word_of, word_list, word_choice, unknown_word
 
 contains
 
@@ -68,6 +68,32 @@ contains
       at = at + len_trim(names(i)) + 2*len(q)
     end do
   end function word_list
+
+  !> A table's words as a choice for help texts: each quoted, followed by its
+  !> note in parentheses where the note is not blank, `or` before the last
+  !> (`'auto', 'dense' (LAPACK) or 'none'`).
+  pure function word_choice(names, notes) result(text)
+    !> The table.
+    character(len=*), intent(in) :: names(:)
+    !> One note per word (blank: none).
+    character(len=*), intent(in), optional :: notes(:)
+    character(len=:), allocatable :: text
+    integer :: i
+    text = ""
+    do i = 1, size(names)
+      if (i > 1 .and. i == size(names)) then
+        text = text//" or "
+      else if (i > 1) then
+        text = text//", "
+      end if
+      text = text//"'"//trim(names(i))//"'"
+      if (present(notes)) then
+        if (i <= size(notes)) then
+          if (len_trim(notes(i)) > 0) text = text//" ("//trim(notes(i))//")"
+        end if
+      end if
+    end do
+  end function word_choice
 
   !> The status for a word outside its table: `where: unknown word 'w' (a, b, c)`.
   pure subroutine unknown_word(status, where, word, names)
