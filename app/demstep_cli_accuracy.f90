@@ -4,7 +4,7 @@ module demstep_cli_accuracy
   use demstep_contact, only: discrete_contact_type, contact_with_onset, contact_worst_case, &
     quantity_kind, n_quantities, quantity_kind_names, quantity_kind_from_name, check_contact_damping
   use demstep_cost, only: n_for_tolerance, run_prediction_type, predict_run, worst_error, &
-    n_for_harmonic_tolerance, default_cost_n_max
+    n_for_harmonic_tolerance, default_cost_n_max, accuracy_cost_table, quantity_harmonic
   use demstep_step_cost, only: measure_step_cost
   use demstep_harmonic, only: harmonic_error
   use demstep_kinds, only: dp, i8, pi
@@ -35,7 +35,6 @@ module demstep_cli_accuracy
     //"for the duration and the predicted run time; a CSV file and a figure."
 
   !> The quantity 'harmonic': the paper's E (half-period steps) at a given lambda.
-  integer, parameter :: quantity_harmonic = n_quantities + 1
   !> The curves start at N = 4 (just above the stability limit pi).
   real(dp), parameter :: curve_n_min = 4.0_dp
 
@@ -242,6 +241,7 @@ contains
     logical :: measured
     type(spring_type) :: spring, damped
     type(run_prediction_type) :: prediction
+    type(run_prediction_type), allocatable :: rows(:)
     real(dp) :: dt_recommended
     integer :: governs
 
@@ -305,38 +305,21 @@ contains
       cost = cost_per_particle_step
     end if
 
-    allocate(n(nt), dt(nt), steps(nt), predicted_seconds(nt), stat(nt), saturated(nt))
-    saturated = .false.
+    allocate(n(nt), rows(nt), stat(nt))
     ! one root per tolerance: a long list shows its progress on stderr
     progress = text_progress_type(unit=error_unit, label="demstep: &"//g)
     ! --quiet: no line, however long
     if (ctx%quiet) progress%delay = huge(1.0_dp)
-    call progress%start("tolerances", int(nt, i8))
-    do i = 1, nt
-      call n_needed(q, tolerances(i), i, damping_ratio, lambda, n_max, n(i), stat(i), status)
-      call progress%update(int(i, i8))
-      if (status%stat /= demstep_stat%ok) then
-        call progress%finish()
-        call in_group(status, g)
-        return
-      end if
-      if (stat(i) == demstep_stat%ok) then
-        call predict_run(period, n(i), duration, n_particles, cost, prediction, status)
-        if (status%stat /= demstep_stat%ok) then
-          call in_group(status, g)
-          return
-        end if
-        dt(i) = prediction%dt
-        steps(i) = prediction%steps
-        saturated(i) = prediction%steps_saturated
-        predicted_seconds(i) = prediction%seconds
-      else
-        dt(i) = 0.0_dp
-        steps(i) = 0_i8
-        predicted_seconds(i) = 0.0_dp
-      end if
-    end do
-    call progress%finish()
+    call accuracy_cost_table(q, tolerances(:nt), period, duration, n_particles, cost, n, rows, stat, status, &
+      damping_ratio=damping_ratio, lambda=lambda, n_max=n_max, progress=progress)
+    if (status%stat /= demstep_stat%ok) then
+      call in_group(status, g)
+      return
+    end if
+    dt = rows%dt
+    steps = rows%steps
+    saturated = rows%steps_saturated
+    predicted_seconds = rows%seconds
     ! the curves run from N = 4 to n_top: their predictions must hold as well
     n_top = max(1.0e3_dp, 4.0_dp*maxval(n, mask=stat == demstep_stat%ok .and. n < 1.0e6_dp))
     call predict_run(period, curve_n_min, duration, n_particles, cost, prediction, status)
@@ -384,42 +367,6 @@ contains
     write(ctx%report, '(a)') ""
     call record_step(ctx, "single-contact step", dt_recommended, .false., group)
   end subroutine handle_accuracy_cost
-
-  !> N for one tolerance from the library (a contact quantity's worst case, or the
-  !> paper's E at lambda); `stat` is the library's code, and bad input comes back
-  !> in `status` with the message naming the deck's variable.
-  subroutine n_needed(q, tolerance, element, zeta, lambda, n_max, n, stat, status)
-    integer, intent(in) :: q
-    !> The tolerance's place in `tolerances`, for the message.
-    integer, intent(in) :: element
-    real(dp), intent(in) :: tolerance, zeta, lambda, n_max
-    real(dp), intent(out) :: n
-    integer, intent(out) :: stat
-    !> Bad input (the message names the variable); ok otherwise.
-    type(demstep_status_type), intent(out) :: status
-    type(demstep_status_type) :: st
-    if (q == quantity_harmonic) then
-      call n_for_harmonic_tolerance(lambda, tolerance, n, st, n_max=n_max)
-    else
-      call n_for_tolerance(q, tolerance, n, st, damping_ratio=zeta, n_max=n_max)
-    end if
-    stat = st%stat
-    if (stat == demstep_stat%invalid_input) then
-      select case (st%where)
-      case ("tolerance")
-        call set_status(status, stat, "element "//fmt_int(int(element, i8))//" is "//fmt_real(tolerance)// &
-          "; "//st%detail, where="tolerances")
-      case ("steps_fraction")
-        ! the steps per contact are N/2 here (no deck variable): lambda sets f lambda
-        call set_status(status, stat, fmt_real(lambda)//" with N/2 steps per contact (f = 0.5): "// &
-          st%detail, where="lambda")
-      case default
-        status = st
-      end select
-      return
-    end if
-    status%stat = demstep_stat%ok
-  end subroutine n_needed
 
   subroutine report_cost(u, group, q, tolerances, n, dt, steps, seconds, stat, cost, measured, &
       duration, n_particles, period, saturated)

@@ -4,7 +4,7 @@ module test_cost
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
   use demstep_contact, only: quantity_kind_names
-  use demstep_cost, only: worst_error
+  use demstep_cost, only: worst_error, accuracy_cost_table, quantity_harmonic
   use demstep_contact, only: n_quantities
   use test_support, only: real_str
   implicit none
@@ -19,7 +19,8 @@ contains
       new_unittest("errors vanish at the stated rates", test_rates), &
       new_unittest("tolerance -> N inverts the error curves", test_tolerance), &
       new_unittest("tolerance -> N: bad tolerances, beyond n_max, unknown quantity", test_refusals), &
-      new_unittest("run prediction: dt, steps and time in closed form, saturation", test_prediction) &
+      new_unittest("run prediction: dt, steps and time in closed form, saturation", test_prediction), &
+      new_unittest("the accuracy-cost table: each row as its own calls; faults by element", test_table) &
       ]
   end subroutine collect_cost
 
@@ -136,5 +137,47 @@ contains
     if (allocated(error)) return
     call check(error, index(status%message, "n_particles: ") == 1, "names n_particles: "//status%message)
   end subroutine test_prediction
+
+  !> The table's rows are the single calls' results (the same doubles); a
+  !> tolerance beyond n_max keeps its code in its row; a bad tolerance is
+  !> named with its element, a bad lambda as lambda.
+  subroutine test_table(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), parameter :: tol(3) = [1.0e-2_dp, 1.0e-3_dp, 1.0e-12_dp], period = 1.0e-3_dp
+    real(dp) :: n(3), nn
+    type(run_prediction_type) :: rows(3), one
+    integer :: stat(3), i
+    type(demstep_status_type) :: status, st
+    call accuracy_cost_table(quantity_kind%restitution, tol, period, 1.0_dp, 1.0e4_dp, 1.0e-7_dp, n, rows, &
+      stat, status, damping_ratio=0.1_dp, n_max=1.0e5_dp)
+    call check(error, status%stat, demstep_stat%ok, message=status%message)
+    if (allocated(error)) return
+    do i = 1, 3
+      call n_for_tolerance(quantity_kind%restitution, tol(i), nn, st, damping_ratio=0.1_dp, n_max=1.0e5_dp)
+      call check(error, stat(i), st%stat, "row "//real_str(tol(i))//": the single call's code")
+      if (allocated(error)) return
+      if (st%stat /= demstep_stat%ok) then
+        call check(error, n(i) == 0.0_dp .and. rows(i)%steps == 0, "an unmet tolerance: a zero row")
+        if (allocated(error)) return
+        cycle
+      end if
+      call predict_run(period, nn, 1.0_dp, 1.0e4_dp, 1.0e-7_dp, one, st)
+      call check(error, n(i) == nn .and. rows(i)%dt == one%dt .and. rows(i)%seconds == one%seconds, &
+        "row "//real_str(tol(i))//": the single calls' doubles")
+      if (allocated(error)) return
+    end do
+    call check(error, stat(1) == demstep_stat%ok .and. stat(3) /= demstep_stat%ok, &
+      "1e-2 met, 1e-12 not within n_max = 1e5")
+    if (allocated(error)) return
+    call accuracy_cost_table(quantity_kind%restitution, [1.0e-2_dp, -1.0_dp], period, 1.0_dp, 1.0e4_dp, &
+      1.0e-7_dp, n(:2), rows(:2), stat(:2), status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "tolerances" .and. &
+      status%index == 2, "a bad tolerance at its element: "//status%message)
+    if (allocated(error)) return
+    call accuracy_cost_table(quantity_harmonic, [1.0e-3_dp], period, 1.0_dp, 1.0e4_dp, 1.0e-7_dp, n(:1), &
+      rows(:1), stat(:1), status, lambda=-0.5_dp)
+    call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "lambda", &
+      "a bad lambda: "//status%message)
+  end subroutine test_table
 
 end module test_cost

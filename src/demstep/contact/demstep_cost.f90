@@ -6,13 +6,18 @@ module demstep_cost
   use demstep_contact, only: discrete_contact_type, contact_worst_case, period_error, quantity_kind, &
     n_quantities, check_contact_damping
   use demstep_spring, only: saturated_count, ceiling_real
-  use demstep_text, only: real_text
+  use demstep_text, only: real_text, int_text
+  use demstep_progress, only: progress_type
   use demstep_stiffness, only: nroots_options_type, nroots_type, n_roots
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
-  public :: worst_error, n_for_tolerance, n_for_harmonic_tolerance, predict_run
+  public :: worst_error, n_for_tolerance, n_for_harmonic_tolerance, predict_run, accuracy_cost_table
+
+  !> The paper's E at lambda as a quantity of [[accuracy_cost_table]], beside
+  !> the contact quantities `quantity_kind%...`.
+  integer, parameter, public :: quantity_harmonic = n_quantities + 1
 
   !> Largest N searched by default.
   real(dp), parameter, public :: default_cost_n_max = 1.0e7_dp
@@ -197,6 +202,75 @@ contains
       call set_status(status, r%stat, "the pick of N jumps at this tolerance")
     end if
   end subroutine n_for_harmonic_tolerance
+
+  !> What accuracy costs, per tolerance: the smallest N meeting it (the worst
+  !> case over the onset of a contact quantity `quantity_kind%...`, or the
+  !> paper's E at `lambda` with `quantity_harmonic`, N/2 steps per contact), and
+  !> what a run at that N costs. A tolerance not met up to `n_max` has its
+  !> library code in `stat` (its row zero); bad input is a status naming
+  !> `tolerances` (and the element), `lambda` or the run's sizes.
+  subroutine accuracy_cost_table(quantity, tolerances, period, duration, n_particles, cost, &
+      n, rows, stat, status, damping_ratio, lambda, n_max, progress)
+    integer, intent(in) :: quantity
+    real(dp), intent(in) :: tolerances(:)
+    !> T, the simulated duration, the particles and the seconds per particle-step.
+    real(dp), intent(in) :: period, duration, n_particles, cost
+    !> N per tolerance (0 where not met).
+    real(dp), intent(out) :: n(size(tolerances))
+    !> The run at each N.
+    type(run_prediction_type), intent(out) :: rows(size(tolerances))
+    !> The library's code per tolerance: ok, or why it is not met.
+    integer, intent(out) :: stat(size(tolerances))
+    type(demstep_status_type), intent(out) :: status
+    !> The lagged dashpot's ratio (contact quantities), lambda (harmonic), the
+    !> largest N searched.
+    real(dp), intent(in), optional :: damping_ratio, lambda, n_max
+    !> Told of each tolerance done.
+    class(progress_type), intent(inout), optional :: progress
+    type(demstep_status_type) :: st
+    real(dp) :: zeta, lam, top
+    integer :: i
+    zeta = 0.0_dp
+    if (present(damping_ratio)) zeta = damping_ratio
+    lam = 0.0_dp
+    if (present(lambda)) lam = lambda
+    top = default_cost_n_max
+    if (present(n_max)) top = n_max
+    n = 0.0_dp
+    stat = demstep_stat%ok
+    status%stat = demstep_stat%ok
+    if (present(progress)) call progress%start("tolerances", int(size(tolerances), i8))
+    do i = 1, size(tolerances)
+      if (quantity == quantity_harmonic) then
+        call n_for_harmonic_tolerance(lam, tolerances(i), n(i), st, n_max=top)
+      else
+        call n_for_tolerance(quantity, tolerances(i), n(i), st, damping_ratio=zeta, n_max=top)
+      end if
+      if (present(progress)) call progress%update(int(i, i8))
+      stat(i) = st%stat
+      if (st%stat == demstep_stat%invalid_input) then
+        select case (st%where)
+        case ("tolerance")
+          call set_status(status, st%stat, "element "//int_text(i)//" is "//real_text(tolerances(i), 10)// &
+            "; "//st%detail, where="tolerances", index=i)
+        case ("steps_fraction")
+          ! N/2 steps per contact: the steps fraction is lambda's to set
+          call set_status(status, st%stat, real_text(lam, 10)//" with N/2 steps per contact (f = 0.5): "// &
+            st%detail, where="lambda")
+        case default
+          status = st
+        end select
+        exit
+      end if
+      if (st%stat == demstep_stat%ok) then
+        call predict_run(period, n(i), duration, n_particles, cost, rows(i), status)
+        if (status%stat /= demstep_stat%ok) exit
+      else
+        n(i) = 0.0_dp
+      end if
+    end do
+    if (present(progress)) call progress%finish()
+  end subroutine accuracy_cost_table
 
   !> The time step, steps and predicted run time of a run at N steps per period.
   !> Status invalid_input, naming the variable to change and the range that works,
