@@ -399,7 +399,7 @@ contains
     if (size(pairs, 2) > 0) then
       call scene_add_bonds(sc, pairs, status)
       if (status%stat /= demstep_stat%ok) then
-        status%message = "&"//g//": bonds: "//status%message
+        call in_group(status, g)
         return
       end if
       call scene_set_bond_stiffness(sc, k_bond, k_bond_tangential, status)
