@@ -11,11 +11,13 @@ module test_bonds
   use demstep_scene_builders, only: new_scene, scene_add_bonds, scene_set_cell
   use demstep_scene_bonds, only: scene_set_bond_model, scene_bond_law
   use demstep_bonds, only: bond_model, bond_law_type, bond_law, bond_pair_modes, musen_bond_time, &
-    musen_recommended_step, kratos_step, bond_parameter_count, bond_model_from_name, bond_model_name
+    musen_recommended_step, kratos_step, musen_step_factor, bond_parameter_count, bond_model_from_name, bond_model_name
   use demstep_assembly, only: assembly_critical_steps, critical_step_type, assembly_operator, &
     assembly_operator_type, assembly_matrix, eigen_solver
   use demstep_csr, only: csr_matrix_type, csr_to_dense
   use demstep_stepper, only: scene_run
+  use demstep_packing, only: random_periodic_packing
+  use demstep_neighbours, only: contact_list
   use test_support, only: real_str, seed_fixed, ieee_nan
   implicit none
   private
@@ -51,6 +53,7 @@ contains
       new_unittest("straight periodic chain: the dispersion, whole spectrum", test_chain_dispersion), &
       new_unittest("stepper at 0.99/1.01 of the undamped and damped limits", test_stability), &
       new_unittest("peers' rules: MUSEN 1.64, k_n = k_s 0.535, Kratos", test_peer_rules), &
+      new_unittest("peers' rules on chains and a cemented packing", test_peer_rules_chain), &
       new_unittest("bad input refused by name", test_refusals) &
       ]
   end subroutine collect_bonds
@@ -445,6 +448,78 @@ contains
     call check(error, abs(ratio - sqrt(2.0_dp/7.0_dp)) < 1.0e-12_dp .and. abs(ratio - 0.5345_dp) < 1.0e-4_dp, &
       "k_n = k_s: exact / normal-only = "//real_str(ratio))
   end subroutine test_peer_rules
+
+  !> MUSEN's and Kratos' rules (bond diameter = the mean sphere radius, nu =
+  !> 0.3) on a straight periodic chain of 20 equal spheres (closed form: the
+  !> axial branch's 4 k_n/m tops the shear-rotation's 4 k_t a^2/I = 3.85 k_n/m,
+  !> so T_bond/exact = 2 and Kratos 1), an open chain of 20 and a cemented
+  !> random packing of 64 spheres (radii 1 +- 15 %, a bond on every contact).
+  subroutine test_peer_rules_chain(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer, parameter :: n = 20
+    type(scene_type) :: scene
+    type(demstep_status_type) :: status
+    type(critical_step_type) :: crit
+    type(bond_law_type) :: law
+    integer, allocatable :: pi_(:), pj(:)
+    real(dp), allocatable :: pn(:, :), pd(:)
+    real(dp) :: x(3, n), e, g, t_bond, k_min, r_musen, r_kratos
+    integer :: pairs(2, n), j, k, shape_
+    logical :: ok
+    e = 1.0e5_dp
+    g = e/2.6_dp
+    do shape_ = 1, 3
+      if (shape_ <= 2) then
+        do j = 1, n
+          x(:, j) = [(j - 0.5_dp)*2.0_dp, 0.0_dp, 0.0_dp]
+          pairs(:, j) = [j, modulo(j, n) + 1]
+        end do
+        call new_scene(scene, 3, x, spread(1.0_dp, 1, n), spread(1.0_dp, 1, n), status, search=.false.)
+        if (shape_ == 1) then
+          call scene_set_cell(scene, [.true., .false., .false.], [0.0_dp, -5.0_dp, -5.0_dp], &
+            [2.0_dp*n, 5.0_dp, 5.0_dp], status, search=.false.)
+          call scene_add_bonds(scene, pairs, status)
+        else
+          call scene_add_bonds(scene, pairs(:, :n - 1), status)
+        end if
+      else
+        call random_periodic_packing(scene, 64, status, seed=5)
+        call check(error, status%stat, demstep_stat%ok, status%message)
+        if (allocated(error)) return
+        call contact_list(scene, pi_, pj, pn, pd, status)
+        call scene_add_bonds(scene, reshape([(pi_(k), pj(k), k = 1, size(pi_))], [2, size(pi_)]), status)
+      end if
+      scene%effects(scene_effect%contacts) = .false.
+      call scene_set_bond_model(scene, bond_model%musen, [e, g, 1.0_dp], status)
+      call assembly_critical_steps(scene, crit, status, solver=eigen_solver%dense)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      t_bond = huge(1.0_dp)
+      do k = 1, size(scene%bonds, 2)
+        t_bond = min(t_bond, musen_bond_time(scene%mass(scene%bonds(1, k)), scene%mass(scene%bonds(2, k)), e, &
+          0.3_dp, 1.0_dp, norm2(scene%bond_rest(:, k))))
+      end do
+      ! Kratos: the smallest particle bonded to itself (rest length 2 r_min)
+      j = minloc(scene%radius, 1)
+      law = bond_law(bond_model%musen, [e, g, 1.0_dp], scene%radius(j), scene%radius(j), 2.0_dp*scene%radius(j), 3)
+      k_min = law%k(1)
+      r_musen = t_bond/crit%dt_critical_eigen
+      r_kratos = kratos_step(minval(scene%mass), k_min, 1.0_dp)/crit%dt_critical_eigen
+      select case (shape_)
+      case (1)
+        ok = abs(r_musen - 2.0_dp) < 1.0e-12_dp .and. abs(r_kratos - 1.0_dp) < 1.0e-12_dp
+      case (2)
+        ! an open chain's top lies below the infinite chain's (measured 1.9938, 0.9969)
+        ok = r_musen > 1.99_dp .and. r_musen <= 2.0_dp .and. abs(r_kratos - 0.5_dp*r_musen) < 1.0e-12_dp
+      case default
+        ! measured 2.886 and 1.427 (207 bonds): MUSEN's 0.1 T_bond is safe, Kratos' factor 1 is not
+        ok = r_musen > 2.0_dp .and. musen_step_factor*r_musen < 1.0_dp .and. r_kratos > 1.0_dp
+      end select
+      call check(error, ok, "case "//real_str(real(shape_, dp))//": MUSEN T_bond/exact "//real_str(r_musen)// &
+        ", Kratos/exact "//real_str(r_kratos))
+      if (allocated(error)) return
+    end do
+  end subroutine test_peer_rules_chain
 
   subroutine test_refusals(error)
     type(error_type), allocatable, intent(out) :: error
