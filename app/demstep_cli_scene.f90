@@ -34,6 +34,8 @@ module demstep_cli_scene
     next_assignment, group_reading, check_real, new_array, array_length, new_int_array, int_array_length, &
     max_values, capacity_of, in_group
   use demstep_words, only: word_list, unknown_word, word_index
+  use demstep_bonds, only: bond_model_from_name, bond_model_names, max_bond_parameters
+  use demstep_scene_bonds, only: scene_set_bond_model
   use demstep_results, only: write_scene_result, write_snapshot_result
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use, intrinsic :: iso_fortran_env, only: error_unit
@@ -134,6 +136,14 @@ contains
         default="!0"), &
       var("k_bond_tangential", "a real number", "bond tangential stiffness (>= 0)", "0.0", &
         default="0"), &
+      var("bond_model", "a quoted word", "bonds as a DEM code makes them, with normal, shear, " &
+        //"bending and twisting springs: 'pfc' (parallel bond), 'musen' (solid bond), 'yade' " &
+        //"(CohFrictPhys) or 'lammps' (bpm/rotational); instead of k_bond", "!'musen'", &
+        excludes="k_bond k_bond_tangential", needs="bond_parameters"), &
+      var("bond_parameters", "a list of real numbers", "the bond model's inputs in its code's " &
+        //"units: pfc kbar_n, kbar_s, lambda; musen E, G, diameter; yade young, poisson, alpha_kr, " &
+        //"alpha_ktw; lammps K_r, K_s, K_t, K_b, gamma_n, gamma_s, gamma_r, gamma_t", &
+        "!7.0e10, 2.7e10, 1.0e-3", capacity=max_bond_parameters, needs="bond_model"), &
       var("walls", "a list of real numbers", "per wall: dim coordinates of a point, dim of the " &
         //"normal pointing into the domain", "!0.0, -0.5,  0.0, 1.0", capacity=64), &
       var("effects", "a list of quoted words", "'contacts' (default), 'gravity', 'damping', " &
@@ -206,7 +216,8 @@ contains
     logical :: from_material, typed, effects_given(n_effects)
     character(len=200), allocatable :: snapshot_lines(:)
     real(dp) :: peer_dt(n_peer_rules)
-    character(len=32) :: law, hertz_linearization, eigen_solver
+    character(len=32) :: law, hertz_linearization, eigen_solver, bond_model
+    real(dp), allocatable :: bond_parameters(:)
     character(len=32) :: effects(max_effects)
     real(dp) :: k_normal, e_star, k_bond, k_bond_tangential, damping_ratio, restitution, &
       local_damping, impact_velocity, duration, dt, n_per_period, k_tangential, kt_ratio, g_star, &
@@ -220,7 +231,7 @@ contains
       kt_ratio, g_star, friction, prestress, types, type_k_normal, type_k_tangential, young, poisson, &
       eigen_solver, eigen_tolerance, snapshot_file, snapshot_format, snapshot_frame, &
       damping_ratio_tangential, damping_ratio_rolling, drag, rolling_ratio, twisting_ratio, rolling_friction, &
-      wall_type, tangential_damping
+      wall_type, tangential_damping, bond_model, bond_parameters
     type(var_spec), allocatable :: specs(:)
     character(len=*), parameter :: g = "scene"
     type(scene_type) :: sc
@@ -253,6 +264,8 @@ contains
     young = new_array(capacity_of(specs, "young"))
     poisson = new_array(capacity_of(specs, "poisson"))
     effects = ""
+    bond_model = ""
+    bond_parameters = new_array(capacity_of(specs, "bond_parameters"))
     call begin_group(reading, group, specs, status)
     do while (next_assignment(reading, group, status))
       read(reading%text, nml=scene, iostat=reading%ios)
@@ -402,10 +415,15 @@ contains
         call in_group(status, g)
         return
       end if
-      call scene_set_bond_stiffness(sc, k_bond, k_bond_tangential, status)
-      if (status%stat /= demstep_stat%ok) then
-        call in_group(status, g)
-        return
+      if (given(group, "bond_model")) then
+        call set_bond_model(status)
+        if (status%stat /= demstep_stat%ok) return
+      else
+        call scene_set_bond_stiffness(sc, k_bond, k_bond_tangential, status)
+        if (status%stat /= demstep_stat%ok) then
+          call in_group(status, g)
+          return
+        end if
       end if
     end if
 
@@ -669,6 +687,23 @@ contains
       character(len=*), intent(in) :: name, what
       call set_status(status, demstep_stat%invalid_input, "&"//g//": "//name//": "//what)
     end subroutine fail
+
+    !> The bonds' model and its parameters (the library checks them).
+    subroutine set_bond_model(status)
+      type(demstep_status_type), intent(inout) :: status
+      integer :: model, nbp
+      model = bond_model_from_name(bond_model)
+      if (model == 0) then
+        call unknown_word(status, "bond_model", bond_model, bond_model_names)
+        call in_group(status, g)
+        return
+      end if
+      ! (array_length's message names the group already)
+      call array_length(g, "bond_parameters", bond_parameters, nbp, status)
+      if (status%stat /= demstep_stat%ok) return
+      call scene_set_bond_model(sc, model, bond_parameters(:nbp), status)
+      call in_group(status, g)
+    end subroutine set_bond_model
 
     !> Materials per particle type: the tables read, the library checks them.
     subroutine materials()

@@ -18,7 +18,9 @@ module test_bonds
   use demstep_stepper, only: scene_run
   use demstep_packing, only: random_periodic_packing
   use demstep_neighbours, only: contact_list
-  use test_support, only: real_str, seed_fixed, ieee_nan
+  use test_support, only: real_str, seed_fixed, ieee_nan, run_app, write_file, work_dir, read_group, take, &
+    file_exists
+  use demstep_results, only: result_group_type
   implicit none
   private
   public :: collect_bonds
@@ -54,7 +56,8 @@ contains
       new_unittest("stepper at 0.99/1.01 of the undamped and damped limits", test_stability), &
       new_unittest("peers' rules: MUSEN 1.64, k_n = k_s 0.535, Kratos", test_peer_rules), &
       new_unittest("peers' rules on chains and a cemented packing", test_peer_rules_chain), &
-      new_unittest("bad input refused by name", test_refusals) &
+      new_unittest("bad input refused by name", test_refusals), &
+      new_unittest("the app's &scene: bond_model, bond_parameters", test_app_input) &
       ]
   end subroutine collect_bonds
 
@@ -566,6 +569,59 @@ contains
     call check(error, status%where == "bonds" .and. index(status%message, "missing particle (0, 1)") > 0, &
       status%message)
   end subroutine test_refusals
+
+  !> The app on a deck of three bonded spheres with each code's bond: its exact
+  !> limit is the library's for the same scene (to the 10 digits the result
+  !> file keeps, 1e-9); a negative parameter and a bond of a particle to
+  !> itself are refused with exit 2 and one line naming the variable.
+  subroutine test_app_input(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), parameter :: deck = work_dir//"/bonds_deck.nml", out = work_dir//"/bonds_out.nml"
+    character(len=*), parameter :: head = "&scene dim = 3, position = 0, 0, 0,  2.1, 0, 0,  4.0, 0.5, 0, " &
+      //"mass = 1.0, 1.5, 2.0, radius = 1.0, effects = 'rotation', "
+    character(len=*), parameter :: words(4) = [character(len=6) :: "pfc", "musen", "yade", "lammps"]
+    type(scene_type) :: scene
+    type(critical_step_type) :: crit
+    type(demstep_status_type) :: status
+    type(result_group_type) :: fields
+    character(len=:), allocatable :: stdout, stderr, values
+    real(dp) :: dt
+    integer :: model, rc, unit, ios, q
+    do model = 1, 4
+      values = ""
+      do q = 1, bond_parameter_count(model)
+        values = values//real_str(params(q, model))//", "
+      end do
+      call write_file(deck, [head//"bonds = 1, 2, 2, 3, bond_model = '"//trim(words(model))//"', " &
+        //"bond_parameters = "//values//"/"])
+      call run_app("-q "//deck//" -o "//out, rc, stdout, stderr)
+      call check(error, rc, 0, message=trim(words(model))//": exit status; stderr: "//stderr)
+      if (allocated(error)) return
+      open(newunit=unit, file=out, status="old", action="read", iostat=ios)
+      if (ios == 0) call read_group(unit, "scene_result", fields, ios)
+      if (ios == 0) call take(fields, "dt_critical_eigen", dt, ios)
+      if (ios == 0) close(unit)
+      call check(error, ios, 0, message="result file")
+      if (allocated(error)) return
+      call bonded_scene(scene, reshape([0.0_dp, 0.0_dp, 0.0_dp, 2.1_dp, 0.0_dp, 0.0_dp, 4.0_dp, 0.5_dp, &
+        0.0_dp], [3, 3]), [1.0_dp, 1.0_dp, 1.0_dp], [1.0_dp, 1.5_dp, 2.0_dp], reshape([1, 2, 2, 3], [2, 2]), &
+        model, params(:bond_parameter_count(model), model), status)
+      call assembly_critical_steps(scene, crit, status)
+      call check(error, status%stat == demstep_stat%ok .and. abs(dt/crit%dt_critical_eigen - 1.0_dp) < 1.0e-9_dp, &
+        trim(words(model))//": app "//real_str(dt)//", library "//real_str(crit%dt_critical_eigen))
+      if (allocated(error)) return
+    end do
+    call write_file(deck, [head//"bonds = 1, 2, 2, 3, bond_model = 'pfc', bond_parameters = 1e3, -1, 1 /"])
+    call run_app("-q "//deck//" -o "//out, rc, stdout, stderr)
+    call check(error, rc == 2 .and. index(stderr, "demstep: "//deck//": &scene: bond_parameters: kbar_s must be " &
+      //">= 0 and finite") == 1 .and. count(transfer(stderr, "a", len(stderr)) == new_line("a")) == 1, &
+      "negative kbar_s: "//stderr)
+    if (allocated(error)) return
+    call write_file(deck, [head//"bonds = 1, 2, 2, 2, bond_model = 'musen', bond_parameters = 1e5, 4e4, 1 /"])
+    call run_app("-q "//deck//" -o "//out, rc, stdout, stderr)
+    call check(error, rc == 2 .and. index(stderr, "demstep: "//deck//": &scene: bonds: bond 2 joins particle 2 " &
+      //"to itself") == 1, "self bond: "//stderr)
+  end subroutine test_app_input
 
   !> Whether a and b agree to rel of the largest |b|.
   pure logical function near(a, b, rel)
