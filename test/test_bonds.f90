@@ -58,6 +58,7 @@ contains
       new_unittest("stepper at 0.99/1.01 of the undamped and damped limits", test_stability), &
       new_unittest("peers' rules: MUSEN 1.64, k_n = k_s 0.535, Kratos", test_peer_rules), &
       new_unittest("peers' rules on chains and a cemented packing", test_peer_rules_chain), &
+      new_unittest("Lanczos = dense, undamped and damped, on a cemented packing", test_lanczos_bonds), &
       new_unittest("bad input refused by name", test_refusals), &
       new_unittest("the app's &scene: bond_model, bond_parameters", test_app_input), &
       new_unittest("Yade cemented sample (CohFrictPhys bonds): the exact limit in Yade's bracket", test_yade_bonded) &
@@ -176,8 +177,9 @@ contains
     type(csr_matrix_type) :: csr
     type(demstep_status_type) :: status
     real(dp), allocatable :: a(:, :)
-    real(dp) :: kfd(12, 12), q(12), u(3), x(3, 2), rate, h, w(12), err
+    real(dp) :: kfd(12, 12), q(12), u(3), x(3, 2), rate, h, w(12), err, g(12)
     integer :: model, c, trial
+    integer, parameter :: comp2(6) = [1, 2, 6, 7, 8, 12]
     call seed_fixed(7)
     do trial = 1, 2
       do model = 1, 4
@@ -213,6 +215,37 @@ contains
           bond_model_name(model)//": symmetric")
         if (allocated(error)) return
       end do
+    end do
+    ! 2D (PFC's discs of unit thickness: no twisting): the dof are x, y, theta_z
+    do model = 1, 4
+      call new_scene(scene, 2, reshape([0.3_dp, -0.2_dp, 1.9_dp, 1.2_dp], [2, 2]), [1.0_dp, 2.5_dp], &
+        [0.9_dp, 1.3_dp], status, search=.false.)
+      scene%effects(scene_effect%contacts) = .false.
+      call scene_add_bonds(scene, reshape([1, 2], [2, 1]), status)
+      call scene_set_bond_model(scene, model, params(:bond_parameter_count(model), model), status)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      h = 1.0e-4_dp
+      kfd = 0.0_dp
+      do c = 1, 6
+        q = 0.0_dp
+        q(comp2(c)) = h
+        g = -(stepper_forces(scene, q) - stepper_forces(scene, -q))/(2.0_dp*h)
+        kfd(1:6, c) = g(comp2)
+      end do
+      w(1:6) = 1.0_dp/sqrt([scene%mass(1), scene%mass(1), scene%inertia(1), scene%mass(2), scene%mass(2), &
+        scene%inertia(2)])
+      kfd(1:6, 1:6) = kfd(1:6, 1:6)*spread(w(1:6), 1, 6)*spread(w(1:6), 2, 6)
+      call assembly_operator(scene, op, rate, status)
+      call check(error, status%stat == demstep_stat%ok .and. op%n == 6, "2D operator: "//status%message)
+      if (allocated(error)) return
+      call assembly_matrix(op, csr)
+      call csr_to_dense(csr, a)
+      a = rate**2*a
+      err = maxval(abs(kfd(1:6, 1:6) - a))/maxval(abs(a))
+      call check(error, err < 1.0e-9_dp, bond_model_name(model)//" 2D: stepper vs operator, relative "// &
+        real_str(err))
+      if (allocated(error)) return
     end do
   end subroutine test_tangent_fd
 
@@ -526,6 +559,42 @@ contains
       if (allocated(error)) return
     end do
   end subroutine test_peer_rules_chain
+
+  !> A cemented random packing of 64 spheres (a LAMMPS bond with all four
+  !> dashpots on every contact): the matrix-free Lanczos solve gives the dense
+  !> solver's undamped and damped limits to its tolerance (1e-10 asked; both
+  !> agree to 1e-8 here, the damped Newton steps each to the eigensolver's
+  !> tolerance).
+  subroutine test_lanczos_bonds(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(demstep_status_type) :: status
+    type(critical_step_type) :: dense, lanczos
+    integer, allocatable :: pi_(:), pj(:)
+    real(dp), allocatable :: pn(:, :), pd(:)
+    integer :: k
+    call random_periodic_packing(scene, 64, status, seed=9)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    call contact_list(scene, pi_, pj, pn, pd, status)
+    call scene_add_bonds(scene, reshape([(pi_(k), pj(k), k = 1, size(pi_))], [2, size(pi_)]), status)
+    scene%effects(scene_effect%contacts) = .false.
+    call scene_set_bond_model(scene, bond_model%lammps, [1.0_dp, 0.4_dp, 0.05_dp, 0.08_dp, 0.05_dp, 0.02_dp, &
+      0.01_dp, 0.01_dp], status)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    call assembly_critical_steps(scene, dense, status, solver=eigen_solver%dense)
+    call check(error, status%stat == demstep_stat%ok .and. dense%damped_exact, "dense: "//status%message)
+    if (allocated(error)) return
+    call assembly_critical_steps(scene, lanczos, status, solver=eigen_solver%lanczos, tolerance=1.0e-10_dp)
+    call check(error, status%stat == demstep_stat%ok .and. lanczos%damped_exact, "lanczos: "//status%message)
+    if (allocated(error)) return
+    call check(error, abs(lanczos%dt_critical_eigen/dense%dt_critical_eigen - 1.0_dp) < 1.0e-8_dp .and. &
+      abs(lanczos%dt_critical_damped/dense%dt_critical_damped - 1.0_dp) < 1.0e-8_dp .and. &
+      dense%dt_critical_damped < dense%dt_critical_eigen, "undamped "//real_str(lanczos%dt_critical_eigen)// &
+      " vs "//real_str(dense%dt_critical_eigen)//", damped "//real_str(lanczos%dt_critical_damped)//" vs "// &
+      real_str(dense%dt_critical_damped))
+  end subroutine test_lanczos_bonds
 
   subroutine test_refusals(error)
     type(error_type), allocatable, intent(out) :: error
