@@ -27,7 +27,7 @@
 !>   same matrix-free operator with mixed coefficients (warm-started); the
 !>   reported step is then verified below the root. C holds the normal,
 !>   tangential, rolling and twisting dashpots of contacts and walls, the
-!>   bonds' normal dashpots and the drag to ground. Its rigorous lower bound:
+!>   bonds' dashpots (normal; a bond model's own four) and the drag to ground. Its rigorous lower bound:
 !>   (2/a)(sqrt(1 + z^2) - z) with a^2 >= lambda_max(A), z = b/(2 a) and b >=
 !>   lambda_max(B) (the Collatz-Wielandt bound of B).
 !> Hertz contacts are linearised with their tangent stiffness 2 E* sqrt(R* d)
