@@ -47,6 +47,8 @@
 !>   rolling torque gamma_r r (omega_1 - omega_2) x rhat/2 and twisting torque
 !>   gamma_t (omega_1 - omega_2).rhat/2: c = (gamma_n, gamma_s, gamma_r r_0/2,
 !>   gamma_t/2). (`normalize no`, the default: K_r and K_s in force/distance.)
+!>   validation/lammps/bpm_rotational_check.py differentiates LAMMPS' formulas
+!>   at rest: this kernel to 6e-8 (elastic) and 6e-16 (dashpots).
 module demstep_bonds
   use demstep_kinds, only: dp, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
