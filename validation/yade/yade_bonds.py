@@ -1,5 +1,5 @@
 # Yade script (not plain Python): run as
-#   yade -n -j1 -x yade_bonds.py [--quick]
+#   yade -n -j1 -x yade_bonds.py [--quick] [--poly]
 # A cemented sample: 108 equal spheres on a jittered fcc lattice (3 x 3 x 3
 # cells, free, no walls), every neighbour pair within 1.1 (r1 + r2) joined by a
 # CohFrictPhys bond (Ip2_CohFrictMat_CohFrictMat_CohFrictPhys with
@@ -9,12 +9,18 @@
 # displacement unp set to its initial penetration depth, so no bond is loaded);
 # the sample is exported in demstep's table formats and its largest stable
 # step measured by bisection on kinetic-energy growth.
-# Output: data/bonded/{particles.txt,bonds.txt,bonds_yade.txt,summary.json,trials.csv}
+# With --poly the radii are R0 (1 +- 0.1) (uniform, seeded) and the detection
+# factor 1.25: bonds between unequal spheres with gaps and overlaps, where
+# Yade's shear kinematics (alpha on the translations, radii as arms) and its
+# force's lever arms (to the contact point) differ.
+# Output: data/bonded/ (or data/bonded_poly/){particles.txt,bonds.txt,bonds_yade.txt,summary.json,trials.csv}
 import sys, os, json, math, random, time
 
 HERE = os.path.dirname(os.path.abspath(sys.argv[0]))
 QUICK = '--quick' in sys.argv[1:]
-OUT = os.path.join(HERE, 'data', 'bonded')
+POLY = '--poly' in sys.argv[1:]
+CASE = 'bonded_poly' if POLY else 'bonded'
+OUT = os.path.join(HERE, 'data', CASE)
 os.makedirs(OUT, exist_ok=True)
 
 R0 = 0.01            # m, every sphere
@@ -23,7 +29,8 @@ POISSON = 0.3        # Yade's ks/kn ratio
 ALPHA_KR = 2.0       # CohFrictMat defaults: kr = r1 r2 ks alphaKr
 ALPHA_KTW = 2.0      #                       ktw = r1 r2 ks alphaKtw
 DENSITY = 2623.0
-FACTOR = 1.1         # interaction detection factor: bonds up to 1.1 (r1 + r2) apart
+FACTOR = 1.25 if POLY else 1.1   # interaction detection factor: bonds up to FACTOR (r1 + r2) apart
+SPREAD = 0.1 if POLY else 0.0    # radii R0 (1 +- SPREAD)
 JITTER = 0.04        # lattice positions moved by up to +- JITTER R0 per axis
 STRONG = 1.0e30      # cohesion (Pa): no bond breaks or yields
 V0 = 1.0e-7          # m/s, rms of the random test velocities (linear regime)
@@ -43,7 +50,8 @@ for i in range(3):
             for b in basis:
                 c = Vector3(*[(n + o) * a + rng.uniform(-JITTER, JITTER) * R0
                               for n, o in zip((i, j, k), b)])
-                O.bodies.append(sphere(c, R0, material=mat))
+                radius = R0 * (1 + rng.uniform(-SPREAD, SPREAD)) if POLY else R0
+                O.bodies.append(sphere(c, radius, material=mat))
 
 O.engines = [
     ForceResetter(),
@@ -72,7 +80,7 @@ tmax = max(O.forces.t(b.id).norm() for b in O.bodies)
 ids = [b.id for b in O.bodies]
 num_of = {bid: k + 1 for k, bid in enumerate(ids)}
 with open(os.path.join(OUT, 'particles.txt'), 'w') as f:
-    f.write('# Yade 2023.02a cemented sample (jittered fcc, CohFrictPhys bonds), at rest\n')
+    f.write('# Yade 2023.02a cemented sample "%s" (jittered fcc, CohFrictPhys bonds), at rest\n' % CASE)
     f.write('# x y z vx vy vz mass radius fixed inertia   (SI units)\n')
     for bid in ids:
         b = O.bodies[bid]
@@ -186,13 +194,15 @@ while True:
 
 pen = [c[6] for c in bonds]
 summary = {
-    'case': 'bonded',
+    'case': CASE,
     'yade_version': '2023.02a',
     'n_particles': len(ids),
     'n_bonds': len(bonds),
     'bonds_broken': sum(1 for c in bonds if c[7]),
     'young': YOUNG, 'poisson_ks_over_kn': POISSON, 'alpha_kr': ALPHA_KR, 'alpha_ktw': ALPHA_KTW,
-    'density': DENSITY, 'radius': R0, 'detection_factor': FACTOR, 'jitter_over_r': JITTER,
+    'density': DENSITY, 'radius': R0, 'radius_spread': SPREAD, 'detection_factor': FACTOR,
+    'jitter_over_r': JITTER,
+    'radius_min': min(O.bodies[b].shape.radius for b in ids), 'radius_max': max(O.bodies[b].shape.radius for b in ids),
     'penetration_min': min(pen), 'penetration_max': max(pen),
     'largest_force_at_rest': fmax, 'largest_torque_at_rest': tmax,
     'GlobalStiffnessTimeStepper_raw': gsts_dt, 'PWaveTimeStep': pwave,
@@ -209,5 +219,5 @@ with open(os.path.join(OUT, 'trials.csv'), 'w') as f:
     f.write('dt,unstable,steps,ke_ratio_max\n')
     for t in trials:
         f.write('%.17g,%d,%d,%.6e\n' % (t['dt'], 1 if t['unstable'] else 0, t['steps'], t['ke_ratio_max']))
-print('bonded: %d particles, %d bonds, measured [%.6e, %.6e], %.1f s'
+print(CASE + ': %d particles, %d bonds, measured [%.6e, %.6e], %.1f s'
       % (len(ids), len(bonds), lo, hi, time.time() - t0))
