@@ -26,6 +26,7 @@ module demstep_cli_scene
     next_assignment, group_reading, check_real, new_array, array_length, new_int_array, int_array_length, &
     max_values, capacity_of, in_group
   use demstep_words, only: word_list, unknown_word, word_index, word_choice
+  use demstep_bonds, only: bond_model_from_name, bond_model_names, max_bond_parameters
   use demstep_results, only: write_scene_result, write_snapshot_result
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use, intrinsic :: iso_fortran_env, only: error_unit
@@ -127,6 +128,14 @@ contains
         default="!0"), &
       var("k_bond_tangential", "a real number", "bond tangential stiffness (>= 0)", "0.0", &
         default="0"), &
+      var("bond_model", "a quoted word", "bonds as a DEM code makes them, with normal, shear, " &
+        //"bending and twisting springs: "//word_choice(bond_model_names, [character(len=15) :: &
+        "parallel bond", "solid bond", "CohFrictPhys", "bpm/rotational"])//"; instead of k_bond", "!'musen'", &
+        excludes="k_bond k_bond_tangential", needs="bond_parameters"), &
+      var("bond_parameters", "a list of real numbers", "the bond model's inputs in its code's " &
+        //"units: pfc kbar_n, kbar_s, lambda; musen E, G, diameter; yade young, poisson, alpha_kr, " &
+        //"alpha_ktw; lammps K_r, K_s, K_t, K_b, gamma_n, gamma_s, gamma_r, gamma_t", &
+        "!7.0e10, 2.7e10, 1.0e-3", capacity=max_bond_parameters, needs="bond_model"), &
       var("walls", "a list of real numbers", "per wall: dim coordinates of a point, dim of the " &
         //"normal pointing into the domain", "!0.0, -0.5,  0.0, 1.0", capacity=64), &
       var("effects", "a list of quoted words", word_choice(scene_effect_names, [character(len=32) :: &
@@ -292,10 +301,10 @@ contains
     type(group_reading) :: reading
     integer :: dim, max_eigen_dof, wall_type, snapshot_frame, i, k
     real(dp), allocatable :: position(:), velocity(:), mass(:), radius(:), walls(:), gravity(:), &
-      type_k_normal(:), type_k_tangential(:), young(:), poisson(:)
+      type_k_normal(:), type_k_tangential(:), young(:), poisson(:), bond_parameters(:)
     integer, allocatable :: fixed(:), bonds(:), types(:)
     character(len=512) :: particles_file, bonds_file, contacts_file, snapshot_file
-    character(len=32) :: snapshot_format, law, hertz_linearization, eigen_solver
+    character(len=32) :: snapshot_format, law, hertz_linearization, eigen_solver, bond_model
     character(len=32) :: effects(max_effects)
     real(dp) :: k_normal, e_star, k_bond, k_bond_tangential, damping_ratio, restitution, &
       local_damping, impact_velocity, duration, dt, n_per_period, k_tangential, kt_ratio, g_star, &
@@ -309,11 +318,12 @@ contains
       kt_ratio, g_star, friction, prestress, types, type_k_normal, type_k_tangential, young, poisson, &
       eigen_solver, eigen_tolerance, snapshot_file, snapshot_format, snapshot_frame, &
       damping_ratio_tangential, damping_ratio_rolling, drag, rolling_ratio, twisting_ratio, rolling_friction, &
-      wall_type, tangential_damping
+      wall_type, tangential_damping, bond_model, bond_parameters
     type(var_spec), allocatable :: specs(:)
     character(len=*), parameter :: g = "scene"
 
     specs = scene_specs()
+    bond_parameters = new_array(capacity_of(specs, "bond_parameters"))
     position = new_array(capacity_of(specs, "position"))
     velocity = new_array(capacity_of(specs, "velocity"))
     mass = new_array(capacity_of(specs, "mass"))
@@ -345,6 +355,7 @@ contains
     call take_array("type_k_tangential", type_k_tangential, input%type_k_tangential)
     call take_array("young", young, input%young)
     call take_array("poisson", poisson, input%poisson)
+    call take_array("bond_parameters", bond_parameters, input%bond_parameters)
     call take_int_array("fixed", fixed, input%fixed)
     call take_int_array("bonds", bonds, input%bonds)
     if (given(group, "types")) call take_int_array("types", types, input%types)
@@ -368,6 +379,10 @@ contains
       input%hertz_linearization = hertz_linearization_from_name(hertz_linearization)
       if (input%hertz_linearization == 0) call unknown_word(status, "hertz_linearization", &
         hertz_linearization, hertz_linearization_names)
+    end if
+    if (status%stat == demstep_stat%ok .and. given(group, "bond_model")) then
+      input%bond_model = bond_model_from_name(bond_model)
+      if (input%bond_model == 0) call unknown_word(status, "bond_model", bond_model, bond_model_names)
     end if
     if (status%stat == demstep_stat%ok) then
       input%eigen_solver = eigen_solver_from_name(eigen_solver)

@@ -25,6 +25,10 @@
 !>   test packings: `cubic_lattice`, `random_periodic_packing`, `tile_scene`.
 !> - The largest eigenvalue of a large symmetric operator, matrix-free, with an
 !>   error bar: `lanczos_largest` (extend `lanczos_context_type`).
+!> - Bonds as each DEM code makes them (PFC parallel bond, MUSEN solid bond, Yade
+!>   CohFrictPhys, LAMMPS bpm/rotational): `scene_set_bond_model` (`bond_model%...`),
+!>   `bond_law`, `bond_pair_modes`, and the peers' bond rules `musen_bond_time`,
+!>   `musen_recommended_step`, `kratos_step`.
 !> - Materials in each DEM code's convention and the peers' step rules:
 !>   `material_type`, `effective_pair`, `contact_parameters` (`code_convention%...`),
 !>   `rayleigh_time`, `hertz_contact_duration`, `peer_time_steps`.
@@ -83,6 +87,10 @@ module demstep
     scene_set_effects, cubic_lattice
   use demstep_packing, only: random_periodic_packing, tile_scene
   use demstep_scene_materials, only: scene_set_materials
+  ! bonds in each code's convention (normal, shear, bending, twisting) and the peers' bond rules
+  use demstep_scene_bonds, only: scene_set_bond_model
+  use demstep_bonds, only: bond_model, bond_law_type, bond_law, bond_pair_modes, musen_bond_time, &
+    musen_recommended_step, kratos_step
   use demstep_stepper, only: scene_run
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, assembly_step_for_n_per_period, &
     eigen_solver, hertz_linearization

@@ -15,7 +15,7 @@ module test_yade
   use test_support, only: read_group, take
   implicit none
   private
-  public :: collect_yade
+  public :: collect_yade, json_number
 
   character(len=*), parameter :: out = work_dir//"/yade_out.nml"
 

@@ -23,6 +23,7 @@ module demstep_scene_input
     scene_set_hertz_types, scene_set_damping, scene_set_friction, scene_set_rolling, &
     scene_set_local_damping
   use demstep_scene_materials, only: scene_set_material_set, material_set_law, material_set_damped
+  use demstep_scene_bonds, only: scene_set_bond_model
   use demstep_assembly, only: hertz_linearization, eigen_solver, default_max_eigen_dof
   use demstep_lanczos, only: lanczos_tolerance_default
   use demstep_snapshot, only: snapshot_type, read_snapshot, snapshot_format, snapshot_masses_from_types
@@ -66,6 +67,10 @@ module demstep_scene_input
     integer, allocatable :: bonds(:)
     character(len=:), allocatable :: bonds_file
     real(dp) :: k_bond = 0.0_dp, k_bond_tangential = 0.0_dp
+    !> Or bonds as a DEM code makes them (`bond_model%...`) and that model's
+    !> parameters in its code's units.
+    integer, allocatable :: bond_model
+    real(dp), allocatable :: bond_parameters(:)
     !> The periodic cell (the snapshot's box and axes when not given).
     logical, allocatable :: periodic(:)
     real(dp) :: cell_lo(3) = 0.0_dp
@@ -280,11 +285,16 @@ contains
     end if
     if (size(pairs, 2) > 0) then
       call scene_add_bonds(scene, pairs, status)
-      if (status%stat /= demstep_stat%ok) then
-        call status_restate(status, "bonds", status%message)
-        return
+      if (status%stat /= demstep_stat%ok) return
+      if (allocated(input%bond_model)) then
+        if (allocated(input%bond_parameters)) then
+          call scene_set_bond_model(scene, input%bond_model, input%bond_parameters, status)
+        else
+          call scene_set_bond_model(scene, input%bond_model, [real(dp) ::], status)
+        end if
+      else
+        call scene_set_bond_stiffness(scene, input%k_bond, input%k_bond_tangential, status)
       end if
-      call scene_set_bond_stiffness(scene, input%k_bond, input%k_bond_tangential, status)
       if (status%stat /= demstep_stat%ok) return
     end if
 

@@ -464,19 +464,19 @@ contains
     do k = 1, size(pairs, 2)
       if (any(pairs(:, k) < 1) .or. any(pairs(:, k) > scene%n)) then
         call set_status(status, demstep_stat%invalid_input, "bond "//int_text(k)//" names a missing " &
-          //"particle ("//int_text(pairs(1, k))//", "//int_text(pairs(2, k))//")")
+          //"particle ("//int_text(pairs(1, k))//", "//int_text(pairs(2, k))//")", where="bonds", index=k)
         return
       end if
       if (pairs(1, k) == pairs(2, k)) then
         call set_status(status, demstep_stat%invalid_input, "bond "//int_text(k)//" joins particle " &
-          //int_text(pairs(1, k))//" to itself")
+          //int_text(pairs(1, k))//" to itself", where="bonds", index=k)
         return
       end if
       bonds(:, nb0 + k) = pairs(:, k)
       rest(:, nb0 + k) = branch_vector(scene, pairs(1, k), pairs(2, k))
       if (.not. norm2(rest(:, nb0 + k)) > 0.0_dp) then
         call set_status(status, demstep_stat%invalid_input, "bond "//int_text(k)//" joins particles " &
-          //"at the same position")
+          //"at the same position", where="bonds", index=k)
         return
       end if
       normal(:, nb0 + k) = rest(:, nb0 + k)/norm2(rest(:, nb0 + k))

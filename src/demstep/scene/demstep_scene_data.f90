@@ -85,6 +85,11 @@ module demstep_scene_data
     real(dp), allocatable :: bond_rest(:, :), bond_normal(:, :)
     !> Bond stiffness, normal and tangential.
     real(dp) :: k_bond = 0.0_dp, k_bond_tangential = 0.0_dp
+    !> The bonds' model (`bond_model` of demstep_bonds: each code's bond with
+    !> normal, shear, bending and twisting springs; `scene_set_bond_model`) and
+    !> its parameters; 0: central springs k_bond, k_bond_tangential.
+    integer :: bond_model = 0
+    real(dp) :: bond_parameters(8) = 0.0_dp
     !> Walls: a point and the unit normal pointing into the domain (3, nw).
     real(dp), allocatable :: wall_point(:, :), wall_normal(:, :)
     !> An explicit contact list (2, nc) with per contact its stiffness

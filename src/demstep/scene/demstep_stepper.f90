@@ -14,7 +14,10 @@
 !>   from the law, tangential spring incremental (history kept while in contact,
 !>   turned with the contact plane, Coulomb cap when friction >= 0);
 !> - bonds: linear about the initial configuration (small strain), normal stiffness
-!>   k_n along the initial direction and optional tangential stiffness k_t;
+!>   k_n along the initial direction and optional tangential stiffness k_t; with
+!>   a bond model (`scene_set_bond_model`) the kernel's springs (normal, shear at
+!>   the model's lever arms, bending, twisting) on the stretch and the rotations
+!>   accumulated since the start, and the model's dashpots;
 !> - rolling and twisting springs (contacts and walls): incremental on the
 !>   relative rotation, the rolling moment capped at rolling_friction R* F_n;
 !> - viscous damping: dashpots on every contact and wall contact (normal,
@@ -36,6 +39,8 @@ module demstep_stepper
   use demstep_scene_data, only: scene_type, scene_summary_type, scene_effect, effective_mass, &
     contact_values, wall_values, contact_dashpots, has_tangential, has_rolling, check_scene_damping, &
     wrap_positions
+  use demstep_scene_bonds, only: scene_bond_laws, scene_bonds_damped
+  use demstep_bonds, only: bond_law_type
   use demstep_neighbours, only: search_type, prepare_search, find_contacts, find_wall_contacts, &
     contact_limit, history_size
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -59,6 +64,10 @@ module demstep_stepper
     !> Time over which the velocities moved the contacts since the last force
     !> evaluation (0 at the first).
     real(dp) :: shear_dt = 0.0_dp
+    !> With a bond model: each particle's rotation since the start (3, n) and
+    !> each bond's law.
+    real(dp), allocatable :: theta(:, :)
+    type(bond_law_type), allocatable :: bond_laws(:)
   end type work_type
 
   abstract interface
@@ -110,7 +119,7 @@ contains
     periodic = any(scene%periodic)
     ! only tangential, rolling and twisting springs make torques
     torques = (has_tangential(scene) .or. has_rolling(scene)) .and. (scene%effects(scene_effect%contacts) &
-      .or. scene%effects(scene_effect%walls))
+      .or. scene%effects(scene_effect%walls)) .or. (scene%bond_model > 0 .and. size(scene%bonds, 2) > 0)
     every = max(1_i8, steps/1000_i8)
     if (present(sample_every)) every = max(1_i8, sample_every)
     ! progress every 1e5 particle-steps or so: a clock read is then negligible
@@ -231,7 +240,9 @@ contains
     real(dp) :: u, d(3), f_n, kc(4), dn
     integer :: k, i, j, w
     u = 0.0_dp
+    if (scene%bond_model > 0) u = model_bonds_energy(scene, work)
     do k = 1, size(scene%bonds, 2)
+      if (scene%bond_model > 0) exit
       i = scene%bonds(1, k)
       j = scene%bonds(2, k)
       d = scene%x(:, j) - scene%x(:, i) - scene%bond_rest(:, k)
@@ -265,6 +276,28 @@ contains
       end do
     end if
   end function potential_energy
+
+  !> Elastic energy of the bonds of a bond model, q^T K q/2 with the kernel's
+  !> block of each bond on (0, theta_i, stretch, theta_j).
+  pure real(dp) function model_bonds_energy(scene, work) result(u)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(in) :: work
+    integer :: k, i, j
+    real(dp) :: d(3), y_i(3), y_j(3), t_i(3), t_j(3)
+    real(dp), parameter :: zero(3) = 0.0_dp
+    u = 0.0_dp
+    do k = 1, size(scene%bonds, 2)
+      i = scene%bonds(1, k)
+      j = scene%bonds(2, k)
+      d = bond_stretch(scene, k)
+      associate(law => work%bond_laws(k))
+        call contact_product(scene%bond_normal(:, k), law%k, law%arm(1), law%arm(2), 1.0_dp, 1.0_dp, &
+          0.0_dp, zero, work%theta(:, i), d, work%theta(:, j), y_i, t_i, y_j, t_j)
+      end associate
+      u = u + 0.5_dp*(dot_product(y_j, d) + dot_product(t_i, work%theta(:, i)) + &
+        dot_product(t_j, work%theta(:, j)))
+    end do
+  end function model_bonds_energy
 
   !> Elastic energy of a particle contact's normal spring at overlap d.
   pure real(dp) function pair_energy(scene, c, i, j, d) result(u)
@@ -567,6 +600,52 @@ contains
     end do
   end subroutine bonds_damping
 
+  !> Bonds of a bond model: the kernel's forces -K q on q = (0, theta_i,
+  !> stretch, theta_j), the rotations first advanced by the last half step's
+  !> spins (rotation effect on).
+  subroutine model_bonds_term(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i, j
+    real(dp) :: d(3), y_i(3), y_j(3), t_i(3), t_j(3)
+    real(dp), parameter :: zero(3) = 0.0_dp
+    if (scene%effects(scene_effect%rotation) .and. scene%dim > 1) work%theta = work%theta + scene%w*work%shear_dt
+    do k = 1, size(scene%bonds, 2)
+      i = scene%bonds(1, k)
+      j = scene%bonds(2, k)
+      d = bond_stretch(scene, k)
+      associate(law => work%bond_laws(k))
+        call contact_product(scene%bond_normal(:, k), law%k, law%arm(1), law%arm(2), 1.0_dp, 1.0_dp, &
+          0.0_dp, zero, work%theta(:, i), d, work%theta(:, j), y_i, t_i, y_j, t_j)
+      end associate
+      work%f(:, i) = work%f(:, i) - y_i
+      work%f(:, j) = work%f(:, j) - y_j
+      work%t(:, i) = work%t(:, i) - t_i
+      work%t(:, j) = work%t(:, j) - t_j
+    end do
+  end subroutine model_bonds_term
+
+  !> The dashpots of a bond model's bonds on the previous half step's
+  !> velocities, through the kernel.
+  subroutine model_bonds_damping(scene, work)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(inout) :: work
+    integer :: k, i, j
+    real(dp) :: y_i(3), y_j(3), t_i(3), t_j(3)
+    do k = 1, size(scene%bonds, 2)
+      i = scene%bonds(1, k)
+      j = scene%bonds(2, k)
+      associate(law => work%bond_laws(k))
+        call contact_product(scene%bond_normal(:, k), law%c, law%arm(1), law%arm(2), 1.0_dp, 1.0_dp, &
+          0.0_dp, scene%v(:, i), scene%w(:, i), scene%v(:, j), scene%w(:, j), y_i, t_i, y_j, t_j)
+      end associate
+      work%f(:, i) = work%f(:, i) - y_i
+      work%f(:, j) = work%f(:, j) - y_j
+      work%t(:, i) = work%t(:, i) - t_i
+      work%t(:, j) = work%t(:, j) - t_j
+    end do
+  end subroutine model_bonds_damping
+
   subroutine gravity_term(scene, work)
     type(scene_type), intent(in) :: scene
     type(work_type), intent(inout) :: work
@@ -595,7 +674,10 @@ contains
     type(term_type) :: list(12)
     integer :: n
     n = 0
-    if (size(scene%bonds, 2) > 0) then
+    if (size(scene%bonds, 2) > 0 .and. scene%bond_model > 0) then
+      call push(model_bonds_term)
+      if (scene_bonds_damped(scene)) call push(model_bonds_damping)
+    else if (size(scene%bonds, 2) > 0) then
       call push(bonds_term)
       if (scene%effects(scene_effect%damping)) call push(bonds_damping)
     end if
@@ -639,6 +721,8 @@ contains
     allocate(work%row_us(history_size, size(scene%contact_pairs, 2)), source=0.0_dp)
     allocate(work%wall_us(history_size, size(scene%wall_normal, 2), scene%n), source=0.0_dp)
     allocate(work%wall_on(size(scene%wall_normal, 2), scene%n), source=.false.)
+    allocate(work%theta(3, scene%n), source=0.0_dp)
+    if (scene%bond_model > 0) work%bond_laws = scene_bond_laws(scene)
     call prepare_search(scene, work%s)
   end subroutine prepare
 

@@ -27,7 +27,7 @@
 !>   same matrix-free operator with mixed coefficients (warm-started); the
 !>   reported step is then verified below the root. C holds the normal,
 !>   tangential, rolling and twisting dashpots of contacts and walls, the
-!>   bonds' normal dashpots and the drag to ground. Its rigorous lower bound:
+!>   bonds' dashpots (normal; a bond model's own four) and the drag to ground. Its rigorous lower bound:
 !>   (2/a)(sqrt(1 + z^2) - z) with a^2 >= lambda_max(A), z = b/(2 a) and b >=
 !>   lambda_max(B) (the Collatz-Wielandt bound of B).
 !> Hertz contacts are linearised with their tangent stiffness 2 E* sqrt(R* d)
@@ -44,6 +44,8 @@ module demstep_assembly
   use demstep_scene_data, only: scene_type, scene_effect, effective_mass, contact_values, wall_values, &
     contact_dashpots, check_scene_damping
   use demstep_neighbours, only: contact_list
+  use demstep_scene_bonds, only: scene_bond_law
+  use demstep_bonds, only: bond_law_type
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use demstep_lapack, only: largest_eigenpair
   use demstep_lanczos, only: lanczos_context_type, lanczos_largest, eigen_result_type, &
@@ -351,7 +353,8 @@ contains
     do i = 1, 4
       result%dashpots(i) = any(springs%c(i) > 0.0_dp .and. springs%kind == 0)
     end do
-    result%dashpots(5) = any(springs%c(1) > 0.0_dp .and. springs%kind == 5)
+    result%dashpots(5) = any((springs%c(1) > 0.0_dp .or. springs%c(2) > 0.0_dp .or. springs%c(3) > 0.0_dp &
+      .or. springs%c(4) > 0.0_dp) .and. springs%kind == 5)
     result%dashpots(6) = any(springs%kind == 6)
     ! per-contact rule and the Gershgorin bound (scaled, without pre-stress)
     result%dt_contact_rule = huge(1.0_dp)
@@ -1156,6 +1159,7 @@ contains
     real(dp), allocatable :: pn(:, :), pd(:)
     integer :: k, i, j, w, m, n_contacts, n_walls, n_drag
     real(dp) :: overlap, d, f_n, kc(4), rs, l, e_pair, f_now, k_now(4)
+    type(bond_law_type) :: law
     logical :: damped
     damped = scene%effects(scene_effect%damping)
     m = size(scene%bonds, 2)
@@ -1182,6 +1186,13 @@ contains
     do k = 1, m
       i = scene%bonds(1, k)
       j = scene%bonds(2, k)
+      if (scene%bond_model > 0) then
+        ! a code's bond: the kernel's four springs at the model's arms, its dashpots
+        law = scene_bond_law(scene, k)
+        springs(k) = spring_block_type(a=i, b=j, k=law%k, c=law%c, arm_a=law%arm(1), arm_b=law%arm(2), &
+          n=scene%bond_normal(:, k), kind=5, m_eff=effective_mass(scene, j, i))
+        cycle
+      end if
       springs(k) = spring_block_type(a=i, b=j, k=[scene%k_bond, scene%k_bond_tangential, 0.0_dp, 0.0_dp], &
         n=scene%bond_normal(:, k), kind=5, m_eff=effective_mass(scene, j, i))
       if (damped) springs(k)%c(1) = dashpot_coefficient(scene%damping_ratio, effective_mass(scene, i, j), &
