@@ -40,6 +40,7 @@ program tester
   use test_app_safety, only: collect_app_safety
   use test_structure, only: collect_structure
   use test_monitor, only: collect_monitor
+  use test_bodies, only: collect_bodies
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -82,7 +83,8 @@ program tester
     new_testsuite("packing", collect_packing), &
     new_testsuite("app_safety", collect_app_safety), &
     new_testsuite("structure", collect_structure), &
-    new_testsuite("monitor", collect_monitor) &
+    new_testsuite("monitor", collect_monitor), &
+    new_testsuite("bodies", collect_bodies) &
     ]
   stat = 0
   total = 0
