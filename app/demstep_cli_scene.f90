@@ -20,6 +20,9 @@ module demstep_cli_scene
   use demstep_progress, only: text_progress_type
   use demstep_scene_materials, only: scene_set_materials
   use demstep_stepper, only: scene_run
+  use demstep_bodies, only: body_set_type, bodies_from_members
+  use demstep_body_assembly, only: body_critical_steps
+  use demstep_body_table, only: read_body_table
   use demstep_step_cost, only: measure_step_cost
   use demstep_lanczos, only: lanczos_tolerance_default
   use demstep_recommend, only: recommended_step, default_safety
@@ -106,6 +109,11 @@ contains
         "!1.0, 1.0, 1.0", capacity=3, default="!0, 0, 0"), &
       var("bonds_file", "a quoted file name", "table of bonds: per row two particle numbers", &
         "!'bonds.txt'", excludes="bonds"), &
+      var("bodies_file", "a quoted file name", "rigid bodies (clumps, multispheres): per row a " &
+        //"particle number and its body id (1..n); particles not listed move alone", "!'clumps.txt'"), &
+      var("body_density", "a real number", "clump members' density: body mass and inertia from their " &
+        //"volumes (Yade's sum, overlaps counted twice); default the particles' masses and inertias", &
+        "!2600.0", default="!0", needs="bodies_file"), &
       var("law", "a quoted word", "contact law: 'linear' (k_normal) or 'hertz' (e_star)", &
         "'linear'", default="'linear'"), &
       var("k_normal", "a real number", "linear contact stiffness (> 0)", "1.0e4", default="!0"), &
@@ -197,7 +205,10 @@ contains
     integer, allocatable :: fixed(:), bonds(:), types(:)
     real(dp), allocatable :: type_k_normal(:), type_k_tangential(:), young(:), poisson(:), kk(:, :, :)
     integer :: nty, nkn, nkt, nt
-    character(len=512) :: particles_file, bonds_file, contacts_file, snapshot_file
+    character(len=512) :: particles_file, bonds_file, contacts_file, snapshot_file, bodies_file
+    real(dp) :: body_density
+    type(body_set_type) :: bodies
+    integer, allocatable :: body_of(:)
     character(len=32) :: snapshot_format
     integer :: snapshot_frame
     type(snapshot_type) :: snap
@@ -220,7 +231,7 @@ contains
       kt_ratio, g_star, friction, prestress, types, type_k_normal, type_k_tangential, young, poisson, &
       eigen_solver, eigen_tolerance, snapshot_file, snapshot_format, snapshot_frame, &
       damping_ratio_tangential, damping_ratio_rolling, drag, rolling_ratio, twisting_ratio, rolling_friction, &
-      wall_type, tangential_damping
+      wall_type, tangential_damping, bodies_file, body_density
     type(var_spec), allocatable :: specs(:)
     character(len=*), parameter :: g = "scene"
     type(scene_type) :: sc
@@ -596,7 +607,31 @@ contains
       call in_group(status, g)
       return
     end if
-    if (ctx%quiet) then
+    if (given(group, "bodies_file")) then
+      ! rigid bodies: linearised at the current overlap, no run
+      if (mode /= hertz_linearization_from_name("current") .or. prestress .or. duration > 0.0_dp) then
+        call fail("bodies_file", "rigid bodies are analysed at the current overlap, without pre-stress " &
+          //"(hertz_linearization 'current', prestress F) and not run (duration 0)")
+        return
+      end if
+      call read_body_table(beside(file, trim(bodies_file)), sc%n, body_of, status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": bodies_file: "//status%message
+        return
+      end if
+      if (given(group, "body_density")) then
+        call bodies_from_members(sc, body_of, bodies, status, density=body_density)
+      else
+        call bodies_from_members(sc, body_of, bodies, status)
+      end if
+      if (status%stat == demstep_stat%ok) call body_critical_steps(sc, bodies, crit, status, solver=solver, &
+        tolerance=eigen_tolerance, max_eigen_dof=max_eigen_dof)
+      if (status%stat /= demstep_stat%ok) then
+        call in_group(status, g, reshape([character(len=15) :: "tolerance", "eigen_tolerance", "density", &
+          "body_density", "body_of", "bodies_file"], [2, 3]))
+        return
+      end if
+    else if (ctx%quiet) then
       call assembly_critical_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
         max_eigen_dof=max_eigen_dof, prestress=prestress, solver=solver, tolerance=eigen_tolerance)
     else

@@ -15,7 +15,8 @@ module test_bodies
   use demstep_csr, only: csr_matrix_type, csr_to_dense
   use demstep_lapack, only: symmetric_eigensystem
   use demstep_scene_builders, only: scene_set_effects
-  use test_support, only: real_str, seed_fixed
+  use test_support, only: real_str, seed_fixed, run_app, write_file, work_dir, read_group, take
+  use demstep_results, only: result_group_type
   implicit none
   private
   public :: collect_bodies
@@ -31,7 +32,8 @@ contains
       new_unittest("matrix-free product = compressed rows; J^-1/2 squared = J^-1", test_products), &
       new_unittest("Lanczos = dense on a larger clump packing, undamped and damped", test_lanczos), &
       new_unittest("Yade GST rule on a 5-sphere rod: its formula; ratio to the exact limit", test_gst_rod), &
-      new_unittest("bad input refused by name", test_bad_input) &
+      new_unittest("bad input refused by name", test_bad_input), &
+      new_unittest("the app: &scene bodies_file (and body_density), computed or refused", test_app) &
       ]
   end subroutine collect_bodies
 
@@ -593,5 +595,66 @@ contains
     call bodies_from_members(scene, [1, 1, 2, 2], bodies, status)
     call check(error, status%where, "fixed")
   end subroutine test_bad_input
+
+  !> The app reads a body table: the dumbbell (lower sphere at the origin,
+  !> the upper at 1.6 (0.8, 0, 0.6)) on a floor 1e-3 into the lower one gives
+  !> omega^2 = k (1/2 + 0.8^2 0.8^2/(0.8 + 2 0.8^2)) (1e-12: the result's
+  !> 17 digits); bad tables and variables refused on one line by name.
+  subroutine test_app(error)
+    type(error_type), allocatable, intent(out) :: error
+    character(len=*), parameter :: deck = work_dir//"/bodies_deck.nml", out = work_dir//"/bodies_out.nml"
+    character(len=*), parameter :: g = "&scene dim = 3, position = 0, 0, 0, 1.28, 0, 0.96, radius = 1.0, " &
+      //"mass = 1.0, k_normal = 1e4, effects = 'contacts', 'walls', 'rotation', walls = 0, 0, -0.999, " &
+      //"0, 0, 1, bodies_file = 'bodies.txt'"
+    type(result_group_type) :: fields
+    character(len=:), allocatable :: stdout, stderr
+    real(dp) :: omega_max, expected
+    integer :: rc, unit, ios, n_dof
+    call write_file(work_dir//"/bodies.txt", [character(len=20) :: "# particle body", "1 2", "2 2"])
+    call write_file(deck, [g//" /"])
+    call run_app("-q "//deck//" -o "//out, rc, stdout, stderr)
+    call check(error, rc, 0, message="exit status; stderr: "//stderr)
+    if (allocated(error)) return
+    open(newunit=unit, file=out, status="old", action="read", iostat=ios)
+    call read_group(unit, "scene_result", fields, ios)
+    if (ios == 0) call take(fields, "omega_max", omega_max, ios)
+    if (ios == 0) call take(fields, "n_dof", n_dof, ios)
+    close(unit)
+    call check(error, ios, 0, message="scene_result")
+    if (allocated(error)) return
+    call check(error, n_dof, 6)
+    if (allocated(error)) return
+    expected = sqrt(1.0e4_dp*(0.5_dp + 0.8_dp**4/(0.8_dp + 2.0_dp*0.8_dp**2)))
+    call check(error, omega_max, expected, rel=.true., thr=1.0e-12_dp)
+    if (allocated(error)) return
+    ! refusals
+    call write_file(work_dir//"/bodies.txt", [character(len=20) :: "1 1", "2 1", "1 2"])
+    call refused(g//" /", "&scene: bodies_file: "//work_dir//"/bodies.txt: line 3: particle 1 is already " &
+      //"in body 1 (line 1)")
+    if (allocated(error)) return
+    call write_file(work_dir//"/bodies.txt", [character(len=20) :: "1 1", "3 1"])
+    call refused(g//" /", "&scene: bodies_file: "//work_dir//"/bodies.txt: line 2: column 1: particle 3 " &
+      //"does not exist (1 to 2)")
+    if (allocated(error)) return
+    call write_file(work_dir//"/bodies.txt", [character(len=20) :: "1 1", "2 1"])
+    call refused(g//", body_density = -1 /", "&scene: body_density: must be finite and > 0")
+    if (allocated(error)) return
+    call refused(g//", duration = 1, dt = 1e-3 /", "&scene: bodies_file: rigid bodies are analysed")
+    if (allocated(error)) return
+    call refused(g//", fixed = 1 /", "&scene: fixed: body 1 has fixed and free members")
+  contains
+    subroutine refused(line, expected)
+      character(len=*), intent(in) :: line, expected
+      call write_file(deck, [line])
+      call run_app(deck//" -o "//out, rc, stdout, stderr)
+      call check(error, rc, 2, message="exit status for '"//line//"': "//stderr)
+      if (allocated(error)) return
+      call check(error, index(stderr, "demstep: "//deck//": "//expected) == 1, "stderr '"//stderr &
+        //"' does not start with 'demstep: "//deck//": "//expected//"'")
+      if (allocated(error)) return
+      call check(error, count(transfer(stderr, "a", len(stderr)) == new_line("a")), 1, &
+        message="one line on stderr: "//stderr)
+    end subroutine refused
+  end subroutine test_app
 
 end module test_bodies
