@@ -207,7 +207,8 @@ contains
     integer :: nty, nkn, nkt, nt
     character(len=512) :: particles_file, bonds_file, contacts_file, snapshot_file, bodies_file
     real(dp) :: body_density
-    type(body_set_type) :: bodies
+    ! (allocated with bodies_file: an unallocated one is an absent argument)
+    type(body_set_type), allocatable :: bodies
     integer, allocatable :: body_of(:)
     character(len=32) :: snapshot_format
     integer :: snapshot_frame
@@ -608,12 +609,13 @@ contains
       return
     end if
     if (given(group, "bodies_file")) then
-      ! rigid bodies: linearised at the current overlap, no run
-      if (mode /= hertz_linearization_from_name("current") .or. prestress .or. duration > 0.0_dp) then
+      ! rigid bodies: linearised at the current overlap
+      if (mode /= hertz_linearization_from_name("current") .or. prestress) then
         call fail("bodies_file", "rigid bodies are analysed at the current overlap, without pre-stress " &
-          //"(hertz_linearization 'current', prestress F) and not run (duration 0)")
+          //"(hertz_linearization 'current', prestress F)")
         return
       end if
+      allocate(bodies)
       call read_body_table(beside(file, trim(bodies_file)), sc%n, body_of, status)
       if (status%stat /= demstep_stat%ok) then
         status%message = "&"//g//": bodies_file: "//status%message
@@ -666,10 +668,10 @@ contains
       call plan_run(ctx, g, sc%n, crit%n_springs, duration, dt_used, steps, status)
       if (status%stat /= demstep_stat%ok) return
       if (ctx%quiet) then
-        call scene_run(sc, dt_used, steps, summary, status)
+        call scene_run(sc, dt_used, steps, summary, status, bodies=bodies)
       else
         progress = text_progress_type(unit=error_unit, label="demstep: &"//g)
-        call scene_run(sc, dt_used, steps, summary, status, progress=progress)
+        call scene_run(sc, dt_used, steps, summary, status, progress=progress, bodies=bodies)
       end if
       ! a blow-up is a result to report, not an input error
       if (status%stat == demstep_stat%blow_up) status%stat = demstep_stat%ok

@@ -29,7 +29,7 @@ module demstep_body_assembly
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text
-  use demstep_interaction, only: contact_product, contact_block, dof_components, reduced_mass
+  use demstep_interaction, only: contact_product, contact_block, dof_components, reduced_mass, cross
   use demstep_scene_data, only: scene_type, scene_effect
   use demstep_bodies, only: body_set_type
   use demstep_assembly, only: critical_step_type, spring_block_type, damped_problem_type, linearise, &
@@ -700,13 +700,6 @@ contains
     dt = yade_gst_factor*sqrt(dt2)
     status%stat = demstep_stat%ok
   end subroutine body_gst_step
-
-  !> a x b.
-  pure function cross(a, b) result(c)
-    real(dp), intent(in) :: a(3), b(3)
-    real(dp) :: c(3)
-    c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
-  end function cross
 
   !> [d]x, the matrix of d x . (so that [d]x w = d x w).
   pure function skew(d) result(m)
