@@ -27,7 +27,7 @@ module demstep_bodies
   implicit none
   private
 
-  public :: bodies_from_members, bodies_from_lists, bodies_given, check_inertia_tensor
+  public :: bodies_from_members, bodies_from_lists, bodies_given, check_inertia_tensor, check_bodies
 
   !> Relative size of the smallest pivot of a positive definite inertia
   !> tensor's Cholesky factor (against its largest diagonal entry): below it
@@ -76,16 +76,17 @@ contains
     integer :: i, b
     call number_bodies(scene, body_of, bodies, status)
     if (status%stat /= demstep_stat%ok) return
+    allocate(m(scene%n), im(scene%n))
     if (present(density)) then
       if (.not. (ieee_is_finite(density) .and. density > 0.0_dp)) then
         call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="density")
         return
       end if
-      m = density*(4.0_dp/3.0_dp)*pi*scene%radius**3
-      im = 0.4_dp*m*scene%radius**2
+      m(:) = density*(4.0_dp/3.0_dp)*pi*scene%radius**3
+      im(:) = 0.4_dp*m*scene%radius**2
     else
-      m = scene%mass
-      im = scene%inertia
+      m(:) = scene%mass
+      im(:) = scene%inertia
     end if
     eye = reshape([1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [3, 3])
     allocate(bodies%mass(bodies%n), source=0.0_dp)
@@ -243,6 +244,23 @@ contains
     end do
     status%stat = demstep_stat%ok
   end subroutine bodies_given
+
+  !> Whether `bodies` were made for this scene (one body per particle).
+  !> Status invalid_input naming `bodies`.
+  pure subroutine check_bodies(scene, bodies, status)
+    type(scene_type), intent(in) :: scene
+    type(body_set_type), intent(in) :: bodies
+    type(demstep_status_type), intent(out) :: status
+    if (.not. allocated(bodies%body_of)) then
+      call set_status(status, demstep_stat%invalid_input, "no bodies given (see bodies_from_members)", &
+        where="bodies")
+    else if (size(bodies%body_of) /= scene%n) then
+      call set_status(status, demstep_stat%invalid_input, "made for "//int_text(size(bodies%body_of)) &
+        //" particles, the scene has "//int_text(scene%n), where="bodies")
+    else
+      status%stat = demstep_stat%ok
+    end if
+  end subroutine check_bodies
 
   !> An inertia tensor a body can have: finite, symmetric (to 1e-12 of its
   !> largest entry) and positive definite (each Cholesky pivot above

@@ -46,7 +46,7 @@ module demstep_stepper
     wrap_positions
   use demstep_neighbours, only: search_type, prepare_search, find_contacts, find_wall_contacts, &
     contact_limit, history_size
-  use demstep_bodies, only: body_set_type
+  use demstep_bodies, only: body_set_type, check_bodies
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -696,15 +696,8 @@ contains
     type(demstep_status_type), intent(out) :: status
     real(dp), allocatable :: p(:, :), l(:, :), ms(:)
     integer :: i, b, nb
-    if (.not. allocated(bodies%body_of)) then
-      call set_status(status, demstep_stat%invalid_input, "no bodies given", where="bodies")
-      return
-    end if
-    if (size(bodies%body_of) /= scene%n) then
-      call set_status(status, demstep_stat%invalid_input, "made for "//int_text(size(bodies%body_of)) &
-        //" particles, the scene has "//int_text(scene%n), where="bodies")
-      return
-    end if
+    call check_bodies(scene, bodies, status)
+    if (status%stat /= demstep_stat%ok) return
     nb = bodies%n
     work%rigid = .true.
     work%b_mass = bodies%mass

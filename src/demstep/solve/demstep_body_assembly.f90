@@ -31,7 +31,7 @@ module demstep_body_assembly
   use demstep_text, only: int_text
   use demstep_interaction, only: contact_product, contact_block, dof_components, reduced_mass, cross
   use demstep_scene_data, only: scene_type, scene_effect
-  use demstep_bodies, only: body_set_type
+  use demstep_bodies, only: body_set_type, check_bodies
   use demstep_assembly, only: critical_step_type, spring_block_type, damped_problem_type, linearise, &
     hertz_linearization, eigen_solver, default_max_eigen_dof, scene_lanczos_ncv, scene_lanczos_restarts, &
     bound_iterations, assembly_check_options, assembly_set_bound, assembly_set_estimates, &
@@ -208,16 +208,8 @@ contains
     integer(i8) :: p
     logical :: keep
     rate = 0.0_dp
-    if (.not. allocated(bodies%body_of)) then
-      call set_status(status, demstep_stat%invalid_input, "no bodies given (see bodies_from_members)", &
-        where="bodies")
-      return
-    end if
-    if (size(bodies%body_of) /= scene%n) then
-      call set_status(status, demstep_stat%invalid_input, "made for "//int_text(size(bodies%body_of)) &
-        //" particles, the scene has "//int_text(scene%n), where="bodies")
-      return
-    end if
+    call check_bodies(scene, bodies, status)
+    if (status%stat /= demstep_stat%ok) return
     op%comp = dof_components(scene%dim, scene%effects(scene_effect%rotation) .and. scene%dim > 1)
     op%nc = size(op%comp)
     ! the dimension the rotations see (0: none)
