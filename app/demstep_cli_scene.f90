@@ -110,7 +110,8 @@ contains
       var("bonds_file", "a quoted file name", "table of bonds: per row two particle numbers", &
         "!'bonds.txt'", excludes="bonds"), &
       var("bodies_file", "a quoted file name", "rigid bodies (clumps, multispheres): per row a " &
-        //"particle number and its body id (1..n); particles not listed move alone", "!'clumps.txt'"), &
+        //"particle number and its body id (a positive integer); particles not listed move alone", &
+        "!'clumps.txt'"), &
       var("body_density", "a real number", "clump members' density: body mass and inertia from their " &
         //"volumes (Yade's sum, overlaps counted twice); default the particles' masses and inertias", &
         "!2600.0", default="!0", needs="bodies_file"), &

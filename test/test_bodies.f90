@@ -33,6 +33,7 @@ contains
       new_unittest("Lanczos = dense on a larger clump packing, undamped and damped", test_lanczos), &
       new_unittest("Yade GST rule on a 5-sphere rod: its formula; ratio to the exact limit", test_gst_rod), &
       new_unittest("bad input refused by name", test_bad_input), &
+      new_unittest("body ids: any positive values, bodies in increasing id, lone particles after", test_ids), &
       new_unittest("the stepper with rigid bodies: bounded at 0.99, grows at 1.01 of the limit", test_stepper), &
       new_unittest("the app: &scene bodies_file (and body_density), computed or refused", test_app) &
       ]
@@ -531,6 +532,29 @@ contains
     end do
   end subroutine test_gst_rod
 
+  !> Ids 1000000007, 5, 0, 5, 42, 0 number the bodies 3, 1, 4, 1, 2, 5.
+  subroutine test_ids(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(body_set_type) :: bodies
+    type(demstep_status_type) :: status
+    real(dp) :: x(3, 6)
+    integer :: i
+    x = 0.0_dp
+    do i = 1, 6
+      x(1, i) = 3.0_dp*real(i, dp)
+    end do
+    call new_scene(scene, 3, x, [(1.0_dp, i = 1, 6)], [(1.0_dp, i = 1, 6)], status)
+    call bodies_from_members(scene, [1000000007, 5, 0, 5, 42, 0], bodies, status)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    call check(error, bodies%n, 5)
+    if (allocated(error)) return
+    call check(error, all(bodies%body_of == [3, 1, 4, 1, 2, 5]), "body numbers")
+    if (allocated(error)) return
+    call check(error, all(bodies%members == [2, 1, 1, 1, 1]), "members per body")
+  end subroutine test_ids
+
   !> Refusals by name: a particle listed in two bodies (`members`), a
   !> singular inertia tensor and a non-positive mass (`inertia`, `mass`,
   !> with the body), a body_of of the wrong size, mixed fixed members.
@@ -751,7 +775,7 @@ contains
     integer :: rc, unit, ios, n_dof
     integer(i8) :: steps
     logical :: blew_up
-    call write_file(work_dir//"/bodies.txt", [character(len=20) :: "# particle body", "1 2", "2 2"])
+    call write_file(work_dir//"/bodies.txt", [character(len=20) :: "# particle body", "1 70", "2 70"])
     call write_file(deck, [g//" /"])
     call run_app("-q "//deck//" -o "//out, rc, stdout, stderr)
     call check(error, rc, 0, message="exit status; stderr: "//stderr)

@@ -1,8 +1,9 @@
 !> The rigid-body (clump) table: which particles move together.
 !>
 !> One row per clump member, two integers: the particle's number (1..n, as in
-!> the particle table or arrays) and its body's id (1..n; the ids need not be
-!> consecutive). Particles not listed move on their own. `#` starts a
+!> the particle table or arrays) and its body's id (a positive integer; the
+!> ids need not be consecutive: Yade's clump ids do). Particles not listed
+!> move on their own. `#` starts a
 !> comment, blank lines are skipped (the layout of `read_table`). A particle may be listed once: a second row for it (in
 !> the same body or another) is refused naming both lines.
 !>
@@ -28,7 +29,7 @@ contains
   !> The body id of each of n particles from a body table (0: not listed, the
   !> particle moves alone), for `bodies_from_members`. Status io_error or
   !> invalid_input with the message `path: line L: what` (a row of the wrong
-  !> form, a particle or body id above n, a particle listed twice).
+  !> form, a particle number above n, a particle listed twice).
   subroutine read_body_table(path, n, body_of, status)
     character(len=*), intent(in) :: path
     !> Number of particles.
@@ -48,11 +49,6 @@ contains
       if (p > n) then
         call set_status(status, demstep_stat%invalid_input, path//": line "//int_text(lines(k)) &
           //": column 1: particle "//int_text(p)//" does not exist (1 to "//int_text(n)//")")
-        return
-      end if
-      if (b > n) then
-        call set_status(status, demstep_stat%invalid_input, path//": line "//int_text(lines(k)) &
-          //": column 2: body id "//int_text(b)//" is above the number of particles ("//int_text(n)//")")
         return
       end if
       if (body_of(p) /= 0) then

@@ -56,11 +56,11 @@ contains
 
   !> Bodies from a body id per particle, mass and inertia summed from the
   !> members as Yade does (see the module's notes): id 0 is a particle on its
-  !> own; ids 1..scene%n group particles, numbered in increasing id (ids
-  !> need not all be used). Members' masses and moments of inertia are the
+  !> own; positive ids group particles (any values, e.g. Yade's clump ids),
+  !> the bodies numbered in increasing id. Members' masses and moments of inertia are the
   !> scene's, or with `density` rho: m = rho (4/3) pi r^3 and 2/5 m r^2
   !> (Yade, core/Clump.cpp:229-234). Status invalid_input naming `body_of`
-  !> (size, an id outside 0..n), `fixed` (a body with fixed and free members)
+  !> (size, a negative id), `fixed` (a body with fixed and free members)
   !> or `density`.
   subroutine bodies_from_members(scene, body_of, bodies, status, density)
     type(scene_type), intent(in) :: scene
@@ -297,44 +297,57 @@ contains
     status%stat = demstep_stat%ok
   end subroutine check_inertia_tensor
 
-  !> Number the bodies from ids (0: alone; 1..n in increasing id, then one
-  !> body per lone particle), allocate the per-particle arrays and the
-  !> fixed flags. Status invalid_input naming `body_of` or `fixed`.
+  !> Number the bodies from ids (0: alone; the positive ids in increasing
+  !> order, then one body per lone particle), allocate the per-particle arrays
+  !> and the fixed flags. O(n log n) (the ids sorted). Status invalid_input
+  !> naming `body_of` or `fixed`.
   subroutine number_bodies(scene, body_of, bodies, status)
     type(scene_type), intent(in) :: scene
     integer, intent(in) :: body_of(:)
     type(body_set_type), intent(inout) :: bodies
     type(demstep_status_type), intent(out) :: status
-    integer, allocatable :: number(:)
-    integer :: i, k, b
+    integer, allocatable :: ids(:)
+    integer :: i, k, b, nu, lo, hi, mid
     if (size(body_of) /= scene%n) then
       call set_status(status, demstep_stat%invalid_input, "needs one entry per particle ("// &
         int_text(scene%n)//"), has "//int_text(size(body_of)), where="body_of")
       return
     end if
     do i = 1, scene%n
-      if (body_of(i) < 0 .or. body_of(i) > scene%n) then
-        call set_status(status, demstep_stat%invalid_input, "a body id is 0 (alone) or in 1.." &
-          //int_text(scene%n), where="body_of", index=i, subscript=.true.)
+      if (body_of(i) < 0) then
+        call set_status(status, demstep_stat%invalid_input, "a body id is 0 (alone) or positive", &
+          where="body_of", index=i, subscript=.true.)
         return
       end if
     end do
-    allocate(number(0:scene%n), source=0)
-    do i = 1, scene%n
-      number(body_of(i)) = 1
-    end do
-    k = 0
-    do b = 1, scene%n
-      if (number(b) > 0) then
-        k = k + 1
-        number(b) = k
+    ! the distinct positive ids, ascending
+    ids = pack(body_of, body_of > 0)
+    call heap_sort(ids)
+    nu = 0
+    do i = 1, size(ids)
+      if (nu > 0) then
+        if (ids(i) == ids(nu)) cycle
       end if
+      nu = nu + 1
+      ids(nu) = ids(i)
     end do
     allocate(bodies%body_of(scene%n), bodies%offset(3, scene%n))
     bodies%offset = 0.0_dp
+    k = nu
     do i = 1, scene%n
       if (body_of(i) > 0) then
-        bodies%body_of(i) = number(body_of(i))
+        ! (binary search: ids(lo) = body_of(i))
+        lo = 1
+        hi = nu
+        do while (lo < hi)
+          mid = (lo + hi)/2
+          if (ids(mid) < body_of(i)) then
+            lo = mid + 1
+          else
+            hi = mid
+          end if
+        end do
+        bodies%body_of(i) = lo
       else
         k = k + 1
         bodies%body_of(i) = k
@@ -358,5 +371,40 @@ contains
     end do
     status%stat = demstep_stat%ok
   end subroutine number_bodies
+
+  !> Sort integers ascending in place (heapsort: O(n log n), no recursion).
+  pure subroutine heap_sort(a)
+    integer, intent(inout) :: a(:)
+    integer :: n, i, t
+    n = size(a)
+    do i = n/2, 1, -1
+      call sift_down(a, i, n)
+    end do
+    do i = n, 2, -1
+      t = a(1)
+      a(1) = a(i)
+      a(i) = t
+      call sift_down(a, 1, i - 1)
+    end do
+  end subroutine heap_sort
+
+  !> Restore the heap order of a(start:last) below `start` (for `heap_sort`).
+  pure subroutine sift_down(a, start, last)
+    integer, intent(inout) :: a(:)
+    integer, intent(in) :: start, last
+    integer :: root, child, t
+    root = start
+    do while (2*root <= last)
+      child = 2*root
+      if (child < last) then
+        if (a(child) < a(child + 1)) child = child + 1
+      end if
+      if (a(root) >= a(child)) exit
+      t = a(root)
+      a(root) = a(child)
+      a(child) = t
+      root = child
+    end do
+  end subroutine sift_down
 
 end module demstep_bodies
