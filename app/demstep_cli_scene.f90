@@ -211,6 +211,7 @@ contains
     ! (allocated with bodies_file: an unallocated one is an absent argument)
     type(body_set_type), allocatable :: bodies
     integer, allocatable :: body_of(:)
+    character(len=:), allocatable :: bodies_from
     character(len=32) :: snapshot_format
     integer :: snapshot_frame
     type(snapshot_type) :: snap
@@ -609,18 +610,31 @@ contains
       call in_group(status, g)
       return
     end if
+    ! rigid bodies: a body table, or the clumps a snapshot names
+    bodies_from = ""
     if (given(group, "bodies_file")) then
-      ! rigid bodies: linearised at the current overlap
-      if (mode /= hertz_linearization_from_name("current") .or. prestress) then
-        call fail("bodies_file", "rigid bodies are analysed at the current overlap, without pre-stress " &
+      bodies_from = "bodies_file"
+    else if (given(group, "snapshot_file")) then
+      if (snap%has_body) bodies_from = "snapshot_file"
+    end if
+    if (len(bodies_from) > 0) then
+      ! linearised at the current overlap (a &material's implied impact
+      ! linearisation is not taken)
+      if ((given(group, "hertz_linearization") .and. mode /= hertz_linearization_from_name("current")) &
+          .or. prestress) then
+        call fail(bodies_from, "rigid bodies are analysed at the current overlap, without pre-stress " &
           //"(hertz_linearization 'current', prestress F)")
         return
       end if
       allocate(bodies)
-      call read_body_table(beside(file, trim(bodies_file)), sc%n, body_of, status)
-      if (status%stat /= demstep_stat%ok) then
-        status%message = "&"//g//": bodies_file: "//status%message
-        return
+      if (given(group, "bodies_file")) then
+        call read_body_table(beside(file, trim(bodies_file)), sc%n, body_of, status)
+        if (status%stat /= demstep_stat%ok) then
+          status%message = "&"//g//": bodies_file: "//status%message
+          return
+        end if
+      else
+        body_of = snap%body
       end if
       if (given(group, "body_density")) then
         call bodies_from_members(sc, body_of, bodies, status, density=body_density)
@@ -631,7 +645,7 @@ contains
         tolerance=eigen_tolerance, max_eigen_dof=max_eigen_dof)
       if (status%stat /= demstep_stat%ok) then
         call in_group(status, g, reshape([character(len=15) :: "tolerance", "eigen_tolerance", "density", &
-          "body_density", "body_of", "bodies_file"], [2, 3]))
+          "body_density", "body_of", bodies_from], [2, 3]))
         return
       end if
     else if (ctx%quiet) then

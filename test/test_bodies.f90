@@ -17,6 +17,7 @@ module test_bodies
   use demstep_scene_builders, only: scene_set_effects, scene_add_bonds, scene_set_bond_stiffness
   use test_support, only: real_str, seed_fixed, run_app, write_file, work_dir, read_group, take
   use demstep_results, only: result_group_type
+  use demstep_snapshot, only: snapshot_type, read_snapshot
   implicit none
   private
   public :: collect_bodies
@@ -34,6 +35,7 @@ contains
       new_unittest("Yade GST rule on a 5-sphere rod: its formula; ratio to the exact limit", test_gst_rod), &
       new_unittest("bad input refused by name", test_bad_input), &
       new_unittest("body ids: any positive values, bodies in increasing id, lone particles after", test_ids), &
+      new_unittest("Yade text export with clumpId: the bodies; a names line that does not fit", test_yade_clumps), &
       new_unittest("the stepper with rigid bodies: bounded at 0.99, grows at 1.01 of the limit", test_stepper), &
       new_unittest("the app: &scene bodies_file (and body_density), computed or refused", test_app) &
       ]
@@ -532,6 +534,43 @@ contains
     end do
   end subroutine test_gst_rod
 
+  !> A Yade `export.textExt(..., format='x_y_z_r_attrs', comment='mass
+  !> clumpId', attrs=['b.state.mass', 'b.clumpId'])`: clumpIds 12, 12, -1, 9
+  !> give bodies 13, 13, 0 (alone), 10 and, from the members, bodies 2, 2, 3,
+  !> 1; a names line of another width than the rows is refused at the row.
+  subroutine test_yade_clumps(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(snapshot_type) :: snap
+    type(scene_type) :: scene
+    type(body_set_type) :: bodies
+    type(demstep_status_type) :: status
+    character(len=*), parameter :: path = work_dir//"/yade_clumps.txt"
+    call write_file(path, [character(len=40) :: "#format x_y_z_r_attrs", "# x y z r mass clumpId", &
+      "0 0 0 1 1 12", "1.5 0 0 1 1 12", "5 0 0 1 1 -1", "9 0 0 1 1 9"])
+    call read_snapshot(path, snap, status)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    call check(error, snap%has_body .and. all(snap%body == [13, 13, 0, 10]), "clumpId column")
+    if (allocated(error)) return
+    call new_scene(scene, 3, snap%x, [1.0_dp, 1.0_dp, 1.0_dp, 1.0_dp], snap%radius, status)
+    call bodies_from_members(scene, snap%body, bodies, status)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    call check(error, all(bodies%body_of == [2, 2, 3, 1]), "bodies of the clumps")
+    if (allocated(error)) return
+    call write_file(path, [character(len=40) :: "#format x_y_z_r_attrs", "# x y z r clumpId", &
+      "0 0 0 1 1 12"])
+    call read_snapshot(path, snap, status)
+    call check(error, status%stat, demstep_stat%invalid_input)
+    if (allocated(error)) return
+    call check(error, index(status%message, "line 3: the names line 2") > 0, status%message)
+    if (allocated(error)) return
+    ! without a clumpId column: no bodies
+    call write_file(path, [character(len=40) :: "#format x_y_z_r_attrs", "# x y z r mass", "0 0 0 1 1"])
+    call read_snapshot(path, snap, status)
+    call check(error, status%stat == demstep_stat%ok .and. .not. snap%has_body, "no clumpId: no bodies")
+  end subroutine test_yade_clumps
+
   !> Ids 1000000007, 5, 0, 5, 42, 0 number the bodies 3, 1, 4, 1, 2, 5.
   subroutine test_ids(error)
     type(error_type), allocatable, intent(out) :: error
@@ -769,23 +808,15 @@ contains
     character(len=*), parameter :: g = "&scene dim = 3, position = 0, 0, 0, 1.28, 0, 0.96, radius = 1.0, " &
       //"mass = 1.0, k_normal = 1e4, effects = 'contacts', 'walls', 'rotation', walls = 0, 0, -0.999, " &
       //"0, 0, 1, bodies_file = 'bodies.txt'"
-    type(result_group_type) :: fields
+    character(len=*), parameter :: yade_material = "&material young = 1.0e7, poisson = 0.25, density = " &
+      //"2500.0, radius = 1e-3, restitution = 0.9, impact_velocity = 1.0, code = 'yade_frictphys' /"
     character(len=:), allocatable :: stdout, stderr
     real(dp) :: omega_max, expected, drift
-    integer :: rc, unit, ios, n_dof
+    integer :: rc, n_dof
     integer(i8) :: steps
     logical :: blew_up
     call write_file(work_dir//"/bodies.txt", [character(len=20) :: "# particle body", "1 70", "2 70"])
-    call write_file(deck, [g//" /"])
-    call run_app("-q "//deck//" -o "//out, rc, stdout, stderr)
-    call check(error, rc, 0, message="exit status; stderr: "//stderr)
-    if (allocated(error)) return
-    open(newunit=unit, file=out, status="old", action="read", iostat=ios)
-    call read_group(unit, "scene_result", fields, ios)
-    if (ios == 0) call take(fields, "omega_max", omega_max, ios)
-    if (ios == 0) call take(fields, "n_dof", n_dof, ios)
-    close(unit)
-    call check(error, ios, 0, message="scene_result")
+    call computed([g//" /"])
     if (allocated(error)) return
     call check(error, n_dof, 6)
     if (allocated(error)) return
@@ -793,17 +824,7 @@ contains
     call check(error, omega_max, expected, rel=.true., thr=1.0e-12_dp)
     if (allocated(error)) return
     ! a run of the body at 20 steps per period: stable
-    call write_file(deck, [g//", duration = 1.0, n_per_period = 20, velocity = 0, 0, -1e-5, 0, 0, -1e-5 /"])
-    call run_app("-q "//deck//" -o "//out, rc, stdout, stderr)
-    call check(error, rc, 0, message="exit status of the run; stderr: "//stderr)
-    if (allocated(error)) return
-    open(newunit=unit, file=out, status="old", action="read", iostat=ios)
-    call read_group(unit, "scene_result", fields, ios)
-    if (ios == 0) call take(fields, "steps", steps, ios)
-    if (ios == 0) call take(fields, "blew_up", blew_up, ios)
-    if (ios == 0) call take(fields, "energy_drift", drift, ios)
-    close(unit)
-    call check(error, ios, 0, message="scene_result of the run")
+    call computed([g//", duration = 1.0, n_per_period = 20, velocity = 0, 0, -1e-5, 0, 0, -1e-5 /"])
     if (allocated(error)) return
     call check(error, steps > 0_i8 .and. .not. blew_up .and. drift < 1.0e-6_dp, "run: steps " &
       //real_str(real(steps, dp))//", drift "//real_str(drift))
@@ -823,7 +844,48 @@ contains
     call refused(g//", prestress = T /", "&scene: bodies_file: rigid bodies are analysed")
     if (allocated(error)) return
     call refused(g//", fixed = 1 /", "&scene: fixed: body 1 has fixed and free members")
+    if (allocated(error)) return
+    ! a Yade export with clumpId gives the bodies; the same spheres without it
+    ! and a body table give the same limit
+    call write_file(work_dir//"/yade_clumps_app.txt", [character(len=60) :: "#format x_y_z_r_attrs", &
+      "# x y z r clumpId", "0 0 0 1e-3 4", "1.2e-3 0 0 1e-3 4", "3.15e-3 0.2e-3 0 1e-3 7", &
+      "4.35e-3 0.2e-3 0.2e-3 1e-3 7", "1.0e-3 1.95e-3 0 1e-3 -1"])
+    call write_file(work_dir//"/yade_spheres_app.txt", [character(len=60) :: "#format x_y_z_r", &
+      "0 0 0 1e-3", "1.2e-3 0 0 1e-3", "3.15e-3 0.2e-3 0 1e-3", "4.35e-3 0.2e-3 0.2e-3 1e-3", &
+      "1.0e-3 1.95e-3 0 1e-3"])
+    call write_file(work_dir//"/bodies.txt", [character(len=20) :: "1 5", "2 5", "3 8", "4 8"])
+    call computed([character(len=200) :: "&scene dim = 3, snapshot_file = 'yade_clumps_app.txt' /", &
+      yade_material])
+    if (allocated(error)) return
+    call check(error, n_dof, 18, message="3 bodies")
+    if (allocated(error)) return
+    expected = omega_max
+    call computed([character(len=200) :: "&scene dim = 3, snapshot_file = 'yade_spheres_app.txt', " &
+      //"bodies_file = 'bodies.txt' /", yade_material])
+    if (allocated(error)) return
+    call check(error, omega_max, expected, rel=.true., thr=1.0e-14_dp)
   contains
+    !> Run a deck that computes; its result's omega_max, n_dof, steps,
+    !> blew_up, energy_drift.
+    subroutine computed(lines)
+      character(len=*), intent(in) :: lines(:)
+      type(result_group_type) :: fields
+      integer :: unit, ios
+      call write_file(deck, lines)
+      call run_app("-q "//deck//" -o "//out, rc, stdout, stderr)
+      call check(error, rc, 0, message="exit status for '"//trim(lines(1))//"'; stderr: "//stderr)
+      if (allocated(error)) return
+      open(newunit=unit, file=out, status="old", action="read", iostat=ios)
+      call read_group(unit, "scene_result", fields, ios)
+      if (ios == 0) call take(fields, "omega_max", omega_max, ios)
+      if (ios == 0) call take(fields, "n_dof", n_dof, ios)
+      if (ios == 0) call take(fields, "steps", steps, ios)
+      if (ios == 0) call take(fields, "blew_up", blew_up, ios)
+      if (ios == 0) call take(fields, "energy_drift", drift, ios)
+      close(unit)
+      call check(error, ios, 0, message="scene_result of '"//trim(lines(1))//"'")
+    end subroutine computed
+
     subroutine refused(line, expected)
       character(len=*), intent(in) :: line, expected
       call write_file(deck, [line])
