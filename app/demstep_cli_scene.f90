@@ -26,6 +26,7 @@ module demstep_cli_scene
     next_assignment, group_reading, check_real, new_array, array_length, new_int_array, int_array_length, &
     max_values, capacity_of, in_group
   use demstep_words, only: word_list, unknown_word, word_index, word_choice
+  use demstep_body_assembly, only: body_critical_steps
   use demstep_bonds, only: bond_model_from_name, bond_model_names, max_bond_parameters
   use demstep_results, only: write_scene_result, write_snapshot_result
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -99,6 +100,12 @@ contains
         "!1.0, 1.0, 1.0", capacity=3, default="!0, 0, 0"), &
       var("bonds_file", "a quoted file name", "table of bonds: per row two particle numbers", &
         "!'bonds.txt'", excludes="bonds"), &
+      var("bodies_file", "a quoted file name", "rigid bodies (clumps, multispheres): per row a " &
+        //"particle number and its body id (a positive integer); particles not listed move alone", &
+        "!'clumps.txt'"), &
+      var("body_density", "a real number", "clump members' density: body mass and inertia from their " &
+        //"volumes (Yade's sum, overlaps counted twice); default the particles' masses and inertias", &
+        "!2600.0", default="!0", needs="bodies_file"), &
       var("law", "a quoted word", "contact law: "//word_choice(contact_law_names, [character(len=8) :: &
         "k_normal", "e_star"]), &
         "'linear'", default="'linear'"), &
@@ -224,7 +231,10 @@ contains
     end if
 
     progress = text_progress_type(unit=error_unit, label="demstep: &"//g)
-    if (ctx%quiet) then
+    if (allocated(setup%bodies)) then
+      call body_critical_steps(sc, setup%bodies, crit, status, solver=input%eigen_solver, &
+        tolerance=input%eigen_tolerance, max_eigen_dof=input%max_eigen_dof)
+    else if (ctx%quiet) then
       call assembly_critical_steps(sc, crit, status, hertz_mode=setup%hertz_mode, &
         impact_velocity=setup%impact_velocity, max_eigen_dof=input%max_eigen_dof, prestress=input%prestress, &
         solver=input%eigen_solver, tolerance=input%eigen_tolerance)
@@ -254,9 +264,9 @@ contains
       call plan_run(ctx, g, sc%n, crit%n_springs, run%duration, run%dt, run%steps, status)
       if (status%stat /= demstep_stat%ok) return
       if (ctx%quiet) then
-        call scene_run(sc, run%dt, run%steps, summary, status)
+        call scene_run(sc, run%dt, run%steps, summary, status, bodies=setup%bodies)
       else
-        call scene_run(sc, run%dt, run%steps, summary, status, progress=progress)
+        call scene_run(sc, run%dt, run%steps, summary, status, progress=progress, bodies=setup%bodies)
       end if
       ! a blow-up is a result to report, not an input error
       if (status%stat == demstep_stat%blow_up) status%stat = demstep_stat%ok
@@ -303,13 +313,13 @@ contains
     real(dp), allocatable :: position(:), velocity(:), mass(:), radius(:), walls(:), gravity(:), &
       type_k_normal(:), type_k_tangential(:), young(:), poisson(:), bond_parameters(:)
     integer, allocatable :: fixed(:), bonds(:), types(:)
-    character(len=512) :: particles_file, bonds_file, contacts_file, snapshot_file
+    character(len=512) :: particles_file, bonds_file, contacts_file, snapshot_file, bodies_file
     character(len=32) :: snapshot_format, law, hertz_linearization, eigen_solver, bond_model
     character(len=32) :: effects(max_effects)
     real(dp) :: k_normal, e_star, k_bond, k_bond_tangential, damping_ratio, restitution, &
       local_damping, impact_velocity, duration, dt, n_per_period, k_tangential, kt_ratio, g_star, &
       friction, cell_lo(3), cell_hi(3), eigen_tolerance, damping_ratio_tangential, &
-      damping_ratio_rolling, drag, rolling_ratio, twisting_ratio, rolling_friction
+      damping_ratio_rolling, drag, rolling_ratio, twisting_ratio, rolling_friction, body_density
     logical :: periodic(3), prestress, tangential_damping
     namelist /scene/ dim, position, velocity, mass, radius, fixed, bonds, particles_file, &
       bonds_file, law, k_normal, e_star, k_bond, k_bond_tangential, walls, effects, gravity, &
@@ -318,7 +328,7 @@ contains
       kt_ratio, g_star, friction, prestress, types, type_k_normal, type_k_tangential, young, poisson, &
       eigen_solver, eigen_tolerance, snapshot_file, snapshot_format, snapshot_frame, &
       damping_ratio_tangential, damping_ratio_rolling, drag, rolling_ratio, twisting_ratio, rolling_friction, &
-      wall_type, tangential_damping, bond_model, bond_parameters
+      wall_type, tangential_damping, bond_model, bond_parameters, bodies_file, body_density
     type(var_spec), allocatable :: specs(:)
     character(len=*), parameter :: g = "scene"
 
@@ -366,6 +376,7 @@ contains
     if (given(group, "snapshot_file")) input%snapshot_file = beside(file, trim(snapshot_file))
     if (given(group, "contacts_file")) input%contacts_file = beside(file, trim(contacts_file))
     if (given(group, "bonds_file")) input%bonds_file = beside(file, trim(bonds_file))
+    if (given(group, "bodies_file")) input%bodies_file = beside(file, trim(bodies_file))
 
     ! words
     input%snapshot_format = snapshot_format_from_name(snapshot_format)
@@ -429,6 +440,7 @@ contains
     if (given(group, "damping_ratio_rolling")) input%damping_ratio_rolling = damping_ratio_rolling
     if (given(group, "drag")) input%drag = drag
     if (given(group, "impact_velocity")) input%impact_velocity = impact_velocity
+    if (given(group, "body_density")) input%body_density = body_density
     input%k_bond = k_bond
     input%k_bond_tangential = k_bond_tangential
     input%rolling_ratio = rolling_ratio

@@ -23,6 +23,10 @@
 !> - Assemblies: `scene_type`, `new_scene` and the `scene_set_*` builders,
 !>   `assembly_critical_steps` (dense or Lanczos: `eigen_solver%...`), `scene_run`;
 !>   test packings: `cubic_lattice`, `random_periodic_packing`, `tile_scene`.
+!> - Rigid bodies (clumps, multispheres) of the scene's spheres: `body_set_type`,
+!>   `bodies_from_members` (Yade's mass and inertia sum), `bodies_from_lists`,
+!>   `bodies_given`, `body_critical_steps` (the same estimates per body, full
+!>   inertia tensor), `body_gst_step` (Yade's GlobalStiffnessTimeStepper rule).
 !> - The largest eigenvalue of a large symmetric operator, matrix-free, with an
 !>   error bar: `lanczos_largest` (extend `lanczos_context_type`).
 !> - Bonds as each DEM code makes them (PFC parallel bond, MUSEN solid bond, Yade
@@ -94,6 +98,9 @@ module demstep
   use demstep_stepper, only: scene_run
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, assembly_step_for_n_per_period, &
     eigen_solver, hertz_linearization
+  ! rigid bodies (clumps, multispheres): members, mass, inertia tensor, exact limits
+  use demstep_bodies, only: body_set_type, bodies_from_members, bodies_from_lists, bodies_given
+  use demstep_body_assembly, only: body_critical_steps, body_gst_step
   ! the largest eigenvalue of a large operator, matrix-free (Lanczos, ARPACK)
   use demstep_lanczos, only: lanczos_context_type, lanczos_largest, eigen_result_type
   ! materials in each code's convention and the peers' time-step rules

@@ -41,6 +41,7 @@ program tester
   use test_structure, only: collect_structure
   use test_monitor, only: collect_monitor
   use test_bonds, only: collect_bonds
+  use test_bodies, only: collect_bodies
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -84,7 +85,8 @@ program tester
     new_testsuite("app_safety", collect_app_safety), &
     new_testsuite("structure", collect_structure), &
     new_testsuite("monitor", collect_monitor), &
-    new_testsuite("bonds", collect_bonds) &
+    new_testsuite("bonds", collect_bonds), &
+    new_testsuite("bodies", collect_bodies) &
     ]
   stat = 0
   total = 0

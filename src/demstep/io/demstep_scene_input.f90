@@ -24,6 +24,8 @@ module demstep_scene_input
     scene_set_local_damping
   use demstep_scene_materials, only: scene_set_material_set, material_set_law, material_set_damped
   use demstep_scene_bonds, only: scene_set_bond_model
+  use demstep_bodies, only: body_set_type, bodies_from_members
+  use demstep_body_table, only: read_body_table
   use demstep_assembly, only: hertz_linearization, eigen_solver, default_max_eigen_dof
   use demstep_lanczos, only: lanczos_tolerance_default
   use demstep_snapshot, only: snapshot_type, read_snapshot, snapshot_format, snapshot_masses_from_types
@@ -71,6 +73,11 @@ module demstep_scene_input
     !> parameters in its code's units.
     integer, allocatable :: bond_model
     real(dp), allocatable :: bond_parameters(:)
+    !> Rigid bodies (clumps): a table of particle and body id per row (else
+    !> the clumps a snapshot names), and the members' density for the bodies'
+    !> masses and inertias (default the particles' own).
+    character(len=:), allocatable :: bodies_file
+    real(dp), allocatable :: body_density
     !> The periodic cell (the snapshot's box and axes when not given).
     logical, allocatable :: periodic(:)
     real(dp) :: cell_lo(3) = 0.0_dp
@@ -120,6 +127,8 @@ module demstep_scene_input
     !> The Hertz linearisation and impact velocity for the analysis.
     integer :: hertz_mode = 1
     real(dp) :: impact_velocity = 0.0_dp
+    !> The rigid bodies, when the scene has them (analyse and run with them).
+    type(body_set_type), allocatable :: bodies
   end type scene_setup_type
 
 contains
@@ -446,9 +455,49 @@ contains
     end if
     if (allocated(input%hertz_linearization)) setup%hertz_mode = input%hertz_linearization
     if (allocated(input%impact_velocity)) setup%impact_velocity = input%impact_velocity
+    call rigid_bodies()
+    if (status%stat /= demstep_stat%ok) return
     status%stat = demstep_stat%ok
 
   contains
+
+    !> Rigid bodies: a body table, or the clumps a snapshot names.
+    subroutine rigid_bodies()
+      character(len=:), allocatable :: from
+      integer, allocatable :: body_of(:)
+      from = ""
+      if (allocated(input%bodies_file)) then
+        from = "bodies_file"
+      else if (allocated(input%snapshot_file)) then
+        if (setup%snapshot%has_body) from = "snapshot_file"
+      end if
+      if (len(from) == 0) return
+      ! linearised at the current overlap (a material set's implied impact
+      ! linearisation is not taken)
+      if ((allocated(input%hertz_linearization) .and. setup%hertz_mode /= hertz_linearization%current) &
+          .or. input%prestress) then
+        call fail(from, "rigid bodies are analysed at the current overlap, without pre-stress " &
+          //"(hertz_linearization 'current', prestress F)")
+        return
+      end if
+      setup%hertz_mode = hertz_linearization%current
+      if (allocated(input%bodies_file)) then
+        call read_body_table(input%bodies_file, scene%n, body_of, status)
+        if (status%stat /= demstep_stat%ok) then
+          call status_restate(status, "bodies_file", status%message)
+          return
+        end if
+      else
+        body_of = setup%snapshot%body
+      end if
+      allocate(setup%bodies)
+      call bodies_from_members(scene, body_of, setup%bodies, status, density=input%body_density)
+      if (status%stat /= demstep_stat%ok) then
+        if (status%where == "density") call status_restate(status, "body_density", status%detail)
+        if (status%where == "body_of") call status_restate(status, from, status%detail)
+        deallocate(setup%bodies)
+      end if
+    end subroutine rigid_bodies
 
     subroutine fail(where, what)
       character(len=*), intent(in) :: where, what

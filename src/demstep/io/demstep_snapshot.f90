@@ -17,7 +17,11 @@
 !>   are periodic (the input script does): all are marked non-periodic.
 !> - Yade text (`yade_text`): `#format x_y_z_r` (the default), `x_y_z_r_matId`
 !>   (the type is the material id plus 1: Yade counts its materials from 0) or
-!>   `x_y_z_r_attrs` (extra columns skipped); `#` lines are comments.
+!>   `x_y_z_r_attrs` (extra columns skipped; a column `clumpId` or
+!>   `b.clumpId`, named in the comment line `# x y z r NAMES` that Yade's
+!>   `export.textExt(..., comment='NAMES', attrs=[...])` writes, gives each
+!>   sphere's clump: `body` = clumpId + 1, 0 for Yade's -1, a sphere on its own);
+!>   `#` lines are comments.
 !>
 !> Masses: a `mass` column, else `4/3 pi r^3 density` from a `density` column
 !> (or the data file's), else from a density per type given by the caller; with
@@ -77,6 +81,10 @@ module demstep_snapshot
     real(dp), allocatable :: radius(:)
     !> Masses and densities (0 where unknown).
     real(dp), allocatable :: mass(:), density(:)
+    !> Rigid body (clump) of each particle, 0 for none (`has_body`: the file
+    !> gave them; for `bodies_from_members`).
+    integer, allocatable :: body(:)
+    logical :: has_body = .false.
     !> Which optional data the file had.
     logical :: has_velocity = .false., has_omega = .false., has_mass = .false., has_density = .false.
     !> Box bounds (0 for Yade, which writes none) and periodic axes.
@@ -852,12 +860,15 @@ contains
     type(lines_type), intent(in) :: lines
     type(snapshot_type), intent(out) :: s
     type(demstep_status_type), intent(out) :: status
-    integer :: k, n, nf, ncol, i, min_col, pass, j
-    character(len=:), allocatable :: l, layout
+    integer :: k, n, nf, ncol, i, min_col, pass, j, clump_col, hk
+    character(len=:), allocatable :: l, layout, names
     real(dp) :: vals(64)
     integer(i8) :: ints(1)
     logical :: with_mat, attrs
+    integer :: ha(64), hb(64), nh
     layout = "x_y_z_r"
+    names = ""
+    hk = 0
     ! the layout, and the rows counted
     n = 0
     ncol = 0
@@ -874,6 +885,10 @@ contains
             call fail_at(status, k, "unknown Yade format '"//clipped(layout)//"' (x_y_z_r, x_y_z_r_matId, x_y_z_r_attrs)")
             return
           end select
+        else if (index(lowercase(l), "# x y z r ") == 1) then
+          ! the attributes' names (textExt's comment): the last such line
+          names = trim(adjustl(l(10:)))
+          hk = k
         end if
         cycle
       end if
@@ -882,6 +897,15 @@ contains
     with_mat = layout == "x_y_z_r_matId"
     attrs = layout == "x_y_z_r_attrs"
     min_col = merge(5, 4, with_mat)
+    ! a clumpId among the attributes' names: its column
+    clump_col = 0
+    if (attrs) then
+      call fields(names, ha, hb, nh)
+      do j = 1, min(nh, size(ha))
+        if (lowercase(names(ha(j):hb(j))) == "clumpid" .or. lowercase(names(ha(j):hb(j))) == "b.clumpid") &
+          clump_col = 4 + j
+      end do
+    end if
     ! pass 2 checks every row's field count, so that the arrays pass 3 fills
     ! are bounded by the rows' bytes (8 or more each)
     do pass = 2, 3
@@ -911,12 +935,21 @@ contains
             call fail_at(status, k, "more than "//int_text(size(vals))//" values")
             return
           end if
+          if (clump_col > 0 .and. nf /= 4 + nh) then
+            call fail_at(status, k, "the names line "//int_text(hk)//" (# x y z r ...) names "// &
+              int_text(4 + nh)//" columns, the rows have "//int_text(nf)//": which is clumpId?")
+            return
+          end if
           cycle
         end if
         ! Yade numbers the materials of O.materials from 0; a type is an integer
         if (with_mat) then
           call line_numbers(text, lines, k, nf, vals, status, columns="x y z r matId", whole=[5], low=[0_i8], &
             high=[int(huge(1), i8) - 1], ints=ints)
+        else if (clump_col > 0) then
+          ! Yade's clump ids: -1 (none) or a body id
+          call line_numbers(text, lines, k, nf, vals, status, columns="x y z r "//names, whole=[clump_col], &
+            low=[-1_i8], high=[int(huge(1), i8) - 1], ints=ints)
         else
           call line_numbers(text, lines, k, nf, vals, status, columns="x y z r")
         end if
@@ -927,12 +960,14 @@ contains
         s%type(i) = 1
         ! Yade numbers its materials from 0 (O.materials ids): type = matId + 1
         if (with_mat) s%type(i) = int(ints(1)) + 1
+        if (clump_col > 0) s%body(i) = int(ints(1)) + 1
         if (.not. s%radius(i) > 0.0_dp) then
           call fail_at(status, k, "r must be > 0")
           return
         end if
       end do
     end do
+    s%has_body = clump_col > 0
     status%stat = demstep_stat%ok
   end subroutine parse_yade
 
@@ -949,8 +984,10 @@ contains
   pure subroutine allocate_snapshot(s, n)
     type(snapshot_type), intent(inout) :: s
     integer, intent(in) :: n
-    allocate(s%id(n), s%type(n), s%x(3, n), s%v(3, n), s%omega(3, n), s%radius(n), s%mass(n), s%density(n))
+    allocate(s%id(n), s%type(n), s%x(3, n), s%v(3, n), s%omega(3, n), s%radius(n), s%mass(n), s%density(n), &
+      s%body(n))
     s%id = 0
+    s%body = 0
     s%type = 1
     s%x = 0.0_dp
     s%v = 0.0_dp

@@ -26,7 +26,7 @@ module demstep_interaction
   public :: reduced_radius, reduced_mass, normal_force, normal_stiffness, tangential_stiffness, &
     normal_energy, dashpot_coefficient, wall_overlap, contact_block, contact_product, contact_forces, &
     rolling_moments, contact_arm, &
-    add_bond_forces, dof_components, hertz_e_star, mindlin_g_star
+    add_bond_forces, dof_components, hertz_e_star, mindlin_g_star, cross
 
   !> Contact laws, as components of a parameter: `contact_law%hertz`.
   type, public :: contact_law_enum

@@ -27,7 +27,15 @@
 !>   previous half step (lagged: one spring's limit becomes
 !>   (2/omega)(sqrt(1 + zeta^2) - zeta); an assembly's is `assembly_critical_steps`');
 !> - local (Cundall) damping: F <- F - alpha |F| sign(v_{n-1/2}) per component
-!>   (torques likewise).
+!>   (torques likewise);
+!> - rigid bodies (`bodies`, clumps): each member's force f and torque t act on
+!>   its body as f and t + d x f (d = x_member - x_com), the body's velocity
+!>   and angular velocity are stepped with its mass and inertia tensor J
+!>   (global axes, turned with the body), members move rigidly: x_com by v dt,
+!>   offsets and J by the rotation exp([w dt]x) (Rodrigues), member velocities
+!>   v + w x d. The gyroscopic term w x J w is left out (second order in the
+!>   amplitude: the linearised stability limit is the same). Forces between
+!>   members of one body cancel in the sums.
 module demstep_stepper
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
@@ -35,7 +43,7 @@ module demstep_stepper
   use demstep_progress, only: progress_type
   use demstep_interaction, only: contact_law, reduced_radius, normal_force, &
     normal_energy, dashpot_coefficient, contact_forces, rolling_moments, contact_product, add_bond_forces, &
-    contact_arm
+    contact_arm, cross
   use demstep_scene_data, only: scene_type, scene_summary_type, scene_effect, effective_mass, &
     contact_values, wall_values, contact_dashpots, has_tangential, has_rolling, check_scene_damping, &
     wrap_positions
@@ -43,6 +51,7 @@ module demstep_stepper
   use demstep_bonds, only: bond_law_type
   use demstep_neighbours, only: search_type, prepare_search, find_contacts, find_wall_contacts, &
     contact_limit, history_size
+  use demstep_bodies, only: body_set_type, check_bodies
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -68,6 +77,13 @@ module demstep_stepper
     !> each bond's law.
     real(dp), allocatable :: theta(:, :)
     type(bond_law_type), allocatable :: bond_laws(:)
+    !> Rigid bodies: whether the run has them; per body its mass, centre,
+    !> inertia tensor and its inverse (global axes), velocity and angular
+    !> velocity (half steps, and the previous ones for the energy), fixed.
+    logical :: rigid = .false.
+    real(dp), allocatable :: b_mass(:), b_com(:, :), b_j(:, :, :), b_jinv(:, :, :), b_v(:, :), b_w(:, :), &
+      b_v_old(:, :), b_w_old(:, :)
+    logical, allocatable :: b_fixed(:)
   end type work_type
 
   abstract interface
@@ -94,8 +110,12 @@ contains
   !> `contact_limit` (the summary says when); `invalid_input` for a bad dt or
   !> step count, a damping ratio above `max_damping_ratio`, or an initial energy
   !> that overflows. `progress` (optional) is told the steps done every few
-  !> thousand particle-steps.
-  subroutine scene_run(scene, dt, steps, summary, status, sample_every, progress)
+  !> thousand particle-steps. With `bodies` (made for this scene) the
+  !> particles move as those rigid bodies, their velocities first projected
+  !> on the bodies' (momentum and angular momentum kept); the bodies' centres,
+  !> tensors and offsets follow the run. Status invalid_input naming `bodies`
+  !> when they were made for another scene.
+  subroutine scene_run(scene, dt, steps, summary, status, sample_every, progress, bodies)
     type(scene_type), intent(inout) :: scene
     real(dp), intent(in) :: dt
     integer(i8), intent(in) :: steps
@@ -103,6 +123,7 @@ contains
     type(demstep_status_type), intent(out) :: status
     integer(i8), intent(in), optional :: sample_every
     class(progress_type), intent(inout), optional :: progress
+    type(body_set_type), intent(inout), optional :: bodies
     type(term_type), allocatable :: terms(:)
     type(work_type) :: work
     integer(i8) :: step, every, report_every
@@ -125,11 +146,17 @@ contains
     ! progress every 1e5 particle-steps or so: a clock read is then negligible
     report_every = max(1_i8, 100000_i8/max(1_i8, int(scene%n, i8)))
     call prepare(scene, work)
+    if (present(bodies)) then
+      call prepare_bodies(scene, bodies, rotation, work, status)
+      if (status%stat /= demstep_stat%ok) return
+      ! lever arms make torques of every force
+      torques = .true.
+    end if
     terms = assemble(scene)
     allocate(summary%sample_time(steps/every + 2), summary%sample_energy(steps/every + 2))
     ! energy at the start: forces at x_0 give the first half-step pair v_{-1/2}, v_{1/2}
     work%shear_dt = 0.0_dp
-    summary%energy_initial = scene_energy(scene, work, terms, dt, rotation, advance=.false.)
+    summary%energy_initial = scene_energy(scene, work, terms, dt, rotation, advance=.false., bodies=bodies)
     if (.not. ieee_is_finite(summary%energy_initial)) then
       call set_status(status, demstep_stat%invalid_input, "the initial energy (kinetic " &
         //"+ elastic + gravitational) overflows: velocities, masses, stiffness or overlaps too large", where="velocity")
@@ -143,11 +170,15 @@ contains
     status%stat = demstep_stat%ok
     if (present(progress)) call progress%start("steps", steps)
     do step = 1_i8, steps
-      scene%x = scene%x + scene%v*dt
+      if (work%rigid) then
+        call rigid_positions(scene, bodies, work, dt, rotation)
+      else
+        scene%x = scene%x + scene%v*dt
+      end if
       if (periodic) call wrap_positions(scene)
       if (mod(step, every) == 0_i8 .or. step == steps .or. work%s%too_many) then
         ! a sample: E = kinetic (v_{n-1/2} . v_{n+1/2}) + potential at x_n
-        e = scene_energy(scene, work, terms, dt, rotation, advance=.true.)
+        e = scene_energy(scene, work, terms, dt, rotation, advance=.true., bodies=bodies)
         summary%steps = step
         if (ieee_is_finite(e)) then
           ns = ns + 1
@@ -174,13 +205,20 @@ contains
         do t = 1, size(terms)
           call terms(t)%add(scene, work)
         end do
-        do i = 1, scene%n
-          scene%v(:, i) = scene%v(:, i) + work%f(:, i)*(work%inv_mass(i)*dt)
-        end do
-        if (rotation) then
+        if (work%rigid) then
+          call rigid_velocities(scene, bodies, work, dt, rotation)
+          work%b_v = work%b_v_old
+          work%b_w = work%b_w_old
+          call member_velocities(scene, bodies, work, rotation)
+        else
           do i = 1, scene%n
-            scene%w(:, i) = scene%w(:, i) + work%t(:, i)*(work%inv_inertia(i)*dt)
+            scene%v(:, i) = scene%v(:, i) + work%f(:, i)*(work%inv_mass(i)*dt)
           end do
+          if (rotation) then
+            do i = 1, scene%n
+              scene%w(:, i) = scene%w(:, i) + work%t(:, i)*(work%inv_inertia(i)*dt)
+            end do
+          end if
         end if
         summary%steps = step
       end if
@@ -199,9 +237,11 @@ contains
   !> linear scheme this energy is exactly conserved). With `advance` the velocity
   !> step is taken (scene%v holds v_{n-1/2} and becomes v_{n+1/2}); without, scene%v
   !> is taken as v_{1/2} at the start and v_{-1/2} is reconstructed.
-  function scene_energy(scene, work, terms, dt, rotation, advance) result(energy)
+  function scene_energy(scene, work, terms, dt, rotation, advance, bodies) result(energy)
     type(scene_type), intent(inout) :: scene
     type(work_type), intent(inout) :: work
+    !> The run's bodies (with work%rigid).
+    type(body_set_type), intent(in), optional :: bodies
     type(term_type), intent(in) :: terms(:)
     real(dp), intent(in) :: dt
     logical, intent(in) :: rotation, advance
@@ -213,6 +253,23 @@ contains
       call terms(t)%add(scene, work)
     end do
     sgn = merge(1.0_dp, -1.0_dp, advance)
+    if (work%rigid) then
+      ! the bodies' kinetic energy, as for particles: M v.v' + w.J w'
+      call rigid_velocities(scene, bodies, work, sgn*dt, rotation)
+      energy = 0.0_dp
+      do i = 1, size(work%b_mass)
+        if (work%b_fixed(i)) cycle
+        energy = energy + 0.5_dp*work%b_mass(i)*dot_product(work%b_v(:, i), work%b_v_old(:, i)) &
+          + 0.5_dp*dot_product(work%b_w(:, i), matmul(work%b_j(:, :, i), work%b_w_old(:, i)))
+      end do
+      energy = energy + potential_energy(scene, work)
+      if (advance) then
+        work%b_v = work%b_v_old
+        work%b_w = work%b_w_old
+        call member_velocities(scene, bodies, work, rotation)
+      end if
+      return
+    end if
     do i = 1, scene%n
       work%v_old(:, i) = scene%v(:, i) + sgn*work%f(:, i)*(work%inv_mass(i)*dt)
     end do
@@ -706,6 +763,161 @@ contains
       list(n)%add => term
     end subroutine push
   end function assemble
+
+  ! ---- rigid bodies ----------------------------------------------------------
+
+  !> The run's body data from `bodies`: inverse tensors, and the bodies'
+  !> velocities from their members' momentum and angular momentum (members'
+  !> velocities then set to the rigid ones). Status invalid_input naming
+  !> `bodies` when they were made for another scene.
+  subroutine prepare_bodies(scene, bodies, rotation, work, status)
+    type(scene_type), intent(inout) :: scene
+    type(body_set_type), intent(in) :: bodies
+    logical, intent(in) :: rotation
+    type(work_type), intent(inout) :: work
+    type(demstep_status_type), intent(out) :: status
+    real(dp), allocatable :: p(:, :), l(:, :), ms(:)
+    integer :: i, b, nb
+    call check_bodies(scene, bodies, status)
+    if (status%stat /= demstep_stat%ok) return
+    nb = bodies%n
+    work%rigid = .true.
+    work%b_mass = bodies%mass
+    work%b_com = bodies%com
+    work%b_j = bodies%inertia
+    work%b_fixed = bodies%fixed
+    allocate(work%b_jinv(3, 3, nb))
+    do b = 1, nb
+      work%b_jinv(:, :, b) = inverse3(bodies%inertia(:, :, b), scene%dim)
+    end do
+    allocate(p(3, nb), l(3, nb), ms(nb), source=0.0_dp)
+    do i = 1, scene%n
+      b = bodies%body_of(i)
+      ms(b) = ms(b) + scene%mass(i)
+      p(:, b) = p(:, b) + scene%mass(i)*scene%v(:, i)
+      l(:, b) = l(:, b) + scene%mass(i)*cross(bodies%offset(:, i), scene%v(:, i)) + scene%inertia(i)*scene%w(:, i)
+    end do
+    allocate(work%b_v(3, nb), work%b_w(3, nb), work%b_v_old(3, nb), work%b_w_old(3, nb), source=0.0_dp)
+    do b = 1, nb
+      if (bodies%fixed(b)) cycle
+      work%b_v(:, b) = p(:, b)/ms(b)
+      ! (the members' angular momentum about the centre, less the translation's)
+      if (rotation) work%b_w(:, b) = matmul(work%b_jinv(:, :, b), l(:, b))
+    end do
+    call member_velocities(scene, bodies, work, rotation)
+    status%stat = demstep_stat%ok
+  end subroutine prepare_bodies
+
+  !> The bodies' velocities a step dt on (dt < 0: back), into b_v_old and
+  !> b_w_old, from the members' forces and torques (f, t + d x f).
+  subroutine rigid_velocities(scene, bodies, work, dt, rotation)
+    type(scene_type), intent(in) :: scene
+    type(body_set_type), intent(in) :: bodies
+    type(work_type), intent(inout) :: work
+    real(dp), intent(in) :: dt
+    logical, intent(in) :: rotation
+    real(dp), allocatable :: f(:, :), t(:, :)
+    integer :: i, b
+    allocate(f(3, size(work%b_mass)), t(3, size(work%b_mass)), source=0.0_dp)
+    do i = 1, scene%n
+      b = bodies%body_of(i)
+      f(:, b) = f(:, b) + work%f(:, i)
+      t(:, b) = t(:, b) + work%t(:, i) + cross(bodies%offset(:, i), work%f(:, i))
+    end do
+    do b = 1, size(work%b_mass)
+      if (work%b_fixed(b)) then
+        work%b_v_old(:, b) = 0.0_dp
+        work%b_w_old(:, b) = 0.0_dp
+        cycle
+      end if
+      work%b_v_old(:, b) = work%b_v(:, b) + f(:, b)*(dt/work%b_mass(b))
+      work%b_w_old(:, b) = work%b_w(:, b)
+      if (rotation) work%b_w_old(:, b) = work%b_w(:, b) + matmul(work%b_jinv(:, :, b), t(:, b))*dt
+    end do
+  end subroutine rigid_velocities
+
+  !> Members' velocities from their bodies': v + w x d, and w.
+  subroutine member_velocities(scene, bodies, work, rotation)
+    type(scene_type), intent(inout) :: scene
+    type(body_set_type), intent(in) :: bodies
+    type(work_type), intent(in) :: work
+    logical, intent(in) :: rotation
+    integer :: i, b
+    do i = 1, scene%n
+      b = bodies%body_of(i)
+      scene%v(:, i) = work%b_v(:, b) + cross(work%b_w(:, b), bodies%offset(:, i))
+      if (rotation) scene%w(:, i) = work%b_w(:, b)
+    end do
+  end subroutine member_velocities
+
+  !> Move the bodies a step: centres by v dt, offsets and tensors turned by
+  !> exp([w dt]x); members placed at centre + offset.
+  subroutine rigid_positions(scene, bodies, work, dt, rotation)
+    type(scene_type), intent(inout) :: scene
+    type(body_set_type), intent(inout) :: bodies
+    type(work_type), intent(inout) :: work
+    real(dp), intent(in) :: dt
+    logical, intent(in) :: rotation
+    real(dp), allocatable :: q(:, :, :)
+    integer :: i, b
+    allocate(q(3, 3, size(work%b_mass)))
+    do b = 1, size(work%b_mass)
+      q(:, :, b) = rotation_matrix(work%b_w(:, b)*dt)
+      if (work%b_fixed(b)) cycle
+      work%b_com(:, b) = work%b_com(:, b) + work%b_v(:, b)*dt
+      if (rotation) then
+        work%b_j(:, :, b) = matmul(q(:, :, b), matmul(work%b_j(:, :, b), transpose(q(:, :, b))))
+        work%b_jinv(:, :, b) = matmul(q(:, :, b), matmul(work%b_jinv(:, :, b), transpose(q(:, :, b))))
+      end if
+    end do
+    do i = 1, scene%n
+      b = bodies%body_of(i)
+      if (work%b_fixed(b)) cycle
+      if (rotation) bodies%offset(:, i) = matmul(q(:, :, b), bodies%offset(:, i))
+      scene%x(:, i) = work%b_com(:, b) + bodies%offset(:, i)
+    end do
+    bodies%com = work%b_com
+    bodies%inertia = work%b_j
+  end subroutine rigid_positions
+
+  !> The rotation by the vector p (angle |p| about p/|p|), Rodrigues'
+  !> formula (its coefficients by their series below 1e-4 rad).
+  pure function rotation_matrix(p) result(q)
+    real(dp), intent(in) :: p(3)
+    real(dp) :: q(3, 3), a, s, c, k(3, 3)
+    integer :: i
+    a = norm2(p)
+    if (a < 1.0e-4_dp) then
+      s = 1.0_dp - a**2/6.0_dp
+      c = 0.5_dp - a**2/24.0_dp
+    else
+      s = sin(a)/a
+      c = (1.0_dp - cos(a))/a**2
+    end if
+    k = reshape([0.0_dp, p(3), -p(2), -p(3), 0.0_dp, p(1), p(2), -p(1), 0.0_dp], [3, 3])
+    q = s*k + c*matmul(k, k)
+    do i = 1, 3
+      q(i, i) = q(i, i) + 1.0_dp
+    end do
+  end function rotation_matrix
+
+  !> The inverse of an inertia tensor as the rotations of a `dim`-dimensional
+  !> body see it (3D: the whole tensor, by its adjugate; 2D: 1/J_zz alone).
+  pure function inverse3(j, dim) result(v)
+    real(dp), intent(in) :: j(3, 3)
+    integer, intent(in) :: dim
+    real(dp) :: v(3, 3), det
+    v = 0.0_dp
+    if (dim == 2) then
+      v(3, 3) = 1.0_dp/j(3, 3)
+    else if (dim == 3) then
+      v(1, :) = cross(j(:, 2), j(:, 3))
+      v(2, :) = cross(j(:, 3), j(:, 1))
+      v(3, :) = cross(j(:, 1), j(:, 2))
+      det = dot_product(j(:, 1), v(1, :))
+      v = v/det
+    end if
+  end function inverse3
 
   !> Allocate the scratch of a run.
   subroutine prepare(scene, work)

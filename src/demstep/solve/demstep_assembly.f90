@@ -60,7 +60,7 @@ module demstep_assembly
     assembly_operator_apply, assembly_matrix, assembly_matrix_rows, &
     assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_damped, &
     damped_lower_bound, dashpot_names, damped_newton, assembly_dashpot_bound, operator_from_springs, &
-    operator_critical_steps, operator_mix
+    operator_critical_steps, operator_mix, assembly_set_springs, linearise
 
   !> Hertz linearisation at the current overlap, at an impact's largest
   !> overlap (`hertz_linearization%impact`), or at the larger of the two
@@ -342,28 +342,14 @@ contains
     integer, intent(in), optional :: ncv
     real(dp), intent(inout), optional :: damped_vec(:)
     real(dp) :: lam, err, b_bound
-    integer :: i, solver
+    integer :: solver
     logical :: has_mode, converged
     status%stat = demstep_stat%ok
     result%prestress = geo
     result%dof_per_particle = op%nc
     result%n_dof = op%n
-    result%n_springs = count(springs%kind /= 6)
-    result%tangential = any(springs%k(2) > 0.0_dp)
-    do i = 1, 4
-      result%dashpots(i) = any(springs%c(i) > 0.0_dp .and. springs%kind == 0)
-    end do
-    result%dashpots(5) = any((springs%c(1) > 0.0_dp .or. springs%c(2) > 0.0_dp .or. springs%c(3) > 0.0_dp &
-      .or. springs%c(4) > 0.0_dp) .and. springs%kind == 5)
-    result%dashpots(6) = any(springs%kind == 6)
-    ! per-contact rule and the Gershgorin bound (scaled, without pre-stress)
-    result%dt_contact_rule = huge(1.0_dp)
-    do i = 1, size(springs)
-      associate(sp => springs(i))
-        if (max(sp%k(1), sp%k(2)) > 0.0_dp) result%dt_contact_rule = min(result%dt_contact_rule, &
-          2.0_dp*sqrt(sp%m_eff)/sqrt(max(sp%k(1), sp%k(2))))
-      end associate
-    end do
+    call assembly_set_springs(result, springs)
+    ! the Gershgorin bound (scaled, without pre-stress)
     if (present(bounds)) then
       call assembly_set_bound(result, rate, bounds(1), status)
       b_bound = bounds(2)
@@ -398,6 +384,30 @@ contains
       call assembly_set_damped(result, result%dt_critical_bound, b_bound, rate, status)
     end if
   end subroutine operator_critical_steps
+
+  !> What the springs of an operator tell a result: their count (drag
+  !> excluded), whether any is tangential, which dashpots C holds, and the
+  !> per-contact rule min 2 sqrt(m*/k) over them (m* each spring's `m_eff`).
+  pure subroutine assembly_set_springs(result, springs)
+    type(critical_step_type), intent(inout) :: result
+    type(spring_block_type), intent(in) :: springs(:)
+    integer :: i
+    result%n_springs = count(springs%kind /= 6)
+    result%tangential = any(springs%k(2) > 0.0_dp)
+    do i = 1, 4
+      result%dashpots(i) = any(springs%c(i) > 0.0_dp .and. springs%kind == 0)
+    end do
+    result%dashpots(5) = any((springs%c(1) > 0.0_dp .or. springs%c(2) > 0.0_dp .or. springs%c(3) > 0.0_dp &
+      .or. springs%c(4) > 0.0_dp) .and. springs%kind == 5)
+    result%dashpots(6) = any(springs%kind == 6)
+    result%dt_contact_rule = huge(1.0_dp)
+    do i = 1, size(springs)
+      associate(sp => springs(i))
+        if (max(sp%k(1), sp%k(2)) > 0.0_dp) result%dt_contact_rule = min(result%dt_contact_rule, &
+          2.0_dp*sqrt(sp%m_eff)/sqrt(max(sp%k(1), sp%k(2))))
+      end associate
+    end do
+  end subroutine assembly_set_springs
 
   !> The options every assembly driver (serial, MPI) checks before it builds
   !> anything: the Lanczos tolerance, and the scene's damping values
@@ -1144,9 +1154,11 @@ contains
     status%stat = demstep_stat%ok
   end subroutine operator_from_springs
 
-  !> Every interaction of the scene, linearised at the current configuration,
-  !> with its dashpots: bonds, particle contacts, wall contacts and (with
-  !> damping and a drag) one drag spring to the ground per free particle.
+  !> Every interaction of the scene, linearised at the current configuration
+  !> (`mode`: a `hertz_linearization` code, with `v_impact`; `geo`: with the
+  !> pre-stress F_n/l), with its dashpots: bonds, particle contacts, wall
+  !> contacts and (with damping and a drag) one drag spring to the ground per
+  !> free particle.
   !> Counted, allocated once and filled (linear in interactions).
   subroutine linearise(scene, mode, v_impact, geo, springs, status)
     type(scene_type), intent(in) :: scene

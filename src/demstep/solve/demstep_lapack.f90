@@ -1,16 +1,17 @@
 !> LAPACK through explicit interfaces, in one place, with `info` turned into a
 !> message. Only what demstep needs: the largest eigenpair of a symmetric
-!> matrix, the largest eigenvalue of a complex Hermitian one (a periodic
-!> system's Bloch operator, the reference for tiled packings), and the spectral
-!> radius of a general one (a one-step map's, the reference for the damped
-!> stability limit).
+!> matrix, every eigenpair of a small one (a rigid body's inertia tensor),
+!> the largest eigenvalue of a complex Hermitian one (a periodic system's
+!> Bloch operator, the reference for tiled packings), and the spectral radius
+!> of a general one (a one-step map's, the reference for the damped stability
+!> limit).
 module demstep_lapack
   use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   implicit none
   private
 
-  public :: largest_eigenpair, spectral_radius, largest_hermitian_eigenvalue
+  public :: largest_eigenpair, spectral_radius, largest_hermitian_eigenvalue, symmetric_eigensystem
 
   interface
     !> LAPACK dsyevr: selected eigenvalues (and vectors) of a real symmetric matrix
@@ -142,6 +143,46 @@ contains
     eigenvector = z(:, m)
     status%stat = demstep_stat%ok
   end subroutine largest_eigenpair
+
+  !> Every eigenvalue of the symmetric matrix `a` (its lower triangle is used
+  !> and overwritten), ascending, and orthonormal eigenvectors (columns of z),
+  !> by dsyevr. Status `lapack_failure` with LAPACK's info explained.
+  subroutine symmetric_eigensystem(a, w, z, status)
+    !> n-by-n symmetric matrix; destroyed.
+    real(dp), intent(inout) :: a(:, :)
+    !> Eigenvalues (size n), ascending, and eigenvectors (n, n).
+    real(dp), intent(out) :: w(:), z(:, :)
+    type(demstep_status_type), intent(out) :: status
+    integer :: n, m, info, iwork_query(1)
+    real(dp) :: work_query(1)
+    real(dp), allocatable :: work(:)
+    integer, allocatable :: iwork(:), isuppz(:)
+    n = size(a, 1)
+    w = 0.0_dp
+    z = 0.0_dp
+    if (n < 1 .or. size(a, 2) /= n .or. size(w) /= n .or. size(z, 1) /= n .or. size(z, 2) /= n) then
+      call set_status(status, demstep_stat%invalid_input, "need an n-by-n " &
+        //"matrix, n >= 1, n eigenvalues and n-by-n eigenvectors", where="symmetric_eigensystem")
+      return
+    end if
+    allocate(isuppz(2*n))
+    call dsyevr("V", "A", "L", n, a, n, 0.0_dp, 0.0_dp, 1, n, 0.0_dp, m, w, z, n, isuppz, &
+      work_query, -1, iwork_query, -1, info)
+    if (info == 0) then
+      allocate(work(max(1, int(work_query(1)))), iwork(max(1, iwork_query(1))))
+      call dsyevr("V", "A", "L", n, a, n, 0.0_dp, 0.0_dp, 1, n, 0.0_dp, m, w, z, n, isuppz, &
+        work, size(work), iwork, size(iwork), info)
+    end if
+    if (info /= 0) then
+      call set_status(status, demstep_stat%lapack_failure, info_message(info))
+      return
+    end if
+    if (m /= n) then
+      call set_status(status, demstep_stat%lapack_failure, "dsyevr returned too few eigenvalues")
+      return
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine symmetric_eigensystem
 
   !> The spectral radius max |z| of the general n-by-n matrix `a` (destroyed),
   !> by dgeev (eigenvalues only). Status `lapack_failure` with LAPACK's info
