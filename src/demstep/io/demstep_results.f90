@@ -587,9 +587,12 @@ contains
     ! what dt_critical_safe rests on (safe_basis_names) and its failure probability
     character(len=10) :: safe_basis
     real(dp) :: safe_failure
+    ! the Lanczos solve's operator products (the certificate's included)
+    integer(i8) :: eigen_products
     namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
       periodic, prestress, omega_max, eigen_computed, eigen_converged, eigen_solver, eigen_tolerance, eigen_residual, &
-      omega_upper, dt_critical_eigen, dt_critical_safe, safe_basis, safe_failure, dt_critical_bound, dt_contact_rule, &
+      omega_upper, dt_critical_eigen, dt_critical_safe, safe_basis, safe_failure, eigen_products, dt_critical_bound, &
+      dt_contact_rule, &
       dt_critical_damped, damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, &
       blew_up, dt_recommended, damped_exact, dt_critical_damped_bound
     n_particles = sc%n
@@ -610,6 +613,7 @@ contains
     dt_critical_safe = crit%dt_critical_safe
     safe_basis = safe_basis_name(crit%safe_basis)
     safe_failure = crit%safe_failure
+    eigen_products = crit%eigen_products
     dt_critical_eigen = crit%dt_critical_eigen
     dt_critical_bound = crit%dt_critical_bound
     dt_contact_rule = crit%dt_contact_rule

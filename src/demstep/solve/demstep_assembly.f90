@@ -514,7 +514,11 @@ contains
     result%dt_critical_eigen = 2.0_dp/result%omega_max
     result%dt_critical_safe = 2.0_dp/result%omega_upper
     result%eigen_computed = .true.
-    call assembly_set_damped(result, result%dt_critical_safe, b_bound, rate, status)
+    ! the damped limit (and the recommended step) from the bracket's end, as
+    ! before the certificate: its margin is the recommendation's, and the
+    ! certificate's own margin would only lower every step by up to 1 %
+    call assembly_set_damped(result, 2.0_dp/min(rate*sqrt(lam + err + 8.0_dp*epsilon(1.0_dp)*lam), &
+      result%omega_bound), b_bound, rate, status)
   end subroutine assembly_set_estimates
 
   !> The damped limit's rigorous lower bound, in scaled time tau = h rate, from
