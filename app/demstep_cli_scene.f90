@@ -9,7 +9,7 @@ module demstep_cli_scene
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, &
     assembly_step_for_n_per_period, demstep_eigen_solver => eigen_solver, hertz_linearization_from_name, &
     hertz_linearization_names, dashpot_names, default_max_eigen_dof, eigen_solver_from_name, &
-    eigen_solver_names
+    eigen_solver_names, safe_basis_name, safe_basis_note
   use demstep_kinds, only: dp, i8
   use demstep_progress, only: text_progress_type
   use demstep_stepper, only: scene_run
@@ -615,9 +615,9 @@ contains
     else
       write(u, '(4x, a, t40, a)') "exact", "not computed (eigen_solver = 'none')"
     end if
-    if (crit%eigen_computed) write(u, '(4x, a, t40, a)') "safe to the error bar", &
-      fmt_real(crit%dt_critical_safe)//"  (residual "//fmt_real(crit%eigen_residual)// &
-      ", tolerance "//fmt_real(crit%eigen_tolerance)//")"
+    if (crit%eigen_computed) write(u, '(4x, a, t40, a)') "safe ("//safe_basis_name(crit%safe_basis)//")", &
+      fmt_real(crit%dt_critical_safe)//"  ("//safe_basis_note(crit)//"; residual "// &
+      fmt_real(crit%eigen_residual)//")"
     if (crit%damped_exact) then
       write(u, '(4x, a, t40, a)') "damped, exact (lagged dashpots)", fmt_real(crit%dt_critical_damped)// &
         "  (as one spring of damping ratio "//fmt_real(crit%damping_ratio_top)//"; "// &

@@ -12,11 +12,18 @@
 !> cases that raised the process's peak (the file and eigsh's memory are not
 !> counted: they come after, and eigsh runs in its own process).
 !>
+!> With the path of the `demstep` program as the third argument, the app is
+!> also run end to end from files (median of 3 runs, wall time of the whole
+!> process): the tiled scene written as a particles table (17 digits) and a
+!> contacts table (`i j k_n k_t`: no contact search) with a deck in
+!> /tmp/demstep_bench_app/, `eigen_solver = 'lanczos'` at the default
+!> tolerance; its omega_max is compared with eigsh's.
+!>
 !> Run it with OPENBLAS_NUM_THREADS=1: OpenBLAS's own threads spin between
 !> ARPACK's calls and take the cores from the OpenMP operator (2 threads were
 !> slower than 1 at 1e4 particles without it); eigsh keeps OpenBLAS's default.
 !>
-!>   OPENBLAS_NUM_THREADS=1 fpm run --example bench_scene_eigen --profile release [-- MAX_PARTICLES [noscipy]]
+!>   OPENBLAS_NUM_THREADS=1 fpm run --example bench_scene_eigen --profile release [-- MAX_PARTICLES [noscipy [APP]]]
 program bench_scene_eigen
   use, intrinsic :: iso_fortran_env, only: output_unit
   use demstep_kinds, only: dp, i8
@@ -28,6 +35,7 @@ program bench_scene_eigen
   use demstep_assembly, only: assembly_critical_steps, critical_step_type, eigen_solver, &
     assembly_operator, assembly_operator_type, assembly_matrix
   use demstep_csr, only: csr_matrix_type
+  use demstep_results, only: read_result, result_get, result_group_type
   !$ use omp_lib, only: omp_set_num_threads
   implicit none
 
@@ -38,6 +46,8 @@ program bench_scene_eigen
   integer, parameter :: base(n_cases) = [1000, 1250, 800, 1000, 500]
   integer, parameter :: reps(3, n_cases) = reshape([1, 1, 1, 2, 2, 2, 5, 5, 5, 10, 10, 10, 1, 1, 1], [3, n_cases])
   integer, parameter :: dense_limit = 4000
+  !> Runs of the app from files per case (the median is reported).
+  integer, parameter :: app_repeats = 3
   real(dp), parameter :: tol = 1.0e-6_dp
   character(len=*), parameter :: mtx = "/tmp/demstep_bench_scene_eigen.mtx"
   character(len=*), parameter :: eigsh_out = "/tmp/demstep_bench_scene_eigen.out"
@@ -45,6 +55,9 @@ program bench_scene_eigen
   type(critical_step_type) :: r_bound, r_lanczos(2), r_dense, r_base
   type(demstep_status_type) :: status
   character(len=32) :: arg
+  character(len=512) :: app
+  real(dp) :: t_app, omega_app
+  integer(i8) :: app_products
   integer :: c, n_max, ios, threads
   logical :: scipy
   real(dp) :: t_build, t_tile, t_bound, t_lanczos(2), t_dense, t_write, t_eigsh, lam_eigsh, omega_eigsh
@@ -56,6 +69,7 @@ program bench_scene_eigen
   if (arg /= "") read(arg, *, iostat=ios) n_max
   call get_command_argument(2, arg)
   scipy = arg /= "noscipy"
+  call get_command_argument(3, app)
   peak_before = 0.0_dp
 
   write(output_unit, '(a)') "# random periodic packings (seed 1) tiled up; 6 DOF per particle; one run each;"
@@ -115,6 +129,13 @@ program bench_scene_eigen
       write(output_unit, '(a, i0, a, a, a)') "# ", scene%n, " particles: A' assembled and written " &
         //"(Matrix Market) in ", trim(fixed(t_write, 1)), " s"
     end if
+    if (len_trim(app) > 0) then
+      call run_app_files(scene, trim(app), t_app, omega_app, app_products)
+      write(output_unit, '(a)') "# "//int_text(scene%n)//" particles: the app from files (median of " &
+        //int_text(app_repeats)//") "//trim(fixed(t_app, 3))//" s, "//int_text(int(app_products)) &
+        //" products; eigsh "//trim(fixed(t_eigsh, 3))//" s; app/eigsh "//trim(fixed(t_app/t_eigsh, 2)) &
+        //"; eigsh vs app omega_max "//trim(relative(omega_eigsh, omega_app))
+    end if
     write(output_unit, '(a)') "| "//int_text(scene%n)//" | "//int_text(r_bound%n_dof)//" | "// &
       int_text(base(c))//"x"//int_text(reps(1, c))//"x"//int_text(reps(2, c))//"x"//int_text(reps(3, c)) &
       //" | "//trim(fixed(z, 2))//" | "//trim(sci(overlap))//" | "//trim(fixed(t_build, 3))//" | " &
@@ -130,6 +151,121 @@ program bench_scene_eigen
   end do
 
 contains
+
+  !> The app end to end from files (see the program's notes): the median wall
+  !> time of `app_repeats` runs, its omega_max and products.
+  subroutine run_app_files(s, app, t_app, omega, products)
+    type(scene_type), intent(in) :: s
+    character(len=*), intent(in) :: app
+    real(dp), intent(out) :: t_app, omega
+    integer(i8), intent(out) :: products
+    character(len=*), parameter :: dir = "/tmp/demstep_bench_app"
+    integer, parameter :: chunk = 4000000
+    character(len=chunk + 512) :: buf
+    integer, allocatable :: ci(:), cj(:)
+    real(dp), allocatable :: cn(:, :), cd(:)
+    real(dp) :: times(app_repeats), t0
+    type(result_group_type) :: res
+    integer :: unit, pos, i, r, k, exitstat
+    call execute_command_line("mkdir -p "//dir, wait=.true.)
+    call contact_list(s, ci, cj, cn, cd, status)
+    call require("contact_list")
+    ! particles: x y z, v, mass, radius, fixed, inertia
+    open(newunit=unit, file=dir//"/particles.txt", access="stream", form="unformatted", status="replace", &
+      action="write")
+    pos = 0
+    do i = 1, s%n
+      do k = 1, 3
+        call put_real(buf, pos, s%x(k, i))
+        pos = pos + 1
+        buf(pos:pos) = " "
+      end do
+      buf(pos + 1:pos + 6) = "0 0 0 "
+      pos = pos + 6
+      call put_real(buf, pos, s%mass(i))
+      pos = pos + 1
+      buf(pos:pos) = " "
+      call put_real(buf, pos, s%radius(i))
+      buf(pos + 1:pos + 3) = " 0 "
+      pos = pos + 3
+      call put_real(buf, pos, s%inertia(i))
+      pos = pos + 1
+      buf(pos:pos) = new_line("a")
+      if (pos > chunk) then
+        write(unit) buf(:pos)
+        pos = 0
+      end if
+    end do
+    if (pos > 0) write(unit) buf(:pos)
+    close(unit)
+    open(newunit=unit, file=dir//"/contacts.txt", access="stream", form="unformatted", status="replace", &
+      action="write")
+    pos = 0
+    do i = 1, size(ci)
+      call put_integer(buf, pos, ci(i))
+      pos = pos + 1
+      buf(pos:pos) = " "
+      call put_integer(buf, pos, cj(i))
+      pos = pos + 1
+      buf(pos:pos) = " "
+      call put_real(buf, pos, s%k_normal)
+      pos = pos + 1
+      buf(pos:pos) = " "
+      call put_real(buf, pos, s%k_tangential)
+      pos = pos + 1
+      buf(pos:pos) = new_line("a")
+      if (pos > chunk) then
+        write(unit) buf(:pos)
+        pos = 0
+      end if
+    end do
+    if (pos > 0) write(unit) buf(:pos)
+    close(unit)
+    open(newunit=unit, file=dir//"/deck.nml", status="replace", action="write")
+    write(unit, '(a)') "&scene", "  dim = 3", "  particles_file = 'particles.txt'", &
+      "  contacts_file = 'contacts.txt'", "  periodic = T, T, T"
+    write(unit, '(a, 3(es25.17, :, ","))') "  cell_lo = ", s%cell_lo
+    write(unit, '(a, 3(es25.17, :, ","))') "  cell_hi = ", s%cell_hi
+    write(unit, '(a)') "  effects = 'contacts', 'rotation'", "  eigen_solver = 'lanczos'", "/"
+    close(unit)
+    do r = 1, app_repeats
+      t0 = progress_seconds()
+      call execute_command_line(app//" -q "//dir//"/deck.nml -o "//dir//"/result.nml > /dev/null", &
+        exitstat=exitstat)
+      times(r) = progress_seconds() - t0
+      if (exitstat /= 0) then
+        write(output_unit, '(a, i0)') "# the app failed: exit status ", exitstat
+        error stop 1
+      end if
+    end do
+    t_app = median(times)
+    call read_result(dir//"/result.nml", "scene_result", res, status)
+    call require("the app's result")
+    call result_get(res, "omega_max", omega, status)
+    call require("omega_max")
+    products = 0
+    call result_get(res, "eigen_products", products, status)
+    if (status%stat /= demstep_stat%ok) products = -1
+  end subroutine run_app_files
+
+  !> The median of a few values.
+  real(dp) function median(x)
+    real(dp), intent(in) :: x(:)
+    real(dp) :: y(size(x)), t
+    integer :: i, j
+    y = x
+    do i = 2, size(y)
+      t = y(i)
+      j = i - 1
+      do while (j >= 1)
+        if (y(j) <= t) exit
+        y(j + 1) = y(j)
+        j = j - 1
+      end do
+      y(j + 1) = t
+    end do
+    median = y((size(y) + 1)/2)
+  end function median
 
   !> Mean coordination and mean overlap over the pair's mean radius.
   subroutine network_statistics(s, z, overlap)

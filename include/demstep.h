@@ -307,7 +307,7 @@ int demstep_scene_set_gravity(demstep_scene *scene, const double *gravity, demst
    max_eigen_dof: under DEMSTEP_EIGEN_AUTO, dense LAPACK up to it and Lanczos above (<= 0: the default 1000);
    result_size: sizeof(demstep_scene_result). */
 /* The eigensolver of later demstep_scene_compute calls (default DEMSTEP_EIGEN_AUTO)
-   and the Lanczos relative residual tolerance, in [2.2e-16, 0.1] (<= 0: 1e-10). */
+   and the Lanczos relative residual tolerance, in [2.2e-16, 0.1] (<= 0: the default 1e-6). */
 int demstep_scene_set_eigen_solver(demstep_scene *scene, int solver, double tolerance,
                                    demstep_error *err);
 
@@ -326,7 +326,7 @@ int demstep_scene_compute(const demstep_scene *scene, int hertz_linearization,
  * {k_n, k_t} and wall_damping = {zeta_n, zeta_t} (NULL: undamped). periodic:
  * dim flags with the cell [cell_lo, cell_hi) (NULL: no periodic axis).
  * Rotations are on when any k_t (or the walls' k_t) is > 0. solver:
- * DEMSTEP_EIGEN_*; tolerance <= 0: 1e-10. The arrays are read in place. */
+ * DEMSTEP_EIGEN_*; tolerance <= 0: the default 1e-6. The arrays are read in place. */
 int demstep_solver_compute(int dim, int n, const double *x, const double *mass,
                            const double *radius, const double *inertia, int n_contacts,
                            const int *pairs, int n_values, const double *k_n, const double *k_t,

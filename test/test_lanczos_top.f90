@@ -12,21 +12,21 @@
 !> to 4.4e-6 below the reference (its bracket still holding it).
 module test_lanczos_top
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
-  use demstep_kinds, only: dp, i8, pi
+  use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_scene_data, only: scene_type, scene_effect
   use demstep_packing, only: tile_scene
   use demstep_packing, only: random_periodic_packing
-  use demstep_assembly, only: assembly_critical_steps, critical_step_type, eigen_solver, &
-    assembly_operator, assembly_operator_type, assembly_matrix
-  use demstep_lanczos, only: lanczos_tolerance_default
+  use demstep_assembly, only: assembly_critical_steps, critical_step_type, eigen_solver, safe_basis
+  use demstep_lanczos, only: lanczos_tolerance_default, certificate_failure
   use demstep_text, only: int_text
-  use demstep_csr, only: csr_matrix_type
-  use demstep_lapack, only: largest_hermitian_eigenvalue
+  use demstep_bloch, only: bloch_top
+  use demstep_scene_builders, only: new_scene, scene_set_cell, scene_set_law
+  use demstep_interaction, only: contact_law
   use test_support, only: real_str
   implicit none
   private
-  public :: collect_lanczos_top, bloch_top
+  public :: collect_lanczos_top
 
 contains
 
@@ -35,65 +35,10 @@ contains
     testsuite = [ &
       new_unittest("Bloch reference: the dense top of small tilings", test_reference), &
       new_unittest("random packings tiled K = 3, 4: the top within tolerance", test_tilings), &
-      new_unittest("a light needle near the band's top, tiled: its cluster found", test_needle) &
+      new_unittest("a light needle near the band's top, tiled: its cluster found", test_needle), &
+      new_unittest("simple cubic lattices: a degenerate top found and certified", test_lattice) &
       ]
   end subroutine collect_lanczos_top
-
-  !> The largest eigenvalue of the scaled operator of `base` tiled `reps`
-  !> times, by Bloch's theorem (see the module notes), and the operator's
-  !> rate (omega = rate sqrt(lambda), the tiled scene's too). The base must
-  !> have no fixed particle and a cell wider than twice the longest contact
-  !> along each periodic axis (so each contact's image shift is the nearest
-  !> image's).
-  subroutine bloch_top(base, reps, lam, rate, status)
-    type(scene_type), intent(in) :: base
-    integer, intent(in) :: reps(3)
-    real(dp), intent(out) :: lam, rate
-    type(demstep_status_type), intent(out) :: status
-    type(assembly_operator_type) :: op
-    type(csr_matrix_type) :: m
-    complex(dp), allocatable :: h(:, :)
-    real(dp) :: box(3), kvec(3), shift(3), lam_k
-    integer :: j(3), jm(3), r, bi, bj, nc, t
-    integer(i8) :: p
-    lam = 0.0_dp
-    call assembly_operator(base, op, rate, status)
-    if (status%stat /= demstep_stat%ok) return
-    if (any(base%fixed) .or. op%n_bodies /= base%n) error stop "bloch_top: a fixed particle"
-    box = base%cell_hi - base%cell_lo
-    if (any(base%periodic .and. box <= 4.0_dp*maxval(base%radius))) &
-      error stop "bloch_top: the cell is too small for unique images"
-    call assembly_matrix(op, m)
-    nc = op%nc
-    allocate(h(m%n, m%n))
-    lam = -huge(1.0_dp)
-    do t = 0, product(reps) - 1
-      j = [mod(t, reps(1)), mod(t/reps(1), reps(2)), t/(reps(1)*reps(2))]
-      ! H(-k) is H(k)'s conjugate, with the same spectrum: one of each pair
-      jm = mod(reps - j, reps)
-      if (jm(1) + reps(1)*(jm(2) + reps(2)*jm(3)) < t) cycle
-      kvec = 2.0_dp*pi*j/reps
-      h = (0.0_dp, 0.0_dp)
-      do r = 1, m%n
-        bi = (r - 1)/nc + 1
-        do p = m%row_start(r), m%row_start(r + 1) - 1
-          bj = (m%col(p) - 1)/nc + 1
-          if (p - m%row_start(r) < nc) then
-            ! the body's own (diagonal) block
-            h(r, m%col(p)) = h(r, m%col(p)) + m%val(p)
-          else
-            ! the cells from body bi to the image of bj it touches
-            shift = 0.0_dp
-            where (base%periodic) shift = anint((base%x(:, bi) - base%x(:, bj))/box)
-            h(r, m%col(p)) = h(r, m%col(p)) + m%val(p)*exp(cmplx(0.0_dp, dot_product(kvec, shift), dp))
-          end if
-        end do
-      end do
-      call largest_hermitian_eigenvalue(h, lam_k, status)
-      if (status%stat /= demstep_stat%ok) return
-      lam = max(lam, lam_k)
-    end do
-  end subroutine bloch_top
 
   !> The reference itself: on tilings small enough for a dense solve of the
   !> tiled scene, Bloch's top equals the dense one to rounding (1e-12: both
@@ -186,9 +131,10 @@ contains
 
   !> The tiled scene's Lanczos limit against Bloch's top: omega_max within the
   !> tolerance below it (omega is the root of the eigenvalue: half the relative
-  !> tolerance, plus 1e-12 for the reference's own rounding), the error bar's
-  !> upper end at or above it (dt_critical_safe is safe) and converged; at the
-  !> default tolerance and at 1e-6.
+  !> tolerance, plus 1e-12 for the reference's own rounding), converged, and
+  !> dt_critical_safe certified (the randomised bound, failure probability
+  !> `certificate_failure`, or the rigorous bound) and at or below the exact limit; at the default
+  !> tolerance (1e-6) and at 1e-10.
   subroutine check_top(error, base, tiled, reps, label)
     type(error_type), allocatable, intent(out) :: error
     type(scene_type), intent(in) :: base, tiled
@@ -203,7 +149,7 @@ contains
     if (allocated(error)) return
     omega = rate*sqrt(lam)
     do t = 1, 2
-      tol = merge(lanczos_tolerance_default, 1.0e-6_dp, t == 1)
+      tol = merge(lanczos_tolerance_default, 1.0e-10_dp, t == 1)
       call assembly_critical_steps(tiled, r, status, solver=eigen_solver%lanczos, tolerance=tol)
       call check(error, status%stat, demstep_stat%ok, status%message)
       if (allocated(error)) return
@@ -217,8 +163,65 @@ contains
         //": dt_critical_safe "//real_str(r%dt_critical_safe)//" above the limit " &
         //real_str(2.0_dp/omega)//" at "//real_str(tol))
       if (allocated(error)) return
+      ! (certified, or the rigorous bound where it is lower: a regular lattice's
+      ! bound is its exact top)
+      call check(error, (r%safe_basis == safe_basis%randomised .and. r%safe_failure == certificate_failure) &
+        .or. (r%safe_basis == safe_basis%bound .and. r%safe_failure == 0.0_dp), label &
+        //": the safe step certified")
+      if (allocated(error)) return
     end do
   end subroutine check_top
+
+  !> Simple cubic lattices in a periodic cell (spacing 2, radius 1.01: six
+  !> contacts each), 4 x 4 x 4 particles tiled 2 and 3 times: by symmetry
+  !> every eigenvalue of the tiling is (at least) three-fold, and without
+  !> rotations (central springs) the top is k/m (2 - 2 cos q) at the
+  !> zone-boundary wave number q nearest pi along one axis for any wave
+  !> numbers along the others: a top of multiplicity 3 (K 4)^2 when K 4 is
+  !> even. With rotations and tangential springs (6 dof) and without.
+  subroutine test_lattice(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: base, tiled
+    type(demstep_status_type) :: status
+    real(dp) :: x(3, 64), lam, rate
+    integer :: i, c, k
+    logical :: rotation
+    do i = 1, 64
+      x(:, i) = 2.0_dp*[mod(i - 1, 4), mod((i - 1)/4, 4), (i - 1)/16] + 1.0_dp
+    end do
+    do c = 1, 3
+      k = merge(2, 3, c /= 2)
+      rotation = c == 3
+      call new_scene(base, 3, x, spread(1.0_dp, 1, 64), spread(1.01_dp, 1, 64), status)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      call scene_set_cell(base, [.true., .true., .true.], [0.0_dp, 0.0_dp, 0.0_dp], &
+        [8.0_dp, 8.0_dp, 8.0_dp], status)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      call scene_set_law(base, contact_law%linear, 1.0_dp, merge(0.3_dp, 0.0_dp, rotation), status)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      base%effects = .false.
+      base%effects(scene_effect%contacts) = .true.
+      base%effects(scene_effect%rotation) = rotation
+      call tile_scene(base, [k, k, k], tiled, status)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      if (.not. rotation) then
+        ! the closed form (4 k/m at an even period), to the reference's rounding
+        call bloch_top(base, [k, k, k], lam, rate, status)
+        call check(error, status%stat, demstep_stat%ok, status%message)
+        if (allocated(error)) return
+        ! (k = m = 1: omega_max = 2 sqrt(k/m) = 2)
+        call check(error, rate*sqrt(lam), 2.0_dp, thr=1.0e-12_dp, rel=.true., message="Bloch's top of the lattice")
+        if (allocated(error)) return
+      end if
+      call check_top(error, base, tiled, [k, k, k], "lattice x "//int_text(k)//merge(" rotations", &
+        "          ", rotation))
+      if (allocated(error)) return
+    end do
+  end subroutine test_lattice
 
 
 end module test_lanczos_top

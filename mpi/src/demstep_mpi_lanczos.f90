@@ -326,7 +326,7 @@ contains
   !> failures through `pdsaupd_status`, `pdseupd_status`. Collective; the
   !> result is the same on every rank.
   subroutine parallel_lanczos_largest(matrix, result, status, eigenvector, tolerance, ncv, &
-      nev, max_restarts, progress, start)
+      nev, max_restarts, progress, start, certify, lower_bound)
     type(dist_csr_type), intent(inout), target :: matrix
     type(eigen_result_type), intent(out) :: result
     type(demstep_status_type), intent(out) :: status
@@ -345,6 +345,10 @@ contains
     !> This rank's block of a start vector (n_local; a warm start, as the
     !> serial `lanczos_largest`'s), the same on every rank or absent on every rank.
     real(dp), intent(in), optional :: start(:)
+    !> Add the randomised certificate (default no) with a lower bound of the
+    !> spectrum (default 0), as `lanczos_largest`'s.
+    logical, intent(in), optional :: certify
+    real(dp), intent(in), optional :: lower_bound
     type(dist_space_type) :: space
     result%solver = parallel_lanczos_solver_name
     if (present(eigenvector)) eigenvector = 0.0_dp
@@ -368,7 +372,7 @@ contains
       end if
     end if
     call lanczos_solve(space, result, status, eigenvector, tolerance, ncv, nev, max_restarts, &
-      progress, start)
+      progress, start, certify, lower_bound)
   end subroutine parallel_lanczos_largest
 
   subroutine dist_product(space, x, y)

@@ -33,7 +33,7 @@ module demstep_mpi_scene
   use demstep_assembly, only: assembly_operator_type, assembly_operator, assembly_matrix_rows, &
     assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_dashpot_bound, &
     critical_step_type, eigen_solver, scene_lanczos_ncv, scene_lanczos_restarts, bound_iterations, &
-    damped_problem_type, damped_newton, dashpot_names
+    damped_problem_type, damped_newton, dashpot_names, safe_basis
   use demstep_lanczos, only: eigen_result_type, lanczos_tolerance_default
   use demstep_mpi_lanczos, only: dist_csr_type, dist_csr_create, dist_csr_apply, dist_csr_free, &
     dist_collatz_bound, parallel_lanczos_largest
@@ -159,7 +159,7 @@ contains
     subroutine estimates()
       type(eigen_result_type) :: lanczos
       real(dp), allocatable :: vec(:)
-      real(dp) :: bound, rule, lam
+      real(dp) :: bound, rule, lam, lower
       logical :: has_mode
 
       call dist_collatz_bound(matrix, bound_iterations, bound)
@@ -179,8 +179,12 @@ contains
       end if
 
       allocate(vec(matrix%n_local))
+      ! (with pre-stress the operator may be indefinite, above minus the bound)
+      lower = 0.0_dp
+      if (with_geo) lower = -(result%omega_bound/rate)**2
       call parallel_lanczos_largest(matrix, lanczos, status, eigenvector=vec, tolerance=tol, &
-        ncv=min(scene_lanczos_ncv, op%n), max_restarts=scene_lanczos_restarts, progress=progress)
+        ncv=min(scene_lanczos_ncv, op%n), max_restarts=scene_lanczos_restarts, progress=progress, &
+        certify=.true., lower_bound=lower)
       result%eigen_products = lanczos%applications
       result%eigen_restarts = lanczos%iterations
       if (status%stat == demstep_stat%not_converged) then
@@ -190,7 +194,7 @@ contains
           ! restarts ran out with no converged Ritz pair: the Ritz value and
           ! PARPACK's residual estimate bracket omega_max (as the serial path)
           call assembly_set_estimates(result, rate, lanczos%eigenvalue, lanczos%residual, .false., &
-            b_bound, status)
+            b_bound, status, lanczos%upper_bound, safe_basis%randomised, lanczos%failure_probability)
           return
         end if
         status%stat = demstep_stat%ok
@@ -199,7 +203,7 @@ contains
       ! the unit mode's Rayleigh quotient and residual, measured by the solver
       lam = lanczos%eigenvalue
       call assembly_set_estimates(result, rate, lam, lanczos%residual, lanczos%converged, &
-        b_bound, status)
+        b_bound, status, lanczos%upper_bound, safe_basis%randomised, lanczos%failure_probability)
       if (status%stat /= demstep_stat%ok .or. .not. b_bound > 0.0_dp) return
       call exact_damped(vec, lam)
     end subroutine estimates

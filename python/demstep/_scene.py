@@ -180,7 +180,7 @@ class Scene:
         call(f, self._handle, pointer(g))
 
     def set_eigen_solver(self, solver="auto", tolerance=0.0):
-        """"auto", "dense", "lanczos" or "none", and the Lanczos tolerance (<= 0: 1e-10)."""
+        """"auto", "dense", "lanczos" or "none", and the Lanczos tolerance (<= 0: the default 1e-6)."""
         f = "demstep_scene_set_eigen_solver"
         call(f, self._handle, enum("DEMSTEP_EIGEN_", solver, f, "solver"), tolerance)
 

@@ -1043,7 +1043,7 @@ contains
   !>   demstep_error *err)
   !>
   !> The eigensolver of later computes (DEMSTEP_EIGEN_AUTO, _DENSE, _LANCZOS,
-  !> _NONE) and the Lanczos relative tolerance (<= 0: the default 1e-10). A
+  !> _NONE) and the Lanczos relative tolerance (<= 0: the default 1e-6). A
   !> refused option leaves the scene and its options as they were.
   function c_scene_set_eigen_solver(scene, solver, tolerance, err) result(code) &
       bind(C, name="demstep_scene_set_eigen_solver")

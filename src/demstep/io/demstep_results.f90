@@ -18,7 +18,7 @@ module demstep_results
   use demstep_namelist, only: nml_group_type, scan_namelist
   use demstep_text, only: read_text_file, lowercase
   use demstep_scene_data, only: scene_type, scene_summary_type
-  use demstep_assembly, only: critical_step_type, eigen_solver_name
+  use demstep_assembly, only: critical_step_type, eigen_solver_name, safe_basis_name
   use demstep_stiffness, only: stiffness_result_type, interval_kind
   use demstep_snapshot, only: snapshot_type, snapshot_format_names
   use demstep_material, only: n_peer_rules, peer_rule_names
@@ -584,9 +584,15 @@ contains
     character(len=8) :: eigen_solver
     real(dp) :: eigen_tolerance, eigen_residual, omega_upper, dt_critical_safe, dt_critical_damped_bound
     logical :: eigen_converged, damped_exact
+    ! what dt_critical_safe rests on (safe_basis_names) and its failure probability
+    character(len=10) :: safe_basis
+    real(dp) :: safe_failure
+    ! the Lanczos solve's operator products (the certificate's included)
+    integer(i8) :: eigen_products
     namelist /scene_result/ n_particles, n_dof, n_springs, dof_per_particle, rotation, tangential, &
       periodic, prestress, omega_max, eigen_computed, eigen_converged, eigen_solver, eigen_tolerance, eigen_residual, &
-      omega_upper, dt_critical_eigen, dt_critical_safe, dt_critical_bound, dt_contact_rule, &
+      omega_upper, dt_critical_eigen, dt_critical_safe, safe_basis, safe_failure, eigen_products, dt_critical_bound, &
+      dt_contact_rule, &
       dt_critical_damped, damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, &
       blew_up, dt_recommended, damped_exact, dt_critical_damped_bound
     n_particles = sc%n
@@ -605,6 +611,9 @@ contains
     eigen_residual = crit%eigen_residual
     omega_upper = crit%omega_upper
     dt_critical_safe = crit%dt_critical_safe
+    safe_basis = safe_basis_name(crit%safe_basis)
+    safe_failure = crit%safe_failure
+    eigen_products = crit%eigen_products
     dt_critical_eigen = crit%dt_critical_eigen
     dt_critical_bound = crit%dt_critical_bound
     dt_contact_rule = crit%dt_contact_rule

@@ -97,6 +97,25 @@ module demstep_assembly
   !> Their names, indexed by value.
   character(len=*), parameter, public :: eigen_solver_names(4) = [character(len=7) :: "auto", &
     "dense", "lanczos", "none"]
+  !> What `dt_critical_safe` rests on: `safe_basis%dense` (the whole spectrum,
+  !> LAPACK: the error bar of the top eigenvalue is all), `%randomised` (the
+  !> Lanczos certificate: an upper bound of omega_max^2 that fails with a
+  !> stated probability; `demstep_lanczos`'s notes), `%bound` (the rigorous
+  !> Gershgorin/Collatz bound, lower than the other), `%estimate` (no
+  !> certificate: the top found to the tolerance, no claim that none lies
+  !> above it).
+  type, public :: safe_basis_enum
+    integer :: dense = 1
+    integer :: randomised = 2
+    integer :: bound = 3
+    integer :: estimate = 4
+  end type safe_basis_enum
+  !> The bases by name.
+  type(safe_basis_enum), parameter, public :: safe_basis = safe_basis_enum()
+  public :: safe_basis_from_name, safe_basis_name, safe_basis_note
+  !> Their words, in code order.
+  character(len=*), parameter, public :: safe_basis_names(4) = [character(len=10) :: "dense", &
+    "randomised", "bound", "estimate"]
   !> Krylov size of the scene Lanczos solve: tiled packings have clusters of
   !> nearly equal top eigenvalues, which a larger basis separates in fewer
   !> restarts (32: a third to a quarter of the products of 16 on tilings of
@@ -165,6 +184,10 @@ module demstep_assembly
     !> and the step safe to it, max(2/omega_upper, dt_critical_bound) <=
     !> dt_critical_eigen.
     real(dp) :: omega_upper = 0.0_dp, dt_critical_safe = 0.0_dp
+    !> What omega_upper (dt_critical_safe) rests on (`safe_basis`), and the
+    !> probability that it fails to bound omega_max (`%randomised`; else 0).
+    integer :: safe_basis = 4
+    real(dp) :: safe_failure = 0.0_dp
     !> Whether the residual met the tolerance (false: Lanczos ran out of restarts;
     !> omega_max is then bracketed by [omega_max, omega_upper], wider).
     logical :: eigen_converged = .false.
@@ -341,8 +364,8 @@ contains
     real(dp), intent(in), optional :: bounds(2)
     integer, intent(in), optional :: ncv
     real(dp), intent(inout), optional :: damped_vec(:)
-    real(dp) :: lam, err, b_bound
-    integer :: solver
+    real(dp) :: lam, err, b_bound, lower, upper, failure
+    integer :: i, solver, basis
     logical :: has_mode, converged
     status%stat = demstep_stat%ok
     result%prestress = geo
@@ -368,12 +391,21 @@ contains
     result%solver = solver
     if (solver /= eigen_solver%none) then
       ! (warm start from vec when the caller gives one)
+      ! (with pre-stress A' may be indefinite: its spectrum lies above minus
+      ! the bound, which shifts the certificate's operator)
+      lower = 0.0_dp
+      if (geo) lower = -(result%omega_bound/rate)**2
       call top_eigenpair(op, solver, tol, vec, lam, err, has_mode, result%eigen_products, &
-        result%eigen_restarts, status, progress, ncv, converged)
+        result%eigen_restarts, status, progress, ncv, converged, lower, upper, failure)
       if (status%stat /= demstep_stat%ok) return
       result%eigen_tolerance = tol
-      if (solver == eigen_solver%dense) result%eigen_tolerance = epsilon(1.0_dp)
-      call assembly_set_estimates(result, rate, lam, err, converged, b_bound, status)
+      basis = safe_basis%randomised
+      if (solver == eigen_solver%dense) then
+        result%eigen_tolerance = epsilon(1.0_dp)
+        basis = safe_basis%dense
+      end if
+      call assembly_set_estimates(result, rate, lam, err, converged, b_bound, status, upper, &
+        basis, failure)
       if (status%stat /= demstep_stat%ok) return
       if (b_bound > 0.0_dp .and. has_mode) then
         call damped_exact(op, solver, tol, rate, vec, result, status, progress, ncv, damped_vec)
@@ -381,6 +413,7 @@ contains
       end if
     else
       ! no eigensolver: the damped limit's rigorous lower bound from the bound
+      result%safe_basis = safe_basis%bound
       call assembly_set_damped(result, result%dt_critical_bound, b_bound, rate, status)
     end if
   end subroutine operator_critical_steps
@@ -451,14 +484,23 @@ contains
   !> restarts): [lam, lam + err] holds the largest eigenvalue, capped by the
   !> bound (set first); omega = rate sqrt(.); and the damped limit's rigorous
   !> lower bound at the safe step from `b_bound` >= lambda_max(B') (scaled
-  !> dashpots; 0: undamped). Status invalid_input naming `position` (lam <= 0)
+  !> dashpots; 0: undamped). The safe end omega_upper: from `upper` (an upper
+  !> bound of lambda_max(A'), scaled) with what it rests on (`basis`, a
+  !> `safe_basis` code, and its failure probability) when given, else from
+  !> the bracket as `safe_basis%estimate`; the rigorous bound where lower
+  !> (`safe_basis%bound`). Status invalid_input naming `position` (lam <= 0)
   !> or `damping_ratio`.
-  pure subroutine assembly_set_estimates(result, rate, lam, err, converged, b_bound, status)
+  pure subroutine assembly_set_estimates(result, rate, lam, err, converged, b_bound, status, &
+      upper, basis, failure)
     type(critical_step_type), intent(inout) :: result
     real(dp), intent(in) :: rate, lam, err, b_bound
     !> Whether the residual met the tolerance.
     logical, intent(in) :: converged
     type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: upper
+    integer, intent(in), optional :: basis
+    real(dp), intent(in), optional :: failure
+    real(dp) :: lam_upper
     if (.not. lam > 0.0_dp) then
       call set_status(status, demstep_stat%invalid_input, "the scene has no stiffness", where="position")
       return
@@ -466,11 +508,30 @@ contains
     result%eigen_residual = err/lam
     result%eigen_converged = converged
     result%omega_max = rate*sqrt(lam)
-    result%omega_upper = min(rate*sqrt(lam + err + 8.0_dp*epsilon(1.0_dp)*lam), result%omega_bound)
+    lam_upper = lam + err + 8.0_dp*epsilon(1.0_dp)*lam
+    result%safe_basis = safe_basis%estimate
+    result%safe_failure = 0.0_dp
+    if (present(upper) .and. present(basis)) then
+      if (upper > 0.0_dp) then
+        lam_upper = max(lam_upper, upper)
+        result%safe_basis = basis
+        if (present(failure)) result%safe_failure = failure
+      end if
+    end if
+    result%omega_upper = rate*sqrt(lam_upper)
+    if (result%omega_upper >= result%omega_bound) then
+      result%omega_upper = result%omega_bound
+      result%safe_basis = safe_basis%bound
+      result%safe_failure = 0.0_dp
+    end if
     result%dt_critical_eigen = 2.0_dp/result%omega_max
     result%dt_critical_safe = 2.0_dp/result%omega_upper
     result%eigen_computed = .true.
-    call assembly_set_damped(result, result%dt_critical_safe, b_bound, rate, status)
+    ! the damped limit (and the recommended step) from the bracket's end, as
+    ! before the certificate: its margin is the recommendation's, and the
+    ! certificate's own margin would only lower every step by up to 1 %
+    call assembly_set_damped(result, 2.0_dp/min(rate*sqrt(lam + err + 8.0_dp*epsilon(1.0_dp)*lam), &
+      result%omega_bound), b_bound, rate, status)
   end subroutine assembly_set_estimates
 
   !> The damped limit's rigorous lower bound, in scaled time tau = h rate, from
@@ -512,7 +573,7 @@ contains
   !> (measured; ARPACK's estimate when Lanczos ran out of restarts without a
   !> mode, `has_mode` false). Products and restarts are added to the counts.
   subroutine top_eigenpair(op, choice, tol, vec, lam, err, has_mode, products, restarts, status, &
-      progress, ncv, converged)
+      progress, ncv, converged, lower, upper, failure)
     type(assembly_operator_type), intent(inout) :: op
     integer, intent(in) :: choice
     real(dp), intent(in) :: tol
@@ -528,6 +589,12 @@ contains
     !> Whether the eigensolve met its tolerance (dense: always; Lanczos: the
     !> residual and its check that the top settled).
     logical, intent(out), optional :: converged
+    !> With `upper`: a lower bound of the spectrum (0: semi-definite) and an
+    !> upper bound of lambda_max (dense: the bracket's end; Lanczos: the
+    !> randomised certificate, 0 when it was not made) with the probability
+    !> that it fails.
+    real(dp), intent(in), optional :: lower
+    real(dp), intent(out), optional :: upper, failure
     type(eigen_result_type) :: lanczos
     type(csr_matrix_type) :: sparse
     real(dp), allocatable :: a(:, :), av(:), start(:)
@@ -548,11 +615,15 @@ contains
       call assembly_operator_apply(op, vec, av)
       lam = dot_product(vec, av)
       err = norm2(av - lam*vec)
+      if (present(upper)) upper = lam + err + 8.0_dp*epsilon(1.0_dp)*abs(lam)
+      if (present(failure)) failure = 0.0_dp
     else
       start = vec
       call lanczos_largest(assembly_operator_apply, op, op%n, lanczos, status, eigenvector=vec, &
         tolerance=tol, ncv=m, max_restarts=scene_lanczos_restarts, &
-        progress=progress, start=start)
+        progress=progress, start=start, certify=present(upper), lower_bound=lower)
+      if (present(upper)) upper = lanczos%upper_bound
+      if (present(failure)) failure = lanczos%failure_probability
       products = products + lanczos%applications
       restarts = restarts + lanczos%iterations
       ! the Rayleigh quotient and residual lanczos_largest measured on its
@@ -1349,6 +1420,39 @@ contains
     character(len=:), allocatable :: name
     name = word_of(hertz_linearization_names, code)
   end function hertz_linearization_name
+
+  !> The `safe_basis` code of a word (case ignored); 0 for another word.
+  pure integer function safe_basis_from_name(name) result(code)
+    !> The word, one of `safe_basis_names`.
+    character(len=*), intent(in) :: name
+    code = word_index(safe_basis_names, name)
+  end function safe_basis_from_name
+
+  !> The word of a `safe_basis` code (`?` for another value).
+  pure function safe_basis_name(code) result(name)
+    !> A code of `safe_basis`.
+    integer, intent(in) :: code
+    character(len=:), allocatable :: name
+    name = word_of(safe_basis_names, code)
+  end function safe_basis_name
+
+  !> What a result's `dt_critical_safe` rests on, in words (for a report).
+  pure function safe_basis_note(result) result(note)
+    type(critical_step_type), intent(in) :: result
+    character(len=:), allocatable :: note
+    select case (result%safe_basis)
+    case (1)
+      note = "the whole spectrum (dense): no eigenvalue above omega_upper^2"
+    case (2)
+      note = "certified: no eigenvalue above omega_upper^2 but with probability <= " &
+        //real_text(result%safe_failure)//" (randomised Lanczos bound)"
+    case (3)
+      note = "the rigorous bound"
+    case default
+      note = "an estimate to the tolerance " &
+        //real_text(result%eigen_tolerance)//", not certified: keep the recommended step's margin"
+    end select
+  end function safe_basis_note
 
   !> The `eigen_solver` code of a word (case ignored); 0 for another word.
   pure integer function eigen_solver_from_name(name) result(code)

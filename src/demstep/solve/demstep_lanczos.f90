@@ -14,7 +14,9 @@
 !> ARPACK's own random one), so a result depends on the thread or rank count
 !> only through the rounding of the products and sums.
 !>
-!> Tolerance and error bar. ARPACK stops when the Ritz estimate of the wanted
+!> Tolerance and error bar. The tolerance is the relative accuracy asked of the
+!> largest eigenvalue lambda_max = omega_max^2 (a time step 2/omega_max is then
+!> good to half of it). ARPACK stops when the Ritz estimate of the wanted
 !> Ritz value is at most `tolerance * theta`. The driver then measures, with one
 !> more product, the Rayleigh quotient `theta = z.Az` of the returned unit vector
 !> `z` and its residual `r = ||A z - theta z||`. For symmetric A two facts hold:
@@ -26,12 +28,37 @@
 !> Lanczos converges to from a start vector with a component along its
 !> eigenvector. The sharper gap bound `r**2 / gap` is not used: Lanczos only
 !> gives the second eigenvalue from below, which overstates the gap (unsafe).
+!> The stopping rule is a test on the eigenvalue: a run is accepted when the
+!> bracket [theta, theta + r] is at most `tolerance * theta` wide and a second
+!> run from new random components does not raise theta by more than
+!> `tolerance * theta` (the top found to the tolerance; see `iterate`).
+!>
+!> Certificate (`certify`). The bracket says where *an* eigenvalue lies, not
+!> that none lies above it (an eigenvector missing from the starts). With
+!> `certify`, a separate Lanczos run of k steps from a Gaussian (so uniformly
+!> distributed on the unit sphere) start gives its largest Ritz value xi, and
+!> Kuczynski and Wozniakowski's bound (SIAM J. Matrix Anal. Appl. 13(4),
+!> 1094-1122, 1992: for a symmetric positive semi-definite A of order n and a
+!> start uniform on the sphere, the Lanczos Ritz value after k products falls
+!> below (1 - eps) lambda_max with probability at most
+!> 1.648 sqrt(n) exp(-(2k - 1) sqrt(eps))) makes
+!> `upper_bound` = max(theta, xi)/(1 - eps) an upper bound of lambda_max with
+!> failure probability at most `certificate_failure` (eps =
+!> `certificate_margin`, k from n; an operator that is not semi-definite is
+!> shifted by a lower bound of its spectrum). What it rests on: the bound is
+!> for exact arithmetic (the run is the three-term recurrence without
+!> reorthogonalisation; its largest Ritz value is taken to converge no slower
+!> in floating point, as Paige's and Greenbaum's analyses describe) and for a
+!> random start (the start is a fixed pseudo-random sequence, the same for
+!> every run: the probability is over that draw, for operators not chosen in
+!> view of it).
 !>
 !> ARPACK keeps its state in SAVEd variables: one solve at a time per process.
 !> A solve started while another runs (another thread) is refused with status
 !> `busy` (`arpack_claim`); it never shares the state.
 module demstep_lanczos
-  use demstep_kinds, only: dp, i8
+  use demstep_kinds, only: dp, i8, pi
+  use demstep_lapack, only: largest_tridiagonal_eigenvalue
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_arpack, only: dsaupd, dseupd, dsaupd_status, dseupd_status, arpack_iparam_size
   use demstep_progress, only: progress_type
@@ -45,9 +72,18 @@ module demstep_lanczos
     check_lanczos_options, lanczos_options, accurate_dot_parts
   public :: arpack_claim, arpack_release
 
-  !> Default relative tolerance: the residual of the Ritz pair at most 1e-10 of
-  !> the Ritz value (the eigenvalue itself is then good to about 1e-10 or better).
-  real(dp), parameter, public :: lanczos_tolerance_default = 1.0e-10_dp
+  !> Default relative tolerance on the largest eigenvalue omega_max^2: 1e-6, so
+  !> the time step 2/omega_max is good to 5e-7, far below what a DEM step needs
+  !> (stiffnesses are known to a few per cent; steps are taken at a fraction of
+  !> the limit). A tighter one (1e-10) does not converge on crowded tops (a
+  !> tiling of 1e5 particles: out of restarts after 1763 products), where 1e-6
+  !> takes under a hundred products.
+  real(dp), parameter, public :: lanczos_tolerance_default = 1.0e-6_dp
+  !> The certificate's failure probability and relative margin eps (see the
+  !> module notes): `upper_bound` exceeds the found top by the factor
+  !> 1/(1 - eps) (a step 1 % below the estimate) and fails to bound
+  !> lambda_max with probability at most 1e-6.
+  real(dp), parameter, public :: certificate_failure = 1.0e-6_dp, certificate_margin = 2.0e-2_dp
   !> Default Krylov size (Lanczos vectors kept between restarts), capped at n.
   integer, parameter, public :: lanczos_ncv_default = 24
   !> Default number of wanted Ritz values kept at each restart (a block of the
@@ -221,6 +257,13 @@ module demstep_lanczos
     character(len=:), allocatable :: basis
     !> Which solver ran.
     character(len=:), allocatable :: solver
+    !> With `certify`: an upper bound of the largest eigenvalue that fails with
+    !> probability at most `failure_probability` (module notes); otherwise 0
+    !> and `certified` false.
+    real(dp) :: upper_bound = 0.0_dp, failure_probability = 0.0_dp
+    logical :: certified = .false.
+    !> The certificate's products (included in `applications`).
+    integer :: certificate_products = 0
   end type eigen_result_type
 
 
@@ -241,7 +284,7 @@ contains
   !> Ritz value and ARPACK's estimate of its residual, the vector is zero),
   !> otherwise ARPACK's own failures (`dsaupd_status`, `dseupd_status`).
   subroutine lanczos_largest(apply, context, n, result, status, eigenvector, tolerance, ncv, &
-      nev, max_restarts, progress, start)
+      nev, max_restarts, progress, start, certify, lower_bound)
     !> y = A x (a module procedure, never an internal one).
     procedure(lanczos_operator) :: apply
     !> The operator's data, passed to `apply`.
@@ -267,6 +310,11 @@ contains
     !> a thousandth of the default start vector is added, so that no
     !> eigenvector is missing from it.
     real(dp), intent(in), optional :: start(:)
+    !> Add the randomised certificate `upper_bound` (default no).
+    logical, intent(in), optional :: certify
+    !> A lower bound of the smallest eigenvalue (default 0: A is positive
+    !> semi-definite), for the certificate.
+    real(dp), intent(in), optional :: lower_bound
     type(serial_space_type) :: space
     result%solver = lanczos_solver_name
     if (present(eigenvector)) eigenvector = 0.0_dp
@@ -290,7 +338,7 @@ contains
     space%apply => apply
     space%context => context
     call lanczos_solve(space, result, status, eigenvector, tolerance, ncv, nev, max_restarts, &
-      progress, start)
+      progress, start, certify, lower_bound)
   end subroutine lanczos_largest
 
   !> The Lanczos driver for any `lanczos_space_type`, serial or distributed:
@@ -301,7 +349,7 @@ contains
   !> the same on every process. Statuses as `lanczos_largest`'s, ARPACK's
   !> through the space's `saupd_status` and `seupd_status`.
   subroutine lanczos_solve(space, result, status, eigenvector, tolerance, ncv, nev, &
-      max_restarts, progress, start)
+      max_restarts, progress, start, certify, lower_bound)
     class(lanczos_space_type), intent(inout) :: space
     type(eigen_result_type), intent(out) :: result
     type(demstep_status_type), intent(out) :: status
@@ -313,8 +361,13 @@ contains
     !> This block of a start vector (n_local), the same on every process or
     !> absent on every process.
     real(dp), intent(in), optional :: start(:)
-    real(dp) :: tol
+    !> Add the randomised certificate (default no), and a lower bound of the
+    !> spectrum for it (default 0).
+    logical, intent(in), optional :: certify
+    real(dp), intent(in), optional :: lower_bound
+    real(dp) :: tol, lower
     integer :: k, m, restarts
+    logical :: wanted
 
     call lanczos_options(tol, m, k, restarts, tolerance, ncv, nev, max_restarts)
     result%solver = space%solver
@@ -328,6 +381,12 @@ contains
     if (status%stat /= demstep_stat%ok) return
     if (present(progress)) call progress%start("Lanczos products", 0_i8)
     call iterate(space, tol, k, m, restarts, result, status, eigenvector, progress, start)
+    wanted = .false.
+    if (present(certify)) wanted = certify
+    lower = 0.0_dp
+    if (present(lower_bound)) lower = lower_bound
+    if (wanted .and. (status%stat == demstep_stat%ok .or. status%stat == demstep_stat%not_converged)) &
+      call random_certificate(space, lower, result, status, progress)
     if (present(progress)) call progress%finish()
     call arpack_release()
   end subroutine lanczos_solve
@@ -578,6 +637,97 @@ contains
     run%rnorm = rnorm
     run%converged = rnorm <= tol*abs(run%theta) .or. run%step_status%stat == demstep_stat%ok
   end subroutine arpack_run
+
+  !> Lanczos steps of the certificate for an operator of order n: the fewest
+  !> k + 1 with 1.648 sqrt(n) exp(-(2k - 1) sqrt(eps)) <= `certificate_failure`
+  !> (eps = `certificate_margin`; one product more than the bound's k, so that
+  !> its Krylov space [b, Ab, .., A^k b] is inside the run's).
+  pure integer function certificate_steps(n) result(steps)
+    integer, intent(in) :: n
+    real(dp), parameter :: kw_constant = 1.648_dp
+    steps = ceiling(0.5_dp*(log(kw_constant*sqrt(real(n, dp))/certificate_failure) &
+      /sqrt(certificate_margin) + 1.0_dp)) + 1
+  end function certificate_steps
+
+  !> The randomised certificate (module notes): the three-term Lanczos
+  !> recurrence from a Gaussian start for `certificate_steps` products (fewer
+  !> when its Krylov space is invariant), the largest eigenvalue xi of its
+  !> tridiagonal matrix, and `result%upper_bound` = max(theta, xi)/(1 - eps)
+  !> for the operator shifted by -min(lower, 0) (theta the eigenvalue found,
+  !> a Ritz value: at most lambda_max), plus the rounding allowance.
+  !> Three vectors; collective where the space is.
+  subroutine random_certificate(space, lower, result, status, progress)
+    class(lanczos_space_type), intent(inout) :: space
+    !> A lower bound of the smallest eigenvalue.
+    real(dp), intent(in) :: lower
+    type(eigen_result_type), intent(inout) :: result
+    type(demstep_status_type), intent(inout) :: status
+    class(progress_type), intent(inout), optional :: progress
+    real(dp), allocatable :: v(:), v_old(:), w(:), alpha(:), beta(:)
+    real(dp) :: xi, shift, beta_old, scale, top
+    integer :: n, m, j, steps
+    type(demstep_status_type) :: step_status
+    n = space%n_local
+    m = certificate_steps(space%n_global)
+    allocate(v(n), v_old(n), w(n), alpha(m), beta(m))
+    ! a stretch of the sequence the solve's starts do not use
+    call gaussian_vector(v, 2*(space%first_row - 1) + 1 + lanczos_runs*2*space%n_global)
+    v = v/sqrt(space%dot(v, v))
+    v_old = 0.0_dp
+    beta_old = 0.0_dp
+    scale = 0.0_dp
+    steps = 0
+    do j = 1, m
+      call product(space, v, w, result, step_status, progress)
+      if (step_status%stat /= demstep_stat%ok) then
+        status = step_status
+        return
+      end if
+      result%certificate_products = result%certificate_products + 1
+      if (j > 1) w = w - beta_old*v_old
+      alpha(j) = space%dot(v, w)
+      w = w - alpha(j)*v
+      beta(j) = sqrt(space%dot(w, w))
+      steps = j
+      scale = max(scale, abs(alpha(j)) + beta(j) + beta_old)
+      ! an invariant Krylov space: its Ritz values are eigenvalues (exact
+      ! arithmetic), the largest one xi_k for every later k
+      if (.not. beta(j) > 1.0e3_dp*epsilon(1.0_dp)*scale) exit
+      v_old = v
+      v = w/beta(j)
+      beta_old = beta(j)
+    end do
+    call largest_tridiagonal_eigenvalue(alpha(:steps), beta(:steps - 1), xi, step_status)
+    if (step_status%stat /= demstep_stat%ok) then
+      status = step_status
+      return
+    end if
+    shift = -min(lower, 0.0_dp)
+    top = (max(result%eigenvalue, xi) + shift)/(1.0_dp - certificate_margin) - shift
+    ! (the recurrence's rounding: a few ulps of the shifted operator's norm)
+    result%upper_bound = top + rounding_ulps*epsilon(1.0_dp)*(scale + shift)
+    result%failure_probability = certificate_failure
+    result%certified = .true.
+  end subroutine random_certificate
+
+  !> Standard normal entries by the Box-Muller transform of two uniform
+  !> entries of the start sequence (`lanczos_start_vector` plus 1/2, in (0, 1))
+  !> each: entry i uses the sequence's entries first + 2(i - 1) and the next.
+  !> Normalised, it is uniform on the unit sphere (as far as the sequence is
+  !> random).
+  pure subroutine gaussian_vector(x, first)
+    real(dp), intent(out) :: x(:)
+    !> The sequence's index for x(1)'s first uniform entry.
+    integer, intent(in) :: first
+    real(dp), allocatable :: u(:)
+    integer :: i
+    allocate(u(2*size(x)))
+    call lanczos_start_vector(u, first)
+    u = u + 0.5_dp
+    do i = 1, size(x)
+      x(i) = sqrt(-2.0_dp*log(u(2*i - 1)))*cos(2.0_dp*pi*u(2*i))
+    end do
+  end subroutine gaussian_vector
 
   !> The routine's name that starts an ARPACK status message ("ARPACK dsaupd: ").
   pure function arpack_name(status) result(who)

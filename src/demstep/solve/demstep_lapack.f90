@@ -2,7 +2,8 @@
 !> message. Only what demstep needs: the largest eigenpair of a symmetric
 !> matrix, every eigenpair of a small one (a rigid body's inertia tensor),
 !> the largest eigenvalue of a complex Hermitian one (a periodic system's
-!> Bloch operator, the reference for tiled packings), and the spectral radius
+!> Bloch operator, the reference for tiled packings), the largest eigenvalue
+!> of a symmetric tridiagonal one (a Lanczos run's), and the spectral radius
 !> of a general one (a one-step map's, the reference for the damped stability
 !> limit).
 module demstep_lapack
@@ -11,7 +12,8 @@ module demstep_lapack
   implicit none
   private
 
-  public :: largest_eigenpair, spectral_radius, largest_hermitian_eigenvalue, symmetric_eigensystem
+  public :: largest_eigenpair, spectral_radius, largest_hermitian_eigenvalue, symmetric_eigensystem, &
+    largest_tridiagonal_eigenvalue
 
   interface
     !> LAPACK dsyevr: selected eigenvalues (and vectors) of a real symmetric matrix
@@ -53,9 +55,46 @@ module demstep_lapack
       real(dp), intent(inout) :: rwork(*)
       integer, intent(out) :: info
     end subroutine zheev
+    !> LAPACK dsterf: all eigenvalues of a symmetric tridiagonal matrix (ascending
+    !> in d on return), by the root-free QL/QR iteration.
+    pure subroutine dsterf(n, d, e, info)
+      import :: dp
+      integer, intent(in) :: n
+      real(dp), intent(inout) :: d(*), e(*)
+      integer, intent(out) :: info
+    end subroutine dsterf
   end interface
 
 contains
+
+  !> The largest eigenvalue of the symmetric tridiagonal matrix with diagonal
+  !> `diag` (n >= 1) and off-diagonal `off` (n - 1), by dsterf. Status
+  !> `lapack_failure` with LAPACK's info explained.
+  pure subroutine largest_tridiagonal_eigenvalue(diag, off, eigenvalue, status)
+    real(dp), intent(in) :: diag(:), off(:)
+    real(dp), intent(out) :: eigenvalue
+    type(demstep_status_type), intent(out) :: status
+    real(dp), allocatable :: d(:), e(:)
+    integer :: n, info
+    n = size(diag)
+    eigenvalue = 0.0_dp
+    if (n < 1 .or. size(off) < n - 1) then
+      call set_status(status, demstep_stat%invalid_input, "need n >= 1 diagonal and n - 1 " &
+        //"off-diagonal entries", where="largest_tridiagonal_eigenvalue")
+      return
+    end if
+    d = diag
+    allocate(e(max(1, n - 1)))
+    e = 0.0_dp
+    if (n > 1) e(:n - 1) = off(:n - 1)
+    call dsterf(n, d, e, info)
+    if (info /= 0) then
+      call set_status(status, demstep_stat%lapack_failure, info_message(info, "dsterf"))
+      return
+    end if
+    eigenvalue = d(n)
+    status%stat = demstep_stat%ok
+  end subroutine largest_tridiagonal_eigenvalue
 
   !> The largest eigenvalue of the complex Hermitian matrix `a` (its lower
   !> triangle is used and destroyed), by zheev (eigenvalues only). Status
