@@ -35,12 +35,19 @@ module demstep_cli_scene
     max_values, capacity_of, in_group
   use demstep_words, only: word_list, unknown_word, word_index
   use demstep_results, only: write_scene_result, write_snapshot_result
+  use demstep_monitor, only: participation_type, scene_participation, top_shares, participation_top, &
+    spring_kind_names
+  use demstep_vtk, only: write_participation_vtk
+  use demstep_cli_files, only: output_file_type, open_output, discard_output, rename_file, refuse_input
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use, intrinsic :: iso_fortran_env, only: error_unit
   implicit none
   private
 
   public :: scene_specs, scene_doc, handle_scene, scene_takes_material, beside
+
+  !> The `&scene` variable that names a file the group writes (not an input).
+  character(len=*), parameter, public :: scene_output_file = "participation_file"
 
   character(len=*), parameter :: scene_doc = &
     "A particle assembly: its critical time step by the per-contact rule, a rigorous bound, " &
@@ -130,6 +137,10 @@ contains
         "!0.3, 0.25", capacity=100), &
       var("prestress", "a logical", "count the pre-stress stiffness -(F_n/l)(I - n n^T) in the " &
         //"analysis", "!F", default="F"), &
+      var("participation", "a logical", "report the particles and springs that carry the top mode " &
+        //"(the result group has them always)", "!T", default="F"), &
+      var("participation_file", "a quoted file name", "write the top mode's participation per " &
+        //"particle and contact as a legacy VTK file (ParaView)", "!'top.vtk'"), &
       var("k_bond", "a real number", "bond normal stiffness (> 0 when there are bonds)", "100.0", &
         default="!0"), &
       var("k_bond_tangential", "a real number", "bond tangential stiffness (>= 0)", "0.0", &
@@ -220,7 +231,10 @@ contains
       kt_ratio, g_star, friction, prestress, types, type_k_normal, type_k_tangential, young, poisson, &
       eigen_solver, eigen_tolerance, snapshot_file, snapshot_format, snapshot_frame, &
       damping_ratio_tangential, damping_ratio_rolling, drag, rolling_ratio, twisting_ratio, rolling_friction, &
-      wall_type, tangential_damping
+      wall_type, tangential_damping, participation, participation_file
+    logical :: participation
+    character(len=512) :: participation_file
+    type(participation_type) :: part
     type(var_spec), allocatable :: specs(:)
     character(len=*), parameter :: g = "scene"
     type(scene_type) :: sc
@@ -597,11 +611,11 @@ contains
       return
     end if
     if (ctx%quiet) then
-      call assembly_critical_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
+      call scene_participation(sc, crit, part, status, hertz_mode=mode, impact_velocity=impact_velocity, &
         max_eigen_dof=max_eigen_dof, prestress=prestress, solver=solver, tolerance=eigen_tolerance)
     else
       progress = text_progress_type(unit=error_unit, label="demstep: &"//g)
-      call assembly_critical_steps(sc, crit, status, hertz_mode=mode, impact_velocity=impact_velocity, &
+      call scene_participation(sc, crit, part, status, hertz_mode=mode, impact_velocity=impact_velocity, &
         max_eigen_dof=max_eigen_dof, prestress=prestress, solver=solver, tolerance=eigen_tolerance, &
         progress=progress)
     end if
@@ -659,7 +673,9 @@ contains
     else
       call report(ctx%report, group, sc, crit, duration > 0.0_dp, dt_used, steps, summary, dt_recommended)
     end if
-    call write_scene_result(ctx%results, sc, crit, dt_used, summary, dt_recommended)
+    call participation_output(ctx, group, file, sc, part, participation, participation_file, status)
+    if (status%stat /= demstep_stat%ok) return
+    call write_scene_result(ctx%results, sc, crit, dt_used, summary, dt_recommended, part)
     call record_step(ctx, "assembly step", dt_recommended, .true., group)
     if (given(group, "snapshot_file")) call write_snapshot_result(ctx%results, snap, deck_mat%found, crit, peer_dt)
 
@@ -719,6 +735,75 @@ contains
     end subroutine materials
 
   end subroutine handle_scene
+
+  !> The top mode's participation: the report's lines (with `participation`
+  !> or a file) and the VTK file (`participation_file`, never over an input;
+  !> written to a temporary beside it and renamed).
+  subroutine participation_output(ctx, group, deck, sc, part, wanted, path, status)
+    type(cli_context), intent(in) :: ctx
+    type(nml_group_type), intent(in) :: group
+    character(len=*), intent(in) :: deck
+    type(scene_type), intent(in) :: sc
+    type(participation_type), intent(in) :: part
+    logical, intent(in) :: wanted
+    character(len=*), intent(in) :: path
+    type(demstep_status_type), intent(out) :: status
+    type(output_file_type) :: out
+    character(len=:), allocatable :: target, kind
+    integer, allocatable :: top(:)
+    integer :: k, ptype
+    status%stat = demstep_stat%ok
+    if (.not. (wanted .or. given(group, "participation_file"))) return
+    if (.not. part%computed) then
+      if (given(group, "participation_file")) then
+        call set_status(status, demstep_stat%invalid_input, "&scene: participation_file: needs the top " &
+          //"mode, which no eigensolver returned (eigen_solver = 'none', or Lanczos did not converge)")
+      else
+        write(ctx%report, '(2x, a)') "participation: no top mode (no eigensolver returned one)"
+      end if
+      return
+    end if
+    top = top_shares(part%particle_share, participation_top)
+    write(ctx%report, '(2x, a)') "the top mode: the particles that carry most of it"
+    write(ctx%report, '(4x, a)') "particle     share         radius          mass  type"
+    do k = 1, size(top)
+      ptype = 0
+      if (allocated(sc%ptype)) ptype = sc%ptype(top(k))
+      write(ctx%report, '(4x, i8, f10.4, 2es15.6, i6)') top(k), part%particle_share(top(k)), &
+        sc%radius(top(k)), sc%mass(top(k)), ptype
+    end do
+    top = top_shares(part%spring_share, participation_top)
+    write(ctx%report, '(2x, a)') "the top mode: the springs that carry most of its energy (particle 0: a wall)"
+    write(ctx%report, '(4x, a)') "   i        j  kind         share            k_n            k_t"
+    do k = 1, size(top)
+      kind = trim(spring_kind_names(part%spring_kind(top(k))))
+      write(ctx%report, '(4x, 2i8, 2x, a7, f10.4, 2es15.6)') part%spring_a(top(k)), part%spring_b(top(k)), &
+        kind, part%spring_share(top(k)), part%spring_k(:, top(k))
+    end do
+    if (.not. given(group, "participation_file")) return
+    target = beside(deck, trim(path))
+    if (allocated(ctx%inputs)) then
+      call refuse_input(ctx%inputs, target, status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&scene: participation_file: '"//target//"' "//status%message
+        return
+      end if
+    end if
+    call open_output(target, out, status)
+    if (status%stat == demstep_stat%ok) then
+      close(out%unit)
+      out%unit = -1
+      call write_participation_vtk(out%temp, sc, part, status)
+      if (status%stat == demstep_stat%ok) call rename_file(out%temp, out%target, status)
+      if (status%stat /= demstep_stat%ok) call discard_output(out)
+    end if
+    if (status%stat /= demstep_stat%ok) then
+      status%message = "&scene: participation_file: '"//target//"': "//status%message
+      status%stat = demstep_stat%io_error
+      return
+    end if
+    write(ctx%report, '(2x, a)') "wrote the top mode's participation to "//target
+  end subroutine participation_output
 
   !> Whether a `&scene` among `groups` takes its particle types' materials
   !> from the deck's `&material` group: a snapshot without stiffness of its own.
