@@ -19,15 +19,17 @@
 !>
 !>   monitor: update U solver steps, check C solver steps, particles P
 !>
-!> Run: fpm run --profile release --example dem_solver [-- steps=N safety=S mode.vtk]
+!> Run: fpm run --profile release --example dem_solver [-- steps=N safety=S scaling=F mode.vtk]
 !> (steps: default 12000; safety: the step over the damped limit, default
-!> 0.9; a file name: the settled bed's top mode as a VTK file). The kinetic
+!> 0.9; scaling: mass scaling of the settled bed to F times its damped limit,
+!> demstep's `scale_masses` against Yade's per-body density scaling rule; a
+!> file name: the settled bed's top mode as a VTK file). The kinetic
 !> energy is watched: the first step after the bed settled (step 3000) at which
 !> it exceeds 100 times its least value since is reported as growth.
 program dem_solver
   use demstep, only: dp, i8, demstep_status_type, is_ok, critical_step_type
   use demstep_monitor, only: step_monitor_type, fresh_pour_estimate, mode_participation, top_shares, &
-    monitor_verdict
+    monitor_verdict, scale_masses, solver_critical_steps
   use demstep_vtk, only: write_vtk_particles, vtk_field_type
   implicit none
 
@@ -40,7 +42,7 @@ program dem_solver
   real(dp), parameter :: box = 30.0e-3_dp
   integer, parameter :: check_every = 20, update_every = 500, report_every = 1000, settled_step = 3000
   integer :: n_steps = 12000
-  real(dp) :: safety = 0.9_dp
+  real(dp) :: safety = 0.9_dp, scaling = 0.0_dp
   integer, parameter :: max_history = 16
   !> The floor z = 0 as the monitor takes walls: a point and the normal into the domain.
   real(dp), parameter :: floor_point(3, 1) = reshape([0.0_dp, 0.0_dp, 0.0_dp], [3, 1])
@@ -186,6 +188,7 @@ program dem_solver
   call cold_and_warm()
   call governing()
   if (len_trim(vtk_path) > 0) call write_mode(trim(vtk_path))
+  if (scaling > 0.0_dp) call compare_scaling(scaling*monitor%last%dt_critical_damped)
   ! the settled bed: the second half of the run, its own solver steps
   print '(a, f0.2, a, f0.2, a, i0)', "monitor: update ", &
     (real(t2_updates, dp)/max(1, n2_updates))/(real(t2_steps, dp)/(n_steps - n_steps/2)), " solver steps, check ", &
@@ -202,6 +205,10 @@ contains
       if (index(arg, "steps=") == 1) then
         read(arg(7:), *, iostat=ios) n_steps
         if (ios /= 0 .or. n_steps < 2*settled_step) error stop "dem_solver: steps= needs an integer >= 6000"
+      else if (index(arg, "scaling=") == 1) then
+        read(arg(9:), *, iostat=ios) scaling
+        if (ios /= 0 .or. .not. (scaling > 1.0_dp .and. scaling < 100.0_dp)) &
+          error stop "dem_solver: scaling= needs a number in (1, 100)"
       else if (index(arg, "safety=") == 1) then
         read(arg(8:), *, iostat=ios) safety
         if (ios /= 0 .or. .not. (safety > 0.0_dp .and. safety < 2.0_dp)) &
@@ -502,6 +509,77 @@ contains
       print '(i6, f8.4, 2i6, f8.1)', top(k), cs(top(k)), pairs(:, top(k)), k_n
     end do
   end subroutine governing
+
+  !> Mass scaling of the settled bed to `target`: demstep's exact scaling
+  !> (`scale_masses`) and Yade's per-body density scaling rule on the same
+  !> arrays, each scaled system's exact damped limit by `solver_critical_steps`.
+  !> Yade's rule (GlobalStiffnessTimeStepper, pkg/dem/GlobalStiffnessTimeStepper.cpp
+  !> of yade-mpi at 593a4d6ab, lines 177-198, 62-73 and 104-106; NewtonIntegrator.cpp
+  !> line 172 divides the inertia by it): per body the diagonal stiffness sums
+  !> K = sum (k_n - k_t) n_a^2 + k_t per axis a and R = sum k_t (1 - n_a^2) r^2,
+  !> dt_i = sqrt(2) sf sqrt(min(m/max K, I/max R)) and the factor
+  !> densityScaling = (dt_i/target)^2 on the accelerations: a mass factor
+  !> (target/dt_i)^2, below 1 where dt_i > target (kept as "net", and clipped
+  !> at 1 as "added only"); sf = 0.8, Yade's default timestepSafetyCoefficient.
+  subroutine compare_scaling(target)
+    real(dp), intent(in) :: target
+    real(dp), parameter :: sf = 0.8_dp
+    real(dp), allocatable :: factor(:), yade(:), kd(:, :), rd(:, :)
+    real(dp) :: added, nn(3), d(3), dti, added_net, added_clip
+    type(critical_step_type) :: scaled, verify, verify_y, verify_c
+    integer :: c, k, passes
+    call scale_masses(monitor, target, mass, radius, factor, added, scaled, status, inertia=inertia, &
+      passes=passes)
+    if (.not. is_ok(status)) then
+      print '(a)', "scale_masses: "//status%message
+    end if
+    call verify_limit(factor, verify)
+    print '(a, es12.5, a, f0.2, a, es10.3, a, i0, a, f0.4, a, i0, a)', "mass scaling to ", target, " s (", &
+      target/monitor%last%dt_critical_damped, " x the limit): demstep added mass ", added, " of the total, ", &
+      count(factor > 1.0_dp), " particles scaled, exact damped limit / target ", &
+      verify%dt_critical_damped/target, " (", passes, " exact solves)"
+    ! Yade's per-body rule on the same contacts (and the floor)
+    allocate(kd(3, n), rd(3, n), source=0.0_dp)
+    do c = 1, nc
+      d = x(:, pairs(2, c)) - x(:, pairs(1, c))
+      d(1:2) = d(1:2) - box*anint(d(1:2)/box)
+      nn = d/norm2(d)
+      do k = 1, 2
+        kd(:, pairs(k, c)) = kd(:, pairs(k, c)) + (k_n - k_t)*nn**2 + k_t
+        rd(:, pairs(k, c)) = rd(:, pairs(k, c)) + k_t*(1.0_dp - nn**2)*radius(pairs(k, c))**2
+      end do
+    end do
+    do i = 1, n
+      if (x(3, i) >= radius(i)) cycle
+      kd(:, i) = kd(:, i) + (k_n - k_t)*[0.0_dp, 0.0_dp, 1.0_dp] + k_t
+      rd(:, i) = rd(:, i) + k_t*[1.0_dp, 1.0_dp, 0.0_dp]*radius(i)**2
+    end do
+    allocate(yade(n), source=1.0_dp)
+    do i = 1, n
+      if (maxval(kd(:, i)) <= 0.0_dp) cycle
+      dti = sqrt(2.0_dp)*sf*sqrt(min(mass(i)/maxval(kd(:, i)), inertia(i)/maxval(rd(:, i))))
+      yade(i) = (target/dti)**2
+    end do
+    added_net = sum((yade - 1.0_dp)*mass)/sum(mass)
+    added_clip = sum((max(yade, 1.0_dp) - 1.0_dp)*mass)/sum(mass)
+    call verify_limit(yade, verify_y)
+    call verify_limit(max(yade, 1.0_dp), verify_c)
+    print '(a, es10.3, a, f0.4, a, es10.3, a, f0.4, a, i0, a)', "Yade's per-body rule (sf 0.8): net mass change ", &
+      added_net, " (exact damped limit / target ", verify_y%dt_critical_damped/target, "); added only (factors " &
+      //"clipped at 1) ", added_clip, " (limit / target ", verify_c%dt_critical_damped/target, ", ", &
+      count(yade > 1.0_dp), " particles scaled)"
+  end subroutine compare_scaling
+
+  !> The exact damped limit of the settled bed with masses and inertia scaled.
+  subroutine verify_limit(factor, crit)
+    real(dp), intent(in) :: factor(:)
+    type(critical_step_type), intent(out) :: crit
+    call solver_critical_steps(x, mass*factor, radius, pairs(:, :nc), [k_n], crit, status, k_t=[k_t], &
+      c_n=c_n(:nc), inertia=inertia*factor, wall_point=floor_point, wall_normal=floor_normal, &
+      wall_k=[k_n, k_t], wall_damping=[zeta, 0.0_dp], periodic=[.true., .true., .false.], &
+      cell_lo=[0.0_dp, 0.0_dp, 0.0_dp], cell_hi=[box, box, 0.0_dp])
+    if (.not. is_ok(status)) error stop status%message
+  end subroutine verify_limit
 
   !> The settled bed's top mode as a VTK file (participation per particle and contact).
   subroutine write_mode(path)
