@@ -76,6 +76,8 @@ program dem_solver
   integer(i8) :: cold_products, warm_products, t_cold
   logical :: safe, have_limit
   character(len=256) :: vtk_path
+  ! Yade's per-body mass factors at sf = 1 (compare_scaling)
+  real(dp), allocatable :: yade_base(:)
 
   zeta = -log(restitution)/sqrt(pi**2 + log(restitution)**2)
   vtk_path = ""
@@ -520,14 +522,15 @@ contains
   !> dt_i = sqrt(2) sf sqrt(min(m/max K, I/max R)) and the factor
   !> densityScaling = (dt_i/target)^2 on the accelerations: a mass factor
   !> (target/dt_i)^2, below 1 where dt_i > target (kept as "net", and clipped
-  !> at 1 as "added only"); sf = 0.8, Yade's default timestepSafetyCoefficient.
+  !> at 1 as "added only"); sf = 0.8, Yade's default timestepSafetyCoefficient,
+  !> and the largest sf (bisected to 0.5 %) with which each version reaches
+  !> the target by the exact limit.
   subroutine compare_scaling(target)
     real(dp), intent(in) :: target
-    real(dp), parameter :: sf = 0.8_dp
-    real(dp), allocatable :: factor(:), yade(:), kd(:, :), rd(:, :)
-    real(dp) :: added, nn(3), d(3), dti, added_net, added_clip
-    type(critical_step_type) :: scaled, verify, verify_y, verify_c
-    integer :: c, k, passes
+    real(dp), allocatable :: factor(:), kd(:, :), rd(:, :)
+    real(dp) :: added, nn(3), d(3), sf, lo, hi
+    type(critical_step_type) :: scaled, verify, verify_y
+    integer :: c, k, passes, version
     call scale_masses(monitor, target, mass, radius, factor, added, scaled, status, inertia=inertia, &
       passes=passes)
     if (.not. is_ok(status)) then
@@ -554,21 +557,52 @@ contains
       kd(:, i) = kd(:, i) + (k_n - k_t)*[0.0_dp, 0.0_dp, 1.0_dp] + k_t
       rd(:, i) = rd(:, i) + k_t*[1.0_dp, 1.0_dp, 0.0_dp]*radius(i)**2
     end do
-    allocate(yade(n), source=1.0_dp)
+    ! the factor at sf = 1: (target/dt_i)^2 scales as 1/sf^2
+    allocate(yade_base(n), source=1.0_dp)
     do i = 1, n
       if (maxval(kd(:, i)) <= 0.0_dp) cycle
-      dti = sqrt(2.0_dp)*sf*sqrt(min(mass(i)/maxval(kd(:, i)), inertia(i)/maxval(rd(:, i))))
-      yade(i) = (target/dti)**2
+      yade_base(i) = target**2/(2.0_dp*min(mass(i)/maxval(kd(:, i)), inertia(i)/maxval(rd(:, i))))
     end do
-    added_net = sum((yade - 1.0_dp)*mass)/sum(mass)
-    added_clip = sum((max(yade, 1.0_dp) - 1.0_dp)*mass)/sum(mass)
-    call verify_limit(yade, verify_y)
-    call verify_limit(max(yade, 1.0_dp), verify_c)
-    print '(a, es10.3, a, f0.4, a, es10.3, a, f0.4, a, i0, a)', "Yade's per-body rule (sf 0.8): net mass change ", &
-      added_net, " (exact damped limit / target ", verify_y%dt_critical_damped/target, "); added only (factors " &
-      //"clipped at 1) ", added_clip, " (limit / target ", verify_c%dt_critical_damped/target, ", ", &
-      count(yade > 1.0_dp), " particles scaled)"
+    do version = 1, 2
+      call report_yade(target, version, 0.8_dp, verify_y)
+      lo = 0.05_dp
+      hi = 0.8_dp
+      if (verify_y%dt_critical_damped >= target) lo = hi
+      do while (hi > 1.005_dp*lo)
+        sf = sqrt(lo*hi)
+        call verify_limit(yade_factors(version, sf), verify_y)
+        if (verify_y%dt_critical_damped >= target) then
+          lo = sf
+        else
+          hi = sf
+        end if
+      end do
+      call report_yade(target, version, lo, verify_y)
+    end do
   end subroutine compare_scaling
+
+  !> Yade's factors at safety coefficient sf: net (version 1) or clipped at 1.
+  function yade_factors(version, sf) result(f)
+    integer, intent(in) :: version
+    real(dp), intent(in) :: sf
+    real(dp) :: f(n)
+    f = yade_base/sf**2
+    if (version == 2) f = max(f, 1.0_dp)
+  end function yade_factors
+
+  !> One line: Yade's rule at sf, its mass change and exact damped limit.
+  subroutine report_yade(target, version, sf, crit)
+    real(dp), intent(in) :: target, sf
+    integer, intent(in) :: version
+    type(critical_step_type), intent(out) :: crit
+    real(dp) :: f(n)
+    f = yade_factors(version, sf)
+    call verify_limit(f, crit)
+    print '(a, a, a, f0.4, a, es10.3, a, f0.4, a, i0, a)', "Yade's per-body rule (", &
+      trim(merge("net       ", "added only", version == 1)), ", sf ", sf, "): mass change ", &
+      sum((f - 1.0_dp)*mass)/sum(mass), ", exact damped limit / target ", &
+      crit%dt_critical_damped/target, ", ", count(f > 1.0_dp), " particles scaled"
+  end subroutine report_yade
 
   !> The exact damped limit of the settled bed with masses and inertia scaled.
   subroutine verify_limit(factor, crit)
