@@ -9,7 +9,7 @@ module demstep_cli_registry
   use demstep_cli_system, only: handle_system, system_specs, system_doc
   use demstep_cli_harmonic, only: handle_harmonic_error, harmonic_specs, harmonic_doc
   use demstep_cli_stiffness, only: handle_simulated_stiffness, stiffness_specs, stiffness_doc
-  use demstep_cli_scene, only: handle_scene, scene_specs, scene_doc, beside
+  use demstep_cli_scene, only: handle_scene, scene_specs, scene_doc, beside, scene_output_file
   use demstep_cli_files, only: input_file_type
   use demstep_cli_accuracy, only: handle_contact_error, contact_error_specs, contact_error_doc, &
     handle_accuracy_cost, accuracy_cost_specs, accuracy_cost_doc
@@ -57,7 +57,7 @@ contains
   end function group_list
 
   !> The files a deck reads, which no output may replace: the deck, then every
-  !> file a `&scene` names (its variables `*_file`, beside the deck as the handler
+  !> file a `&scene` names (its variables `*_file` but the one it writes, beside the deck as the handler
   !> opens them). A value the runtime cannot read as a file name is left out (the
   !> handler refuses it).
   function deck_inputs(deck, groups) result(inputs)
@@ -86,6 +86,8 @@ contains
           n = len(item%name)
           if (n < 5 .or. len(item%value) == 0) cycle
           if (item%name(max(1, n - 4):) /= "_file") cycle
+          ! (a file the group writes is no input)
+          if (item%name == scene_output_file) cycle
           file = ""
           text = "&named file = "//item%value//" /"
           read(text, nml=named, iostat=ios)

@@ -29,12 +29,19 @@ module demstep_cli_scene
   use demstep_body_assembly, only: body_critical_steps
   use demstep_bonds, only: bond_model_from_name, bond_model_names, max_bond_parameters
   use demstep_results, only: write_scene_result, write_snapshot_result
+  use demstep_monitor, only: participation_type, scene_participation, top_shares, participation_top, &
+    spring_kind_names
+  use demstep_vtk, only: write_participation_vtk
+  use demstep_cli_files, only: output_file_type, open_output, discard_output, rename_file, refuse_input
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use, intrinsic :: iso_fortran_env, only: error_unit
   implicit none
   private
 
   public :: scene_specs, scene_doc, handle_scene, scene_takes_material, beside
+
+  !> The `&scene` variable that names a file the group writes (not an input).
+  character(len=*), parameter, public :: scene_output_file = "participation_file"
 
   character(len=*), parameter :: scene_doc = &
     "A particle assembly: its critical time step by the per-contact rule, a rigorous bound, " &
@@ -51,12 +58,15 @@ module demstep_cli_scene
     real(dp) :: tolerance = 0.0_dp
   end type deck_material_type
 
-  !> A `&scene` group's run: its duration, the step (given, or from
-  !> n_per_period) and the step count.
+  !> What a `&scene` group asks of the app beside its scene: the run (its
+  !> duration, the step, given or from n_per_period, and the step count) and
+  !> the top mode's participation in the report and a VTK file.
   type :: scene_run_type
     real(dp) :: duration = 0.0_dp, dt = 0.0_dp, n_per_period = 0.0_dp
     logical :: dt_given = .false.
     integer(i8) :: steps = 0_i8
+    logical :: participation = .false.
+    character(len=:), allocatable :: participation_file
   end type scene_run_type
 
 contains
@@ -131,6 +141,10 @@ contains
         "!0.3, 0.25", capacity=100), &
       var("prestress", "a logical", "count the pre-stress stiffness -(F_n/l)(I - n n^T) in the " &
         //"analysis", "!F", default="F"), &
+      var("participation", "a logical", "report the particles and springs that carry the top mode " &
+        //"(the result group has them always)", "!T", default="F"), &
+      var("participation_file", "a quoted file name", "write the top mode's participation per " &
+        //"particle and contact as a legacy VTK file (ParaView)", "!'top.vtk'"), &
       var("k_bond", "a real number", "bond normal stiffness (> 0 when there are bonds)", "100.0", &
         default="!0"), &
       var("k_bond_tangential", "a real number", "bond tangential stiffness (>= 0)", "0.0", &
@@ -206,6 +220,7 @@ contains
     type(scene_run_type) :: run
     type(deck_material_type) :: deck_mat
     type(scene_setup_type) :: setup
+    type(participation_type) :: modal
     type(scene_type) :: sc
     type(critical_step_type) :: crit
     type(scene_summary_type) :: summary
@@ -235,11 +250,11 @@ contains
       call body_critical_steps(sc, setup%bodies, crit, status, solver=input%eigen_solver, &
         tolerance=input%eigen_tolerance, max_eigen_dof=input%max_eigen_dof)
     else if (ctx%quiet) then
-      call assembly_critical_steps(sc, crit, status, hertz_mode=setup%hertz_mode, &
+      call scene_participation(sc, crit, modal, status, hertz_mode=setup%hertz_mode, &
         impact_velocity=setup%impact_velocity, max_eigen_dof=input%max_eigen_dof, prestress=input%prestress, &
         solver=input%eigen_solver, tolerance=input%eigen_tolerance)
     else
-      call assembly_critical_steps(sc, crit, status, hertz_mode=setup%hertz_mode, &
+      call scene_participation(sc, crit, modal, status, hertz_mode=setup%hertz_mode, &
         impact_velocity=setup%impact_velocity, max_eigen_dof=input%max_eigen_dof, prestress=input%prestress, &
         solver=input%eigen_solver, tolerance=input%eigen_tolerance, progress=progress)
     end if
@@ -294,7 +309,9 @@ contains
       call report(ctx%report, group, sc, crit, run%duration > 0.0_dp, run%dt, run%steps, summary, &
         dt_recommended)
     end if
-    call write_scene_result(ctx%results, sc, crit, run%dt, summary, dt_recommended)
+    call participation_output(ctx, group, sc, modal, run, status)
+    if (status%stat /= demstep_stat%ok) return
+    call write_scene_result(ctx%results, sc, crit, run%dt, summary, dt_recommended, modal)
     call record_step(ctx, "assembly step", dt_recommended, .true., group)
     if (allocated(input%snapshot_file)) call write_snapshot_result(ctx%results, setup%snapshot, &
       deck_mat%found, crit, peer_dt)
@@ -320,7 +337,8 @@ contains
       local_damping, impact_velocity, duration, dt, n_per_period, k_tangential, kt_ratio, g_star, &
       friction, cell_lo(3), cell_hi(3), eigen_tolerance, damping_ratio_tangential, &
       damping_ratio_rolling, drag, rolling_ratio, twisting_ratio, rolling_friction, body_density
-    logical :: periodic(3), prestress, tangential_damping
+    logical :: periodic(3), prestress, tangential_damping, participation
+    character(len=512) :: participation_file
     namelist /scene/ dim, position, velocity, mass, radius, fixed, bonds, particles_file, &
       bonds_file, law, k_normal, e_star, k_bond, k_bond_tangential, walls, effects, gravity, &
       damping_ratio, restitution, local_damping, hertz_linearization, impact_velocity, duration, &
@@ -328,7 +346,8 @@ contains
       kt_ratio, g_star, friction, prestress, types, type_k_normal, type_k_tangential, young, poisson, &
       eigen_solver, eigen_tolerance, snapshot_file, snapshot_format, snapshot_frame, &
       damping_ratio_tangential, damping_ratio_rolling, drag, rolling_ratio, twisting_ratio, rolling_friction, &
-      wall_type, tangential_damping, bond_model, bond_parameters, bodies_file, body_density
+      wall_type, tangential_damping, bond_model, bond_parameters, bodies_file, body_density, &
+      participation, participation_file
     type(var_spec), allocatable :: specs(:)
     character(len=*), parameter :: g = "scene"
 
@@ -465,6 +484,8 @@ contains
     run%dt = dt
     run%dt_given = given(group, "dt")
     run%n_per_period = n_per_period
+    run%participation = participation
+    if (given(group, "participation_file")) run%participation_file = beside(file, trim(participation_file))
 
   contains
 
@@ -487,6 +508,74 @@ contains
     end subroutine take_int_array
 
   end subroutine read_scene_input
+
+  !> The top mode's participation: the report's lines (with `participation`
+  !> or a file) and the VTK file (`participation_file`, never over an input;
+  !> written to a temporary beside it and renamed).
+  subroutine participation_output(ctx, group, sc, part, run, status)
+    type(cli_context), intent(in) :: ctx
+    type(nml_group_type), intent(in) :: group
+    type(scene_type), intent(in) :: sc
+    type(participation_type), intent(in) :: part
+    type(scene_run_type), intent(in) :: run
+    type(demstep_status_type), intent(out) :: status
+    type(output_file_type) :: out
+    character(len=:), allocatable :: kind
+    integer, allocatable :: top(:)
+    integer :: k, ptype
+    status%stat = demstep_stat%ok
+    if (.not. (run%participation .or. allocated(run%participation_file))) return
+    if (.not. part%computed) then
+      if (allocated(run%participation_file)) then
+        call set_status(status, demstep_stat%invalid_input, "&scene: participation_file: needs the top " &
+          //"mode, which no eigensolver returned (eigen_solver = 'none', or Lanczos did not converge)")
+      else
+        write(ctx%report, '(2x, a)') "participation: no top mode (no eigensolver returned one)"
+      end if
+      return
+    end if
+    top = top_shares(part%particle_share, participation_top)
+    write(ctx%report, '(2x, a)') "the top mode: the particles that carry most of it"
+    write(ctx%report, '(4x, a)') "particle     share         radius          mass  type"
+    do k = 1, size(top)
+      ptype = 0
+      if (allocated(sc%ptype)) ptype = sc%ptype(top(k))
+      write(ctx%report, '(4x, i8, f10.4, 2es15.6, i6)') top(k), part%particle_share(top(k)), &
+        sc%radius(top(k)), sc%mass(top(k)), ptype
+    end do
+    top = top_shares(part%spring_share, participation_top)
+    write(ctx%report, '(2x, a)') "the top mode: the springs that carry most of its energy (particle 0: a wall)"
+    write(ctx%report, '(4x, a)') "   i        j  kind         share            k_n            k_t"
+    do k = 1, size(top)
+      kind = trim(spring_kind_names(part%spring_kind(top(k))))
+      write(ctx%report, '(4x, 2i8, 2x, a7, f10.4, 2es15.6)') part%spring_a(top(k)), part%spring_b(top(k)), &
+        kind, part%spring_share(top(k)), part%spring_k(:, top(k))
+    end do
+    if (.not. allocated(run%participation_file)) return
+    associate(target => run%participation_file)
+      if (allocated(ctx%inputs)) then
+        call refuse_input(ctx%inputs, target, status)
+        if (status%stat /= demstep_stat%ok) then
+          status%message = "&scene: participation_file: '"//target//"' "//status%message
+          return
+        end if
+      end if
+      call open_output(target, out, status)
+      if (status%stat == demstep_stat%ok) then
+        close(out%unit)
+        out%unit = -1
+        call write_participation_vtk(out%temp, sc, part, status)
+        if (status%stat == demstep_stat%ok) call rename_file(out%temp, out%target, status)
+        if (status%stat /= demstep_stat%ok) call discard_output(out)
+      end if
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&scene: participation_file: '"//target//"': "//status%message
+        status%stat = demstep_stat%io_error
+        return
+      end if
+      write(ctx%report, '(2x, a)') "wrote the top mode's participation to "//target
+    end associate
+  end subroutine participation_output
 
   !> Whether a `&scene` among `groups` takes its particle types' materials
   !> from the deck's `&material` group: a snapshot without stiffness of its own.

@@ -14,16 +14,22 @@
 !> still safe; on "re-solve now", and every `update_every` steps, the exact
 !> (damped) limit is re-solved, warm-started, and the step set to `safety`
 !> times it. The run ends with the mean wall time of a warm-started update and
-!> of a check, each over the mean time of one solver step, measured here:
+!> of a check on the settled bed (the second half of the run), each over the
+!> mean time of one solver step there, measured here:
 !>
 !>   monitor: update U solver steps, check C solver steps, particles P
 !>
-!> Run: fpm run --profile release --example dem_solver [-- mode.vtk]
-!> (with a file name: the settled bed's top mode as a VTK file).
+!> Run: fpm run --profile release --example dem_solver [-- steps=N safety=S scaling=F mode.vtk]
+!> (steps: default 12000; safety: the step over the damped limit, default
+!> 0.9; scaling: mass scaling of the settled bed to F times its damped limit,
+!> demstep's `scale_masses` against Yade's per-body density scaling rule; a
+!> file name: the settled bed's top mode as a VTK file). The kinetic
+!> energy is watched: the first step after the bed settled (step 3000) at which
+!> it exceeds 100 times its least value since is reported as growth.
 program dem_solver
   use demstep, only: dp, i8, demstep_status_type, is_ok, critical_step_type
   use demstep_monitor, only: step_monitor_type, fresh_pour_estimate, mode_participation, top_shares, &
-    monitor_verdict
+    monitor_verdict, scale_masses, solver_critical_steps
   use demstep_vtk, only: write_vtk_particles, vtk_field_type
   implicit none
 
@@ -34,8 +40,9 @@ program dem_solver
   real(dp), parameter :: g(3) = [0.0_dp, 0.0_dp, -9.81_dp]
   !> The periodic cell's side (x and y).
   real(dp), parameter :: box = 30.0e-3_dp
-  integer, parameter :: n_steps = 12000, check_every = 20, update_every = 500, report_every = 1000
-  real(dp), parameter :: safety = 0.9_dp
+  integer, parameter :: check_every = 20, update_every = 500, report_every = 1000, settled_step = 3000
+  integer :: n_steps = 12000
+  real(dp) :: safety = 0.9_dp, scaling = 0.0_dp
   integer, parameter :: max_history = 16
   !> The floor z = 0 as the monitor takes walls: a point and the normal into the domain.
   real(dp), parameter :: floor_point(3, 1) = reshape([0.0_dp, 0.0_dp, 0.0_dp], [3, 1])
@@ -61,13 +68,20 @@ program dem_solver
   integer(i8) :: c0, c1, rate, t_steps, t_updates, t_checks
   ! the second half of the run (a settled bed): its updates, checks and steps
   integer(i8) :: t2_steps, t2_updates, t2_checks
-  integer :: n2_updates, n2_checks
+  integer :: n2_updates, n2_checks, n2_accepted, n2_confirmed
+  ! the kinetic energy's least value since the bed settled, and the step it grew 100 times
+  real(dp) :: ke_min
+  integer :: grew_at
   ! the first (cold) update's products and time, and the warm ones' products
   integer(i8) :: cold_products, warm_products, t_cold
   logical :: safe, have_limit
   character(len=256) :: vtk_path
+  ! Yade's per-body mass factors at sf = 1 (compare_scaling)
+  real(dp), allocatable :: yade_base(:)
 
   zeta = -log(restitution)/sqrt(pi**2 + log(restitution)**2)
+  vtk_path = ""
+  call arguments()
   call setup()
 
   ! before any contact: the estimate from a generated packing of the same spheres
@@ -88,6 +102,10 @@ program dem_solver
   t2_checks = 0
   n2_updates = 0
   n2_checks = 0
+  n2_accepted = 0
+  n2_confirmed = 0
+  ke_min = huge(1.0_dp)
+  grew_at = 0
   n_updates = 0
   n_checks = 0
   warm_products = 0
@@ -124,13 +142,27 @@ program dem_solver
         call update(step)
       end if
     end if
+    if (step >= settled_step .and. mod(step, 10) == 0) then
+      ke = kinetic()
+      ke_min = min(ke_min, ke)
+      if (grew_at == 0 .and. (ke > 100.0_dp*ke_min .or. .not. ke <= huge(1.0_dp))) then
+        grew_at = step
+        print '(a, i0, a, es10.3, a, es10.3, a)', "kinetic energy grew 100 times at step ", step, " (", ke, &
+          " J, least since step 3000 ", ke_min, " J)"
+      end if
+      ! far beyond growth: stop before the cell list sees non-finite positions
+      if (.not. ke <= 1.0e6_dp*ke_min) exit
+    end if
     if (mod(step, report_every) == 0) then
-      ke = 0.5_dp*sum(spread(mass, 1, 3)*v**2) + 0.5_dp*sum(spread(inertia, 1, 3)*w**2)
+      ke = kinetic()
       print '(a, i6, a, f7.4, a, es10.3, a, es10.3, a, i6, a, es10.3)', "step ", step, "  t ", t, &
         " s  dt ", dt, " s  limit ", dt_limit, " s  contacts ", nc, "  kinetic ", ke
     end if
   end do
 
+  if (step <= n_steps) print '(a, i0, a)', "stopped at step ", step, ": the kinetic energy grew a million times"
+  if (grew_at == 0) print '(a, i0, a, es10.3, a)', "kinetic energy never grew 100 times over its least since step ", &
+    settled_step, " (least ", ke_min, " J)"
   print '(a, i0, a, i0, a, i0, a)', "updates ", n_updates, " (", n_resolves, " asked for by a check), checks ", &
     n_checks, ""
   print '(a, es12.5, a, es12.5, a, f6.3)', "settled bed: exact damped limit ", monitor%last%dt_critical_damped, &
@@ -146,22 +178,53 @@ program dem_solver
     1.0e3_dp*real(t_steps, dp)/rate/n_steps, " ms, warm update ", &
     1.0e3_dp*real(t_updates, dp)/rate/max(1, n_updates - 1), " ms, check ", &
     1.0e3_dp*real(t_checks, dp)/rate/max(1, n_checks), " ms"
-  print '(a, i0, a, f0.2, a, i0, a, f0.2, a)', "settled bed (second half of the run): ", n2_updates, &
+  print '(a, i0, a, f0.2, a, i0, a, i0, a, i0, a, f0.2, a)', "settled bed (second half of the run): ", n2_updates, &
     " updates of ", (real(t2_updates, dp)/max(1, n2_updates))/(real(t2_steps, dp)/(n_steps - n_steps/2)), &
-    " solver steps each, ", n2_checks, " checks of ", &
+    " solver steps each (", n2_accepted, " took the previous modes, ", n2_confirmed, " confirmed by Lanczos), ", &
+    n2_checks, " checks of ", &
     (real(t2_checks, dp)/max(1, n2_checks))/(real(t2_steps, dp)/(n_steps - n_steps/2)), " solver steps each"
+  print '(a, f0.2, a, f0.2, a)', "whole run (pour and settled): warm updates of ", &
+    (real(t_updates, dp)/max(1, n_updates - 1))/(real(t_steps, dp)/n_steps), " solver steps, checks of ", &
+    (real(t_checks, dp)/max(1, n_checks))/(real(t_steps, dp)/n_steps), " solver steps"
+  if (step <= n_steps) stop 1
   call cold_and_warm()
   call governing()
-  if (command_argument_count() >= 1) then
-    call get_command_argument(1, vtk_path)
-    call write_mode(trim(vtk_path))
-  end if
-  ! (the first update is cold: the means are over the warm-started ones)
+  if (len_trim(vtk_path) > 0) call write_mode(trim(vtk_path))
+  if (scaling > 0.0_dp) call compare_scaling(scaling*monitor%last%dt_critical_damped)
+  ! the settled bed: the second half of the run, its own solver steps
   print '(a, f0.2, a, f0.2, a, i0)', "monitor: update ", &
-    (real(t_updates, dp)/max(1, n_updates - 1))/(real(t_steps, dp)/n_steps), " solver steps, check ", &
-    (real(t_checks, dp)/max(1, n_checks))/(real(t_steps, dp)/n_steps), " solver steps, particles ", n
+    (real(t2_updates, dp)/max(1, n2_updates))/(real(t2_steps, dp)/(n_steps - n_steps/2)), " solver steps, check ", &
+    (real(t2_checks, dp)/max(1, n2_checks))/(real(t2_steps, dp)/(n_steps - n_steps/2)), " solver steps, particles ", n
 
 contains
+
+  !> steps=N, safety=S and a VTK file name from the command line.
+  subroutine arguments()
+    character(len=256) :: arg
+    integer :: k, ios
+    do k = 1, command_argument_count()
+      call get_command_argument(k, arg)
+      if (index(arg, "steps=") == 1) then
+        read(arg(7:), *, iostat=ios) n_steps
+        if (ios /= 0 .or. n_steps < 2*settled_step) error stop "dem_solver: steps= needs an integer >= 6000"
+      else if (index(arg, "scaling=") == 1) then
+        read(arg(9:), *, iostat=ios) scaling
+        if (ios /= 0 .or. .not. (scaling > 1.0_dp .and. scaling < 100.0_dp)) &
+          error stop "dem_solver: scaling= needs a number in (1, 100)"
+      else if (index(arg, "safety=") == 1) then
+        read(arg(8:), *, iostat=ios) safety
+        if (ios /= 0 .or. .not. (safety > 0.0_dp .and. safety < 2.0_dp)) &
+          error stop "dem_solver: safety= needs a number in (0, 2)"
+      else
+        vtk_path = arg
+      end if
+    end do
+  end subroutine arguments
+
+  !> Translational and rotational kinetic energy.
+  real(dp) function kinetic()
+    kinetic = 0.5_dp*sum(spread(mass, 1, 3)*v**2) + 0.5_dp*sum(spread(inertia, 1, 3)*w**2)
+  end function kinetic
 
   !> Radii, masses, a loose lattice above the floor with small random velocities.
   subroutine setup()
@@ -388,6 +451,8 @@ contains
     if (step > n_steps/2) then
       t2_updates = t2_updates + (c1 - c0)
       n2_updates = n2_updates + 1
+      if (monitor%accepted) n2_accepted = n2_accepted + 1
+      if (monitor%confirmed) n2_confirmed = n2_confirmed + 1
     end if
     have_limit = .true.
     dt_limit = monitor%last%dt_critical_damped
@@ -446,6 +511,109 @@ contains
       print '(i6, f8.4, 2i6, f8.1)', top(k), cs(top(k)), pairs(:, top(k)), k_n
     end do
   end subroutine governing
+
+  !> Mass scaling of the settled bed to `target`: demstep's exact scaling
+  !> (`scale_masses`) and Yade's per-body density scaling rule on the same
+  !> arrays, each scaled system's exact damped limit by `solver_critical_steps`.
+  !> Yade's rule (GlobalStiffnessTimeStepper, pkg/dem/GlobalStiffnessTimeStepper.cpp
+  !> of yade-mpi at 593a4d6ab, lines 177-198, 62-73 and 104-106; NewtonIntegrator.cpp
+  !> line 172 divides the inertia by it): per body the diagonal stiffness sums
+  !> K = sum (k_n - k_t) n_a^2 + k_t per axis a and R = sum k_t (1 - n_a^2) r^2,
+  !> dt_i = sqrt(2) sf sqrt(min(m/max K, I/max R)) and the factor
+  !> densityScaling = (dt_i/target)^2 on the accelerations: a mass factor
+  !> (target/dt_i)^2, below 1 where dt_i > target (kept as "net", and clipped
+  !> at 1 as "added only"); sf = 0.8, Yade's default timestepSafetyCoefficient,
+  !> and the largest sf (bisected to 0.5 %) with which each version reaches
+  !> the target by the exact limit.
+  subroutine compare_scaling(target)
+    real(dp), intent(in) :: target
+    real(dp), allocatable :: factor(:), kd(:, :), rd(:, :)
+    real(dp) :: added, nn(3), d(3), sf, lo, hi
+    type(critical_step_type) :: scaled, verify, verify_y
+    integer :: c, k, passes, version
+    call scale_masses(monitor, target, mass, radius, factor, added, scaled, status, inertia=inertia, &
+      passes=passes)
+    if (.not. is_ok(status)) then
+      print '(a)', "scale_masses: "//status%message
+    end if
+    call verify_limit(factor, verify)
+    print '(a, es12.5, a, f0.2, a, es10.3, a, i0, a, f0.4, a, i0, a)', "mass scaling to ", target, " s (", &
+      target/monitor%last%dt_critical_damped, " x the limit): demstep added mass ", added, " of the total, ", &
+      count(factor > 1.0_dp), " particles scaled, exact damped limit / target ", &
+      verify%dt_critical_damped/target, " (", passes, " exact solves)"
+    ! Yade's per-body rule on the same contacts (and the floor)
+    allocate(kd(3, n), rd(3, n), source=0.0_dp)
+    do c = 1, nc
+      d = x(:, pairs(2, c)) - x(:, pairs(1, c))
+      d(1:2) = d(1:2) - box*anint(d(1:2)/box)
+      nn = d/norm2(d)
+      do k = 1, 2
+        kd(:, pairs(k, c)) = kd(:, pairs(k, c)) + (k_n - k_t)*nn**2 + k_t
+        rd(:, pairs(k, c)) = rd(:, pairs(k, c)) + k_t*(1.0_dp - nn**2)*radius(pairs(k, c))**2
+      end do
+    end do
+    do i = 1, n
+      if (x(3, i) >= radius(i)) cycle
+      kd(:, i) = kd(:, i) + (k_n - k_t)*[0.0_dp, 0.0_dp, 1.0_dp] + k_t
+      rd(:, i) = rd(:, i) + k_t*[1.0_dp, 1.0_dp, 0.0_dp]*radius(i)**2
+    end do
+    ! the factor at sf = 1: (target/dt_i)^2 scales as 1/sf^2
+    allocate(yade_base(n), source=1.0_dp)
+    do i = 1, n
+      if (maxval(kd(:, i)) <= 0.0_dp) cycle
+      yade_base(i) = target**2/(2.0_dp*min(mass(i)/maxval(kd(:, i)), inertia(i)/maxval(rd(:, i))))
+    end do
+    do version = 1, 2
+      call report_yade(target, version, 0.8_dp, verify_y)
+      lo = 0.05_dp
+      hi = 0.8_dp
+      if (verify_y%dt_critical_damped >= target) lo = hi
+      do while (hi > 1.005_dp*lo)
+        sf = sqrt(lo*hi)
+        call verify_limit(yade_factors(version, sf), verify_y)
+        if (verify_y%dt_critical_damped >= target) then
+          lo = sf
+        else
+          hi = sf
+        end if
+      end do
+      call report_yade(target, version, lo, verify_y)
+    end do
+  end subroutine compare_scaling
+
+  !> Yade's factors at safety coefficient sf: net (version 1) or clipped at 1.
+  function yade_factors(version, sf) result(f)
+    integer, intent(in) :: version
+    real(dp), intent(in) :: sf
+    real(dp) :: f(n)
+    f = yade_base/sf**2
+    if (version == 2) f = max(f, 1.0_dp)
+  end function yade_factors
+
+  !> One line: Yade's rule at sf, its mass change and exact damped limit.
+  subroutine report_yade(target, version, sf, crit)
+    real(dp), intent(in) :: target, sf
+    integer, intent(in) :: version
+    type(critical_step_type), intent(out) :: crit
+    real(dp) :: f(n)
+    f = yade_factors(version, sf)
+    call verify_limit(f, crit)
+    print '(a, a, a, f0.4, a, es10.3, a, f0.4, a, i0, a)', "Yade's per-body rule (", &
+      trim(merge("net       ", "added only", version == 1)), ", sf ", sf, "): mass change ", &
+      sum((f - 1.0_dp)*mass)/sum(mass), ", exact damped limit / target ", &
+      crit%dt_critical_damped/target, ", ", count(f > 1.0_dp), " particles scaled"
+  end subroutine report_yade
+
+  !> The exact damped limit of the settled bed with masses and inertia scaled.
+  subroutine verify_limit(factor, crit)
+    real(dp), intent(in) :: factor(:)
+    type(critical_step_type), intent(out) :: crit
+    call solver_critical_steps(x, mass*factor, radius, pairs(:, :nc), [k_n], crit, status, k_t=[k_t], &
+      c_n=c_n(:nc), inertia=inertia*factor, wall_point=floor_point, wall_normal=floor_normal, &
+      wall_k=[k_n, k_t], wall_damping=[zeta, 0.0_dp], periodic=[.true., .true., .false.], &
+      cell_lo=[0.0_dp, 0.0_dp, 0.0_dp], cell_hi=[box, box, 0.0_dp])
+    if (.not. is_ok(status)) error stop status%message
+  end subroutine verify_limit
 
   !> The settled bed's top mode as a VTK file (participation per particle and contact).
   subroutine write_mode(path)

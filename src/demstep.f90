@@ -44,7 +44,9 @@
 !> - Inside a running DEM solver: `solver_critical_steps` (the solver's own arrays
 !>   and contact list, no scene, no search), `step_monitor_type` (`update`
 !>   warm-started, `check` in O(contacts)), `mode_participation`, `top_shares`,
-!>   `fresh_pour_estimate`, `scale_masses`, `write_vtk_particles` (ParaView).
+!>   `fresh_pour_estimate`, `scale_masses`, `write_vtk_particles` (ParaView);
+!>   a scene's top-mode participation: `scene_participation`,
+!>   `write_participation_vtk`.
 !> - One recommended step: `recommended_step`, `assess_contact`.
 !> - Results read back by name: `read_result`, `result_get`.
 !> - Progress of long work: `text_progress_type`.
@@ -121,8 +123,9 @@ module demstep
   use demstep_scene_input, only: scene_input_type, scene_setup_type, scene_from_input, scene_input_part
   ! inside a running solver: its own arrays, a persistent monitor, what governs the limit
   use demstep_monitor, only: solver_critical_steps, step_monitor_type, monitor_verdict, &
-    mode_participation, top_shares, fresh_pour_estimate, scale_masses
-  use demstep_vtk, only: write_vtk_particles, vtk_field_type
+    mode_participation, top_shares, fresh_pour_estimate, scale_masses, scene_participation, &
+    participation_type
+  use demstep_vtk, only: write_vtk_particles, vtk_field_type, write_participation_vtk
   ! one recommended step
   use demstep_recommend, only: recommended_step, contact_assessment_type, assess_contact
   ! results read back by name

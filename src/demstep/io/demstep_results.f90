@@ -19,6 +19,7 @@ module demstep_results
   use demstep_text, only: read_text_file, lowercase
   use demstep_scene_data, only: scene_type, scene_summary_type
   use demstep_assembly, only: critical_step_type, eigen_solver_name, safe_basis_name
+  use demstep_monitor, only: participation_type, participation_top, spring_kind_names, top_shares
   use demstep_stiffness, only: stiffness_result_type, interval_kind
   use demstep_snapshot, only: snapshot_type, snapshot_format_names
   use demstep_material, only: n_peer_rules, peer_rule_names
@@ -567,14 +568,25 @@ contains
     write(unit, nml=simulated_stiffness_result)
   end subroutine write_simulated_stiffness_result
 
-  !> `&scene_result`: the assembly's sizes, limits and run.
-  subroutine write_scene_result(unit, sc, crit, dt_used, summary, dt_recommended)
+  !> `&scene_result`: the assembly's sizes, limits and run, and (with `part`)
+  !> the `participation_top` particles and springs that carry most of the top
+  !> mode, largest first (fewer: the rest 0 and blank; a spring's particle i
+  !> is 0 on a wall or the ground; types 0 when the scene has none).
+  subroutine write_scene_result(unit, sc, crit, dt_used, summary, dt_recommended, part)
     integer, intent(in) :: unit
     type(scene_type), intent(in) :: sc
     type(critical_step_type), intent(in) :: crit
     real(dp), intent(in) :: dt_used
     type(scene_summary_type), intent(in) :: summary
     real(dp), intent(in) :: dt_recommended
+    type(participation_type), intent(in), optional :: part
+    logical :: participation
+    integer, dimension(participation_top) :: top_particles, top_particle_types, top_contact_i, top_contact_j
+    real(dp), dimension(participation_top) :: top_particle_shares, top_particle_radii, top_particle_masses, &
+      top_contact_shares, top_contact_k_n, top_contact_k_t
+    character(len=len(spring_kind_names)) :: top_contact_kinds(participation_top)
+    integer, allocatable :: top(:)
+    integer :: k
     integer :: n_particles, n_dof, n_springs, max_contacts, dof_per_particle
     logical :: rotation, tangential, periodic, prestress
     real(dp) :: omega_max, dt_critical_eigen, dt_critical_bound, dt_contact_rule, &
@@ -594,7 +606,41 @@ contains
       omega_upper, dt_critical_eigen, dt_critical_safe, safe_basis, safe_failure, eigen_products, dt_critical_bound, &
       dt_contact_rule, &
       dt_critical_damped, damping_ratio_top, dt_used, steps, energy_drift, max_overlap, max_contacts, &
-      blew_up, dt_recommended, damped_exact, dt_critical_damped_bound
+      blew_up, dt_recommended, damped_exact, dt_critical_damped_bound, participation, top_particles, &
+      top_particle_shares, top_particle_radii, top_particle_masses, top_particle_types, top_contact_i, &
+      top_contact_j, top_contact_kinds, top_contact_shares, top_contact_k_n, top_contact_k_t
+    participation = .false.
+    top_particles = 0
+    top_particle_types = 0
+    top_particle_shares = 0.0_dp
+    top_particle_radii = 0.0_dp
+    top_particle_masses = 0.0_dp
+    top_contact_i = 0
+    top_contact_j = 0
+    top_contact_kinds = ""
+    top_contact_shares = 0.0_dp
+    top_contact_k_n = 0.0_dp
+    top_contact_k_t = 0.0_dp
+    if (present(part)) participation = part%computed
+    if (participation) then
+      top = top_shares(part%particle_share, participation_top)
+      do k = 1, size(top)
+        top_particles(k) = top(k)
+        top_particle_shares(k) = part%particle_share(top(k))
+        top_particle_radii(k) = sc%radius(top(k))
+        top_particle_masses(k) = sc%mass(top(k))
+        if (allocated(sc%ptype)) top_particle_types(k) = sc%ptype(top(k))
+      end do
+      top = top_shares(part%spring_share, participation_top)
+      do k = 1, size(top)
+        top_contact_i(k) = part%spring_a(top(k))
+        top_contact_j(k) = part%spring_b(top(k))
+        top_contact_kinds(k) = spring_kind_names(part%spring_kind(top(k)))
+        top_contact_shares(k) = part%spring_share(top(k))
+        top_contact_k_n(k) = part%spring_k(1, top(k))
+        top_contact_k_t(k) = part%spring_k(2, top(k))
+      end do
+    end if
     n_particles = sc%n
     n_dof = crit%n_dof
     n_springs = crit%n_springs

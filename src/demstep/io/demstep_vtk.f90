@@ -8,11 +8,13 @@
 module demstep_vtk
   use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_scene_data, only: scene_type
+  use demstep_monitor, only: participation_type
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
-  public :: write_vtk_particles
+  public :: write_vtk_particles, write_participation_vtk
 
   !> A named field: one value per point (particle) or per contact.
   type, public :: vtk_field_type
@@ -21,6 +23,47 @@ module demstep_vtk
   end type vtk_field_type
 
 contains
+
+  !> A scene's top-mode participation (`scene_participation`) as a legacy
+  !> VTK file: point fields radius, mass, type (0 without types),
+  !> participation and wall_participation (the particle's wall and ground
+  !> springs' share of the mode's energy), and one line per spring between
+  !> two particles with cell fields contact_participation and k_n. Status
+  !> invalid_input naming `part` (no mode), or as `write_vtk_particles`.
+  subroutine write_participation_vtk(path, scene, part, status)
+    character(len=*), intent(in) :: path
+    type(scene_type), intent(in) :: scene
+    type(participation_type), intent(in) :: part
+    type(demstep_status_type), intent(out) :: status
+    type(vtk_field_type) :: pf(5), cf(2)
+    real(dp), allocatable :: wall(:)
+    logical, allocatable :: between(:)
+    integer, allocatable :: pairs(:, :)
+    integer :: s
+    if (.not. part%computed) then
+      call set_status(status, demstep_stat%invalid_input, "has no top mode (no eigensolver ran)", where="part")
+      return
+    end if
+    allocate(wall(scene%n), source=0.0_dp)
+    between = part%spring_a > 0 .and. part%spring_b > 0
+    do s = 1, size(between)
+      if (.not. between(s) .and. part%spring_b(s) > 0) wall(part%spring_b(s)) = wall(part%spring_b(s)) + &
+        part%spring_share(s)
+    end do
+    allocate(pairs(2, count(between)))
+    pairs(1, :) = pack(part%spring_a, between)
+    pairs(2, :) = pack(part%spring_b, between)
+    pf(1) = vtk_field_type("radius", scene%radius)
+    pf(2) = vtk_field_type("mass", scene%mass)
+    pf(3) = vtk_field_type("type", [(0.0_dp, s = 1, scene%n)])
+    if (allocated(scene%ptype)) pf(3)%values = real(scene%ptype, dp)
+    pf(4) = vtk_field_type("participation", part%particle_share)
+    pf(5) = vtk_field_type("wall_participation", wall)
+    cf(1) = vtk_field_type("contact_participation", pack(part%spring_share, between))
+    cf(2) = vtk_field_type("k_n", pack(part%spring_k(1, :), between))
+    call write_vtk_particles(path, scene%x, pf, status, pairs=pairs, contact_fields=cf, &
+      title="demstep: the top mode's participation")
+  end subroutine write_participation_vtk
 
   !> Write particles x(dim, n) (dim 1 to 3; padded with zeros to 3D) with
   !> point fields (each n values) and, optionally, contacts pairs(2, nc)

@@ -246,6 +246,9 @@ module demstep_assembly
     integer :: choice = 0
     !> Krylov size of the Lanczos solves.
     integer :: ncv = scene_lanczos_ncv
+    !> Take the start vector as it is when its own residual meets the
+    !> tolerance (see `top_eigenpair`).
+    logical :: accept_start = .false.
     real(dp), allocatable :: vec(:)
   contains
     procedure :: top => serial_damped_top
@@ -286,7 +289,7 @@ contains
   !> lapack_failure; the Lanczos solver's statuses (not_converged names
   !> `tolerance`).
   subroutine assembly_critical_steps(scene, result, status, hertz_mode, impact_velocity, &
-      max_eigen_dof, prestress, solver, tolerance, progress)
+      max_eigen_dof, prestress, solver, tolerance, progress, mode, springs_out)
     type(scene_type), intent(in) :: scene
     type(critical_step_type), intent(out) :: result
     type(demstep_status_type), intent(out) :: status
@@ -306,6 +309,12 @@ contains
     real(dp), intent(in), optional :: tolerance
     !> Reports the Lanczos products.
     class(progress_type), intent(inout), optional :: progress
+    !> The top undamped unit mode in the operator's scaled coordinates (nc
+    !> per free particle, `dof_components`; size 0 when no eigensolver
+    !> returned one) and the linearised springs it was computed with (e.g.
+    !> for `scene_participation`).
+    real(dp), allocatable, intent(out), optional :: mode(:)
+    type(spring_block_type), allocatable, intent(out), optional :: springs_out(:)
     type(spring_block_type), allocatable :: springs(:)
     type(assembly_operator_type), target :: op
     real(dp), allocatable :: vec(:)
@@ -334,6 +343,14 @@ contains
     result%periodic = any(scene%periodic)
     allocate(vec(op%n), source=0.0_dp)
     call operator_critical_steps(op, springs, rate, geo, choice, limit, tol, vec, result, status, progress)
+    if (present(mode)) then
+      if (status%stat == demstep_stat%ok .and. result%eigen_computed .and. any(vec /= 0.0_dp)) then
+        call move_alloc(vec, mode)
+      else
+        allocate(mode(0))
+      end if
+    end if
+    if (present(springs_out)) call move_alloc(springs, springs_out)
   end subroutine assembly_critical_steps
 
   !> The estimates of `assembly_critical_steps` from a built operator and its
@@ -345,9 +362,13 @@ contains
   !> lambda_max(B')), scaled: the Collatz-Wielandt bound is then not
   !> computed), the Krylov size `ncv`, and `damped_vec`: the damped Newton
   !> steps start from it when it is non-zero (its own quadratic's root lies at
-  !> or above the damped root as any vector's does) and it returns their last mode.
+  !> or above the damped root as any vector's does) and it returns their last
+  !> mode. With `accept_start` (the undamped solve) and `accept_damped` (the
+  !> damped Newton steps), a warm start whose own residual already meets the
+  !> tolerance is taken as it is (`top_eigenpair`): one product instead of a
+  !> Lanczos solve.
   subroutine operator_critical_steps(op, springs, rate, geo, choice, limit, tol, vec, result, status, progress, &
-      bounds, ncv, damped_vec)
+      bounds, ncv, damped_vec, accept_start, accept_damped)
     type(assembly_operator_type), intent(inout), target :: op
     type(spring_block_type), intent(in) :: springs(:)
     !> omega = rate sqrt(lambda); whether the pre-stress is counted.
@@ -364,6 +385,7 @@ contains
     real(dp), intent(in), optional :: bounds(2)
     integer, intent(in), optional :: ncv
     real(dp), intent(inout), optional :: damped_vec(:)
+    logical, intent(in), optional :: accept_start, accept_damped
     real(dp) :: lam, err, b_bound, lower, upper, failure
     integer :: i, solver, basis
     logical :: has_mode, converged
@@ -396,7 +418,7 @@ contains
       lower = 0.0_dp
       if (geo) lower = -(result%omega_bound/rate)**2
       call top_eigenpair(op, solver, tol, vec, lam, err, has_mode, result%eigen_products, &
-        result%eigen_restarts, status, progress, ncv, converged, lower, upper, failure)
+        result%eigen_restarts, status, progress, ncv, converged, lower, upper, failure, accept_start)
       if (status%stat /= demstep_stat%ok) return
       result%eigen_tolerance = tol
       basis = safe_basis%randomised
@@ -408,7 +430,7 @@ contains
         basis, failure)
       if (status%stat /= demstep_stat%ok) return
       if (b_bound > 0.0_dp .and. has_mode) then
-        call damped_exact(op, solver, tol, rate, vec, result, status, progress, ncv, damped_vec)
+        call damped_exact(op, solver, tol, rate, vec, result, status, progress, ncv, damped_vec, accept_damped)
         if (status%stat /= demstep_stat%ok) return
       end if
     else
@@ -572,8 +594,15 @@ contains
   !> Rayleigh quotient `lam` of the returned unit mode and its residual `err`
   !> (measured; ARPACK's estimate when Lanczos ran out of restarts without a
   !> mode, `has_mode` false). Products and restarts are added to the counts.
+  !> With `accept_start` and a non-zero `vec` (Lanczos only), the start is
+  !> tried first: when its own measured residual meets the tolerance it is
+  !> the answer (one product; the same error bar as a converged Lanczos
+  !> pair, resting on the start being near the top mode, as a monitor's
+  !> previous top mode is, without the fresh random start that confirms a
+  !> Lanczos solve). When it does not, the Lanczos solve starts from it
+  !> and takes its first converged top without a confirmation run.
   subroutine top_eigenpair(op, choice, tol, vec, lam, err, has_mode, products, restarts, status, &
-      progress, ncv, converged, lower, upper, failure)
+      progress, ncv, converged, lower, upper, failure, accept_start)
     type(assembly_operator_type), intent(inout) :: op
     integer, intent(in) :: choice
     real(dp), intent(in) :: tol
@@ -595,11 +624,14 @@ contains
     !> that it fails.
     real(dp), intent(in), optional :: lower
     real(dp), intent(out), optional :: upper, failure
+    logical, intent(in), optional :: accept_start
     type(eigen_result_type) :: lanczos
     type(csr_matrix_type) :: sparse
     real(dp), allocatable :: a(:, :), av(:), start(:)
     integer :: m
+    logical :: refine
     has_mode = .true.
+    refine = .false.
     m = scene_lanczos_ncv
     if (present(ncv)) m = ncv
     if (present(converged)) converged = .true.
@@ -618,10 +650,30 @@ contains
       if (present(upper)) upper = lam + err + 8.0_dp*epsilon(1.0_dp)*abs(lam)
       if (present(failure)) failure = 0.0_dp
     else
+      if (present(accept_start)) then
+        if (accept_start .and. any(vec /= 0.0_dp)) then
+          allocate(av(op%n))
+          start = vec/norm2(vec)
+          call assembly_operator_apply(op, start, av)
+          products = products + 1
+          lam = dot_product(start, av)
+          err = norm2(av - lam*start)
+          refine = .true.
+          if (lam > 0.0_dp .and. err <= tol*lam) then
+            vec = start
+            ! (no randomised certificate for a start taken as it is)
+            if (present(upper)) upper = 0.0_dp
+            if (present(failure)) failure = 0.0_dp
+            status%stat = demstep_stat%ok
+            return
+          end if
+        end if
+      end if
       start = vec
+      ! (a start that was to be taken as it is, refined: no confirmation run)
       call lanczos_largest(assembly_operator_apply, op, op%n, lanczos, status, eigenvector=vec, &
         tolerance=tol, ncv=m, max_restarts=scene_lanczos_restarts, &
-        progress=progress, start=start, certify=present(upper), lower_bound=lower)
+        progress=progress, start=start, certify=present(upper), lower_bound=lower, confirm=.not. refine)
       if (present(upper)) upper = lanczos%upper_bound
       if (present(failure)) failure = lanczos%failure_probability
       products = products + lanczos%applications
@@ -643,7 +695,7 @@ contains
   !> bound when it is larger: `damped_newton` on the serial operator, from the
   !> top undamped unit mode `vec`, or from `start` when it is given non-zero
   !> (then the last damped mode on return).
-  subroutine damped_exact(op, choice, tol, rate, vec, result, status, progress, ncv, start)
+  subroutine damped_exact(op, choice, tol, rate, vec, result, status, progress, ncv, start, accept_start)
     type(assembly_operator_type), intent(inout), target :: op
     integer, intent(in) :: choice
     real(dp), intent(in) :: tol, rate
@@ -653,6 +705,8 @@ contains
     class(progress_type), intent(inout), optional :: progress
     integer, intent(in), optional :: ncv
     real(dp), intent(inout), optional :: start(:)
+    !> Take a Newton step's start as it is when its residual meets `tol`.
+    logical, intent(in), optional :: accept_start
     type(serial_damped_type) :: problem
     real(dp), allocatable :: y(:), w(:)
     real(dp) :: lam_a, vb, lam_w, vb_w
@@ -676,6 +730,7 @@ contains
     problem%op => op
     problem%choice = choice
     if (present(ncv)) problem%ncv = ncv
+    if (present(accept_start)) problem%accept_start = accept_start
     call damped_newton(problem, lam_a, vb, rate, tol, result, status, progress)
     call operator_mix(op, 1.0_dp, 0.0_dp)
     if (present(start)) then
@@ -767,7 +822,8 @@ contains
     real(dp), allocatable :: y(:)
     call operator_mix(problem%op, tau**2, 2.0_dp*tau)
     call top_eigenpair(problem%op, problem%choice, tol, problem%vec, theta, err, has_mode, &
-      result%eigen_products, result%eigen_restarts, status, progress, problem%ncv)
+      result%eigen_products, result%eigen_restarts, status, progress, problem%ncv, &
+      accept_start=problem%accept_start)
     if (status%stat /= demstep_stat%ok) return
     err = err + 8.0_dp*epsilon(1.0_dp)*theta
     result%damped_solves = result%damped_solves + 1
@@ -1101,13 +1157,15 @@ contains
   !> `rotation` and dim > 1), masses scaled, springs scaled and indexed per
   !> body. O(particles + springs). Status invalid_input naming `fixed` (every
   !> particle fixed) or `position` (no free particle touches a spring).
+  !> An operator built before keeps its arrays where their sizes still fit
+  !> (a monitor rebuilds it every update and check).
   subroutine operator_from_springs(dim, rotation, mass, inertia, radius, springs, geo, op, rate, status, fixed)
     integer, intent(in) :: dim
     logical, intent(in) :: rotation
     real(dp), intent(in) :: mass(:), inertia(:), radius(:)
     type(spring_block_type), intent(in) :: springs(:)
     logical, intent(in) :: geo
-    type(assembly_operator_type), intent(out) :: op
+    type(assembly_operator_type), intent(inout) :: op
     !> omega = rate sqrt(lambda) (0 on failure).
     real(dp), intent(out) :: rate
     type(demstep_status_type), intent(out) :: status
@@ -1120,6 +1178,9 @@ contains
     logical :: touches
     rate = 0.0_dp
     k_scale = 0.0_dp
+    op%alpha = 1.0_dp
+    op%beta = 0.0_dp
+    op%n_springs = 0
     op%comp = dof_components(dim, rotation)
     nc = size(op%comp)
     op%nc = nc
@@ -1162,16 +1223,28 @@ contains
 
     ! the operator: scaled springs, and each free body's spring ends in order
     op%n_springs = size(springs)
-    allocate(op%ends(2, op%n_springs), op%normal(3, op%n_springs), op%coef(7, op%n_springs))
-    allocate(op%w(6, nfree), op%first(nfree + 1), op%work(6, 2*op%n_springs))
-    allocate(op%xs(6, 0:nfree), source=0.0_dp)
-    allocate(op%rinv(0:nfree), source=0.0_dp)
+    call fit_int2(op%ends, 2, op%n_springs)
+    call fit_real2(op%normal, 3, 1, op%n_springs)
+    call fit_real2(op%coef, 7, 1, op%n_springs)
+    call fit_real2(op%w, 6, 1, nfree)
+    call fit_real2(op%work, 6, 1, 2*op%n_springs)
+    call fit_real2(op%xs, 6, 0, nfree)
+    op%xs = 0.0_dp
+    if (allocated(op%first)) then
+      if (size(op%first) /= nfree + 1) deallocate(op%first)
+    end if
+    if (.not. allocated(op%first)) allocate(op%first(nfree + 1))
+    if (allocated(op%rinv)) then
+      if (lbound(op%rinv, 1) /= 0 .or. ubound(op%rinv, 1) /= nfree) deallocate(op%rinv)
+    end if
+    if (.not. allocated(op%rinv)) allocate(op%rinv(0:nfree))
+    op%rinv = 0.0_dp
     c_scale = sqrt(k_scale)*sqrt(m_scale)
     if (any(springs%c(1) > 0.0_dp .or. springs%c(2) > 0.0_dp .or. springs%c(3) > 0.0_dp .or. &
         springs%c(4) > 0.0_dp)) then
-      allocate(op%dcoef(4, op%n_springs))
+      call fit_real2(op%dcoef, 4, 1, op%n_springs)
     else
-      allocate(op%dcoef(4, 0))
+      call fit_real2(op%dcoef, 4, 1, 0)
     end if
     do i = 1, size(mass)
       if (body(i) > 0) then
@@ -1206,7 +1279,10 @@ contains
     do i = 1, nfree
       op%first(i + 1) = op%first(i + 1) + op%first(i)
     end do
-    allocate(op%incident(op%first(nfree + 1) - 1))
+    if (allocated(op%incident)) then
+      if (size(op%incident, kind=i8) /= op%first(nfree + 1) - 1) deallocate(op%incident)
+    end if
+    if (.not. allocated(op%incident)) allocate(op%incident(op%first(nfree + 1) - 1))
     do s = 1, op%n_springs
       do e = 1, 2
         i = op%ends(e, s)
@@ -1224,6 +1300,26 @@ contains
     rate = sqrt(k_scale)/sqrt(m_scale)
     status%stat = demstep_stat%ok
   end subroutine operator_from_springs
+
+  !> a(m, lo:hi), reallocated only when its shape differs (contents undefined).
+  pure subroutine fit_real2(a, m, lo, hi)
+    real(dp), allocatable, intent(inout) :: a(:, :)
+    integer, intent(in) :: m, lo, hi
+    if (allocated(a)) then
+      if (size(a, 1) /= m .or. lbound(a, 2) /= lo .or. ubound(a, 2) /= max(hi, lo - 1)) deallocate(a)
+    end if
+    if (.not. allocated(a)) allocate(a(m, lo:hi))
+  end subroutine fit_real2
+
+  !> a(m, n), reallocated only when its shape differs (contents undefined).
+  pure subroutine fit_int2(a, m, n)
+    integer, allocatable, intent(inout) :: a(:, :)
+    integer, intent(in) :: m, n
+    if (allocated(a)) then
+      if (size(a, 1) /= m .or. size(a, 2) /= n) deallocate(a)
+    end if
+    if (.not. allocated(a)) allocate(a(m, n))
+  end subroutine fit_int2
 
   !> Every interaction of the scene, linearised at the current configuration
   !> (`mode`: a `hertz_linearization` code, with `v_impact`; `geo`: with the

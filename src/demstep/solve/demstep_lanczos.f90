@@ -210,7 +210,8 @@ module demstep_lanczos
 
   !> The values of `eigen_result_type%basis`.
   character(len=*), parameter, public :: lanczos_basis_whole = "whole space", &
-    lanczos_basis_confirmed = "confirmed by a second start", lanczos_basis_estimate = "estimate"
+    lanczos_basis_confirmed = "confirmed by a second start", lanczos_basis_estimate = "estimate", &
+    lanczos_basis_warm = "a warm start, not confirmed"
 
   !> What one ARPACK run found (see `arpack_run`).
   type :: run_type
@@ -251,7 +252,8 @@ module demstep_lanczos
     !> What the claim that `eigenvalue` is the top (within the tolerance)
     !> rests on: `lanczos_basis_whole` (the Krylov space was the whole space),
     !> `lanczos_basis_confirmed` (a second run from a fresh random start did
-    !> not raise it), or `lanczos_basis_estimate` (neither: not converged or
+    !> not raise it), `lanczos_basis_warm` (a warm start's first converged run,
+    !> asked for without confirmation), or `lanczos_basis_estimate` (none: not converged or
     !> not settled). None of them excludes an eigenvalue whose eigenvector is
     !> missing from both starts; no inertia or probabilistic bound is made.
     character(len=:), allocatable :: basis
@@ -284,7 +286,7 @@ contains
   !> Ritz value and ARPACK's estimate of its residual, the vector is zero),
   !> otherwise ARPACK's own failures (`dsaupd_status`, `dseupd_status`).
   subroutine lanczos_largest(apply, context, n, result, status, eigenvector, tolerance, ncv, &
-      nev, max_restarts, progress, start, certify, lower_bound)
+      nev, max_restarts, progress, start, certify, lower_bound, confirm)
     !> y = A x (a module procedure, never an internal one).
     procedure(lanczos_operator) :: apply
     !> The operator's data, passed to `apply`.
@@ -315,6 +317,10 @@ contains
     !> A lower bound of the smallest eigenvalue (default 0: A is positive
     !> semi-definite), for the certificate.
     real(dp), intent(in), optional :: lower_bound
+    !> Confirm a converged top by a second run from a fresh random start
+    !> (default true). False: the first converged run is the answer (basis
+    !> `lanczos_basis_warm`), for a start known to be near the top mode.
+    logical, intent(in), optional :: confirm
     type(serial_space_type) :: space
     result%solver = lanczos_solver_name
     if (present(eigenvector)) eigenvector = 0.0_dp
@@ -338,7 +344,7 @@ contains
     space%apply => apply
     space%context => context
     call lanczos_solve(space, result, status, eigenvector, tolerance, ncv, nev, max_restarts, &
-      progress, start, certify, lower_bound)
+      progress, start, certify, lower_bound, confirm)
   end subroutine lanczos_largest
 
   !> The Lanczos driver for any `lanczos_space_type`, serial or distributed:
@@ -349,7 +355,7 @@ contains
   !> the same on every process. Statuses as `lanczos_largest`'s, ARPACK's
   !> through the space's `saupd_status` and `seupd_status`.
   subroutine lanczos_solve(space, result, status, eigenvector, tolerance, ncv, nev, &
-      max_restarts, progress, start, certify, lower_bound)
+      max_restarts, progress, start, certify, lower_bound, confirm)
     class(lanczos_space_type), intent(inout) :: space
     type(eigen_result_type), intent(out) :: result
     type(demstep_status_type), intent(out) :: status
@@ -365,9 +371,11 @@ contains
     !> spectrum for it (default 0).
     logical, intent(in), optional :: certify
     real(dp), intent(in), optional :: lower_bound
+    !> As `lanczos_largest`'s (default true).
+    logical, intent(in), optional :: confirm
     real(dp) :: tol, lower
     integer :: k, m, restarts
-    logical :: wanted
+    logical :: wanted, confirming
 
     call lanczos_options(tol, m, k, restarts, tolerance, ncv, nev, max_restarts)
     result%solver = space%solver
@@ -380,7 +388,9 @@ contains
     call arpack_claim(status)
     if (status%stat /= demstep_stat%ok) return
     if (present(progress)) call progress%start("Lanczos products", 0_i8)
-    call iterate(space, tol, k, m, restarts, result, status, eigenvector, progress, start)
+    confirming = .true.
+    if (present(confirm)) confirming = confirm
+    call iterate(space, tol, k, m, restarts, confirming, result, status, eigenvector, progress, start)
     wanted = .false.
     if (present(certify)) wanted = certify
     lower = 0.0_dp
@@ -429,11 +439,13 @@ contains
   !> space is the whole space. A run out of restarts is followed by one from
   !> ARPACK's filtered start vector with twice the Krylov size (up to
   !> `lanczos_ncv_growth` times the asked one); at most `lanczos_runs` runs.
-  subroutine iterate(space, tol, k_asked, m_asked, restarts, result, status, eigenvector, &
+  subroutine iterate(space, tol, k_asked, m_asked, restarts, confirm, result, status, eigenvector, &
       progress, start)
     class(lanczos_space_type), intent(inout) :: space
     real(dp), intent(in) :: tol
     integer, intent(in) :: k_asked, m_asked, restarts
+    !> Confirm a converged top by a second run (false: the first converged run).
+    logical, intent(in) :: confirm
     type(eigen_result_type), intent(inout) :: result
     type(demstep_status_type), intent(out) :: status
     real(dp), intent(out), optional :: eigenvector(:)
@@ -489,7 +501,7 @@ contains
       end if
       if (run%converged) then
         ! no higher than the last converged top, or the whole space: settled
-        settled = m >= space%n_global
+        settled = m >= space%n_global .or. .not. confirm
         if (best%converged) settled = settled .or. run%theta <= best%theta*(1.0_dp + tol)
         if (.not. best%converged .or. run%theta > best%theta) then
           best = run
@@ -534,6 +546,8 @@ contains
     call lanczos_finish(best%theta, best%rnorm, tol, run%step_status, result, status)
     if (settled .and. m >= space%n_global) then
       result%basis = lanczos_basis_whole
+    else if (settled .and. .not. confirm) then
+      result%basis = lanczos_basis_warm
     else if (settled) then
       result%basis = lanczos_basis_confirmed
     end if

@@ -35,9 +35,11 @@ module demstep_monitor
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_interaction, only: reduced_mass, contact_arm, wall_overlap, dashpot_coefficient
+  use demstep_progress, only: progress_type
   use demstep_assembly, only: critical_step_type, assembly_operator_type, spring_block_type, &
     operator_from_springs, operator_critical_steps, assembly_operator_apply, eigen_solver, &
-    default_max_eigen_dof, damped_lower_bound, scene_lanczos_ncv
+    default_max_eigen_dof, damped_lower_bound, scene_lanczos_ncv, operator_mix, assembly_matrix_rows
+  use demstep_lapack, only: largest_eigenpair
   use demstep_lanczos, only: lanczos_tolerance_default
   use demstep_scene_data, only: scene_type
   use demstep_packing, only: random_periodic_packing
@@ -47,14 +49,16 @@ module demstep_monitor
   private
 
   public :: solver_critical_steps, mode_participation, top_shares, cheap_bound, fresh_pour_estimate, &
-    scale_masses
+    scale_masses, scene_participation
 
   !> Particles of the generated packing of `fresh_pour_estimate` (default).
   integer, parameter, public :: fresh_pour_particles = 500
-  !> Default Lanczos tolerance of a monitor: a relative residual of 1e-6 on
-  !> omega_max^2 puts the error bar of the step at 5e-7 of it, far inside any
-  !> safety factor (`solver_critical_steps` keeps the scene's 1e-10).
-  real(dp), parameter, public :: monitor_tolerance_default = 1.0e-6_dp
+  !> Default Lanczos tolerance of a monitor: a relative residual of 1e-4 on
+  !> omega_max^2 (and on the damped limit's eigenvalue 4) puts the certified
+  !> steps within 5e-5 (undamped) and 1e-4 (damped) below the exact ones, far
+  !> inside any safety factor, and lets a settled bed's previous modes stand
+  !> as they are (`solver_critical_steps` keeps the scene's 1e-10).
+  real(dp), parameter, public :: monitor_tolerance_default = 1.0e-3_dp
   !> Default Krylov size of a monitor's warm-started solves: from a start
   !> near the mode, 8 vectors converge in about one pass (measured in
   !> example/dem_solver: 30 products per update of a settled bed against 54
@@ -63,8 +67,32 @@ module demstep_monitor
   !> Default relative drift of the mode's Rayleigh quotient or of the bound
   !> (omega^2) since the last update above which `check` asks for a re-solve.
   real(dp), parameter, public :: monitor_drift_default = 0.02_dp
+  !> Default `confirm_every` of a monitor.
+  integer, parameter, public :: monitor_confirm_default = 10
   !> Largest |coordinate| and radius (as scenes: squared distances stay finite).
   real(dp), parameter :: max_value = 1.0e150_dp
+
+  !> How many particles and springs a report lists (`participation_top`).
+  integer, parameter, public :: participation_top = 10
+  !> The kinds of spring a participation names (`participation_type%spring_kind`).
+  character(len=*), parameter, public :: spring_kind_names(4) = [character(len=7) :: "contact", "wall", &
+    "bond", "drag"]
+
+  !> Which particles and springs carry a scene's top mode (`scene_participation`).
+  type, public :: participation_type
+    !> Whether there is a top mode (an eigensolver returned one).
+    logical :: computed = .false.
+    !> Each particle's share of the mode (its degrees of freedom's squared
+    !> amplitude; 0 when fixed), summing to 1.
+    real(dp), allocatable :: particle_share(:)
+    !> Each linearised spring's share of the mode's energy v'A'v (summing to
+    !> 1; negative parts only with pre-stress), its particles (a = 0: a wall
+    !> or the ground), its kind (an index into `spring_kind_names`) and its
+    !> stiffness (k_n, k_t).
+    real(dp), allocatable :: spring_share(:)
+    integer, allocatable :: spring_a(:), spring_b(:), spring_kind(:)
+    real(dp), allocatable :: spring_k(:, :)
+  end type participation_type
 
   !> The verdicts of `check`.
   type, public :: monitor_verdict_enum
@@ -96,6 +124,13 @@ module demstep_monitor
     !> bound of `assembly_critical_steps` (tighter, about 36 products each
     !> for the stiffness and the dashpots).
     logical :: cheap = .true.
+    !> Every confirm_every-th update runs the Lanczos solves in full even
+    !> when the previous modes would do (0: never; 1: every update); the
+    !> others take them when their residuals meet the tolerance.
+    integer :: confirm_every = monitor_confirm_default
+    !> Whether the last update took the previous modes as they were, and
+    !> whether it was a warm update with the undamped solve confirmed.
+    logical :: accepted = .false., confirmed = .false.
     !> The last update's result (`critical_step_type`), valid after an update.
     type(critical_step_type) :: last
     logical :: ready = .false.
@@ -181,9 +216,10 @@ contains
     real(dp), intent(in), optional :: wall_point(:, :), wall_normal(:, :), wall_k(:), wall_damping(:)
     logical, intent(in), optional :: periodic(:)
     real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
-    logical :: rotation
+    logical :: rotation, warm, accept
     integer :: i, nfree, ncv
     monitor%ready = .false.
+    monitor%accepted = .false.
     if (monitor%solver < eigen_solver%auto .or. monitor%solver > eigen_solver%none) then
       call set_status(status, demstep_stat%invalid_input, "must be auto, dense, lanczos or none", &
         where="solver")
@@ -204,19 +240,28 @@ contains
     monitor%last%periodic = .false.
     if (present(periodic)) monitor%last%periodic = any(periodic)
     monitor%bound2 = cheap_bound(monitor%op)
-    ! a cold solve with the scene's Krylov size, a warm one with the monitor's
+    ! a cold solve with the scene's Krylov size, a warm one with the monitor's;
+    ! a warm one takes the previous modes as they are when their residuals on
+    ! the new operator meet the tolerance, but every confirm_every-th update
+    ! runs the undamped Lanczos solve (its confirmation from a fresh random
+    ! start: a top mode elsewhere is found)
     ncv = scene_lanczos_ncv
-    if (any(monitor%mode /= 0.0_dp) .and. monitor%ncv > 1) ncv = monitor%ncv
+    warm = any(monitor%mode /= 0.0_dp)
+    if (warm .and. monitor%ncv > 1) ncv = monitor%ncv
+    accept = warm .and. monitor%confirm_every /= 1
+    if (accept .and. monitor%confirm_every > 1) accept = mod(monitor%updates + 1, monitor%confirm_every) /= 0
+    monitor%confirmed = warm .and. .not. accept
     if (monitor%cheap) then
       call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
         default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status, &
         bounds=[monitor%bound2, cheap_bound(monitor%op, dashpots=.true.)], ncv=ncv, &
-        damped_vec=monitor%damped_mode)
+        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=warm)
     else
       call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
         default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status, ncv=ncv, &
-        damped_vec=monitor%damped_mode)
+        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=warm)
     end if
+    monitor%accepted = accept .and. monitor%last%eigen_restarts == 0
     monitor%bound2 = monitor%bound2*monitor%rate**2
     if (status%stat /= demstep_stat%ok) then
       monitor%mode = 0.0_dp
@@ -400,21 +445,30 @@ contains
   !> Mass (density) scaling for a target step: per-particle factors
   !> scale(i) >= 1 (mass and inertia both scaled, as a density would be)
   !> with which the exact damped limit of the monitor's last update (its
-  !> springs and dashpots as they were) reaches `target`. From the mode that
-  !> sets the limit: each pass scales every free particle by g^min(1, p_i/p_c),
-  !> g = (target/h)^2 (h the current limit, p_i the particle's share of the
-  !> damped limit's mode, or of the top undamped mode without dashpots, p_c
-  !> the smallest share of the mode's core: the largest shares that hold
-  !> half of it), so the particles the mode sits on grow most; the limit of the
-  !> scaled operator is re-solved (warm-started) until it reaches the target.
-  !> Increasing any mass lowers every eigenvalue, so each pass's limit is at
-  !> least the last's. `result` is the scaled system's report (its
-  !> dt_critical_damped >= target), `added` the added mass over the total.
-  !> Status invalid_input naming `monitor` (no update with an eigensolve),
-  !> `mass` (not the update's particles) or `target` (not finite and > 0);
-  !> not_converged after `max_passes` (default 30) passes.
+  !> springs and dashpots as they were) reaches `target`, verified by that
+  !> exact limit. Two stages, each pass one exact (warm-started) solve:
+  !> - the mode that sets the limit (the damped Newton steps' last mode, or
+  !>   the top undamped one without dashpots): up to `mode_passes` passes scale
+  !>   every free particle by g^min(1, p_i/p_c), g = (target/h)^2 (h the
+  !>   current limit, p_i the particle's share of the mode, p_c the smallest
+  !>   share of its core: the largest shares holding half of it). One
+  !>   defect (a light or stiff particle) is fixed in a pass or two;
+  !> - a crowded top (many near-equal localised modes) is not: then each free
+  !>   particle gets max(its factor so far, c (target/h_i)^2), h_i its own
+  !>   block's limit (the particle alone, its partners held: the lower bound
+  !>   `damped_lower_bound` from the largest eigenvalues of its diagonal
+  !>   blocks of A' and B'), and the one coefficient c is the smallest that
+  !>   makes the exact limit reach the target (doubled from 1 until it does,
+  !>   then bisected to 2 %).
+  !> Increasing any mass lowers every eigenvalue, so the exact limit does not
+  !> decrease as c grows. `result` is the scaled system's report (its
+  !> dt_critical_damped >= target), `added` the added mass over the total,
+  !> `passes` the exact solves made. Status invalid_input naming `monitor`
+  !> (no update with an eigensolve), `mass` (not the update's particles) or
+  !> `target` (not finite and > 0); not_converged after `max_passes` solves
+  !> (default 40).
   subroutine scale_masses(monitor, target, mass, radius, scale, added, result, status, inertia, fixed, &
-      max_passes)
+      max_passes, passes)
     class(step_monitor_type), intent(inout) :: monitor
     real(dp), intent(in) :: target
     !> The arrays of the last update.
@@ -426,11 +480,17 @@ contains
     real(dp), intent(in), optional :: inertia(:)
     logical, intent(in), optional :: fixed(:)
     integer, intent(in), optional :: max_passes
+    integer, intent(out), optional :: passes
+    !> Passes of the first stage.
+    integer, parameter :: mode_passes = 3
     type(assembly_operator_type) :: op
-    real(dp), allocatable :: vec(:), dvec(:), base_inertia(:), share(:)
-    real(dp) :: rate, h, g, core
-    integer :: pass, passes, b, nc, ncv
+    real(dp), allocatable :: vec(:), dvec(:), base_inertia(:), share(:), base(:), local(:), best(:)
+    type(critical_step_type) :: best_result
+    real(dp) :: h, g, core, c_lo, c_hi, c, rate_of_op
+    integer :: pass, max_solves, b, nc, solves
     added = 0.0_dp
+    solves = 0
+    if (present(passes)) passes = 0
     if (.not. (monitor%ready .and. monitor%last%eigen_computed)) then
       call set_status(status, demstep_stat%invalid_input, "needs an update with an eigensolver", &
         where="monitor")
@@ -444,8 +504,8 @@ contains
       call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="target")
       return
     end if
-    passes = 30
-    if (present(max_passes)) passes = max_passes
+    max_solves = 40
+    if (present(max_passes)) max_solves = max_passes
     if (present(inertia)) then
       base_inertia = inertia
     else
@@ -455,23 +515,12 @@ contains
     vec = monitor%mode
     dvec = monitor%damped_mode
     nc = monitor%op%nc
-    ! (each pass moves the mode: the scene solve's Krylov size)
-    ncv = scene_lanczos_ncv
-    do pass = 1, passes
-      call operator_from_springs(monitor%dim, monitor%last%rotation, mass*scale, base_inertia*scale, &
-        radius, monitor%springs, .false., op, rate, status, fixed)
+    ! stage 1: the limiting mode's particles
+    do pass = 1, min(mode_passes, max_solves)
+      call exact_limit(scale, h)
       if (status%stat /= demstep_stat%ok) return
-      result = critical_step_type()
-      result%rotation = monitor%last%rotation
-      result%periodic = monitor%last%periodic
-      call operator_critical_steps(op, monitor%springs, rate, .false., monitor%solver, default_max_eigen_dof, &
-        monitor%tolerance, vec, result, status, bounds=[cheap_bound(op), cheap_bound(op, dashpots=.true.)], &
-        ncv=ncv, damped_vec=dvec)
-      if (status%stat /= demstep_stat%ok) return
-      h = result%dt_critical_damped
       if (h >= target) then
-        added = sum((scale - 1.0_dp)*mass)/sum(mass)
-        status%stat = demstep_stat%ok
+        call finish()
         return
       end if
       ! each free body's share of the mode that sets the limit (the damped
@@ -483,17 +532,121 @@ contains
         share = [(sum(vec((b - 1)*nc + 1:b*nc)**2), b = 1, op%n_bodies)]
       end if
       g = (target/h)**2
-      ! the mode's core: the largest shares that hold half of it grow by g,
-      ! the others in proportion to their share
       core = core_share(share)
       do b = 1, op%n_bodies
         scale(monitor%body_particle(b)) = scale(monitor%body_particle(b))*g**min(1.0_dp, share(b)/core)
       end do
     end do
+    ! stage 2: every particle by its own block's limit, one coefficient
+    base = scale
+    call local_limits(local)
+    if (status%stat /= demstep_stat%ok) return
+    c_lo = 0.0_dp
+    c_hi = 1.0_dp
+    do
+      if (solves >= max_solves) exit
+      c = c_hi
+      if (c_lo > 0.0_dp) c = sqrt(c_lo*c_hi)
+      call set_scale(c)
+      call exact_limit(scale, h)
+      if (status%stat /= demstep_stat%ok) return
+      if (h >= target) then
+        c_hi = c
+        best = scale
+        best_result = result
+        if (c_lo > 0.0_dp .and. c_hi <= 1.02_dp*c_lo) exit
+      else
+        c_lo = c
+        if (.not. allocated(best)) c_hi = 2.0_dp*c_hi
+      end if
+    end do
+    if (allocated(best)) then
+      scale = best
+      result = best_result
+      call finish()
+      return
+    end if
     added = sum((scale - 1.0_dp)*mass)/sum(mass)
+    if (present(passes)) passes = solves
     call set_status(status, demstep_stat%not_converged, "the scaled limit stayed below the target after " &
-      //"max_passes passes", where="max_passes")
+      //"max_passes exact solves", where="max_passes")
+  contains
+    !> The exact damped limit h of the scaled system (result set), warm-started.
+    subroutine exact_limit(factor, h)
+      real(dp), intent(in) :: factor(:)
+      real(dp), intent(out) :: h
+      h = 0.0_dp
+      call operator_from_springs(monitor%dim, monitor%last%rotation, mass*factor, base_inertia*factor, &
+        radius, monitor%springs, .false., op, rate_of_op, status, fixed)
+      if (status%stat /= demstep_stat%ok) return
+      result = critical_step_type()
+      result%rotation = monitor%last%rotation
+      result%periodic = monitor%last%periodic
+      ! (each solve moves the mode: the scene solve's Krylov size)
+      call operator_critical_steps(op, monitor%springs, rate_of_op, .false., monitor%solver, &
+        default_max_eigen_dof, monitor%tolerance, vec, result, status, &
+        bounds=[cheap_bound(op), cheap_bound(op, dashpots=.true.)], ncv=scene_lanczos_ncv, damped_vec=dvec)
+      solves = solves + 1
+      h = result%dt_critical_damped
+    end subroutine exact_limit
+    !> Each free body's factor at coefficient c.
+    subroutine set_scale(c)
+      real(dp), intent(in) :: c
+      integer :: k
+      scale = base
+      do k = 1, size(local)
+        associate(i => monitor%body_particle(k))
+          scale(i) = max(base(i), c*(target/local(k))**2)
+        end associate
+      end do
+    end subroutine set_scale
+    !> Each free body's own damped limit (its partners held), unscaled.
+    subroutine local_limits(h_local)
+      real(dp), allocatable, intent(out) :: h_local(:)
+      real(dp), allocatable :: a_max(:), b_max(:)
+      call block_maxima(monitor%op, a_max, status)
+      if (status%stat /= demstep_stat%ok) return
+      b_max = [(0.0_dp, b = 1, size(a_max))]
+      if (size(monitor%op%dcoef, 2) > 0) then
+        call operator_mix(monitor%op, 0.0_dp, 1.0_dp)
+        call block_maxima(monitor%op, b_max, status)
+        call operator_mix(monitor%op, 1.0_dp, 0.0_dp)
+        if (status%stat /= demstep_stat%ok) return
+      end if
+      h_local = damped_lower_bound(2.0_dp/sqrt(max(a_max, tiny(1.0_dp))), b_max)/monitor%rate
+    end subroutine local_limits
+    subroutine finish()
+      added = sum((scale - 1.0_dp)*mass)/sum(mass)
+      if (present(passes)) passes = solves
+      status%stat = demstep_stat%ok
+    end subroutine finish
   end subroutine scale_masses
+
+  !> The largest eigenvalue of each free body's diagonal block of the
+  !> operator as it is mixed (its rows' first nc x nc entries,
+  !> `assembly_matrix_rows`): the body's own frequency with its partners held.
+  subroutine block_maxima(op, lam, status)
+    type(assembly_operator_type), intent(in) :: op
+    real(dp), allocatable, intent(out) :: lam(:)
+    type(demstep_status_type), intent(out) :: status
+    integer(i8), allocatable :: row_start(:)
+    integer, allocatable :: col(:)
+    real(dp), allocatable :: val(:), block(:, :), v(:)
+    integer :: b, r, nc
+    nc = op%nc
+    allocate(lam(op%n_bodies), source=0.0_dp)
+    allocate(block(nc, nc), v(nc))
+    status%stat = demstep_stat%ok
+    do b = 1, op%n_bodies
+      call assembly_matrix_rows(op, [b], [(r, r = 1, op%n_bodies)], row_start, col, val, status)
+      if (status%stat /= demstep_stat%ok) return
+      do r = 1, nc
+        block(r, :) = val(row_start(r):row_start(r) + nc - 1)
+      end do
+      call largest_eigenpair(block, lam(b), v, status)
+      if (status%stat /= demstep_stat%ok) return
+    end do
+  end subroutine block_maxima
 
   !> The top mode's share per particle (the squared amplitude of its degrees
   !> of freedom; 0 for fixed particles) and per contact row of `pairs` and per
@@ -508,45 +661,115 @@ contains
     integer, intent(in) :: n_contacts
     real(dp), allocatable, intent(out) :: particle_share(:), contact_share(:), wall_share(:)
     type(demstep_status_type), intent(out) :: status
-    real(dp), allocatable :: y(:)
-    real(dp) :: total, e
-    integer :: b, c, s, ia, ib, np
+    real(dp), allocatable :: spring_share(:)
+    integer :: c, s
     if (.not. (monitor%ready .and. monitor%last%eigen_computed)) then
       call set_status(status, demstep_stat%invalid_input, "needs an update with an eigensolver", &
         where="monitor")
       return
     end if
-    np = monitor%n_particles
-    allocate(particle_share(np), wall_share(np), source=0.0_dp)
+    call mode_shares(monitor%op, monitor%mode, monitor%body_particle, monitor%n_particles, particle_share, &
+      spring_share)
+    allocate(wall_share(monitor%n_particles), source=0.0_dp)
     allocate(contact_share(n_contacts), source=0.0_dp)
-    do b = 1, monitor%op%n_bodies
-      particle_share(monitor%body_particle(b)) = sum(monitor%mode((b - 1)*monitor%op%nc + 1:b*monitor%op%nc)**2)
-    end do
-    particle_share = particle_share/sum(particle_share)
-    ! one product leaves each spring's generalised forces in op%work: its part
-    ! of v'A'v is the scaled displacement of its ends against them
-    allocate(y(monitor%op%n))
-    call assembly_operator_apply(monitor%op, monitor%mode, y)
-    total = 0.0_dp
     do s = 1, monitor%op%n_springs
-      ia = monitor%op%ends(1, s)
-      ib = monitor%op%ends(2, s)
-      e = dot_product(monitor%op%xs(:, ia), monitor%op%work(:, 2*s - 1)) + &
-        dot_product(monitor%op%xs(:, ib), monitor%op%work(:, 2*s))
-      total = total + e
       c = monitor%spring_row(s)
       if (c > 0) then
-        if (c <= n_contacts) contact_share(c) = contact_share(c) + e
+        if (c <= n_contacts) contact_share(c) = contact_share(c) + spring_share(s)
       else
-        wall_share(-c) = wall_share(-c) + e
+        wall_share(-c) = wall_share(-c) + spring_share(s)
       end if
     end do
-    if (total > 0.0_dp) then
-      contact_share = contact_share/total
-      wall_share = wall_share/total
-    end if
     status%stat = demstep_stat%ok
   end subroutine mode_participation
+
+  !> The shares of a unit mode of an operator (scaled coordinates): per
+  !> particle its degrees of freedom's squared amplitude (body b is particle
+  !> body_particle(b) of np), per spring its part of v'A'v over v'A'v (one
+  !> product: it leaves each spring's generalised forces in op%work, against
+  !> which the scaled displacement of its ends is its energy).
+  subroutine mode_shares(op, mode, body_particle, np, particle_share, spring_share)
+    type(assembly_operator_type), intent(inout) :: op
+    real(dp), intent(in) :: mode(:)
+    integer, intent(in) :: body_particle(:), np
+    real(dp), allocatable, intent(out) :: particle_share(:), spring_share(:)
+    real(dp), allocatable :: y(:)
+    real(dp) :: total
+    integer :: b, s
+    allocate(particle_share(np), source=0.0_dp)
+    allocate(spring_share(op%n_springs), source=0.0_dp)
+    do b = 1, op%n_bodies
+      particle_share(body_particle(b)) = sum(mode((b - 1)*op%nc + 1:b*op%nc)**2)
+    end do
+    if (sum(particle_share) > 0.0_dp) particle_share = particle_share/sum(particle_share)
+    allocate(y(op%n))
+    call assembly_operator_apply(op, mode, y)
+    do s = 1, op%n_springs
+      spring_share(s) = dot_product(op%xs(:, op%ends(1, s)), op%work(:, 2*s - 1)) + &
+        dot_product(op%xs(:, op%ends(2, s)), op%work(:, 2*s))
+    end do
+    total = sum(spring_share)
+    if (total > 0.0_dp) spring_share = spring_share/total
+  end subroutine mode_shares
+
+  !> The critical steps of a scene (`assembly_critical_steps`, the same
+  !> options) and which particles and springs carry its top undamped mode:
+  !> `part%computed` is false when no eigensolver returned a mode (solver
+  !> none, or Lanczos out of restarts). One product more than the steps.
+  !> Statuses as `assembly_critical_steps`.
+  subroutine scene_participation(scene, result, part, status, hertz_mode, impact_velocity, &
+      max_eigen_dof, prestress, solver, tolerance, progress)
+    type(scene_type), intent(in) :: scene
+    type(critical_step_type), intent(out) :: result
+    type(participation_type), intent(out) :: part
+    type(demstep_status_type), intent(out) :: status
+    integer, intent(in), optional :: hertz_mode, max_eigen_dof, solver
+    real(dp), intent(in), optional :: impact_velocity, tolerance
+    logical, intent(in), optional :: prestress
+    class(progress_type), intent(inout), optional :: progress
+    real(dp), allocatable :: mode(:)
+    type(spring_block_type), allocatable :: springs(:)
+    type(assembly_operator_type) :: op
+    integer, allocatable :: body_particle(:)
+    real(dp) :: rate
+    integer :: i, s
+    logical :: geo
+    call assembly_critical_steps(scene, result, status, hertz_mode, impact_velocity, max_eigen_dof, &
+      prestress, solver, tolerance, progress, mode, springs)
+    if (status%stat /= demstep_stat%ok) return
+    if (size(mode) == 0) return
+    geo = .false.
+    if (present(prestress)) geo = prestress
+    call operator_from_springs(scene%dim, result%rotation, scene%mass, scene%inertia, scene%radius, springs, &
+      geo, op, rate, status, scene%fixed)
+    if (status%stat /= demstep_stat%ok) return
+    body_particle = pack([(i, i = 1, scene%n)], .not. scene%fixed)
+    call mode_shares(op, mode, body_particle, scene%n, part%particle_share, part%spring_share)
+    part%spring_a = springs%a
+    part%spring_b = springs%b
+    part%spring_kind = spring_kind_of(springs%a, springs%kind)
+    allocate(part%spring_k(2, size(springs)))
+    do s = 1, size(springs)
+      part%spring_k(:, s) = springs(s)%k(1:2)
+    end do
+    part%computed = .true.
+  end subroutine scene_participation
+
+  !> The kind of a linearised spring with first end `a` (0: a wall or the
+  !> ground) and `spring_block_type%kind` (0: contact, 5: bond, 6: drag to
+  !> ground), as an index into `spring_kind_names`.
+  elemental integer function spring_kind_of(a, kind) result(k)
+    integer, intent(in) :: a, kind
+    if (kind == 5) then
+      k = 3
+    else if (kind == 6) then
+      k = 4
+    else if (a == 0) then
+      k = 2
+    else
+      k = 1
+    end if
+  end function spring_kind_of
 
   !> The indices of the `k` largest shares, largest first (fewer when there
   !> are fewer entries). O(n k).
@@ -588,7 +811,8 @@ contains
     real(dp), intent(in) :: k_n(:)
     type(spring_block_type), allocatable, intent(inout) :: springs(:)
     integer, allocatable, intent(inout) :: rows(:)
-    type(assembly_operator_type), intent(out) :: op
+    !> (kept between calls: its arrays are reused where they fit)
+    type(assembly_operator_type), intent(inout) :: op
     real(dp), intent(out) :: rate
     logical, intent(out) :: rotation
     type(demstep_status_type), intent(out) :: status
