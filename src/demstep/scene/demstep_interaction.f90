@@ -4,8 +4,9 @@
 !> contact between two bodies i and j with a unit normal n from i to j, a normal
 !> spring and a tangential spring acting at the contact point, which lies at
 !> `arm_i n` from the centre of i and at `-arm_j n` from the centre of j (the
-!> radii for a particle pair; 0 for a wall (body i, the ground) and for bonds,
-!> which join centres). The relative displacement of the contact point is
+!> radii for a particle pair; 0 for a wall (body i, the ground) and for the
+!> central bonds of `k_bond`, which join centres; a bond model's own arms, as
+!> its code places the bond, in `demstep_bonds`). The relative displacement of the contact point is
 !>   u_c = u_j - u_i + arm_j n x theta_j + arm_i n x theta_i,
 !> the force on j is f = F_n n - k_t u_s (u_s the tangential part of u_c, kept
 !> incrementally with its history) and -f on i; the torques are
