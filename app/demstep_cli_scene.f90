@@ -30,6 +30,7 @@ module demstep_cli_scene
     peer_steps_type, contact_parameters, packing_peer_steps, code_convention_names, peer_rule_names, &
     n_conventions, n_peer_rules
   use demstep_cli_material, only: read_material
+  use demstep_liggghts_scene, only: liggghts_scene_type, scene_from_liggghts_script
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, check_real, new_array, array_length, new_int_array, int_array_length, &
     max_values, capacity_of, in_group
@@ -91,6 +92,13 @@ contains
         //"file: LAMMPS/LIGGGHTS dump or data file, Yade text export; masses from the file, else " &
         //"from a &material group's density per type", "!'dump.liggghts'", &
         excludes="position particles_file velocity mass radius fixed types"), &
+      var("liggghts_script", "a quoted file name", "a LIGGGHTS input script giving the snapshot's " &
+        //"contacts as LIGGGHTS computes them (units, boundary, fix property/global materials, pair_style " &
+        //"gran, fix wall/gran primitives, fix gravity, timestep, variables, include): no &material needed", &
+        "!'in.liggghts'", needs="snapshot_file", excludes="law k_normal e_star k_tangential kt_ratio g_star " &
+        //"types type_k_normal type_k_tangential young poisson walls wall_type tangential_damping " &
+        //"rolling_ratio twisting_ratio effects gravity damping_ratio restitution damping_ratio_tangential " &
+        //"friction rolling_friction"), &
       var("snapshot_format", "a quoted word", "'auto', 'lammps_dump', 'lammps_data' or 'yade_text'", &
         "!'auto'", default="'auto'", needs="snapshot_file"), &
       var("snapshot_frame", "an integer", "dump frame: 1, 2, ... from the first; 0 the last, -1 the " &
@@ -197,7 +205,8 @@ contains
     integer, allocatable :: fixed(:), bonds(:), types(:)
     real(dp), allocatable :: type_k_normal(:), type_k_tangential(:), young(:), poisson(:), kk(:, :, :)
     integer :: nty, nkn, nkt, nt
-    character(len=512) :: particles_file, bonds_file, contacts_file, snapshot_file
+    character(len=512) :: particles_file, bonds_file, contacts_file, snapshot_file, liggghts_script
+    type(liggghts_scene_type) :: from_script
     character(len=32) :: snapshot_format
     integer :: snapshot_frame
     type(snapshot_type) :: snap
@@ -220,7 +229,7 @@ contains
       kt_ratio, g_star, friction, prestress, types, type_k_normal, type_k_tangential, young, poisson, &
       eigen_solver, eigen_tolerance, snapshot_file, snapshot_format, snapshot_frame, &
       damping_ratio_tangential, damping_ratio_rolling, drag, rolling_ratio, twisting_ratio, rolling_friction, &
-      wall_type, tangential_damping
+      wall_type, tangential_damping, liggghts_script
     type(var_spec), allocatable :: specs(:)
     character(len=*), parameter :: g = "scene"
     type(scene_type) :: sc
@@ -278,7 +287,7 @@ contains
       from_material = deck_mat%found .and. .not. own_stiffness(group)
       if (.not. (from_material .or. own_stiffness(group))) then
         call fail("k_normal", "required with snapshot_file (or e_star, type_k_normal, young and poisson " &
-          //"per type, or a &material group in the deck)")
+          //"per type, liggghts_script, or a &material group in the deck)")
         return
       end if
       if (from_material .and. .not. given(group, "law")) law = material_law(deck_mat)
@@ -449,7 +458,8 @@ contains
       law_values = [e_star, g_star]
       law_given = given(group, "e_star") .or. given(group, "g_star")
     end if
-    if (law_given .or. (sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. typed)) &
+    if (law_given .or. (sc%effects(scene_effect%contacts) .and. .not. (sc%given_contacts .or. typed .or. &
+      given(group, "liggghts_script"))) &
       .or. (sc%effects(scene_effect%walls) .and. .not. from_material)) then
       call scene_set_law(sc, law_id, law_values(1), law_values(2), status)
       if (status%stat /= demstep_stat%ok) then
@@ -569,6 +579,14 @@ contains
       end if
       sc%effects(scene_effect%local_damping) = .true.
     end if
+    if (given(group, "liggghts_script")) then
+      ! the script gives the contacts, walls, gravity and effects (the library's conversion)
+      call scene_from_liggghts_script(sc, beside(file, trim(liggghts_script)), snap, from_script, status)
+      if (status%stat /= demstep_stat%ok) then
+        status%message = "&"//g//": liggghts_script: "//status%message
+        return
+      end if
+    end if
     if (from_material .and. .not. given(group, "hertz_linearization")) then
       ! a &material gives the impact velocity: linearise at the larger of the
       ! current overlap and the impact's (a settled contact may be struck)
@@ -654,6 +672,8 @@ contains
       call snapshot_summary(beside(file, trim(snapshot_file)), snap, deck_mat, from_material, sc, crit, &
         snapshot_lines, peer_dt, status)
       if (status%stat /= demstep_stat%ok) return
+      if (given(group, "liggghts_script")) snapshot_lines = [snapshot_lines, &
+        script_summary(from_script, crit%dt_critical_damped, dt_recommended)]
       call report(ctx%report, group, sc, crit, duration > 0.0_dp, dt_used, steps, summary, dt_recommended, &
         snapshot_lines)
     else
@@ -736,7 +756,7 @@ contains
   pure logical function own_stiffness(group)
     type(nml_group_type), intent(in) :: group
     own_stiffness = given(group, "k_normal") .or. given(group, "e_star") .or. &
-      given(group, "type_k_normal") .or. given(group, "young")
+      given(group, "type_k_normal") .or. given(group, "young") .or. given(group, "liggghts_script")
   end function own_stiffness
 
   !> The step count of a run, refused when it is absurd, and announced on stderr
@@ -1130,6 +1150,46 @@ contains
       //"takes k_n and k_t from one code's convention: name it (liggghts_hooke, yade_frictphys, " &
       //"yade_viscelphys, mfix_lsd, mercurydpm_linear, lammps_hooke)")
   end subroutine material_springs
+
+  !> A LIGGGHTS script's part of the report: what it gave, and its `timestep`
+  !> against the exact (damped) limit `dt_limit`, with the recommendation.
+  function script_summary(info, dt_limit, dt_recommended) result(lines)
+    type(liggghts_scene_type), intent(in) :: info
+    real(dp), intent(in) :: dt_limit, dt_recommended
+    character(len=200), allocatable :: lines(:)
+    character(len=:), allocatable :: walls, units, where
+    real(dp) :: ratio
+    associate (s => info%script, c => info%contacts)
+      walls = "no walls"
+      if (s%n_walls > 0) walls = fmt_int(int(s%n_walls, i8))//" primitive walls of type "// &
+        fmt_int(int(c%wall_type, i8))
+      units = "units not stated"
+      if (s%units_line > 0) units = "units "//trim(merge("si ", "cgs", s%units == 1))
+      lines = [character(len=200) :: "    script: "//info%timestep_file//": "// &
+        trim(code_convention_names(c%convention))//", "//fmt_int(int(size(c%young), i8))//" atom type"// &
+        trim(merge("s", " ", size(c%young) > 1))//", "//walls//", restitution "//fmt_real(c%restitution)// &
+        ", tangential_damping "//trim(merge("on ", "off", c%tangential_damping))//", rolling springs "// &
+        trim(merge("on ", "off", c%rolling_ratio > 0.0_dp))//"; "//units]
+    end associate
+    if (info%timestep_line == 0) then
+      lines = [character(len=200) :: lines, "    your script states no timestep: use at most "// &
+        fmt_real(dt_recommended)//" s"]
+      return
+    end if
+    ratio = info%timestep/dt_limit
+    where = " (line "//fmt_int(int(info%timestep_line, i8))//")"
+    lines = [character(len=200) :: lines, "    your script's timestep "//fmt_real(info%timestep)//" s"//where// &
+      " is "//fmt_real(ratio)//" times the exact limit "//fmt_real(dt_limit)//" s"]
+    if (ratio >= 1.0_dp) then
+      lines = [character(len=200) :: lines, "    it is not stable: lower it to "//fmt_real(dt_recommended)//" s"]
+    else if (info%timestep > dt_recommended) then
+      lines = [character(len=200) :: lines, "    it is within "//fmt_real(1.0_dp - ratio)//" of the limit: " &
+        //"lower it to "//fmt_real(dt_recommended)//" s"]
+    else
+      lines = [character(len=200) :: lines, "    it is stable; "//fmt_real(dt_recommended)//" s (" &
+        //fmt_real(dt_recommended/info%timestep)//" times it) would be too"]
+    end if
+  end function script_summary
 
   !> A snapshot's part of the report: what was read, and with a `&material`
   !> group the peers' rules beside demstep's exact limit (as ratios). The

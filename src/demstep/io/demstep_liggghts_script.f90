@@ -115,6 +115,8 @@ module demstep_liggghts_script
     integer :: dimension = 3
     !> Periodic axes (`boundary p ...`).
     logical :: periodic(3) = .false.
+    !> Lines of `units`, `dimension` and `boundary` (0 when not given).
+    integer :: units_line = 0, dimension_line = 0, boundary_line = 0
     !> Number of atom types (`create_box N`, else the count of the per-type
     !> properties; 0 when neither).
     integer :: n_types = 0
@@ -173,6 +175,9 @@ module demstep_liggghts_script
     !> The walls' material type (0 without walls) and, per wall, a point and the inward normal.
     integer :: wall_type = 0
     real(dp), allocatable :: wall_points(:, :), wall_normals(:, :)
+    !> Coulomb friction and rolling friction, the same for every type pair
+    !> (-1 when the script gives none: no sliding, no cap).
+    real(dp) :: friction = -1.0_dp, rolling_friction = -1.0_dp
     !> Periodic axes as the script's `boundary` states them (after
     !> `read_restart` or `read_data` the restart or data file has them: take
     !> the snapshot's box then).
@@ -256,8 +261,9 @@ contains
   !> the script's command and line (`FILE: line N: command: what`; a missing
   !> property or pair style without a line): a model other than hertz or hooke,
   !> tangential other than history, a surface model, `ktToKnUser on`, rolling
-  !> friction epsd or epsd3, a restitution that differs between type pairs, a
-  !> wall whose model differs from the pair style's, walls of different types,
+  !> friction epsd or epsd3, a restitution, friction or rolling friction that
+  !> differs between type pairs, a wall whose model differs from the pair
+  !> style's, walls of different types,
   !> a wall whose side the script does not tell, Hooke without
   !> characteristicVelocity.
   subroutine liggghts_script_contacts(script, contacts, status, file)
@@ -305,6 +311,22 @@ contains
       return
     end if
     contacts%restitution = script%restitution(1, 1)
+    if (allocated(script%friction)) then
+      if (any(script%friction /= script%friction(1, 1))) then
+        call fault(script%friction_line, "fix property/global", "coefficientFriction differs between type " &
+          //"pairs; demstep's scene takes one friction")
+        return
+      end if
+      contacts%friction = script%friction(1, 1)
+    end if
+    if (allocated(script%rolling_friction) .and. script%pair%rolling /= "off") then
+      if (any(script%rolling_friction /= script%rolling_friction(1, 1))) then
+        call fault(script%rolling_friction_line, "fix property/global", "coefficientRollingFriction differs " &
+          //"between type pairs; demstep's scene takes one")
+        return
+      end if
+      contacts%rolling_friction = script%rolling_friction(1, 1)
+    end if
     if (contacts%convention == code_convention%liggghts_hooke) then
       if (.not. (script%characteristic_velocity > 0.0_dp)) then
         call fault(script%pair%line, "pair_style", "model hooke needs 'fix property/global " &
@@ -505,7 +527,9 @@ contains
     select case (command)
     case ("units")
       call units_command(words, n, script, status)
+      script%units_line = line
     case ("dimension")
+      script%dimension_line = line
       call count_check(n, 2, status)
       if (status%stat == demstep_stat%ok) then
         if (words(2)%text == "2") then
@@ -517,6 +541,7 @@ contains
         end if
       end if
     case ("boundary")
+      script%boundary_line = line
       call count_check(n, 4, status)
       if (status%stat == demstep_stat%ok) then
         do k = 1, 3
