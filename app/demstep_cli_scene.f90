@@ -1170,6 +1170,9 @@ contains
         trim(merge("s", " ", size(c%young) > 1))//", "//walls//", restitution "//fmt_real(c%restitution)// &
         ", tangential_damping "//trim(merge("on ", "off", c%tangential_damping))//", rolling springs "// &
         trim(merge("on ", "off", c%rolling_ratio > 0.0_dp))//"; "//units]
+      if (c%friction_per_pair) lines = [character(len=200) :: lines, "    (its friction differs between " &
+        //"type pairs, line "//fmt_int(int(merge(s%friction_line, s%rolling_friction_line, c%friction < 0.0_dp &
+        .and. s%friction_line > 0), i8))//": not taken; the limit takes every contact sticking)"]
     end associate
     if (info%timestep_line == 0) then
       lines = [character(len=200) :: lines, "    your script states no timestep: use at most "// &

@@ -176,8 +176,12 @@ module demstep_liggghts_script
     integer :: wall_type = 0
     real(dp), allocatable :: wall_points(:, :), wall_normals(:, :)
     !> Coulomb friction and rolling friction, the same for every type pair
-    !> (-1 when the script gives none: no sliding, no cap).
+    !> (-1 when the script gives none, or `friction_per_pair`: no sliding, no
+    !> cap; the limit takes every contact sticking either way).
     real(dp) :: friction = -1.0_dp, rolling_friction = -1.0_dp
+    !> The script's friction or rolling friction differs between type pairs
+    !> (demstep's scene takes one value: none is taken).
+    logical :: friction_per_pair = .false.
     !> Periodic axes as the script's `boundary` states them (after
     !> `read_restart` or `read_data` the restart or data file has them: take
     !> the snapshot's box then).
@@ -261,9 +265,8 @@ contains
   !> the script's command and line (`FILE: line N: command: what`; a missing
   !> property or pair style without a line): a model other than hertz or hooke,
   !> tangential other than history, a surface model, `ktToKnUser on`, rolling
-  !> friction epsd or epsd3, a restitution, friction or rolling friction that
-  !> differs between type pairs, a wall whose model differs from the pair
-  !> style's, walls of different types,
+  !> friction epsd or epsd3, a restitution that differs between type pairs,
+  !> a wall whose model differs from the pair style's, walls of different types,
   !> a wall whose side the script does not tell, Hooke without
   !> characteristicVelocity.
   subroutine liggghts_script_contacts(script, contacts, status, file)
@@ -311,21 +314,18 @@ contains
       return
     end if
     contacts%restitution = script%restitution(1, 1)
+    ! friction caps the springs in a run, not the limit (every contact sticks):
+    ! one value per scene, none when the type pairs differ (`friction_per_pair`)
     if (allocated(script%friction)) then
-      if (any(script%friction /= script%friction(1, 1))) then
-        call fault(script%friction_line, "fix property/global", "coefficientFriction differs between type " &
-          //"pairs; demstep's scene takes one friction")
-        return
-      end if
-      contacts%friction = script%friction(1, 1)
+      contacts%friction_per_pair = any(script%friction /= script%friction(1, 1))
+      if (.not. contacts%friction_per_pair) contacts%friction = script%friction(1, 1)
     end if
     if (allocated(script%rolling_friction) .and. script%pair%rolling /= "off") then
       if (any(script%rolling_friction /= script%rolling_friction(1, 1))) then
-        call fault(script%rolling_friction_line, "fix property/global", "coefficientRollingFriction differs " &
-          //"between type pairs; demstep's scene takes one")
-        return
+        contacts%friction_per_pair = .true.
+      else
+        contacts%rolling_friction = script%rolling_friction(1, 1)
       end if
-      contacts%rolling_friction = script%rolling_friction(1, 1)
     end if
     if (contacts%convention == code_convention%liggghts_hooke) then
       if (.not. (script%characteristic_velocity > 0.0_dp)) then
