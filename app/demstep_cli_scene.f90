@@ -1161,8 +1161,8 @@ contains
     real(dp) :: ratio
     associate (s => info%script, c => info%contacts)
       walls = "no walls"
-      if (s%n_walls > 0) walls = fmt_int(int(s%n_walls, i8))//" primitive walls of type "// &
-        fmt_int(int(c%wall_type, i8))
+      if (s%n_walls > 0) walls = fmt_int(int(s%n_walls, i8))//" primitive wall"// &
+        trim(merge("s", " ", s%n_walls > 1))//" of type "//fmt_int(int(c%wall_type, i8))
       units = "units not stated"
       if (s%units_line > 0) units = "units "//trim(merge("si ", "cgs", s%units == 1))
       lines = [character(len=200) :: "    script: "//info%timestep_file//": "// &

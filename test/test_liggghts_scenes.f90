@@ -161,7 +161,8 @@ contains
   end subroutine test_hooke_per_contact
 
   !> The report names the script and compares its timestep with the exact
-  !> limit (a_hertz: 1e-6 s against 4.24e-5 s).
+  !> limit (a_hertz: 1e-6 s against 4.24e-5 s; the README's example, its
+  !> figures to the 10 digits printed: the same library on the same file).
   subroutine test_report(error)
     type(error_type), allocatable, intent(out) :: error
     character(len=:), allocatable :: stdout, stderr
@@ -177,6 +178,14 @@ contains
       index(stdout, "your script's timestep 1e-6 s (line 25) is 0.0235767") > 0 .and. &
       index(stdout, "times the exact limit 4.24146877e-5 s") > 0 .and. index(stdout, "it is stable") > 0, &
       "the script's lines: "//stdout)
+    if (allocated(error)) return
+    ! the README's example: LIGGGHTS' pour (two types, periodic in x and y, a
+    ! floor) from its own input script
+    call run_app("example/snapshot_liggghts_script.nml", rc, stdout, stderr)
+    call check(error, rc == 0 .and. index(stdout, "periodic yes") > 0 .and. index(stdout, "2 atom types, " &
+      //"1 primitive wall of type 1, restitution 0.9") > 0 .and. index(stdout, "your script's timestep 2e-6 s " &
+      //"(line 21) is 0.02574364345 times the exact limit 7.768908096e-5 s") > 0 .and. &
+      index(stdout, "recommended dt = 6.992017286e-5 s") > 0, "the README's example: "//stdout//stderr)
   end subroutine test_report
 
   !> Run a deck; expect exit 2 and one line on stderr starting with `start`.
