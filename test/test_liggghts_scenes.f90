@@ -210,6 +210,8 @@ contains
       "fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5"//nl// &
       "pair_style gran model hertz tangential history"//nl
     character(len=200) :: lines(5)
+    character(len=:), allocatable :: stdout, stderr
+    integer :: rc
     lines = [character(len=200) :: "&scene", "  dim = 3", "  snapshot_file = '../../"//states//"a_hertz.dump'", &
       "  liggghts_script = 'in.bad'", "/"]
     ! the hand-written deck's dump has three types, the script one
@@ -222,6 +224,20 @@ contains
     call write_file(script, ["boundary p p f"//nl//hertz])
     call expect_refused(error, lines, prefix//work_dir//"/in.bad: line 1: boundary: the periodic axes differ " &
       //"from the snapshot's box (periodic: none)")
+    if (allocated(error)) return
+    ! a lone plane without create_box: the side the particles are on, or
+    ! refused when they lie on both
+    call write_file(script, [hertz//"fix w all wall/gran model hertz tangential history primitive type 1 " &
+      //"zplane 0.0"])
+    call write_file(deck, lines)
+    call run_app(deck, rc, stdout, stderr)
+    call check(error, rc == 0 .and. index(stdout, "1 primitive wall of type 1") > 0 .and. &
+      index(stdout, "effects: contacts damping walls rotation") > 0, "a floor below the particles: "//stderr)
+    if (allocated(error)) return
+    call write_file(script, [hertz//"fix w all wall/gran model hertz tangential history primitive type 1 " &
+      //"zplane 0.01"])
+    call expect_refused(error, lines, prefix//work_dir//"/in.bad: line 6: fix wall/gran: wall 'w': the " &
+      //"script does not tell its side")
     if (allocated(error)) return
     ! a command the reader does not know
     call write_file(script, [hertz//"fix ts all check/timestep/gran 1 0.1 0.1"//nl//"frobnicate 3"])

@@ -43,8 +43,8 @@ contains
   !> Give `scene` (its particles, types and periodic cell already from
   !> `snapshot`) the contacts of the LIGGGHTS script `path`: materials per
   !> type (`scene_set_materials` in the script's convention, Hooke per
-  !> contact), walls, rolling springs, friction and gravity, with the effects
-  !> they imply (`contacts`, `rotation`, `damping` when the restitution is
+  !> contact), walls (a lone plane's side: the particles'), rolling springs,
+  !> friction and gravity, with the effects they imply (`contacts`, `rotation`, `damping` when the restitution is
   !> below 1, `walls`, `gravity`). Status `io_error` for an unreadable file,
   !> `invalid_input` for what cannot be read or reproduced, or where the
   !> script and the snapshot disagree: `FILE: line N: command: what`.
@@ -61,6 +61,7 @@ contains
     integer :: nt, t, k, dim
     call read_liggghts_script(path, info%script, status)
     if (status%stat /= demstep_stat%ok) return
+    call side_from_particles(info%script)
     call liggghts_script_contacts(info%script, info%contacts, status, file=path)
     if (status%stat /= demstep_stat%ok) return
     associate (s => info%script, c => info%contacts)
@@ -115,6 +116,8 @@ contains
           call fault(s%poisson_line, "fix property/global", "poissonsRatio: "//(status%message))
         case ("restitution")
           call fault(s%restitution_line, "fix property/global", "coefficientRestitution: "//(status%message))
+        case ("wall_type")
+          call fault(s%walls(1)%line, "fix wall/gran", "primitive type: "//(status%message), s%walls(1)%file)
         case ("impact_velocity")
           call fault(s%velocity_line, "fix property/global", "characteristicVelocity: "//(status%message))
         case default
@@ -182,6 +185,18 @@ contains
         status%message = name//": "//status%message
       end if
     end subroutine fault
+    !> A wall whose side the script does not tell (no `create_box` block, a
+    !> lone plane on its axis): the side all the snapshot's particles are on.
+    pure subroutine side_from_particles(script)
+      type(liggghts_script_type), intent(inout) :: script
+      integer :: w, axis
+      do w = 1, script%n_walls
+        if (any(script%walls(w)%normal /= 0.0_dp)) cycle
+        axis = script%walls(w)%axis
+        if (all(scene%x(axis, :) > script%walls(w)%position)) script%walls(w)%normal(axis) = 1.0_dp
+        if (all(scene%x(axis, :) < script%walls(w)%position)) script%walls(w)%normal(axis) = -1.0_dp
+      end do
+    end subroutine side_from_particles
     !> The periodic axes as words (`x y`, `none`).
     pure function axes(periodic) result(text)
       logical, intent(in) :: periodic(:)
