@@ -673,7 +673,7 @@ contains
         snapshot_lines, peer_dt, status)
       if (status%stat /= demstep_stat%ok) return
       if (given(group, "liggghts_script")) snapshot_lines = [snapshot_lines, &
-        script_summary(from_script, crit%dt_critical_damped, dt_recommended)]
+        script_summary(from_script, crit%dt_critical_damped, crit%eigen_computed, dt_recommended)]
       call report(ctx%report, group, sc, crit, duration > 0.0_dp, dt_used, steps, summary, dt_recommended, &
         snapshot_lines)
     else
@@ -1152,12 +1152,14 @@ contains
   end subroutine material_springs
 
   !> A LIGGGHTS script's part of the report: what it gave, and its `timestep`
-  !> against the exact (damped) limit `dt_limit`, with the recommendation.
-  function script_summary(info, dt_limit, dt_recommended) result(lines)
+  !> against the damped limit `dt_limit` (`exact`, or the safe bound), with
+  !> the recommendation.
+  function script_summary(info, dt_limit, exact, dt_recommended) result(lines)
     type(liggghts_scene_type), intent(in) :: info
     real(dp), intent(in) :: dt_limit, dt_recommended
+    logical, intent(in) :: exact
     character(len=200), allocatable :: lines(:)
-    character(len=:), allocatable :: walls, units, where
+    character(len=:), allocatable :: walls, units, where, limit
     real(dp) :: ratio
     associate (s => info%script, c => info%contacts)
       walls = "no walls"
@@ -1165,7 +1167,7 @@ contains
         trim(merge("s", " ", s%n_walls > 1))//" of type "//fmt_int(int(c%wall_type, i8))
       units = "units not stated"
       if (s%units_line > 0) units = "units "//trim(merge("si ", "cgs", s%units == 1))
-      lines = [character(len=200) :: "    script: "//info%timestep_file//": "// &
+      lines = [character(len=200) :: "    script: "//info%file//": "// &
         trim(code_convention_names(c%convention))//", "//fmt_int(int(size(c%young), i8))//" atom type"// &
         trim(merge("s", " ", size(c%young) > 1))//", "//walls//", restitution "//fmt_real(c%restitution)// &
         ", tangential_damping "//trim(merge("on ", "off", c%tangential_damping))//", rolling springs "// &
@@ -1181,8 +1183,12 @@ contains
     end if
     ratio = info%timestep/dt_limit
     where = " (line "//fmt_int(int(info%timestep_line, i8))//")"
+    if (info%timestep_file /= info%file) where = " ("//info%timestep_file//": line "// &
+      fmt_int(int(info%timestep_line, i8))//")"
+    limit = "exact limit"
+    if (.not. exact) limit = "safe bound on the limit"
     lines = [character(len=200) :: lines, "    your script's timestep "//fmt_real(info%timestep)//" s"//where// &
-      " is "//fmt_real(ratio)//" times the exact limit "//fmt_real(dt_limit)//" s"]
+      " is "//fmt_real(ratio)//" times the "//limit//" "//fmt_real(dt_limit)//" s"]
     if (ratio >= 1.0_dp) then
       lines = [character(len=200) :: lines, "    it is not stable: lower it to "//fmt_real(dt_recommended)//" s"]
     else if (info%timestep > dt_recommended) then

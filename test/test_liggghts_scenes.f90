@@ -179,6 +179,24 @@ contains
       index(stdout, "times the exact limit 4.24146877e-5 s") > 0 .and. index(stdout, "it is stable") > 0, &
       "the script's lines: "//stdout)
     if (allocated(error)) return
+    ! a script of its own: the export script included, a variable's timestep
+    ! above the limit (5e-5 s against 4.24e-5 s)
+    call write_file(work_dir//"/in.unstable", [character(len=200) :: "variable dt equal 2*2.5e-5", &
+      "include ../../"//inputs//"in.export_a_hertz", "timestep ${dt}"])
+    call write_file(work_dir//"/script_report.nml", [character(len=200) :: "&scene", "  dim = 3", &
+      "  snapshot_file = '../../"//states//"a_hertz.dump'", "  liggghts_script = 'in.unstable'", "/"])
+    ! (the included script's timestep, named with its file, is replaced by line 3's)
+    call run_app(work_dir//"/script_report.nml", rc, stdout, stderr)
+    call check(error, rc == 0 .and. index(stdout, "your script's timestep 5e-5 s (line 3) is 1.178836924 " &
+      //"times the exact limit 4.24146877e-5 s") > 0 .and. index(stdout, "it is not stable: lower it to " &
+      //"3.817321893e-5 s") > 0, "an unstable timestep: "//stdout//stderr)
+    if (allocated(error)) return
+    ! the timestep of an included script is named with its file
+    call write_file(work_dir//"/in.unstable", [character(len=200) :: "include ../../"//inputs//"in.export_a_hertz"])
+    call run_app(work_dir//"/script_report.nml", rc, stdout, stderr)
+    call check(error, rc == 0 .and. index(stdout, "your script's timestep 1e-6 s ("//work_dir//"/../../"//inputs// &
+      "in.export_a_hertz: line 25) is 0.02357673849") > 0, "an included script's timestep: "//stdout//stderr)
+    if (allocated(error)) return
     ! the README's example: LIGGGHTS' pour (two types, periodic in x and y, a
     ! floor) from its own input script
     call run_app("example/snapshot_liggghts_script.nml", rc, stdout, stderr)

@@ -32,7 +32,10 @@ module demstep_liggghts_scene
     !> The script as read and its contacts in demstep's terms.
     type(liggghts_script_type) :: script
     type(liggghts_contacts_type) :: contacts
-    !> The script's `timestep` (0 when it has none), its file and line.
+    !> The script's file name.
+    character(len=:), allocatable :: file
+    !> The script's `timestep` (0 when it has none), its file (the script's
+    !> or an included one) and line.
     real(dp) :: timestep = 0.0_dp
     character(len=:), allocatable :: timestep_file
     integer :: timestep_line = 0
@@ -163,8 +166,10 @@ contains
       end if
       info%timestep = s%timestep
       info%timestep_line = s%timestep_line
+      info%timestep_file = path
+      if (allocated(s%timestep_file)) info%timestep_file = s%timestep_file
     end associate
-    info%timestep_file = path
+    info%file = path
     status%stat = demstep_stat%ok
   contains
     !> `FILE: line N: command: what` (the script's file unless another is given).

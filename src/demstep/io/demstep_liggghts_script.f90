@@ -141,8 +141,9 @@ module demstep_liggghts_script
     !> `fix gravity`: the acceleration vector (zero without one).
     real(dp) :: gravity(3) = 0.0_dp
     integer :: gravity_line = 0
-    !> The last `timestep` (0 when none) and its line.
+    !> The last `timestep` (0 when none), its file and line.
     real(dp) :: timestep = 0.0_dp
+    character(len=:), allocatable :: timestep_file
     integer :: timestep_line = 0
     !> Particle templates with constant radius and density.
     integer :: n_templates = 0
@@ -574,6 +575,7 @@ contains
       call count_check(n, 2, status)
       if (status%stat == demstep_stat%ok) call positive_number(words(2)%text, script%timestep, status)
       script%timestep_line = line
+      script%timestep_file = file
     case ("region")
       call region_command(words, n, script)
     case ("create_box")
