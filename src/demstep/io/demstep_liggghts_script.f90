@@ -217,8 +217,10 @@ module demstep_liggghts_script
     "heat/gran", "heat/gran/conduction", "property/atom", "property/atom/tracer", "setforce", "addforce", &
     "momentum", "wall/region/sph", "store/state", "contactproperty/atom/wall"]
   !> `fix property/global` names with no bearing on the mechanical contacts.
-  character(len=*), parameter :: passed_properties(*) = [character(len=24) :: "thermalConductivity", &
-    "thermalCapacity", "k_finnie"]
+  !> (coefficientRollingViscousDamping: the rolling dashpot of epsd and epsd3,
+  !> which are refused; epsd2 has none, rolling_model_epsd2.h:226.)
+  character(len=*), parameter :: passed_properties(*) = [character(len=32) :: "thermalConductivity", &
+    "thermalCapacity", "k_finnie", "coefficientRollingViscousDamping"]
   !> The on/off settings of LIGGGHTS 3.8's granular models without bearing on
   !> the step (normal_model_hertz.h:90-96, normal_model_hooke.h:97-105,
   !> tangential_model_history.h:110-112, rolling_model_epsd2.h:83).
