@@ -20,6 +20,7 @@ module demstep_cli_scene
     snapshot_format_names, snapshot_format_from_name
   use demstep_material, only: material_set_type, peer_steps_type, packing_peer_steps, &
     code_convention_names, peer_rule_names, n_peer_rules
+  use demstep_liggghts_scene, only: liggghts_scene_type
   use demstep_scene_input, only: scene_input_type, scene_setup_type, scene_from_input, scene_input_part
   use demstep_cli_material, only: read_material
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
@@ -95,6 +96,13 @@ contains
         //"file: LAMMPS/LIGGGHTS dump or data file, Yade text export; masses from the file, else " &
         //"from a &material group's density per type", "!'dump.liggghts'", &
         excludes="position particles_file velocity mass radius fixed types"), &
+      var("liggghts_script", "a quoted file name", "a LIGGGHTS input script giving the snapshot's " &
+        //"contacts as LIGGGHTS computes them (units, boundary, fix property/global materials, pair_style " &
+        //"gran, fix wall/gran primitives, fix gravity, timestep, variables, include): no &material needed", &
+        "!'in.liggghts'", needs="snapshot_file", excludes="law k_normal e_star k_tangential kt_ratio g_star " &
+        //"types type_k_normal type_k_tangential young poisson walls wall_type tangential_damping " &
+        //"rolling_ratio twisting_ratio effects gravity damping_ratio restitution damping_ratio_tangential " &
+        //"friction rolling_friction"), &
       var("snapshot_format", "a quoted word", word_choice(snapshot_format_names), &
         "!'auto'", default="'auto'", needs="snapshot_file"), &
       var("snapshot_frame", "an integer", "dump frame: 1, 2, ... from the first; 0 the last, -1 the " &
@@ -303,6 +311,8 @@ contains
       call snapshot_summary(input%snapshot_file, setup%snapshot, deck_mat, setup%from_material, sc, crit, &
         snapshot_lines, peer_dt, status)
       if (status%stat /= demstep_stat%ok) return
+      if (allocated(input%liggghts_script)) snapshot_lines = [snapshot_lines, script_summary(setup%script, &
+        crit%dt_critical_damped, crit%eigen_computed, dt_recommended)]
       call report(ctx%report, group, sc, crit, run%duration > 0.0_dp, run%dt, run%steps, summary, &
         dt_recommended, snapshot_lines)
     else
@@ -330,7 +340,7 @@ contains
     real(dp), allocatable :: position(:), velocity(:), mass(:), radius(:), walls(:), gravity(:), &
       type_k_normal(:), type_k_tangential(:), young(:), poisson(:), bond_parameters(:)
     integer, allocatable :: fixed(:), bonds(:), types(:)
-    character(len=512) :: particles_file, bonds_file, contacts_file, snapshot_file, bodies_file
+    character(len=512) :: particles_file, bonds_file, contacts_file, snapshot_file, bodies_file, liggghts_script
     character(len=32) :: snapshot_format, law, hertz_linearization, eigen_solver, bond_model
     character(len=32) :: effects(max_effects)
     real(dp) :: k_normal, e_star, k_bond, k_bond_tangential, damping_ratio, restitution, &
@@ -347,7 +357,7 @@ contains
       eigen_solver, eigen_tolerance, snapshot_file, snapshot_format, snapshot_frame, &
       damping_ratio_tangential, damping_ratio_rolling, drag, rolling_ratio, twisting_ratio, rolling_friction, &
       wall_type, tangential_damping, bond_model, bond_parameters, bodies_file, body_density, &
-      participation, participation_file
+      participation, participation_file, liggghts_script
     type(var_spec), allocatable :: specs(:)
     character(len=*), parameter :: g = "scene"
 
@@ -396,6 +406,7 @@ contains
     if (given(group, "contacts_file")) input%contacts_file = beside(file, trim(contacts_file))
     if (given(group, "bonds_file")) input%bonds_file = beside(file, trim(bonds_file))
     if (given(group, "bodies_file")) input%bodies_file = beside(file, trim(bodies_file))
+    if (given(group, "liggghts_script")) input%liggghts_script = beside(file, trim(liggghts_script))
 
     ! words
     input%snapshot_format = snapshot_format_from_name(snapshot_format)
@@ -593,7 +604,7 @@ contains
   pure logical function own_stiffness(group)
     type(nml_group_type), intent(in) :: group
     own_stiffness = given(group, "k_normal") .or. given(group, "e_star") .or. &
-      given(group, "type_k_normal") .or. given(group, "young")
+      given(group, "type_k_normal") .or. given(group, "young") .or. given(group, "liggghts_script")
   end function own_stiffness
 
   !> The step count of a run, refused when it is absurd, and announced on stderr
@@ -778,6 +789,55 @@ contains
     end do
     status%stat = demstep_stat%ok
   end subroutine find_deck_material
+
+  !> A LIGGGHTS script's part of the report: what it gave, and its `timestep`
+  !> against the damped limit `dt_limit` (`exact`, or the safe bound), with
+  !> the recommendation.
+  function script_summary(info, dt_limit, exact, dt_recommended) result(lines)
+    type(liggghts_scene_type), intent(in) :: info
+    real(dp), intent(in) :: dt_limit, dt_recommended
+    logical, intent(in) :: exact
+    character(len=200), allocatable :: lines(:)
+    character(len=:), allocatable :: walls, units, where, limit
+    real(dp) :: ratio
+    associate (s => info%script, c => info%contacts)
+      walls = "no walls"
+      if (s%n_walls > 0) walls = fmt_int(int(s%n_walls, i8))//" primitive wall"// &
+        trim(merge("s", " ", s%n_walls > 1))//" of type "//fmt_int(int(c%wall_type, i8))
+      units = "units not stated"
+      if (s%units_line > 0) units = "units "//trim(merge("si ", "cgs", s%units == 1))
+      lines = [character(len=200) :: "    script: "//info%file//": "// &
+        trim(code_convention_names(c%convention))//", "//fmt_int(int(size(c%young), i8))//" atom type"// &
+        trim(merge("s", " ", size(c%young) > 1))//", "//walls//", restitution "//fmt_real(c%restitution)// &
+        ", tangential_damping "//trim(merge("on ", "off", c%tangential_damping))//", rolling springs "// &
+        trim(merge("on ", "off", c%rolling_ratio > 0.0_dp))//"; "//units]
+      if (c%friction_per_pair) lines = [character(len=200) :: lines, "    (its friction differs between " &
+        //"type pairs, line "//fmt_int(int(merge(s%friction_line, s%rolling_friction_line, c%friction < 0.0_dp &
+        .and. s%friction_line > 0), i8))//": not taken; the limit takes every contact sticking)"]
+    end associate
+    if (info%timestep_line == 0) then
+      lines = [character(len=200) :: lines, "    your script states no timestep: use at most "// &
+        fmt_real(dt_recommended)//" s"]
+      return
+    end if
+    ratio = info%timestep/dt_limit
+    where = " (line "//fmt_int(int(info%timestep_line, i8))//")"
+    if (info%timestep_file /= info%file) where = " ("//info%timestep_file//": line "// &
+      fmt_int(int(info%timestep_line, i8))//")"
+    limit = "exact limit"
+    if (.not. exact) limit = "safe bound on the limit"
+    lines = [character(len=200) :: lines, "    your script's timestep "//fmt_real(info%timestep)//" s"//where// &
+      " is "//fmt_real(ratio)//" times the "//limit//" "//fmt_real(dt_limit)//" s"]
+    if (ratio >= 1.0_dp) then
+      lines = [character(len=200) :: lines, "    it is not stable: lower it to "//fmt_real(dt_recommended)//" s"]
+    else if (info%timestep > dt_recommended) then
+      lines = [character(len=200) :: lines, "    it is within "//fmt_real(1.0_dp - ratio)//" of the limit: " &
+        //"lower it to "//fmt_real(dt_recommended)//" s"]
+    else
+      lines = [character(len=200) :: lines, "    it is stable; "//fmt_real(dt_recommended)//" s (" &
+        //fmt_real(dt_recommended/info%timestep)//" times it) would be too"]
+    end if
+  end function script_summary
 
   !> A snapshot's part of the report: what was read, and with a `&material`
   !> group the peers' rules beside demstep's exact limit (as ratios). The

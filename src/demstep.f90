@@ -39,7 +39,8 @@
 !> - MFiX decks: `read_mfix_deck`, `mfix_input_from_deck` (`@( )` arithmetic and
 !>   CGP as MFiX does them), `mfix_compute` (what MFiX computes), `mfix_assess`.
 !> - LIGGGHTS input scripts as they are: `read_liggghts_script`,
-!>   `liggghts_script_contacts`.
+!>   `liggghts_script_contacts`, and with a snapshot a scene's contacts:
+!>   `scene_from_liggghts_script`.
 !> - Snapshots from DEM codes' files: `snapshot_type`, `read_snapshot`.
 !> - Inside a running DEM solver: `solver_critical_steps` (the solver's own arrays
 !>   and contact list, no scene, no search), `step_monitor_type` (`update`
@@ -117,6 +118,7 @@ module demstep
   ! LIGGGHTS input scripts as they are, and the contacts they define
   use demstep_liggghts_script, only: liggghts_script_type, read_liggghts_script, liggghts_contacts_type, &
     liggghts_script_contacts
+  use demstep_liggghts_scene, only: liggghts_scene_type, scene_from_liggghts_script
   ! particle snapshots from DEM codes' files
   use demstep_snapshot, only: snapshot_type, snapshot_format, read_snapshot
   ! a whole scene from typed input (arrays, tables or a snapshot, and a material set)

@@ -37,6 +37,7 @@ program tester
   use test_damping, only: collect_damping
   use test_liggghts, only: collect_liggghts
   use test_liggghts_script, only: collect_liggghts_script
+  use test_liggghts_scenes, only: collect_liggghts_scenes
   use test_app_safety, only: collect_app_safety
   use test_structure, only: collect_structure
   use test_monitor, only: collect_monitor
@@ -61,6 +62,7 @@ program tester
     new_testsuite("damping", collect_damping), &
     new_testsuite("liggghts", collect_liggghts), &
     new_testsuite("liggghts_script", collect_liggghts_script), &
+    new_testsuite("liggghts_scenes", collect_liggghts_scenes), &
     new_testsuite("yade", collect_yade), &
     new_testsuite("contact", collect_contact), &
     new_testsuite("cost", collect_cost), &

@@ -426,9 +426,12 @@ contains
     type(liggghts_script_type) :: s
     type(demstep_status_type) :: status
     character(len=*), parameter :: list = work_dir//"/liggghts_tutorials.txt"
+    !> Each script's outcome, one line each, for the record.
+    character(len=*), parameter :: outcome = work_dir//"/liggghts_tutorials_outcome.txt"
+    type(liggghts_contacts_type) :: c
     character(len=1024) :: path
     logical :: there
-    integer :: unit, ios, cs, n
+    integer :: unit, ios, cs, n, out
     inquire(file=examples//"packing/in.packing", exist=there)
     if (.not. there) then
       call skip_test(error, "Debian's liggghts-doc is not installed ("//examples//")")
@@ -448,6 +451,7 @@ contains
     open(newunit=unit, file=list, status="old", action="read", iostat=ios)
     call check(error, ios == 0 .and. cs == 0, "the list of tutorial scripts")
     if (allocated(error)) return
+    open(newunit=out, file=outcome, status="replace", action="write")
     n = 0
     do
       read(unit, '(a)', iostat=ios) path
@@ -457,16 +461,33 @@ contains
       if (allocated(error)) exit
     end do
     close(unit)
+    close(out)
     if (allocated(error)) return
     call check(error, n >= 20, "the tutorial scripts were found")
   contains
-    !> Read, or refused with `FILE: line N: command: ...` naming the file.
+    !> Read, or refused with `FILE: line N: command: ...` naming the file;
+    !> when read, its contacts given to a scene or refused naming the file
+    !> (and the line, except for what the script lacks).
     subroutine tutorial(name)
       character(len=*), intent(in) :: name
       call read_liggghts_script(name, s, status)
       call check(error, status%stat == demstep_stat%ok .or. (status%stat == demstep_stat%invalid_input .and. &
         index(status_text(status), name//": line ") == 1 .and. allocated(status%where)), &
         name//": "//status_text(status))
+      if (allocated(error)) return
+      if (status%stat /= demstep_stat%ok) then
+        write(out, '(a)') "refused: "//status_text(status)
+        return
+      end if
+      call liggghts_script_contacts(s, c, status, file=name)
+      call check(error, status%stat == demstep_stat%ok .or. (status%stat == demstep_stat%invalid_input .and. &
+        index(status_text(status), name//": ") == 1 .and. allocated(status%where)), &
+        name//": contacts: "//status_text(status))
+      if (status%stat == demstep_stat%ok) then
+        write(out, '(a)') "read, contacts: "//name
+      else
+        write(out, '(a)') "read, contacts refused: "//status_text(status)
+      end if
     end subroutine tutorial
   end subroutine test_tutorials
 
@@ -528,6 +549,24 @@ contains
     call liggghts_script_contacts(s, c, status)
     call check(error, status%stat == demstep_stat%ok .and. c%restitution == 1.0_dp .and. &
       c%convention == code_convention%liggghts_hooke, "g_hooke_undamped")
+    if (allocated(error)) return
+    ! friction: one value taken (c_epsd2: 0.5, rolling 0.1); differing between
+    ! type pairs, none taken and said so
+    call read_ok(inputs//"in.export_c_epsd2", s, error)
+    if (allocated(error)) return
+    call liggghts_script_contacts(s, c, status)
+    call check(error, status%stat == demstep_stat%ok .and. c%friction == 0.5_dp .and. c%rolling_friction == 0.1_dp &
+      .and. .not. c%friction_per_pair, "c_epsd2's friction")
+    if (allocated(error)) return
+    call parse_ok("fix m1 all property/global youngsModulus peratomtype 1e7 1e7"//nl//"fix m2 all " &
+      //"property/global poissonsRatio peratomtype 0.3 0.3"//nl//"fix m3 all property/global " &
+      //"coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5"//nl//"fix m4 all property/global " &
+      //"coefficientFriction peratomtypepair 2 0.1 0.3 0.3 0.1"//nl//"pair_style gran model hertz tangential " &
+      //"history", s, error)
+    if (allocated(error)) return
+    call liggghts_script_contacts(s, c, status)
+    call check(error, status%stat == demstep_stat%ok .and. c%friction == -1.0_dp .and. c%friction_per_pair, &
+      "friction per type pair: none taken, said so: "//status_text(status))
   end subroutine test_contacts
 
   subroutine expect_contacts_refusal(error, text, start)

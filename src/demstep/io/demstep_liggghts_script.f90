@@ -115,6 +115,8 @@ module demstep_liggghts_script
     integer :: dimension = 3
     !> Periodic axes (`boundary p ...`).
     logical :: periodic(3) = .false.
+    !> Lines of `units`, `dimension` and `boundary` (0 when not given).
+    integer :: units_line = 0, dimension_line = 0, boundary_line = 0
     !> Number of atom types (`create_box N`, else the count of the per-type
     !> properties; 0 when neither).
     integer :: n_types = 0
@@ -139,8 +141,9 @@ module demstep_liggghts_script
     !> `fix gravity`: the acceleration vector (zero without one).
     real(dp) :: gravity(3) = 0.0_dp
     integer :: gravity_line = 0
-    !> The last `timestep` (0 when none) and its line.
+    !> The last `timestep` (0 when none), its file and line.
     real(dp) :: timestep = 0.0_dp
+    character(len=:), allocatable :: timestep_file
     integer :: timestep_line = 0
     !> Particle templates with constant radius and density.
     integer :: n_templates = 0
@@ -173,6 +176,13 @@ module demstep_liggghts_script
     !> The walls' material type (0 without walls) and, per wall, a point and the inward normal.
     integer :: wall_type = 0
     real(dp), allocatable :: wall_points(:, :), wall_normals(:, :)
+    !> Coulomb friction and rolling friction, the same for every type pair
+    !> (-1 when the script gives none, or `friction_per_pair`: no sliding, no
+    !> cap; the limit takes every contact sticking either way).
+    real(dp) :: friction = -1.0_dp, rolling_friction = -1.0_dp
+    !> The script's friction or rolling friction differs between type pairs
+    !> (demstep's scene takes one value: none is taken).
+    logical :: friction_per_pair = .false.
     !> Periodic axes as the script's `boundary` states them (after
     !> `read_restart` or `read_data` the restart or data file has them: take
     !> the snapshot's box then).
@@ -207,8 +217,10 @@ module demstep_liggghts_script
     "heat/gran", "heat/gran/conduction", "property/atom", "property/atom/tracer", "setforce", "addforce", &
     "momentum", "wall/region/sph", "store/state", "contactproperty/atom/wall"]
   !> `fix property/global` names with no bearing on the mechanical contacts.
-  character(len=*), parameter :: passed_properties(*) = [character(len=24) :: "thermalConductivity", &
-    "thermalCapacity", "k_finnie"]
+  !> (coefficientRollingViscousDamping: the rolling dashpot of epsd and epsd3,
+  !> which are refused; epsd2 has none, rolling_model_epsd2.h:226.)
+  character(len=*), parameter :: passed_properties(*) = [character(len=32) :: "thermalConductivity", &
+    "thermalCapacity", "k_finnie", "coefficientRollingViscousDamping"]
   !> The on/off settings of LIGGGHTS 3.8's granular models without bearing on
   !> the step (normal_model_hertz.h:90-96, normal_model_hooke.h:97-105,
   !> tangential_model_history.h:110-112, rolling_model_epsd2.h:83).
@@ -256,8 +268,8 @@ contains
   !> the script's command and line (`FILE: line N: command: what`; a missing
   !> property or pair style without a line): a model other than hertz or hooke,
   !> tangential other than history, a surface model, `ktToKnUser on`, rolling
-  !> friction epsd or epsd3, a restitution that differs between type pairs, a
-  !> wall whose model differs from the pair style's, walls of different types,
+  !> friction epsd or epsd3, a restitution that differs between type pairs,
+  !> a wall whose model differs from the pair style's, walls of different types,
   !> a wall whose side the script does not tell, Hooke without
   !> characteristicVelocity.
   subroutine liggghts_script_contacts(script, contacts, status, file)
@@ -305,6 +317,19 @@ contains
       return
     end if
     contacts%restitution = script%restitution(1, 1)
+    ! friction caps the springs in a run, not the limit (every contact sticks):
+    ! one value per scene, none when the type pairs differ (`friction_per_pair`)
+    if (allocated(script%friction)) then
+      contacts%friction_per_pair = any(script%friction /= script%friction(1, 1))
+      if (.not. contacts%friction_per_pair) contacts%friction = script%friction(1, 1)
+    end if
+    if (allocated(script%rolling_friction) .and. script%pair%rolling /= "off") then
+      if (any(script%rolling_friction /= script%rolling_friction(1, 1))) then
+        contacts%friction_per_pair = .true.
+      else
+        contacts%rolling_friction = script%rolling_friction(1, 1)
+      end if
+    end if
     if (contacts%convention == code_convention%liggghts_hooke) then
       if (.not. (script%characteristic_velocity > 0.0_dp)) then
         call fault(script%pair%line, "pair_style", "model hooke needs 'fix property/global " &
@@ -505,7 +530,9 @@ contains
     select case (command)
     case ("units")
       call units_command(words, n, script, status)
+      script%units_line = line
     case ("dimension")
+      script%dimension_line = line
       call count_check(n, 2, status)
       if (status%stat == demstep_stat%ok) then
         if (words(2)%text == "2") then
@@ -517,6 +544,7 @@ contains
         end if
       end if
     case ("boundary")
+      script%boundary_line = line
       call count_check(n, 4, status)
       if (status%stat == demstep_stat%ok) then
         do k = 1, 3
@@ -549,6 +577,7 @@ contains
       call count_check(n, 2, status)
       if (status%stat == demstep_stat%ok) call positive_number(words(2)%text, script%timestep, status)
       script%timestep_line = line
+      script%timestep_file = file
     case ("region")
       call region_command(words, n, script)
     case ("create_box")

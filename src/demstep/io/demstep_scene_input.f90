@@ -26,6 +26,7 @@ module demstep_scene_input
   use demstep_scene_bonds, only: scene_set_bond_model
   use demstep_bodies, only: body_set_type, bodies_from_members
   use demstep_body_table, only: read_body_table
+  use demstep_liggghts_scene, only: liggghts_scene_type, scene_from_liggghts_script
   use demstep_assembly, only: hertz_linearization, eigen_solver, default_max_eigen_dof
   use demstep_lanczos, only: lanczos_tolerance_default
   use demstep_snapshot, only: snapshot_type, read_snapshot, snapshot_format, snapshot_masses_from_types
@@ -63,6 +64,9 @@ module demstep_scene_input
     !> dump frame (0 the last, negative from the end).
     character(len=:), allocatable :: snapshot_file
     integer :: snapshot_format = 0, snapshot_frame = 0
+    !> The LIGGGHTS input script that made the snapshot: its contacts, walls,
+    !> gravity and effects as LIGGGHTS computes them (no material set needed).
+    character(len=:), allocatable :: liggghts_script
     !> Explicit contacts: per row i j k_n k_t [k_r k_w [c_n c_t c_r c_w]].
     character(len=:), allocatable :: contacts_file
     !> Bonds: pairs of particle numbers, or a table of them.
@@ -127,6 +131,8 @@ module demstep_scene_input
     !> The Hertz linearisation and impact velocity for the analysis.
     integer :: hertz_mode = 1
     real(dp) :: impact_velocity = 0.0_dp
+    !> What a LIGGGHTS script gave (with `liggghts_script`), for the report.
+    type(liggghts_scene_type) :: script
     !> The rigid bodies, when the scene has them (analyse and run with them).
     type(body_set_type), allocatable :: bodies
   end type scene_setup_type
@@ -137,7 +143,7 @@ contains
   pure logical function scene_input_own_stiffness(input) result(own)
     type(scene_input_type), intent(in) :: input
     own = allocated(input%k_normal) .or. allocated(input%e_star) .or. given_real(input%type_k_normal) &
-      .or. given_real(input%young)
+      .or. given_real(input%young) .or. allocated(input%liggghts_script)
   end function scene_input_own_stiffness
 
   !> Build the scene an input describes. `materials` (broadcast to the
@@ -177,7 +183,7 @@ contains
       setup%from_material = materials%found .and. .not. scene_input_own_stiffness(input)
       if (.not. (setup%from_material .or. scene_input_own_stiffness(input))) then
         call set_status(status, demstep_stat%invalid_input, "required with snapshot_file (or e_star, " &
-          //"type_k_normal, young and poisson per type, or a &material group in the deck)", where="k_normal")
+          //"type_k_normal, young and poisson per type, liggghts_script, or a &material group in the deck)", where="k_normal")
         return
       end if
     else if (allocated(input%particles_file)) then
@@ -343,7 +349,8 @@ contains
       law_values = [value_or_zero(input%e_star), value_or_zero(input%g_star)]
       law_given = allocated(input%e_star) .or. allocated(input%g_star)
     end if
-    if (law_given .or. (scene%effects(scene_effect%contacts) .and. .not. (scene%given_contacts .or. typed)) &
+    if (law_given .or. (scene%effects(scene_effect%contacts) .and. .not. (scene%given_contacts .or. typed .or. &
+      allocated(input%liggghts_script))) &
       .or. (scene%effects(scene_effect%walls) .and. .not. setup%from_material)) then
       call scene_set_law(scene, law, law_values(1), law_values(2), status)
       if (status%stat /= demstep_stat%ok) return
@@ -445,6 +452,15 @@ contains
       if (status%stat /= demstep_stat%ok) return
       call scene_set_local_damping(scene, input%local_damping, status)
       if (status%stat /= demstep_stat%ok) return
+    end if
+    if (allocated(input%liggghts_script)) then
+      ! the script gives the contacts, walls, gravity and effects (after the
+      ! input's own: the script's have the last word)
+      call scene_from_liggghts_script(scene, input%liggghts_script, setup%snapshot, setup%script, status)
+      if (status%stat /= demstep_stat%ok) then
+        call status_restate(status, "liggghts_script", status%message)
+        return
+      end if
     end if
     ! the Hertz linearisation: with a material set, the larger of the current
     ! overlap and the impact's (a settled contact may be struck)

@@ -26,7 +26,7 @@ module demstep_interaction
 
   public :: reduced_radius, reduced_mass, normal_force, normal_stiffness, tangential_stiffness, &
     normal_energy, dashpot_coefficient, wall_overlap, contact_block, contact_product, contact_forces, &
-    rolling_moments, contact_arm, &
+    rolling_moments, contact_arm, hooke_size_factor, &
     add_bond_forces, dof_components, hertz_e_star, mindlin_g_star, cross
 
   !> Contact laws, as components of a parameter: `contact_law%hertz`.
@@ -62,6 +62,15 @@ contains
       m = min(mi, mj)/(1.0_dp + min(mi, mj)/max(mi, mj))
     end if
   end function reduced_mass
+
+  !> How LIGGGHTS' Hooke stiffness depends on a contact's own R* and m*:
+  !> k_n = 16/15 sqrt(R*) Y* (15 m* V^2/(16 sqrt(R*) Y*))^(1/5)
+  !> (normal_model_hooke.h:269) is R*^(2/5) m*^(1/5) times a factor of the
+  !> materials and V alone; this returns R*^(2/5) m*^(1/5) (in logarithms).
+  elemental real(dp) function hooke_size_factor(rs, m) result(f)
+    real(dp), intent(in) :: rs, m
+    f = exp(0.4_dp*log(rs) + 0.2_dp*log(m))
+  end function hooke_size_factor
 
   !> Normal force magnitude at overlap d: k d (linear) or (4/3) E* sqrt(R*) d^(3/2).
   elemental real(dp) function normal_force(law, k, e_star, d, rs) result(f)

@@ -366,6 +366,7 @@ contains
     if (allocated(scene%pair_damping)) deallocate(scene%pair_damping)
     if (allocated(scene%wall_law)) deallocate(scene%wall_law)
     if (allocated(scene%wall_damping)) deallocate(scene%wall_damping)
+    scene%hooke_per_contact = .false.
   end subroutine clear_types
 
   !> One type in 1 to nt per particle.

@@ -11,13 +11,13 @@ module demstep_scene_data
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_interaction, only: contact_law, reduced_mass, reduced_radius, normal_force, &
-    normal_stiffness, tangential_stiffness, dashpot_coefficient
+    normal_stiffness, tangential_stiffness, dashpot_coefficient, hooke_size_factor
   use demstep_words, only: word_index, word_of
   implicit none
   private
 
   public :: effective_mass, effective_inertia, branch_vector, contact_values, wall_values, contact_dashpots, &
-    has_tangential, has_rolling, check_scene_damping, wrap_positions
+    has_tangential, has_rolling, check_scene_damping, wrap_positions, law_parameters
 
   !> Effects, by index into `scene_type`%effects: `scene_effect%gravity`.
   type, public :: scene_effect_enum
@@ -77,6 +77,11 @@ module demstep_scene_data
     !> wall the law's parameters wall_law(:, t) (as pair_law) and
     !> wall_damping(:, t). They replace the scene's values where allocated.
     real(dp), allocatable :: pair_damping(:, :, :), wall_law(:, :), wall_damping(:, :)
+    !> LIGGGHTS' Hooke stiffness per contact (`scene_set_materials` with
+    !> `per_contact`): k_n and k_t of pair_law and wall_law are then those of
+    !> R* = m* = 1, and each detected contact's are k R*^(2/5) m*^(1/5) with its
+    !> own R* and m* (`hooke_size_factor`), as LIGGGHTS computes them per contact.
+    logical :: hooke_per_contact = .false.
     !> Coulomb friction coefficient of the tangential springs (< 0: no sliding).
     real(dp) :: friction = -1.0_dp
     !> Bonds (2, nb): particle pairs; rest(3, nb) = initial x_j - x_i and its
@@ -220,13 +225,28 @@ contains
       return
     end if
     rs = reduced_radius(scene%radius(i), scene%radius(j))
-    if (allocated(scene%ptype)) then
-      p = scene%pair_law(:, scene%ptype(i), scene%ptype(j))
-    else
-      p = [scene%k_normal, scene%k_tangential, scene%e_star, scene%g_star]
-    end if
+    p = law_parameters(scene, i, j)
     call law_values(scene, p, d, rs, f_n, k)
   end subroutine contact_values
+
+  !> The law's parameters (k_n, k_t, E*, G*) of a detected contact between i
+  !> and j (j = 0: a wall): the pair's (the wall's) per-type values where set,
+  !> else the scene's; LIGGGHTS' Hooke springs scaled to the contact's own R*
+  !> and m* (`hooke_per_contact`).
+  pure function law_parameters(scene, i, j) result(p)
+    type(scene_type), intent(in) :: scene
+    integer, intent(in) :: i, j
+    real(dp) :: p(4)
+    p = [scene%k_normal, scene%k_tangential, scene%e_star, scene%g_star]
+    if (j > 0) then
+      if (allocated(scene%ptype)) p = scene%pair_law(:, scene%ptype(i), scene%ptype(j))
+      if (scene%hooke_per_contact) p(1:2) = p(1:2)*hooke_size_factor(reduced_radius(scene%radius(i), &
+        scene%radius(j)), effective_mass(scene, i, j))
+    else
+      if (allocated(scene%wall_law)) p = scene%wall_law(:, scene%ptype(i))
+      if (scene%hooke_per_contact) p(1:2) = p(1:2)*hooke_size_factor(scene%radius(i), effective_mass(scene, i, 0))
+    end if
+  end function law_parameters
 
   !> The law's values for particle i on a wall at overlap d (R* = r_i, the
   !> scene's law): normal force and k = (k_n, k_t, k_r, k_w).
@@ -237,8 +257,7 @@ contains
     real(dp), intent(out) :: f_n, k(4)
     real(dp) :: r, p(4)
     r = scene%radius(i)
-    p = [scene%k_normal, scene%k_tangential, scene%e_star, scene%g_star]
-    if (allocated(scene%wall_law)) p = scene%wall_law(:, scene%ptype(i))
+    p = law_parameters(scene, i, 0)
     call law_values(scene, p, d, r, f_n, k)
   end subroutine wall_values
 

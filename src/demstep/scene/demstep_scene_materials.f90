@@ -14,11 +14,17 @@
 !> contact of the pair in each supported convention (their dashpots scale as
 !> sqrt(m* k)), so each contact's dashpots follow from its own m* and k.
 !> Walls: a particle of type t on a wall of type w, R* = r, m* = m.
+!>
+!> LIGGGHTS' Hooke stiffness depends on each contact's own R* and m*
+!> (normal_model_hooke.h:269); with `per_contact` the scene takes it so
+!> (`hooke_per_contact`), the types' nominal radii and densities then only
+!> carry the rounding: what a snapshot of several radii with one LIGGGHTS type needs.
 module demstep_scene_materials
   use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text
-  use demstep_interaction, only: contact_law
+  use demstep_interaction, only: contact_law, hooke_size_factor
+  use demstep_material, only: code_convention
   use demstep_material, only: material_type, material_pair_type, contact_parameters_type, &
     contact_parameters, effective_pair_type, effective_pair, material_set_type, code_convention_names
   use demstep_scene_data, only: scene_type, scene_effect
@@ -42,7 +48,7 @@ contains
   !> Status invalid_input naming `types`, `wall_type` or, prefixed by the
   !> pair (`types 1 and 2:`, `wall, type 1:`), the material's variable.
   subroutine scene_set_materials(scene, types, materials, convention, restitution, status, &
-      restitution_t, impact_velocity, wall_type, tangential_damping)
+      restitution_t, impact_velocity, wall_type, tangential_damping, per_contact)
     type(scene_type), intent(inout) :: scene
     integer, intent(in) :: types(:)
     type(material_type), intent(in) :: materials(:)
@@ -54,12 +60,17 @@ contains
     !> The code's tangential dashpots (default on; LIGGGHTS' `tangential_damping
     !> off` drops them, normal_model_hertz.h:238, normal_model_hooke.h:275).
     logical, intent(in), optional :: tangential_damping
+    !> LIGGGHTS Hooke: each contact's stiffness from its own R* and m*
+    !> (default no: the types' nominal radii and densities).
+    logical, intent(in), optional :: per_contact
     type(contact_parameters_type) :: params
     type(material_pair_type) :: pair
     real(dp), allocatable :: k(:, :, :), law(:, :, :), damp(:, :, :), wall_law(:, :), wall_damp(:, :)
     integer :: nt, a, b, w, law_id
-    logical :: hertz, first
+    logical :: hertz, first, scaled
     nt = size(materials)
+    scaled = .false.
+    if (present(per_contact)) scaled = per_contact .and. convention == code_convention%liggghts_hooke
     w = 0
     if (present(wall_type)) w = wall_type
     if (w < 0 .or. w > nt) then
@@ -109,6 +120,7 @@ contains
     scene%pair_damping = damp
     scene%wall_law = wall_law
     scene%wall_damping = wall_damp
+    scene%hooke_per_contact = scaled
     scene%effects(scene_effect%rotation) = .true.
     if (any(damp(1, :, :) > 0.0_dp) .or. any(wall_damp(1, :) > 0.0_dp)) &
       scene%effects(scene_effect%damping) = .true.
@@ -146,6 +158,8 @@ contains
         k_tan = params%k_n
       end if
       ratios(1) = params%gamma_n/(2.0_dp*sqrt(eff%m_star*k_tan))
+      ! per contact: the springs of R* = m* = 1 (the damping ratio does not depend on them)
+      if (scaled) row(1:2) = row(1:2)/hooke_size_factor(eff%r_star, eff%m_star)
       if (params%gamma_n > 0.0_dp) ratios(2) = params%gamma_t/params%gamma_n
     end subroutine pair_values
 

@@ -44,7 +44,7 @@ module demstep_stepper
   use demstep_interaction, only: contact_law, reduced_radius, normal_force, &
     normal_energy, dashpot_coefficient, contact_forces, rolling_moments, contact_product, add_bond_forces, &
     contact_arm, cross
-  use demstep_scene_data, only: scene_type, scene_summary_type, scene_effect, effective_mass, &
+  use demstep_scene_data, only: scene_type, scene_summary_type, scene_effect, effective_mass, law_parameters, &
     contact_values, wall_values, contact_dashpots, has_tangential, has_rolling, check_scene_damping, &
     wrap_positions
   use demstep_scene_bonds, only: scene_bond_laws, scene_bonds_damped
@@ -366,8 +366,7 @@ contains
       u = normal_energy(contact_law%linear, scene%contact_k(1, c), 0.0_dp, d, 0.0_dp)
       return
     end if
-    p = [scene%k_normal, scene%k_tangential, scene%e_star, scene%g_star]
-    if (allocated(scene%ptype)) p = scene%pair_law(:, scene%ptype(i), scene%ptype(j))
+    p = law_parameters(scene, i, j)
     u = normal_energy(scene%law, p(1), p(3), d, reduced_radius(scene%radius(i), scene%radius(j)))
   end function pair_energy
 

@@ -475,8 +475,8 @@ contains
     character(len=:), allocatable :: detail
     call check_lanczos_options("tolerance", tol, 1, 2, 1, status)
     if (status%stat /= demstep_stat%ok) then
-      ! the options check speaks of its caller, here the tolerance itself
-      detail = status%message(len("tolerance: tolerance: ") + 1:)
+      ! here the caller is the tolerance itself: its location and detail
+      detail = status%detail
       call set_status(status, demstep_stat%invalid_input, detail, where="tolerance")
       return
     end if

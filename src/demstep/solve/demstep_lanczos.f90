@@ -927,18 +927,19 @@ contains
     type(demstep_status_type), intent(out) :: status
     status%stat = demstep_stat%ok
     if (.not. (tol >= epsilon(1.0_dp) .and. tol <= 0.1_dp)) then
-      call set_status(status, demstep_stat%invalid_input, caller//": tolerance: " &
-        //real_text(tol)//" is outside [2.2e-16, 0.1]")
+      call set_status(status, demstep_stat%invalid_input, real_text(tol)//" is outside [2.2e-16, 0.1]", &
+        where="tolerance")
     else if (nev < 1) then
-      call set_status(status, demstep_stat%invalid_input, caller//": nev: need at " &
-        //"least 1, not "//int_text(nev))
+      call set_status(status, demstep_stat%invalid_input, "need at least 1, not "//int_text(nev), where="nev")
     else if (ncv <= nev) then
-      call set_status(status, demstep_stat%invalid_input, caller//": ncv: the " &
-        //"Krylov size "//int_text(ncv)//" must exceed nev = "//int_text(nev))
+      call set_status(status, demstep_stat%invalid_input, "the Krylov size "//int_text(ncv)// &
+        " must exceed nev = "//int_text(nev), where="ncv")
     else if (restarts < 1) then
-      call set_status(status, demstep_stat%invalid_input, caller//": max_restarts: " &
-        //"need at least 1, not "//int_text(restarts))
+      call set_status(status, demstep_stat%invalid_input, "need at least 1, not "//int_text(restarts), &
+        where="max_restarts")
     end if
+    ! the message names the driver too
+    if (status%stat /= demstep_stat%ok) status%message = caller//": "//status%message
   end subroutine check_lanczos_options
 
 end module demstep_lanczos
