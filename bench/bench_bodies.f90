@@ -1,8 +1,8 @@
 !> Benchmark of the rigid bodies' operator against the spheres' on the same
-!> packing: clumps of 1 to 3 overlapping spheres (radii 0.7-1) on a jittered
-!> grid of spacing 2 (neighbouring clumps touch) over a floor, linear law with
-!> tangential, rolling and twisting springs, about 1e5 members (or the number
-!> given). Per operator: the build (body set and operator, or the sphere
+!> packing: `random_clump_packing` (clumps of 1 to 3 overlapping spheres on a
+!> jittered grid over a floor, linear law with tangential, rolling and
+!> twisting springs), half as many clumps as the members asked for (1e5 by
+!> default: about 1e5 members). Per operator: the build (body set and operator, or the sphere
 !> operator) and the product y = A' x, timed over 50 products, the median of
 !> 5 such runs, per spring. The sphere operator also holds the contacts
 !> between members of one clump (which the bodies' drops); its product cost
@@ -17,8 +17,7 @@ program bench_bodies
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_progress, only: progress_seconds
   use demstep_scene_data, only: scene_type
-  use demstep_scene_builders, only: new_scene, scene_set_law, scene_set_rolling, scene_add_walls
-  use demstep_interaction, only: contact_law
+  use demstep_packing, only: random_clump_packing
   use demstep_assembly, only: assembly_operator, assembly_operator_type, assembly_operator_apply, &
     spring_block_type
   use demstep_bodies, only: body_set_type, bodies_from_members
@@ -32,50 +31,20 @@ program bench_bodies
   type(assembly_operator_type) :: op_s
   type(spring_block_type), allocatable :: springs(:)
   type(demstep_status_type) :: status
-  real(dp), allocatable :: x(:, :), m(:), r(:), xb(:), yb(:), xs(:), ys(:)
+  real(dp), allocatable :: xb(:), yb(:), xs(:), ys(:)
   integer, allocatable :: id(:)
-  real(dp) :: u(3), q, centre(3), t0, t_build_b, t_build_s, t_b(runs), t_s(runs), rate
-  integer :: target, nb, side, n, b, j, nm, k, ios, seed_size
-  integer, allocatable :: seed(:)
+  real(dp) :: t0, t_build_b, t_build_s, t_b(runs), t_s(runs), rate
+  integer :: target, j, k, ios
   character(len=32) :: arg
 
   target = 100000
   call get_command_argument(1, arg)
   if (arg /= "") read(arg, *, iostat=ios) target
-  call random_seed(size=seed_size)
-  seed = [(7*k + 1, k = 1, seed_size)]
-  call random_seed(put=seed)
-  nb = max(1, target/2)
-  side = ceiling(real(nb, dp)**(1.0_dp/3.0_dp))
-  allocate(x(3, 3*nb), m(3*nb), r(3*nb), id(3*nb))
-  n = 0
-  do b = 1, nb
-    call random_number(u)
-    centre = 2.0_dp*[real(mod(b - 1, side), dp), real(mod((b - 1)/side, side), dp), real((b - 1)/side**2, dp)] &
-      + 0.3_dp*(u - 0.5_dp)
-    call random_number(q)
-    nm = 1 + int(3.0_dp*q)
-    do j = 1, nm
-      n = n + 1
-      call random_number(u)
-      u = u - 0.5_dp
-      x(:, n) = centre
-      if (j > 1) x(:, n) = centre + (0.5_dp + 0.6_dp*abs(u(1)))*u/norm2(u)
-      call random_number(q)
-      r(n) = 0.7_dp + 0.3_dp*q
-      m(n) = r(n)**3
-      id(n) = b
-    end do
-  end do
-  call new_scene(scene, 3, x(:, :n), m(:n), r(:n), status)
+  call random_clump_packing(scene, id, max(1, target/2), status, seed=7)
   if (status%stat /= demstep_stat%ok) error stop status%message
-  call scene_set_law(scene, contact_law%linear, 1.0e3_dp, 400.0_dp, status)
-  call scene_set_rolling(scene, 0.1_dp, 0.05_dp, status)
-  call scene_add_walls(scene, reshape([0.0_dp, 0.0_dp, minval(x(3, :n) - r(:n)) + 0.05_dp], [3, 1]), &
-    reshape([0.0_dp, 0.0_dp, 1.0_dp], [3, 1]), status)
 
   t0 = progress_seconds()
-  call bodies_from_members(scene, id(:n), bodies, status)
+  call bodies_from_members(scene, id, bodies, status)
   if (status%stat == demstep_stat%ok) call body_operator(scene, bodies, op_b, rate, status, springs)
   if (status%stat /= demstep_stat%ok) error stop status%message
   t_build_b = progress_seconds() - t0
