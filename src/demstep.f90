@@ -22,7 +22,8 @@
 !> - Roots of any function: `find_root`, `scan_roots` (extend `root_context_type`).
 !> - Assemblies: `scene_type`, `new_scene` and the `scene_set_*` builders,
 !>   `assembly_critical_steps` (dense or Lanczos: `eigen_solver%...`), `scene_run`;
-!>   test packings: `cubic_lattice`, `random_periodic_packing`, `tile_scene`.
+!>   test packings: `cubic_lattice`, `random_periodic_packing`, `tile_scene`,
+!>   `random_clump_packing`.
 !> - Rigid bodies (clumps, multispheres) of the scene's spheres: `body_set_type`,
 !>   `bodies_from_members` (Yade's mass and inertia sum), `bodies_from_lists`,
 !>   `bodies_given`, `body_critical_steps` (the same estimates per body, full
@@ -92,7 +93,7 @@ module demstep
     scene_set_cell, scene_set_law, scene_set_types, scene_set_hertz_types, scene_set_bond_stiffness, &
     scene_set_gravity, scene_set_damping, scene_set_friction, scene_set_rolling, scene_set_local_damping, &
     scene_set_effects, cubic_lattice
-  use demstep_packing, only: random_periodic_packing, tile_scene
+  use demstep_packing, only: random_periodic_packing, tile_scene, random_clump_packing
   use demstep_scene_materials, only: scene_set_materials
   ! bonds in each code's convention (normal, shear, bending, twisting) and the peers' bond rules
   use demstep_scene_bonds, only: scene_set_bond_model

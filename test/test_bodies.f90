@@ -18,6 +18,7 @@ module test_bodies
   use test_support, only: real_str, seed_fixed, run_app, write_file, work_dir, read_group, take
   use demstep_results, only: result_group_type
   use demstep_snapshot, only: snapshot_type, read_snapshot
+  use demstep_packing, only: random_clump_packing
   implicit none
   private
   public :: collect_bodies
@@ -186,49 +187,16 @@ contains
     end do
   end subroutine test_single_spheres
 
-  !> nb clumps of 1 to 3 unit-ish spheres (radii 0.7-1, members 0.5-1.1
-  !> from the body's first sphere: they overlap) on a jittered grid of
-  !> spacing `gap` (neighbouring clumps touch), random masses, over a floor;
-  !> linear law with k_t, rolling and twisting springs. body_of per particle.
+  !> `random_clump_packing` (nb clumps over a floor, linear law with k_t,
+  !> rolling and twisting springs); refused packings fail the test.
   subroutine clump_packing(scene, body_of, nb, seed, gap)
     type(scene_type), intent(out) :: scene
     integer, allocatable, intent(out) :: body_of(:)
     integer, intent(in) :: nb, seed
     real(dp), intent(in) :: gap
-    real(dp), allocatable :: x(:, :), m(:), r(:)
-    integer, allocatable :: id(:)
-    real(dp) :: u(3), centre(3), q
     type(demstep_status_type) :: status
-    integer :: b, j, nm, n, side
-    call seed_fixed(seed)
-    allocate(x(3, 3*nb), m(3*nb), r(3*nb), id(3*nb))
-    side = ceiling(real(nb, dp)**(1.0_dp/3.0_dp))
-    n = 0
-    do b = 1, nb
-      call random_number(u)
-      centre = gap*[real(mod(b - 1, side), dp), real(mod((b - 1)/side, side), dp), real((b - 1)/side**2, dp)] &
-        + 0.3_dp*(u - 0.5_dp)
-      call random_number(q)
-      nm = 1 + int(3.0_dp*q)
-      do j = 1, nm
-        n = n + 1
-        call random_number(u)
-        u = u - 0.5_dp
-        x(:, n) = centre
-        if (j > 1) x(:, n) = centre + (0.5_dp + 0.6_dp*abs(u(1)))*u/norm2(u)
-        call random_number(q)
-        r(n) = 0.7_dp + 0.3_dp*q
-        call random_number(q)
-        m(n) = r(n)**3*(0.6_dp + 0.8_dp*q)
-        id(n) = b
-      end do
-    end do
-    call new_scene(scene, 3, x(:, :n), m(:n), r(:n), status)
-    call scene_set_law(scene, contact_law%linear, 1.0e3_dp, 400.0_dp, status)
-    call scene_set_rolling(scene, 0.1_dp, 0.05_dp, status)
-    call scene_add_walls(scene, reshape([0.0_dp, 0.0_dp, minval(x(3, :n) - r(:n)) + 0.05_dp], [3, 1]), &
-      reshape([0.0_dp, 0.0_dp, 1.0_dp], [3, 1]), status)
-    body_of = id(:n)
+    call random_clump_packing(scene, body_of, nb, status, seed=seed, gap=gap)
+    if (status%stat /= demstep_stat%ok) error stop "random_clump_packing: "//status%message
   end subroutine clump_packing
 
   !> The reference: every eigenvalue of L^-1 K_b L^-T (L the Cholesky factor

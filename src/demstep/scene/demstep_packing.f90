@@ -8,12 +8,12 @@ module demstep_packing
   use demstep_scene_data, only: scene_type, scene_effect, branch_vector, max_damping_ratio, wrap_positions
   use demstep_interaction, only: contact_law
   use demstep_neighbours, only: search_type, prepare_search, find_contacts
-  use demstep_scene_builders, only: new_scene, scene_set_cell, scene_set_law
+  use demstep_scene_builders, only: new_scene, scene_set_cell, scene_set_law, scene_set_rolling, scene_add_walls
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
-  public :: random_periodic_packing, tile_scene
+  public :: random_periodic_packing, tile_scene, random_clump_packing
 
   !> Fewest and most particles of `random_periodic_packing` (the cell must be at
   !> least two contacts across; larger packings come from `tile_scene`).
@@ -132,6 +132,78 @@ contains
       scene%damping_ratio = zeta
     end if
   end subroutine random_periodic_packing
+
+  !> A test packing of rigid clumps over a floor: n_bodies clumps of 1 to 3
+  !> spheres (radii uniform in 0.7-1, masses r^3 (0.6 + 0.8 u); a clump's
+  !> further members 0.5 to 1.1 from its first, so they overlap) at random
+  !> orientations, on a cubic grid of spacing `gap` (default 2: neighbouring
+  !> clumps touch) jittered by +-0.15, over a floor wall 0.05 into the lowest
+  !> sphere; linear law k_n = 1000, k_t = 400, rolling and twisting ratios 0.1
+  !> and 0.05. `body_of` is each sphere's clump (for `bodies_from_members`).
+  !> The same packing for the same seed (MINSTD, as `random_periodic_packing`).
+  !> Status invalid_input naming `n_bodies` (below 1 or above
+  !> `packing_max_particles`/3) or `gap` (not finite and > 0).
+  subroutine random_clump_packing(scene, body_of, n_bodies, status, seed, gap)
+    type(scene_type), intent(out) :: scene
+    integer, allocatable, intent(out) :: body_of(:)
+    integer, intent(in) :: n_bodies
+    type(demstep_status_type), intent(out) :: status
+    !> Seed of the generator (any integer); default 1.
+    integer, intent(in), optional :: seed
+    !> Grid spacing (default 2).
+    real(dp), intent(in), optional :: gap
+    real(dp), allocatable :: x(:, :), m(:), r(:)
+    integer, allocatable :: id(:)
+    real(dp) :: u(3), centre(3), q, g
+    integer(i8) :: state
+    integer :: b, j, k, nm, n, side
+    g = 2.0_dp
+    if (present(gap)) g = gap
+    if (n_bodies < 1 .or. n_bodies > packing_max_particles/3) then
+      call set_status(status, demstep_stat%invalid_input, "must be in 1.."//int_text(packing_max_particles/3), &
+        where="n_bodies")
+      return
+    end if
+    if (.not. (ieee_is_finite(g) .and. g > 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="gap")
+      return
+    end if
+    state = 1_i8
+    if (present(seed)) state = 1_i8 + modulo(int(seed, i8), 2147483646_i8)
+    allocate(x(3, 3*n_bodies), m(3*n_bodies), r(3*n_bodies), id(3*n_bodies))
+    side = ceiling(real(n_bodies, dp)**(1.0_dp/3.0_dp) - 1.0e-9_dp)
+    n = 0
+    do b = 1, n_bodies
+      do k = 1, 3
+        call next_uniform(state, u(k))
+      end do
+      centre = g*[real(mod(b - 1, side), dp), real(mod((b - 1)/side, side), dp), real((b - 1)/side**2, dp)] &
+        + 0.3_dp*(u - 0.5_dp)
+      call next_uniform(state, q)
+      nm = min(3, 1 + int(3.0_dp*q))
+      do j = 1, nm
+        n = n + 1
+        do k = 1, 3
+          call next_uniform(state, u(k))
+        end do
+        u = u - 0.5_dp
+        x(:, n) = centre
+        if (j > 1) x(:, n) = centre + (0.5_dp + 0.6_dp*abs(u(1)))*u/norm2(u)
+        call next_uniform(state, q)
+        r(n) = 0.7_dp + 0.3_dp*q
+        call next_uniform(state, q)
+        m(n) = r(n)**3*(0.6_dp + 0.8_dp*q)
+        id(n) = b
+      end do
+    end do
+    call new_scene(scene, 3, x(:, :n), m(:n), r(:n), status)
+    if (status%stat /= demstep_stat%ok) return
+    call scene_set_law(scene, contact_law%linear, 1.0e3_dp, 400.0_dp, status)
+    if (status%stat == demstep_stat%ok) call scene_set_rolling(scene, 0.1_dp, 0.05_dp, status)
+    if (status%stat == demstep_stat%ok) call scene_add_walls(scene, reshape([0.0_dp, 0.0_dp, &
+      minval(x(3, :n) - r(:n)) + 0.05_dp], [3, 1]), reshape([0.0_dp, 0.0_dp, 1.0_dp], [3, 1]), status)
+    body_of = id(:n)
+  end subroutine random_clump_packing
 
   !> The packing in units of the mean radius: positions x(3, n) in the cell
   !> [0, box)^3 and radii r(n).

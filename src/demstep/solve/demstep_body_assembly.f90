@@ -633,7 +633,9 @@ contains
 
   !> Yade's `GlobalStiffnessTimeStepper` on a scene of bodies, raw
   !> (`timestepSafetyCoefficient` 1; Yade's default is 0.8). Per contact with
-  !> a non-zero normal force (pkg/dem/GlobalStiffnessTimeStepper.cpp:260-262)
+  !> a non-zero normal force (pkg/dem/GlobalStiffnessTimeStepper.cpp:260-262:
+  !> the scene's contacts and wall contacts; bonds are left out, as at their
+  !> rest length, where they carry none)
   !> each member gets the diagonal translational stiffness
   !> k_n n_a^2 + k_s (1 - n_a^2) and rotational k_s r^2 (1 - n_a^2) +
   !> (k_w - k_r) n_a^2 + k_r, r the member's radius (lines 265-286): about the
@@ -662,7 +664,9 @@ contains
     allocate(kt(3, bodies%n), kr(3, bodies%n), source=0.0_dp)
     do s = 1, size(springs)
       associate(sp => springs(s))
-        if (sp%kind == 6) cycle
+        ! (drag is no interaction; a bond at its rest length has no normal
+        ! force, which Yade's rule skips)
+        if (sp%kind == 6 .or. sp%kind == 5) cycle
         nn = sp%n**2
         do e = 1, 2
           m = sp%a
