@@ -9,8 +9,12 @@
 !> on whenever any tangential stiffness is given.
 !>
 !> `step_monitor_type` keeps the operator, the springs and the top mode
-!> between calls: `update` re-solves warm-started from the previous mode
-!> (Lanczos from it: fewer products when the packing moved little), `check`
+!> between calls: `update` re-solves warm-started from the previous modes
+!> (taken as they are when their measured residuals on the new operator meet
+!> the tolerance; else Lanczos from them without a confirmation run; the
+!> confirmed Lanczos solve every `confirm_every`-th update and whenever a body
+!> that could carry the top (its per-body bound at or above omega_max^2)
+!> stiffened by more than `drift`), `check`
 !> says from O(contacts) work whether a step is still safe:
 !> - the rigorous per-body bound (`cheap_bound`): with K_c the contact's
 !>   stiffness, (A + B)' K_c (A + B) <= 2 A' K_c A + 2 B' K_c B splits each
