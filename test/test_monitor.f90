@@ -352,13 +352,16 @@ contains
   !> (their residuals meet the tolerance: one product for the undamped mode,
   !> one for the damped), and the step it certifies stays at or below the
   !> exact damped limit; with confirm_every = 1 the undamped Lanczos solve
-  !> runs (with its confirmation) and gives the same limit to the tolerance.
+  !> runs (with its confirmation) and gives the same limit to the tolerance;
+  !> a stiffened contact under the top mode makes the next update confirm.
   subroutine test_warm_accept(error)
     type(error_type), allocatable, intent(out) :: error
     type(solver_arrays_type) :: a
     type(step_monitor_type) :: monitor
     type(critical_step_type) :: exact
     type(demstep_status_type) :: status
+    real(dp), allocatable :: ps(:), cs(:), ws(:)
+    integer, allocatable :: top(:)
     integer :: k
     call packing_arrays(400, a, error)
     if (allocated(error)) return
@@ -391,6 +394,18 @@ contains
     call check(error, is_ok(status) .and. monitor%accepted .and. .not. monitor%confirmed .and. &
       monitor%last%eigen_products == 2 .and. monitor%last%damped_solves == 1, "unchanged: products " &
       //int_str(monitor%last%eigen_products)//", damped solves "//int_str(int(monitor%last%damped_solves, i8)))
+    if (allocated(error)) return
+    ! the top mode's leading contact 50 % stiffer (normal and tangential):
+    ! its bodies' bounds rise, the update is confirmed by Lanczos, not taken
+    ! from the old modes
+    call mode_participation(monitor, size(a%pairs, 2), ps, cs, ws, status)
+    top = top_shares(cs, 1)
+    a%k_n(top(1)) = 1.5_dp*a%k_n(top(1))
+    a%k_t(top(1)) = 1.5_dp*a%k_t(top(1))
+    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, c_n=a%c_n, c_t=a%c_t, &
+      periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call check(error, is_ok(status) .and. monitor%confirmed .and. .not. monitor%accepted, &
+      "a stiffened contact: not confirmed")
   end subroutine test_warm_accept
 
   !> `scene_participation` on a packing with one light particle: the steps

@@ -9,8 +9,12 @@
 !> on whenever any tangential stiffness is given.
 !>
 !> `step_monitor_type` keeps the operator, the springs and the top mode
-!> between calls: `update` re-solves warm-started from the previous mode
-!> (Lanczos from it: fewer products when the packing moved little), `check`
+!> between calls: `update` re-solves warm-started from the previous modes
+!> (taken as they are when their measured residuals on the new operator meet
+!> the tolerance; else Lanczos from them without a confirmation run; the
+!> confirmed Lanczos solve every `confirm_every`-th update and whenever a body
+!> that could carry the top (its per-body bound at or above omega_max^2)
+!> stiffened by more than `drift`), `check`
 !> says from O(contacts) work whether a step is still safe:
 !> - the rigorous per-body bound (`cheap_bound`): with K_c the contact's
 !>   stiffness, (A + B)' K_c (A + B) <= 2 A' K_c A + 2 B' K_c B splits each
@@ -131,6 +135,11 @@ module demstep_monitor
     !> Whether the last update took the previous modes as they were, and
     !> whether it was a warm update with the undamped solve confirmed.
     logical :: accepted = .false., confirmed = .false.
+    !> Each free body's per-body bound (omega^2) at the last update that ran
+    !> the confirmed solve: a warm update whose bodies that could carry the
+    !> top (bound at or above omega_max^2) stiffened by more than `drift`
+    !> since is confirmed.
+    real(dp), allocatable :: confirmed_rows(:)
     !> The last update's result (`critical_step_type`), valid after an update.
     type(critical_step_type) :: last
     logical :: ready = .false.
@@ -218,6 +227,7 @@ contains
     real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
     logical :: rotation, warm, accept
     integer :: i, nfree, ncv
+    real(dp), allocatable :: rows(:)
     monitor%ready = .false.
     monitor%accepted = .false.
     if (monitor%solver < eigen_solver%auto .or. monitor%solver > eigen_solver%none) then
@@ -250,6 +260,18 @@ contains
     if (warm .and. monitor%ncv > 1) ncv = monitor%ncv
     accept = warm .and. monitor%confirm_every /= 1
     if (accept .and. monitor%confirm_every > 1) accept = mod(monitor%updates + 1, monitor%confirm_every) /= 0
+    ! a top elsewhere needs a body that could carry it (its own bound at or
+    ! above the last omega_max^2) to have stiffened (a new contact, say): its
+    ! bound risen by more than `drift` since the last confirmed solve
+    call body_bounds(monitor%op, rows)
+    rows = rows*monitor%rate**2
+    if (accept .and. allocated(monitor%confirmed_rows)) then
+      if (size(monitor%confirmed_rows) /= size(rows)) then
+        accept = .false.
+      else
+        accept = .not. any(rows >= monitor%omega2 .and. rows > (1.0_dp + monitor%drift)*monitor%confirmed_rows)
+      end if
+    end if
     monitor%confirmed = warm .and. .not. accept
     if (monitor%cheap) then
       call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
@@ -289,6 +311,8 @@ contains
     end if
     monitor%n_particles = size(mass)
     monitor%dim = size(x, 1)
+    ! (the bodies' bounds the next updates are held against)
+    if (.not. accept) call move_alloc(rows, monitor%confirmed_rows)
     monitor%updates = monitor%updates + 1
     monitor%ready = .true.
   end subroutine monitor_update
@@ -373,17 +397,27 @@ contains
     logical, intent(in), optional :: dashpots
     real(dp) :: bound
     real(dp), allocatable :: row(:)
+    bound = 0.0_dp
+    call body_bounds(op, row, dashpots)
+    if (size(row) > 0) bound = maxval(row)*(1.0_dp + 1.0e-12_dp)
+  end function cheap_bound
+
+  !> Each free body's row of `cheap_bound` (scaled; none without dashpots
+  !> when `dashpots`).
+  subroutine body_bounds(op, row, dashpots)
+    type(assembly_operator_type), intent(in) :: op
+    real(dp), allocatable, intent(out) :: row(:)
+    logical, intent(in), optional :: dashpots
     real(dp) :: k(4), arm, wu, wr, f
     integer :: s, e, i, rot
     logical :: damped
     damped = .false.
     if (present(dashpots)) damped = dashpots
-    bound = 0.0_dp
+    allocate(row(op%n_bodies), source=0.0_dp)
     if (damped .and. size(op%dcoef, 2) == 0) return
     ! the first rotational component (4 to 6), 0 without rotations
     rot = 0
     if (any(op%comp >= 4)) rot = op%comp(findloc(op%comp >= 4, .true., 1))
-    allocate(row(op%n_bodies), source=0.0_dp)
     do s = 1, op%n_springs
       if (damped) then
         k = op%dcoef(:, s)
@@ -403,8 +437,7 @@ contains
           2.0_dp*k(2)*(arm*wr)**2 + max(k(3), k(4))*(wr*op%rinv(i))**2)
       end do
     end do
-    if (op%n_bodies > 0) bound = maxval(row)*(1.0_dp + 1.0e-12_dp)
-  end function cheap_bound
+  end subroutine body_bounds
 
   !> An ESTIMATE of a settled bed's (damped) limit before any contact exists
   !> (a fresh pour): the exact limit of a generated packing with the solver's
@@ -459,7 +492,7 @@ contains
   !>   `damped_lower_bound` from the largest eigenvalues of its diagonal
   !>   blocks of A' and B'), and the one coefficient c is the smallest that
   !>   makes the exact limit reach the target (doubled from 1 until it does,
-  !>   then bisected to 2 %).
+  !>   then bisected to 0.5 %).
   !> Increasing any mass lowers every eigenvalue, so the exact limit does not
   !> decrease as c grows. `result` is the scaled system's report (its
   !> dt_critical_damped >= target), `added` the added mass over the total,
@@ -554,7 +587,7 @@ contains
         c_hi = c
         best = scale
         best_result = result
-        if (c_lo > 0.0_dp .and. c_hi <= 1.02_dp*c_lo) exit
+        if (c_lo > 0.0_dp .and. c_hi <= 1.005_dp*c_lo) exit
       else
         c_lo = c
         if (.not. allocated(best)) c_hi = 2.0_dp*c_hi
@@ -876,6 +909,21 @@ contains
     pick = a(min(c, size(a)))
   end function pick
 
+  !> x_j - x_i (dim 1 to 3, padded to 3) through the nearest image along the
+  !> axes that wrap (periodic, cell lengths box).
+  pure function nearest_image(xi, xj, wrap, box) result(d)
+    real(dp), intent(in) :: xi(:), xj(:)
+    logical, intent(in) :: wrap(3)
+    real(dp), intent(in) :: box(3)
+    real(dp) :: d(3)
+    integer :: ax
+    d = 0.0_dp
+    d(:size(xi)) = xj - xi
+    do ax = 1, size(xi)
+      if (wrap(ax)) d(ax) = d(ax) - box(ax)*anint(d(ax)/box(ax))
+    end do
+  end function nearest_image
+
   !> Every refusal of the solver's arrays, by argument name and index.
   subroutine check_solver_arrays(x, mass, radius, pairs, k_n, status, k_t, c_n, c_t, inertia, fixed, &
       wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
@@ -1082,7 +1130,9 @@ contains
     logical, intent(in), optional :: keep_rows
     integer :: dim, nc, c, i, j, m, w, n_walls, n_springs
     real(dp) :: d(3), box(3), dist, reach, overlap, p(3), nw(3), mi, mj, kw(2), zw(2), xi(3)
-    logical :: wrap(3), damped, is_fixed_i, is_fixed_j, rows_too
+    logical :: wrap(3), damped, rows_too
+    ! fixed flags of every particle (none given: none fixed)
+    logical, allocatable :: fx(:)
     dim = size(x, 1)
     nc = size(pairs, 2)
     rows_too = .true.
@@ -1103,19 +1153,24 @@ contains
     rotation = rotation .and. dim > 1
     n_walls = 0
     if (present(wall_point)) n_walls = size(wall_point, 2)
+    if (present(fixed)) then
+      fx = fixed
+    else
+      allocate(fx(size(mass)), source=.false.)
+    end if
     ! count the springs: overlapping pairs (not both fixed) and wall contacts
     n_springs = 0
     do c = 1, nc
       i = pairs(1, c)
       j = pairs(2, c)
-      if (both_fixed(i, j)) cycle
-      d = branch(i, j)
+      if (fx(i) .and. fx(j)) cycle
+      d = nearest_image(x(:, i), x(:, j), wrap, box)
       if (d(1)**2 + d(2)**2 + d(3)**2 < (radius(i) + radius(j))**2) n_springs = n_springs + 1
     end do
     do w = 1, n_walls
       call wall_of(w, p, nw)
       do i = 1, size(mass)
-        if (is_fixed(i)) cycle
+        if (fx(i)) cycle
         xi = 0.0_dp
         xi(:dim) = x(:, i)
         if (wall_overlap(xi, radius(i), p, nw) > 0.0_dp) n_springs = n_springs + 1
@@ -1133,8 +1188,8 @@ contains
     do c = 1, nc
       i = pairs(1, c)
       j = pairs(2, c)
-      if (both_fixed(i, j)) cycle
-      d = branch(i, j)
+      if (fx(i) .and. fx(j)) cycle
+      d = nearest_image(x(:, i), x(:, j), wrap, box)
       reach = radius(i) + radius(j)
       if (d(1)**2 + d(2)**2 + d(3)**2 >= reach**2) cycle
       dist = norm2(d)
@@ -1147,10 +1202,8 @@ contains
       m = m + 1
       mi = huge(1.0_dp)
       mj = huge(1.0_dp)
-      is_fixed_i = is_fixed(i)
-      is_fixed_j = is_fixed(j)
-      if (.not. is_fixed_i) mi = mass(i)
-      if (.not. is_fixed_j) mj = mass(j)
+      if (.not. fx(i)) mi = mass(i)
+      if (.not. fx(j)) mj = mass(j)
       springs(m) = spring_block_type(a=i, b=j, n=d/dist, arm_a=contact_arm(radius(i), overlap), &
         arm_b=contact_arm(radius(j), overlap), m_eff=reduced_mass(mj, mi))
       springs(m)%k(1) = pick(k_n, c)
@@ -1162,7 +1215,7 @@ contains
     do w = 1, n_walls
       call wall_of(w, p, nw)
       do i = 1, size(mass)
-        if (is_fixed(i)) cycle
+        if (fx(i)) cycle
         xi = 0.0_dp
         xi(:dim) = x(:, i)
         overlap = wall_overlap(xi, radius(i), p, nw)
@@ -1176,26 +1229,6 @@ contains
     end do
     status%stat = demstep_stat%ok
   contains
-    !> x_j - x_i through the nearest image along the periodic axes.
-    pure function branch(i, j) result(dv)
-      integer, intent(in) :: i, j
-      real(dp) :: dv(3)
-      integer :: ax
-      dv = 0.0_dp
-      dv(:dim) = x(:, j) - x(:, i)
-      do ax = 1, dim
-        if (wrap(ax)) dv(ax) = dv(ax) - box(ax)*anint(dv(ax)/box(ax))
-      end do
-    end function branch
-    pure logical function is_fixed(i)
-      integer, intent(in) :: i
-      is_fixed = .false.
-      if (present(fixed)) is_fixed = fixed(i)
-    end function is_fixed
-    pure logical function both_fixed(i, j)
-      integer, intent(in) :: i, j
-      both_fixed = is_fixed(i) .and. is_fixed(j)
-    end function both_fixed
     pure subroutine wall_of(w, point, unit)
       integer, intent(in) :: w
       real(dp), intent(out) :: point(3), unit(3)
