@@ -518,7 +518,10 @@ contains
     ! the damped limit (and the recommended step) from the bracket's end, as
     ! before the certificate: its margin is the recommendation's, and the
     ! certificate's own margin would only lower every step by up to 1 %
-    call assembly_set_damped(result, 2.0_dp/bracket_omega(result), b_bound, rate, status)
+    ! (the same expression as omega_upper's without a certificate: the same
+    ! bits when the safe step is the bracket's, as a dense solve's)
+    call assembly_set_damped(result, 2.0_dp/min(rate*sqrt(lam + err + 8.0_dp*epsilon(1.0_dp)*lam), &
+      result%omega_bound), b_bound, rate, status)
   end subroutine assembly_set_estimates
 
   !> The upper end of omega_max's bracket (Weinstein: [omega_max^2, omega_max^2
