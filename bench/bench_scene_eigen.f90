@@ -16,7 +16,7 @@
 !> also run end to end from files (median of 3 runs, wall time of the whole
 !> process): the tiled scene written as a particles table (17 digits) and a
 !> contacts table (`i j k_n k_t`: no contact search) with a deck in
-!> /tmp/demstep_bench_app/, `eigen_solver = 'lanczos'` at the default
+!> /tmp/demstep_bench_app_N/, `eigen_solver = 'lanczos'` at the default
 !> tolerance; its omega_max is compared with eigsh's.
 !>
 !> Run it with OPENBLAS_NUM_THREADS=1: OpenBLAS's own threads spin between
@@ -159,7 +159,7 @@ contains
     character(len=*), intent(in) :: app
     real(dp), intent(out) :: t_app, omega
     integer(i8), intent(out) :: products
-    character(len=*), parameter :: dir = "/tmp/demstep_bench_app"
+    character(len=:), allocatable :: dir
     integer, parameter :: chunk = 4000000
     character(len=chunk + 512) :: buf
     integer, allocatable :: ci(:), cj(:)
@@ -167,6 +167,7 @@ contains
     real(dp) :: times(app_repeats), t0
     type(result_group_type) :: res
     integer :: unit, pos, i, r, k, exitstat
+    dir = "/tmp/demstep_bench_app_"//int_text(s%n)
     call execute_command_line("mkdir -p "//dir, wait=.true.)
     call contact_list(s, ci, cj, cn, cd, status)
     call require("contact_list")

@@ -10,7 +10,7 @@ module test_lanczos
   use demstep_arpack, only: dsaupd, dsaupd_status, dseupd_status
   use demstep_lanczos, only: lanczos_largest, lanczos_context_type, eigen_result_type, &
     lanczos_start_vector, lanczos_tolerance_default, lanczos_runs, lanczos_basis_confirmed, &
-    lanczos_basis_estimate, lanczos_basis_whole
+    lanczos_basis_estimate, lanczos_basis_whole, certificate_failure, certificate_margin
   use demstep_csr, only: csr_matrix_type, csr_from_springs, csr_apply, csr_to_dense
   use test_support, only: real_str
   use demstep_progress, only: progress_type
@@ -69,7 +69,8 @@ contains
       new_unittest("ARPACK info codes as statuses (some provoked)", test_arpack_codes), &
       new_unittest("springs to CSR: the dense matrix, bad springs refused", test_csr), &
       new_unittest("same result for 1 and 2 threads, run after run", test_threads), &
-      new_unittest("progress: one start, a update per product, one finish", test_progress) &
+      new_unittest("progress: one start, a update per product, one finish", test_progress), &
+      new_unittest("the randomised certificate bounds the top (semi-definite, shifted)", test_certificate) &
       ]
   end subroutine collect_lanczos
 
@@ -299,6 +300,7 @@ contains
     class(lanczos_context_type), intent(inout) :: context
     real(dp), intent(in) :: x(:)
     real(dp), intent(out) :: y(:)
+    integer :: i
     y = 0.0_dp
     select type (context)
     type is (odd_operator_type)
@@ -308,9 +310,50 @@ contains
       case (2)
         y = x
         y(size(y)) = ieee_value(1.0_dp, ieee_positive_inf)
+      case (3)
+        ! diag(i/n): top 1, gaps 1/n
+        y = [(real(i, dp), i = 1, size(x))]/size(x)*x
+      case (4)
+        ! diag(-5 + 6 i/n): indefinite, top 1
+        y = (-5.0_dp + 6.0_dp*[(real(i, dp), i = 1, size(x))]/size(x))*x
       end select
     end select
   end subroutine odd_apply
+
+  !> The certificate on diagonal operators of order 3000 with a crowded top
+  !> (eigenvalues i/n) and an indefinite one (-5 + 6 i/n, shifted by the
+  !> lower bound -5): upper_bound at or above the top 1 and at most the
+  !> margin's factor above the eigenvalue found (1e-12 for rounding); made
+  !> only when asked.
+  subroutine test_certificate(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(odd_operator_type) :: op
+    type(eigen_result_type) :: r
+    type(demstep_status_type) :: status
+    integer, parameter :: n = 3000
+    op%which = 3
+    call lanczos_largest(odd_apply, op, n, r, status, tolerance=1.0e-6_dp)
+    call check(error, status%stat == demstep_stat%ok .and. .not. r%certified .and. r%upper_bound == 0.0_dp &
+      .and. r%certificate_products == 0, "no certificate unless asked")
+    if (allocated(error)) return
+    call lanczos_largest(odd_apply, op, n, r, status, tolerance=1.0e-6_dp, certify=.true.)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    call check(error, r%certified .and. r%failure_probability == certificate_failure .and. &
+      r%certificate_products > 0 .and. r%certificate_products < r%applications, "certified")
+    if (allocated(error)) return
+    call check(error, r%upper_bound >= 1.0_dp .and. r%upper_bound <= r%eigenvalue/(1.0_dp - certificate_margin) &
+      *(1.0_dp + 1.0e-12_dp), "upper bound "//real_str(r%upper_bound)//" for the top 1, found " &
+      //real_str(r%eigenvalue))
+    if (allocated(error)) return
+    op%which = 4
+    call lanczos_largest(odd_apply, op, n, r, status, tolerance=1.0e-6_dp, certify=.true., lower_bound=-5.0_dp)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    call check(error, r%upper_bound >= 1.0_dp .and. r%upper_bound <= (r%eigenvalue + 5.0_dp) &
+      /(1.0_dp - certificate_margin)*(1.0_dp + 1.0e-12_dp) - 5.0_dp, "indefinite: upper bound " &
+      //real_str(r%upper_bound)//", found "//real_str(r%eigenvalue))
+  end subroutine test_certificate
 
   subroutine test_arguments(error)
     type(error_type), allocatable, intent(out) :: error

@@ -53,7 +53,7 @@ program test_mpi_scene
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_scene_data, only: scene_type, scene_effect
   use demstep_scene_builders, only: new_scene, scene_set_cell, scene_add_walls, cubic_lattice
-  use demstep_assembly, only: critical_step_type, assembly_critical_steps, eigen_solver
+  use demstep_assembly, only: critical_step_type, assembly_critical_steps, eigen_solver, safe_basis
   use demstep_mpi_scene, only: mpi_scene_critical_steps
   use test_mpi_scene_progress, only: counting_progress
   implicit none
@@ -232,9 +232,11 @@ contains
     type(critical_step_type) :: par, lan, den
     type(demstep_status_type) :: st_par, st_lan, st_den
     real(dp) :: bar
-    call mpi_scene_critical_steps(MPI_COMM_WORLD, scene, par, st_par, prestress=prestress)
+    ! (at 1e-10, not the default 1e-6)
+    call mpi_scene_critical_steps(MPI_COMM_WORLD, scene, par, st_par, prestress=prestress, &
+      tolerance=1.0e-10_dp)
     call assembly_critical_steps(scene, lan, st_lan, prestress=prestress, &
-      solver=eigen_solver%lanczos)
+      solver=eigen_solver%lanczos, tolerance=1.0e-10_dp)
     call assembly_critical_steps(scene, den, st_den, prestress=prestress, solver=eigen_solver%dense)
     call report(name//": status ok", st_par%stat == demstep_stat%ok .and. &
       st_lan%stat == demstep_stat%ok .and. st_den%stat == demstep_stat%ok, msg(st_par))
@@ -261,6 +263,11 @@ contains
       .and. par%eigen_residual <= 1.0e-10_dp, num(par%omega_upper))
     call report(name//": dt_critical_eigen as dense", close(par%dt_critical_eigen, &
       den%dt_critical_eigen, 1.0e-10_dp), num(par%dt_critical_eigen))
+    ! the safe step certified (randomised, or the bound where lower) and at or
+    ! below the exact limit
+    call report(name//": safe step certified and safe", (par%safe_basis == safe_basis%randomised &
+      .or. par%safe_basis == safe_basis%bound) .and. par%dt_critical_safe <= den%dt_critical_eigen &
+      *(1.0_dp + 1.0e-14_dp), num(par%dt_critical_safe))
     ! the same sums of the same entries, in another order: rounding only
     call report(name//": bound as serial (1e-13)", close(par%omega_bound, lan%omega_bound, &
       1.0e-13_dp) .and. close(par%dt_critical_bound, lan%dt_critical_bound, 1.0e-13_dp), &

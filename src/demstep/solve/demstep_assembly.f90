@@ -202,7 +202,8 @@ module demstep_assembly
     !> below the smallest h with lambda_max(h^2 A + 2 h B) = 4, to the
     !> eigensolver's tolerance) or its rigorous lower bound (no eigensolver);
     !> the damping ratio z of one spring with the same limit,
-    !> (2/omega_upper)(sqrt(1 + z^2) - z); the rigorous lower bound itself.
+    !> (2/omega_b)(sqrt(1 + z^2) - z) with omega_b the bracket's upper end (`bracket_omega`;
+    !> not the certificate's omega_upper); the rigorous lower bound itself.
     real(dp) :: damping_ratio_top = 0.0_dp, dt_critical_damped = 0.0_dp
     real(dp) :: dt_critical_damped_bound = 0.0_dp
     logical :: damped_exact = .false.
@@ -552,9 +553,21 @@ contains
     ! the damped limit (and the recommended step) from the bracket's end, as
     ! before the certificate: its margin is the recommendation's, and the
     ! certificate's own margin would only lower every step by up to 1 %
+    ! (the same expression as omega_upper's without a certificate: the same
+    ! bits when the safe step is the bracket's, as a dense solve's)
     call assembly_set_damped(result, 2.0_dp/min(rate*sqrt(lam + err + 8.0_dp*epsilon(1.0_dp)*lam), &
       result%omega_bound), b_bound, rate, status)
   end subroutine assembly_set_estimates
+
+  !> The upper end of omega_max's bracket (Weinstein: [omega_max^2, omega_max^2
+  !> (1 + eigen_residual)] plus 8 ulps, capped by the bound), from which the
+  !> damped limit and the recommended step are taken (omega_upper may be the
+  !> certificate's, higher).
+  pure real(dp) function bracket_omega(result) result(omega)
+    type(critical_step_type), intent(in) :: result
+    omega = min(result%omega_max*sqrt(1.0_dp + result%eigen_residual + 8.0_dp*epsilon(1.0_dp)), &
+      result%omega_bound)
+  end function bracket_omega
 
   !> The damped limit's rigorous lower bound, in scaled time tau = h rate, from
   !> an undamped limit tau_u <= 2/sqrt(lambda_max(A')) and b >= lambda_max(B'):
@@ -804,8 +817,8 @@ contains
     ! (never below the rigorous bound, which the solves confirm or beat)
     result%dt_critical_damped = max(tau_safe/rate, result%dt_critical_damped_bound)
     result%damped_exact = .true.
-    ! the one-spring damping ratio with the same limit at omega_upper
-    q = result%dt_critical_damped*result%omega_upper/2.0_dp
+    ! the one-spring damping ratio with the same limit at the bracket's end
+    q = result%dt_critical_damped*bracket_omega(result)/2.0_dp
     result%damping_ratio_top = max(0.0_dp, (1.0_dp - q**2)/(2.0_dp*q))
   end subroutine damped_newton
 
