@@ -106,7 +106,7 @@ module demstep_scene_input
     integer, allocatable :: effects(:)
     !> Gravity (default -9.81 along the last axis).
     real(dp), allocatable :: gravity(:)
-    !> Dashpots: the normal damping ratio or the restitution giving it, the
+    !> The dashpots: the normal damping ratio or the restitution giving it, the
     !> tangential (default the normal) and rolling ratios, drag.
     real(dp), allocatable :: damping_ratio, restitution, damping_ratio_tangential, &
       damping_ratio_rolling, drag

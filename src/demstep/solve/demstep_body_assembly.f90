@@ -74,10 +74,12 @@ module demstep_body_assembly
     real(dp) :: alpha = 1.0_dp, beta = 0.0_dp
     !> M'^-1/2 per free body: translational, and the rotational 3 x 3 block.
     real(dp), allocatable :: wt(:), wr(:, :, :)
-    !> Spring ends at each free body (as `assembly_operator_type`).
+    !> Spring ends at each free body (as `assembly_operator_type`): the first
+    !> of each body's run, and the runs.
     integer(i8), allocatable :: first(:)
+    !> The spring ends of the runs (2 (spring - 1) + end).
     integer, allocatable :: incident(:)
-    !> Work: each spring end's generalised force on its body, each body's
+    !> The work arrays: each spring end's generalised force on its body, each body's
     !> scaled displacement (column 0: the ground).
     real(dp), allocatable :: work(:, :), xs(:, :)
   end type body_operator_type
