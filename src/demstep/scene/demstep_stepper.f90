@@ -341,16 +341,11 @@ contains
     type(work_type), intent(in) :: work
     integer :: k, i, j
     real(dp) :: d(3), y_i(3), y_j(3), t_i(3), t_j(3)
-    real(dp), parameter :: zero(3) = 0.0_dp
     u = 0.0_dp
     do k = 1, size(scene%bonds, 2)
       i = scene%bonds(1, k)
       j = scene%bonds(2, k)
-      d = bond_stretch(scene, k)
-      associate(law => work%bond_laws(k))
-        call contact_product(scene%bond_normal(:, k), law%k, law%arm(1), law%arm(2), 1.0_dp, 1.0_dp, &
-          0.0_dp, zero, work%theta(:, i), d, work%theta(:, j), y_i, t_i, y_j, t_j)
-      end associate
+      call bond_kernel(scene, work, k, d, y_i, t_i, y_j, t_j)
       u = u + 0.5_dp*(dot_product(y_j, d) + dot_product(t_i, work%theta(:, i)) + &
         dot_product(t_j, work%theta(:, j)))
     end do
@@ -381,6 +376,25 @@ contains
   end function history_energy
 
   !> x_j - x_i - rest of bond k (nearest image).
+  !> The kernel's block of bond k of a bond model on (0, theta_i, stretch d,
+  !> theta_j): the forces and torques y_i, t_i on i and y_j, t_j on j, for the
+  !> stepper's forces and its energy alike.
+  pure subroutine bond_kernel(scene, work, k, d, y_i, t_i, y_j, t_j)
+    type(scene_type), intent(in) :: scene
+    type(work_type), intent(in) :: work
+    integer, intent(in) :: k
+    real(dp), intent(out) :: d(3), y_i(3), t_i(3), y_j(3), t_j(3)
+    real(dp), parameter :: zero(3) = 0.0_dp
+    integer :: i, j
+    i = scene%bonds(1, k)
+    j = scene%bonds(2, k)
+    d = bond_stretch(scene, k)
+    associate(law => work%bond_laws(k))
+      call contact_product(scene%bond_normal(:, k), law%k, law%arm(1), law%arm(2), 1.0_dp, 1.0_dp, &
+        0.0_dp, zero, work%theta(:, i), d, work%theta(:, j), y_i, t_i, y_j, t_j)
+    end associate
+  end subroutine bond_kernel
+
   pure function bond_stretch(scene, k) result(u)
     type(scene_type), intent(in) :: scene
     integer, intent(in) :: k
@@ -664,16 +678,11 @@ contains
     type(work_type), intent(inout) :: work
     integer :: k, i, j
     real(dp) :: d(3), y_i(3), y_j(3), t_i(3), t_j(3)
-    real(dp), parameter :: zero(3) = 0.0_dp
     if (scene%effects(scene_effect%rotation) .and. scene%dim > 1) work%theta = work%theta + scene%w*work%shear_dt
     do k = 1, size(scene%bonds, 2)
       i = scene%bonds(1, k)
       j = scene%bonds(2, k)
-      d = bond_stretch(scene, k)
-      associate(law => work%bond_laws(k))
-        call contact_product(scene%bond_normal(:, k), law%k, law%arm(1), law%arm(2), 1.0_dp, 1.0_dp, &
-          0.0_dp, zero, work%theta(:, i), d, work%theta(:, j), y_i, t_i, y_j, t_j)
-      end associate
+      call bond_kernel(scene, work, k, d, y_i, t_i, y_j, t_j)
       work%f(:, i) = work%f(:, i) - y_i
       work%f(:, j) = work%f(:, j) - y_j
       work%t(:, i) = work%t(:, i) - t_i
