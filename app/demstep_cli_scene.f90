@@ -21,7 +21,8 @@ module demstep_cli_scene
   use demstep_material, only: material_set_type, peer_steps_type, packing_peer_steps, &
     code_convention_names, peer_rule_names, n_peer_rules
   use demstep_liggghts_scene, only: liggghts_scene_type
-  use demstep_scene_input, only: scene_input_type, scene_setup_type, scene_from_input, scene_input_part
+  use demstep_scene_input, only: scene_input_type, scene_setup_type, scene_from_input, scene_input_part, &
+    scene_input_takes_material
   use demstep_cli_material, only: read_material
   use demstep_cli, only: record_step, var_spec, var, given, begin_group, fmt_real, fmt_int, cli_context, &
     next_assignment, group_reading, check_real, new_array, array_length, new_int_array, int_array_length, &
@@ -588,24 +589,25 @@ contains
     end associate
   end subroutine participation_output
 
-  !> Whether a `&scene` among `groups` takes its particle types' materials
-  !> from the deck's `&material` group: a snapshot without stiffness of its own.
-  pure logical function scene_takes_material(groups) result(takes)
+  !> Whether a `&scene` among `groups` (of deck `file`) takes its particle
+  !> types' materials from the deck's `&material` group (the library's rule,
+  !> `scene_input_takes_material`). A group that cannot be read takes none:
+  !> its handler reports the fault.
+  logical function scene_takes_material(groups, file) result(takes)
     type(nml_group_type), intent(in) :: groups(:)
+    character(len=*), intent(in) :: file
+    type(scene_input_type) :: input
+    type(scene_run_type) :: run
+    type(demstep_status_type) :: status
     integer :: k
     takes = .false.
     do k = 1, size(groups)
       if (groups(k)%name /= "scene") cycle
-      if (given(groups(k), "snapshot_file") .and. .not. own_stiffness(groups(k))) takes = .true.
+      call read_scene_input(groups(k), file, input, run, status)
+      if (status%stat /= demstep_stat%ok) cycle
+      if (scene_input_takes_material(input)) takes = .true.
     end do
   end function scene_takes_material
-
-  !> Whether a `&scene` group gives the contact stiffness itself (one law, or per type).
-  pure logical function own_stiffness(group)
-    type(nml_group_type), intent(in) :: group
-    own_stiffness = given(group, "k_normal") .or. given(group, "e_star") .or. &
-      given(group, "type_k_normal") .or. given(group, "young") .or. given(group, "liggghts_script")
-  end function own_stiffness
 
   !> The step count of a run, refused when it is absurd, and announced on stderr
   !> (unless quiet) when the run is big enough to matter: the cost per

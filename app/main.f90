@@ -137,7 +137,7 @@ program demstep_main
     known = 1
   end if
   ! a packing's &material reports single contacts (whichever group comes first)
-  ctx%material_in_scene = scene_takes_material(groups)
+  ctx%material_in_scene = scene_takes_material(groups, input)
   ctx%groups = groups
   do i = 1, size(groups)
     k = find_group(registry, groups(i)%name)

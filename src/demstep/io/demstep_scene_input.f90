@@ -33,7 +33,7 @@ module demstep_scene_input
   implicit none
   private
 
-  public :: scene_from_input, scene_input_own_stiffness
+  public :: scene_from_input, scene_input_own_stiffness, scene_input_takes_material
 
   !> The parts of a scene's input a fault can lie in.
   type, public :: scene_input_part_enum
@@ -146,6 +146,13 @@ contains
       .or. given_real(input%young) .or. allocated(input%liggghts_script)
   end function scene_input_own_stiffness
 
+  !> Whether the input takes its particle types' stiffness from a material
+  !> set: a snapshot without stiffness of its own.
+  pure logical function scene_input_takes_material(input) result(takes)
+    type(scene_input_type), intent(in) :: input
+    takes = allocated(input%snapshot_file) .and. .not. scene_input_own_stiffness(input)
+  end function scene_input_takes_material
+
   !> Build the scene an input describes. `materials` (broadcast to the
   !> snapshot's types on return) gives a snapshot's masses and, unless the input
   !> has stiffness of its own, its springs and dashpots. Status invalid_input
@@ -180,7 +187,7 @@ contains
       n = size(m)
       allocate(is_fixed(n), source=.false.)
       ptypes = setup%snapshot%type
-      setup%from_material = materials%found .and. .not. scene_input_own_stiffness(input)
+      setup%from_material = materials%found .and. scene_input_takes_material(input)
       if (.not. (setup%from_material .or. scene_input_own_stiffness(input))) then
         call set_status(status, demstep_stat%invalid_input, "required with snapshot_file (or e_star, " &
           //"type_k_normal, young and poisson per type, liggghts_script, or a &material group in the deck)", where="k_normal")
