@@ -145,7 +145,7 @@ def main():
                 f.write("| %s | [%.5g, %.5g] | refused | | | |\n" % (scene, lo, hi))
                 continue
             dd = float(res["dt_critical_damped"])
-            du = float(res["dt_critical_safe"])
+            du = float(res["dt_critical_eigen"])
             dr = float(res["dt_recommended"])
             f.write("| %s | [%.5g, %.5g] | %.5g | %.4f | %.4f | %.4f | " % (scene, lo, hi, dd, dd / mid, du / mid,
                                                                        dr / mid)
