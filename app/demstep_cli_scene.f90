@@ -30,7 +30,7 @@ module demstep_cli_scene
   use demstep_words, only: word_list, unknown_word, word_index, word_choice
   use demstep_body_assembly, only: body_critical_steps
   use demstep_bonds, only: bond_model_from_name, bond_model_names, max_bond_parameters
-  use demstep_results, only: write_scene_result, write_snapshot_result
+  use demstep_results, only: write_scene_result, write_snapshot_result, write_script_result
   use demstep_monitor, only: participation_type, scene_participation, top_shares, participation_top, &
     spring_kind_names
   use demstep_vtk, only: write_participation_vtk
@@ -326,6 +326,8 @@ contains
     call record_step(ctx, "assembly step", dt_recommended, .true., group)
     if (allocated(input%snapshot_file)) call write_snapshot_result(ctx%results, setup%snapshot, &
       deck_mat%found, crit, peer_dt)
+    if (allocated(input%liggghts_script)) call write_script_result(ctx%results, setup%script, &
+      crit%dt_critical_damped)
   end subroutine handle_scene
 
   !> Read a `&scene` group into the library's typed input (words to codes,

@@ -166,8 +166,10 @@ contains
   !> printed: the same library on the same file).
   subroutine test_report(error)
     type(error_type), allocatable, intent(out) :: error
-    character(len=:), allocatable :: stdout, stderr
-    integer :: rc
+    character(len=:), allocatable :: stdout, stderr, text
+    type(result_group_type) :: fields
+    real(dp) :: limits(3), timestep, ratio
+    integer :: rc, ios, line
     call write_file(work_dir//"/script_report.nml", [character(len=200) :: "&scene", "  dim = 3", &
       "  eigen_tolerance = 1e-10", &
       "  snapshot_file = '../../"//states//"a_hertz.dump'", &
@@ -193,6 +195,19 @@ contains
     call check(error, rc == 0 .and. index(stdout, "your script's timestep 5e-5 s (line 3) is 1.178836924 " &
       //"times the exact limit 4.24146877e-5 s") > 0 .and. index(stdout, "it is not stable: lower it to " &
       //"3.817321893e-5 s") > 0, "an unstable timestep: "//stdout//stderr)
+    if (allocated(error)) return
+    ! the same in &script_result: the timestep, its line, and its ratio to
+    ! &scene_result's damped limit (the same doubles divided: to rounding)
+    call run_limits(error, work_dir//"/script_report.nml", limits, stdout)
+    if (allocated(error)) return
+    call read_file(work_dir//"/script_report.nml.out", text)
+    call read_group(text, "script_result", fields, ios)
+    if (ios == 0) call take(fields, "timestep", timestep, ios)
+    if (ios == 0) call take(fields, "timestep_line", line, ios)
+    if (ios == 0) call take(fields, "timestep_ratio", ratio, ios)
+    call check(error, ios == 0 .and. timestep == 5.0e-5_dp .and. line == 3 .and. &
+      abs(ratio - 5.0e-5_dp/limits(2)) <= 4*epsilon(1.0_dp)*ratio .and. abs(ratio - 1.178836924_dp) < 1e-9_dp, &
+      "&script_result: "//text)
     if (allocated(error)) return
     ! the timestep of an included script is named with its file
     call write_file(work_dir//"/in.unstable", [character(len=200) :: "include ../../"//inputs//"in.export_a_hertz"])

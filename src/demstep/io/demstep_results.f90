@@ -22,6 +22,7 @@ module demstep_results
   use demstep_monitor, only: participation_type, participation_top, spring_kind_names, top_shares
   use demstep_stiffness, only: stiffness_result_type, interval_kind
   use demstep_snapshot, only: snapshot_type, snapshot_format_names
+  use demstep_liggghts_scene, only: liggghts_scene_type
   use demstep_material, only: n_peer_rules, peer_rule_names
   use demstep_mfix_input, only: mfix_input_type
   use demstep_mfix, only: mfix_result_type
@@ -33,7 +34,7 @@ module demstep_results
   public :: read_result, parse_result, result_get, result_has
   public :: write_system_result, write_contact_error_result, write_accuracy_cost_result, &
     write_harmonic_error_result, write_material_result, write_simulated_stiffness_result, &
-    write_scene_result, write_snapshot_result, write_mfix_result
+    write_scene_result, write_snapshot_result, write_script_result, write_mfix_result
 
   !> `&system_result`: the spring alone, with a time step beyond the limit, or
   !> with a stable step and its discrete contact (by the arguments given).
@@ -705,6 +706,27 @@ contains
     peer_ratio = peer_dt/dt_exact
     write(unit, nml=snapshot_result)
   end subroutine write_snapshot_result
+
+  !> The `&script_result` group: a LIGGGHTS script's `timestep` (0 and line 0
+  !> when it states none) and its ratio to the scene's damped limit `dt_limit`.
+  subroutine write_script_result(unit, info, dt_limit)
+    integer, intent(in) :: unit
+    type(liggghts_scene_type), intent(in) :: info
+    real(dp), intent(in) :: dt_limit
+    character(len=512) :: script_file, timestep_file
+    integer :: timestep_line
+    real(dp) :: timestep, timestep_ratio
+    namelist /script_result/ script_file, timestep, timestep_file, timestep_line, timestep_ratio
+    script_file = ""
+    if (allocated(info%file)) script_file = info%file
+    timestep_file = ""
+    if (allocated(info%timestep_file)) timestep_file = info%timestep_file
+    timestep = info%timestep
+    timestep_line = info%timestep_line
+    timestep_ratio = 0.0_dp
+    if (timestep_line > 0 .and. dt_limit > 0.0_dp) timestep_ratio = timestep/dt_limit
+    write(unit, nml=script_result)
+  end subroutine write_script_result
 
   !> The result group `&mfix_result`, per pair in MFiX's order (particle pairs
   !> 11, 12, ..., then phase-wall pairs; `phase_j = 0` for a wall).
