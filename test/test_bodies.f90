@@ -3,14 +3,16 @@
 !> against a dense reference assembled here independently (its own contact
 !> search, tangent blocks written out, body mass and inertia summed, the
 !> generalised eigenproblem by Cholesky), Lanczos against dense, Yade's
-!> GlobalStiffnessTimeStepper rule on a rod, and bad input refused by name.
+!> GlobalStiffnessTimeStepper rule and exaDEM's on a rod, and bad input refused
+!> by name.
 module test_bodies
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
   use demstep_assembly, only: critical_step_type
   use demstep_bodies, only: body_set_type, bodies_from_members, bodies_from_lists, bodies_given
   use demstep_body_assembly, only: body_critical_steps, body_operator, body_operator_type, body_matrix, &
-    body_operator_apply, body_gst_step, inverse_sqrt_inertia, yade_gst_factor
+    body_operator_apply, body_gst_step, body_exadem_step, inverse_sqrt_inertia, yade_gst_factor
+  use demstep_kinds, only: pi
   use demstep_assembly, only: spring_block_type
   use demstep_csr, only: csr_matrix_type, csr_to_dense
   use demstep_lapack, only: symmetric_eigensystem
@@ -370,9 +372,11 @@ contains
     end do
   end subroutine test_random_clumps
 
-  !> The matrix-free product = the compressed rows' product on random
-  !> vectors (1e-12 of the norm), undamped and dashpot-mixed; J^-1/2 of a
-  !> random tensor squared and times J = I (1e-13).
+  !> The matrix-free product (the fused kernel, `body_spring_product`) = the
+  !> compressed rows' product (`contact_block` carried by the rigid map) on
+  !> random vectors (1e-12 of the norm), undamped and dashpot-mixed, with
+  !> rotations (6 dof per body) and without (3); J^-1/2 of a random tensor
+  !> squared and times J = I (1e-13).
   subroutine test_products(error)
     type(error_type), allocatable, intent(out) :: error
     type(scene_type) :: scene
@@ -384,26 +388,32 @@ contains
     integer, allocatable :: body_of(:)
     real(dp), allocatable :: a(:, :), x(:), y(:)
     real(dp) :: rate, j(3, 3), s(3, 3), q(3, 3), eye(3, 3)
-    integer :: mix, i
-    call clump_packing(scene, body_of, 12, 3, 2.0_dp)
-    call scene_set_damping(scene, 0.2_dp, status, tangential=0.1_dp, rolling=0.3_dp, drag=0.05_dp)
-    call bodies_from_members(scene, body_of, bodies, status)
-    call body_operator(scene, bodies, op, rate, status, springs)
-    call check(error, status%stat, demstep_stat%ok, status%message)
-    if (allocated(error)) return
-    allocate(x(op%n), y(op%n))
-    call random_number(x)
-    do mix = 1, 2
-      op%alpha = merge(1.0_dp, 0.3_dp, mix == 1)
-      op%beta = merge(0.0_dp, 0.7_dp, mix == 1)
-      call body_matrix(op, sparse)
-      call csr_to_dense(sparse, a)
-      call body_operator_apply(op, x, y)
-      call check(error, norm2(y - matmul(a, x)) <= 1.0e-12_dp*norm2(y), "product differs: " &
-        //real_str(norm2(y - matmul(a, x))/norm2(y)))
+    integer :: mix, i, rot
+    do rot = 1, 2
+      call clump_packing(scene, body_of, 12, 3, 2.0_dp)
+      call scene_set_damping(scene, 0.2_dp, status, tangential=0.1_dp, rolling=0.3_dp, drag=0.05_dp)
+      if (rot == 2) call scene_set_effects(scene, ["rotation"], [.false.], status)
+      call bodies_from_members(scene, body_of, bodies, status)
+      call body_operator(scene, bodies, op, rate, status, springs)
+      call check(error, status%stat, demstep_stat%ok, status%message)
       if (allocated(error)) return
-      call check(error, maxval(abs(a - transpose(a))) <= 1.0e-13_dp*maxval(abs(a)), "not symmetric")
+      call check(error, op%nc, merge(6, 3, rot == 1))
       if (allocated(error)) return
+      x = [(modulo(0.618034_dp*i, 1.0_dp) - 0.5_dp, i = 1, op%n)]
+      allocate(y(op%n))
+      do mix = 1, 2
+        op%alpha = merge(1.0_dp, 0.3_dp, mix == 1)
+        op%beta = merge(0.0_dp, 0.7_dp, mix == 1)
+        call body_matrix(op, sparse)
+        call csr_to_dense(sparse, a)
+        call body_operator_apply(op, x, y)
+        call check(error, norm2(y - matmul(a, x)) <= 1.0e-12_dp*norm2(y), "product differs: " &
+          //real_str(norm2(y - matmul(a, x))/norm2(y)))
+        if (allocated(error)) return
+        call check(error, maxval(abs(a - transpose(a))) <= 1.0e-13_dp*maxval(abs(a)), "not symmetric")
+        if (allocated(error)) return
+      end do
+      deallocate(y)
     end do
     call random_number(q)
     j = matmul(q, transpose(q)) + 0.1_dp*reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
@@ -455,8 +465,8 @@ contains
   !> Exact: omega^2 = max(k_n/M, k_t (1/M + (4 + a)^2/J_perp)) (a = 1 - 5e-4
   !> the contact arm; M = 5, J_perp = 5 (2/5) + 2 (4 + 16) = 42). Yade's rule
   !> (member stiffness about its own centre, principal moments (2, 42, 42)):
-  !> 1.41044 sqrt(min(M/max(k_n, k_t), 42/k_t)). Both to 1e-12, for
-  !> k_t/k_n = 0.25, 0.75 and 1.
+  !> 1.41044 sqrt(min(M/max(k_n, k_t), 42/k_t)); exaDEM's pi sqrt(M/k_n).
+  !> All three to 1e-12, for k_t/k_n = 0.25, 0.75 and 1.
   subroutine test_gst_rod(error)
     type(error_type), allocatable, intent(out) :: error
     type(scene_type) :: scene
@@ -499,6 +509,17 @@ contains
         call check(error, ratio > 1.4_dp, "GST/exact "//real_str(ratio))
         if (allocated(error)) return
       end if
+      ! exaDEM: pi sqrt(M/k_n), at least pi/2 of the exact limit (which is at
+      ! most 2 sqrt(M/k_n), the rod's axial mode alone); by the closed form
+      ! above 1.571, 2.712, 3.132
+      call body_exadem_step(scene, bodies, dt, status)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      call check(error, dt, pi*sqrt(5.0_dp/kn), rel=.true., thr=1.0e-12_dp, message="exaDEM "//real_str(dt))
+      if (allocated(error)) return
+      ratio = dt/c%dt_critical_eigen
+      call check(error, ratio >= 0.5_dp*pi*(1.0_dp - 1.0e-12_dp), "exaDEM/exact "//real_str(ratio))
+      if (allocated(error)) return
     end do
   end subroutine test_gst_rod
 
