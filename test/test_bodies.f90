@@ -36,6 +36,7 @@ contains
       new_unittest("one-member bodies = the sphere path (3D, 2D, no rotation)", test_single_spheres), &
       new_unittest("clump contacts: the stepper's forces by finite differences = the operator", test_tangent_fd), &
       new_unittest("random clump packings = independent dense reference", test_random_clumps), &
+      new_unittest("random clump packings = a dense numpy assembly, every eigenvalue", test_numpy_clumps), &
       new_unittest("matrix-free product = compressed rows; J^-1/2 squared = J^-1", test_products), &
       new_unittest("Lanczos = dense on a larger clump packing, undamped and damped", test_lanczos), &
       new_unittest("Yade GST rule on a 5-sphere rod: its formula; ratio to the exact limit", test_gst_rod), &
@@ -487,6 +488,63 @@ contains
       deallocate(lam, z)
     end do
   end subroutine test_random_clumps
+
+  !> Three clump packings (8, 12 and 18 clumps of 1 to 3 overlapping spheres
+  !> over a floor, linear law with tangential, rolling and twisting springs)
+  !> against the dense numpy assembly of
+  !> test/data/numpy_operator/make_reference.py (its own contact search,
+  !> blocks, rigid maps and Yade's tensor sum; Cholesky and eigvalsh): the
+  !> number of springs between bodies and every eigenvalue of the body
+  !> operator (times rate^2) to 1e-10 of the largest (measured 1.4e-15 on
+  !> the first).
+  subroutine test_numpy_clumps(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(body_set_type) :: bodies
+    type(body_operator_type) :: op
+    type(csr_matrix_type) :: sparse
+    type(spring_block_type), allocatable :: springs(:)
+    type(demstep_status_type) :: status
+    character(len=*), parameter :: dir = "test/data/numpy_operator/"
+    real(dp), allocatable :: x(:, :), m(:), r(:), lam(:), lam_ref(:), a(:, :), z(:, :)
+    integer, allocatable :: body_of(:)
+    real(dp) :: floor_z, k_n, k_t, rolling, twisting, rate
+    integer :: t, u, n, nb, ns, i
+    do t = 1, 3
+      open(newunit=u, file=dir//"clumps_"//achar(48 + t)//".txt", status="old", action="read")
+      read(u, *) n, nb, ns, floor_z, k_n, k_t, rolling, twisting
+      allocate(x(3, n), m(n), r(n), body_of(n), lam_ref(6*nb))
+      do i = 1, n
+        read(u, *) x(:, i), m(i), r(i), body_of(i)
+      end do
+      read(u, *) lam_ref
+      close(u)
+      call new_scene(scene, 3, x, m, r, status)
+      if (status%stat == demstep_stat%ok) call scene_set_law(scene, contact_law%linear, k_n, k_t, status)
+      if (status%stat == demstep_stat%ok) call scene_set_rolling(scene, rolling, twisting, status)
+      if (status%stat == demstep_stat%ok) call scene_set_effects(scene, ["rotation"], [.true.], status)
+      if (status%stat == demstep_stat%ok) call scene_add_walls(scene, reshape([0.0_dp, 0.0_dp, floor_z], [3, 1]), &
+        reshape([0.0_dp, 0.0_dp, 1.0_dp], [3, 1]), status)
+      if (status%stat == demstep_stat%ok) call bodies_from_members(scene, body_of, bodies, status)
+      if (status%stat == demstep_stat%ok) call body_operator(scene, bodies, op, rate, status, springs)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      call check(error, size(springs), ns)
+      if (allocated(error)) return
+      call check(error, op%n, 6*nb)
+      if (allocated(error)) return
+      call body_matrix(op, sparse)
+      call csr_to_dense(sparse, a)
+      allocate(lam(op%n), z(op%n, op%n))
+      call symmetric_eigensystem(a, lam, z, status)
+      lam = rate**2*lam
+      call check(error, maxval(abs(lam - lam_ref)) <= 1.0e-10_dp*maxval(lam_ref), "clumps_" &
+        //achar(48 + t)//": eigenvalues differ by "//real_str(maxval(abs(lam - lam_ref)))//" of " &
+        //real_str(maxval(lam_ref)))
+      if (allocated(error)) return
+      deallocate(x, m, r, body_of, lam_ref, lam, z)
+    end do
+  end subroutine test_numpy_clumps
 
   !> The matrix-free product (the fused kernel, `body_spring_product`) = the
   !> compressed rows' product (`contact_block` carried by the rigid map) on

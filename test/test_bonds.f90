@@ -59,6 +59,7 @@ contains
       new_unittest("peers' rules: MUSEN 1.64, k_n = k_s 0.535, Kratos", test_peer_rules), &
       new_unittest("peers' rules on chains and a cemented packing", test_peer_rules_chain), &
       new_unittest("Lanczos = dense, undamped and damped, on a cemented packing", test_lanczos_bonds), &
+      new_unittest("bonded packings (PFC, Yade) = a dense numpy assembly, every eigenvalue", test_numpy_bonds), &
       new_unittest("bad input refused by name", test_refusals), &
       new_unittest("the app's &scene: bond_model, bond_parameters", test_app_input), &
       new_unittest("Yade cemented samples (CohFrictPhys bonds): the exact limit at Yade's measured one", &
@@ -614,6 +615,53 @@ contains
       " vs "//real_str(dense%dt_critical_eigen)//", damped "//real_str(lanczos%dt_critical_damped)//" vs "// &
       real_str(dense%dt_critical_damped))
   end subroutine test_lanczos_bonds
+
+  !> Two bonded packings of 27 spheres on a jittered lattice (radii 1 +- 15 %,
+  !> gaps and overlaps, 44 and more bonds; PFC parallel bonds and Yade
+  !> CohFrictPhys bonds) against the dense numpy assembly of
+  !> test/data/numpy_operator/make_reference.py (its own bond laws, blocks and
+  !> eigvalsh): every eigenvalue of the operator (times rate^2) to 1e-10 of
+  !> the largest (measured 3.5e-15 on the first).
+  subroutine test_numpy_bonds(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(demstep_status_type) :: status
+    character(len=*), parameter :: dir = "test/data/numpy_operator/"
+    character(len=256) :: line
+    character(len=8) :: name
+    real(dp), allocatable :: x(:, :), m(:), r(:), lam(:), lam_ref(:)
+    integer, allocatable :: pairs(:, :)
+    real(dp) :: p(8)
+    integer :: t, u, n, nb, i, model, np
+    do t = 1, 2
+      open(newunit=u, file=dir//"bonds_"//achar(48 + t)//".txt", status="old", action="read")
+      read(u, '(a)') line
+      read(line, *) n, nb, name
+      model = bond_model_from_name(name)
+      np = bond_parameter_count(model)
+      read(line, *) n, nb, name, p(:np)
+      allocate(x(3, n), m(n), r(n), pairs(2, nb), lam_ref(6*n))
+      do i = 1, n
+        read(u, *) x(:, i), m(i), r(i)
+      end do
+      read(u, *) pairs
+      read(u, *) lam_ref
+      close(u)
+      call new_scene(scene, 3, x, m, r, status, search=.false.)
+      scene%effects(scene_effect%contacts) = .false.
+      call scene_add_bonds(scene, pairs, status)
+      if (status%stat == demstep_stat%ok) call scene_set_bond_model(scene, model, p(:np), status)
+      if (status%stat == demstep_stat%ok) call spectrum(scene, lam, status)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      call check(error, size(lam), size(lam_ref))
+      if (allocated(error)) return
+      call check(error, maxval(abs(lam - lam_ref)) <= 1.0e-10_dp*maxval(lam_ref), name//": eigenvalues differ by " &
+        //real_str(maxval(abs(lam - lam_ref)))//" of "//real_str(maxval(lam_ref)))
+      if (allocated(error)) return
+      deallocate(x, m, r, pairs, lam_ref)
+    end do
+  end subroutine test_numpy_bonds
 
   subroutine test_refusals(error)
     type(error_type), allocatable, intent(out) :: error
