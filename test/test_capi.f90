@@ -154,25 +154,27 @@ contains
   function where_of(e) result(text)
     type(demstep_error_c), intent(in) :: e
     character(len=:), allocatable :: text
-    integer :: i
-    text = ""
-    do i = 1, size(e%where)
-      if (e%where(i) == c_null_char) exit
-      text = text//e%where(i)
-    end do
+    text = c_text(e%where)
   end function where_of
 
   !> The message of a C error struct as a Fortran string.
   function message_of(e) result(text)
     type(demstep_error_c), intent(in) :: e
     character(len=:), allocatable :: text
+    text = c_text(e%message)
+  end function message_of
+
+  !> A NUL-terminated C character array as a Fortran string.
+  function c_text(chars) result(text)
+    character(kind=c_char), intent(in) :: chars(:)
+    character(len=:), allocatable :: text
     integer :: i
     text = ""
-    do i = 1, size(e%message)
-      if (e%message(i) == c_null_char) exit
-      text = text//e%message(i)
+    do i = 1, size(chars)
+      if (chars(i) == c_null_char) exit
+      text = text//chars(i)
     end do
-  end function message_of
+  end function c_text
 
   subroutine test_same_numbers(error)
     type(error_type), allocatable, intent(out) :: error
