@@ -13,6 +13,7 @@ program capi_reference
   type(scene_type) :: scene
   type(critical_step_type) :: c
   type(discrete_contact_type) :: contact
+  type(body_set_type) :: bodies
   real(dp) :: dt_crit, e, x(1, 12)
   integer :: i, stat, pairs(2, 11)
   call new_spring(spring, 0.01_dp, 1.0e5_dp, status)
@@ -63,6 +64,30 @@ program capi_reference
     impact_velocity=2.0_dp)
   call put("wall_omega_max", c%omega_max)
   call put("wall_dt_critical_damped", c%dt_critical_damped)
+  ! a rigid clump of two overlapping spheres 1e-3 into a floor, linear k_n = 1e4
+  call new_scene(scene, 3, reshape([0.3_dp, -0.2_dp, 1.2_dp, 0.9_dp, 0.2_dp, 1.8_dp], [3, 2]), [1.0_dp, 1.5_dp], &
+    [1.0_dp, 1.0_dp], status)
+  call scene_add_walls(scene, reshape([0.0_dp, 0.0_dp, 0.201_dp], [3, 1]), reshape([0.0_dp, 0.0_dp, 1.0_dp], &
+    [3, 1]), status)
+  call scene_set_law(scene, contact_law%linear, 1.0e4_dp, 0.0_dp, status)
+  scene%effects = .false.
+  scene%effects([scene_effect%contacts, scene_effect%walls, scene_effect%rotation]) = .true.
+  call bodies_from_members(scene, [1, 1], bodies, status)
+  call body_critical_steps(scene, bodies, c, status)
+  call put("clump_omega_max", c%omega_max)
+  call put("clump_dt_critical_eigen", c%dt_critical_eigen)
+  call body_gst_step(scene, bodies, e, status)
+  call put("clump_yade_gst", e)
+  call body_exadem_step(scene, bodies, e, status)
+  call put("clump_exadem", e)
+  ! a pair held by Yade's CohFrictPhys bond
+  call new_scene(scene, 3, reshape([0.0_dp, 0.0_dp, 0.0_dp, 1.2_dp, 1.1_dp, 0.9_dp], [3, 2]), [1.0_dp, 1.5_dp], &
+    [1.0_dp, 0.9_dp], status)
+  call scene_add_bonds(scene, reshape([1, 2], [2, 1]), status)
+  call scene_set_bond_model(scene, bond_model%yade, [1.0e5_dp, 0.3_dp, 2.0_dp, 2.0_dp], status)
+  call assembly_critical_steps(scene, c, status)
+  call put("bond_omega_max", c%omega_max)
+  call put("bond_dt_critical_eigen", c%dt_critical_eigen)
   call contact_with_onset(20.0_dp, 0.5_dp, contact, status, 0.1_dp)
   call put("contact_restitution", contact%restitution)
   call n_for_tolerance(quantity_kind%restitution, 1.0e-3_dp, e, status)

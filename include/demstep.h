@@ -60,6 +60,9 @@ enum {
   DEMSTEP_CODE_MERCURYDPM_LINEAR = 7, DEMSTEP_CODE_LAMMPS_HOOKE = 8, DEMSTEP_CODE_LAMMPS_HERTZ_MATERIAL = 9
 };
 
+/* The DEM codes' bond models of demstep_scene_set_bond_model. */
+enum { DEMSTEP_BOND_PFC = 1, DEMSTEP_BOND_MUSEN = 2, DEMSTEP_BOND_YADE = 3, DEMSTEP_BOND_LAMMPS = 4 };
+
 /* Eigensolvers for omega_max (demstep_scene_set_eigen_solver): AUTO takes DENSE
    (LAPACK) up to max_eigen_dof and LANCZOS (ARPACK, matrix-free) above; NONE
    gives the bound only. */
@@ -229,6 +232,36 @@ int demstep_scene_add_bonds(demstep_scene *scene, int n_bonds, const int *bonds,
 /* Every bond's normal (> 0) and tangential (>= 0) stiffness. */
 int demstep_scene_set_bond_stiffness(demstep_scene *scene, double k_bond, double k_bond_tangential,
                                      demstep_error *err);
+
+/* Every bond's law as a DEM code makes it, from that code's own n_parameters
+   inputs in its order: DEMSTEP_BOND_PFC (parallel bond: kbar_n, kbar_s, lambda),
+   DEMSTEP_BOND_MUSEN (solid bond: E, G, diameter), DEMSTEP_BOND_YADE
+   (CohFrictPhys: young, poisson, alpha_kr, alpha_ktw) or DEMSTEP_BOND_LAMMPS
+   (bpm/rotational: K_r, K_s, K_t, K_b, gamma_n, gamma_s, gamma_r, gamma_t):
+   normal, shear, bending and twisting springs (LAMMPS: and its dashpots), instead
+   of demstep_scene_set_bond_stiffness's; rotations come on. A value out of range
+   is refused naming it (where "bond_parameters", index 0-based). */
+int demstep_scene_set_bond_model(demstep_scene *scene, int model, int n_parameters,
+                                 const double *parameters, demstep_error *err);
+
+/* Rigid bodies (clumps, multispheres) of the particles, once per scene, after
+   demstep_scene_set_particles: body_of holds a body id per particle (0: a
+   particle on its own; any positive ids, the bodies numbered in increasing id).
+   mass NULL: each body's mass and inertia tensor from its members (Yade's sum:
+   overlaps counted twice; density > 0: the members' masses rho 4/3 pi r^3, else
+   the particles' own); otherwise n_bodies bodies, ids 1..n_bodies, with mass
+   (n_bodies), com (3 per body) and inertia (9 per body: the symmetric tensor about
+   the centre of mass, global axes) as given. demstep_scene_compute then gives the
+   bodies' limits (dof_per_particle is per body), with DEMSTEP_HERTZ_CURRENT and
+   prestress 0 only. */
+int demstep_scene_set_bodies(demstep_scene *scene, const int *body_of, double density, int n_bodies,
+                             const double *mass, const double *com, const double *inertia,
+                             demstep_error *err);
+
+/* The peers' rules on the scene's bodies, raw: Yade's GlobalStiffnessTimeStepper
+   (safety coefficient 1) and exaDEM's pi sqrt(m_min / k_n,max). */
+int demstep_scene_body_peer_steps(const demstep_scene *scene, double *yade_gst, double *exadem,
+                                  demstep_error *err);
 
 /* The contact law of particle and wall contacts: DEMSTEP_LAW_LINEAR with normal = k_n
    (> 0), tangential = k_t (>= 0); DEMSTEP_LAW_HERTZ with normal = E* (> 0),

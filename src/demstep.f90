@@ -27,13 +27,14 @@
 !> - Rigid bodies (clumps, multispheres) of the scene's spheres: `body_set_type`,
 !>   `bodies_from_members` (Yade's mass and inertia sum), `bodies_from_lists`,
 !>   `bodies_given`, `body_critical_steps` (the same estimates per body, full
-!>   inertia tensor), `body_gst_step` (Yade's GlobalStiffnessTimeStepper rule).
+!>   inertia tensor), `body_gst_step` (Yade's GlobalStiffnessTimeStepper rule),
+!>   `body_exadem_step` (exaDEM's rule).
 !> - The largest eigenvalue of a large symmetric operator, matrix-free, with an
 !>   error bar: `lanczos_largest` (extend `lanczos_context_type`).
 !> - Bonds as each DEM code makes them (PFC parallel bond, MUSEN solid bond, Yade
 !>   CohFrictPhys, LAMMPS bpm/rotational): `scene_set_bond_model` (`bond_model%...`),
 !>   `bond_law`, `bond_pair_modes`, and the peers' bond rules `musen_bond_time`,
-!>   `musen_recommended_step`, `kratos_step`.
+!>   `musen_recommended_step`, `kratos_step`, `exadem_step`.
 !> - Materials in each DEM code's convention and the peers' step rules:
 !>   `material_type`, `effective_pair`, `contact_parameters` (`code_convention%...`),
 !>   `rayleigh_time`, `hertz_contact_duration`, `peer_time_steps`.
@@ -98,13 +99,13 @@ module demstep
   ! bonds in each code's convention (normal, shear, bending, twisting) and the peers' bond rules
   use demstep_scene_bonds, only: scene_set_bond_model
   use demstep_bonds, only: bond_model, bond_law_type, bond_law, bond_pair_modes, musen_bond_time, &
-    musen_recommended_step, kratos_step
+    musen_recommended_step, kratos_step, exadem_step
   use demstep_stepper, only: scene_run
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, assembly_step_for_n_per_period, &
     eigen_solver, hertz_linearization
   ! rigid bodies (clumps, multispheres): members, mass, inertia tensor, exact limits
   use demstep_bodies, only: body_set_type, bodies_from_members, bodies_from_lists, bodies_given
-  use demstep_body_assembly, only: body_critical_steps, body_gst_step
+  use demstep_body_assembly, only: body_critical_steps, body_gst_step, body_exadem_step
   ! the largest eigenvalue of a large operator, matrix-free (Lanczos, ARPACK)
   use demstep_lanczos, only: lanczos_context_type, lanczos_largest, eigen_result_type
   ! materials in each code's convention and the peers' time-step rules

@@ -1,16 +1,20 @@
 !> Tests of rigid bodies (clumps): a dumbbell on a spring against its closed
-!> form, one-member bodies against the sphere path, random clump packings
+!> form, one-member bodies against the sphere path, the stepper's clump
+!> forces by finite differences against the operator, random clump packings
 !> against a dense reference assembled here independently (its own contact
 !> search, tangent blocks written out, body mass and inertia summed, the
 !> generalised eigenproblem by Cholesky), Lanczos against dense, Yade's
-!> GlobalStiffnessTimeStepper rule on a rod, and bad input refused by name.
+!> GlobalStiffnessTimeStepper rule and exaDEM's on a rod, and bad input refused
+!> by name.
 module test_bodies
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
   use demstep_assembly, only: critical_step_type
   use demstep_bodies, only: body_set_type, bodies_from_members, bodies_from_lists, bodies_given
   use demstep_body_assembly, only: body_critical_steps, body_operator, body_operator_type, body_matrix, &
-    body_operator_apply, body_gst_step, inverse_sqrt_inertia, yade_gst_factor
+    body_operator_apply, body_gst_step, body_exadem_step, inverse_sqrt_inertia, yade_gst_factor
+  use demstep_kinds, only: pi, i8
+  use demstep_interaction, only: cross
   use demstep_assembly, only: spring_block_type
   use demstep_csr, only: csr_matrix_type, csr_to_dense
   use demstep_lapack, only: symmetric_eigensystem
@@ -30,7 +34,9 @@ contains
     testsuite = [ &
       new_unittest("dumbbell on a spring: closed form, undamped and damped", test_dumbbell), &
       new_unittest("one-member bodies = the sphere path (3D, 2D, no rotation)", test_single_spheres), &
+      new_unittest("clump contacts: the stepper's forces by finite differences = the operator", test_tangent_fd), &
       new_unittest("random clump packings = independent dense reference", test_random_clumps), &
+      new_unittest("random clump packings = a dense numpy assembly, every eigenvalue", test_numpy_clumps), &
       new_unittest("matrix-free product = compressed rows; J^-1/2 squared = J^-1", test_products), &
       new_unittest("Lanczos = dense on a larger clump packing, undamped and damped", test_lanczos), &
       new_unittest("Yade GST rule on a 5-sphere rod: its formula; ratio to the exact limit", test_gst_rod), &
@@ -111,6 +117,119 @@ contains
     call check(error, c%dt_critical_damped, dt_d, rel=.true., thr=1.0e-12_dp, &
       message="damped "//real_str(c%dt_critical_damped)//" closed form "//real_str(dt_d))
   end subroutine test_dumbbell
+
+  !> The generalised forces (f, t) on the bodies after one stepper step of
+  !> dt = 1 from rest with body velocities q = (v, w) per body: the bodies
+  !> move by q, and (v' - v) M, J' (w' - w) (J' the tensor turned with the
+  !> body) are the forces at the displaced positions.
+  function body_forces(start, start_bodies, q) result(g)
+    type(scene_type), intent(in) :: start
+    type(body_set_type), intent(in) :: start_bodies
+    real(dp), intent(in) :: q(:)
+    real(dp) :: g(size(q))
+    type(scene_type) :: scene
+    type(body_set_type) :: bodies
+    type(scene_summary_type) :: summary
+    type(demstep_status_type) :: status
+    real(dp) :: w(3), v(3)
+    integer :: i, b, m
+    scene = start
+    bodies = start_bodies
+    do i = 1, scene%n
+      b = bodies%body_of(i)
+      scene%v(:, i) = q(6*b - 5:6*b - 3) + cross(q(6*b - 2:6*b), bodies%offset(:, i))
+      scene%w(:, i) = q(6*b - 2:6*b)
+    end do
+    call scene_run(scene, 1.0_dp, 1_i8, summary, status, bodies=bodies)
+    if (status%stat /= demstep_stat%ok) error stop "body_forces: "//status%message
+    do b = 1, bodies%n
+      m = findloc(bodies%body_of, b, 1)
+      w = scene%w(:, m)
+      v = scene%v(:, m) - cross(w, bodies%offset(:, m))
+      g(6*b - 5:6*b - 3) = (v - q(6*b - 5:6*b - 3))*bodies%mass(b)
+      g(6*b - 2:6*b) = matmul(bodies%inertia(:, :, b), w - q(6*b - 2:6*b))
+    end do
+  end function body_forces
+
+  !> Two clumps of two unequal spheres each (random masses and offsets: full,
+  !> non-diagonal tensors) touching at a random normal, one also on a floor,
+  !> linear law with tangential, rolling and twisting springs: -dF/dq of the
+  !> stepper's rigid bodies by central differences (h = 1e-9), mass scaled
+  !> (M^-1/2, J^-1/2), equals rate^2 A' of the body operator, 12 x 12, for
+  !> three random normals. Tolerance 1e-5 of the largest entry: the contacts
+  !> are 1e-7 deep, so their preload adds a geometric stiffness of order
+  !> F/r = 1e-7 k_n that the operator leaves out (as documented), and the
+  !> positions' rounding (1e-16 of 1) over h gives 1e-7 (measured 9e-8).
+  subroutine test_tangent_fd(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), parameter :: depth = 1.0e-7_dp, h = 1.0e-9_dp
+    type(scene_type) :: scene
+    type(body_set_type) :: bodies
+    type(body_operator_type) :: op
+    type(csr_matrix_type) :: sparse
+    type(spring_block_type), allocatable :: springs(:)
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: a(:, :)
+    real(dp) :: x(3, 4), r(4), m(4), u(3), e(3), d(3), kfd(12, 12), q(12), wm(12, 12), s(3, 3), rate, err
+    integer :: trial, c, b
+    call seed_fixed(11)
+    do trial = 1, 3
+      call random_number(m)
+      m = 0.5_dp + m
+      r = [1.0_dp, 0.8_dp, 0.9_dp, 0.7_dp]
+      ! members 1 (on the floor) and 2 of body 1 along d, the normal e from
+      ! member 2 to member 3 (body 2) and member 4 beyond, each direction
+      ! near the one before: no other contact (checked below)
+      x(:, 1) = [0.1_dp, 0.2_dp, 1.0_dp - depth]
+      call random_number(u)
+      d = u - 0.5_dp + [0.0_dp, 0.0_dp, 1.0_dp]
+      d = d/norm2(d)
+      x(:, 2) = x(:, 1) + 0.9_dp*d
+      call random_number(u)
+      e = d + 0.8_dp*(u - 0.5_dp)
+      e = e/norm2(e)
+      x(:, 3) = x(:, 2) + (r(2) + r(3) - depth)*e
+      call random_number(u)
+      d = e + 0.4_dp*(u - 0.5_dp)
+      x(:, 4) = x(:, 3) + 0.8_dp*d/norm2(d)
+      call new_scene(scene, 3, x, m, r, status)
+      call scene_set_law(scene, contact_law%linear, 1.0e3_dp, 400.0_dp, status)
+      call scene_set_rolling(scene, 0.1_dp, 0.05_dp, status)
+      call scene_add_walls(scene, reshape([0.0_dp, 0.0_dp, 0.0_dp], [3, 1]), &
+        reshape([0.0_dp, 0.0_dp, 1.0_dp], [3, 1]), status)
+      call bodies_from_members(scene, [1, 1, 2, 2], bodies, status)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      call body_operator(scene, bodies, op, rate, status, springs)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      ! the contact between the bodies and the one on the floor
+      call check(error, op%n == 12 .and. size(springs) == 2, "trial "//real_str(real(trial, dp)) &
+        //": springs "//real_str(real(size(springs), dp)))
+      if (allocated(error)) return
+      do c = 1, 12
+        q = 0.0_dp
+        q(c) = h
+        kfd(:, c) = -(body_forces(scene, bodies, q) - body_forces(scene, bodies, -q))/(2.0_dp*h)
+      end do
+      wm = 0.0_dp
+      do b = 1, 2
+        do c = 1, 3
+          wm(6*b - 6 + c, 6*b - 6 + c) = 1.0_dp/sqrt(bodies%mass(b))
+        end do
+        call inverse_sqrt_inertia(bodies%inertia(:, :, b), s, status)
+        wm(6*b - 2:6*b, 6*b - 2:6*b) = s
+      end do
+      kfd = matmul(wm, matmul(kfd, wm))
+      call body_matrix(op, sparse)
+      call csr_to_dense(sparse, a)
+      a = rate**2*a
+      err = maxval(abs(kfd - a))/maxval(abs(a))
+      call check(error, err < 1.0e-5_dp, "trial "//real_str(real(trial, dp))//": stepper vs operator, " &
+        //"relative "//real_str(err))
+      if (allocated(error)) return
+    end do
+  end subroutine test_tangent_fd
 
   !> n unit spheres along a random walk of 1.8-long steps over a floor,
   !> random masses, linear law with k_t, rolling and twisting, damping.
@@ -370,9 +489,68 @@ contains
     end do
   end subroutine test_random_clumps
 
-  !> The matrix-free product = the compressed rows' product on random
-  !> vectors (1e-12 of the norm), undamped and dashpot-mixed; J^-1/2 of a
-  !> random tensor squared and times J = I (1e-13).
+  !> Three clump packings (8, 12 and 18 clumps of 1 to 3 overlapping spheres
+  !> over a floor, linear law with tangential, rolling and twisting springs)
+  !> against the dense numpy assembly of
+  !> test/data/numpy_operator/make_reference.py (its own contact search,
+  !> blocks, rigid maps and Yade's tensor sum; Cholesky and eigvalsh): the
+  !> number of springs between bodies and every eigenvalue of the body
+  !> operator (times rate^2) to 1e-10 of the largest (measured 1.4e-15 on
+  !> the first).
+  subroutine test_numpy_clumps(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(body_set_type) :: bodies
+    type(body_operator_type) :: op
+    type(csr_matrix_type) :: sparse
+    type(spring_block_type), allocatable :: springs(:)
+    type(demstep_status_type) :: status
+    character(len=*), parameter :: dir = "test/data/numpy_operator/"
+    real(dp), allocatable :: x(:, :), m(:), r(:), lam(:), lam_ref(:), a(:, :), z(:, :)
+    integer, allocatable :: body_of(:)
+    real(dp) :: floor_z, k_n, k_t, rolling, twisting, rate
+    integer :: t, u, n, nb, ns, i
+    do t = 1, 3
+      open(newunit=u, file=dir//"clumps_"//achar(48 + t)//".txt", status="old", action="read")
+      read(u, *) n, nb, ns, floor_z, k_n, k_t, rolling, twisting
+      allocate(x(3, n), m(n), r(n), body_of(n), lam_ref(6*nb))
+      do i = 1, n
+        read(u, *) x(:, i), m(i), r(i), body_of(i)
+      end do
+      read(u, *) lam_ref
+      close(u)
+      call new_scene(scene, 3, x, m, r, status)
+      if (status%stat == demstep_stat%ok) call scene_set_law(scene, contact_law%linear, k_n, k_t, status)
+      if (status%stat == demstep_stat%ok) call scene_set_rolling(scene, rolling, twisting, status)
+      if (status%stat == demstep_stat%ok) call scene_set_effects(scene, ["rotation"], [.true.], status)
+      if (status%stat == demstep_stat%ok) call scene_add_walls(scene, reshape([0.0_dp, 0.0_dp, floor_z], [3, 1]), &
+        reshape([0.0_dp, 0.0_dp, 1.0_dp], [3, 1]), status)
+      if (status%stat == demstep_stat%ok) call bodies_from_members(scene, body_of, bodies, status)
+      if (status%stat == demstep_stat%ok) call body_operator(scene, bodies, op, rate, status, springs)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      call check(error, size(springs), ns)
+      if (allocated(error)) return
+      call check(error, op%n, 6*nb)
+      if (allocated(error)) return
+      call body_matrix(op, sparse)
+      call csr_to_dense(sparse, a)
+      allocate(lam(op%n), z(op%n, op%n))
+      call symmetric_eigensystem(a, lam, z, status)
+      lam = rate**2*lam
+      call check(error, maxval(abs(lam - lam_ref)) <= 1.0e-10_dp*maxval(lam_ref), "clumps_" &
+        //achar(48 + t)//": eigenvalues differ by "//real_str(maxval(abs(lam - lam_ref)))//" of " &
+        //real_str(maxval(lam_ref)))
+      if (allocated(error)) return
+      deallocate(x, m, r, body_of, lam_ref, lam, z)
+    end do
+  end subroutine test_numpy_clumps
+
+  !> The matrix-free product (the fused kernel, `body_spring_product`) = the
+  !> compressed rows' product (`contact_block` carried by the rigid map) on
+  !> random vectors (1e-12 of the norm), undamped and dashpot-mixed, with
+  !> rotations (6 dof per body) and without (3); J^-1/2 of a random tensor
+  !> squared and times J = I (1e-13).
   subroutine test_products(error)
     type(error_type), allocatable, intent(out) :: error
     type(scene_type) :: scene
@@ -384,26 +562,32 @@ contains
     integer, allocatable :: body_of(:)
     real(dp), allocatable :: a(:, :), x(:), y(:)
     real(dp) :: rate, j(3, 3), s(3, 3), q(3, 3), eye(3, 3)
-    integer :: mix, i
-    call clump_packing(scene, body_of, 12, 3, 2.0_dp)
-    call scene_set_damping(scene, 0.2_dp, status, tangential=0.1_dp, rolling=0.3_dp, drag=0.05_dp)
-    call bodies_from_members(scene, body_of, bodies, status)
-    call body_operator(scene, bodies, op, rate, status, springs)
-    call check(error, status%stat, demstep_stat%ok, status%message)
-    if (allocated(error)) return
-    allocate(x(op%n), y(op%n))
-    call random_number(x)
-    do mix = 1, 2
-      op%alpha = merge(1.0_dp, 0.3_dp, mix == 1)
-      op%beta = merge(0.0_dp, 0.7_dp, mix == 1)
-      call body_matrix(op, sparse)
-      call csr_to_dense(sparse, a)
-      call body_operator_apply(op, x, y)
-      call check(error, norm2(y - matmul(a, x)) <= 1.0e-12_dp*norm2(y), "product differs: " &
-        //real_str(norm2(y - matmul(a, x))/norm2(y)))
+    integer :: mix, i, rot
+    do rot = 1, 2
+      call clump_packing(scene, body_of, 12, 3, 2.0_dp)
+      call scene_set_damping(scene, 0.2_dp, status, tangential=0.1_dp, rolling=0.3_dp, drag=0.05_dp)
+      if (rot == 2) call scene_set_effects(scene, ["rotation"], [.false.], status)
+      call bodies_from_members(scene, body_of, bodies, status)
+      call body_operator(scene, bodies, op, rate, status, springs)
+      call check(error, status%stat, demstep_stat%ok, status%message)
       if (allocated(error)) return
-      call check(error, maxval(abs(a - transpose(a))) <= 1.0e-13_dp*maxval(abs(a)), "not symmetric")
+      call check(error, op%nc, merge(6, 3, rot == 1))
       if (allocated(error)) return
+      x = [(modulo(0.618034_dp*i, 1.0_dp) - 0.5_dp, i = 1, op%n)]
+      allocate(y(op%n))
+      do mix = 1, 2
+        op%alpha = merge(1.0_dp, 0.3_dp, mix == 1)
+        op%beta = merge(0.0_dp, 0.7_dp, mix == 1)
+        call body_matrix(op, sparse)
+        call csr_to_dense(sparse, a)
+        call body_operator_apply(op, x, y)
+        call check(error, norm2(y - matmul(a, x)) <= 1.0e-12_dp*norm2(y), "product differs: " &
+          //real_str(norm2(y - matmul(a, x))/norm2(y)))
+        if (allocated(error)) return
+        call check(error, maxval(abs(a - transpose(a))) <= 1.0e-13_dp*maxval(abs(a)), "not symmetric")
+        if (allocated(error)) return
+      end do
+      deallocate(y)
     end do
     call random_number(q)
     j = matmul(q, transpose(q)) + 0.1_dp*reshape([1, 0, 0, 0, 1, 0, 0, 0, 1], [3, 3])
@@ -455,8 +639,8 @@ contains
   !> Exact: omega^2 = max(k_n/M, k_t (1/M + (4 + a)^2/J_perp)) (a = 1 - 5e-4
   !> the contact arm; M = 5, J_perp = 5 (2/5) + 2 (4 + 16) = 42). Yade's rule
   !> (member stiffness about its own centre, principal moments (2, 42, 42)):
-  !> 1.41044 sqrt(min(M/max(k_n, k_t), 42/k_t)). Both to 1e-12, for
-  !> k_t/k_n = 0.25, 0.75 and 1.
+  !> 1.41044 sqrt(min(M/max(k_n, k_t), 42/k_t)); exaDEM's pi sqrt(M/k_n).
+  !> All three to 1e-12, for k_t/k_n = 0.25, 0.75 and 1.
   subroutine test_gst_rod(error)
     type(error_type), allocatable, intent(out) :: error
     type(scene_type) :: scene
@@ -499,6 +683,17 @@ contains
         call check(error, ratio > 1.4_dp, "GST/exact "//real_str(ratio))
         if (allocated(error)) return
       end if
+      ! exaDEM: pi sqrt(M/k_n), at least pi/2 of the exact limit (which is at
+      ! most 2 sqrt(M/k_n), the rod's axial mode alone); by the closed form
+      ! above 1.571, 2.712, 3.132
+      call body_exadem_step(scene, bodies, dt, status)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      call check(error, dt, pi*sqrt(5.0_dp/kn), rel=.true., thr=1.0e-12_dp, message="exaDEM "//real_str(dt))
+      if (allocated(error)) return
+      ratio = dt/c%dt_critical_eigen
+      call check(error, ratio >= 0.5_dp*pi*(1.0_dp - 1.0e-12_dp), "exaDEM/exact "//real_str(ratio))
+      if (allocated(error)) return
     end do
   end subroutine test_gst_rod
 

@@ -11,7 +11,7 @@ module test_bonds
   use demstep_scene_builders, only: new_scene, scene_add_bonds, scene_set_cell
   use demstep_scene_bonds, only: scene_set_bond_model, scene_bond_law
   use demstep_bonds, only: bond_model, bond_law_type, bond_law, bond_pair_modes, musen_bond_time, &
-    musen_recommended_step, kratos_step, musen_step_factor, bond_parameter_count, bond_model_from_name, bond_model_name
+    musen_recommended_step, kratos_step, exadem_step, musen_step_factor, bond_parameter_count, bond_model_from_name, bond_model_name
   use demstep_assembly, only: assembly_critical_steps, critical_step_type, assembly_operator, &
     assembly_operator_type, assembly_matrix, eigen_solver
   use demstep_csr, only: csr_matrix_type, csr_to_dense
@@ -59,6 +59,7 @@ contains
       new_unittest("peers' rules: MUSEN 1.64, k_n = k_s 0.535, Kratos", test_peer_rules), &
       new_unittest("peers' rules on chains and a cemented packing", test_peer_rules_chain), &
       new_unittest("Lanczos = dense, undamped and damped, on a cemented packing", test_lanczos_bonds), &
+      new_unittest("bonded packings (PFC, Yade) = a dense numpy assembly, every eigenvalue", test_numpy_bonds), &
       new_unittest("bad input refused by name", test_refusals), &
       new_unittest("the app's &scene: bond_model, bond_parameters", test_app_input), &
       new_unittest("Yade cemented samples (CohFrictPhys bonds): the exact limit at Yade's measured one", &
@@ -445,7 +446,8 @@ contains
   !> with G = E/(2 (1 + 0.3)): the shear-rotation mode omega^2 = 7 k_t/m tops
   !> the axial 2 k_n/m, and MUSEN's T_bond = 2 sqrt(m/(E A/L)) is
   !> sqrt(7/2.6) = 1.6408 times the exact limit (its recommended step 0.1 of
-  !> that); Kratos' sqrt(m/k_n) is half of it, 0.8204. With k_n = k_s (LAMMPS,
+  !> that); Kratos' sqrt(m/k_n) is half of it, 0.8204, and exaDEM's
+  !> pi sqrt(m/k_n) pi times Kratos', 2.5775. With k_n = k_s (LAMMPS,
   !> arms r) the exact limit is sqrt(2/7) = 0.5345 of the normal-only one.
   !> On a 20-sphere open chain the rules' ratios grow (measured here against
   !> the operator, the chain's values in the comments of the report).
@@ -478,6 +480,11 @@ contains
     ratio = kratos_step(1.0_dp, k_n, 1.0_dp)/crit%dt_critical_eigen
     call check(error, abs(ratio - 0.5_dp*sqrt(7.0_dp/2.6_dp)) < 1.0e-12_dp, "Kratos / exact = "//real_str(ratio))
     if (allocated(error)) return
+    ! exaDEM: pi sqrt(m_min/k_n,max), pi times Kratos' here: 2.5775
+    ratio = exadem_step(1.0_dp, k_n)/crit%dt_critical_eigen
+    call check(error, abs(ratio - 0.5_dp*pi*sqrt(7.0_dp/2.6_dp)) < 1.0e-12_dp .and. abs(ratio - 2.5775_dp) &
+      < 1.0e-4_dp, "exaDEM / exact = "//real_str(ratio))
+    if (allocated(error)) return
     ! k_n = k_s, the shear spring at the contact point (arms r): LAMMPS' bond
     call bonded_scene(scene, x, [1.0_dp, 1.0_dp], [1.0_dp, 1.0_dp], reshape([1, 2], [2, 1]), bond_model%lammps, &
       [1.0e4_dp, 1.0e4_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], status)
@@ -489,10 +496,11 @@ contains
       "k_n = k_s: exact / normal-only = "//real_str(ratio))
   end subroutine test_peer_rules
 
-  !> MUSEN's and Kratos' rules (bond diameter = the mean sphere radius, nu =
-  !> 0.3) on a straight periodic chain of 20 equal spheres (closed form: the
-  !> axial branch's 4 k_n/m tops the shear-rotation's 4 k_t a^2/I = 3.85 k_n/m,
-  !> so T_bond/exact = 2 and Kratos 1), an open chain of 20 and a cemented
+  !> MUSEN's, Kratos' and exaDEM's rules (bond diameter = the mean sphere
+  !> radius, nu = 0.3) on a straight periodic chain of 20 equal spheres
+  !> (closed form: the axial branch's 4 k_n/m tops the shear-rotation's
+  !> 4 k_t a^2/I = 3.85 k_n/m, so T_bond/exact = 2, Kratos 1 and exaDEM pi),
+  !> an open chain of 20 and a cemented
   !> random packing of 64 spheres (radii 1 +- 15 %, a bond on every contact).
   subroutine test_peer_rules_chain(error)
     type(error_type), allocatable, intent(out) :: error
@@ -503,7 +511,7 @@ contains
     type(bond_law_type) :: law
     integer, allocatable :: pi_(:), pj(:)
     real(dp), allocatable :: pn(:, :), pd(:)
-    real(dp) :: x(3, n), e, g, t_bond, k_min, r_musen, r_kratos
+    real(dp) :: x(3, n), e, g, t_bond, k_min, r_musen, r_kratos, k_max, r_exadem
     integer :: pairs(2, n), j, k, shape_
     logical :: ok
     e = 1.0e5_dp
@@ -545,18 +553,29 @@ contains
       k_min = law%k(1)
       r_musen = t_bond/crit%dt_critical_eigen
       r_kratos = kratos_step(minval(scene%mass), k_min, 1.0_dp)/crit%dt_critical_eigen
+      ! exaDEM: the lightest particle and the stiffest bond
+      k_max = 0.0_dp
+      do k = 1, size(scene%bonds, 2)
+        law = scene_bond_law(scene, k)
+        k_max = max(k_max, law%k(1))
+      end do
+      r_exadem = exadem_step(minval(scene%mass), k_max)/crit%dt_critical_eigen
       select case (shape_)
       case (1)
-        ok = abs(r_musen - 2.0_dp) < 1.0e-12_dp .and. abs(r_kratos - 1.0_dp) < 1.0e-12_dp
+        ok = abs(r_musen - 2.0_dp) < 1.0e-12_dp .and. abs(r_kratos - 1.0_dp) < 1.0e-12_dp .and. &
+          abs(r_exadem - pi) < 1.0e-12_dp
       case (2)
-        ! an open chain's top lies below the infinite chain's (measured 1.9938, 0.9969)
-        ok = r_musen > 1.99_dp .and. r_musen <= 2.0_dp .and. abs(r_kratos - 0.5_dp*r_musen) < 1.0e-12_dp
+        ! an open chain's top lies below the infinite chain's (measured 1.9938, 0.9969, 3.1319)
+        ok = r_musen > 1.99_dp .and. r_musen <= 2.0_dp .and. abs(r_kratos - 0.5_dp*r_musen) < 1.0e-12_dp .and. &
+          abs(r_exadem - pi*r_kratos) < 1.0e-12_dp
       case default
-        ! measured 2.886 and 1.427 (207 bonds): MUSEN's 0.1 T_bond is safe, Kratos' factor 1 is not
-        ok = r_musen > 2.0_dp .and. musen_step_factor*r_musen < 1.0_dp .and. r_kratos > 1.0_dp
+        ! measured 2.886, 1.427 and 4.512 (207 bonds): MUSEN's 0.1 T_bond is safe, Kratos' factor 1
+        ! and exaDEM's (at its default threshold 1) are not
+        ok = r_musen > 2.0_dp .and. musen_step_factor*r_musen < 1.0_dp .and. r_kratos > 1.0_dp .and. &
+          r_exadem > 1.0_dp
       end select
       call check(error, ok, "case "//real_str(real(shape_, dp))//": MUSEN T_bond/exact "//real_str(r_musen)// &
-        ", Kratos/exact "//real_str(r_kratos))
+        ", Kratos/exact "//real_str(r_kratos)//", exaDEM/exact "//real_str(r_exadem))
       if (allocated(error)) return
     end do
   end subroutine test_peer_rules_chain
@@ -596,6 +615,53 @@ contains
       " vs "//real_str(dense%dt_critical_eigen)//", damped "//real_str(lanczos%dt_critical_damped)//" vs "// &
       real_str(dense%dt_critical_damped))
   end subroutine test_lanczos_bonds
+
+  !> Two bonded packings of 27 spheres on a jittered lattice (radii 1 +- 15 %,
+  !> gaps and overlaps, 44 and more bonds; PFC parallel bonds and Yade
+  !> CohFrictPhys bonds) against the dense numpy assembly of
+  !> test/data/numpy_operator/make_reference.py (its own bond laws, blocks and
+  !> eigvalsh): every eigenvalue of the operator (times rate^2) to 1e-10 of
+  !> the largest (measured 3.5e-15 on the first).
+  subroutine test_numpy_bonds(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(demstep_status_type) :: status
+    character(len=*), parameter :: dir = "test/data/numpy_operator/"
+    character(len=256) :: line
+    character(len=8) :: name
+    real(dp), allocatable :: x(:, :), m(:), r(:), lam(:), lam_ref(:)
+    integer, allocatable :: pairs(:, :)
+    real(dp) :: p(8)
+    integer :: t, u, n, nb, i, model, np
+    do t = 1, 2
+      open(newunit=u, file=dir//"bonds_"//achar(48 + t)//".txt", status="old", action="read")
+      read(u, '(a)') line
+      read(line, *) n, nb, name
+      model = bond_model_from_name(name)
+      np = bond_parameter_count(model)
+      read(line, *) n, nb, name, p(:np)
+      allocate(x(3, n), m(n), r(n), pairs(2, nb), lam_ref(6*n))
+      do i = 1, n
+        read(u, *) x(:, i), m(i), r(i)
+      end do
+      read(u, *) pairs
+      read(u, *) lam_ref
+      close(u)
+      call new_scene(scene, 3, x, m, r, status, search=.false.)
+      scene%effects(scene_effect%contacts) = .false.
+      call scene_add_bonds(scene, pairs, status)
+      if (status%stat == demstep_stat%ok) call scene_set_bond_model(scene, model, p(:np), status)
+      if (status%stat == demstep_stat%ok) call spectrum(scene, lam, status)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      call check(error, size(lam), size(lam_ref))
+      if (allocated(error)) return
+      call check(error, maxval(abs(lam - lam_ref)) <= 1.0e-10_dp*maxval(lam_ref), name//": eigenvalues differ by " &
+        //real_str(maxval(abs(lam - lam_ref)))//" of "//real_str(maxval(lam_ref)))
+      if (allocated(error)) return
+      deallocate(x, m, r, pairs, lam_ref)
+    end do
+  end subroutine test_numpy_bonds
 
   subroutine test_refusals(error)
     type(error_type), allocatable, intent(out) :: error

@@ -20,7 +20,8 @@ module test_capi
     c_scene_set_gravity, c_scene_compute, c_scene_set_dashpots, c_scene_set_rolling, &
     c_scene_set_materials, c_scene_set_eigen_solver, demstep_snapshot_info_c, c_snapshot_read, &
     c_snapshot_get, c_snapshot_free, demstep_material_c, demstep_material_pair_c, demstep_code_contact_c, &
-    demstep_peer_steps_c, c_contact_parameters, c_peer_time_steps
+    demstep_peer_steps_c, c_contact_parameters, c_peer_time_steps, c_scene_set_bond_model, c_scene_set_bodies, &
+    c_scene_body_peer_steps
   use test_support, only: ieee_nan, read_file
   implicit none
   private
@@ -37,6 +38,7 @@ contains
         test_stiffness_limits), &
       new_unittest("include/demstep.h: every enum value equals the Fortran one", test_header_enums), &
       new_unittest("materials in a code's convention: the library's numbers bit for bit", test_scene_materials), &
+      new_unittest("rigid bodies and bond models: the library's numbers bit for bit; refusals", test_scene_bodies), &
       new_unittest("every enum argument out of range: a status naming it", test_bad_enums), &
       new_unittest("scene handle: a chain bit for bit as Fortran and against the closed form", &
         test_scene_chain), &
@@ -75,7 +77,7 @@ contains
       "CODE_LAMMPS_HERTZ_MATERIAL", "SNAPSHOT_AUTO", "SNAPSHOT_LAMMPS_DUMP", "SNAPSHOT_LAMMPS_DATA", &
       "SNAPSHOT_YADE_TEXT", "PEER_EDEM_RAYLEIGH_20", "PEER_EDEM_RAYLEIGH_40", "PEER_LIGGGHTS_RAYLEIGH_10", &
       "PEER_LIGGGHTS_HERTZ_10", "PEER_MFIX_LSD_TC50", "PEER_MFIX_HERTZIAN_TC50", "PEER_MERCURYDPM_TC50", &
-      "PEER_YADE_PWAVE", "PEER_YADE_PWAVE_30"]
+      "PEER_YADE_PWAVE", "PEER_YADE_PWAVE_30", "BOND_PFC", "BOND_MUSEN", "BOND_YADE", "BOND_LAMMPS"]
     values = [demstep_stat%ok, demstep_stat%invalid_input, demstep_stat%unstable, demstep_stat%pole, &
       demstep_stat%not_converged, demstep_stat%not_found, demstep_stat%lapack_failure, &
       demstep_stat%io_error, demstep_stat%blow_up, demstep_stat%at_stability_limit, &
@@ -95,7 +97,8 @@ contains
       snapshot_format%auto, snapshot_format%lammps_dump, snapshot_format%lammps_data, snapshot_format%yade_text, &
       peer_rule%edem_rayleigh_20, peer_rule%edem_rayleigh_40, peer_rule%liggghts_rayleigh_10, &
       peer_rule%liggghts_hertz_10, peer_rule%mfix_lsd_tc50, peer_rule%mfix_hertzian_tc50, &
-      peer_rule%mercurydpm_tc50, peer_rule%yade_pwave, peer_rule%yade_pwave_30]
+      peer_rule%mercurydpm_tc50, peer_rule%yade_pwave, peer_rule%yade_pwave_30, bond_model%pfc, &
+      bond_model%musen, bond_model%yade, bond_model%lammps]
     allocate(seen(size(names)), source=.false.)
     call read_file("include/demstep.h", text)
     call check(error, len(text) > 0, "include/demstep.h read")
@@ -147,17 +150,31 @@ contains
     call check(error, found, size(names), message="one header value per name")
   end subroutine test_header_enums
 
+  !> The location (`where`) of a C error struct as a Fortran string.
+  function where_of(e) result(text)
+    type(demstep_error_c), intent(in) :: e
+    character(len=:), allocatable :: text
+    text = c_text(e%where)
+  end function where_of
+
   !> The message of a C error struct as a Fortran string.
   function message_of(e) result(text)
     type(demstep_error_c), intent(in) :: e
     character(len=:), allocatable :: text
+    text = c_text(e%message)
+  end function message_of
+
+  !> A NUL-terminated C character array as a Fortran string.
+  function c_text(chars) result(text)
+    character(kind=c_char), intent(in) :: chars(:)
+    character(len=:), allocatable :: text
     integer :: i
     text = ""
-    do i = 1, size(e%message)
-      if (e%message(i) == c_null_char) exit
-      text = text//e%message(i)
+    do i = 1, size(chars)
+      if (chars(i) == c_null_char) exit
+      text = text//chars(i)
     end do
-  end function message_of
+  end function c_text
 
   subroutine test_same_numbers(error)
     type(error_type), allocatable, intent(out) :: error
@@ -377,6 +394,147 @@ contains
     if (allocated(error)) return
     code = c_scene_free(c_loc(handle), c_loc(e))
   end subroutine test_scene_materials
+
+  !> Rigid bodies and a code's bonds through the handle. A clump packing
+  !> (12 clumps over a floor, linear law with rolling and twisting springs):
+  !> the bodies from their members, and the same bodies given by mass, centre
+  !> and tensor, give `body_critical_steps`' numbers bit for bit, and the
+  !> peers' rules `body_gst_step`'s and `body_exadem_step`'s. A bonded pair
+  !> with Yade's CohFrictPhys bond gives `assembly_critical_steps`' numbers.
+  !> Refused, by name: bodies before the particles, bodies set twice, a
+  !> singular tensor (where "inertia", the body's 0-based index), a negative
+  !> bond parameter (where "bond_parameters"), HERTZ_IMPACT or pre-stress
+  !> with bodies, the peers' rules without bodies.
+  subroutine test_scene_bodies(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(c_ptr), target :: handle
+    type(demstep_error_c), target :: e
+    type(demstep_scene_result_c), target :: res
+    type(scene_type) :: scene
+    type(body_set_type) :: bodies
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    integer, allocatable :: body_of(:)
+    integer(c_int), allocatable, target :: ids(:)
+    integer(c_int), target :: pair(2)
+    real(c_double), allocatable, target :: x(:), m(:), r(:), mass(:), com(:), inertia(:)
+    real(c_double), target :: point(3), normal(3), p(4), gst, exa, x2(6), m2(2), r2(2)
+    real(dp) :: dt_gst, dt_exa
+    integer :: code, given
+    call random_clump_packing(scene, body_of, 12, status, seed=3)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    x = reshape(scene%x, [3*scene%n])
+    m = scene%mass
+    r = scene%radius
+    ids = body_of
+    point = scene%wall_point(:, 1)
+    normal = scene%wall_normal(:, 1)
+    do given = 0, 1
+      call bodies_from_members(scene, body_of, bodies, status)
+      if (given == 1) then
+        mass = bodies%mass
+        com = reshape(bodies%com, [3*bodies%n])
+        inertia = reshape(bodies%inertia, [9*bodies%n])
+        call bodies_given(scene, body_of, mass, reshape(com, [3, size(mass)]), &
+          reshape(inertia, [3, 3, size(mass)]), bodies, status)
+      end if
+      call body_critical_steps(scene, bodies, c, status)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      code = c_scene_create(3, c_loc(handle), c_loc(e))
+      code = c_scene_set_particles(handle, scene%n, c_loc(x), c_loc(m), c_loc(r), c_null_ptr, c_null_ptr, &
+        c_null_ptr, c_loc(e))
+      code = c_scene_set_contact_law(handle, contact_law%linear, 1.0e3_dp, 400.0_dp, c_loc(e))
+      code = c_scene_set_rolling(handle, 0.1_dp, 0.05_dp, c_loc(e))
+      code = c_scene_add_walls(handle, 1, c_loc(point), c_loc(normal), c_loc(e))
+      code = c_scene_set_effects(handle, ior(ior(capi_effect%contacts, capi_effect%walls), capi_effect%rotation), &
+        c_loc(e))
+      if (given == 0) then
+        code = c_scene_set_bodies(handle, c_loc(ids), 0.0_dp, 0, c_null_ptr, c_null_ptr, c_null_ptr, c_loc(e))
+      else
+        code = c_scene_set_bodies(handle, c_loc(ids), 0.0_dp, bodies%n, c_loc(mass), c_loc(com), c_loc(inertia), &
+          c_loc(e))
+      end if
+      call check(error, code == 0, "set_bodies: "//message_of(e))
+      if (allocated(error)) return
+      code = compute(handle, res, e)
+      call check(error, code == 0 .and. res%omega_max == c%omega_max .and. res%dt_critical_eigen == &
+        c%dt_critical_eigen .and. res%dt_critical_bound == c%dt_critical_bound .and. res%dt_contact_rule == &
+        c%dt_contact_rule .and. res%n_dof == c%n_dof .and. res%dof_per_particle == 6, &
+        "bodies: the library's numbers bit for bit: "//message_of(e))
+      if (allocated(error)) return
+      code = c_scene_body_peer_steps(handle, c_loc(gst), c_loc(exa), c_loc(e))
+      call body_gst_step(scene, bodies, dt_gst, status)
+      call body_exadem_step(scene, bodies, dt_exa, status)
+      call check(error, code == 0 .and. gst == dt_gst .and. exa == dt_exa, "peers' rules: "//message_of(e))
+      if (allocated(error)) return
+      ! the impact linearisation and the pre-stress are not offered for bodies
+      code = c_scene_compute(handle, hertz_linearization%impact, 1.0_dp, 0, 0, c_loc(res), c_sizeof(res), c_loc(e))
+      call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "with bodies") > 0, &
+        "HERTZ_IMPACT with bodies: "//message_of(e))
+      if (allocated(error)) return
+      code = c_scene_compute(handle, hertz_linearization%current, 0.0_dp, 1, 0, c_loc(res), c_sizeof(res), c_loc(e))
+      call check(error, code == demstep_stat%invalid_input, "prestress with bodies: "//message_of(e))
+      if (allocated(error)) return
+      code = c_scene_set_bodies(handle, c_loc(ids), 0.0_dp, 0, c_null_ptr, c_null_ptr, c_null_ptr, c_loc(e))
+      call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "already set") > 0, &
+        "bodies twice: "//message_of(e))
+      if (allocated(error)) return
+      code = c_scene_free(c_loc(handle), c_loc(e))
+    end do
+    ! a singular tensor (body 2 of 12), by name and 0-based index
+    inertia(10:18) = 0.0_dp
+    code = c_scene_create(3, c_loc(handle), c_loc(e))
+    code = c_scene_set_bodies(handle, c_loc(ids), 0.0_dp, 0, c_null_ptr, c_null_ptr, c_null_ptr, c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "no particles") > 0, &
+      "bodies before the particles: "//message_of(e))
+    if (allocated(error)) return
+    code = c_scene_set_particles(handle, scene%n, c_loc(x), c_loc(m), c_loc(r), c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_loc(e))
+    code = c_scene_body_peer_steps(handle, c_loc(gst), c_loc(exa), c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. index(message_of(e), "no bodies") > 0, &
+      "peers' rules without bodies: "//message_of(e))
+    if (allocated(error)) return
+    code = c_scene_set_bodies(handle, c_loc(ids), 0.0_dp, bodies%n, c_loc(mass), c_loc(com), c_loc(inertia), &
+      c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. where_of(e) == "inertia" .and. e%index == 1, &
+      "singular tensor: "//where_of(e)//" "//message_of(e))
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    ! a bonded pair (a 0.1 gap: no contact), Yade's CohFrictPhys bond
+    x2 = [0.0_dp, 0.0_dp, 0.0_dp, 1.2_dp, 1.1_dp, 0.9_dp]
+    m2 = [1.0_dp, 1.5_dp]
+    r2 = [1.0_dp, 0.9_dp]
+    pair = [0, 1]
+    p = [1.0e5_dp, 0.3_dp, 2.0_dp, 2.0_dp]
+    code = c_scene_create(3, c_loc(handle), c_loc(e))
+    code = c_scene_set_particles(handle, 2, c_loc(x2), c_loc(m2), c_loc(r2), c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_loc(e))
+    code = c_scene_add_bonds(handle, 1, c_loc(pair), c_loc(e))
+    code = c_scene_set_bond_model(handle, bond_model%yade, 4, c_loc(p), c_loc(e))
+    call check(error, code == 0, "bond model: "//message_of(e))
+    if (allocated(error)) return
+    code = compute(handle, res, e)
+    call new_scene(scene, 3, reshape(x2, [3, 2]), m2, r2, status)
+    call scene_add_bonds(scene, reshape([1, 2], [2, 1]), status)
+    call scene_set_bond_model(scene, bond_model%yade, p, status)
+    call assembly_critical_steps(scene, c, status)
+    call check(error, code == 0 .and. status%stat == demstep_stat%ok .and. res%omega_max == c%omega_max .and. &
+      res%dt_critical_eigen == c%dt_critical_eigen .and. res%dof_per_particle == 6, &
+      "bonds: the library's numbers bit for bit: "//message_of(e))
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+    p(2) = -0.3_dp
+    code = c_scene_create(3, c_loc(handle), c_loc(e))
+    code = c_scene_set_particles(handle, 2, c_loc(x2), c_loc(m2), c_loc(r2), c_null_ptr, c_null_ptr, &
+      c_null_ptr, c_loc(e))
+    code = c_scene_set_bond_model(handle, bond_model%yade, 4, c_loc(p), c_loc(e))
+    call check(error, code == demstep_stat%invalid_input .and. where_of(e) == "bond_parameters" .and. &
+      e%index == 1, "negative bond parameter: "//where_of(e)//" "//message_of(e))
+    if (allocated(error)) return
+    code = c_scene_free(c_loc(handle), c_loc(e))
+  end subroutine test_scene_bodies
 
   !> Compute with the defaults (current overlap, no pre-stress, default eigen limit).
   integer function compute(handle, res, e) result(code)

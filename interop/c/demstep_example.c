@@ -1,7 +1,8 @@
 /* A C program using demstep: a contact spring stepped in a loop, the paper's
- * error E, the simulated-stiffness procedure, the critical steps of two scenes
- * built through a scene handle (a bonded chain; a Hertz sphere on a wall); then
- * bad input, which returns a status and a message. Each result is printed as
+ * error E, the simulated-stiffness procedure, the critical steps of four scenes
+ * built through a scene handle (a bonded chain; a Hertz sphere on a wall; a
+ * rigid two-sphere clump on a floor, with the peers' rules; a pair held by
+ * Yade's cohesive bond); then bad input, which returns a status and a message. Each result is printed as
  * "name value" with 17 significant digits, for comparison with Fortran. */
 #include <math.h>
 #include <stdio.h>
@@ -106,6 +107,63 @@ int main(void) {
     printf("bad_effect %d %s\n", demstep_scene_set_effects(s, 64, &err), err.message);
     printf("bad_after_failure %d %s\n",
            demstep_scene_compute(s, DEMSTEP_HERTZ_CURRENT, 0.0, 0, 0, &c, sizeof c, &err), err.message);
+    demstep_scene_free(&s, &err);
+  }
+
+  {
+    /* a clump of two overlapping spheres (masses 1 and 1.5), 1e-3 into a
+       floor, linear law k_n = 1e4: one rigid body with a full tensor */
+    double x[6] = {0.3, -0.2, 1.2, 0.9, 0.2, 1.8}, m[2] = {1.0, 1.5}, r[2] = {1.0, 1.0};
+    double point[3] = {0.0, 0.0, 0.201}, normal[3] = {0.0, 0.0, 1.0}, gst, exadem;
+    double mass = 2.5, com[3] = {0.0, 0.0, 0.0}, zero[9] = {0.0};
+    int body_of[2] = {1, 1};
+    demstep_scene *s = NULL;
+    demstep_scene_result c;
+    if (demstep_scene_create(3, &s, &err) != DEMSTEP_OK ||
+        demstep_scene_set_particles(s, 2, x, m, r, NULL, NULL, NULL, &err) != DEMSTEP_OK ||
+        demstep_scene_add_walls(s, 1, point, normal, &err) != DEMSTEP_OK ||
+        demstep_scene_set_contact_law(s, DEMSTEP_LAW_LINEAR, 1.0e4, 0.0, &err) != DEMSTEP_OK ||
+        demstep_scene_set_effects(s, DEMSTEP_EFFECT_CONTACTS | DEMSTEP_EFFECT_WALLS | DEMSTEP_EFFECT_ROTATION,
+                                  &err) != DEMSTEP_OK ||
+        demstep_scene_set_bodies(s, body_of, 0.0, 0, NULL, NULL, NULL, &err) != DEMSTEP_OK ||
+        demstep_scene_compute(s, DEMSTEP_HERTZ_CURRENT, 0.0, 0, 0, &c, sizeof c, &err) != DEMSTEP_OK ||
+        demstep_scene_body_peer_steps(s, &gst, &exadem, &err) != DEMSTEP_OK) {
+      fprintf(stderr, "clump: %s\n", err.message);
+      demstep_scene_free(&s, NULL);
+      return 1;
+    }
+    put("clump_omega_max", c.omega_max);
+    put("clump_dt_critical_eigen", c.dt_critical_eigen);
+    put("clump_yade_gst", gst);
+    put("clump_exadem", exadem);
+    demstep_scene_free(&s, &err);
+    /* a body given a singular tensor: refused by name */
+    demstep_scene_create(3, &s, &err);
+    demstep_scene_set_particles(s, 2, x, m, r, NULL, NULL, NULL, &err);
+    printf("bad_singular %d %s %s\n", demstep_scene_set_bodies(s, body_of, 0.0, 1, &mass, com, zero, &err),
+           err.where, err.message);
+    demstep_scene_free(&s, &err);
+  }
+
+  {
+    /* two spheres 0.1 apart held by Yade's CohFrictPhys bond (young 1e5,
+       poisson 0.3, alpha_kr = alpha_ktw = 2): normal, shear, bending, twisting */
+    double x[6] = {0.0, 0.0, 0.0, 1.2, 1.1, 0.9}, m[2] = {1.0, 1.5}, r[2] = {1.0, 0.9};
+    double p[4] = {1.0e5, 0.3, 2.0, 2.0};
+    int pair[2] = {0, 1};
+    demstep_scene *s = NULL;
+    demstep_scene_result c;
+    if (demstep_scene_create(3, &s, &err) != DEMSTEP_OK ||
+        demstep_scene_set_particles(s, 2, x, m, r, NULL, NULL, NULL, &err) != DEMSTEP_OK ||
+        demstep_scene_add_bonds(s, 1, pair, &err) != DEMSTEP_OK ||
+        demstep_scene_set_bond_model(s, DEMSTEP_BOND_YADE, 4, p, &err) != DEMSTEP_OK ||
+        demstep_scene_compute(s, DEMSTEP_HERTZ_CURRENT, 0.0, 0, 0, &c, sizeof c, &err) != DEMSTEP_OK) {
+      fprintf(stderr, "bond: %s\n", err.message);
+      demstep_scene_free(&s, NULL);
+      return 1;
+    }
+    put("bond_omega_max", c.omega_max);
+    put("bond_dt_critical_eigen", c.dt_critical_eigen);
     demstep_scene_free(&s, &err);
   }
 

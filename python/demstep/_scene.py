@@ -80,6 +80,35 @@ class Scene:
         """Every bond's normal (> 0) and tangential (>= 0) stiffness."""
         call("demstep_scene_set_bond_stiffness", self._handle, k_bond, k_bond_tangential)
 
+    def set_bond_model(self, model, parameters):
+        """Every bond's law as a DEM code makes it: model "pfc" (kbar_n, kbar_s, lambda),
+        "musen" (E, G, diameter), "yade" (young, poisson, alpha_kr, alpha_ktw) or "lammps"
+        (K_r, K_s, K_t, K_b, gamma_n, gamma_s, gamma_r, gamma_t), or a DEMSTEP_BOND_* value."""
+        f = "demstep_scene_set_bond_model"
+        p = as_array(parameters, f, "parameters", (None,), "float", "the model's inputs in its order")
+        call(f, self._handle, enum("DEMSTEP_BOND_", model, f, "model"), len(p), pointer(p))
+
+    def set_bodies(self, body_of, density=0.0, mass=None, com=None, inertia=None):
+        """Rigid bodies, once: body_of (n,) ids (0: a particle on its own). Without mass:
+        each body's mass and tensor from its members (density > 0: their masses from it);
+        with mass (n_bodies,), com (n_bodies, 3) and inertia (n_bodies, 3, 3): as given."""
+        f = "demstep_scene_set_bodies"
+        b = as_array(body_of, f, "body_of", (self.n,), "int", "one per particle")
+        if mass is None:
+            call(f, self._handle, pointer(b), density, 0, None, None, None)
+            return
+        m = as_array(mass, f, "mass", (None,), "float", "one per body")
+        n_bodies = count(m, f, "mass")
+        c = as_array(com, f, "com", (n_bodies, 3), "float", "3 per body")
+        j = as_array(inertia, f, "inertia", (n_bodies, 3, 3), "float", "3 x 3 per body")
+        call(f, self._handle, pointer(b), density, n_bodies, pointer(m), pointer(c), pointer(j))
+
+    def body_peer_steps(self):
+        """The peers' rules on the bodies, raw: (Yade's GlobalStiffnessTimeStepper, exaDEM's)."""
+        gst, exadem = C.c_double(), C.c_double()
+        call("demstep_scene_body_peer_steps", self._handle, C.byref(gst), C.byref(exadem))
+        return gst.value, exadem.value
+
     def set_contact_law(self, law, normal, tangential=0.0):
         """"linear" with k_n, k_t or "hertz" with E*, G*."""
         f = "demstep_scene_set_contact_law"

@@ -46,6 +46,25 @@ def values():
         c = wall.compute("impact", 2.0)
     out["wall_omega_max"] = c.omega_max
     out["wall_dt_critical_damped"] = c.dt_critical_damped
+    with demstep.Scene(3) as clump:
+        clump.set_particles([[0.3, -0.2, 1.2], [0.9, 0.2, 1.8]], [1.0, 1.5], [1.0, 1.0])
+        clump.add_walls([[0.0, 0.0, 0.201]], [[0.0, 0.0, 1.0]])
+        clump.set_contact_law("linear", 1.0e4, 0.0)
+        clump.set_effects({"contacts", "walls", "rotation"})
+        clump.set_bodies([1, 1])
+        c = clump.compute()
+        gst, exadem = clump.body_peer_steps()
+    out["clump_omega_max"] = c.omega_max
+    out["clump_dt_critical_eigen"] = c.dt_critical_eigen
+    out["clump_yade_gst"] = gst
+    out["clump_exadem"] = exadem
+    with demstep.Scene(3) as pair:
+        pair.set_particles([[0.0, 0.0, 0.0], [1.2, 1.1, 0.9]], [1.0, 1.5], [1.0, 0.9])
+        pair.add_bonds([(0, 1)])
+        pair.set_bond_model("yade", [1.0e5, 0.3, 2.0, 2.0])
+        c = pair.compute()
+    out["bond_omega_max"] = c.omega_max
+    out["bond_dt_critical_eigen"] = c.dt_critical_eigen
     out["contact_restitution"] = demstep.contact_with_onset(20.0, 0.5, 0.1).restitution
     out["n_for_tolerance"] = demstep.n_for_tolerance("restitution", 1.0e-3, 0.0, 0.0)
     return out

@@ -4,8 +4,8 @@ user would: the members as a particle table, their contacts between clumps
 with Yade's own kn, ks as an explicit contact list, the clump table as
 `bodies_file`, and the five walls with the wall contacts' kn, ks as the
 scene's law. Runs the app twice (as rigid bodies, and as free spheres on the
-same contacts) and compares with the limit measured in Yade and with Yade's
-GlobalStiffnessTimeStepper (raw).
+same contacts) and compares with the limit measured in Yade, with Yade's
+GlobalStiffnessTimeStepper (raw) and with exaDEM's rule (raw).
 
     python3 validation/yade/demstep_compare_clumps.py [path/to/demstep]
 
@@ -44,6 +44,25 @@ def deck(name, bodies):
         f.write("  eigen_solver = 'dense'\n/\n")
 
 
+def exadem_step():
+    """exaDEM's critical step pi sqrt(m_min/k_n,max) (Collab4exaNBody/exaDEM at
+    0d0dc65, src/field/check_dt_critical.cpp:92; demstep's `exadem_step`):
+    the lightest clump (its members' masses summed, as Yade and demstep's
+    `bodies_from_members` do) and the stiffest contact, walls included."""
+    import math
+    rows = [l.split() for l in open(os.path.join(data, "particles.txt")) if not l.startswith("#")]
+    mass = [float(r[6]) for r in rows]
+    body = {}
+    for l in open(os.path.join(data, "bodies.txt")):
+        if l.startswith("#"):
+            continue
+        i, b = (int(v) for v in l.split())
+        body[b] = body.get(b, 0.0) + mass[i - 1]
+    k_n = [float(l.split()[2]) for l in open(os.path.join(data, "contacts.txt")) if not l.startswith("#")]
+    k_n += json.load(open(os.path.join(data, "walls.json")))["k_n"]
+    return math.pi * math.sqrt(min(body.values()) / max(k_n))
+
+
 def main():
     app = sys.argv[1] if len(sys.argv) > 1 else "demstep"
     os.makedirs(out, exist_ok=True)
@@ -61,14 +80,16 @@ def main():
         res[name] = {k: scalar(result, k) for k in ("dt_critical_eigen", "dt_critical_bound", "dt_contact_rule")}
     c, sp = res["clumps"], res["clumps_spheres"]
     gst = s["GlobalStiffnessTimeStepper_raw"]
+    exadem = exadem_step()
     lines = ["| scene | clumps (members) | contacts (+ walls) | Yade measured [lo, hi] s | demstep exact (bodies) s "
-             "| / measured | bound / measured | GST raw / measured | members as free spheres / measured "
-             "| per-contact rule / measured |",
-             "|---|---|---|---|---|---|---|---|---|---|",
-             "| clumps on a floor | %d (%d) | %d (+%d) | [%.6g, %.6g] | %.6g | %.6f | %.4f | %.4f | %.4f | %.4f |" % (
+             "| / measured | bound / measured | GST raw / measured | exaDEM raw / measured "
+             "| members as free spheres / measured | per-contact rule / measured |",
+             "|---|---|---|---|---|---|---|---|---|---|---|",
+             "| clumps on a floor | %d (%d) | %d (+%d) | [%.6g, %.6g] | %.6g | %.6f | %.4f | %.4f | %.4f | %.4f "
+             "| %.4f |" % (
                  s["n_clumps"], s["n_members"], s["n_contacts"], s["n_wall_contacts"], lo, hi,
                  c["dt_critical_eigen"], c["dt_critical_eigen"] / mid, c["dt_critical_bound"] / mid,
-                 gst / mid, sp["dt_critical_eigen"] / mid, c["dt_contact_rule"] / mid)]
+                 gst / mid, exadem / mid, sp["dt_critical_eigen"] / mid, c["dt_contact_rule"] / mid)]
     open(os.path.join(out, "clumps_comparison.md"), "w").write("\n".join(lines) + "\n")
     print("\n".join(lines))
 

@@ -38,6 +38,9 @@ module demstep_capi
   use demstep_monitor, only: solver_critical_steps
   use demstep_cost, only: n_for_tolerance
   use demstep_snapshot, only: snapshot_type, snapshot_format, read_snapshot
+  use demstep_scene_bonds, only: scene_set_bond_model
+  use demstep_bodies, only: body_set_type, bodies_from_members, bodies_given
+  use demstep_body_assembly, only: body_critical_steps, body_gst_step, body_exadem_step
   implicit none
   private
 
@@ -104,6 +107,9 @@ module demstep_capi
     real(dp) :: tolerance = lanczos_tolerance_default
     !> The library scene every builder call goes to.
     type(scene_type) :: scene
+    !> The rigid bodies of demstep_scene_set_bodies (when has_bodies).
+    logical :: has_bodies = .false.
+    type(body_set_type) :: bodies
   end type capi_scene_type
 
   !> Marks a live handle (a pointer that is not one is refused, not followed further).
@@ -195,6 +201,7 @@ module demstep_capi
   public :: c_contact_with_onset, c_n_for_tolerance
   public :: c_spring_new, c_spring_step, c_critical_time_step, c_harmonic_error, c_n_roots, &
     c_simulated_stiffness
+  public :: c_scene_set_bond_model, c_scene_set_bodies, c_scene_body_peer_steps
   public :: c_scene_create, c_scene_free, c_scene_set_particles, c_scene_add_bonds, &
     c_scene_set_bond_stiffness, c_scene_set_contact_law, c_scene_set_types, c_scene_set_hertz_types, &
     c_scene_add_walls, c_scene_set_contacts, c_scene_set_effects, c_scene_set_cell, c_scene_set_damping, &
@@ -1073,6 +1080,120 @@ contains
     code = ok(err)
   end function c_scene_set_eigen_solver
 
+  !> int demstep_scene_set_bond_model(demstep_scene *scene, int model, int n_parameters,
+  !>   const double *parameters, demstep_error *err)
+  !>
+  !> Every bond's law as a DEM code makes it (`scene_set_bond_model`:
+  !> DEMSTEP_BOND_PFC, _MUSEN, _YADE, _LAMMPS) from its n_parameters inputs.
+  function c_scene_set_bond_model(scene, model, n_parameters, parameters, err) result(code) &
+      bind(C, name="demstep_scene_set_bond_model")
+    type(c_ptr), value :: scene, parameters, err
+    integer(c_int), value :: model, n_parameters
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_scene_set_bond_model"
+    type(capi_scene_type), pointer :: h
+    real(c_double), pointer :: pp(:)
+    type(demstep_status_type) :: status
+    if (.not. live(scene, name, h, err, code, particles=.false.)) return
+    if (n_parameters < 0 .or. (n_parameters > 0 .and. .not. c_associated(parameters))) then
+      code = refused(h, name, "n_parameters must be >= 0 and parameters not NULL", err)
+      return
+    end if
+    if (n_parameters > 0) then
+      call c_f_pointer(parameters, pp, [n_parameters])
+      call scene_set_bond_model(h%scene, int(model), pp, status)
+    else
+      call scene_set_bond_model(h%scene, int(model), [real(dp) ::], status)
+    end if
+    code = built(h, name, status, err)
+  end function c_scene_set_bond_model
+
+  !> int demstep_scene_set_bodies(demstep_scene *scene, const int *body_of, double density,
+  !>   int n_bodies, const double *mass, const double *com, const double *inertia,
+  !>   demstep_error *err)
+  !>
+  !> Rigid bodies of the particles (once per scene, after the particles): a
+  !> body id per particle (0: alone). mass NULL: mass and tensor from the
+  !> members (`bodies_from_members`; density > 0: the members' masses from
+  !> it); else n_bodies bodies with ids 1..n_bodies given by mass, com (3 per
+  !> body) and inertia (9 per body) (`bodies_given`).
+  function c_scene_set_bodies(scene, body_of, density, n_bodies, mass, com, inertia, err) result(code) &
+      bind(C, name="demstep_scene_set_bodies")
+    type(c_ptr), value :: scene, body_of, mass, com, inertia, err
+    real(c_double), value :: density
+    integer(c_int), value :: n_bodies
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_scene_set_bodies"
+    type(capi_scene_type), pointer :: h
+    integer(c_int), pointer :: pb(:)
+    real(c_double), pointer :: pm(:), pc(:, :), pj(:, :, :)
+    type(demstep_status_type) :: status
+    if (.not. live(scene, name, h, err, code, particles=.true.)) return
+    if (h%has_bodies) then
+      code = refused(h, name, "the bodies are already set (once per scene)", err)
+      return
+    end if
+    if (.not. c_associated(body_of)) then
+      code = refused(h, name, "body_of is NULL", err)
+      return
+    end if
+    call c_f_pointer(body_of, pb, [h%scene%n])
+    if (.not. c_associated(mass)) then
+      if (density > 0.0_dp .or. ieee_is_nan(density)) then
+        call bodies_from_members(h%scene, pb, h%bodies, status, density=density)
+      else
+        call bodies_from_members(h%scene, pb, h%bodies, status)
+      end if
+    else
+      if (n_bodies < 1 .or. .not. (c_associated(com) .and. c_associated(inertia))) then
+        code = refused(h, name, "with mass: n_bodies must be >= 1 and com, inertia not NULL", err)
+        return
+      end if
+      call c_f_pointer(mass, pm, [n_bodies])
+      call c_f_pointer(com, pc, [3, int(n_bodies)])
+      call c_f_pointer(inertia, pj, [3, 3, int(n_bodies)])
+      call bodies_given(h%scene, pb, pm, pc, pj, h%bodies, status)
+    end if
+    h%has_bodies = status%stat == demstep_stat%ok
+    code = built(h, name, status, err)
+  end function c_scene_set_bodies
+
+  !> int demstep_scene_body_peer_steps(const demstep_scene *scene, double *yade_gst,
+  !>   double *exadem, demstep_error *err)
+  !>
+  !> The peers' rules on the scene's bodies, raw: Yade's
+  !> GlobalStiffnessTimeStepper (`body_gst_step`) and exaDEM's
+  !> (`body_exadem_step`).
+  function c_scene_body_peer_steps(scene, yade_gst, exadem, err) result(code) &
+      bind(C, name="demstep_scene_body_peer_steps")
+    type(c_ptr), value :: scene, yade_gst, exadem, err
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_scene_body_peer_steps"
+    type(capi_scene_type), pointer :: h
+    real(c_double), pointer :: pg, px
+    type(demstep_status_type) :: status
+    real(dp) :: dt(2)
+    if (.not. live(scene, name, h, err, code, particles=.true.)) return
+    if (.not. (c_associated(yade_gst) .and. c_associated(exadem))) then
+      code = invalid(err, name//": yade_gst or exadem is NULL")
+      return
+    end if
+    if (.not. h%has_bodies) then
+      code = invalid(err, name//": the scene has no bodies: call demstep_scene_set_bodies first")
+      return
+    end if
+    call body_gst_step(h%scene, h%bodies, dt(1), status)
+    if (status%stat == demstep_stat%ok) call body_exadem_step(h%scene, h%bodies, dt(2), status)
+    if (status%stat /= demstep_stat%ok) status%message = name//": "//status%message
+    code = report(err, status)
+    call guard_finite(dt, name, err, code)
+    if (code /= demstep_stat%ok) return
+    call c_f_pointer(yade_gst, pg)
+    call c_f_pointer(exadem, px)
+    pg = dt(1)
+    px = dt(2)
+  end function c_scene_body_peer_steps
+
   !> int demstep_scene_compute(const demstep_scene *scene, int hertz_linearization,
   !>   double impact_velocity, int prestress, int max_eigen_dof, demstep_scene_result *result,
   !>   size_t result_size, demstep_error *err)
@@ -1106,9 +1227,19 @@ contains
     end if
     limit = default_max_eigen_dof
     if (max_eigen_dof > 0) limit = max_eigen_dof
-    call assembly_critical_steps(h%scene, c, status, hertz_mode=int(hertz_mode), &
-      impact_velocity=impact_velocity, max_eigen_dof=limit, prestress=prestress == 1, &
-      solver=h%solver, tolerance=h%tolerance)
+    if (h%has_bodies) then
+      ! rigid bodies: contacts at their current overlap, no pre-stress
+      if (hertz_mode /= hertz_linearization%current .or. prestress /= 0) then
+        code = invalid(err, name//": with bodies only DEMSTEP_HERTZ_CURRENT and prestress 0 are offered")
+        return
+      end if
+      call body_critical_steps(h%scene, h%bodies, c, status, solver=h%solver, tolerance=h%tolerance, &
+        max_eigen_dof=limit)
+    else
+      call assembly_critical_steps(h%scene, c, status, hertz_mode=int(hertz_mode), &
+        impact_velocity=impact_velocity, max_eigen_dof=limit, prestress=prestress == 1, &
+        solver=h%solver, tolerance=h%tolerance)
+    end if
     if (status%stat /= demstep_stat%ok) status%message = name//": "//status%message
     code = report(err, status)
     call write_result(c, name, err, code, result, result_size)

@@ -1,5 +1,5 @@
 !> Bonds between two particles in each DEM code's convention, and the peers'
-!> step rules for bonded scenes.
+!> step rules for bonded scenes (MUSEN, Kratos, exaDEM).
 !>
 !> A bond here is the interaction kernel's spring set (`contact_product`) held
 !> about its rest state in tension and compression alike: normal k_n along the
@@ -59,7 +59,7 @@ module demstep_bonds
   private
 
   public :: bond_law, check_bond_parameters, bond_parameter_count, bond_parameter_name, &
-    bond_pair_modes, musen_bond_time, musen_recommended_step, kratos_step, &
+    bond_pair_modes, musen_bond_time, musen_recommended_step, kratos_step, exadem_step, &
     bond_model_from_name, bond_model_name
 
   !> The bond models, each code's inputs (`bond_model%musen`); 0: none.
@@ -281,6 +281,21 @@ contains
     real(dp), intent(in) :: m_min, k_n, correction_factor
     dt = correction_factor*sqrt(m_min/k_n)
   end function kratos_step
+
+  !> exaDEM's critical step, pi sqrt(m_min/k_n,max) (Collab4exaNBody/exaDEM
+  !> at 0d0dc65, src/field/check_dt_critical.cpp:92, `4 atan(1)
+  !> sqrt(mass/kn)`): `mass` the smallest particle's (data/config/
+  !> config_dt_critical.msp:1-12, the `min_mass` operator) and `kn` the
+  !> largest normal stiffness of its contact and inner-bond parameters
+  !> (`max_kn`: src/polyhedron/contact_force_polyhedron.cu.in:142-145,
+  !> src/polyhedron/inner_bond_force.cu:92-94), for spheres and polyhedra
+  !> alike (a polyhedron is one rigid body). exaDEM warns when dt/dt_critical
+  !> reaches its `treshold` (default 1; 0.02 in its documentation's example,
+  !> check_dt_critical.cpp:34-47); this is the raw value.
+  elemental real(dp) function exadem_step(m_min, k_n_max) result(dt)
+    real(dp), intent(in) :: m_min, k_n_max
+    dt = pi*sqrt(m_min/k_n_max)
+  end function exadem_step
 
   !> The `bond_model` code of a word (case ignored); 0 for another word.
   pure integer function bond_model_from_name(name) result(code)

@@ -24,14 +24,16 @@
 !> The pre-stress term and the Hertz impact linearisation are not offered:
 !> contacts are linearised at their current overlap.
 !>
-!> Yade's `GlobalStiffnessTimeStepper` on the same bodies is `body_gst_step`.
+!> Yade's `GlobalStiffnessTimeStepper` on the same bodies is `body_gst_step`,
+!> exaDEM's rule `body_exadem_step`.
 module demstep_body_assembly
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text
-  use demstep_interaction, only: contact_product, contact_block, dof_components, reduced_mass, cross
+  use demstep_interaction, only: contact_block, dof_components, reduced_mass, cross
   use demstep_scene_data, only: scene_type, scene_effect
   use demstep_bodies, only: body_set_type, check_bodies
+  use demstep_bonds, only: exadem_step
   use demstep_assembly, only: critical_step_type, spring_block_type, damped_problem_type, linearise, &
     hertz_linearization, eigen_solver, default_max_eigen_dof, scene_lanczos_ncv, scene_lanczos_restarts, &
     bound_iterations, assembly_check_options, assembly_set_bound, assembly_set_estimates, &
@@ -44,7 +46,7 @@ module demstep_body_assembly
   private
 
   public :: body_critical_steps, body_operator, body_operator_apply, body_matrix, body_gst_step, &
-    inverse_sqrt_inertia
+    body_exadem_step, inverse_sqrt_inertia
 
   !> Yade's constant in `GlobalStiffnessTimeStepper` (1.41044, "sqrt(2)" in
   !> its source: pkg/dem/GlobalStiffnessTimeStepper.cpp:102).
@@ -62,12 +64,16 @@ module demstep_body_assembly
     integer, allocatable :: comp(:)
     !> Free body of each end of each spring (0: ground, a wall or fixed).
     integer, allocatable :: ends(:, :)
-    !> Unit normal, (k_n, k_t, arm_a, arm_b, k_r, k_w) scaled, dashpots
-    !> (c_n, c_t, c_r, c_w) scaled (size 0: none).
-    real(dp), allocatable :: normal(:, :), coef(:, :), dcoef(:, :)
-    !> Each spring end's member offset d_m from its body's centre (3, 2,
-    !> springs), over l.
-    real(dp), allocatable :: lever(:, :, :)
+    !> What a product reads of each spring, contiguous (13, springs): its
+    !> unit normal n, the arms from each end's body centre to the contact
+    !> point (c_a = d_a + arm_a n, c_b = d_b - arm_b n, over l) and its
+    !> (k_n, k_t, k_r, k_w) scaled; its dashpots (c_n, c_t, c_r, c_w) scaled
+    !> (size 0: none).
+    real(dp), allocatable :: spring(:, :), dcoef(:, :)
+    !> For the compressed rows (`body_block`): each spring end's member
+    !> offset d_m from its body's centre (3, 2, springs) and the member's
+    !> arm to the contact point (2, springs), over l.
+    real(dp), allocatable :: lever(:, :, :), arm(:, :)
     !> 1/l (unscaled): the rotation scale of l theta.
     real(dp) :: rot = 1.0_dp
     !> The operator is alpha A' + beta B'.
@@ -274,7 +280,7 @@ contains
     op%n_bodies = nfree
     op%n = nfree*op%nc
     op%n_springs = ns
-    allocate(op%ends(2, ns), op%normal(3, ns), op%coef(6, ns), op%lever(3, 2, ns))
+    allocate(op%ends(2, ns), op%spring(13, ns), op%lever(3, 2, ns), op%arm(2, ns))
     allocate(op%wt(nfree), op%wr(3, 3, nfree), op%first(nfree + 1), op%work(6, 2*ns))
     allocate(op%xs(6, 0:nfree), source=0.0_dp)
     if (any(springs%c(1) > 0.0_dp .or. springs%c(2) > 0.0_dp .or. springs%c(3) > 0.0_dp .or. &
@@ -297,9 +303,7 @@ contains
     op%first = 0
     do s = 1, ns
       associate(sp => springs(s))
-        op%normal(:, s) = sp%n
-        op%coef(:, s) = [sp%k(1)/k_scale, sp%k(2)/k_scale, sp%arm_a/ell, sp%arm_b/ell, &
-          sp%k(3)/k_scale, sp%k(4)/k_scale]
+        op%arm(:, s) = [sp%arm_a, sp%arm_b]/ell
         if (size(op%dcoef, 2) > 0) op%dcoef(:, s) = sp%c/c_scale
         do e = 1, 2
           op%ends(e, s) = 0
@@ -310,6 +314,8 @@ contains
           op%lever(:, e, s) = bodies%offset(:, member(e, s))/ell
           op%first(op%ends(e, s) + 1) = op%first(op%ends(e, s) + 1) + 1
         end do
+        op%spring(:, s) = [sp%n, op%lever(:, 1, s) + op%arm(1, s)*sp%n, op%lever(:, 2, s) - op%arm(2, s)*sp%n, &
+          sp%k/k_scale]
       end associate
     end do
     op%first(1) = 1
@@ -384,29 +390,70 @@ contains
     type(body_operator_type), intent(in) :: op
     integer, intent(in) :: s
     real(dp) :: k(4)
-    k = op%alpha*[op%coef(1, s), op%coef(2, s), op%coef(5, s), op%coef(6, s)]
+    k = op%alpha*op%spring(10:13, s)
     if (op%beta /= 0.0_dp) k = k + op%beta*op%dcoef(:, s)
   end function mixed
 
+  !> The generalised forces (f, t) on the two bodies of one spring for the
+  !> bodies' scaled motions x_a, x_b (u, l theta): the kernel of
+  !> `contact_product` (normal, tangential, rolling and twisting springs)
+  !> written with the arms c from each body's centre to the contact point,
+  !> which fuse the rigid map into it: the contact point's relative motion
+  !> w = u_b + theta_b x c_b - u_a - theta_a x c_a, the force
+  !> f = k_n (n.w) n + k_t (w - (n.w) n) on b (-f on a), the torques
+  !> c_b x f and -c_a x f, and the moment of the relative rotation
+  !> rot (theta_b - theta_a) (k_r across n, k_w along it) as
+  !> `contact_product`. It equals `contact_product` on the members' motions
+  !> carried back by the rigid map (test_bodies: products = compressed rows).
+  pure subroutine body_spring_product(sp, k, rot, xa, xb, ya, yb)
+    !> n, c_a, c_b (and the spring's stiffnesses, not read here).
+    real(dp), intent(in) :: sp(13)
+    real(dp), intent(in) :: k(4), rot, xa(6), xb(6)
+    real(dp), intent(out) :: ya(6), yb(6)
+    real(dp) :: w(3), dn, f(3), dr(3), rn, m(3)
+    associate(n => sp(1:3), ca => sp(4:6), cb => sp(7:9))
+      w = xb(1:3) - xa(1:3) + cross(xb(4:6), cb) - cross(xa(4:6), ca)
+      dn = n(1)*w(1) + n(2)*w(2) + n(3)*w(3)
+      f = k(2)*w + ((k(1) - k(2))*dn)*n
+      ya(1:3) = -f
+      yb(1:3) = f
+      ya(4:6) = cross(f, ca)
+      yb(4:6) = cross(cb, f)
+      if (k(3) /= 0.0_dp .or. k(4) /= 0.0_dp) then
+        dr = rot*(xb(4:6) - xa(4:6))
+        rn = n(1)*dr(1) + n(2)*dr(2) + n(3)*dr(3)
+        m = k(3)*(dr - rn*n) + (k(4)*rn)*n
+        ya(4:6) = ya(4:6) - rot*m
+        yb(4:6) = yb(4:6) + rot*m
+      end if
+    end associate
+  end subroutine body_spring_product
+
   !> y = A' x (mixed: (alpha A' + beta B') x) for a `body_operator_type`:
-  !> each body's scaled displacement W x, each spring's member motions by the
-  !> rigid map, its generalised forces from the interaction kernel
-  !> (`contact_product`) carried back to the bodies (f, t + d_m x f), each
-  !> body's sum in spring order, times W. Parallel under OpenMP with fixed
-  !> summation orders: the same result for every thread count. O(springs).
+  !> each body's scaled displacement W x, each spring's generalised forces
+  !> on its two bodies (`body_spring_product`: the kernel with the rigid map
+  !> fused in), each body's sum in spring order, times W. Parallel under
+  !> OpenMP with fixed summation orders: the same result for every thread
+  !> count. O(springs).
   subroutine body_operator_apply(context, x, y)
     class(lanczos_context_type), intent(inout) :: context
     real(dp), intent(in) :: x(:)
     real(dp), intent(out) :: y(:)
     integer :: i, c, s, nc
     integer(i8) :: p
-    real(dp) :: r(3), acc(6), u(3, 2), t(6, 2)
+    real(dp) :: r(3), acc(6)
     y = 0.0_dp
     select type (op => context)
     class is (body_operator_type)
       nc = op%nc
       !$omp parallel do private(i, c, r) schedule(static) if(op%n_springs >= parallel_springs)
       do i = 1, op%n_bodies
+        if (nc == 6) then
+          ! 3D with rotations (every component a dof)
+          op%xs(1:3, i) = op%wt(i)*x(6*i - 5:6*i - 3)
+          op%xs(4:6, i) = op%wr(:, 1, i)*x(6*i - 2) + op%wr(:, 2, i)*x(6*i - 1) + op%wr(:, 3, i)*x(6*i)
+          cycle
+        end if
         op%xs(:, i) = 0.0_dp
         r = 0.0_dp
         do c = 1, nc
@@ -419,18 +466,10 @@ contains
         op%xs(4:6, i) = matmul(op%wr(:, :, i), r)
       end do
       !$omp end parallel do
-      !$omp parallel do private(s, u, t) schedule(static) if(op%n_springs >= parallel_springs)
+      !$omp parallel do private(s) schedule(static) if(op%n_springs >= parallel_springs)
       do s = 1, op%n_springs
-        associate(a => op%ends(1, s), b => op%ends(2, s))
-          u(:, 1) = op%xs(1:3, a) + cross(op%xs(4:6, a), op%lever(:, 1, s))
-          u(:, 2) = op%xs(1:3, b) + cross(op%xs(4:6, b), op%lever(:, 2, s))
-          call contact_product(op%normal(:, s), mixed(op, s), op%coef(3, s), op%coef(4, s), op%rot, op%rot, &
-            0.0_dp, u(:, 1), op%xs(4:6, a), u(:, 2), op%xs(4:6, b), t(1:3, 1), t(4:6, 1), t(1:3, 2), t(4:6, 2))
-          op%work(1:3, 2*s - 1) = t(1:3, 1)
-          op%work(4:6, 2*s - 1) = t(4:6, 1) + cross(op%lever(:, 1, s), t(1:3, 1))
-          op%work(1:3, 2*s) = t(1:3, 2)
-          op%work(4:6, 2*s) = t(4:6, 2) + cross(op%lever(:, 2, s), t(1:3, 2))
-        end associate
+        call body_spring_product(op%spring(:, s), mixed(op, s), op%rot, op%xs(:, op%ends(1, s)), &
+          op%xs(:, op%ends(2, s)), op%work(:, 2*s - 1), op%work(:, 2*s))
       end do
       !$omp end parallel do
       !$omp parallel do private(i, p, c, acc, r) schedule(static) if(op%n_springs >= parallel_springs)
@@ -439,6 +478,11 @@ contains
         do p = op%first(i), op%first(i + 1) - 1
           acc = acc + op%work(:, op%incident(p))
         end do
+        if (nc == 6) then
+          y(6*i - 5:6*i - 3) = op%wt(i)*acc(1:3)
+          y(6*i - 2:6*i) = op%wr(:, 1, i)*acc(4) + op%wr(:, 2, i)*acc(5) + op%wr(:, 3, i)*acc(6)
+          cycle
+        end if
         r = matmul(op%wr(:, :, i), acc(4:6))
         do c = 1, nc
           if (op%comp(c) <= 3) then
@@ -460,7 +504,7 @@ contains
     real(dp) :: g(12, 12)
     real(dp) :: map(12, 12), kb(12, 12)
     integer :: e, o, b
-    kb = contact_block(op%normal(:, s), mixed(op, s), op%coef(3, s), op%coef(4, s), 0.0_dp, op%rot, op%rot)
+    kb = contact_block(op%spring(1:3, s), mixed(op, s), op%arm(1, s), op%arm(2, s), 0.0_dp, op%rot, op%rot)
     ! map = blockdiag(T_a W_a, T_b W_b): member motion from scaled body coordinates
     map = 0.0_dp
     do e = 1, 2
@@ -698,6 +742,27 @@ contains
     dt = yade_gst_factor*sqrt(dt2)
     status%stat = demstep_stat%ok
   end subroutine body_gst_step
+
+  !> exaDEM's rule (`exadem_step`) on a scene of bodies, raw: pi sqrt(m/k_n)
+  !> with m the lightest free body's mass (a polyhedron or clump is one
+  !> particle there) and k_n the largest normal stiffness of the springs
+  !> between bodies and on walls (exaDEM takes the largest k_n of its
+  !> parameter table: the same for one linear law). Status: those of
+  !> `body_operator`.
+  subroutine body_exadem_step(scene, bodies, dt, status)
+    type(scene_type), intent(in) :: scene
+    type(body_set_type), intent(in) :: bodies
+    real(dp), intent(out) :: dt
+    type(demstep_status_type), intent(out) :: status
+    type(body_operator_type) :: op
+    type(spring_block_type), allocatable :: springs(:)
+    real(dp) :: rate
+    dt = 0.0_dp
+    call body_operator(scene, bodies, op, rate, status, springs)
+    if (status%stat /= demstep_stat%ok) return
+    dt = exadem_step(minval(bodies%mass, mask=.not. bodies%fixed), &
+      maxval(springs%k(1), mask=springs%kind /= 6))
+  end subroutine body_exadem_step
 
   !> [d]x, the matrix of d x . (so that [d]x w = d x w).
   pure function skew(d) result(m)
