@@ -546,7 +546,7 @@ contains
     end do
   end subroutine test_numpy_clumps
 
-  !> The matrix-free product (the fused kernel, `body_spring_product`) = the
+  !> The matrix-free product (the fused kernel, `contact_product_arms`) = the
   !> compressed rows' product (`contact_block` carried by the rigid map) on
   !> random vectors (1e-12 of the norm), undamped and dashpot-mixed, with
   !> rotations (6 dof per body) and without (3); J^-1/2 of a random tensor

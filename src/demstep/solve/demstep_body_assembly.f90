@@ -30,7 +30,7 @@ module demstep_body_assembly
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text
-  use demstep_interaction, only: contact_block, dof_components, reduced_mass, cross
+  use demstep_interaction, only: contact_block, contact_product_arms, dof_components, reduced_mass, cross
   use demstep_scene_data, only: scene_type, scene_effect
   use demstep_bodies, only: body_set_type, check_bodies
   use demstep_bonds, only: exadem_step
@@ -394,44 +394,9 @@ contains
     if (op%beta /= 0.0_dp) k = k + op%beta*op%dcoef(:, s)
   end function mixed
 
-  !> The generalised forces (f, t) on the two bodies of one spring for the
-  !> bodies' scaled motions x_a, x_b (u, l theta): the kernel of
-  !> `contact_product` (normal, tangential, rolling and twisting springs)
-  !> written with the arms c from each body's centre to the contact point,
-  !> which fuse the rigid map into it: the contact point's relative motion
-  !> w = u_b + theta_b x c_b - u_a - theta_a x c_a, the force
-  !> f = k_n (n.w) n + k_t (w - (n.w) n) on b (-f on a), the torques
-  !> c_b x f and -c_a x f, and the moment of the relative rotation
-  !> rot (theta_b - theta_a) (k_r across n, k_w along it) as
-  !> `contact_product`. It equals `contact_product` on the members' motions
-  !> carried back by the rigid map (test_bodies: products = compressed rows).
-  pure subroutine body_spring_product(sp, k, rot, xa, xb, ya, yb)
-    !> n, c_a, c_b (and the spring's stiffnesses, not read here).
-    real(dp), intent(in) :: sp(13)
-    real(dp), intent(in) :: k(4), rot, xa(6), xb(6)
-    real(dp), intent(out) :: ya(6), yb(6)
-    real(dp) :: w(3), dn, f(3), dr(3), rn, m(3)
-    associate(n => sp(1:3), ca => sp(4:6), cb => sp(7:9))
-      w = xb(1:3) - xa(1:3) + cross(xb(4:6), cb) - cross(xa(4:6), ca)
-      dn = n(1)*w(1) + n(2)*w(2) + n(3)*w(3)
-      f = k(2)*w + ((k(1) - k(2))*dn)*n
-      ya(1:3) = -f
-      yb(1:3) = f
-      ya(4:6) = cross(f, ca)
-      yb(4:6) = cross(cb, f)
-      if (k(3) /= 0.0_dp .or. k(4) /= 0.0_dp) then
-        dr = rot*(xb(4:6) - xa(4:6))
-        rn = n(1)*dr(1) + n(2)*dr(2) + n(3)*dr(3)
-        m = k(3)*(dr - rn*n) + (k(4)*rn)*n
-        ya(4:6) = ya(4:6) - rot*m
-        yb(4:6) = yb(4:6) + rot*m
-      end if
-    end associate
-  end subroutine body_spring_product
-
   !> y = A' x (mixed: (alpha A' + beta B') x) for a `body_operator_type`:
   !> each body's scaled displacement W x, each spring's generalised forces
-  !> on its two bodies (`body_spring_product`: the kernel with the rigid map
+  !> on its two bodies (`contact_product_arms`: the kernel with the rigid map
   !> fused in), each body's sum in spring order, times W. Parallel under
   !> OpenMP with fixed summation orders: the same result for every thread
   !> count. O(springs).
@@ -468,8 +433,8 @@ contains
       !$omp end parallel do
       !$omp parallel do private(s) schedule(static) if(op%n_springs >= parallel_springs)
       do s = 1, op%n_springs
-        call body_spring_product(op%spring(:, s), mixed(op, s), op%rot, op%xs(:, op%ends(1, s)), &
-          op%xs(:, op%ends(2, s)), op%work(:, 2*s - 1), op%work(:, 2*s))
+        call contact_product_arms(op%spring(1:3, s), mixed(op, s), op%spring(4:6, s), op%spring(7:9, s), &
+          op%rot, op%xs(:, op%ends(1, s)), op%xs(:, op%ends(2, s)), op%work(:, 2*s - 1), op%work(:, 2*s))
       end do
       !$omp end parallel do
       !$omp parallel do private(i, p, c, acc, r) schedule(static) if(op%n_springs >= parallel_springs)
