@@ -33,7 +33,7 @@ module demstep_scene_input
   implicit none
   private
 
-  public :: scene_from_input, scene_input_own_stiffness
+  public :: scene_from_input, scene_input_own_stiffness, particle_columns, particles_from_rows
 
   !> The parts of a scene's input a fault can lie in.
   type, public :: scene_input_part_enum
@@ -44,6 +44,10 @@ module demstep_scene_input
   end type scene_input_part_enum
   !> The parts by name.
   type(scene_input_part_enum), parameter, public :: scene_input_part = scene_input_part_enum()
+
+  !> The column counts a contacts table may have: i j k_n k_t [k_r k_w [c_n
+  !> c_t c_r c_w]] (the particle numbers are columns 1 and 2).
+  integer, parameter, public :: contact_columns(3) = [4, 6, 10]
 
   !> Most particle types of a snapshot (per-type tables are nt x nt).
   integer, parameter, public :: max_snapshot_types = 1000
@@ -649,12 +653,40 @@ contains
     logical, allocatable, intent(out) :: fixed(:)
     type(demstep_status_type), intent(out) :: status
     real(dp), allocatable :: rows(:, :)
-    integer :: ncol, bad
     integer, allocatable :: lines(:)
-    ncol = 2*dim + 3
     ! an optional last column: the moment of inertia
-    call read_table(path, [ncol, ncol + 1], rows, status, lines=lines)
+    call read_table(path, particle_columns(dim), rows, status, lines=lines)
     if (status%stat /= demstep_stat%ok) return
+    call particles_from_rows(path, dim, rows, lines, x, v, m, r, fixed, inertia, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (size(m) == 0) call set_status(status, demstep_stat%invalid_input, path//": no particles")
+  end subroutine read_particles
+
+  !> The column counts a particles table may have in `dim` dimensions:
+  !> 2 dim + 3, or one more with the moment of inertia.
+  pure function particle_columns(dim) result(allowed)
+    integer, intent(in) :: dim
+    integer :: allowed(2)
+    allowed = [2*dim + 3, 2*dim + 4]
+  end function particle_columns
+
+  !> A particles table's rows (all of them, or a part read elsewhere) as the
+  !> scene's arrays; status invalid_input naming `path` and the line of the
+  !> first row whose fixed column is not 0 or 1 (`fault_line`, 0 if none).
+  pure subroutine particles_from_rows(path, dim, rows, lines, x, v, m, r, fixed, inertia, status, fault_line)
+    !> The file's name, for messages.
+    character(len=*), intent(in) :: path
+    integer, intent(in) :: dim
+    !> The rows (`particle_columns(dim)` numbers each) and their file lines.
+    real(dp), intent(in) :: rows(:, :)
+    integer, intent(in) :: lines(:)
+    real(dp), allocatable, intent(out) :: x(:, :), v(:, :), m(:), r(:), inertia(:)
+    logical, allocatable, intent(out) :: fixed(:)
+    type(demstep_status_type), intent(out) :: status
+    integer, intent(out), optional :: fault_line
+    integer :: ncol, bad
+    ncol = 2*dim + 3
+    if (present(fault_line)) fault_line = 0
     x = rows(1:dim, :)
     v = rows(dim+1:2*dim, :)
     m = rows(2*dim+1, :)
@@ -665,10 +697,11 @@ contains
     if (bad > 0) then
       call set_status(status, demstep_stat%invalid_input, path//": line "//int_text(lines(bad))// &
         ": column "//int_text(2*dim + 3)//": the fixed column must be 0 or 1")
+      if (present(fault_line)) fault_line = lines(bad)
       return
     end if
-    if (size(m) == 0) call set_status(status, demstep_stat%invalid_input, path//": no particles")
-  end subroutine read_particles
+    status%stat = demstep_stat%ok
+  end subroutine particles_from_rows
 
   !> A bonds table: two particle numbers per row.
   subroutine read_bonds(path, pairs, status)
@@ -689,7 +722,7 @@ contains
     real(dp), allocatable, intent(out) :: k(:, :)
     type(demstep_status_type), intent(out) :: status
     real(dp), allocatable :: rows(:, :)
-    call read_table(path, [4, 6, 10], rows, status, lines=lines, index_columns=[1, 2])
+    call read_table(path, contact_columns, rows, status, lines=lines, index_columns=[1, 2])
     if (status%stat /= demstep_stat%ok) return
     pairs = nint(rows(1:2, :))
     k = rows(3:, :)
