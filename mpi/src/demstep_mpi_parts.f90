@@ -72,6 +72,7 @@ contains
     end if
     ! the ranges: every rank finds its start, all learn all starts
     first = 1
+    ios = 0
     if (rank > 0) call line_start(path, int(rank, i8)*max(size_bytes, 0_i8)/nranks + 1, &
       size_bytes, first, ios)
     if (.not. agreed(ios == 0)) then
