@@ -31,6 +31,9 @@ program test_mpi_files
   call MPI_Comm_size(MPI_COMM_WORLD, nranks)
   failures = 0
   seed = 4242_i8
+  ! (the tables go to build/, which fpm makes; made here when run elsewhere)
+  if (rank == 0) call execute_command_line("mkdir -p build")
+  call MPI_Barrier(MPI_COMM_WORLD)
   pfile = stem//"particles.txt"
   cfile = stem//"contacts.txt"
 
