@@ -3,7 +3,8 @@
 !>
 !> Input. Every rank holds the whole scene (replicated input) and builds the
 !> matrix-free operator from it (`assembly_operator`: O(particles + springs)
-!> per rank). What grows with the work is distributed: each rank assembles only
+!> per rank). For a scene read in parts, each rank holding only its own
+!> particles and their contacts, see `demstep_mpi_dist_scene`. What grows with the work is distributed: each rank assembles only
 !> the rows of its own bodies (`assembly_matrix_rows`), and holds only its block
 !> of every Lanczos vector and its halo.
 !>
