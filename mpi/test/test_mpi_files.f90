@@ -354,6 +354,7 @@ contains
     call refused("two bad rows: the first in the file", early_line(late_line(good_p, "bad"), &
       "1 2 3"), good_c)
     call refused("no particles", "# nothing"//achar(10), good_c)
+    call refused("no contacts: no stiffness", good_p, "# none"//achar(10))
     call write_text(pfile, good_p)
     input%particles_file = stem//"missing.txt"
     call refused_input("a missing particles file")
@@ -381,9 +382,13 @@ contains
     type(scene_type) :: scene
     type(scene_setup_type) :: setup
     type(material_set_type) :: materials
+    type(critical_step_type) :: ser
     integer :: part
     call mpi_files_critical_steps(MPI_COMM_WORLD, input, par, st_par)
+    ! (the serial refusal of the reader, or of the solve)
     call scene_from_input(input, materials, scene, setup, st_ser, part)
+    if (st_ser%stat == demstep_stat%ok) call assembly_critical_steps(scene, ser, st_ser, &
+      solver=eigen_solver%lanczos, tolerance=input%eigen_tolerance)
     call report("refused, "//name//": the serial status", st_par%stat /= demstep_stat%ok .and. &
       st_par%stat == st_ser%stat .and. msg(st_par) == msg(st_ser) .and. &
       st_par%where == st_ser%where .and. same_status(st_par), msg(st_par)//" | "//msg(st_ser))
