@@ -28,22 +28,61 @@ module demstep_mpi_lanczos
   use demstep_lanczos, only: eigen_result_type, lanczos_space_type, lanczos_solve, &
     lanczos_start_vector, accurate_dot_parts
   use demstep_progress, only: progress_type
+  use demstep_mpi_parts, only: heap_sort, position
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
 
   public :: dist_csr_create, dist_csr_apply, dist_gershgorin_bound, dist_collatz_bound, &
     parallel_lanczos_largest
-  public :: dist_start_vector, dist_csr_bytes, dist_csr_free
+  public :: dist_start_vector, dist_csr_bytes, dist_csr_free, dist_halo_create, dist_halo_exchange, &
+    dist_halo_free
 
   !> The solver's name in a result.
   character(len=*), parameter, public :: parallel_lanczos_solver_name = &
     "lanczos (PARPACK pdsaupd, MPI)"
 
-  !> A row block of a sparse symmetric matrix with its halo-exchange pattern.
-  type, public :: dist_csr_type
+  !> A symmetric operator whose rows are partitioned across MPI ranks in
+  !> contiguous blocks (rank order): what `parallel_lanczos_largest` solves.
+  type, abstract, public :: dist_operator_type
     !> Global order, rows owned here and the first of them (global index).
     integer :: n_global = 0, n_local = 0, first_row = 1
+    !> The ranks holding the rows (every one at least one row): the solver's
+    !> reductions run over it.
+    type(MPI_Comm) :: comm
+  contains
+    !> y = A x on this rank's rows (x, y: this rank's block). Collective.
+    procedure(dist_apply), deferred :: apply
+  end type dist_operator_type
+
+  abstract interface
+    subroutine dist_apply(op, x, y)
+      import :: dist_operator_type, dp
+      class(dist_operator_type), intent(inout) :: op
+      real(dp), intent(in) :: x(:)
+      real(dp), intent(out) :: y(:)
+    end subroutine dist_apply
+  end interface
+
+  !> The halo exchange of a row-partitioned vector: the entries of other
+  !> ranks' blocks this rank reads (ascending global indices, so by owner),
+  !> and the pattern that brings them with one `MPI_Neighbor_alltoallv` on a
+  !> graph communicator of the ranks that share entries.
+  type, public :: dist_halo_type
+    !> Halo entries received per exchange.
+    integer :: n_halo = 0
+    !> Graph communicator of the ranks exchanged with (neighbour collectives).
+    type(MPI_Comm) :: graph
+    !> Counts and 0-based displacements per neighbour, received and sent.
+    integer, allocatable :: recv_count(:), recv_displ(:), send_count(:), send_displ(:)
+    !> Local indices of the entries sent, neighbour by neighbour.
+    integer, allocatable :: send_index(:)
+    !> The send buffer.
+    real(dp), allocatable :: send_buffer(:)
+  end type dist_halo_type
+
+  !> A row block of a sparse symmetric matrix with its halo-exchange pattern.
+  type, extends(dist_operator_type), public :: dist_csr_type
     !> Halo entries received per product.
     integer :: n_halo = 0
     !> Local row i holds entries row_start(i) .. row_start(i+1)-1.
@@ -52,20 +91,18 @@ module demstep_mpi_lanczos
     !> entries, n_local + k the k-th halo entry.
     integer, allocatable :: col(:)
     real(dp), allocatable :: val(:)
-    !> Graph communicator of the ranks exchanged with (neighbour collectives).
-    type(MPI_Comm) :: graph
-    !> Counts and 0-based displacements per neighbour, received and sent.
-    integer, allocatable :: recv_count(:), recv_displ(:), send_count(:), send_displ(:)
-    !> Local indices of the entries sent, neighbour by neighbour.
-    integer, allocatable :: send_index(:)
-    !> The extended vector [own x, halo] and the send buffer.
-    real(dp), allocatable :: x_ext(:), send_buffer(:)
+    !> The halo exchange; its graph communicator is also `comm`.
+    type(dist_halo_type) :: halo
+    !> The extended vector [own x, halo].
+    real(dp), allocatable :: x_ext(:)
+  contains
+    procedure :: apply => dist_csr_apply_op
   end type dist_csr_type
 
   !> The distributed Lanczos space: PARPACK and a `dist_csr_type`'s product,
   !> inner products and "and" reduced over the matrix's communicator.
   type, extends(lanczos_space_type) :: dist_space_type
-    type(dist_csr_type), pointer :: matrix => null()
+    class(dist_operator_type), pointer :: matrix => null()
   contains
     procedure :: product => dist_product
     procedure :: dot => dist_dot
@@ -97,9 +134,8 @@ contains
     real(dp), intent(in) :: val(:)
     type(dist_csr_type), intent(out) :: matrix
     type(demstep_status_type), intent(out) :: status
-    integer :: nranks, rank, r, i, n_local, n_out, k, p, nb_in, nb_out, last_row
-    integer, allocatable :: blocks(:, :), outside(:), halo(:), want(:), give(:), &
-      want_displ(:), give_displ(:), requested(:), sources(:), dests(:)
+    integer :: nranks, rank, r, i, n_local, n_out, k, last_row
+    integer, allocatable :: blocks(:, :), outside(:), halo(:)
     integer(i8) :: nnz, e
     logical :: bad
 
@@ -152,12 +188,85 @@ contains
       halo(k) = outside(i)
     end do
     matrix%n_halo = k
+    call dist_halo_create(comm, blocks, halo(:matrix%n_halo), matrix%halo)
+    matrix%comm = matrix%halo%graph
+    ! the local rows, columns renumbered into the extended vector
+    allocate(matrix%row_start(n_local + 1), matrix%col(nnz), matrix%val(nnz))
+    matrix%row_start = row_start
+    matrix%val = val
+    do e = 1, nnz
+      if (col(e) >= first_row .and. col(e) <= last_row) then
+        matrix%col(e) = col(e) - first_row + 1
+      else
+        matrix%col(e) = n_local + position(halo(:matrix%n_halo), col(e))
+      end if
+    end do
+    allocate(matrix%x_ext(n_local + matrix%n_halo), source=0.0_dp)
+    status%stat = demstep_stat%ok
+  end subroutine dist_csr_create
+
+  !> Release the matrix's graph communicator and arrays. Collective; call it
+  !> before MPI_Finalize and before building a new matrix into the same variable.
+  subroutine dist_csr_free(matrix)
+    type(dist_csr_type), intent(inout) :: matrix
+    type(dist_csr_type) :: empty
+    if (matrix%n_global >= 1) call dist_halo_free(matrix%halo)
+    matrix = empty
+  end subroutine dist_csr_free
+
+  !> y = A x on this rank's rows (x and y: this rank's block). Collective: one
+  !> halo exchange, then the local rows, each summed in a fixed order.
+  subroutine dist_csr_apply(matrix, x, y)
+    type(dist_csr_type), intent(inout) :: matrix
+    !> This rank's entries of x (n_local).
+    real(dp), intent(in) :: x(:)
+    !> This rank's entries of A x (n_local).
+    real(dp), intent(out) :: y(:)
+    integer :: i
+    integer(i8) :: p
+    real(dp) :: s
+    associate (n => matrix%n_local)
+      matrix%x_ext(1:n) = x(1:n)
+      call dist_halo_exchange(matrix%halo, x, matrix%x_ext(n + 1:))
+      do i = 1, n
+        s = 0.0_dp
+        do p = matrix%row_start(i), matrix%row_start(i + 1) - 1
+          s = s + matrix%val(p)*matrix%x_ext(matrix%col(p))
+        end do
+        y(i) = s
+      end do
+    end associate
+  end subroutine dist_csr_apply
+
+  !> `dist_csr_apply` as the operator's binding.
+  subroutine dist_csr_apply_op(op, x, y)
+    class(dist_csr_type), intent(inout) :: op
+    real(dp), intent(in) :: x(:)
+    real(dp), intent(out) :: y(:)
+    call dist_csr_apply(op, x, y)
+  end subroutine dist_csr_apply_op
+
+  !> The halo-exchange pattern of this rank's block: `halo` lists the global
+  !> indices it reads from other ranks' blocks, ascending and distinct;
+  !> `blocks(:, r)` = (first index, count) of rank r's block (rank order,
+  !> every rank one). Collective over `comm`.
+  subroutine dist_halo_create(comm, blocks, halo, pattern)
+    type(MPI_Comm), intent(in) :: comm
+    integer, intent(in) :: blocks(:, 0:)
+    integer, intent(in) :: halo(:)
+    type(dist_halo_type), intent(out) :: pattern
+    integer :: nranks, rank, r, i, p, nb_in, nb_out
+    integer, allocatable :: want(:), give(:), want_displ(:), give_displ(:), requested(:), &
+      sources(:), dests(:)
+    call MPI_Comm_size(comm, nranks)
+    call MPI_Comm_rank(comm, rank)
+    pattern%n_halo = size(halo)
     ! how many halo entries each rank owns
     allocate(want(0:nranks - 1), give(0:nranks - 1), want_displ(0:nranks - 1), &
       give_displ(0:nranks - 1))
     want = 0
     r = 0
-    do i = 1, matrix%n_halo
+    do i = 1, size(halo)
       do while (halo(i) > blocks(1, r) + blocks(2, r) - 1)
         r = r + 1
       end do
@@ -176,78 +285,47 @@ contains
     ! the neighbour graph: sources send to this rank, destinations receive from it
     nb_in = count(want > 0)
     nb_out = count(give > 0)
-    allocate(sources(nb_in), dests(nb_out), matrix%recv_count(nb_in), matrix%recv_displ(nb_in), &
-      matrix%send_count(nb_out), matrix%send_displ(nb_out))
+    allocate(sources(nb_in), dests(nb_out), pattern%recv_count(nb_in), pattern%recv_displ(nb_in), &
+      pattern%send_count(nb_out), pattern%send_displ(nb_out))
     p = 0
     do r = 0, nranks - 1
       if (want(r) == 0) cycle
       p = p + 1
       sources(p) = r
-      matrix%recv_count(p) = want(r)
-      matrix%recv_displ(p) = want_displ(r)
+      pattern%recv_count(p) = want(r)
+      pattern%recv_displ(p) = want_displ(r)
     end do
     p = 0
     do r = 0, nranks - 1
       if (give(r) == 0) cycle
       p = p + 1
       dests(p) = r
-      matrix%send_count(p) = give(r)
-      matrix%send_displ(p) = give_displ(r)
+      pattern%send_count(p) = give(r)
+      pattern%send_displ(p) = give_displ(r)
     end do
-    matrix%send_index = requested - first_row + 1
+    pattern%send_index = requested - blocks(1, rank) + 1
+    allocate(pattern%send_buffer(size(requested)))
     call MPI_Dist_graph_create_adjacent(comm, nb_in, sources, MPI_UNWEIGHTED, nb_out, dests, &
-      MPI_UNWEIGHTED, MPI_INFO_NULL, .false., matrix%graph)
-    ! the local rows, columns renumbered into the extended vector
-    allocate(matrix%row_start(n_local + 1), matrix%col(nnz), matrix%val(nnz))
-    matrix%row_start = row_start
-    matrix%val = val
-    do e = 1, nnz
-      if (col(e) >= first_row .and. col(e) <= last_row) then
-        matrix%col(e) = col(e) - first_row + 1
-      else
-        matrix%col(e) = n_local + position(halo(:matrix%n_halo), col(e))
-      end if
-    end do
-    allocate(matrix%x_ext(n_local + matrix%n_halo), matrix%send_buffer(size(requested)))
-    matrix%x_ext = 0.0_dp
-    status%stat = demstep_stat%ok
-  end subroutine dist_csr_create
+      MPI_UNWEIGHTED, MPI_INFO_NULL, .false., pattern%graph)
+  end subroutine dist_halo_create
 
-  !> Release the matrix's graph communicator and arrays. Collective; call it
-  !> before MPI_Finalize and before building a new matrix into the same variable.
-  subroutine dist_csr_free(matrix)
-    type(dist_csr_type), intent(inout) :: matrix
-    type(dist_csr_type) :: empty
-    if (matrix%n_global >= 1) call MPI_Comm_free(matrix%graph)
-    matrix = empty
-  end subroutine dist_csr_free
-
-  !> y = A x on this rank's rows (x and y: this rank's block). Collective: one
-  !> halo exchange, then the local rows, each summed in a fixed order.
-  subroutine dist_csr_apply(matrix, x, y)
-    type(dist_csr_type), intent(inout) :: matrix
-    !> This rank's entries of x (n_local).
+  !> The halo entries of a vector: `x` this rank's block, `x_halo` (n_halo)
+  !> the entries it reads from other ranks. Collective over the pattern's graph.
+  subroutine dist_halo_exchange(pattern, x, x_halo)
+    type(dist_halo_type), intent(inout) :: pattern
     real(dp), intent(in) :: x(:)
-    !> This rank's entries of A x (n_local).
-    real(dp), intent(out) :: y(:)
-    integer :: i
-    integer(i8) :: p
-    real(dp) :: s
-    associate (n => matrix%n_local)
-      matrix%x_ext(1:n) = x(1:n)
-      matrix%send_buffer = x(matrix%send_index)
-      call MPI_Neighbor_alltoallv(matrix%send_buffer, matrix%send_count, matrix%send_displ, &
-        MPI_DOUBLE_PRECISION, matrix%x_ext(n + 1:), matrix%recv_count, matrix%recv_displ, &
-        MPI_DOUBLE_PRECISION, matrix%graph)
-      do i = 1, n
-        s = 0.0_dp
-        do p = matrix%row_start(i), matrix%row_start(i + 1) - 1
-          s = s + matrix%val(p)*matrix%x_ext(matrix%col(p))
-        end do
-        y(i) = s
-      end do
-    end associate
-  end subroutine dist_csr_apply
+    real(dp), intent(inout) :: x_halo(:)
+    pattern%send_buffer = x(pattern%send_index)
+    call MPI_Neighbor_alltoallv(pattern%send_buffer, pattern%send_count, pattern%send_displ, &
+      MPI_DOUBLE_PRECISION, x_halo, pattern%recv_count, pattern%recv_displ, &
+      MPI_DOUBLE_PRECISION, pattern%graph)
+  end subroutine dist_halo_exchange
+
+  !> Release a halo pattern's graph communicator. Collective.
+  subroutine dist_halo_free(pattern)
+    type(dist_halo_type), intent(inout) :: pattern
+    call MPI_Comm_free(pattern%graph)
+  end subroutine dist_halo_free
 
   !> Gershgorin's bound of the largest eigenvalue: the largest row sum of |A|
   !> over all ranks (an MPI maximum). Collective; the matrix must come from a
@@ -261,7 +339,7 @@ contains
     do i = 1, matrix%n_local
       bound = max(bound, sum(abs(matrix%val(matrix%row_start(i):matrix%row_start(i + 1) - 1))))
     end do
-    call MPI_Allreduce(MPI_IN_PLACE, bound, 1, MPI_DOUBLE_PRECISION, MPI_MAX, matrix%graph)
+    call MPI_Allreduce(MPI_IN_PLACE, bound, 1, MPI_DOUBLE_PRECISION, MPI_MAX, matrix%comm)
   end subroutine dist_gershgorin_bound
 
   !> Collatz-Wielandt's bound of the largest eigenvalue: lambda_max(A) <=
@@ -290,7 +368,7 @@ contains
         *epsilon(1.0_dp))
       ! the largest quotient and the largest entry, over all ranks
       q = [maxval(r/v), maxval(r)]
-      call MPI_Allreduce(MPI_IN_PLACE, q, 2, MPI_DOUBLE_PRECISION, MPI_MAX, matrix%graph)
+      call MPI_Allreduce(MPI_IN_PLACE, q, 2, MPI_DOUBLE_PRECISION, MPI_MAX, matrix%comm)
       bound = min(bound, q(1))
       if (.not. q(2) > 0.0_dp) exit
       v = max(r/q(2), 1.0e-3_dp)
@@ -305,9 +383,9 @@ contains
     bytes = (storage_size(matrix%row_start, i8)*size(matrix%row_start, kind=i8) &
       + storage_size(matrix%col, i8)*size(matrix%col, kind=i8) &
       + storage_size(matrix%val, i8)*size(matrix%val, kind=i8) &
-      + storage_size(matrix%send_index, i8)*size(matrix%send_index, kind=i8) &
+      + storage_size(matrix%halo%send_index, i8)*size(matrix%halo%send_index, kind=i8) &
       + storage_size(matrix%x_ext, i8)*size(matrix%x_ext, kind=i8) &
-      + storage_size(matrix%send_buffer, i8)*size(matrix%send_buffer, kind=i8))/8_i8
+      + storage_size(matrix%halo%send_buffer, i8)*size(matrix%halo%send_buffer, kind=i8))/8_i8
   end function dist_csr_bytes
 
   !> This rank's block of `lanczos_start_vector`'s global vector (entered at
@@ -327,7 +405,7 @@ contains
   !> result is the same on every rank.
   subroutine parallel_lanczos_largest(matrix, result, status, eigenvector, tolerance, ncv, &
       nev, max_restarts, progress, start, certify, lower_bound)
-    type(dist_csr_type), intent(inout), target :: matrix
+    class(dist_operator_type), intent(inout), target :: matrix
     type(eigen_result_type), intent(out) :: result
     type(demstep_status_type), intent(out) :: status
     !> This rank's block of the unit eigenvector (n_local).
@@ -354,7 +432,7 @@ contains
     if (present(eigenvector)) eigenvector = 0.0_dp
     if (matrix%n_global < 1) then
       call set_status(status, demstep_stat%invalid_input, "parallel_lanczos_largest: " &
-        //"matrix: not built by dist_csr_create")
+        //"matrix: not built (no rows)")
       return
     end if
     space%matrix => matrix
@@ -379,7 +457,7 @@ contains
     class(dist_space_type), intent(inout) :: space
     real(dp), intent(in) :: x(:)
     real(dp), intent(out) :: y(:)
-    call dist_csr_apply(space%matrix, x, y)
+    call space%matrix%apply(x, y)
   end subroutine dist_product
 
   !> x.y over all ranks: compensated local sums, then an MPI sum of the
@@ -390,7 +468,7 @@ contains
     real(dp) :: s
     real(dp) :: pair(2)
     pair = accurate_dot_parts(x, y)
-    call MPI_Allreduce(MPI_IN_PLACE, pair, 2, MPI_DOUBLE_PRECISION, MPI_SUM, space%matrix%graph)
+    call MPI_Allreduce(MPI_IN_PLACE, pair, 2, MPI_DOUBLE_PRECISION, MPI_SUM, space%matrix%comm)
     s = pair(1) + pair(2)
   end function dist_dot
 
@@ -399,7 +477,7 @@ contains
     logical, intent(in) :: condition
     logical :: held
     held = condition
-    call MPI_Allreduce(MPI_IN_PLACE, held, 1, MPI_LOGICAL, MPI_LAND, space%matrix%graph)
+    call MPI_Allreduce(MPI_IN_PLACE, held, 1, MPI_LOGICAL, MPI_LAND, space%matrix%comm)
   end function dist_all
 
   subroutine dist_saupd(space, ido, nev, tol, resid, ncv, v, iparam, ipntr, workd, workl, info)
@@ -409,7 +487,7 @@ contains
     real(dp), intent(inout) :: tol
     real(dp), intent(inout) :: resid(:), v(:, :), workd(:), workl(:)
     integer, intent(inout) :: iparam(:), ipntr(:), info
-    call pdsaupd(space%matrix%graph%MPI_VAL, ido, "I", space%n_local, "LA", nev, tol, resid, &
+    call pdsaupd(space%matrix%comm%MPI_VAL, ido, "I", space%n_local, "LA", nev, tol, resid, &
       ncv, v, space%n_local, iparam, ipntr, workd, workl, size(workl), info)
   end subroutine dist_saupd
 
@@ -425,7 +503,7 @@ contains
     real(dp), intent(inout) :: resid(:), v(:, :), workd(:), workl(:)
     integer, intent(inout) :: iparam(:), ipntr(:)
     integer, intent(out) :: info
-    call pdseupd(space%matrix%graph%MPI_VAL, rvec, "A", select, d, z, space%n_local, 0.0_dp, &
+    call pdseupd(space%matrix%comm%MPI_VAL, rvec, "A", select, d, z, space%n_local, 0.0_dp, &
       "I", space%n_local, "LA", nev, tol, resid, ncv, v, space%n_local, iparam, ipntr, workd, &
       workl, size(workl), info)
   end subroutine dist_seupd
@@ -443,59 +521,5 @@ contains
     type(demstep_status_type) :: status
     status = pdseupd_status(info)
   end function dist_seupd_status
-
-  !> Ascending heap sort, in place (O(n log n), no extra memory).
-  pure subroutine heap_sort(a)
-    integer, intent(inout) :: a(:)
-    integer :: n, i, t
-    n = size(a)
-    do i = n/2, 1, -1
-      call sift(a, i, n)
-    end do
-    do i = n, 2, -1
-      t = a(1)
-      a(1) = a(i)
-      a(i) = t
-      call sift(a, 1, i - 1)
-    end do
-  end subroutine heap_sort
-
-  !> Move a(start) down the heap a(start:last) to its place.
-  pure subroutine sift(a, start, last)
-      integer, intent(inout) :: a(:)
-      integer, intent(in) :: start, last
-      integer :: root, child, tmp
-      root = start
-      do
-        child = 2*root
-        if (child > last) exit
-        if (child < last) then
-          if (a(child + 1) > a(child)) child = child + 1
-        end if
-        if (a(root) >= a(child)) exit
-        tmp = a(root)
-        a(root) = a(child)
-        a(child) = tmp
-        root = child
-      end do
-  end subroutine sift
-
-  !> Index of `value` in the ascending array `a` (which holds it), by bisection.
-  pure function position(a, value) result(i)
-    integer, intent(in) :: a(:), value
-    integer :: i
-    integer :: lo, hi
-    lo = 1
-    hi = size(a)
-    do while (lo < hi)
-      i = (lo + hi)/2
-      if (a(i) < value) then
-        lo = i + 1
-      else
-        hi = i
-      end if
-    end do
-    i = lo
-  end function position
 
 end module demstep_mpi_lanczos

@@ -3,7 +3,8 @@
 !>
 !> Input. Every rank holds the whole scene (replicated input) and builds the
 !> matrix-free operator from it (`assembly_operator`: O(particles + springs)
-!> per rank). What grows with the work is distributed: each rank assembles only
+!> per rank). For a scene read in parts, each rank holding only its own
+!> particles and their contacts, see `demstep_mpi_dist_scene`. What grows with the work is distributed: each rank assembles only
 !> the rows of its own bodies (`assembly_matrix_rows`), and holds only its block
 !> of every Lanczos vector and its halo.
 !>
@@ -231,7 +232,7 @@ contains
       allocate(y(size(vec)))
       call dist_csr_apply(matrix, vec, y)
       vb = sum(vec*y)
-      call MPI_Allreduce(MPI_IN_PLACE, vb, 1, MPI_DOUBLE_PRECISION, MPI_SUM, matrix%graph)
+      call MPI_Allreduce(MPI_IN_PLACE, vb, 1, MPI_DOUBLE_PRECISION, MPI_SUM, matrix%comm)
       call damped_newton(problem, lam, vb, rate, tol, result, status, progress)
       matrix%val = problem%a_val
     end subroutine exact_damped
@@ -382,7 +383,7 @@ contains
     result%eigen_restarts = result%eigen_restarts + lanczos%iterations
     result%damped_solves = result%damped_solves + 1
     has_mode = any(problem%vec /= 0.0_dp)
-    call MPI_Allreduce(MPI_IN_PLACE, has_mode, 1, MPI_LOGICAL, MPI_LOR, problem%matrix%graph)
+    call MPI_Allreduce(MPI_IN_PLACE, has_mode, 1, MPI_LOGICAL, MPI_LOR, problem%matrix%comm)
     if (status%stat == demstep_stat%not_converged) status%stat = demstep_stat%ok
     if (status%stat /= demstep_stat%ok) return
     theta = lanczos%eigenvalue
@@ -392,7 +393,7 @@ contains
     allocate(y(size(problem%vec)))
     call dist_csr_apply(problem%matrix, problem%vec, y)
     va = sum(problem%vec*y)
-    call MPI_Allreduce(MPI_IN_PLACE, va, 1, MPI_DOUBLE_PRECISION, MPI_SUM, problem%matrix%graph)
+    call MPI_Allreduce(MPI_IN_PLACE, va, 1, MPI_DOUBLE_PRECISION, MPI_SUM, problem%matrix%comm)
   end subroutine mpi_damped_top
 
 end module demstep_mpi_scene

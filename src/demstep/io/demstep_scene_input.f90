@@ -33,7 +33,8 @@ module demstep_scene_input
   implicit none
   private
 
-  public :: scene_from_input, scene_input_own_stiffness, scene_input_takes_material
+  public :: scene_from_input, scene_input_own_stiffness, scene_input_takes_material, particle_columns, &
+    particles_from_rows, scene_input_effects, scene_input_damping
 
   !> The parts of a scene's input a fault can lie in.
   type, public :: scene_input_part_enum
@@ -44,6 +45,10 @@ module demstep_scene_input
   end type scene_input_part_enum
   !> The parts by name.
   type(scene_input_part_enum), parameter, public :: scene_input_part = scene_input_part_enum()
+
+  !> The column counts a contacts table may have: i j k_n k_t [k_r k_w [c_n
+  !> c_t c_r c_w]] (the particle numbers are columns 1 and 2).
+  integer, parameter, public :: contact_columns(3) = [4, 6, 10]
 
   !> Most particle types of a snapshot (per-type tables are nt x nt).
   integer, parameter, public :: max_snapshot_types = 1000
@@ -165,7 +170,7 @@ contains
     type(demstep_status_type), intent(out) :: status
     integer, intent(out) :: part
     real(dp), allocatable :: x(:, :), v(:, :), m(:), r(:), inertia(:), contact_k(:, :), kk(:, :, :)
-    real(dp) :: law_values(2), k_tangential, damping_ratio
+    real(dp) :: law_values(2), k_tangential
     integer, allocatable :: contact_pairs(:, :), contact_lines(:), pairs(:, :), ptypes(:)
     logical, allocatable :: is_fixed(:)
     logical :: periodic(3), typed, law_given, search, in_set, effects(n_effects)
@@ -321,17 +326,8 @@ contains
     end if
 
     ! effects
-    if (allocated(input%effects)) then
-      scene%effects = .false.
-      do i = 1, size(input%effects)
-        if (input%effects(i) < 1 .or. input%effects(i) > n_effects) then
-          call fail("effects", "element "//int_text(i)//": "//int_text(input%effects(i))// &
-            " is not an effect (1 to "//int_text(n_effects)//")")
-          return
-        end if
-        scene%effects(input%effects(i)) = .true.
-      end do
-    end if
+    call scene_input_effects(input, scene, status)
+    if (status%stat /= demstep_stat%ok) return
     ! per-type materials: the types array, or a snapshot's types with per-type stiffness
     typed = allocated(input%types) .or. (allocated(input%snapshot_file) .and. (setup%from_material .or. &
       given_real(input%type_k_normal) .or. given_real(input%young)))
@@ -417,30 +413,8 @@ contains
       end if
       if (status%stat /= demstep_stat%ok) return
     end if
-    if (scene%effects(scene_effect%damping) .and. (allocated(input%damping_ratio) .or. &
-        allocated(input%restitution) .or. .not. allocated(scene%pair_damping))) then
-      ! (a code's material set gives its own dashpots: nothing more is needed)
-      if (.not. (allocated(input%damping_ratio) .or. allocated(input%restitution))) then
-        call fail("damping_ratio", "the 'damping' effect needs damping_ratio or restitution (one)")
-        return
-      end if
-      damping_ratio = value_or_zero(input%damping_ratio)
-      if (allocated(input%restitution)) then
-        call check_lower(input%restitution, "restitution", status)
-        if (status%stat == demstep_stat%ok .and. input%restitution > 1.0_dp) call fail("restitution", &
-          "must be in (0, 1], got "//real_text(input%restitution, 10))
-        if (status%stat /= demstep_stat%ok) return
-        damping_ratio = restitution_to_damping_ratio(input%restitution)
-      end if
-      call scene_set_damping(scene, damping_ratio, status, tangential=value_or(input%damping_ratio_tangential, &
-        damping_ratio), rolling=value_or_zero(input%damping_ratio_rolling), drag=value_or_zero(input%drag))
-      if (status%stat /= demstep_stat%ok) return
-    else if (allocated(input%damping_ratio_tangential) .or. allocated(input%damping_ratio_rolling) .or. &
-        allocated(input%drag)) then
-      call fail("effects", "dashpots (damping_ratio_tangential, damping_ratio_rolling, drag) need " &
-        //"the 'damping' effect")
-      return
-    end if
+    call scene_input_damping(input, scene, status)
+    if (status%stat /= demstep_stat%ok) return
     if (setup%from_material .and. .not. (allocated(input%effects) .or. allocated(input%damping_ratio) .or. &
         allocated(input%restitution))) then
       ! the code damps its contacts to the set's restitution (unless its
@@ -574,6 +548,64 @@ contains
 
   end subroutine scene_from_input
 
+  !> The effects an input lists (when it lists them) switched on in the
+  !> scene, all others off. Status invalid_input naming `effects`.
+  pure subroutine scene_input_effects(input, scene, status)
+    type(scene_input_type), intent(in) :: input
+    type(scene_type), intent(inout) :: scene
+    type(demstep_status_type), intent(out) :: status
+    integer :: i
+    status%stat = demstep_stat%ok
+    if (.not. allocated(input%effects)) return
+    scene%effects = .false.
+    do i = 1, size(input%effects)
+      if (input%effects(i) < 1 .or. input%effects(i) > n_effects) then
+        call set_status(status, demstep_stat%invalid_input, "element "//int_text(i)//": "// &
+          int_text(input%effects(i))//" is not an effect (1 to "//int_text(n_effects)//")", where="effects")
+        return
+      end if
+      scene%effects(input%effects(i)) = .true.
+    end do
+  end subroutine scene_input_effects
+
+  !> The input's dashpots on the scene: with the 'damping' effect, the
+  !> damping ratio (or the restitution giving it), tangential, rolling and
+  !> drag (unless a material set gave the scene its own and the input gives
+  !> no ratio); without it, none may be given. Status invalid_input naming
+  !> the variable.
+  subroutine scene_input_damping(input, scene, status)
+    type(scene_input_type), intent(in) :: input
+    type(scene_type), intent(inout) :: scene
+    type(demstep_status_type), intent(out) :: status
+    real(dp) :: damping_ratio
+    status%stat = demstep_stat%ok
+    if (scene%effects(scene_effect%damping) .and. (allocated(input%damping_ratio) .or. &
+        allocated(input%restitution) .or. .not. allocated(scene%pair_damping))) then
+      ! (a code's material set gives its own dashpots: nothing more is needed)
+      if (.not. (allocated(input%damping_ratio) .or. allocated(input%restitution))) then
+        call set_status(status, demstep_stat%invalid_input, "the 'damping' effect needs damping_ratio " &
+          //"or restitution (one)", where="damping_ratio")
+        return
+      end if
+      damping_ratio = value_or_zero(input%damping_ratio)
+      if (allocated(input%restitution)) then
+        call check_lower(input%restitution, "restitution", status)
+        if (status%stat == demstep_stat%ok .and. input%restitution > 1.0_dp) call set_status(status, &
+          demstep_stat%invalid_input, "must be in (0, 1], got "//real_text(input%restitution, 10), where="restitution")
+        if (status%stat /= demstep_stat%ok) return
+        damping_ratio = restitution_to_damping_ratio(input%restitution)
+      end if
+      call scene_set_damping(scene, damping_ratio, status, tangential=value_or(input%damping_ratio_tangential, &
+        damping_ratio), rolling=value_or_zero(input%damping_ratio_rolling), drag=value_or_zero(input%drag))
+      if (status%stat /= demstep_stat%ok) return
+    else if (allocated(input%damping_ratio_tangential) .or. allocated(input%damping_ratio_rolling) .or. &
+        allocated(input%drag)) then
+      call set_status(status, demstep_stat%invalid_input, "dashpots (damping_ratio_tangential, " &
+        //"damping_ratio_rolling, drag) need the 'damping' effect", where="effects")
+      return
+    end if
+  end subroutine scene_input_damping
+
   !> A snapshot's particles as the scene's arrays: masses from the file, else
   !> from the material set's densities per type (the set broadcast to the
   !> file's types when it gives one material for all).
@@ -656,12 +688,40 @@ contains
     logical, allocatable, intent(out) :: fixed(:)
     type(demstep_status_type), intent(out) :: status
     real(dp), allocatable :: rows(:, :)
-    integer :: ncol, bad
     integer, allocatable :: lines(:)
-    ncol = 2*dim + 3
     ! an optional last column: the moment of inertia
-    call read_table(path, [ncol, ncol + 1], rows, status, lines=lines)
+    call read_table(path, particle_columns(dim), rows, status, lines=lines)
     if (status%stat /= demstep_stat%ok) return
+    call particles_from_rows(path, dim, rows, lines, x, v, m, r, fixed, inertia, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (size(m) == 0) call set_status(status, demstep_stat%invalid_input, path//": no particles")
+  end subroutine read_particles
+
+  !> The column counts a particles table may have in `dim` dimensions:
+  !> 2 dim + 3, or one more with the moment of inertia.
+  pure function particle_columns(dim) result(allowed)
+    integer, intent(in) :: dim
+    integer :: allowed(2)
+    allowed = [2*dim + 3, 2*dim + 4]
+  end function particle_columns
+
+  !> A particles table's rows (all of them, or a part read elsewhere) as the
+  !> scene's arrays; status invalid_input naming `path` and the line of the
+  !> first row whose fixed column is not 0 or 1 (`fault_line`, 0 if none).
+  pure subroutine particles_from_rows(path, dim, rows, lines, x, v, m, r, fixed, inertia, status, fault_line)
+    !> The file's name, for messages.
+    character(len=*), intent(in) :: path
+    integer, intent(in) :: dim
+    !> The rows (`particle_columns(dim)` numbers each) and their file lines.
+    real(dp), intent(in) :: rows(:, :)
+    integer, intent(in) :: lines(:)
+    real(dp), allocatable, intent(out) :: x(:, :), v(:, :), m(:), r(:), inertia(:)
+    logical, allocatable, intent(out) :: fixed(:)
+    type(demstep_status_type), intent(out) :: status
+    integer, intent(out), optional :: fault_line
+    integer :: ncol, bad
+    ncol = 2*dim + 3
+    if (present(fault_line)) fault_line = 0
     x = rows(1:dim, :)
     v = rows(dim+1:2*dim, :)
     m = rows(2*dim+1, :)
@@ -672,10 +732,11 @@ contains
     if (bad > 0) then
       call set_status(status, demstep_stat%invalid_input, path//": line "//int_text(lines(bad))// &
         ": column "//int_text(2*dim + 3)//": the fixed column must be 0 or 1")
+      if (present(fault_line)) fault_line = lines(bad)
       return
     end if
-    if (size(m) == 0) call set_status(status, demstep_stat%invalid_input, path//": no particles")
-  end subroutine read_particles
+    status%stat = demstep_stat%ok
+  end subroutine particles_from_rows
 
   !> A bonds table: two particle numbers per row.
   subroutine read_bonds(path, pairs, status)
@@ -696,7 +757,7 @@ contains
     real(dp), allocatable, intent(out) :: k(:, :)
     type(demstep_status_type), intent(out) :: status
     real(dp), allocatable :: rows(:, :)
-    call read_table(path, [4, 6, 10], rows, status, lines=lines, index_columns=[1, 2])
+    call read_table(path, contact_columns, rows, status, lines=lines, index_columns=[1, 2])
     if (status%stat /= demstep_stat%ok) return
     pairs = nint(rows(1:2, :))
     k = rows(3:, :)

@@ -31,7 +31,7 @@ module demstep_table_io
   implicit none
   private
 
-  public :: read_table
+  public :: read_table, table_scan, table_rows
 
   !> Read a table of numbers: `rows(:, k)` is the k-th row.
   interface read_table
@@ -46,6 +46,16 @@ module demstep_table_io
   !> Byte classes: a separator, a character of a number, anything else.
   integer, parameter :: other_byte = 0, separator_byte = 1, number_byte = 2
   integer, parameter :: lf = 10, cr = 13
+
+  !> What pass 1 (`table_scan`) found in a table's text: each row's first and
+  !> last character (comment cut) and file line, the layout (numbers per row,
+  !> 0 when no row has an allowed count) and the line that set it, and the
+  !> lines scanned (the offset included).
+  type, public :: table_scan_type
+    integer :: n_rows = 0, ncol = 0, first_line = 0, n_lines = 0
+    integer(i8), allocatable :: row_first(:), row_last(:)
+    integer, allocatable :: row_line(:)
+  end type table_scan_type
 
 contains
 
@@ -86,13 +96,8 @@ contains
     !> Columns of particle numbers: integers in [1, huge(1)].
     integer, intent(in), optional :: index_columns(:)
     character(len=:), allocatable :: text
-    real(dp), allocatable :: values(:)
-    integer(i8), allocatable :: row_first(:), row_last(:), field_first(:), field_last(:)
-    integer, allocatable :: row_line(:)
-    integer(i8) :: first, last, next, comment, control
-    integer(i8) :: number
-    integer :: line, n, n_rows, count, ncol, first_line, c, j
-    logical :: exists, whole, too_large, blank
+    type(table_scan_type) :: scan
+    logical :: exists
     inquire(file=path, exist=exists)
     if (.not. exists) then
       call set_status(status, demstep_stat%io_error, path//": no such file")
@@ -110,59 +115,123 @@ contains
     ! a size of 0: an empty file, or a device or pipe whose size is not known
     if (len(text) == 0) call read_by_records(path, text, status)
     if (status%stat /= demstep_stat%ok) return
+    call table_scan(text, path, allowed, scan, status)
+    if (status%stat /= demstep_stat%ok) return
+    call table_rows(text, path, allowed, scan, rows, status, lines, index_columns)
+  end subroutine read_table_allowed
+
+  !> Pass 1 of reading a table held in `text` (a whole file, or a part of one
+  !> that starts at a line's start and ends at a line's end): the text
+  !> checked (no control character, no line longer than `table_max_line`),
+  !> its rows found (extent without the comment, file line) and the layout
+  !> (the first row of an allowed count whose numbers read; the widest
+  !> layout for no rows). Status invalid_input naming `name` and the line.
+  pure subroutine table_scan(text, name, allowed, scan, status, line_offset, fault_line)
+    !> The text.
+    character(len=*), intent(in) :: text
+    !> The file's name, for messages.
+    character(len=*), intent(in) :: name
+    !> The column counts a row may have (each >= 1).
+    integer, intent(in) :: allowed(:)
+    type(table_scan_type), intent(out) :: scan
+    type(demstep_status_type), intent(out) :: status
+    !> Lines of the file before `text` (default 0).
+    integer, intent(in), optional :: line_offset
+    !> The line refused (0: none).
+    integer, intent(out), optional :: fault_line
+    real(dp), allocatable :: values(:)
+    integer(i8), allocatable :: field_first(:), field_last(:)
+    integer(i8) :: first, last, next, comment, control
+    integer :: line, count
+    logical :: blank
     allocate(values(maxval(allowed)), field_first(maxval(allowed)), field_last(maxval(allowed)))
-    ! pass 1: the text checked (no control character, no endless line), the
-    ! rows found (their extent without the comment, and their line), the layout
-    allocate(row_first(1024), row_last(1024), row_line(1024))
-    n_rows = 0
-    ncol = 0
-    first_line = 0
+    if (present(fault_line)) fault_line = 0
+    allocate(scan%row_first(1024), scan%row_last(1024), scan%row_line(1024))
+    scan%n_rows = 0
+    scan%ncol = 0
+    scan%first_line = 0
     line = 0
+    if (present(line_offset)) line = line_offset
     next = 1
     do while (next <= len(text, i8))
       call next_line(text, next, first, last, comment, control, blank)
       if (line == huge(line)) then
-        call set_status(status, demstep_stat%invalid_input, path//": more than "//int_text(huge(line))//" lines")
+        call set_status(status, demstep_stat%invalid_input, name//": more than "//int_text(huge(line))//" lines")
         return
       end if
       line = line + 1
       if (control > 0) then
-        call set_status(status, demstep_stat%invalid_input, path//": line "//int_text(line)//": not a text " &
+        call set_status(status, demstep_stat%invalid_input, name//": line "//int_text(line)//": not a text " &
           //"file (byte "//int_text(iachar(text(first+control-1:first+control-1)))//" in column "// &
           int_text(control)//")")
+        if (present(fault_line)) fault_line = line
         return
       end if
       if (last - first + 1 > table_max_line) then
-        call set_status(status, demstep_stat%invalid_input, path//": line "//int_text(line)//": longer than " &
+        call set_status(status, demstep_stat%invalid_input, name//": line "//int_text(line)//": longer than " &
           //int_text(table_max_line)//" characters")
+        if (present(fault_line)) fault_line = line
         return
       end if
       ! blank: spaces only (a tab or a comma makes a row without numbers)
       if (blank) cycle
-      if (n_rows == size(row_first)) call grow_rows(row_first, row_last, row_line)
-      n_rows = n_rows + 1
-      row_first(n_rows) = first
-      row_last(n_rows) = first + comment - 2
-      row_line(n_rows) = line
+      if (scan%n_rows == size(scan%row_first)) call grow_rows(scan%row_first, scan%row_last, scan%row_line)
+      scan%n_rows = scan%n_rows + 1
+      scan%row_first(scan%n_rows) = first
+      scan%row_last(scan%n_rows) = first + comment - 2
+      scan%row_line(scan%n_rows) = line
       ! the layout: the first row of an allowed count whose numbers read
-      if (ncol == 0) then
+      if (scan%ncol == 0) then
         call parse_row(text(first:first+comment-2), values, count, field_first, field_last)
         if (count >= 0 .and. any(allowed == count)) then
-          ncol = count
-          first_line = line
+          scan%ncol = count
+          scan%first_line = line
         end if
       end if
     end do
+    scan%n_lines = line
     ! an empty table has the widest layout; a table without a row of an
-    ! allowed count fails below, at its first row
-    if (n_rows == 0) ncol = maxval(allowed)
-    allocate(rows(ncol, n_rows))
-    if (present(lines)) lines = row_line(:n_rows)
-    ! pass 2: the rows converted and checked, in file order
-    do n = 1, n_rows
-      first = row_first(n)
-      last = row_last(n)
-      line = row_line(n)
+    ! allowed count fails in `table_rows`, at its first row
+    if (scan%n_rows == 0) scan%ncol = maxval(allowed)
+    status%stat = demstep_stat%ok
+  end subroutine table_scan
+
+  !> Pass 2 of reading a table: the rows `table_scan` found converted and
+  !> checked in file order against the layout `scan%ncol` (0: none found)
+  !> of line `scan%first_line` (a caller reading a file in parts may set the
+  !> whole file's). Status invalid_input naming `name` and the line.
+  subroutine table_rows(text, name, allowed, scan, rows, status, lines, index_columns, fault_line)
+    !> The text `scan` came from.
+    character(len=*), intent(in) :: text
+    !> The file's name, for messages.
+    character(len=*), intent(in) :: name
+    !> The column counts a row may have (each >= 1).
+    integer, intent(in) :: allowed(:)
+    type(table_scan_type), intent(in) :: scan
+    !> The rows, ncol by the number of rows.
+    real(dp), allocatable, intent(out) :: rows(:, :)
+    type(demstep_status_type), intent(out) :: status
+    !> The file line of each row.
+    integer, allocatable, intent(out), optional :: lines(:)
+    !> Columns of particle numbers: integers in [1, huge(1)].
+    integer, intent(in), optional :: index_columns(:)
+    !> The line refused (0: none).
+    integer, intent(out), optional :: fault_line
+    real(dp), allocatable :: values(:)
+    integer(i8), allocatable :: field_first(:), field_last(:)
+    integer(i8) :: first, last
+    integer(i8) :: number
+    integer :: line, n, count, ncol, c, j
+    logical :: whole, too_large
+    if (present(fault_line)) fault_line = 0
+    ncol = scan%ncol
+    allocate(values(maxval(allowed)), field_first(maxval(allowed)), field_last(maxval(allowed)))
+    allocate(rows(ncol, scan%n_rows))
+    if (present(lines)) lines = scan%row_line(:scan%n_rows)
+    do n = 1, scan%n_rows
+      first = scan%row_first(n)
+      last = scan%row_last(n)
+      line = scan%row_line(n)
       call parse_row(text(first:last), values, count, field_first, field_last)
       if (count >= 0 .and. count /= ncol) then
         if (ncol == 0) then
@@ -171,7 +240,7 @@ contains
             counts_text(allowed)//" numbers, found "//int_text(count))
         else if (any(allowed == count)) then
           call fail(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
-            int_text(ncol)//" numbers, found "//int_text(count)//" (line "//int_text(first_line) &
+            int_text(ncol)//" numbers, found "//int_text(count)//" (line "//int_text(scan%first_line) &
             //" has "//int_text(ncol)//"; every row the same)")
         else
           call fail(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
@@ -212,9 +281,10 @@ contains
     subroutine fail(stat, what)
       integer, intent(in) :: stat
       character(len=*), intent(in) :: what
-      call set_status(status, stat, path//": "//what)
+      call set_status(status, stat, name//": "//what)
+      if (present(fault_line)) fault_line = line
     end subroutine fail
-  end subroutine read_table_allowed
+  end subroutine table_rows
 
   !> A file whose size the system does not tell (a device such as /dev/zero, a
   !> pipe; or an empty file): read record by record in chunks of 1024

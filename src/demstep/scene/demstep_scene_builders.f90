@@ -36,7 +36,7 @@ contains
   !> more than `contact_limit` contacts. `search = .false.` skips the contact
   !> search behind the last three (for a caller that gives its own contact
   !> list with `scene_set_contacts`: only listed pairs are ever contacts).
-  subroutine new_scene(scene, dim, x, mass, radius, status, v, fixed, inertia, search)
+  subroutine new_scene(scene, dim, x, mass, radius, status, v, fixed, inertia, search, first_number)
     type(scene_type), intent(out) :: scene
     integer, intent(in) :: dim
     !> Positions (dim, n).
@@ -51,7 +51,10 @@ contains
     real(dp), intent(in), optional :: inertia(:)
     !> Search the contacts for the refusals above (default true).
     logical, intent(in), optional :: search
-    integer :: n, i
+    !> The number of particle 1 in messages and `status%index` (default 1:
+    !> a caller holding one part of a larger scene gives its first particle's).
+    integer, intent(in), optional :: first_number
+    integer :: n, i, k
     scene%gravity = 0.0_dp
     if (dim < 1 .or. dim > 3) then
       call set_status(status, demstep_stat%invalid_input, "must be 1, 2 or 3", where="dim")
@@ -64,35 +67,37 @@ contains
       return
     end if
     do i = 1, n
+      k = i
+      if (present(first_number)) k = first_number + i - 1
       if (.not. (ieee_is_finite(mass(i)) .and. mass(i) > 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(i)//": must be > 0", &
-          where="mass", index=int(i))
+        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(k)//": must be > 0", &
+          where="mass", index=k)
         return
       end if
       if (.not. ieee_is_finite(1.0_dp/mass(i))) then
-        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(i)//": must be " &
-          //"at least 5.6e-309 (1/mass must be finite)", where="mass", index=int(i))
+        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(k)//": must be " &
+          //"at least 5.6e-309 (1/mass must be finite)", where="mass", index=k)
         return
       end if
       if (.not. (ieee_is_finite(radius(i)) .and. radius(i) > 0.0_dp)) then
-        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(i)//": must be > 0", &
-          where="radius", index=int(i))
+        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(k)//": must be > 0", &
+          where="radius", index=k)
         return
       end if
       if (radius(i) > max_coordinate) then
-        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(i)//": must be " &
-          //"at most 1e150 (squared distances must be representable)", where="radius", index=int(i))
+        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(k)//": must be " &
+          //"at most 1e150 (squared distances must be representable)", where="radius", index=k)
         return
       end if
       if (.not. all(ieee_is_finite(x(:, i)))) then
-        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(i)//" is not finite", &
-          where="position", index=int(i))
+        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(k)//" is not finite", &
+          where="position", index=k)
         return
       end if
       if (any(abs(x(:, i)) > max_coordinate)) then
-        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(i)//": every " &
+        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(k)//": every " &
           //"coordinate must be within +-1e150 (squared distances must be representable)", &
-          where="position", index=int(i))
+          where="position", index=k)
         return
       end if
     end do
@@ -108,9 +113,11 @@ contains
         return
       end if
       do i = 1, n
+        k = i
+        if (present(first_number)) k = first_number + i - 1
         if (.not. (ieee_is_finite(inertia(i)) .and. inertia(i) > 0.0_dp)) then
-          call set_status(status, demstep_stat%invalid_input, "particle "//int_text(i)// &
-            ": must be > 0 and finite", where="inertia", index=int(i))
+          call set_status(status, demstep_stat%invalid_input, "particle "//int_text(k)// &
+            ": must be > 0 and finite", where="inertia", index=k)
           return
         end if
       end do

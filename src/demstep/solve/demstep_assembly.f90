@@ -60,7 +60,8 @@ module demstep_assembly
     assembly_operator_apply, assembly_matrix, assembly_matrix_rows, &
     assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_damped, &
     damped_lower_bound, dashpot_names, damped_newton, assembly_dashpot_bound, operator_from_springs, &
-    operator_critical_steps, operator_mix, assembly_set_springs, linearise
+    operator_critical_steps, operator_mix, assembly_set_springs, linearise, operator_abs_product, &
+    dof_masses
 
   !> Hertz linearisation at the current overlap, at an impact's largest
   !> overlap (`hertz_linearization%impact`), or at the larger of the two
@@ -1172,7 +1173,8 @@ contains
   !> particle fixed) or `position` (no free particle touches a spring).
   !> An operator built before keeps its arrays where their sizes still fit
   !> (a monitor rebuilds it every update and check).
-  subroutine operator_from_springs(dim, rotation, mass, inertia, radius, springs, geo, op, rate, status, fixed)
+  subroutine operator_from_springs(dim, rotation, mass, inertia, radius, springs, geo, op, rate, status, fixed, &
+      scales)
     integer, intent(in) :: dim
     logical, intent(in) :: rotation
     real(dp), intent(in) :: mass(:), inertia(:), radius(:)
@@ -1183,6 +1185,11 @@ contains
     real(dp), intent(out) :: rate
     type(demstep_status_type), intent(out) :: status
     logical, intent(in), optional :: fixed(:)
+    !> (k_scale, m_scale) to scale by instead of the springs' largest
+    !> stiffness and the bodies' smallest mass (`dof_masses`): a caller
+    !> holding one part of a scene gives the whole scene's; a part whose
+    !> springs touch no free body is then not refused.
+    real(dp), intent(in), optional :: scales(2)
     integer, allocatable :: body(:)
     real(dp), allocatable :: mdof(:, :)
     real(dp) :: k_scale, m_scale, c_scale
@@ -1208,9 +1215,7 @@ contains
       end if
       nfree = nfree + 1
       body(i) = nfree
-      mdof(1:3, i) = mass(i)
-      ! a rotation counts as r theta: its mass is I/r^2
-      mdof(4:6, i) = (inertia(i)/radius(i))/radius(i)
+      mdof(:, i) = dof_masses(mass(i), inertia(i), radius(i))
       m_scale = min(m_scale, minval(mdof(op%comp, i)))
     end do
     op%n_bodies = nfree
@@ -1220,6 +1225,7 @@ contains
         //"scene has no stiffness", where="fixed")
       return
     end if
+    if (present(scales)) m_scale = scales(2)
     mdof = mdof/m_scale
     touches = .false.
     do i = 1, size(springs)
@@ -1228,6 +1234,10 @@ contains
       touches = touches .or. body(springs(i)%b) > 0
       k_scale = max(k_scale, springs(i)%k(1), springs(i)%k(2))
     end do
+    if (present(scales)) then
+      k_scale = scales(1)
+      touches = .true.
+    end if
     if (.not. (touches .and. k_scale > 0.0_dp)) then
       call set_status(status, demstep_stat%invalid_input, "the scene has no stiffness: no free " &
         //"particle touches a bond, a contact or a wall", where="position")
@@ -1313,6 +1323,15 @@ contains
     rate = sqrt(k_scale)/sqrt(m_scale)
     status%stat = demstep_stat%ok
   end subroutine operator_from_springs
+
+  !> The masses of a body's six components (translations u(1:3), rotations
+  !> as r theta(4:6)): m, and I/r^2 for r theta.
+  pure function dof_masses(mass, inertia, radius) result(m)
+    real(dp), intent(in) :: mass, inertia, radius
+    real(dp) :: m(6)
+    m(1:3) = mass
+    m(4:6) = (inertia/radius)/radius
+  end function dof_masses
 
   !> a(m, lo:hi), reallocated only when its shape differs (contents undefined).
   pure subroutine fit_real2(a, m, lo, hi)

@@ -1,0 +1,898 @@
+!> A scene read and held in parts on MPI ranks (distributed input), and its
+!> critical time steps: no rank ever holds the whole particles or contacts
+!> table, nor the whole scene.
+!>
+!> Ownership. The particles are split into contiguous ranges of their file
+!> numbers, one per rank in rank order (balanced by count, or as the caller
+!> gives them); a contact belongs to the owner of its first particle. Each
+!> rank holds its own particles, every contact that touches one of them (the
+!> contacts of its own first, then those owned by others, each in file order)
+!> and the partners of those contacts it does not own (the halo), in a scene
+!> of its own: own particles first, then the halo in file order.
+!>
+!> Reading (`mpi_read_scene`). Each rank reads one byte range of each table
+!> (`read_table_part`), sends the particle rows to their owners and each
+!> contact row to the owners of its two particles (`MPI_Alltoallv`), then
+!> asks the owners of its halo particles for their rows. The checks are the
+!> serial `scene_from_input`'s, on each rank's part, in the same order; the
+!> refusal reported is the one the serial reader reports, the same on every
+!> rank (`agree_status`).
+!>
+!> The operator. The free bodies are numbered in file order (as the serial
+!> path numbers them), so each rank's own bodies are one block of rows. Each
+!> rank builds the serial matrix-free operator (`operator_from_springs`) of
+!> its part, scaled by the whole scene's largest stiffness and smallest mass
+!> (the serial scaling), and a product y = M^-1/2 K M^-1/2 x is one halo
+!> exchange of x (`dist_halo_exchange`) and the serial product on the part,
+!> of which the own rows are kept. PARPACK runs over the ranks that own free
+!> bodies (a rank without any waits and gets the result).
+!>
+!> Memory per rank: its particles and halo (the scene and the part's numbers:
+!> about 110 bytes each), its contacts (about 80 bytes each in the scene,
+!> 192 in the operator), each free body's operator arrays (about 210 bytes
+!> with 6 dof), the Lanczos vectors (about 43 of its rows) and, while
+!> reading, its byte ranges of the files and their rows.
+!> Measured (`mpi/example/mpi_files`): about 3.2 kB per own particle with 6
+!> dof and 3 contacts per particle, and about 20 MiB per rank besides.
+module demstep_mpi_dist_scene
+  use mpi_f08
+  use demstep_kinds, only: dp, i8
+  use demstep_status, only: demstep_status_type, demstep_stat, set_status, status_restate
+  use demstep_text, only: int_text
+  use demstep_progress, only: progress_type
+  use demstep_scene_data, only: scene_type, scene_effect, has_tangential, branch_vector
+  use demstep_scene_builders, only: new_scene, scene_set_cell, scene_set_contacts
+  use demstep_scene_input, only: scene_input_type, particle_columns, particles_from_rows, &
+    contact_columns, scene_input_effects, scene_input_damping
+  use demstep_interaction, only: dof_components
+  use demstep_neighbours, only: search_type, search_trouble
+  use demstep_assembly, only: assembly_operator_type, assembly_operator, assembly_operator_apply, &
+    assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_springs, &
+    critical_step_type, eigen_solver, scene_lanczos_ncv, scene_lanczos_restarts, bound_iterations, &
+    damped_problem_type, damped_newton, safe_basis, spring_block_type, linearise, &
+    operator_from_springs, operator_abs_product, operator_mix, dof_masses, hertz_linearization
+  use demstep_lanczos, only: eigen_result_type, lanczos_tolerance_default
+  use demstep_mpi_lanczos, only: dist_operator_type, dist_halo_type, dist_halo_create, &
+    dist_halo_exchange, dist_halo_free, parallel_lanczos_largest
+  use demstep_mpi_parts, only: read_table_part, agree_status, broadcast_status, no_fault, &
+    heap_sort, position
+  implicit none
+  private
+
+  public :: mpi_read_scene, mpi_part_critical_steps, mpi_files_critical_steps, dist_scene_bytes
+
+  !> This rank's part of a scene read in parts.
+  type, public :: dist_scene_part_type
+    !> Particles of the whole scene, and the file number of this rank's first.
+    integer :: n_particles = 0, first_particle = 1
+    !> Own particles: the first n_own of the part's scene; the halo follows.
+    integer :: n_own = 0
+    !> The part: own particles, halo, the contacts touching own particles.
+    type(scene_type) :: scene
+    !> File number of each of the part's particles; free-body number of each
+    !> (file order over the whole scene; 0: fixed).
+    integer, allocatable :: global(:), body(:)
+    !> Row of each of the part's contacts in the contacts file (1-based).
+    integer, allocatable :: contact_row(:)
+  end type dist_scene_part_type
+
+  !> The distributed operator A' = M'^-1/2 K' M'^-1/2 of a part: the serial
+  !> operator of the part (own bodies first) and the halo exchange.
+  type, extends(dist_operator_type) :: dist_scene_operator_type
+    type(assembly_operator_type) :: op
+    type(dist_halo_type) :: halo
+    real(dp), allocatable :: x_ext(:), y_ext(:)
+  contains
+    procedure :: apply => scene_operator_apply
+  end type dist_scene_operator_type
+
+  !> The distributed damped-limit problem: the operator mixed per tau.
+  type, extends(damped_problem_type) :: part_damped_type
+    type(dist_scene_operator_type), pointer :: dop => null()
+    real(dp), allocatable :: vec(:)
+  contains
+    procedure :: top => part_damped_top
+  end type part_damped_type
+
+contains
+
+  !> Read the scene an input describes in parts (see the module's notes):
+  !> `particles_file` and `contacts_file` (both required), `dim`, the
+  !> periodic cell, `effects` and the dashpots. Collective; the same status
+  !> on every rank: the serial reader's (`scene_from_input`) for the same
+  !> input, or invalid_input naming an input component the distributed
+  !> reader does not read, or `owned`.
+  subroutine mpi_read_scene(comm, input, part, status, owned)
+    type(MPI_Comm), intent(in) :: comm
+    type(scene_input_type), intent(in) :: input
+    type(dist_scene_part_type), intent(out) :: part
+    type(demstep_status_type), intent(out) :: status
+    !> Particles owned by each rank (rank order, summing to the particles
+    !> read); default: as equal as can be.
+    integer, intent(in), optional :: owned(:)
+    type(scene_type) :: probe
+    type(demstep_status_type) :: st
+    real(dp), allocatable :: rows(:, :), own_rows(:, :), halo_rows(:, :), x(:, :), v(:, :), m(:), &
+      r(:), inertia(:), contacts(:, :), mine(:, :), buffer(:, :)
+    integer, allocatable :: lines(:), pairs(:, :), first_of(:), send_n(:), recv_n(:), &
+      send_at(:), recv_at(:), dest(:, :), partners(:), halo(:), asked(:), ask_n(:), ask_at(:), &
+      give_n(:), give_at(:), local_pairs(:, :), order(:), own_body(:)
+    logical, allocatable :: fixed(:)
+    logical :: periodic(3)
+    real(dp) :: cell_hi(3), rmax
+    integer(i8) :: row_offset, n_total, fault, c_offset, c_total
+    integer :: nranks, rank, dim, ncol, n, i, k, c, d, e, q, width, n_halo, first_body, n_free
+
+    call MPI_Comm_size(comm, nranks)
+    call MPI_Comm_rank(comm, rank)
+    dim = input%dim
+    if (dim < 1 .or. dim > 3) then
+      call set_status(status, demstep_stat%invalid_input, "must be 1, 2 or 3, got "//int_text(dim), &
+        where="dim")
+      return
+    end if
+    call check_supported(input, status)
+    if (status%stat /= demstep_stat%ok) return
+
+    ! the particles: this rank's rows of the file, checked
+    call read_table_part(comm, input%particles_file, particle_columns(dim), rows, lines, row_offset, &
+      n_total, status)
+    if (status%stat /= demstep_stat%ok) then
+      call status_restate(status, "particles_file", status%message)
+      return
+    end if
+    call particles_from_rows(input%particles_file, dim, rows, lines, x, v, m, r, fixed, inertia, &
+      status, fault_line=k)
+    call agree_status(comm, status, merge(no_fault, int(k, i8), status%stat == demstep_stat%ok))
+    if (status%stat /= demstep_stat%ok) then
+      call status_restate(status, "particles_file", status%message)
+      return
+    end if
+    deallocate(lines, x, v, m, r, fixed)
+    if (allocated(inertia)) deallocate(inertia)
+    if (n_total == 0) then
+      call set_status(status, demstep_stat%invalid_input, input%particles_file//": no particles", &
+        where="particles_file")
+      return
+    else if (n_total > huge(1)) then
+      call set_status(status, demstep_stat%invalid_input, input%particles_file//": more than " &
+        //int_text(huge(1))//" particles", where="particles_file")
+      return
+    end if
+    part%n_particles = int(n_total)
+    ! the ranges owned: first_of(r) .. first_of(r + 1) - 1
+    allocate(first_of(0:nranks))
+    if (present(owned)) then
+      if (size(owned) /= nranks .or. any(owned < 0) .or. sum(int(owned, i8)) /= n_total) then
+        call set_status(status, demstep_stat%invalid_input, "one count >= 0 per rank, summing to the " &
+          //int_text(n_total)//" particles read", where="owned")
+        return
+      end if
+      first_of(0) = 1
+      do d = 1, nranks
+        first_of(d) = first_of(d - 1) + owned(d)
+      end do
+    else
+      do d = 0, nranks
+        first_of(d) = int(int(d, i8)*n_total/nranks) + 1
+      end do
+    end if
+    part%first_particle = first_of(rank)
+    part%n_own = first_of(rank + 1) - first_of(rank)
+    ! rows to their owners: rows row_offset + 1 .. row_offset + size(rows, 2)
+    ncol = size(rows, 1)
+    allocate(send_n(0:nranks - 1), recv_n(0:nranks - 1), send_at(0:nranks - 1), recv_at(0:nranks - 1))
+    do d = 0, nranks - 1
+      send_n(d) = ncol*max(0, min(int(row_offset) + size(rows, 2), first_of(d + 1) - 1) &
+        - max(int(row_offset) + 1, first_of(d)) + 1)
+    end do
+    allocate(own_rows(ncol, part%n_own))
+    call exchange(rows, own_rows)
+    deallocate(rows)
+
+    ! the serial scene's checks of the own particles (numbered as in the file)
+    call part_arrays(own_rows)
+    if (allocated(inertia)) then
+      call new_scene(probe, dim, x, m, r, status, v=v, fixed=fixed, inertia=inertia, search=.false., &
+        first_number=part%first_particle)
+    else
+      call new_scene(probe, dim, x, m, r, status, v=v, fixed=fixed, search=.false., &
+        first_number=part%first_particle)
+    end if
+    fault = no_fault
+    if (status%stat /= demstep_stat%ok) then
+      select case (status%where)
+      case ("mass", "radius", "position")
+        fault = status%index
+      case ("inertia")
+        fault = n_total + status%index
+      case default
+        fault = 2*n_total + 1
+      end select
+    end if
+    call agree_status(comm, status, fault)
+    if (status%stat /= demstep_stat%ok) then
+      if (status%where == "inertia") call status_restate(status, "particles_file", &
+        input%particles_file//": "//status%message)
+      return
+    end if
+    rmax = 0.0_dp
+    if (part%n_own > 0) rmax = maxval(r)
+    call MPI_Allreduce(MPI_IN_PLACE, rmax, 1, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
+    n_free = count(.not. fixed)
+    first_body = 0
+    call MPI_Exscan(n_free, first_body, 1, MPI_INTEGER, MPI_SUM, comm)
+    if (rank == 0) first_body = 0
+    ! own free bodies: numbered after those of the ranks before, in file order
+    allocate(own_body(part%n_own), source=0)
+    n_free = first_body
+    do i = 1, part%n_own
+      if (fixed(i)) cycle
+      n_free = n_free + 1
+      own_body(i) = n_free
+    end do
+    deallocate(x, v, m, r, fixed)
+    if (allocated(inertia)) deallocate(inertia)
+
+    ! the periodic cell, checked as the serial path checks it (the longest
+    ! contact: the largest diameter of the whole scene)
+    periodic = .false.
+    cell_hi = 0.0_dp
+    if (allocated(input%periodic)) periodic(:size(input%periodic)) = input%periodic
+    if (allocated(input%cell_hi)) cell_hi(:size(input%cell_hi)) = input%cell_hi
+    if (any(periodic)) then
+      if (.not. allocated(input%cell_hi)) then
+        call set_status(status, demstep_stat%invalid_input, "required with periodic axes", where="cell_hi")
+        return
+      end if
+      call new_scene(probe, dim, reshape(spread(0.0_dp, 1, dim), [dim, 1]), [1.0_dp], [rmax], status, &
+        search=.false.)
+      if (status%stat == demstep_stat%ok) call scene_set_cell(probe, periodic, input%cell_lo, cell_hi, &
+        status, search=.false.)
+      if (status%stat /= demstep_stat%ok) return
+    end if
+
+    ! the contacts: this rank's rows of the file, checked as the serial
+    ! scene_set_contacts checks them (the particle numbers against the whole scene)
+    call read_table_part(comm, input%contacts_file, contact_columns, rows, lines, c_offset, c_total, &
+      status, index_columns=[1, 2])
+    if (status%stat /= demstep_stat%ok) then
+      call status_restate(status, "contacts_file", status%message)
+      return
+    end if
+    pairs = nint(rows(1:2, :))
+    probe%n = part%n_particles
+    call scene_set_contacts(probe, pairs, rows(3:, :), st)
+    deallocate(probe%contact_pairs, probe%contact_k)
+    fault = no_fault
+    if (st%stat /= demstep_stat%ok) then
+      fault = 0
+      if (st%index > 0 .and. st%index <= size(lines)) then
+        fault = lines(st%index)
+        call status_restate(st, "contacts_file", input%contacts_file//": line "// &
+          int_text(lines(st%index))//": "//st%detail)
+      end if
+    end if
+    status = st
+    call agree_status(comm, status, fault)
+    if (status%stat /= demstep_stat%ok) then
+      if (status%where /= "contacts_file") call status_restate(status, "contacts_file", status%message)
+      return
+    end if
+    deallocate(lines)
+    ! each row to the owners of its two particles, with its file row first
+    width = size(rows, 1) + 1
+    allocate(dest(2, size(rows, 2)))
+    send_n = 0
+    do c = 1, size(rows, 2)
+      dest(1, c) = owner(pairs(1, c))
+      dest(2, c) = owner(pairs(2, c))
+      if (dest(2, c) == dest(1, c)) dest(2, c) = -1
+      do e = 1, 2
+        if (dest(e, c) >= 0) send_n(dest(e, c)) = send_n(dest(e, c)) + width
+      end do
+    end do
+    allocate(mine(width, sum(send_n)/width))
+    send_at(0) = 0
+    do d = 1, nranks - 1
+      send_at(d) = send_at(d - 1) + send_n(d - 1)/width
+    end do
+    do c = 1, size(rows, 2)
+      do e = 1, 2
+        d = dest(e, c)
+        if (d < 0) cycle
+        send_at(d) = send_at(d) + 1
+        mine(:, send_at(d)) = [real(c_offset + c, dp), rows(:, c)]
+      end do
+    end do
+    deallocate(rows, pairs, dest)
+    call MPI_Alltoall(send_n, 1, MPI_INTEGER, recv_n, 1, MPI_INTEGER, comm)
+    allocate(contacts(width, sum(recv_n)/width))
+    call exchange(mine, contacts)
+    deallocate(mine)
+    ! own contacts first (the first particle is this rank's), each group in file order
+    allocate(local_pairs(2, size(contacts, 2)))
+    local_pairs = nint(contacts(2:3, :))
+    order = [(c, c = 1, size(contacts, 2))]
+    order = [pack(order, is_own(local_pairs(1, :))), pack(order, .not. is_own(local_pairs(1, :)))]
+    contacts = contacts(:, order)
+    local_pairs = local_pairs(:, order)
+    deallocate(order)
+
+    ! the halo: the partners this rank does not own, in file order
+    allocate(partners(2*size(local_pairs, 2)))
+    n = 0
+    do c = 1, size(local_pairs, 2)
+      do e = 1, 2
+        if (is_own(local_pairs(e, c))) cycle
+        n = n + 1
+        partners(n) = local_pairs(e, c)
+      end do
+    end do
+    partners = partners(:n)
+    call heap_sort(partners)
+    allocate(halo(n))
+    n_halo = 0
+    do i = 1, n
+      if (n_halo > 0) then
+        if (halo(n_halo) == partners(i)) cycle
+      end if
+      n_halo = n_halo + 1
+      halo(n_halo) = partners(i)
+    end do
+    halo = halo(:n_halo)
+    deallocate(partners)
+    ! ask their owners for their rows and free-body numbers
+    allocate(ask_n(0:nranks - 1), ask_at(0:nranks - 1), give_n(0:nranks - 1), give_at(0:nranks - 1))
+    ask_n = 0
+    do i = 1, n_halo
+      d = owner(halo(i))
+      ask_n(d) = ask_n(d) + 1
+    end do
+    call MPI_Alltoall(ask_n, 1, MPI_INTEGER, give_n, 1, MPI_INTEGER, comm)
+    ask_at(0) = 0
+    give_at(0) = 0
+    do d = 1, nranks - 1
+      ask_at(d) = ask_at(d - 1) + ask_n(d - 1)
+      give_at(d) = give_at(d - 1) + give_n(d - 1)
+    end do
+    allocate(asked(sum(give_n)))
+    call MPI_Alltoallv(halo, ask_n, ask_at, MPI_INTEGER, asked, give_n, give_at, MPI_INTEGER, comm)
+    allocate(buffer(ncol + 1, size(asked)))
+    do i = 1, size(asked)
+      q = asked(i) - part%first_particle + 1
+      buffer(:ncol, i) = own_rows(:, q)
+      buffer(ncol + 1, i) = real(body_number(q), dp)
+    end do
+    allocate(halo_rows(ncol + 1, n_halo))
+    send_n = give_n*(ncol + 1)
+    recv_n = ask_n*(ncol + 1)
+    call exchange(buffer, halo_rows)
+    deallocate(buffer, asked)
+
+    ! the part's scene: own particles, then the halo
+    part%global = [(part%first_particle + i - 1, i = 1, part%n_own), halo]
+    part%body = [(body_number(i), i = 1, part%n_own), nint(halo_rows(ncol + 1, :))]
+    call part_arrays(reshape([own_rows, halo_rows(:ncol, :)], [ncol, part%n_own + n_halo]))
+    deallocate(own_rows, halo_rows)
+    if (allocated(inertia)) then
+      call new_scene(part%scene, dim, x, m, r, st, v=v, fixed=fixed, inertia=inertia, search=.false.)
+    else
+      call new_scene(part%scene, dim, x, m, r, st, v=v, fixed=fixed, search=.false.)
+    end if
+    deallocate(x, v, m, r, fixed)
+    if (allocated(inertia)) deallocate(inertia)
+    if (any(periodic) .and. st%stat == demstep_stat%ok) call scene_set_cell(part%scene, periodic, &
+      input%cell_lo, cell_hi, st, search=.false.)
+    ! the contacts in the part's numbers
+    do c = 1, size(local_pairs, 2)
+      do e = 1, 2
+        local_pairs(e, c) = local_number(local_pairs(e, c))
+      end do
+    end do
+    part%contact_row = nint(contacts(1, :))
+    if (st%stat == demstep_stat%ok) call scene_set_contacts(part%scene, local_pairs, contacts(4:, :), st)
+    deallocate(contacts, local_pairs)
+    ! (the checks above passed: a part's scene is built as the whole one)
+    call agree_status(comm, st, merge(no_fault, int(rank, i8), st%stat == demstep_stat%ok))
+    if (st%stat /= demstep_stat%ok) then
+      status = st
+      return
+    end if
+    ! effects and dashpots as the serial reader sets them, and rotations when
+    ! any contact (on any rank) has tangential springs
+    call scene_input_effects(input, part%scene, status)
+    if (status%stat /= demstep_stat%ok) return
+    if (part%scene%effects(scene_effect%walls)) then
+      call set_status(status, demstep_stat%invalid_input, "the 'walls' effect and the walls array go " &
+        //"together", where="walls")
+      return
+    end if
+    if (.not. allocated(input%effects) .and. has_tangential(part%scene)) &
+      part%scene%effects(scene_effect%rotation) = .true.
+    call MPI_Allreduce(MPI_IN_PLACE, part%scene%effects(scene_effect%rotation), 1, MPI_LOGICAL, &
+      MPI_LOR, comm)
+    call scene_input_damping(input, part%scene, status)
+
+  contains
+
+    !> The rank owning particle p.
+    integer function owner(p)
+      integer, intent(in) :: p
+      integer :: lo, hi, mid
+      lo = 0
+      hi = nranks - 1
+      ! the last rank whose range starts at or before p (empty ranges skipped)
+      do while (lo < hi)
+        mid = (lo + hi + 1)/2
+        if (first_of(mid) <= p) then
+          lo = mid
+        else
+          hi = mid - 1
+        end if
+      end do
+      owner = lo
+    end function owner
+
+    !> Whether particle p is this rank's.
+    elemental logical function is_own(p)
+      integer, intent(in) :: p
+      is_own = p >= part%first_particle .and. p < part%first_particle + part%n_own
+    end function is_own
+
+    !> The part's number of particle p (own or halo).
+    integer function local_number(p)
+      integer, intent(in) :: p
+      if (is_own(p)) then
+        local_number = p - part%first_particle + 1
+      else
+        local_number = part%n_own + position(halo, p)
+      end if
+    end function local_number
+
+    !> The free-body number of own particle q (0: fixed).
+    integer function body_number(q)
+      integer, intent(in) :: q
+      body_number = own_body(q)
+    end function body_number
+
+    !> The scene's arrays from particle rows (checked before).
+    subroutine part_arrays(prows)
+      real(dp), intent(in) :: prows(:, :)
+      integer, allocatable :: no_lines(:)
+      allocate(no_lines(size(prows, 2)), source=0)
+      call particles_from_rows(input%particles_file, dim, prows, no_lines, x, v, m, r, fixed, inertia, st)
+    end subroutine part_arrays
+
+    !> Columns of `sent` to the ranks, send_n(d) values to rank d in rank
+    !> order, into `got`, recv_n(d) values from rank d (counts set, the
+    !> displacements from them). Collective.
+    subroutine exchange(sent, got)
+      real(dp), intent(in) :: sent(:, :)
+      real(dp), intent(inout) :: got(:, :)
+      integer :: s
+      if (.not. allocated(recv_n)) allocate(recv_n(0:nranks - 1))
+      call MPI_Alltoall(send_n, 1, MPI_INTEGER, recv_n, 1, MPI_INTEGER, comm)
+      send_at(0) = 0
+      recv_at(0) = 0
+      do s = 1, nranks - 1
+        send_at(s) = send_at(s - 1) + send_n(s - 1)
+        recv_at(s) = recv_at(s - 1) + recv_n(s - 1)
+      end do
+      call MPI_Alltoallv(sent, send_n, send_at, MPI_DOUBLE_PRECISION, got, recv_n, recv_at, &
+        MPI_DOUBLE_PRECISION, comm)
+    end subroutine exchange
+
+  end subroutine mpi_read_scene
+
+  !> Refuse the input components the distributed reader does not read (it
+  !> reads tables of particles and contacts, a cell, effects and dashpots).
+  subroutine check_supported(input, status)
+    type(scene_input_type), intent(in) :: input
+    type(demstep_status_type), intent(out) :: status
+    character(len=:), allocatable :: what
+    what = ""
+    if (.not. allocated(input%particles_file)) what = "particles_file"
+    if (.not. allocated(input%contacts_file)) what = "contacts_file"
+    if (len(what) > 0) then
+      call set_status(status, demstep_stat%invalid_input, "required by the distributed reader " &
+        //"(particles_file and contacts_file)", where=what)
+      return
+    end if
+    if (allocated(input%snapshot_file)) what = "snapshot_file"
+    if (allocated(input%liggghts_script)) what = "liggghts_script"
+    if (allocated(input%bonds_file) .or. allocated(input%bonds)) what = "bonds"
+    if (allocated(input%bond_model)) what = "bond_model"
+    if (allocated(input%bodies_file)) what = "bodies_file"
+    if (allocated(input%walls)) what = "walls"
+    if (allocated(input%types)) what = "types"
+    if (allocated(input%k_normal) .or. allocated(input%k_tangential) .or. allocated(input%kt_ratio)) &
+      what = "k_normal"
+    if (allocated(input%e_star) .or. allocated(input%law)) what = "law"
+    if (allocated(input%position)) what = "position"
+    if (len(what) > 0) then
+      call set_status(status, demstep_stat%invalid_input, "not read by the distributed reader " &
+        //"(it reads particles_file, contacts_file, the cell, effects and dashpots)", where=what)
+      return
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine check_supported
+
+  !> The critical time steps of a scene read in parts (`mpi_read_scene`), on
+  !> the ranks of `comm`: `assembly_critical_steps`' with the Lanczos solver
+  !> (same scaling, Krylov size, restarts, tolerance, certificate, bound,
+  !> per-contact rule and exact damped limit). Collective; the same result
+  !> and status on every rank, those of the serial path for the whole scene.
+  subroutine mpi_part_critical_steps(comm, part, result, status, prestress, tolerance, progress)
+    type(MPI_Comm), intent(in) :: comm
+    type(dist_scene_part_type), intent(in) :: part
+    type(critical_step_type), intent(out) :: result
+    type(demstep_status_type), intent(out) :: status
+    !> Count the pre-stress (geometric) stiffness of loaded contacts (default no).
+    logical, intent(in), optional :: prestress
+    !> Relative tolerance on omega_max^2 (default `lanczos_tolerance_default`).
+    real(dp), intent(in), optional :: tolerance
+    !> Reports the Lanczos products (pass it on one rank, e.g. rank 0).
+    class(progress_type), intent(inout), optional :: progress
+    type(dist_scene_operator_type), target :: dop
+    type(spring_block_type), allocatable :: springs(:)
+    type(critical_step_type) :: mine
+    type(MPI_Comm) :: rows_comm
+    integer, allocatable :: comp(:), blocks(:, :), halo(:)
+    real(dp) :: tol, scales(2), rate, b_bound
+    integer(i8) :: fault, counts(2)
+    integer :: rank, nranks, nc, i, s, q, n_own_bodies, root, color
+    logical :: geo, rotation, flags(8), active
+
+    call MPI_Comm_rank(comm, rank)
+    call MPI_Comm_size(comm, nranks)
+    geo = .false.
+    if (present(prestress)) geo = prestress
+    tol = lanczos_tolerance_default
+    if (present(tolerance)) tol = tolerance
+    call assembly_check_options(part%scene, tol, status)
+    if (status%stat /= demstep_stat%ok) return
+    associate (scene => part%scene)
+      ! a listed pair at one point: the serial search's refusal, first in file order
+      fault = no_fault
+      if (scene%effects(scene_effect%contacts)) then
+        do s = 1, size(scene%contact_pairs, 2)
+          if (part%contact_row(s) >= fault) cycle
+          if (coincident(scene, scene%contact_pairs(1, s), scene%contact_pairs(2, s))) &
+            fault = part%contact_row(s)
+        end do
+      end if
+      if (fault /= no_fault) call coincident_status(status)
+      call agree_status(comm, status, fault)
+      if (status%stat /= demstep_stat%ok) return
+      call linearise(scene, hertz_linearization%current, 0.0_dp, geo, springs, status)
+      call agree_status(comm, status, merge(no_fault, int(rank, i8), status%stat == demstep_stat%ok))
+      if (status%stat /= demstep_stat%ok) return
+
+      ! the whole scene's scales and counts
+      rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
+      comp = dof_components(scene%dim, rotation)
+      nc = size(comp)
+      scales = [0.0_dp, -huge(1.0_dp)]
+      flags = .false.
+      do s = 1, size(springs)
+        if (.not. maxval(springs(s)%k) > 0.0_dp) cycle
+        scales(1) = max(scales(1), springs(s)%k(1), springs(s)%k(2))
+        if (springs(s)%a > 0) flags(1) = flags(1) .or. .not. scene%fixed(springs(s)%a)
+        flags(1) = flags(1) .or. .not. scene%fixed(springs(s)%b)
+      end do
+      do i = 1, scene%n
+        if (.not. scene%fixed(i)) scales(2) = max(scales(2), -minval(pick(dof_masses(scene%mass(i), &
+          scene%inertia(i), scene%radius(i)), comp)))
+      end do
+      flags(2) = any(springs%c(1) > 0.0_dp .or. springs%c(2) > 0.0_dp .or. springs%c(3) > 0.0_dp &
+        .or. springs%c(4) > 0.0_dp)
+      call MPI_Allreduce(MPI_IN_PLACE, scales, 2, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
+      scales(2) = -scales(2)
+      call MPI_Allreduce(MPI_IN_PLACE, flags, 2, MPI_LOGICAL, MPI_LOR, comm)
+      n_own_bodies = count(.not. scene%fixed(:part%n_own))
+      counts = [int(n_own_bodies, i8), 0_i8]
+      call MPI_Allreduce(MPI_IN_PLACE, counts, 2, MPI_INTEGER8, MPI_SUM, comm)
+      if (counts(1) == 0 .or. .not. (flags(1) .and. scales(1) > 0.0_dp)) then
+        ! every particle fixed, or no stiffness: the serial refusal, from a
+        ! one-particle scene that fails the same way
+        call serial_refusal(counts(1) == 0)
+        return
+      end if
+      if (counts(1)*nc > huge(1)) then
+        call set_status(status, demstep_stat%invalid_input, "more than "//int_text(huge(1)) &
+          //" degrees of freedom", where="particles_file")
+        return
+      end if
+
+      ! the operator on the ranks that own free bodies
+      active = n_own_bodies > 0
+      color = MPI_UNDEFINED
+      if (active) color = 0
+      call MPI_Comm_split(comm, color, rank, rows_comm)
+      root = huge(1)
+      if (active) root = rank
+      call MPI_Allreduce(MPI_IN_PLACE, root, 1, MPI_INTEGER, MPI_MIN, comm)
+      if (active) then
+        call operator_from_springs(scene%dim, rotation, scene%mass, scene%inertia, scene%radius, springs, &
+          geo, dop%op, rate, status, scene%fixed, scales)
+        if (flags(2) .and. size(dop%op%dcoef, 2) == 0) then
+          ! (dashpots elsewhere, none here: B' is zero on this part)
+          deallocate(dop%op%dcoef)
+          allocate(dop%op%dcoef(4, dop%op%n_springs), source=0.0_dp)
+        end if
+        dop%n_global = int(counts(1))*nc
+        dop%n_local = n_own_bodies*nc
+        dop%first_row = (part%body(first_free()) - 1)*nc + 1
+        dop%comm = rows_comm
+        call MPI_Comm_size(rows_comm, q)
+        allocate(blocks(2, 0:q - 1))
+        call MPI_Allgather([dop%first_row, dop%n_local], 2, MPI_INTEGER, blocks, 2, MPI_INTEGER, rows_comm)
+        ! the halo's rows: its free bodies' (part order = file order)
+        halo = pack(part%body(part%n_own + 1:), part%body(part%n_own + 1:) > 0)
+        halo = [((halo((i - 1)/nc + 1) - 1)*nc + mod(i - 1, nc) + 1, i = 1, nc*size(halo))]
+        call dist_halo_create(rows_comm, blocks, halo, dop%halo)
+        allocate(dop%x_ext(dop%op%n), dop%y_ext(dop%op%n), source=0.0_dp)
+      end if
+      ! what the springs tell: each contact counted by its owner
+      call assembly_set_springs(mine, pack(springs, owned_spring(springs%a, springs%b)))
+      deallocate(springs)
+    end associate
+    result = mine
+    result%rotation = rotation
+    result%periodic = any(part%scene%periodic)
+    result%prestress = geo
+    result%dof_per_particle = nc
+    result%n_dof = int(counts(1))*nc
+    call MPI_Allreduce(mine%n_springs, result%n_springs, 1, MPI_INTEGER, MPI_SUM, comm)
+    call MPI_Allreduce(mine%dt_contact_rule, result%dt_contact_rule, 1, MPI_DOUBLE_PRECISION, MPI_MIN, comm)
+    flags = [mine%tangential, mine%dashpots, .false.]
+    call MPI_Allreduce(MPI_IN_PLACE, flags, 8, MPI_LOGICAL, MPI_LOR, comm)
+    result%tangential = flags(1)
+    result%dashpots = flags(2:7)
+    result%solver = eigen_solver%lanczos
+    result%eigen_tolerance = tol
+    rate = sqrt(scales(1))/sqrt(scales(2))
+
+    if (active) then
+      call estimates()
+      call dist_halo_free(dop%halo)
+      call MPI_Comm_free(rows_comm)
+    end if
+    ! the result from the first rank with rows
+    call MPI_Bcast(result, int(storage_size(result)/8), MPI_BYTE, root, comm)
+    call broadcast_status(comm, status, root)
+
+  contains
+
+    !> The part's number of its first own free particle.
+    integer function first_free()
+      first_free = findloc(part%scene%fixed(:part%n_own), .false., dim=1)
+    end function first_free
+
+    !> Whether a spring is this rank's: a contact by its first particle, a
+    !> drag spring by its body.
+    elemental logical function owned_spring(a, b)
+      integer, intent(in) :: a, b
+      if (a > 0) then
+        owned_spring = a <= part%n_own
+      else
+        owned_spring = b <= part%n_own
+      end if
+    end function owned_spring
+
+    !> The entries c of v.
+    pure function pick(v, c) result(w)
+      real(dp), intent(in) :: v(:)
+      integer, intent(in) :: c(:)
+      real(dp) :: w(size(c))
+      w = v(c)
+    end function pick
+
+    !> The serial path's refusal of a scene without free particles or
+    !> without stiffness, from a one-particle scene with the same effects.
+    subroutine serial_refusal(all_fixed)
+      logical, intent(in) :: all_fixed
+      type(scene_type) :: one
+      type(assembly_operator_type) :: probe_op
+      real(dp) :: probe_rate
+      call new_scene(one, part%scene%dim, reshape(spread(0.0_dp, 1, part%scene%dim), &
+        [part%scene%dim, 1]), [1.0_dp], [1.0_dp], status, fixed=[all_fixed], search=.false.)
+      one%effects = part%scene%effects
+      one%effects(scene_effect%damping) = .false.
+      call assembly_operator(one, probe_op, probe_rate, status)
+    end subroutine serial_refusal
+
+    !> The search's refusal of the first coincident pair (file numbers).
+    subroutine coincident_status(st)
+      type(demstep_status_type), intent(out) :: st
+      type(search_type) :: s_probe
+      integer :: c
+      c = findloc(part%contact_row, int(fault), dim=1)
+      s_probe%coincident = part%global(part%scene%contact_pairs(:, c))
+      call search_trouble(s_probe, st)
+    end subroutine coincident_status
+
+    !> Bound, Lanczos and damping on the ranks with rows.
+    subroutine estimates()
+      type(eigen_result_type) :: lanczos
+      real(dp), allocatable :: vec(:)
+      real(dp) :: bound, lam, lower
+      logical :: has_mode
+
+      bound = scene_bound(dop)
+      call assembly_set_bound(result, rate, bound, status)
+      if (status%stat /= demstep_stat%ok) return
+      b_bound = 0.0_dp
+      if (size(dop%op%dcoef, 2) > 0 .or. flags(2)) then
+        call operator_mix(dop%op, 0.0_dp, 1.0_dp)
+        b_bound = scene_bound(dop)
+        call operator_mix(dop%op, 1.0_dp, 0.0_dp)
+      end if
+      allocate(vec(dop%n_local))
+      lower = 0.0_dp
+      if (geo) lower = -(result%omega_bound/rate)**2
+      call parallel_lanczos_largest(dop, lanczos, status, eigenvector=vec, tolerance=tol, &
+        ncv=min(scene_lanczos_ncv, dop%n_global), max_restarts=scene_lanczos_restarts, &
+        progress=progress, certify=.true., lower_bound=lower)
+      result%eigen_products = lanczos%applications
+      result%eigen_restarts = lanczos%iterations
+      if (status%stat == demstep_stat%not_converged) then
+        has_mode = any(vec /= 0.0_dp)
+        call MPI_Allreduce(MPI_IN_PLACE, has_mode, 1, MPI_LOGICAL, MPI_LOR, rows_comm)
+        if (.not. has_mode) then
+          ! out of restarts with no converged Ritz pair: the bracket of the
+          ! Ritz value and PARPACK's residual estimate (as the serial path)
+          call assembly_set_estimates(result, rate, lanczos%eigenvalue, lanczos%residual, .false., &
+            b_bound, status, lanczos%upper_bound, safe_basis%randomised, lanczos%failure_probability)
+          return
+        end if
+        status%stat = demstep_stat%ok
+      end if
+      if (status%stat /= demstep_stat%ok) return
+      lam = lanczos%eigenvalue
+      call assembly_set_estimates(result, rate, lam, lanczos%residual, lanczos%converged, &
+        b_bound, status, lanczos%upper_bound, safe_basis%randomised, lanczos%failure_probability)
+      if (status%stat /= demstep_stat%ok .or. .not. b_bound > 0.0_dp) return
+      call exact_damped(vec, lam)
+    end subroutine estimates
+
+    !> The exact damped limit from the top undamped mode's block `vec`.
+    subroutine exact_damped(vec, lam)
+      real(dp), intent(in) :: vec(:), lam
+      type(part_damped_type) :: problem
+      real(dp), allocatable :: y(:)
+      real(dp) :: vb
+      problem%dop => dop
+      problem%vec = vec
+      allocate(y(size(vec)))
+      call operator_mix(dop%op, 0.0_dp, 1.0_dp)
+      call dop%apply(vec, y)
+      call operator_mix(dop%op, 1.0_dp, 0.0_dp)
+      vb = sum(vec*y)
+      call MPI_Allreduce(MPI_IN_PLACE, vb, 1, MPI_DOUBLE_PRECISION, MPI_SUM, rows_comm)
+      call damped_newton(problem, lam, vb, rate, tol, result, status, progress)
+    end subroutine exact_damped
+
+  end subroutine mpi_part_critical_steps
+
+  !> Whether particles i and j of a scene, listed as a contact, are at one
+  !> point within reach (the serial search's test: no contact normal).
+  pure logical function coincident(scene, i, j)
+    type(scene_type), intent(in) :: scene
+    integer, intent(in) :: i, j
+    real(dp) :: d(3)
+    d = branch_vector(scene, i, j)
+    coincident = d(1)**2 + d(2)**2 + d(3)**2 < (scene%radius(i) + scene%radius(j))**2 .and. &
+      .not. norm2(d) > 0.0_dp
+  end function coincident
+
+  !> Read a scene in parts and compute its critical time steps: 
+  !> `mpi_read_scene` then `mpi_part_critical_steps` with the input's
+  !> pre-stress and tolerance. Collective; the same result and status on
+  !> every rank.
+  subroutine mpi_files_critical_steps(comm, input, result, status, owned, progress)
+    type(MPI_Comm), intent(in) :: comm
+    type(scene_input_type), intent(in) :: input
+    type(critical_step_type), intent(out) :: result
+    type(demstep_status_type), intent(out) :: status
+    !> Particles owned by each rank (see `mpi_read_scene`).
+    integer, intent(in), optional :: owned(:)
+    !> Reports the Lanczos products (pass it on one rank).
+    class(progress_type), intent(inout), optional :: progress
+    type(dist_scene_part_type) :: part
+    call mpi_read_scene(comm, input, part, status, owned)
+    if (status%stat /= demstep_stat%ok) return
+    call mpi_part_critical_steps(comm, part, result, status, input%prestress, input%eigen_tolerance, &
+      progress)
+  end subroutine mpi_files_critical_steps
+
+  !> Bytes of a part's particle and contact arrays on this rank (the scene's
+  !> per-particle and per-contact arrays and the part's numbers).
+  pure function dist_scene_bytes(part) result(bytes)
+    type(dist_scene_part_type), intent(in) :: part
+    integer(i8) :: bytes
+    integer(i8) :: n, c
+    n = part%scene%n
+    c = 0
+    if (allocated(part%scene%contact_pairs)) c = size(part%scene%contact_pairs, 2)
+    ! x, v, w (3 each), mass, radius, inertia; fixed; global, body; pairs, k (8), row
+    bytes = n*(12*8 + 4 + 2*4) + c*(2*4 + 8*8 + 4)
+  end function dist_scene_bytes
+
+  !> y = A' x on this rank's rows: the halo of x, then the part's product.
+  subroutine scene_operator_apply(op, x, y)
+    class(dist_scene_operator_type), intent(inout) :: op
+    real(dp), intent(in) :: x(:)
+    real(dp), intent(out) :: y(:)
+    associate (n => op%n_local)
+      op%x_ext(1:n) = x(1:n)
+      call dist_halo_exchange(op%halo, x, op%x_ext(n + 1:))
+      call assembly_operator_apply(op%op, op%x_ext, op%y_ext)
+      y(1:n) = op%y_ext(1:n)
+    end associate
+  end subroutine scene_operator_apply
+
+  !> The serial bound (`operator_bound`: Collatz-Wielandt quotients of |A'|
+  !> for the operator as it is mixed, from v = 1, `bound_iterations` steps)
+  !> over the ranks: each |A'| v from the part's rows with v's halo.
+  function scene_bound(dop) result(bound)
+    type(dist_scene_operator_type), intent(inout) :: dop
+    real(dp) :: bound
+    real(dp), allocatable :: v(:), r(:), v_ext(:), r_ext(:)
+    real(dp) :: q(2)
+    integer :: k, n
+    n = dop%n_local
+    allocate(v(n), r(n), v_ext(dop%op%n), r_ext(dop%op%n))
+    v = 1.0_dp
+    bound = huge(1.0_dp)
+    do k = 0, bound_iterations
+      v_ext(1:n) = v
+      call dist_halo_exchange(dop%halo, v, v_ext(n + 1:))
+      call operator_abs_product(dop%op, v_ext, r_ext)
+      r = r_ext(1:n)
+      q = [maxval(r/v), maxval(r)]
+      call MPI_Allreduce(MPI_IN_PLACE, q, 2, MPI_DOUBLE_PRECISION, MPI_MAX, dop%comm)
+      bound = min(bound, q(1))
+      if (.not. q(2) > 0.0_dp) exit
+      v = max(r/q(2), 1.0e-3_dp)
+    end do
+  end function scene_bound
+
+  !> Top eigenpair of tau^2 A' + 2 tau B' on the ranks (warm start from the
+  !> last mode) and v'A'v of it.
+  subroutine part_damped_top(problem, tau, tol, theta, err, va, has_mode, result, status, progress)
+    class(part_damped_type), intent(inout) :: problem
+    real(dp), intent(in) :: tau, tol
+    real(dp), intent(out) :: theta, err, va
+    logical, intent(out) :: has_mode
+    type(critical_step_type), intent(inout) :: result
+    type(demstep_status_type), intent(out) :: status
+    class(progress_type), intent(inout), optional :: progress
+    type(eigen_result_type) :: lanczos
+    real(dp), allocatable :: y(:), start(:)
+    theta = 0.0_dp
+    err = 0.0_dp
+    va = 0.0_dp
+    call operator_mix(problem%dop%op, tau**2, 2.0_dp*tau)
+    start = problem%vec
+    call parallel_lanczos_largest(problem%dop, lanczos, status, eigenvector=problem%vec, &
+      tolerance=tol, ncv=min(scene_lanczos_ncv, problem%dop%n_global), &
+      max_restarts=scene_lanczos_restarts, progress=progress, start=start)
+    call operator_mix(problem%dop%op, 1.0_dp, 0.0_dp)
+    result%eigen_products = result%eigen_products + lanczos%applications
+    result%eigen_restarts = result%eigen_restarts + lanczos%iterations
+    result%damped_solves = result%damped_solves + 1
+    has_mode = any(problem%vec /= 0.0_dp)
+    call MPI_Allreduce(MPI_IN_PLACE, has_mode, 1, MPI_LOGICAL, MPI_LOR, problem%dop%comm)
+    if (status%stat == demstep_stat%not_converged) status%stat = demstep_stat%ok
+    if (status%stat /= demstep_stat%ok) return
+    theta = lanczos%eigenvalue
+    err = lanczos%residual + 8.0_dp*epsilon(1.0_dp)*theta
+    allocate(y(size(problem%vec)))
+    call problem%dop%apply(problem%vec, y)
+    va = sum(problem%vec*y)
+    call MPI_Allreduce(MPI_IN_PLACE, va, 1, MPI_DOUBLE_PRECISION, MPI_SUM, problem%dop%comm)
+  end subroutine part_damped_top
+
+end module demstep_mpi_dist_scene

@@ -1,0 +1,513 @@
+!> Distributed input (`demstep_mpi_dist_scene`): scenes read in parts from
+!> particles and contacts tables against the serial reader and solver
+!> (`scene_from_input`, `assembly_critical_steps`) on the same files, on
+!> every rank count (CI runs it under `mpirun -np 2`): a periodic packing in
+!> file order and one sorted into slabs with contacts across the periodic
+!> face between the first and the last rank, a 2D packing with given
+!> dashpots and CRLF lines, ranks without particles or without free ones,
+!> and the refusals (each the serial reader's message, on every rank).
+!> Prints one PASS/FAIL line per check (rank 0) and exits non-zero on a failure.
+program test_mpi_files
+  use mpi_f08
+  use demstep_kinds, only: dp, i8
+  use demstep_status, only: demstep_status_type, demstep_stat
+  use demstep_scene_data, only: scene_type, scene_effect, branch_vector
+  use demstep_scene_builders, only: new_scene, scene_set_cell
+  use demstep_neighbours, only: contact_list
+  use demstep_material, only: material_set_type
+  use demstep_scene_input, only: scene_input_type, scene_from_input, scene_setup_type
+  use demstep_assembly, only: critical_step_type, assembly_critical_steps, eigen_solver
+  use demstep_mpi_dist_scene, only: mpi_files_critical_steps
+  implicit none
+  integer :: rank, nranks, failures, n
+  integer(i8) :: seed
+  character(len=*), parameter :: stem = "build/test_mpi_files_"
+  character(len=:), allocatable :: pfile, cfile
+  real(dp), allocatable :: x(:, :)
+  type(scene_input_type) :: input
+
+  call MPI_Init()
+  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
+  call MPI_Comm_size(MPI_COMM_WORLD, nranks)
+  failures = 0
+  seed = 4242_i8
+  ! (the tables go to build/, which fpm makes; made here when run elsewhere)
+  if (rank == 0) call execute_command_line("mkdir -p build")
+  call MPI_Barrier(MPI_COMM_WORLD)
+  pfile = stem//"particles.txt"
+  cfile = stem//"contacts.txt"
+
+  ! a 3D periodic packing in the generator's (random) order: every rank's
+  ! particles touch every other's
+  call packing_files(300, 3, .false., 4, .false.)
+  input = base_input(3)
+  input%effects = [scene_effect%contacts, scene_effect%damping, scene_effect%rotation]
+  input%damping_ratio = 0.2_dp
+  call compare("3D periodic packing, file order, damping")
+  call compare("3D periodic packing, all on the last rank", owned=last_rank_owns())
+  call compare("3D periodic packing, all on the first rank", owned=first_rank_owns())
+  ! the same sorted along x: contiguous ranges are slabs, and the periodic
+  ! face joins the first slab to the last
+  call packing_files(400, 3, .true., 4, .false.)
+  input = base_input(3)
+  call report("slabs: contacts cross the periodic face", crossing_contacts() > 0, "")
+  call compare("3D periodic packing in slabs, no damping")
+  input%prestress = .true.
+  call compare("3D periodic packing in slabs, pre-stress")
+  ! 2D, contacts with k_r, k_w and given dashpots, CRLF line ends
+  call packing_files(250, 2, .true., 10, .true.)
+  input = base_input(2)
+  input%effects = [scene_effect%contacts, scene_effect%damping, scene_effect%rotation]
+  input%damping_ratio = 0.1_dp
+  call compare("2D periodic packing, given dashpots, CRLF")
+  call fixed_tail_files()
+  input = base_input(2)
+  input%periodic = [.false., .false.]
+  call compare("a rank with fixed particles only", owned=half_owned())
+  call refusals()
+
+  if (rank == 0) then
+    call delete(pfile)
+    call delete(cfile)
+    if (failures == 0) then
+      write (*, '(a, i0, a)') "test_mpi_files: all checks passed on ", nranks, " ranks"
+    else
+      write (*, '(a, i0, a, i0, a)') "test_mpi_files: ", failures, " checks FAILED on ", nranks, " ranks"
+    end if
+  end if
+  call MPI_Finalize()
+  if (failures > 0) error stop 1
+
+contains
+
+  !> Uniform (0,1) from a 64-bit linear congruential sequence: the same on every rank.
+  function uniform() result(u)
+    real(dp) :: u
+    seed = mod(48271_i8*seed, 2147483647_i8)
+    u = real(seed, dp)/2147483647.0_dp
+  end function uniform
+
+  subroutine report(name, ok, detail)
+    character(len=*), intent(in) :: name
+    logical, intent(in) :: ok
+    character(len=*), intent(in) :: detail
+    logical :: all_ok
+    call MPI_Allreduce(ok, all_ok, 1, MPI_LOGICAL, MPI_LAND, MPI_COMM_WORLD)
+    if (.not. all_ok) failures = failures + 1
+    if (rank == 0) then
+      if (all_ok) then
+        write (*, '(a)') "PASS "//name//" "//detail
+      else
+        write (*, '(a)') "FAIL "//name//" "//detail
+      end if
+    end if
+  end subroutine report
+
+  function num(v) result(text)
+    real(dp), intent(in) :: v
+    character(len=24) :: text
+    write (text, '(es24.16)') v
+  end function num
+
+  logical function close(a, b, rel)
+    real(dp), intent(in) :: a, b, rel
+    close = abs(a - b) <= rel*abs(b)
+  end function close
+
+  logical function same_everywhere(v)
+    real(dp), intent(in) :: v
+    real(dp) :: lo, hi
+    call MPI_Allreduce(v, lo, 1, MPI_DOUBLE_PRECISION, MPI_MIN, MPI_COMM_WORLD)
+    call MPI_Allreduce(v, hi, 1, MPI_DOUBLE_PRECISION, MPI_MAX, MPI_COMM_WORLD)
+    same_everywhere = lo == v .and. hi == v
+  end function same_everywhere
+
+  !> The input of the packing files: periodic cell [0, box)^dim.
+  function base_input(dim) result(inp)
+    integer, intent(in) :: dim
+    type(scene_input_type) :: inp
+    inp%dim = dim
+    inp%particles_file = pfile
+    inp%contacts_file = cfile
+    inp%periodic = spread(.true., 1, dim)
+    inp%cell_hi = spread(box_of(n, dim), 1, dim)
+    inp%eigen_tolerance = 1.0e-10_dp
+  end function base_input
+
+  real(dp) function box_of(count, dim)
+    integer, intent(in) :: count, dim
+    box_of = real(count, dp)**(1.0_dp/dim)
+  end function box_of
+
+  !> A random periodic packing of `count` particles (radii 0.4..0.7, masses
+  !> 1..2) written as a particles table (with a moment of inertia column) and
+  !> its contacts table (`ncol` columns: k_n = 100 +- 50 %, k_t, and for 10
+  !> also k_r, k_w and dashpots), optionally sorted along x, optionally with
+  !> CRLF line ends. Rank 0 writes; all ranks keep the positions.
+  subroutine packing_files(count, dim, sorted, ncol, crlf)
+    integer, intent(in) :: count, dim, ncol
+    logical, intent(in) :: sorted, crlf
+    type(scene_type) :: scene
+    type(demstep_status_type) :: st
+    real(dp), allocatable :: r(:), m(:), nrm(:, :), ov(:), key(:)
+    integer, allocatable :: ci(:), cj(:), order(:)
+    real(dp) :: box, kn
+    integer :: i, d, u, c
+    character(len=:), allocatable :: eol
+    n = count
+    box = box_of(count, dim)
+    if (allocated(x)) deallocate(x)
+    allocate(x(dim, count), r(count), m(count))
+    do i = 1, count
+      do d = 1, dim
+        x(d, i) = box*uniform()
+      end do
+      r(i) = 0.4_dp + 0.3_dp*uniform()
+      m(i) = 1.0_dp + uniform()
+    end do
+    if (sorted) then
+      key = x(1, :)
+      order = [(i, i = 1, count)]
+      call sort_by(key, order)
+      x = x(:, order)
+      r = r(order)
+      m = m(order)
+    end if
+    call new_scene(scene, dim, x, m, r, st)
+    call scene_set_cell(scene, spread(.true., 1, 3) .and. [1, 2, 3] <= dim, [0.0_dp, 0.0_dp, 0.0_dp], &
+      spread(box, 1, 3), st)
+    call contact_list(scene, ci, cj, nrm, ov)
+    eol = ""
+    if (crlf) eol = achar(13)
+    if (rank == 0) then
+      open (newunit=u, file=pfile, status="replace", action="write")
+      write (u, '(a)') "# x(dim) v(dim) mass radius fixed inertia"//eol
+      do i = 1, count
+        write (u, '(*(es24.16, 1x))', advance="no") x(:, i), spread(0.0_dp, 1, dim), m(i), r(i), &
+          0.0_dp, 0.4_dp*m(i)*r(i)**2
+        write (u, '(a)') eol
+      end do
+      close (u)
+      open (newunit=u, file=cfile, status="replace", action="write")
+      write (u, '(a)') "# i j k_n k_t ..."//eol
+      do c = 1, size(ci)
+        kn = 100.0_dp*(0.5_dp + uniform())
+        if (ncol == 4) then
+          write (u, '(2(i0, 1x), 2(es24.16, 1x))', advance="no") ci(c), cj(c), kn, 0.3_dp*kn
+        else
+          write (u, '(2(i0, 1x), 8(es24.16, 1x))', advance="no") ci(c), cj(c), kn, 0.3_dp*kn, &
+            0.05_dp*kn, 0.02_dp*kn, 0.5_dp, 0.2_dp, 0.01_dp, 0.005_dp
+        end if
+        write (u, '(a)') eol
+      end do
+      close (u)
+    else
+      do c = 1, size(ci)
+        kn = uniform()
+      end do
+    end if
+    call MPI_Barrier(MPI_COMM_WORLD)
+  end subroutine packing_files
+
+  !> 2D: a chain of 40 free particles then 40 fixed ones, each free one on a
+  !> fixed one below it, no cell: split in halves, the last rank owns only
+  !> fixed particles (no rows).
+  subroutine fixed_tail_files()
+    integer :: u, i
+    n = 80
+    if (rank == 0) then
+      open (newunit=u, file=pfile, status="replace", action="write")
+      do i = 1, 40
+        write (u, '(a, f6.2, a)') "", 1.0_dp*(i - 1), " 1.0  0 0  1.5 0.55 0"
+      end do
+      do i = 1, 40
+        write (u, '(a, f6.2, a)') "", 1.0_dp*(i - 1), " 0.0  0 0  1.0 0.55 1"
+      end do
+      close (u)
+      open (newunit=u, file=cfile, status="replace", action="write")
+      do i = 1, 39
+        write (u, '(i0, 1x, i0, a)') i, i + 1, " 100 30"
+      end do
+      do i = 1, 40
+        write (u, '(i0, 1x, i0, a)') i + 40, i, " 250 60"
+      end do
+      close (u)
+    end if
+    call MPI_Barrier(MPI_COMM_WORLD)
+  end subroutine fixed_tail_files
+
+  !> Contacts whose branch vector crosses the periodic face along x and whose
+  !> particles lie in the first and the last rank's parts (rank 0 counts).
+  integer function crossing_contacts() result(k)
+    integer :: u, i, j, ios
+    character(len=512) :: line
+    k = 0
+    if (rank == 0) then
+      open (newunit=u, file=cfile, status="old", action="read")
+      do
+        read (u, '(a)', iostat=ios) line
+        if (ios /= 0) exit
+        if (line(1:1) == "#") cycle
+        read (line, *) i, j
+        if (abs(x(1, i) - x(1, j)) > 0.5_dp*box_of(n, 3) .and. (min(i, j) <= n/nranks .and. &
+          max(i, j) > n - n/nranks)) k = k + 1
+      end do
+      close (u)
+    end if
+    call MPI_Bcast(k, 1, MPI_INTEGER, 0, MPI_COMM_WORLD)
+  end function crossing_contacts
+
+  function last_rank_owns() result(owned)
+    integer :: owned(nranks)
+    owned = 0
+    owned(nranks) = n
+  end function last_rank_owns
+
+  function first_rank_owns() result(owned)
+    integer :: owned(nranks)
+    owned = 0
+    owned(1) = n
+  end function first_rank_owns
+
+  !> The first n/2 on the first ranks, the rest on the last (n = 80).
+  function half_owned() result(owned)
+    integer :: owned(nranks)
+    owned = 0
+    owned(nranks) = n/2
+    owned(1) = owned(1) + n/2
+    if (nranks > 2) then
+      owned(1) = owned(1) - (nranks - 2)
+      owned(2:nranks - 1) = 1
+    end if
+  end function half_owned
+
+  !> The distributed result from the files against the serial one.
+  subroutine compare(name, owned)
+    character(len=*), intent(in) :: name
+    integer, intent(in), optional :: owned(:)
+    type(critical_step_type) :: par, lan, den
+    type(demstep_status_type) :: st_par, st_ser
+    type(scene_type) :: scene
+    type(scene_setup_type) :: setup
+    type(material_set_type) :: materials
+    integer :: part
+    call mpi_files_critical_steps(MPI_COMM_WORLD, input, par, st_par, owned=owned)
+    call scene_from_input(input, materials, scene, setup, st_ser, part)
+    if (st_ser%stat == demstep_stat%ok) call assembly_critical_steps(scene, lan, st_ser, &
+      prestress=input%prestress, solver=eigen_solver%lanczos, tolerance=1.0e-10_dp)
+    if (st_ser%stat == demstep_stat%ok) call assembly_critical_steps(scene, den, st_ser, &
+      prestress=input%prestress, solver=eigen_solver%dense)
+    call report(name//": status ok", st_par%stat == demstep_stat%ok .and. st_ser%stat == &
+      demstep_stat%ok, msg(st_par)//" | "//msg(st_ser))
+    if (st_par%stat /= demstep_stat%ok .or. st_ser%stat /= demstep_stat%ok) return
+    call report(name//": model as serial", par%n_dof == lan%n_dof .and. par%n_springs == &
+      lan%n_springs .and. par%dof_per_particle == lan%dof_per_particle .and. &
+      (par%rotation .eqv. lan%rotation) .and. (par%tangential .eqv. lan%tangential) .and. &
+      (par%periodic .eqv. lan%periodic) .and. all(par%dashpots .eqv. lan%dashpots) .and. &
+      par%eigen_converged, "n_dof "//num(real(par%n_dof, dp))//" springs "//num(real(par%n_springs, dp)))
+    ! both Lanczos results meet the relative tolerance 1e-10 on omega^2 with
+    ! the top found (the dense value checks it), so each omega is within 5e-11
+    ! of the true one (Weinstein) plus rounding: 1e-10 apart at most
+    call report(name//": omega_max as serial Lanczos and dense (1e-10)", &
+      close(par%omega_max, lan%omega_max, 1.0e-10_dp) .and. close(par%omega_max, den%omega_max, &
+      1.0e-10_dp), num(par%omega_max)//num(lan%omega_max)//num(den%omega_max))
+    call report(name//": safe step at or below the exact limit", par%dt_critical_safe <= &
+      den%dt_critical_eigen*(1.0_dp + 1.0e-14_dp), num(par%dt_critical_safe))
+    ! the same sums of the same terms in another order and a scaling by the
+    ! same factors: rounding only
+    call report(name//": bound and contact rule as serial (1e-13)", close(par%omega_bound, &
+      lan%omega_bound, 1.0e-13_dp) .and. close(par%dt_contact_rule, lan%dt_contact_rule, 1.0e-13_dp), &
+      num(par%omega_bound)//num(lan%omega_bound))
+    ! the damped limit: the Newton steps stop when lambda_max(h^2 A + 2 h B) is
+    ! within its solve's error bar (1e-10 relative) of 4, and the step taken
+    ! is h 4/(theta + err); lambda grows like h to h^2 near the root, so h is
+    ! within about 4e-10 of the root: 1e-9
+    call report(name//": damped limit as dense (1e-9)", close(par%dt_critical_damped, &
+      den%dt_critical_damped, 1.0e-9_dp) .and. (par%damped_exact .eqv. den%damped_exact), &
+      num(par%dt_critical_damped)//num(den%dt_critical_damped))
+    call report(name//": the same result on every rank", same_everywhere(par%omega_max) .and. &
+      same_everywhere(par%omega_upper) .and. same_everywhere(par%omega_bound) .and. &
+      same_everywhere(par%dt_critical_damped) .and. same_everywhere(real(par%eigen_products, dp)), "")
+  end subroutine compare
+
+  !> Bad files: the serial reader's status, the same on every rank. Each bad
+  !> row sits in the last rank's part (the file's second half) unless said.
+  subroutine refusals()
+    character(len=:), allocatable :: good_p, good_c
+    call packing_files(60, 2, .true., 4, .false.)
+    input = base_input(2)
+    good_p = slurp(pfile)
+    good_c = slurp(cfile)
+    call refused("a particle row of 6 numbers", late_line(good_p, "1 2 3 4 5 6"), good_c)
+    call refused("a fixed column of 2", late_line(good_p, "1 2 0 0 1 0.5 2 0.1"), good_c)
+    call refused("a mass of 0", late_line(good_p, "1 2 0 0 0 0.5 0 0.1"), good_c)
+    call refused("an inertia of 0", late_line(good_p, "1 2 0 0 1 0.5 0 0"), good_c)
+    call refused("a contact naming a missing particle", good_p, late_line(good_c, "3 61 100 30"))
+    call refused("a contact pairing a particle with itself", good_p, late_line(good_c, "7 7 100 30"))
+    call refused("a contact with k_n = 0", good_p, late_line(good_c, "7 8 0 30"))
+    call refused("a contact row of 5 numbers", good_p, late_line(good_c, "7 8 100 30 1"))
+    call refused("a particle number 1.5", good_p, late_line(good_c, "1.5 8 100 30"))
+    ! a late control character is reported before an early bad row (the
+    ! serial reader checks the whole text first)
+    call refused("a late control byte beats an early bad row", early_line(late_line(good_p, &
+      "1 2 0 0 1 0.5 0 0.1"//achar(1)), "oops"), good_c)
+    call refused("two bad rows: the first in the file", early_line(late_line(good_p, "bad"), &
+      "1 2 3"), good_c)
+    call refused("no particles", "# nothing"//achar(10), good_c)
+    call refused("no contacts: no stiffness", good_p, "# none"//achar(10))
+    call write_text(pfile, good_p)
+    input%particles_file = stem//"missing.txt"
+    call refused_input("a missing particles file")
+    input%particles_file = pfile
+    input%periodic = [.true., .true.]
+    input%cell_hi = [1.0_dp, 1.0_dp]
+    call refused_input("a periodic cell shorter than two diameters")
+    input = base_input(2)
+    input%k_normal = 10.0_dp
+    call check_unsupported()
+  end subroutine refusals
+
+  !> The files as given: the distributed status is the serial one on every rank.
+  subroutine refused(name, ptext, ctext)
+    character(len=*), intent(in) :: name, ptext, ctext
+    call write_text(pfile, ptext)
+    call write_text(cfile, ctext)
+    call refused_input(name)
+  end subroutine refused
+
+  subroutine refused_input(name)
+    character(len=*), intent(in) :: name
+    type(critical_step_type) :: par
+    type(demstep_status_type) :: st_par, st_ser
+    type(scene_type) :: scene
+    type(scene_setup_type) :: setup
+    type(material_set_type) :: materials
+    type(critical_step_type) :: ser
+    integer :: part
+    call mpi_files_critical_steps(MPI_COMM_WORLD, input, par, st_par)
+    ! (the serial refusal of the reader, or of the solve)
+    call scene_from_input(input, materials, scene, setup, st_ser, part)
+    if (st_ser%stat == demstep_stat%ok) call assembly_critical_steps(scene, ser, st_ser, &
+      solver=eigen_solver%lanczos, tolerance=input%eigen_tolerance)
+    call report("refused, "//name//": the serial status", st_par%stat /= demstep_stat%ok .and. &
+      st_par%stat == st_ser%stat .and. msg(st_par) == msg(st_ser) .and. &
+      st_par%where == st_ser%where .and. same_status(st_par), msg(st_par)//" | "//msg(st_ser))
+  end subroutine refused_input
+
+  !> An input component the distributed reader does not read: refused by name.
+  subroutine check_unsupported()
+    type(critical_step_type) :: par
+    type(demstep_status_type) :: st
+    call mpi_files_critical_steps(MPI_COMM_WORLD, input, par, st)
+    call report("refused, k_normal with a contacts file: not read in parts", &
+      st%stat == demstep_stat%invalid_input .and. st%where == "k_normal" .and. same_status(st), msg(st))
+  end subroutine check_unsupported
+
+  !> The text with line k (a data line in the last quarter) replaced.
+  function late_line(text, row) result(out)
+    character(len=*), intent(in) :: text, row
+    character(len=:), allocatable :: out
+    out = replace_line(text, (3*count_lines(text))/4, row)
+  end function late_line
+
+  !> The text with its third line replaced (in the first rank's part).
+  function early_line(text, row) result(out)
+    character(len=*), intent(in) :: text, row
+    character(len=:), allocatable :: out
+    out = replace_line(text, 3, row)
+  end function early_line
+
+  integer function count_lines(text)
+    character(len=*), intent(in) :: text
+    integer :: i
+    count_lines = count([(text(i:i) == achar(10), i = 1, len(text))])
+  end function count_lines
+
+  function replace_line(text, k, row) result(out)
+    character(len=*), intent(in) :: text, row
+    integer, intent(in) :: k
+    character(len=:), allocatable :: out
+    integer :: i, line, first, last
+    line = 1
+    first = 1
+    last = len(text)
+    do i = 1, len(text)
+      if (text(i:i) /= achar(10)) cycle
+      line = line + 1
+      if (line == k) first = i + 1
+      if (line == k + 1) then
+        last = i - 1
+        exit
+      end if
+    end do
+    out = text(:first - 1)//row//text(last + 1:)
+  end function replace_line
+
+  function slurp(path) result(text)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable :: text
+    integer :: u, sz
+    open (newunit=u, file=path, access="stream", form="unformatted", status="old", action="read")
+    inquire (unit=u, size=sz)
+    allocate (character(len=sz) :: text)
+    read (u) text
+    close (u)
+  end function slurp
+
+  !> Rank 0 writes the file; all wait.
+  subroutine write_text(path, text)
+    character(len=*), intent(in) :: path, text
+    integer :: u
+    if (rank == 0) then
+      open (newunit=u, file=path, access="stream", form="unformatted", status="replace", action="write")
+      write (u) text
+      close (u)
+    end if
+    call MPI_Barrier(MPI_COMM_WORLD)
+  end subroutine write_text
+
+  subroutine delete(path)
+    character(len=*), intent(in) :: path
+    integer :: u, ios
+    open (newunit=u, file=path, status="old", iostat=ios)
+    if (ios == 0) close (u, status="delete")
+  end subroutine delete
+
+  !> Sort order by key (insertion sort: small n).
+  subroutine sort_by(key, order)
+    real(dp), intent(inout) :: key(:)
+    integer, intent(inout) :: order(:)
+    integer :: i, j, t
+    real(dp) :: kt
+    do i = 2, size(key)
+      kt = key(i)
+      t = order(i)
+      j = i - 1
+      do while (j >= 1)
+        if (key(j) <= kt) exit
+        key(j + 1) = key(j)
+        order(j + 1) = order(j)
+        j = j - 1
+      end do
+      key(j + 1) = kt
+      order(j + 1) = t
+    end do
+  end subroutine sort_by
+
+  function msg(st) result(text)
+    type(demstep_status_type), intent(in) :: st
+    character(len=:), allocatable :: text
+    text = ""
+    if (allocated(st%message)) text = st%message
+  end function msg
+
+  logical function same_status(st)
+    type(demstep_status_type), intent(in) :: st
+    integer :: mine(2), lo(2), hi(2)
+    mine = [st%stat, len(msg(st))]
+    call MPI_Allreduce(mine, lo, 2, MPI_INTEGER, MPI_MIN, MPI_COMM_WORLD)
+    call MPI_Allreduce(mine, hi, 2, MPI_INTEGER, MPI_MAX, MPI_COMM_WORLD)
+    same_status = all(lo == mine) .and. all(hi == mine)
+  end function same_status
+
+end program test_mpi_files
