@@ -20,7 +20,7 @@ module demstep_cli_scene
     snapshot_format_names, snapshot_format_from_name
   use demstep_material, only: material_set_type, peer_steps_type, packing_peer_steps, &
     code_convention_names, peer_rule_names, n_peer_rules
-  use demstep_liggghts_scene, only: liggghts_scene_type
+  use demstep_liggghts_scene, only: liggghts_scene_type, script_timestep_ratio
   use demstep_scene_input, only: scene_input_type, scene_setup_type, scene_from_input, scene_input_part, &
     scene_input_takes_material
   use demstep_cli_material, only: read_material
@@ -824,7 +824,7 @@ contains
         fmt_real(dt_recommended)//" s"]
       return
     end if
-    ratio = info%timestep/dt_limit
+    ratio = script_timestep_ratio(info, dt_limit)
     where = " (line "//fmt_int(int(info%timestep_line, i8))//")"
     if (info%timestep_file /= info%file) where = " ("//info%timestep_file//": line "// &
       fmt_int(int(info%timestep_line, i8))//")"

@@ -660,6 +660,8 @@ contains
       call MPI_Comm_free(rows_comm)
     end if
     ! the result from the first rank with rows
+    ! a byte copy: right while critical_step_type has no allocatable or pointer
+    ! component (test_mpi_files compares every rank's result with the serial one)
     call MPI_Bcast(result, int(storage_size(result)/8), MPI_BYTE, root, comm)
     call broadcast_status(comm, status, root)
 

@@ -56,7 +56,7 @@ contains
     character(len=:), allocatable :: text
     type(table_scan_type) :: scan
     integer(i8), allocatable :: starts(:)
-    integer(i8) :: size_bytes, first, mine(2), counts(2)
+    integer(i8) :: size_bytes, first, mine(2), counts(2), sizes(2)
     integer :: nranks, rank, fault, line_offset, r, layout(2), ios
     logical :: exists
 
@@ -66,8 +66,21 @@ contains
     n_total = 0
     allocate(rows(maxval(allowed), 0), lines(0))
     inquire(file=path, exist=exists, size=size_bytes)
-    if (.not. exists) then
+    ! every rank must see the file, the same size: otherwise all refuse it
+    ! (a rank returning alone would leave the others waiting)
+    if (.not. agreed(exists)) then
       call set_status(status, demstep_stat%io_error, path//": no such file")
+      return
+    end if
+    if (.not. agreed(size_bytes >= 0)) then
+      call set_status(status, demstep_stat%io_error, path//": its size is unknown (not a regular file?): " &
+        //"it cannot be read in parts")
+      return
+    end if
+    call MPI_Allreduce(size_bytes, sizes(1), 1, MPI_INTEGER8, MPI_MIN, comm)
+    call MPI_Allreduce(size_bytes, sizes(2), 1, MPI_INTEGER8, MPI_MAX, comm)
+    if (sizes(1) /= sizes(2)) then
+      call set_status(status, demstep_stat%io_error, path//": the ranks see files of different sizes")
       return
     end if
     ! the ranges: every rank finds its start, all learn all starts

@@ -1174,8 +1174,12 @@ contains
     type(demstep_status_type) :: status
     real(dp) :: dt(2)
     if (.not. live(scene, name, h, err, code, particles=.true.)) return
-    if (.not. (c_associated(yade_gst) .and. c_associated(exadem))) then
-      code = invalid(err, name//": yade_gst or exadem is NULL")
+    if (.not. c_associated(yade_gst)) then
+      code = invalid(err, name//": yade_gst is NULL")
+      return
+    end if
+    if (.not. c_associated(exadem)) then
+      code = invalid(err, name//": exadem is NULL")
       return
     end if
     if (.not. h%has_bodies) then

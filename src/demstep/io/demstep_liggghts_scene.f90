@@ -25,7 +25,7 @@ module demstep_liggghts_scene
   implicit none
   private
 
-  public :: scene_from_liggghts_script
+  public :: scene_from_liggghts_script, script_timestep_ratio
 
   !> What a script gave a scene, for the report.
   type, public :: liggghts_scene_type
@@ -42,6 +42,15 @@ module demstep_liggghts_scene
   end type liggghts_scene_type
 
 contains
+
+  !> The script's `timestep` over a limit `dt_limit` (> 0): 0 when the
+  !> script states no timestep.
+  pure real(dp) function script_timestep_ratio(info, dt_limit) result(ratio)
+    type(liggghts_scene_type), intent(in) :: info
+    real(dp), intent(in) :: dt_limit
+    ratio = 0.0_dp
+    if (info%timestep_line > 0 .and. dt_limit > 0.0_dp) ratio = info%timestep/dt_limit
+  end function script_timestep_ratio
 
   !> Give `scene` (its particles, types and periodic cell already from
   !> `snapshot`) the contacts of the LIGGGHTS script `path`: materials per

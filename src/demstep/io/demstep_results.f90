@@ -22,7 +22,7 @@ module demstep_results
   use demstep_monitor, only: participation_type, participation_top, spring_kind_names, top_shares
   use demstep_stiffness, only: stiffness_result_type, interval_kind
   use demstep_snapshot, only: snapshot_type, snapshot_format_names
-  use demstep_liggghts_scene, only: liggghts_scene_type
+  use demstep_liggghts_scene, only: liggghts_scene_type, script_timestep_ratio
   use demstep_material, only: n_peer_rules, peer_rule_names
   use demstep_mfix_input, only: mfix_input_type
   use demstep_mfix, only: mfix_result_type
@@ -723,8 +723,7 @@ contains
     if (allocated(info%timestep_file)) timestep_file = info%timestep_file
     timestep = info%timestep
     timestep_line = info%timestep_line
-    timestep_ratio = 0.0_dp
-    if (timestep_line > 0 .and. dt_limit > 0.0_dp) timestep_ratio = timestep/dt_limit
+    timestep_ratio = script_timestep_ratio(info, dt_limit)
     write(unit, nml=script_result)
   end subroutine write_script_result
 

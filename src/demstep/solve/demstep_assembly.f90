@@ -166,6 +166,7 @@ module demstep_assembly
   end type assembly_operator_type
 
   !> The four estimates and what they rest on.
+  !> (Plain data only: the MPI paths broadcast it as bytes.)
   type, public :: critical_step_type
     !> Degrees of freedom (free particles times dof_per_particle) and springs
     !> (bonds + contacts + wall contacts).

@@ -713,7 +713,7 @@ contains
   !> particle there) and k_n the largest normal stiffness of the springs
   !> between bodies and on walls (exaDEM takes the largest k_n of its
   !> parameter table: the same for one linear law). Status: those of
-  !> `body_operator`.
+  !> `body_operator`; invalid_input (`k_normal`) without a normal stiffness.
   subroutine body_exadem_step(scene, bodies, dt, status)
     type(scene_type), intent(in) :: scene
     type(body_set_type), intent(in) :: bodies
@@ -721,12 +721,19 @@ contains
     type(demstep_status_type), intent(out) :: status
     type(body_operator_type) :: op
     type(spring_block_type), allocatable :: springs(:)
-    real(dp) :: rate
+    real(dp) :: rate, k_max
     dt = 0.0_dp
     call body_operator(scene, bodies, op, rate, status, springs)
     if (status%stat /= demstep_stat%ok) return
-    dt = exadem_step(minval(bodies%mass, mask=.not. bodies%fixed), &
-      maxval(springs%k(1), mask=springs%kind /= 6))
+    k_max = 0.0_dp
+    if (any(springs%kind /= 6)) k_max = maxval(springs%k(1), mask=springs%kind /= 6)
+    if (.not. k_max > 0.0_dp) then
+      ! exaDEM's rule needs a normal stiffness (tangential springs only: none)
+      call set_status(status, demstep_stat%invalid_input, "no normal stiffness between bodies or on walls: " &
+        //"exaDEM's rule pi sqrt(m/k_n) has none to take", where="k_normal")
+      return
+    end if
+    dt = exadem_step(minval(bodies%mass, mask=.not. bodies%fixed), k_max)
   end subroutine body_exadem_step
 
   !> [d]x, the matrix of d x . (so that [d]x w = d x w).
