@@ -62,21 +62,39 @@ PERIODIC_L = 0.02                      # periodic cube edge
 GROW_FACTOR = (0.64 / 0.25) ** (1.0 / 3.0)   # periodic packing: 0.25 -> 0.64
 SKIN = 0.0003
 
-# --- multisphere scene (h_multisphere): rigid bodies of two equal spheres --
-# The template states the body's mass and inertia tensor (keywords `mass`,
+# --- multisphere scenes: rigid bodies of overlapping spheres ---------------
+# Each template states the body's mass and inertia tensor (keywords `mass`,
 # `use_density`, `inertia_tensor`): LIGGGHTS then takes the template's origin
 # as the centre of mass and runs no Monte Carlo estimate
 # (fix_template_multisphere.cpp:258-268), so the bodies are exactly known.
 # The values are the members' sum with Steiner's term (the overlap counted
-# twice, Yade's clump convention), which demstep's bodies from a `mol` dump
-# reproduce exactly (see README.md, "fix multisphere").
-MS_RADIUS = 0.00125     # m, both members
-MS_SPACING = 0.0015     # m, distance between the two members' centres
-MS_BODIES = 250         # bodies inserted
-MS_MEMBER_MASS = DENSITY * 4.0 / 3.0 * math.pi * MS_RADIUS ** 3
-MS_MASS = 2.0 * MS_MEMBER_MASS
-MS_I_AXIAL = 2.0 * 0.4 * MS_MEMBER_MASS * MS_RADIUS ** 2
-MS_I_TRANSVERSE = MS_I_AXIAL + 2.0 * MS_MEMBER_MASS * (0.5 * MS_SPACING) ** 2
+# twice, Yade's clump convention) about the members' volume-weighted centre,
+# put at the template's origin; demstep's bodies from a `mol` dump are then
+# exactly LIGGGHTS' (see README.md, "fix multisphere").
+# h: two equal spheres 1.2 radii apart; i: three unequal spheres, not in a
+# line and off the axes (a full inertia tensor in the template's frame).
+MS_TEMPLATES = {
+    "h_multisphere": [(-0.00075, 0.0, 0.0, 0.00125), (0.00075, 0.0, 0.0, 0.00125)],
+    "i_multisphere3": [(0.0, 0.0, 0.0, 0.0015), (0.0019, 0.0, 0.0, 0.0010), (0.0, 0.0018, 0.0004, 0.00125)],
+}
+
+
+def ms_body(spheres):
+    """(members about the volume-weighted centre, mass, inertia tensor about
+    it): the members' masses rho 4/3 pi r^3 and moments 2/5 m r^2 summed with
+    Steiner's term."""
+    m = [DENSITY * 4.0 / 3.0 * math.pi * r ** 3 for _, _, _, r in spheres]
+    mass = sum(m)
+    c = [sum(mi * sp[k] for mi, sp in zip(m, spheres)) / mass for k in range(3)]
+    members = [(x - c[0], y - c[1], z - c[2], r) for x, y, z, r in spheres]
+    t = [[0.0] * 3 for _ in range(3)]
+    for mi, (x, y, z, r) in zip(m, members):
+        d = (x, y, z)
+        dd = x * x + y * y + z * z
+        for a in range(3):
+            for b in range(3):
+                t[a][b] += mi * ((0.4 * r * r + dd if a == b else 0.0) - d[a] * d[b])
+    return members, mass, t
 
 # --- stability criterion ----------------------------------------------------
 PERTURB = 1.0e-4       # m/s, sigma of the Gaussian velocity perturbation
@@ -117,9 +135,19 @@ SCENES = {
                                   "(no sliding); Hooke's k_t does not depend on the overlap"),
     "h_multisphere": dict(model="hertz", e=0.5, mu=0.5, rolling=None, rmu=0.0,
                           tdamp=True, walls=True, source=None, guess=3e-5, multisphere=True,
-                          text="Hertz, e 0.5, friction 0.5, walled box, %d rigid bodies of two spheres "
-                               "(r %g m, centres %g m apart; fix multisphere)" % (MS_BODIES, MS_RADIUS, MS_SPACING)),
+                          bodies=250, batches=1,
+                          text="Hertz, e 0.5, friction 0.5, walled box, 250 rigid bodies of two spheres "
+                               "(r 1.25 mm, centres 1.5 mm apart; fix multisphere)"),
+    "i_multisphere3": dict(model="hertz", e=0.5, mu=0.5, rolling=None, rmu=0.0,
+                           tdamp=True, walls=True, source=None, guess=3e-5, multisphere=True,
+                           bodies=60, batches=3,
+                           text="Hertz, e 0.5, friction 0.5, walled box, rigid bodies of three unequal "
+                                "spheres (r 1.5, 1.0, 1.25 mm, not in a line; fix multisphere), poured in three "
+                                "batches of up to 60"),
 }
+
+for _name, _sc in SCENES.items():
+    _sc["name"] = _name
 
 WALLS = (("xw1", "xplane", BOX_LO[0]), ("xw2", "xplane", BOX_HI[0]),
          ("yw1", "yplane", BOX_LO[1]), ("yw2", "yplane", BOX_HI[1]),
@@ -183,7 +211,7 @@ def physics(sc):
                          % (wid, model_words(sc), plane, pos, model_settings(sc)))
         lines.append("fix gravi all gravity %g vector 0.0 0.0 -1.0" % GRAVITY)
     if sc.get("multisphere"):
-        lines += multisphere_template()
+        lines += multisphere_template(sc["name"])
         # the bodies' kinetic energies (compute_ke_multisphere.cpp:78-84,
         # multisphere.cpp:608-620 and 636-664); the atoms' ke counts each body
         # once per member, with the body's mass (the per-atom mass)
@@ -197,14 +225,18 @@ def physics(sc):
     return lines
 
 
-def multisphere_template():
-    """The two-sphere body template (restated in every run after a restart,
-    as fix multisphere asks) and its distribution."""
-    h = 0.5 * MS_SPACING
+def multisphere_template(name):
+    """The scene's body template (restated in every run after a restart,
+    as fix multisphere asks) and its distribution. inertia_tensor takes
+    Ixx Ixy Ixz Iyy Iyz Izz, the tensor's components (products of inertia
+    with their minus sign, as fix_template_multisphere.cpp:192-207 and
+    377-398 build it)."""
+    members, mass, t = ms_body(MS_TEMPLATES[name])
+    spheres = " ".join("%.12g %.12g %.12g %.12g" % sp for sp in members)
     return ["fix pts1 all particletemplate/multisphere 15485867 atom_type 1 density constant %g "
-            "nspheres 2 ntry 1000000 spheres %.10g 0 0 %.10g %.10g 0 0 %.10g type 1 "
-            "mass %.12g use_density inertia_tensor %.12g 0 0 %.12g 0 %.12g"
-            % (DENSITY, -h, MS_RADIUS, h, MS_RADIUS, MS_MASS, MS_I_AXIAL, MS_I_TRANSVERSE, MS_I_TRANSVERSE),
+            "nspheres %d ntry 1000000 spheres %s type 1 mass %.12g use_density "
+            "inertia_tensor %.12g %.12g %.12g %.12g %.12g %.12g"
+            % (DENSITY, len(members), spheres, mass, t[0][0], t[0][1], t[0][2], t[1][1], t[1][2], t[2][2]),
             "fix pdd all particledistribution/discrete 49979687 1 pts1 1.0"]
 
 
@@ -232,11 +264,13 @@ def build_input(name):
         m = 0.0005
         lines.append("region ins block %g %g %g %g %g %g units box"
                      % (BOX_LO[0] + m, BOX_HI[0] - m, BOX_LO[1] + m, BOX_HI[1] - m, 0.002, BOX_HI[2] - m))
-        lines.append("fix ins all insert/pack seed 67867967 distributiontemplate pdd maxattempt 300 "
-                     "insert_every once overlapcheck yes all_in yes vel constant 0. 0. 0. "
-                     "region ins particles_in_region %d ntry_mc 10000" % MS_BODIES)
-        lines += ["timestep 5e-6", "thermo 10000", "run 1", "unfix ins",
-                  "run 100000", "run 60000"]
+        # batches: the bodies' bounding spheres must fit the region at once
+        for k in range(sc["batches"]):
+            lines.append("fix ins all insert/pack seed %d distributiontemplate pdd maxattempt 300 "
+                         "insert_every once overlapcheck yes all_in yes vel constant 0. 0. 0. "
+                         "region ins particles_in_region %d ntry_mc 10000" % ((67867967, 86028121, 32452867)[k], sc["bodies"] * (k + 1)))
+            lines += (["timestep 5e-6", "thermo 10000"] if k == 0 else []) + ["run 1", "unfix ins"] + (["run 60000"] if k + 1 < sc["batches"] else [])
+        lines += ["run 100000", "run 60000"]
     elif sc["walls"]:
         lines += templates(1.0)
         m = 0.0005
@@ -459,16 +493,17 @@ def materials(name, box):
         "settled_from": sc["source"] or name,
     }
     if sc.get("multisphere"):
-        m["radii"] = [MS_RADIUS]
+        members, mass, t = ms_body(MS_TEMPLATES[name])
+        m["radii"] = sorted(set(sp[3] for sp in members))
         m["mass_fractions"] = [1.0]
         m["integrator"] = ("fix multisphere (rigid bodies: velocity Verlet on the centre of mass, angular "
                            "momentum with a Richardson quaternion update, fix_multisphere.cpp:595-780)")
-        m["bodies"] = {"count": MS_BODIES, "members": 2, "member_radius": MS_RADIUS,
-                       "member_spacing": MS_SPACING, "mass": MS_MASS,
-                       "inertia_principal": [MS_I_AXIAL, MS_I_TRANSVERSE, MS_I_TRANSVERSE],
-                       "note": "template states mass and inertia_tensor (the members' sum with Steiner's "
-                               "term); the template origin, the members' midpoint, is the centre of mass; "
-                               "the dump's mol column is the body, its mass column the body's mass"}
+        m["bodies"] = {"inserted": sc["bodies"] * sc["batches"], "template_members_x_y_z_r": members,
+                       "mass": mass, "inertia_tensor": t,
+                       "note": "the template states mass and inertia_tensor (the members' sum with Steiner's "
+                               "term about the members' volume-weighted centre, the template's origin, which "
+                               "LIGGGHTS takes as the centre of mass); the dump's mol column is the body, its "
+                               "mass column the body's mass"}
     if not sc["walls"]:
         m["radii"] = [r for r in RADII]
         m["radii_note"] = ("inserted at radii/%.6f and grown by that factor; the dump holds "
