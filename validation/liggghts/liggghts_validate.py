@@ -498,7 +498,7 @@ def materials(name, box):
         m["mass_fractions"] = [1.0]
         m["integrator"] = ("fix multisphere (rigid bodies: velocity Verlet on the centre of mass, angular "
                            "momentum with a Richardson quaternion update, fix_multisphere.cpp:595-780)")
-        m["bodies"] = {"inserted": sc["bodies"] * sc["batches"], "template_members_x_y_z_r": members,
+        m["bodies"] = {"template_members_x_y_z_r": members,
                        "mass": mass, "inertia_tensor": t,
                        "note": "the template states mass and inertia_tensor (the members' sum with Steiner's "
                                "term about the members' volume-weighted centre, the template's origin, which "
@@ -563,8 +563,11 @@ def export(name):
                         f.write("%d,%s,%s,%.10g,%d,%.10e,%s\n" % (
                             r[0], wid, "xyz"[ax], pos, sign, rad - gap, ",".join("%.10e" % v for v in h)))
                         nw += 1
+    mat = materials(name, box)
+    if sc.get("multisphere"):
+        mat["bodies"]["count"] = len(set(int(r[2]) for r in p))     # the mol column
     with open(os.path.join(out, "materials.json"), "w") as f:
-        json.dump(materials(name, box), f, indent=1)
+        json.dump(mat, f, indent=1)
         f.write("\n")
     print("%s: %d particles, %d pair contacts, %d wall contacts" % (name, len(p), len(c), nw))
 
