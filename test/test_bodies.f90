@@ -1084,6 +1084,24 @@ contains
       //"bodies_file = 'bodies.txt' /", yade_material])
     if (allocated(error)) return
     call check(error, omega_max, expected, rel=.true., thr=1.0e-14_dp)
+    if (allocated(error)) return
+    ! a LIGGGHTS multisphere dump (mol, the body's mass) gives its bodies: two
+    ! bodies of two members and a lone sphere, 18 degrees of freedom; members
+    ! of one body with different masses are refused
+    call write_file(work_dir//"/ms_app.dump", [character(len=60) :: "ITEM: TIMESTEP", "0", &
+      "ITEM: NUMBER OF ATOMS", "5", "ITEM: BOX BOUNDS ff ff ff", "-1 1", "-1 1", "-1 1", &
+      "ITEM: ATOMS id type mol x y z radius mass", "1 1 4 0 0 0 1e-3 2e-5", "2 1 4 1.2e-3 0 0 1e-3 2e-5", &
+      "3 1 9 3.15e-3 0.2e-3 0 1e-3 2e-5", "4 1 9 4.35e-3 0.2e-3 0.2e-3 1e-3 2e-5", &
+      "5 1 -1 1.0e-3 1.95e-3 0 1e-3 1e-5"])
+    call computed([character(len=200) :: "&scene dim = 3, snapshot_file = 'ms_app.dump' /", yade_material])
+    if (allocated(error)) return
+    call check(error, n_dof, 18, message="3 bodies from mol")
+    if (allocated(error)) return
+    call write_file(work_dir//"/ms_app.dump", [character(len=60) :: "ITEM: TIMESTEP", "0", &
+      "ITEM: NUMBER OF ATOMS", "2", "ITEM: BOX BOUNDS ff ff ff", "-1 1", "-1 1", "-1 1", &
+      "ITEM: ATOMS id type mol x y z radius mass", "1 1 4 0 0 0 1e-3 2e-5", "2 1 4 1.2e-3 0 0 1e-3 3e-5"])
+    call refused("&scene dim = 3, snapshot_file = 'ms_app.dump', k_normal = 1e4 /", "&scene: snapshot_file: " &
+      //"mass column: body_mass(2): differs from body_mass(1) of the same body")
   contains
     !> Run a deck that computes; its result's omega_max, n_dof, steps,
     !> blew_up, energy_drift.

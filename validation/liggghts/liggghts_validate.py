@@ -66,7 +66,7 @@ SKIN = 0.0003
 # Each template states the body's mass and inertia tensor (keywords `mass`,
 # `use_density`, `inertia_tensor`): LIGGGHTS then takes the template's origin
 # as the centre of mass and runs no Monte Carlo estimate
-# (fix_template_multisphere.cpp:258-268), so the bodies are exactly known.
+# (fix_template_multisphere.cpp:261-275), so the bodies are exactly known.
 # The values are the members' sum with Steiner's term (the overlap counted
 # twice, Yade's clump convention) about the members' volume-weighted centre,
 # put at the template's origin; demstep's bodies from a `mol` dump are then
@@ -340,7 +340,7 @@ def trial_input(name, dt, t_total, threshold):
         # (set_v, lines 1105-1150), so `velocity` cannot kick a body and its
         # residual motion cannot be zeroed. The kick is a Gaussian force on
         # every member for one step: the body gets the sum of its members'
-        # forces and their moments (calc_force, lines 822-882) in the
+        # forces and their moments (calc_force, lines 828-882) in the
         # half-step of final_integrate (lines 741-766), dv = (dt/2) F / M;
         # F = 2 M sigma N(0,1) / dt per member gives each body a velocity
         # change sigma (N_1 + N_2) per component and a spin, whatever dt.

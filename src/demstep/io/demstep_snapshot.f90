@@ -13,9 +13,9 @@
 !>   multisphere` writes it: the atom's rigid body (`atom->molecule` is the
 !>   fix's body id, fix_multisphere.cpp:1343 in CFDEMproject/LIGGGHTS-PUBLIC
 !>   3d5c00f; -1 or 0 for a sphere on its own), and then the `mass` column is
-!>   the whole body's mass on each member (`body_mass`; the multisphere
-!>   template's mass, particleToInsert_multisphere.cpp sets every member's
-!>   rmass to it), which must be the same on all of a body's members.
+!>   the whole body's mass on each member (`body_mass`; the template's mass,
+!>   every member's rmass at insertion, particleToInsert_multisphere.cpp:203),
+!>   which must be the same on all of a body's members.
 !> - Data file (`lammps_data`): the header counts (`N atoms`, `xlo xhi`, ...),
 !>   the `Atoms` section of atom style sphere (`id type diameter density x y z`,
 !>   optionally `ix iy iz`) and the optional `Velocities` section (`id vx vy vz

@@ -26,7 +26,7 @@
 !> LIGGGHTS' body exactly when its template states `mass` and
 !> `inertia_tensor` equal to the members' sum (then LIGGGHTS takes the
 !> template's origin as the centre of mass, runs no Monte Carlo estimate,
-!> fix_template_multisphere.cpp:258-268, CFDEMproject/LIGGGHTS-PUBLIC
+!> fix_template_multisphere.cpp:261-275, CFDEMproject/LIGGGHTS-PUBLIC
 !> 3d5c00f) and its origin at the members' volume-weighted centre, or for
 !> members that do not overlap; a template left to LIGGGHTS' Monte Carlo
 !> counts the overlap once (fix_template_multiplespheres.cpp:458-503) and
