@@ -15,7 +15,7 @@ here = os.path.dirname(os.path.abspath(__file__))
 data = os.path.join(here, "data")
 out = os.path.join(here, "demstep")
 scenes = ["a_hertz", "b_hooke", "c_epsd2", "d_periodic", "e_undamped", "f_tdoff", "g_hooke_undamped",
-          "h_multisphere", "i_multisphere3"]
+          "h_multisphere", "i_multisphere3", "j_multisphere_mc"]
 # the peers' rules shown in the table (all nine are in each _result.nml)
 peers = ["edem_rayleigh_20", "liggghts_rayleigh_10", "liggghts_hertz_10", "yade_pwave_30"]
 

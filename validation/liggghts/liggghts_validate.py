@@ -75,6 +75,7 @@ SKIN = 0.0003
 # line and off the axes (a full inertia tensor in the template's frame).
 MS_TEMPLATES = {
     "h_multisphere": [(-0.00075, 0.0, 0.0, 0.00125), (0.00075, 0.0, 0.0, 0.00125)],
+    "j_multisphere_mc": [(-0.00075, 0.0, 0.0, 0.00125), (0.00075, 0.0, 0.0, 0.00125)],
     "i_multisphere3": [(0.0, 0.0, 0.0, 0.0015), (0.0019, 0.0, 0.0, 0.0010), (0.0, 0.0018, 0.0004, 0.00125)],
 }
 
@@ -138,6 +139,12 @@ SCENES = {
                           bodies=250, batches=1,
                           text="Hertz, e 0.5, friction 0.5, walled box, 250 rigid bodies of two spheres "
                                "(r 1.25 mm, centres 1.5 mm apart; fix multisphere)"),
+    "j_multisphere_mc": dict(model="hertz", e=0.5, mu=0.5, rolling=None, rmu=0.0,
+                             tdamp=True, walls=True, source=None, guess=3e-5, multisphere=True,
+                             bodies=250, batches=1, monte_carlo=True,
+                             text="h_multisphere's bodies with the template left to LIGGGHTS' Monte Carlo "
+                                  "(no mass, no inertia_tensor; ntry 1e6): the union's mass and tensor, the "
+                                  "estimated centre"),
     "i_multisphere3": dict(model="hertz", e=0.5, mu=0.5, rolling=None, rmu=0.0,
                            tdamp=True, walls=True, source=None, guess=3e-5, multisphere=True,
                            bodies=60, batches=3,
@@ -233,6 +240,11 @@ def multisphere_template(name):
     377-398 build it)."""
     members, mass, t = ms_body(MS_TEMPLATES[name])
     spheres = " ".join("%.12g %.12g %.12g %.12g" % sp for sp in members)
+    if SCENES[name].get("monte_carlo"):
+        # LIGGGHTS estimates the union's volume, centre and tensor itself
+        return ["fix pts1 all particletemplate/multisphere 15485867 atom_type 1 density constant %g "
+                "nspheres %d ntry 1000000 spheres %s type 1" % (DENSITY, len(members), spheres),
+                "fix pdd all particledistribution/discrete 49979687 1 pts1 1.0"]
     return ["fix pts1 all particletemplate/multisphere 15485867 atom_type 1 density constant %g "
             "nspheres %d ntry 1000000 spheres %s type 1 mass %.12g use_density "
             "inertia_tensor %.12g %.12g %.12g %.12g %.12g %.12g"
@@ -566,6 +578,16 @@ def export(name):
     mat = materials(name, box)
     if sc.get("multisphere"):
         mat["bodies"]["count"] = len(set(int(r[2]) for r in p))     # the mol column
+    if sc.get("monte_carlo"):
+        # what LIGGGHTS estimated: its build log's template report
+        with open(os.path.join(WORK, "log.build_" + name)) as f:
+            log = f.read().splitlines()
+        k = max(i for i, l in enumerate(log) if l.startswith("Finished calculating properties of template"))
+        mat["bodies"] = {"count": mat["bodies"]["count"],
+                         "template_members_x_y_z_r": MS_TEMPLATES[name],
+                         "note": "mass, centre and tensor estimated by LIGGGHTS' Monte Carlo (ntry 1e6): the "
+                                 "union's volume (overlap counted once); liggghts_log is its report",
+                         "liggghts_log": [l.strip() for l in log[k:k + 11]]}
     with open(os.path.join(out, "materials.json"), "w") as f:
         json.dump(mat, f, indent=1)
         f.write("\n")

@@ -5,7 +5,10 @@ GlobalStiffnessTimeStepper and exaDEM's rule on the same rigid bodies
 (`Scene.body_peer_steps`, the library's `body_gst_step` and
 `body_exadem_step`, raw), demstep's exact limits with the bodies given
 explicitly (a cross-check of the app's `mol` reading), and the members taken
-as free spheres. Writes demstep/multisphere_peers.md.
+as free spheres. Writes demstep/multisphere_peers.md. For j_multisphere_mc
+(the template left to LIGGGHTS' Monte Carlo) a last row gives the library
+LIGGGHTS' own estimate instead (the union's mass and principal moments from
+its log, the tensor axisymmetric about the two members' axis).
 
     DEMSTEP_LIBRARY=path/to/libdemstep.so.0 python3 multisphere_peers.py
 
@@ -24,7 +27,7 @@ here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(here, "..", "..", "python"))
 import demstep  # noqa: E402
 
-SCENES = ("h_multisphere", "i_multisphere3")
+SCENES = ("h_multisphere", "i_multisphere3", "j_multisphere_mc")
 
 
 def bodies(rows):
@@ -48,8 +51,29 @@ def bodies(rows):
     return body_of, mass, com, inertia, x, rad, mb
 
 
-def scene(mat, rows, with_bodies):
+def logged_bodies(mat, rows):
+    """j_multisphere_mc's bodies as LIGGGHTS estimated them (its log): mass,
+    principal moments (axial, and the mean of the two transverse ones, equal
+    but for the estimate's noise, 9e-4 apart); the centre at the members'
+    midpoint (the log puts it 4.7e-7 m, 4e-4 of a radius, away)."""
+    log = mat["bodies"]["liggghts_log"]
+    m = float(log[1].split("=")[1].split(",")[0])
+    moments = [float(v) for v in log[4].split(":")[1].split(",")]
+    body_of, _, com, _, x, _, _ = bodies(rows)
+    nb = body_of.max()
+    inertia = np.zeros((nb, 3, 3))
+    for b in range(nb):
+        xa, xb = x[body_of == b + 1]
+        n = (xb - xa) / np.linalg.norm(xb - xa)
+        nn = np.outer(n, n)
+        inertia[b] = moments[0] * nn + 0.5 * (moments[1] + moments[2]) * (np.eye(3) - nn)
+    return np.full(nb, m), com, inertia
+
+
+def scene(mat, rows, with_bodies, logged=False):
     body_of, mass, com, inertia, x, rad, mb = bodies(rows)
+    if logged:
+        mass, com, inertia = logged_bodies(mat, rows)
     radii = sorted(set(mat["radii"]))
     types = np.array([min(range(len(radii)), key=lambda k: abs(r - radii[k])) for r in rad])
     s = demstep.Scene(3)
@@ -91,6 +115,13 @@ def main():
         lines.append("| %s | %d (%d) | [%.5g, %.5g] | %.4f (%.5g s) | %.4f | %.4f | %.4f | %.4f |" % (
             sc, nb, len(rows), lo, hi, r.dt_critical_damped / mid, r.dt_critical_damped,
             r.dt_critical_eigen / mid, gst / mid, exa / mid, free.dt_critical_damped / mid))
+        if "liggghts_log" in mat["bodies"]:
+            with scene(mat, rows, True, logged=True) as s:
+                r = s.compute("current")
+                gst, exa = s.body_peer_steps()
+            lines.append("| %s, LIGGGHTS' logged mass and tensor | %d (%d) | [%.5g, %.5g] | %.4f (%.5g s) | %.4f "
+                         "| %.4f | %.4f | |" % (sc, nb, len(rows), lo, hi, r.dt_critical_damped / mid,
+                                              r.dt_critical_damped, r.dt_critical_eigen / mid, gst / mid, exa / mid))
     text = "\n".join(lines) + "\n"
     with open(os.path.join(here, "demstep", "multisphere_peers.md"), "w") as f:
         f.write(text)
