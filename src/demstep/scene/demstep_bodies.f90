@@ -88,7 +88,7 @@ contains
     real(dp), intent(in), optional :: density
     !> Each particle's body's mass (the same on every member of a body).
     real(dp), intent(in), optional :: body_mass(:)
-    real(dp), allocatable :: m(:), im(:), ref(:, :), vol(:)
+    real(dp), allocatable :: m(:), im(:), ref(:, :)
     integer, allocatable :: first(:)
     real(dp) :: d(3), eye(3, 3)
     integer :: i, b
@@ -149,6 +149,7 @@ contains
       real(dp), intent(out) :: m(:)
       type(demstep_status_type), intent(out) :: status
       integer, allocatable :: one(:)
+      real(dp), allocatable :: vol(:)
       if (size(given) /= scene%n) then
         call set_status(status, demstep_stat%invalid_input, "has "//int_text(size(given)) &
           //" values for "//int_text(scene%n)//" particles", where="body_mass")
