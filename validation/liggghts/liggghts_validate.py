@@ -662,10 +662,7 @@ def measure(name):
         w.writeheader()
         for r in rows:
             w.writerow(r)
-    crit = ("unstable if max(KE+KErot) over the last %g of T=%.4g s after a N(0,%g m/s) velocity kick "
-            "to the settled state > %g x the same in a reference run at dt=%.4g s (<= %g x lo)"
-            ", or KE passes %g x the reference's peak, or LIGGGHTS fails"
-            % (LATE, t2, PERTURB, FACTOR, dt_ref, REF_FRACTION, BLOWUP))
+    crit = criterion_text(name, t2, dt_ref)
     summary = dict(scene=name, dt_measured_lo=lo, dt_measured_hi=hi, T=t2, dt_ref=dt_ref,
                    E_late_ref=ref[0], E_peak_ref=ref[1], late_threshold=FACTOR * ref[0],
                    criterion=crit)
@@ -674,6 +671,17 @@ def measure(name):
         f.write("\n")
     write_measured_csv()
     print("%s: measured [%.6e, %.6e]" % (name, lo, hi))
+
+
+def criterion_text(name, t2, dt_ref):
+    """The stability criterion in words, for measured.json and measured.csv."""
+    kick = ("velocity kick" if not SCENES[name].get("multisphere") else
+            "one-step force kick on every member, F = 2 M sigma N(0,1)/dt, each body's centre moving at "
+            "sigma times a sum of its members' N(0,1),")
+    return ("unstable if max(KE+KErot) over the last %g of T=%.4g s after a N(0,%g m/s) %s "
+            "to the settled state > %g x the same in a reference run at dt=%.4g s (<= %g x lo)"
+            ", or KE passes %g x the reference's peak, or LIGGGHTS fails"
+            % (LATE, t2, PERTURB, kick, FACTOR, dt_ref, REF_FRACTION, BLOWUP))
 
 
 def write_measured_csv():
