@@ -43,6 +43,8 @@ contains
       new_unittest("bad input refused by name", test_bad_input), &
       new_unittest("body ids: any positive values, bodies in increasing id, lone particles after", test_ids), &
       new_unittest("Yade text export with clumpId: the bodies; a names line that does not fit", test_yade_clumps), &
+      new_unittest("LIGGGHTS multisphere dump (mol, the body's mass): the bodies; members' masses differ", &
+        test_liggghts_multisphere), &
       new_unittest("the stepper with rigid bodies: bounded at 0.99, grows at 1.01 of the limit", test_stepper), &
       new_unittest("the app: &scene bodies_file (and body_density), computed or refused", test_app) &
       ]
@@ -734,6 +736,61 @@ contains
     call check(error, status%stat == demstep_stat%ok .and. .not. snap%has_body, "no clumpId: no bodies")
   end subroutine test_yade_clumps
 
+  !> A LIGGGHTS dump with `mol` (fix multisphere's bodies 7 and 3, -1 for a
+  !> sphere on its own) and each member's `mass` the body's: body 7 of two
+  !> r = 1 spheres 1.2 apart, mass 5; body 3 of r = 1 and r = 0.5 spheres,
+  !> mass 2.25; the lone sphere keeps its mass 1. The members share the
+  !> body's mass in proportion to r^3, so body 7 has J = diag(2, 3.8, 3.8)
+  !> (2 x 2/5 2.5 1^2; plus 2 x 2.5 x 0.6^2) and body 3 its centre at the
+  !> r^3-weighted mean (closed forms, to 1e-12). A body whose members carry
+  !> different masses is refused naming the member.
+  subroutine test_liggghts_multisphere(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(snapshot_type) :: snap
+    type(scene_type) :: scene
+    type(body_set_type) :: bodies
+    type(demstep_status_type) :: status
+    character(len=*), parameter :: path = work_dir//"/multisphere.dump"
+    character(len=60), parameter :: head(9) = [character(len=60) :: "ITEM: TIMESTEP", "0", &
+      "ITEM: NUMBER OF ATOMS", "5", "ITEM: BOX BOUNDS ff ff ff", "-10 10", "-10 10", "-10 10", &
+      "ITEM: ATOMS id type mol x y z radius mass"]
+    real(dp) :: j7(3, 3), com3(3)
+    call write_file(path, [head, [character(len=60) :: "1 1 7 0 0 0 1 5", "2 1 7 1.2 0 0 1 5", &
+      "3 1 3 0 4 0 1 2.25", "4 1 3 0 5.2 0 0.5 2.25", "5 1 -1 6 0 0 1 1"]])
+    call read_snapshot(path, snap, status)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    call check(error, snap%has_body .and. snap%body_mass .and. all(snap%body == [7, 7, 3, 3, 0]), "mol column")
+    if (allocated(error)) return
+    call new_scene(scene, 3, snap%x, snap%mass, snap%radius, status)
+    call bodies_from_members(scene, snap%body, bodies, status, body_mass=snap%mass)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    ! ids 3, 7 are bodies 1, 2; the lone sphere body 3
+    call check(error, all(bodies%body_of == [2, 2, 1, 1, 3]) .and. &
+      all(abs(bodies%mass - [2.25_dp, 5.0_dp, 1.0_dp]) <= 1.0e-12_dp*bodies%mass), "bodies and their masses")
+    if (allocated(error)) return
+    j7 = 0.0_dp
+    j7(1, 1) = 2.0_dp
+    j7(2, 2) = 3.8_dp
+    j7(3, 3) = 3.8_dp
+    call check(error, maxval(abs(bodies%inertia(:, :, 2) - j7)) <= 1.0e-12_dp*3.8_dp .and. &
+      maxval(abs(bodies%com(:, 2) - [0.6_dp, 0.0_dp, 0.0_dp])) <= 1.0e-12_dp, "two-sphere body")
+    if (allocated(error)) return
+    com3 = ([0.0_dp, 4.0_dp, 0.0_dp] + 0.125_dp*[0.0_dp, 5.2_dp, 0.0_dp])/1.125_dp
+    call check(error, maxval(abs(bodies%com(:, 1) - com3)) <= 1.0e-12_dp*5.2_dp, "unequal members' centre")
+    if (allocated(error)) return
+    call write_file(path, [head, [character(len=60) :: "1 1 7 0 0 0 1 5", "2 1 7 1.2 0 0 1 4", &
+      "3 1 3 0 4 0 1 2.25", "4 1 3 0 5.2 0 0.5 2.25", "5 1 -1 6 0 0 1 1"]])
+    call read_snapshot(path, snap, status)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    call new_scene(scene, 3, snap%x, snap%mass, snap%radius, status)
+    call bodies_from_members(scene, snap%body, bodies, status, body_mass=snap%mass)
+    call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "body_mass" .and. &
+      index(status%message, "body_mass(2): differs from body_mass(1)") == 1, status%message)
+  end subroutine test_liggghts_multisphere
+
   !> Ids 1000000007, 5, 0, 5, 42, 0 number the bodies 3, 1, 4, 1, 2, 5.
   subroutine test_ids(error)
     type(error_type), allocatable, intent(out) :: error
@@ -1027,6 +1084,24 @@ contains
       //"bodies_file = 'bodies.txt' /", yade_material])
     if (allocated(error)) return
     call check(error, omega_max, expected, rel=.true., thr=1.0e-14_dp)
+    if (allocated(error)) return
+    ! a LIGGGHTS multisphere dump (mol, the body's mass) gives its bodies: two
+    ! bodies of two members and a lone sphere, 18 degrees of freedom; members
+    ! of one body with different masses are refused
+    call write_file(work_dir//"/ms_app.dump", [character(len=60) :: "ITEM: TIMESTEP", "0", &
+      "ITEM: NUMBER OF ATOMS", "5", "ITEM: BOX BOUNDS ff ff ff", "-1 1", "-1 1", "-1 1", &
+      "ITEM: ATOMS id type mol x y z radius mass", "1 1 4 0 0 0 1e-3 2e-5", "2 1 4 1.2e-3 0 0 1e-3 2e-5", &
+      "3 1 9 3.15e-3 0.2e-3 0 1e-3 2e-5", "4 1 9 4.35e-3 0.2e-3 0.2e-3 1e-3 2e-5", &
+      "5 1 -1 1.0e-3 1.95e-3 0 1e-3 1e-5"])
+    call computed([character(len=200) :: "&scene dim = 3, snapshot_file = 'ms_app.dump' /", yade_material])
+    if (allocated(error)) return
+    call check(error, n_dof, 18, message="3 bodies from mol")
+    if (allocated(error)) return
+    call write_file(work_dir//"/ms_app.dump", [character(len=60) :: "ITEM: TIMESTEP", "0", &
+      "ITEM: NUMBER OF ATOMS", "2", "ITEM: BOX BOUNDS ff ff ff", "-1 1", "-1 1", "-1 1", &
+      "ITEM: ATOMS id type mol x y z radius mass", "1 1 4 0 0 0 1e-3 2e-5", "2 1 4 1.2e-3 0 0 1e-3 3e-5"])
+    call refused("&scene dim = 3, snapshot_file = 'ms_app.dump', k_normal = 1e4 /", "&scene: snapshot_file: " &
+      //"mass column: body_mass(2): differs from body_mass(1) of the same body")
   contains
     !> Run a deck that computes; its result's omega_max, n_dof, steps,
     !> blew_up, energy_drift.

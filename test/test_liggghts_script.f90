@@ -402,7 +402,8 @@ contains
     if (allocated(error)) return
     call expect_refusal(error, "fix g all gravity 9.81 chute 26", "script: line 1: fix gravity: expected", "")
     if (allocated(error)) return
-    call expect_refusal(error, "fix ms all multisphere", "script: line 1: fix multisphere: fix style not read", "")
+    call expect_refusal(error, "fix ms all multisphere", "script: line 1: fix multisphere: fix style not read " &
+      //"by demstep (rigid bodies: give the settled state as a dump with its mol and mass columns", "")
     if (allocated(error)) return
     call expect_refusal(error, "fix m all property/global youngsModulus peratomtype 1e7 -1", &
       "script: line 1: youngsModulus(2): value for type 2 must be > 0", "")

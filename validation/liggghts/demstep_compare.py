@@ -14,7 +14,8 @@ import csv, json, os, subprocess, sys
 here = os.path.dirname(os.path.abspath(__file__))
 data = os.path.join(here, "data")
 out = os.path.join(here, "demstep")
-scenes = ["a_hertz", "b_hooke", "c_epsd2", "d_periodic", "e_undamped", "f_tdoff", "g_hooke_undamped"]
+scenes = ["a_hertz", "b_hooke", "c_epsd2", "d_periodic", "e_undamped", "f_tdoff", "g_hooke_undamped",
+          "h_multisphere", "i_multisphere3", "j_multisphere_mc"]
 # the peers' rules shown in the table (all nine are in each _result.nml)
 peers = ["edem_rayleigh_20", "liggghts_rayleigh_10", "liggghts_hertz_10", "yade_pwave_30"]
 
@@ -33,10 +34,13 @@ def write_dump(scene, mat, rows, types, path):
         f.write("ITEM: BOX BOUNDS %s\n" % flags)
         for a in range(3):
             f.write("%.12e %.12e\n" % (lo[a], hi[a]))
-        f.write("ITEM: ATOMS id type x y z vx vy vz radius mass omegax omegay omegaz\n")
+        # mol: LIGGGHTS' multisphere body of each atom (its mass column is the body's)
+        mol = "mol" in rows[0]
+        f.write("ITEM: ATOMS id type %sx y z vx vy vz radius mass omegax omegay omegaz\n" % ("mol " if mol else ""))
         for r, t in zip(rows, types):
-            f.write("%s %d %s %s %s %s %s %s %s %s %s %s %s\n" % (r["id"], t, r["x"], r["y"], r["z"], r["vx"],
-                    r["vy"], r["vz"], r["radius"], r["mass"], r["omegax"], r["omegay"], r["omegaz"]))
+            f.write("%s %d %s%s %s %s %s %s %s %s %s %s %s %s\n" % (r["id"], t, (r["mol"] + " ") if mol else "",
+                    r["x"], r["y"], r["z"], r["vx"], r["vy"], r["vz"], r["radius"], r["mass"], r["omegax"],
+                    r["omegay"], r["omegaz"]))
 
 
 def wall_values(mat):

@@ -795,6 +795,10 @@ contains
       script%gravity_line = line
     case ("particletemplate/sphere")
       call template_command(words, n, line, script, status)
+    case ("particletemplate/multisphere", "multisphere")
+      ! a script does not say where the bodies settled; a dump does
+      call set_status(status, demstep_stat%invalid_input, "fix style not read by demstep (rigid bodies: " &
+        //"give the settled state as a dump with its mol and mass columns, &scene snapshot_file)")
     case default
       if (.not. any(passed_fixes == words(4)%text)) call set_status(status, demstep_stat%invalid_input, &
         "fix style not read by demstep")

@@ -488,10 +488,17 @@ contains
         body_of = setup%snapshot%body
       end if
       allocate(setup%bodies)
-      call bodies_from_members(scene, body_of, setup%bodies, status, density=input%body_density)
+      if (from == "snapshot_file" .and. setup%snapshot%body_mass .and. .not. allocated(input%body_density)) then
+        ! LIGGGHTS' multisphere: each member's mass is its body's
+        call bodies_from_members(scene, body_of, setup%bodies, status, body_mass=setup%snapshot%mass)
+      else
+        call bodies_from_members(scene, body_of, setup%bodies, status, density=input%body_density)
+      end if
       if (status%stat /= demstep_stat%ok) then
         if (status%where == "density") call status_restate(status, "body_density", status%detail)
         if (status%where == "body_of") call status_restate(status, from, status%detail)
+        ! the particle's index: "body_mass(i): ..." (the dump's mass column)
+        if (status%where == "body_mass") call status_restate(status, from, "mass column: "//status%message)
         deallocate(setup%bodies)
       end if
     end subroutine rigid_bodies

@@ -7,9 +7,15 @@
 !>   `ss`, ... do not), `ITEM: ATOMS <columns>` and one row per atom. Columns in
 !>   any order: `id`, `type`, `x y z` (or scaled `xs ys zs`, or unwrapped `xu yu
 !>   zu`), `vx vy vz`, `radius` or `diameter`, `mass`, `density`, `omegax omegay
-!>   omegaz`; LAMMPS' other per-atom columns (`fx`, `tqx`, `ix`, `q`, `c_*`,
+!>   omegaz`, `mol`; LAMMPS' other per-atom columns (`fx`, `tqx`, `ix`, `q`, `c_*`,
 !>   `f_*`, `v_*`, ...) are skipped; any other name is refused. The last frame is
-!>   read unless another is asked for.
+!>   read unless another is asked for. `mol` is read as LIGGGHTS `fix
+!>   multisphere` writes it: the atom's rigid body (`atom->molecule` is the
+!>   fix's body id, fix_multisphere.cpp:1343 in CFDEMproject/LIGGGHTS-PUBLIC
+!>   3d5c00f; -1 or 0 for a sphere on its own), and then the `mass` column is
+!>   the whole body's mass on each member (`body_mass`; the template's mass,
+!>   every member's rmass at insertion, particleToInsert_multisphere.cpp:203),
+!>   which must be the same on all of a body's members.
 !> - Data file (`lammps_data`): the header counts (`N atoms`, `xlo xhi`, ...),
 !>   the `Atoms` section of atom style sphere (`id type diameter density x y z`,
 !>   optionally `ix iy iz`) and the optional `Velocities` section (`id vx vy vz
@@ -85,6 +91,9 @@ module demstep_snapshot
     !> gave them; for `bodies_from_members`).
     integer, allocatable :: body(:)
     logical :: has_body = .false.
+    !> The `mass` of a body's members is the body's mass (a LIGGGHTS
+    !> multisphere dump's `mol` and `mass` columns).
+    logical :: body_mass = .false.
     !> Which optional data the file had.
     logical :: has_velocity = .false., has_omega = .false., has_mass = .false., has_density = .false.
     !> Box bounds (0 for Yade, which writes none) and periodic axes.
@@ -378,10 +387,10 @@ contains
     subroutine read_frame(k0)
       integer, intent(in) :: k0
       integer :: a(64), b(64), nf, j, c, i, ncol, row, first, second, nf_row
-      integer(i8) :: count, ints(2)
+      integer(i8) :: count, ints(3)
       integer(i8), allocatable :: table(:)
       integer, allocatable :: slot(:)
-      integer :: col_id, col_type, col_x(3), col_v(3), col_w(3), col_r, col_d, col_m, col_rho
+      integer :: col_id, col_type, col_x(3), col_v(3), col_w(3), col_r, col_d, col_m, col_rho, col_mol
       logical :: scaled
       real(dp) :: vals(64)
       character(len=:), allocatable :: h, name
@@ -426,6 +435,7 @@ contains
         return
       end if
       col_id = 0; col_type = 0; col_x = 0; col_v = 0; col_w = 0; col_r = 0; col_d = 0; col_m = 0; col_rho = 0
+      col_mol = 0
       scaled = .false.
       do c = 1, ncol
         name = h(a(c + 2):b(c + 2))
@@ -469,14 +479,16 @@ contains
           col_m = c
         case ("density")
           col_rho = c
-        case ("mol", "q", "fx", "fy", "fz", "tqx", "tqy", "tqz", "ix", "iy", "iz", "angmomx", "angmomy", &
+        case ("mol")
+          col_mol = c
+        case ("q", "fx", "fy", "fz", "tqx", "tqy", "tqz", "ix", "iy", "iz", "angmomx", "angmomy", &
           "angmomz", "mux", "muy", "muz", "mu", "proc", "procp1", "element", "ke", "pe")
         case default
           if (.not. (index(name, "c_") == 1 .or. index(name, "f_") == 1 .or. index(name, "v_") == 1 &
             .or. index(name, "i_") == 1 .or. index(name, "d_") == 1 .or. index(name, "i2_") == 1 &
             .or. index(name, "d2_") == 1)) then
             call fail_at(status, k0 + 8, "unknown column '"//clipped(name)//"' (known: id type x y z xs ys zs xu yu " &
-              //"zu vx vy vz radius diameter mass density omegax omegay omegaz, LAMMPS' others skipped)")
+              //"zu vx vy vz radius diameter mass density omegax omegay omegaz mol, LAMMPS' others skipped)")
             return
           end if
         end select
@@ -509,13 +521,16 @@ contains
       do i = 1, s%n
         row = k0 + 8 + i
         ! ids and types: integers from 1 (LAMMPS numbers both from 1)
+        ! mol: LIGGGHTS writes -1 for a sphere in no body
         call line_numbers(text, lines, row, ncol, vals, status, columns=h(a(3):b(nf)), &
-          whole=[col_id, col_type], low=[1_i8, 1_i8], high=[huge(1_i8), int(huge(1), i8)], ints=ints)
+          whole=[col_id, col_type, col_mol], low=[1_i8, 1_i8, -1_i8], &
+          high=[huge(1_i8), int(huge(1), i8), int(huge(1), i8)], ints=ints)
         if (status%stat /= demstep_stat%ok) return
         s%id(i) = i
         if (col_id > 0) s%id(i) = ints(1)
         s%type(i) = 1
         if (col_type > 0) s%type(i) = int(ints(2))
+        if (col_mol > 0) s%body(i) = max(0, int(ints(3)))
         s%x(:, i) = vals(col_x)
         if (scaled) s%x(:, i) = s%lo + vals(col_x)*(s%hi - s%lo)
         if (s%has_velocity) s%v(:, i) = vals(col_v)
@@ -545,6 +560,9 @@ contains
           return
         end if
       end if
+      ! LIGGGHTS' bodies: the mass column is each member's body's mass
+      s%has_body = any(s%body > 0)
+      s%body_mass = s%has_body .and. s%has_mass
       status%stat = demstep_stat%ok
     end subroutine read_frame
 

@@ -18,6 +18,19 @@
 !> default (`discretization` 0 skips the overlap test, line 140); Yade
 !> integrates over a grid only when asked, and a one-member clump keeps its
 !> member's mass and inertia (lines 117-135), as here.
+!>
+!> LIGGGHTS `fix multisphere` gives each body's mass instead (on every
+!> member: a dump's `mass` column); with `body_mass` the members share it
+!> in proportion to their volumes r^3 (one density per body) and the
+!> centre of mass and inertia follow with Steiner's term as above. That is
+!> LIGGGHTS' body exactly when its template states `mass` and
+!> `inertia_tensor` equal to the members' sum (then LIGGGHTS takes the
+!> template's origin as the centre of mass, runs no Monte Carlo estimate,
+!> fix_template_multisphere.cpp:261-275, CFDEMproject/LIGGGHTS-PUBLIC
+!> 3d5c00f) and its origin at the members' volume-weighted centre, or for
+!> members that do not overlap; a template left to LIGGGHTS' Monte Carlo
+!> counts the overlap once (fix_template_multiplespheres.cpp:458-503) and
+!> has a smaller tensor for its mass than the sum.
 module demstep_bodies
   use demstep_kinds, only: dp, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
@@ -59,10 +72,13 @@ contains
   !> own; positive ids group particles (any values, e.g. Yade's clump ids),
   !> the bodies numbered in increasing id. Members' masses and moments of inertia are the
   !> scene's, or with `density` rho: m = rho (4/3) pi r^3 and 2/5 m r^2
-  !> (Yade, core/Clump.cpp:229-234). Status invalid_input naming `body_of`
-  !> (size, a negative id), `fixed` (a body with fixed and free members)
-  !> or `density`.
-  subroutine bodies_from_members(scene, body_of, bodies, status, density)
+  !> (Yade, core/Clump.cpp:229-234); with `body_mass` (LIGGGHTS'
+  !> multisphere, see the module's notes) a body's members share its mass in
+  !> proportion to r^3. Status invalid_input naming `body_of` (size, a
+  !> negative id), `fixed` (a body with fixed and free members), `density`
+  !> or `body_mass` (not finite and > 0, or differing between a body's
+  !> members, with the particle's index).
+  subroutine bodies_from_members(scene, body_of, bodies, status, density, body_mass)
     type(scene_type), intent(in) :: scene
     !> Body id of each particle (0: on its own).
     integer, intent(in) :: body_of(:)
@@ -70,6 +86,8 @@ contains
     type(demstep_status_type), intent(out) :: status
     !> Density of the members (default: the scene's masses and inertias).
     real(dp), intent(in), optional :: density
+    !> Each particle's body's mass (the same on every member of a body).
+    real(dp), intent(in), optional :: body_mass(:)
     real(dp), allocatable :: m(:), im(:), ref(:, :)
     integer, allocatable :: first(:)
     real(dp) :: d(3), eye(3, 3)
@@ -83,6 +101,10 @@ contains
         return
       end if
       m(:) = density*(4.0_dp/3.0_dp)*pi*scene%radius**3
+      im(:) = 0.4_dp*m*scene%radius**2
+    else if (present(body_mass)) then
+      call shared_mass(body_mass, m, status)
+      if (status%stat /= demstep_stat%ok) return
       im(:) = 0.4_dp*m*scene%radius**2
     else
       m(:) = scene%mass
@@ -117,6 +139,45 @@ contains
       bodies%com(:, b) = bodies%com(:, b) + scene%x(:, first(b))
     end do
     status%stat = demstep_stat%ok
+
+  contains
+
+    !> Members' masses from their body's: m_i = M r_i^3 / sum over the body
+    !> of r^3.
+    subroutine shared_mass(given, m, status)
+      real(dp), intent(in) :: given(:)
+      real(dp), intent(out) :: m(:)
+      type(demstep_status_type), intent(out) :: status
+      integer, allocatable :: one(:)
+      real(dp), allocatable :: vol(:)
+      if (size(given) /= scene%n) then
+        call set_status(status, demstep_stat%invalid_input, "has "//int_text(size(given)) &
+          //" values for "//int_text(scene%n)//" particles", where="body_mass")
+        return
+      end if
+      allocate(vol(bodies%n), source=0.0_dp)
+      allocate(one(bodies%n), source=0)
+      do i = 1, scene%n
+        b = bodies%body_of(i)
+        if (.not. (ieee_is_finite(given(i)) .and. given(i) > 0.0_dp)) then
+          call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="body_mass", &
+            index=i, subscript=.true.)
+          return
+        end if
+        if (one(b) == 0) one(b) = i
+        if (given(i) /= given(one(b))) then
+          call set_status(status, demstep_stat%invalid_input, "differs from body_mass("//int_text(one(b)) &
+            //") of the same body (a body's members carry its mass)", where="body_mass", index=i, &
+            subscript=.true.)
+          return
+        end if
+        vol(b) = vol(b) + scene%radius(i)**3
+      end do
+      do i = 1, scene%n
+        m(i) = given(i)*scene%radius(i)**3/vol(bodies%body_of(i))
+      end do
+      status%stat = demstep_stat%ok
+    end subroutine shared_mass
   end subroutine bodies_from_members
 
   !> Bodies from lists of members (`members(first(k):first(k+1)-1)` for body
