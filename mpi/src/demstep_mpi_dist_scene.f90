@@ -47,13 +47,14 @@ module demstep_mpi_dist_scene
   use demstep_interaction, only: dof_components
   use demstep_neighbours, only: search_type, search_trouble
   use demstep_assembly, only: assembly_operator_type, assembly_operator, assembly_operator_apply, &
-    assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_springs, &
+    assembly_check_options, assembly_set_bound, assembly_set_springs, &
     critical_step_type, eigen_solver, scene_lanczos_ncv, scene_lanczos_restarts, bound_iterations, &
-    damped_problem_type, damped_newton, safe_basis, spring_block_type, linearise, &
+    damped_problem_type, damped_newton, spring_block_type, linearise, &
     operator_from_springs, operator_abs_product, operator_mix, dof_masses, hertz_linearization
   use demstep_lanczos, only: eigen_result_type, lanczos_tolerance_default
   use demstep_mpi_lanczos, only: dist_operator_type, dist_halo_type, dist_halo_create, &
     dist_halo_exchange, dist_halo_free, parallel_lanczos_largest
+  use demstep_mpi_scene, only: mpi_lanczos_estimates
   use demstep_mpi_parts, only: read_table_part, agree_status, broadcast_status, no_fault, &
     heap_sort, position
   implicit none
@@ -719,7 +720,7 @@ contains
     subroutine estimates()
       type(eigen_result_type) :: lanczos
       real(dp), allocatable :: vec(:)
-      real(dp) :: bound, lam, lower
+      real(dp) :: bound, lower
       logical :: has_mode
 
       bound = scene_bound(dop)
@@ -737,26 +738,9 @@ contains
       call parallel_lanczos_largest(dop, lanczos, status, eigenvector=vec, tolerance=tol, &
         ncv=min(scene_lanczos_ncv, dop%n_global), max_restarts=scene_lanczos_restarts, &
         progress=progress, certify=.true., lower_bound=lower)
-      result%eigen_products = lanczos%applications
-      result%eigen_restarts = lanczos%iterations
-      if (status%stat == demstep_stat%not_converged) then
-        has_mode = any(vec /= 0.0_dp)
-        call MPI_Allreduce(MPI_IN_PLACE, has_mode, 1, MPI_LOGICAL, MPI_LOR, rows_comm)
-        if (.not. has_mode) then
-          ! out of restarts with no converged Ritz pair: the bracket of the
-          ! Ritz value and PARPACK's residual estimate (as the serial path)
-          call assembly_set_estimates(result, rate, lanczos%eigenvalue, lanczos%residual, .false., &
-            b_bound, status, lanczos%upper_bound, safe_basis%randomised, lanczos%failure_probability)
-          return
-        end if
-        status%stat = demstep_stat%ok
-      end if
-      if (status%stat /= demstep_stat%ok) return
-      lam = lanczos%eigenvalue
-      call assembly_set_estimates(result, rate, lam, lanczos%residual, lanczos%converged, &
-        b_bound, status, lanczos%upper_bound, safe_basis%randomised, lanczos%failure_probability)
-      if (status%stat /= demstep_stat%ok .or. .not. b_bound > 0.0_dp) return
-      call exact_damped(vec, lam)
+      call mpi_lanczos_estimates(rows_comm, lanczos, vec, rate, b_bound, result, status, has_mode)
+      if (status%stat /= demstep_stat%ok .or. .not. has_mode .or. .not. b_bound > 0.0_dp) return
+      call exact_damped(vec, lanczos%eigenvalue)
     end subroutine estimates
 
     !> The exact damped limit from the top undamped mode's block `vec`.

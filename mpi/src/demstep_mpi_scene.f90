@@ -41,7 +41,7 @@ module demstep_mpi_scene
   implicit none
   private
 
-  public :: mpi_scene_critical_steps, scene_slabs
+  public :: mpi_scene_critical_steps, scene_slabs, mpi_lanczos_estimates
 
   !> The distributed damped-limit problem: this rank's rows of the operator
   !> (mixed per tau, same pattern), the matrix and the last mode's block.
@@ -160,7 +160,7 @@ contains
     subroutine estimates()
       type(eigen_result_type) :: lanczos
       real(dp), allocatable :: vec(:)
-      real(dp) :: bound, rule, lam, lower
+      real(dp) :: bound, rule, lower
       logical :: has_mode
 
       call dist_collatz_bound(matrix, bound_iterations, bound)
@@ -186,27 +186,9 @@ contains
       call parallel_lanczos_largest(matrix, lanczos, status, eigenvector=vec, tolerance=tol, &
         ncv=min(scene_lanczos_ncv, op%n), max_restarts=scene_lanczos_restarts, progress=progress, &
         certify=.true., lower_bound=lower)
-      result%eigen_products = lanczos%applications
-      result%eigen_restarts = lanczos%iterations
-      if (status%stat == demstep_stat%not_converged) then
-        has_mode = any(vec /= 0.0_dp)
-        call MPI_Allreduce(MPI_IN_PLACE, has_mode, 1, MPI_LOGICAL, MPI_LOR, comm)
-        if (.not. has_mode) then
-          ! restarts ran out with no converged Ritz pair: the Ritz value and
-          ! PARPACK's residual estimate bracket omega_max (as the serial path)
-          call assembly_set_estimates(result, rate, lanczos%eigenvalue, lanczos%residual, .false., &
-            b_bound, status, lanczos%upper_bound, safe_basis%randomised, lanczos%failure_probability)
-          return
-        end if
-        status%stat = demstep_stat%ok
-      end if
-      if (status%stat /= demstep_stat%ok) return
-      ! the unit mode's Rayleigh quotient and residual, measured by the solver
-      lam = lanczos%eigenvalue
-      call assembly_set_estimates(result, rate, lam, lanczos%residual, lanczos%converged, &
-        b_bound, status, lanczos%upper_bound, safe_basis%randomised, lanczos%failure_probability)
-      if (status%stat /= demstep_stat%ok .or. .not. b_bound > 0.0_dp) return
-      call exact_damped(vec, lam)
+      call mpi_lanczos_estimates(comm, lanczos, vec, rate, b_bound, result, status, has_mode)
+      if (status%stat /= demstep_stat%ok .or. .not. has_mode .or. .not. b_bound > 0.0_dp) return
+      call exact_damped(vec, lanczos%eigenvalue)
     end subroutine estimates
 
     !> The exact damped limit from the top undamped mode's block `vec`.
@@ -395,5 +377,38 @@ contains
     va = sum(problem%vec*y)
     call MPI_Allreduce(MPI_IN_PLACE, va, 1, MPI_DOUBLE_PRECISION, MPI_SUM, problem%matrix%comm)
   end subroutine mpi_damped_top
+
+  !> The estimates from a parallel Lanczos solve (`parallel_lanczos_largest`
+  !> with its status `status`): its products, and omega_max with its error bar
+  !> and certificate (`assembly_set_estimates`), the top mode's Rayleigh
+  !> quotient and residual as the solver measured them. Out of restarts with
+  !> no converged Ritz pair on any rank of `comm`, the Ritz value and PARPACK's
+  !> residual estimate (as the serial path) and `mode` false; `mode` true when
+  !> `vec` holds the top mode (for the exact damped limit).
+  subroutine mpi_lanczos_estimates(comm, lanczos, vec, rate, b_bound, result, status, mode)
+    type(MPI_Comm), intent(in) :: comm
+    type(eigen_result_type), intent(in) :: lanczos
+    real(dp), intent(in) :: vec(:), rate, b_bound
+    type(critical_step_type), intent(inout) :: result
+    type(demstep_status_type), intent(inout) :: status
+    logical, intent(out) :: mode
+    result%eigen_products = lanczos%applications
+    result%eigen_restarts = lanczos%iterations
+    mode = .false.
+    if (status%stat == demstep_stat%not_converged) then
+      mode = any(vec /= 0.0_dp)
+      call MPI_Allreduce(MPI_IN_PLACE, mode, 1, MPI_LOGICAL, MPI_LOR, comm)
+      if (.not. mode) then
+        call assembly_set_estimates(result, rate, lanczos%eigenvalue, lanczos%residual, .false., &
+          b_bound, status, lanczos%upper_bound, safe_basis%randomised, lanczos%failure_probability)
+        return
+      end if
+      status%stat = demstep_stat%ok
+    end if
+    if (status%stat /= demstep_stat%ok) return
+    call assembly_set_estimates(result, rate, lanczos%eigenvalue, lanczos%residual, lanczos%converged, &
+      b_bound, status, lanczos%upper_bound, safe_basis%randomised, lanczos%failure_probability)
+    mode = status%stat == demstep_stat%ok
+  end subroutine mpi_lanczos_estimates
 
 end module demstep_mpi_scene
