@@ -42,7 +42,7 @@ module demstep_mpi_dist_scene
   use demstep_progress, only: progress_type
   use demstep_scene_data, only: scene_type, scene_effect, has_tangential, branch_vector
   use demstep_scene_builders, only: new_scene, scene_set_cell, scene_set_contacts
-  use demstep_scene_input, only: scene_input_type, particle_columns, particles_from_rows, &
+  use demstep_scene_input, only: scene_input_type, particle_columns, particles_from_rows, scene_input_check_dim, &
     contact_columns, scene_input_effects, scene_input_damping
   use demstep_interaction, only: dof_components
   use demstep_neighbours, only: search_type, search_trouble
@@ -127,11 +127,8 @@ contains
     call MPI_Comm_size(comm, nranks)
     call MPI_Comm_rank(comm, rank)
     dim = input%dim
-    if (dim < 1 .or. dim > 3) then
-      call set_status(status, demstep_stat%invalid_input, "must be 1, 2 or 3, got "//int_text(dim), &
-        where="dim")
-      return
-    end if
+    call scene_input_check_dim(input, status)
+    if (status%stat /= demstep_stat%ok) return
     call check_supported(input, status)
     if (status%stat /= demstep_stat%ok) return
 

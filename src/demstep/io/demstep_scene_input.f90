@@ -34,7 +34,7 @@ module demstep_scene_input
   private
 
   public :: scene_from_input, scene_input_own_stiffness, scene_input_takes_material, particle_columns, &
-    particles_from_rows, scene_input_effects, scene_input_damping
+    particles_from_rows, scene_input_effects, scene_input_damping, scene_input_check_dim
 
   !> The parts of a scene's input a fault can lie in.
   type, public :: scene_input_part_enum
@@ -151,6 +151,15 @@ contains
       .or. given_real(input%young) .or. allocated(input%liggghts_script)
   end function scene_input_own_stiffness
 
+  !> The input's `dim`: 1, 2 or 3, else invalid_input at `dim`.
+  pure subroutine scene_input_check_dim(input, status)
+    type(scene_input_type), intent(in) :: input
+    type(demstep_status_type), intent(out) :: status
+    status%stat = demstep_stat%ok
+    if (input%dim < 1 .or. input%dim > 3) call set_status(status, demstep_stat%invalid_input, &
+      "must be 1, 2 or 3, got "//int_text(input%dim), where="dim")
+  end subroutine scene_input_check_dim
+
   !> Whether the input takes its particle types' stiffness from a material
   !> set: a snapshot without stiffness of its own.
   pure logical function scene_input_takes_material(input) result(takes)
@@ -178,11 +187,8 @@ contains
     integer :: i, n, np, dim, law, nt, nw
     part = scene_input_part%scene
     dim = input%dim
-    if (dim < 1 .or. dim > 3) then
-      call set_status(status, demstep_stat%invalid_input, "must be 1, 2 or 3, got "//int_text(dim), &
-        where="dim")
-      return
-    end if
+    call scene_input_check_dim(input, status)
+    if (status%stat /= demstep_stat%ok) return
     search = .not. allocated(input%contacts_file)
 
     ! particles: a snapshot, a table file or the arrays
