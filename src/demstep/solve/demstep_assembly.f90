@@ -48,7 +48,7 @@ module demstep_assembly
   use demstep_bonds, only: bond_law_type
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use demstep_lapack, only: largest_eigenpair
-  use demstep_lanczos, only: lanczos_context_type, lanczos_largest, eigen_result_type, &
+  use demstep_lanczos, only: lanczos_context_type, lanczos_largest, eigen_result_type, lanczos_operator, &
     lanczos_tolerance_default, check_lanczos_options
   use demstep_csr, only: csr_matrix_type, csr_to_dense
   use demstep_progress, only: progress_type
@@ -57,7 +57,7 @@ module demstep_assembly
   private
 
   public :: assembly_critical_steps, assembly_step_for_n_per_period, assembly_operator, &
-    assembly_operator_apply, assembly_matrix, assembly_matrix_rows, &
+    assembly_operator_apply, assembly_matrix, assembly_matrix_rows, top_eigenpair, operator_matrix, &
     assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_damped, &
     damped_lower_bound, dashpot_names, damped_newton, assembly_dashpot_bound, operator_from_springs, &
     operator_critical_steps, operator_mix, assembly_set_springs, linearise
@@ -213,6 +213,16 @@ module demstep_assembly
     !> twisting, bond, drag).
     logical :: dashpots(6) = .false.
   end type critical_step_type
+
+  abstract interface
+    !> The matrix of an operator given as a Lanczos context (for the dense
+    !> solver of `top_eigenpair`).
+    subroutine operator_matrix(context, matrix)
+      import :: lanczos_context_type, csr_matrix_type
+      class(lanczos_context_type), intent(inout) :: context
+      type(csr_matrix_type), intent(out) :: matrix
+    end subroutine operator_matrix
+  end interface
 
   !> A damped-limit problem for `damped_newton`: the top eigenpair of
   !> tau^2 A' + 2 tau B' at a given tau (serial or distributed).
@@ -418,15 +428,12 @@ contains
       ! the bound, which shifts the certificate's operator)
       lower = 0.0_dp
       if (geo) lower = -(result%omega_bound/rate)**2
-      call top_eigenpair(op, solver, tol, vec, lam, err, has_mode, result%eigen_products, &
-        result%eigen_restarts, status, progress, ncv, converged, lower, upper, failure, accept_start)
+      call top_eigenpair(op, assembly_operator_apply, assembly_matrix_of, op%n, solver, tol, vec, lam, err, &
+        has_mode, result%eigen_products, &
+        result%eigen_restarts, status, progress, ncv, converged, lower, upper, failure, accept_start, basis)
       if (status%stat /= demstep_stat%ok) return
       result%eigen_tolerance = tol
-      basis = safe_basis%randomised
-      if (solver == eigen_solver%dense) then
-        result%eigen_tolerance = epsilon(1.0_dp)
-        basis = safe_basis%dense
-      end if
+      if (solver == eigen_solver%dense) result%eigen_tolerance = epsilon(1.0_dp)
       call assembly_set_estimates(result, rate, lam, err, converged, b_bound, status, upper, &
         basis, failure)
       if (status%stat /= demstep_stat%ok) return
@@ -602,8 +609,8 @@ contains
     status%stat = demstep_stat%ok
   end subroutine assembly_set_damped
 
-  !> The top eigenpair of the operator as it is mixed now: dense (LAPACK on
-  !> its matrix) or Lanczos (warm-started from `vec` when it is non-zero); the
+  !> The top eigenpair of an operator (a scene's, rigid bodies') as it is
+  !> mixed now: dense (LAPACK on its matrix) or Lanczos (warm-started from `vec` when it is non-zero); the
   !> Rayleigh quotient `lam` of the returned unit mode and its residual `err`
   !> (measured; ARPACK's estimate when Lanczos ran out of restarts without a
   !> mode, `has_mode` false). Products and restarts are added to the counts.
@@ -614,9 +621,14 @@ contains
   !> previous top mode is, without the fresh random start that confirms a
   !> Lanczos solve). When it does not, the Lanczos solve starts from it
   !> and takes its first converged top without a confirmation run.
-  subroutine top_eigenpair(op, choice, tol, vec, lam, err, has_mode, products, restarts, status, &
-      progress, ncv, converged, lower, upper, failure, accept_start)
-    type(assembly_operator_type), intent(inout) :: op
+  subroutine top_eigenpair(op, apply, to_matrix, n, choice, tol, vec, lam, err, has_mode, products, &
+      restarts, status, progress, ncv, converged, lower, upper, failure, accept_start, basis)
+    !> The operator (a scene's `assembly_operator_type`, rigid bodies' ...),
+    !> its product y = A x, its matrix (module procedures) and its order.
+    class(lanczos_context_type), intent(inout) :: op
+    procedure(lanczos_operator) :: apply
+    procedure(operator_matrix) :: to_matrix
+    integer, intent(in) :: n
     integer, intent(in) :: choice
     real(dp), intent(in) :: tol
     real(dp), intent(inout) :: vec(:)
@@ -638,6 +650,8 @@ contains
     real(dp), intent(in), optional :: lower
     real(dp), intent(out), optional :: upper, failure
     logical, intent(in), optional :: accept_start
+    !> What `upper` rests on (a `safe_basis` code: dense or randomised).
+    integer, intent(out), optional :: basis
     type(eigen_result_type) :: lanczos
     type(csr_matrix_type) :: sparse
     real(dp), allocatable :: a(:, :), av(:), start(:)
@@ -648,16 +662,17 @@ contains
     m = scene_lanczos_ncv
     if (present(ncv)) m = ncv
     if (present(converged)) converged = .true.
+    if (present(basis)) basis = merge(safe_basis%dense, safe_basis%randomised, choice == eigen_solver%dense)
     if (choice == eigen_solver%dense) then
       ! the operator's own matrix, dense
-      call assembly_matrix(op, sparse)
+      call to_matrix(op, sparse)
       call csr_to_dense(sparse, a)
       call largest_eigenpair(a, lam, vec, status)
       if (status%stat /= demstep_stat%ok) return
       deallocate(a)
       ! the mode's Rayleigh quotient and residual, one matrix-free product
-      allocate(av(op%n))
-      call assembly_operator_apply(op, vec, av)
+      allocate(av(n))
+      call apply(op, vec, av)
       lam = dot_product(vec, av)
       err = norm2(av - lam*vec)
       if (present(upper)) upper = lam + err + 8.0_dp*epsilon(1.0_dp)*abs(lam)
@@ -665,9 +680,9 @@ contains
     else
       if (present(accept_start)) then
         if (accept_start .and. any(vec /= 0.0_dp)) then
-          allocate(av(op%n))
+          allocate(av(n))
           start = vec/norm2(vec)
-          call assembly_operator_apply(op, start, av)
+          call apply(op, start, av)
           products = products + 1
           lam = dot_product(start, av)
           err = norm2(av - lam*start)
@@ -684,7 +699,7 @@ contains
       end if
       start = vec
       ! (a start that was to be taken as it is, refined: no confirmation run)
-      call lanczos_largest(assembly_operator_apply, op, op%n, lanczos, status, eigenvector=vec, &
+      call lanczos_largest(apply, op, n, lanczos, status, eigenvector=vec, &
         tolerance=tol, ncv=m, max_restarts=scene_lanczos_restarts, &
         progress=progress, start=start, certify=present(upper), lower_bound=lower, confirm=.not. refine)
       if (present(upper)) upper = lanczos%upper_bound
@@ -834,7 +849,8 @@ contains
     class(progress_type), intent(inout), optional :: progress
     real(dp), allocatable :: y(:)
     call operator_mix(problem%op, tau**2, 2.0_dp*tau)
-    call top_eigenpair(problem%op, problem%choice, tol, problem%vec, theta, err, has_mode, &
+    call top_eigenpair(problem%op, assembly_operator_apply, assembly_matrix_of, problem%op%n, &
+      problem%choice, tol, problem%vec, theta, err, has_mode, &
       result%eigen_products, result%eigen_restarts, status, progress, problem%ncv, &
       accept_start=problem%accept_start)
     if (status%stat /= demstep_stat%ok) return
@@ -1039,6 +1055,16 @@ contains
     call assembly_matrix_rows(op, [(i, i = 1, op%n_bodies)], [(i, i = 1, op%n_bodies)], &
       matrix%row_start, matrix%col, matrix%val, status)
   end subroutine assembly_matrix
+
+  !> `assembly_matrix` for `top_eigenpair` (an `operator_matrix`).
+  subroutine assembly_matrix_of(context, matrix)
+    class(lanczos_context_type), intent(inout) :: context
+    type(csr_matrix_type), intent(out) :: matrix
+    select type (op => context)
+    class is (assembly_operator_type)
+      call assembly_matrix(op, matrix)
+    end select
+  end subroutine assembly_matrix_of
 
   !> The rows of A' that belong to a list of free bodies, with the bodies
   !> renumbered (e.g. to give each MPI rank the rows of its region): nc rows per

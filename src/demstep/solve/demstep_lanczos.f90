@@ -31,7 +31,9 @@
 !> The stopping rule is a test on the eigenvalue: a run is accepted when the
 !> bracket [theta, theta + r] is at most `tolerance * theta` wide and a second
 !> run from new random components does not raise theta by more than
-!> `tolerance * theta` (the top found to the tolerance; see `iterate`).
+!> `tolerance * theta` (the top found to the tolerance; see `iterate`), or,
+!> for a cold certified solve, when the single unrestarted run from the
+!> certificate's random start meets it (`krylov_top`, below).
 !>
 !> Certificate (`certify`). The bracket says where *an* eigenvalue lies, not
 !> that none lies above it (an eigenvector missing from the starts). With
@@ -167,6 +169,10 @@ module demstep_lanczos
     procedure(space_product), deferred :: product
     !> x.y over the whole vector, as accurate as a sum in twice the precision.
     procedure(space_dot), deferred :: dot
+    !> x.y for the recurrence's coefficients (`krylov_top`), where an
+    !> ordinary sum's rounding is the recurrence's own: `dot` unless a space
+    !> has a cheaper one (the serial space's plain sum).
+    procedure :: recurrence_dot => space_recurrence_dot
     !> True when the condition holds on every process.
     procedure(space_all), deferred :: all_ranks
     !> One reverse-communication step of the (P)ARPACK iteration.
@@ -236,6 +242,7 @@ module demstep_lanczos
   contains
     procedure :: product => serial_product
     procedure :: dot => serial_dot
+    procedure :: recurrence_dot => serial_recurrence_dot
     procedure :: all_ranks => serial_all
     procedure :: saupd => serial_saupd
     procedure :: seupd => serial_seupd
@@ -342,7 +349,9 @@ contains
     !> Wanted Ritz values kept at restarts, >= 1 and < ncv. Default `lanczos_nev_default`.
     integer, intent(in), optional :: nev
     !> Maximum implicit restarts of each ARPACK run (>= 1; ARPACK's mxiter; a
-    !> solve makes at most `lanczos_runs` runs). Default `lanczos_restarts_default`.
+    !> solve makes at most `lanczos_runs` runs; a single unrestarted run,
+    !> `krylov_top`, makes at most max_restarts * ncv products). Default
+    !> `lanczos_restarts_default`.
     integer, intent(in), optional :: max_restarts
     !> Reports the products made (no total: convergence is not known ahead).
     class(progress_type), intent(inout), optional :: progress
@@ -350,7 +359,9 @@ contains
     !> a thousandth of the default start vector is added, so that no
     !> eigenvector is missing from it.
     real(dp), intent(in), optional :: start(:)
-    !> Add the randomised certificate `upper_bound` (default no).
+    !> Add the randomised certificate `upper_bound` (default no). Without a
+    !> warm start and for n > `krylov_min_order` the certificate's run is the
+    !> solve (module notes).
     logical, intent(in), optional :: certify
     !> A lower bound of the smallest eigenvalue (default 0: A is positive
     !> semi-definite), for the certificate.
@@ -771,9 +782,9 @@ contains
       call product(space, v, w, result, status, progress)
       if (status%stat /= demstep_stat%ok) return
       if (j > 1) w = w - beta_old*v_old
-      alpha(j) = space%dot(v, w)
+      alpha(j) = space%recurrence_dot(v, w)
       w = w - alpha(j)*v
-      beta(j) = sqrt(space%dot(w, w))
+      beta(j) = sqrt(space%recurrence_dot(w, w))
       scale = max(scale, abs(alpha(j)) + beta(j) + beta_old)
       ! an invariant Krylov space: its Ritz values are eigenvalues (exact
       ! arithmetic), its largest one xi_k for every later k
@@ -1063,6 +1074,20 @@ contains
     real(dp) :: s
     s = sum(accurate_dot_parts(x, y))
   end function serial_dot
+
+  function space_recurrence_dot(space, x, y) result(s)
+    class(lanczos_space_type), intent(inout) :: space
+    real(dp), intent(in) :: x(:), y(:)
+    real(dp) :: s
+    s = space%dot(x, y)
+  end function space_recurrence_dot
+
+  function serial_recurrence_dot(space, x, y) result(s)
+    class(serial_space_type), intent(inout) :: space
+    real(dp), intent(in) :: x(:), y(:)
+    real(dp) :: s
+    s = dot_product(x, y)
+  end function serial_recurrence_dot
 
   function serial_all(space, condition) result(held)
     class(serial_space_type), intent(inout) :: space
