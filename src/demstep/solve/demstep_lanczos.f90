@@ -80,7 +80,10 @@
 !> what an unrestarted Krylov space from a random start resolves best: the
 !> top's component is never filtered out by a restart (ARPACK's restarts
 !> with one wanted value did that on tilings), so no second start is run
-!> (basis `lanczos_basis_random`).
+!> (basis `lanczos_basis_random`). A warm start to be confirmed (the damped
+!> limit's Newton solves, from the previous mode) likewise makes one run,
+!> from its vector plus the random one (what the ARPACK path's confirmation
+!> run starts from), without a certificate of its own.
 !>
 !> ARPACK keeps its state in SAVEd variables: one solve at a time per process.
 !> A solve started while another runs (another thread) is refused with status
@@ -254,7 +257,8 @@ module demstep_lanczos
   character(len=*), parameter, public :: lanczos_basis_whole = "whole space", &
     lanczos_basis_confirmed = "confirmed by a second start", lanczos_basis_estimate = "estimate", &
     lanczos_basis_warm = "a warm start, not confirmed", &
-    lanczos_basis_random = "one unrestarted run from a random start"
+    lanczos_basis_random = "one unrestarted run from a random start", &
+    lanczos_basis_warm_random = "one unrestarted run from a warm start plus a random one"
 
   !> What one ARPACK run found (see `arpack_run`).
   type :: run_type
@@ -295,7 +299,8 @@ module demstep_lanczos
     !> What the claim that `eigenvalue` is the top (within the tolerance)
     !> rests on: `lanczos_basis_whole` (the Krylov space was the whole space),
     !> `lanczos_basis_random` (one unrestarted run from the certificate's
-    !> random start met the tolerance, `krylov_top`),
+    !> random start met the tolerance, `krylov_top`), `lanczos_basis_warm_random`
+    !> (the same from a warm start's vector plus a random one),
     !> `lanczos_basis_confirmed` (a second run from a fresh random start did
     !> not raise it), `lanczos_basis_warm` (a warm start's first converged run,
     !> asked for without confirmation), or `lanczos_basis_estimate` (none: not converged or
@@ -445,12 +450,21 @@ contains
     if (present(lower_bound)) lower = lower_bound
     warm = .false.
     if (present(start)) then
-      if (space%all_ranks(size(start) == space%n_local)) warm = space%all_ranks(any(start /= 0.0_dp))
+      ! (a zero, non-finite or wrongly sized start is no warm start)
+      if (space%all_ranks(size(start) == space%n_local)) warm = space%all_ranks(any(start /= 0.0_dp)) &
+        .and. space%all_ranks(all(ieee_is_finite(start)))
     end if
     if (wanted .and. .not. warm .and. space%n_global > krylov_min_order) then
       ! one run is the certificate and the solve (module notes)
       call krylov_top(space, tol, certificate_steps(space%n_global), restarts*m, &
         store_count(space, m), lower, result, status, eigenvector, progress)
+    else if (warm .and. confirming .and. space%n_global > krylov_min_order) then
+      ! one run from the warm start plus a random one (the start the ARPACK
+      ! path's confirmation run would take), then the certificate if asked
+      call krylov_top(space, tol, 0, restarts*m, store_count(space, m), lower, result, status, &
+        eigenvector, progress, start)
+      if (wanted .and. (status%stat == demstep_stat%ok .or. status%stat == demstep_stat%not_converged)) &
+        call random_certificate(space, lower, result, status, progress)
     else
       call iterate(space, tol, k, m, restarts, confirming, result, status, eigenvector, progress, start)
       if (wanted .and. (status%stat == demstep_stat%ok .or. status%stat == demstep_stat%not_converged)) &
@@ -747,7 +761,7 @@ contains
   !> `not_converged` when `steps_max` products did not meet the tolerance
   !> (the result still has the measured pair and the certificate).
   subroutine krylov_top(space, tol, steps_min, steps_max, store_max, lower, result, status, eigenvector, &
-      progress)
+      progress, warm)
     class(lanczos_space_type), intent(inout) :: space
     real(dp), intent(in) :: tol
     integer, intent(in) :: steps_min, steps_max, store_max
@@ -757,6 +771,10 @@ contains
     type(demstep_status_type), intent(out) :: status
     real(dp), intent(out), optional :: eigenvector(:)
     class(progress_type), intent(inout), optional :: progress
+    !> A warm start (this block, non-zero): the run starts from its unit
+    !> vector plus the certificate's unit Gaussian one, and makes no
+    !> certificate (basis `lanczos_basis_warm_random`; steps_min should be 0).
+    real(dp), intent(in), optional :: warm(:)
     real(dp), allocatable :: v(:), v_old(:), w(:), z(:), y(:), basis(:, :), alpha(:), beta(:), s(:)
     real(dp) :: xi, estimate, threshold, scale, shift, theta, rnorm, beta_old
     integer :: n, j, last
@@ -766,7 +784,7 @@ contains
     n = space%n_local
     last = max(steps_max, steps_min)
     allocate(v(n), v_old(n), w(n), z(n), y(n), alpha(last), beta(last))
-    call certificate_start(space, v)
+    call run_start(v)
     stored = store_max >= 1
     if (stored) allocate(basis(n, min(store_max, last, 32)))
     v_old = 0.0_dp
@@ -821,6 +839,8 @@ contains
     call lanczos_finish(theta, rnorm, tol, step_status, result, status)
     result%basis = lanczos_basis_estimate
     if (met) result%basis = lanczos_basis_random
+    if (met .and. present(warm)) result%basis = lanczos_basis_warm_random
+    if (present(warm)) return
     ! the certificate (module notes) from the largest Ritz value of T_j,
     ! j >= steps_min or an invariant Krylov space
     shift = -min(lower, 0.0_dp)
@@ -830,6 +850,16 @@ contains
     result%certified = .true.
     result%certificate_products = min(steps_min, result%ncv)
   contains
+    !> The run's unit start vector (the same bits each time it is made).
+    subroutine run_start(u)
+      real(dp), intent(out) :: u(:)
+      call certificate_start(space, u)
+      if (present(warm)) then
+        u = u + warm/sqrt(space%dot(warm, warm))
+        u = u/sqrt(space%dot(u, u))
+      end if
+    end subroutine run_start
+
     !> Keep the Lanczos vector v as column j (growing the array up to
     !> `store_max` columns; past it, none are kept).
     subroutine keep(j)
@@ -859,7 +889,7 @@ contains
         z = matmul(basis(:, :j), s)
       else
         allocate(u(n), u_old(n), t(n))
-        call certificate_start(space, u)
+        call run_start(u)
         u_old = 0.0_dp
         z = s(1)*u
         do i = 1, j - 1
