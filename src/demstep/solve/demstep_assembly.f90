@@ -794,7 +794,9 @@ contains
   !> end of the eigensolve's error bar): s = 4 tau/U is stable. The first
   !> solves run at a looser tolerance (the step they feed is corrected by the
   !> next); it stops when |theta - 4| is within the error bar of a solve at
-  !> `tol`, and takes the largest safe step found.
+  !> half of `tol` (s = 4 tau/U loses the whole residual of U, where the
+  !> undamped step 2/sqrt(U) loses half of it: the damped step is then good to
+  !> the same tol/2), and takes the largest safe step found.
   subroutine damped_newton(problem, lam_a, vb, rate, tol, result, status, progress)
     class(damped_problem_type), intent(inout) :: problem
     real(dp), intent(in) :: lam_a, vb, rate
@@ -803,12 +805,13 @@ contains
     type(critical_step_type), intent(inout) :: result
     type(demstep_status_type), intent(out) :: status
     class(progress_type), intent(inout), optional :: progress
-    real(dp) :: tau, tau_safe, theta, err, va, vb_k, step, q, tol_k, upper
+    real(dp) :: tau, tau_safe, theta, err, va, vb_k, step, q, tol_k, upper, tol_end
     integer :: it
     logical :: has_mode
     tau = damped_lower_bound(2.0_dp/sqrt(lam_a), vb)
     tau_safe = result%dt_critical_damped_bound*rate
-    tol_k = max(tol, 1.0e-4_dp)
+    tol_end = max(0.5_dp*tol, epsilon(1.0_dp))
+    tol_k = max(tol_end, 1.0e-4_dp)
     status%stat = demstep_stat%ok
     do it = 1, damped_newton_steps
       call problem%top(tau, tol_k, theta, err, va, has_mode, result, status, progress)
@@ -817,8 +820,8 @@ contains
       ! (only a solve to the full tolerance certifies a step: a looser one
       ! only steers)
       upper = theta + err
-      if (tol_k <= tol) tau_safe = max(tau_safe, tau*min(1.0_dp, 4.0_dp/upper))
-      if (abs(theta - 4.0_dp) <= err .and. tol_k <= tol) exit
+      if (tol_k <= tol_end) tau_safe = max(tau_safe, tau*min(1.0_dp, 4.0_dp/upper))
+      if (abs(theta - 4.0_dp) <= err .and. tol_k <= tol_end) exit
       ! the next tau: the root of the current mode's own quadratic
       ! q(t) = t^2 v'A'v + 2 t v'B'v (v'B'v = (theta - tau^2 v'A'v)/(2 tau)),
       ! which touches lambda at tau (value and slope) and lies below it: a
@@ -826,9 +829,9 @@ contains
       vb_k = max(0.0_dp, (theta - tau**2*va)/(2.0_dp*tau))
       step = tau - damped_lower_bound(2.0_dp/sqrt(va), vb_k)
       ! converged to rounding (a dense solve's error bar is a few ulps)
-      if (abs(step) <= 4.0_dp*epsilon(1.0_dp)*tau .and. tol_k <= tol) exit
+      if (abs(step) <= 4.0_dp*epsilon(1.0_dp)*tau .and. tol_k <= tol_end) exit
       ! Newton squares the relative error: the next solve to a hundredth of it
-      tol_k = max(tol, min(1.0e-4_dp, 1.0e-2_dp*(step/tau)**2))
+      tol_k = max(tol_end, min(1.0e-4_dp, 1.0e-2_dp*(step/tau)**2))
       tau = max(tau - step, tau_safe)
     end do
     if (.not. has_mode) return
