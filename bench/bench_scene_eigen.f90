@@ -3,7 +3,7 @@
 !> per particle) tiled up (`tile_scene`) to 1e3 .. 1e6 particles. Per size, one
 !> run each: the Gershgorin bound, Lanczos to 1e-6 with 1 and 2 OpenMP
 !> threads, dense LAPACK where it fits (<= 4000 DOF), and SciPy's eigsh
-!> (bench/eigsh_scene.py, tolerance 1e-6, eigsh alone timed) on the same scaled
+!> (bench/eigsh_scene.py, tolerance 1e-6, eigsh alone timed, median of 3 calls) on the same scaled
 !> matrix A', which this program writes in Matrix Market format to a temporary
 !> file (removed afterwards). The base packing's limit (Lanczos to 1e-10) is a
 !> floor for the tiled one: its modes, repeated in phase in every copy, are

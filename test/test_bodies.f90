@@ -9,7 +9,8 @@
 module test_bodies
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
-  use demstep_assembly, only: critical_step_type
+  use demstep_assembly, only: critical_step_type, safe_basis
+  use demstep_lanczos, only: lanczos_tolerance_default, certificate_failure, certificate_margin
   use demstep_bodies, only: body_set_type, bodies_from_members, bodies_from_lists, bodies_given
   use demstep_body_assembly, only: body_critical_steps, body_operator, body_operator_type, body_matrix, &
     body_operator_apply, body_gst_step, body_exadem_step, inverse_sqrt_inertia, yade_gst_factor
@@ -39,6 +40,8 @@ contains
       new_unittest("random clump packings = a dense numpy assembly, every eigenvalue", test_numpy_clumps), &
       new_unittest("matrix-free product = compressed rows; J^-1/2 squared = J^-1", test_products), &
       new_unittest("Lanczos = dense on a larger clump packing, undamped and damped", test_lanczos), &
+      new_unittest("bodies' Lanczos solves certified: 360 and 1260 dof at the default tolerance", &
+        test_certified), &
       new_unittest("Yade GST rule on a 5-sphere rod: its formula; ratio to the exact limit", test_gst_rod), &
       new_unittest("bad input refused by name", test_bad_input), &
       new_unittest("body ids: any positive values, bodies in increasing id, lone particles after", test_ids), &
@@ -635,6 +638,49 @@ contains
     if (allocated(error)) return
     call check(error, cd%dt_critical_damped < cd%dt_critical_eigen, "damping did not lower the limit")
   end subroutine test_lanczos
+
+  !> The bodies' Lanczos solve at the default tolerance carries the sphere
+  !> path's randomised certificate: 60 clumps (360 dof: ARPACK, then the
+  !> certificate's run) and 210 (1260 dof: one run, `krylov_top`) against the
+  !> dense top: omega_max within half the tolerance below it (1e-12 for
+  !> rounding), dt_critical_safe certified, at or below the dense limit and
+  !> within the certificate's margin of it (omega_upper <= omega_max /
+  !> sqrt(1 - eps), rounding aside).
+  subroutine test_certified(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(body_set_type) :: bodies
+    type(critical_step_type) :: cd, cl
+    type(demstep_status_type) :: status
+    integer, allocatable :: body_of(:)
+    integer :: c
+    integer, parameter :: counts(2) = [60, 210]
+    real(dp) :: tol
+    tol = lanczos_tolerance_default
+    do c = 1, 2
+      call clump_packing(scene, body_of, counts(c), 21, 2.0_dp)
+      call bodies_from_members(scene, body_of, bodies, status)
+      call body_critical_steps(scene, bodies, cd, status, solver=eigen_solver%dense)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      call body_critical_steps(scene, bodies, cl, status, solver=eigen_solver%lanczos)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      call check(error, cl%n_dof > merge(300, 1000, c == 1), "only "//real_str(real(cl%n_dof, dp))//" dof")
+      if (allocated(error)) return
+      call check(error, cl%omega_max >= cd%omega_max*(1.0_dp - 0.5_dp*tol - 1.0e-12_dp) .and. &
+        cl%omega_max <= cd%omega_max*(1.0_dp + 1.0e-12_dp), "omega_max "//real_str(cl%omega_max) &
+        //" against dense "//real_str(cd%omega_max))
+      if (allocated(error)) return
+      call check(error, cl%safe_basis == safe_basis%randomised .and. cl%safe_failure == certificate_failure, &
+        "not certified: basis "//real_str(real(cl%safe_basis, dp)))
+      if (allocated(error)) return
+      call check(error, cl%dt_critical_safe <= 2.0_dp/cd%omega_max*(1.0_dp + 1.0e-12_dp) .and. &
+        cl%omega_upper <= cl%omega_max/sqrt(1.0_dp - certificate_margin)*(1.0_dp + 1.0e-12_dp), &
+        "dt_critical_safe "//real_str(cl%dt_critical_safe)//", exact "//real_str(2.0_dp/cd%omega_max))
+      if (allocated(error)) return
+    end do
+  end subroutine test_certified
 
   !> A straight rod of 5 unit spheres (mass 1, touching: their contacts are
   !> inside the body) along x, its end sphere 1e-3 into a wall of normal +x.

@@ -48,7 +48,7 @@ module demstep_assembly
   use demstep_bonds, only: bond_law_type
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use demstep_lapack, only: largest_eigenpair
-  use demstep_lanczos, only: lanczos_context_type, lanczos_largest, eigen_result_type, &
+  use demstep_lanczos, only: lanczos_context_type, lanczos_largest, eigen_result_type, lanczos_operator, &
     lanczos_tolerance_default, check_lanczos_options
   use demstep_csr, only: csr_matrix_type, csr_to_dense
   use demstep_progress, only: progress_type
@@ -57,7 +57,7 @@ module demstep_assembly
   private
 
   public :: assembly_critical_steps, assembly_step_for_n_per_period, assembly_operator, &
-    assembly_operator_apply, assembly_matrix, assembly_matrix_rows, &
+    assembly_operator_apply, assembly_matrix, assembly_matrix_rows, top_eigenpair, operator_matrix, &
     assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_damped, &
     damped_lower_bound, dashpot_names, damped_newton, assembly_dashpot_bound, operator_from_springs, &
     operator_critical_steps, operator_mix, assembly_set_springs, linearise, operator_abs_product, &
@@ -124,8 +124,11 @@ module demstep_assembly
   integer, parameter, public :: scene_lanczos_ncv = 32
   !> Restarts of each ARPACK run of the scene Lanczos solve (at most
   !> `lanczos_runs` runs) before it settles for the bracket the Ritz value and
-  !> its residual estimate give (`eigen_converged` false).
-  integer, parameter, public :: scene_lanczos_restarts = 20
+  !> its residual estimate give (`eigen_converged` false); a single
+  !> unrestarted run (`krylov_top`) makes at most this times the Krylov size,
+  !> 1280 products (a 1e5-particle tiling, 110 592 particles, converged in 387
+  !> steps; denser tops need more).
+  integer, parameter, public :: scene_lanczos_restarts = 40
   !> Collatz-Wielandt steps of the bound after Gershgorin's (see operator_bound).
   integer, parameter, public :: bound_iterations = 2
   !> Newton steps of the exact damped limit (it converges in 3 to 6).
@@ -215,6 +218,16 @@ module demstep_assembly
     !> twisting, bond, drag).
     logical :: dashpots(6) = .false.
   end type critical_step_type
+
+  abstract interface
+    !> The matrix of an operator given as a Lanczos context (for the dense
+    !> solver of `top_eigenpair`).
+    subroutine operator_matrix(context, matrix)
+      import :: lanczos_context_type, csr_matrix_type
+      class(lanczos_context_type), intent(inout) :: context
+      type(csr_matrix_type), intent(out) :: matrix
+    end subroutine operator_matrix
+  end interface
 
   !> A damped-limit problem for `damped_newton`: the top eigenpair of
   !> tau^2 A' + 2 tau B' at a given tau (serial or distributed).
@@ -420,15 +433,12 @@ contains
       ! the bound, which shifts the certificate's operator)
       lower = 0.0_dp
       if (geo) lower = -(result%omega_bound/rate)**2
-      call top_eigenpair(op, solver, tol, vec, lam, err, has_mode, result%eigen_products, &
-        result%eigen_restarts, status, progress, ncv, converged, lower, upper, failure, accept_start)
+      call top_eigenpair(op, assembly_operator_apply, assembly_matrix_of, op%n, solver, tol, vec, lam, err, &
+        has_mode, result%eigen_products, &
+        result%eigen_restarts, status, progress, ncv, converged, lower, upper, failure, accept_start, basis)
       if (status%stat /= demstep_stat%ok) return
       result%eigen_tolerance = tol
-      basis = safe_basis%randomised
-      if (solver == eigen_solver%dense) then
-        result%eigen_tolerance = epsilon(1.0_dp)
-        basis = safe_basis%dense
-      end if
+      if (solver == eigen_solver%dense) result%eigen_tolerance = epsilon(1.0_dp)
       call assembly_set_estimates(result, rate, lam, err, converged, b_bound, status, upper, &
         basis, failure)
       if (status%stat /= demstep_stat%ok) return
@@ -604,8 +614,8 @@ contains
     status%stat = demstep_stat%ok
   end subroutine assembly_set_damped
 
-  !> The top eigenpair of the operator as it is mixed now: dense (LAPACK on
-  !> its matrix) or Lanczos (warm-started from `vec` when it is non-zero); the
+  !> The top eigenpair of an operator (a scene's, rigid bodies') as it is
+  !> mixed now: dense (LAPACK on its matrix) or Lanczos (warm-started from `vec` when it is non-zero); the
   !> Rayleigh quotient `lam` of the returned unit mode and its residual `err`
   !> (measured; ARPACK's estimate when Lanczos ran out of restarts without a
   !> mode, `has_mode` false). Products and restarts are added to the counts.
@@ -616,9 +626,14 @@ contains
   !> previous top mode is, without the fresh random start that confirms a
   !> Lanczos solve). When it does not, the Lanczos solve starts from it
   !> and takes its first converged top without a confirmation run.
-  subroutine top_eigenpair(op, choice, tol, vec, lam, err, has_mode, products, restarts, status, &
-      progress, ncv, converged, lower, upper, failure, accept_start)
-    type(assembly_operator_type), intent(inout) :: op
+  subroutine top_eigenpair(op, apply, to_matrix, n, choice, tol, vec, lam, err, has_mode, products, &
+      restarts, status, progress, ncv, converged, lower, upper, failure, accept_start, basis)
+    !> The operator (a scene's `assembly_operator_type`, rigid bodies' ...),
+    !> its product y = A x, its matrix (module procedures) and its order.
+    class(lanczos_context_type), intent(inout) :: op
+    procedure(lanczos_operator) :: apply
+    procedure(operator_matrix) :: to_matrix
+    integer, intent(in) :: n
     integer, intent(in) :: choice
     real(dp), intent(in) :: tol
     real(dp), intent(inout) :: vec(:)
@@ -640,6 +655,8 @@ contains
     real(dp), intent(in), optional :: lower
     real(dp), intent(out), optional :: upper, failure
     logical, intent(in), optional :: accept_start
+    !> What `upper` rests on (a `safe_basis` code: dense or randomised).
+    integer, intent(out), optional :: basis
     type(eigen_result_type) :: lanczos
     type(csr_matrix_type) :: sparse
     real(dp), allocatable :: a(:, :), av(:), start(:)
@@ -650,16 +667,17 @@ contains
     m = scene_lanczos_ncv
     if (present(ncv)) m = ncv
     if (present(converged)) converged = .true.
+    if (present(basis)) basis = merge(safe_basis%dense, safe_basis%randomised, choice == eigen_solver%dense)
     if (choice == eigen_solver%dense) then
       ! the operator's own matrix, dense
-      call assembly_matrix(op, sparse)
+      call to_matrix(op, sparse)
       call csr_to_dense(sparse, a)
       call largest_eigenpair(a, lam, vec, status)
       if (status%stat /= demstep_stat%ok) return
       deallocate(a)
       ! the mode's Rayleigh quotient and residual, one matrix-free product
-      allocate(av(op%n))
-      call assembly_operator_apply(op, vec, av)
+      allocate(av(n))
+      call apply(op, vec, av)
       lam = dot_product(vec, av)
       err = norm2(av - lam*vec)
       if (present(upper)) upper = lam + err + 8.0_dp*epsilon(1.0_dp)*abs(lam)
@@ -667,9 +685,9 @@ contains
     else
       if (present(accept_start)) then
         if (accept_start .and. any(vec /= 0.0_dp)) then
-          allocate(av(op%n))
+          allocate(av(n))
           start = vec/norm2(vec)
-          call assembly_operator_apply(op, start, av)
+          call apply(op, start, av)
           products = products + 1
           lam = dot_product(start, av)
           err = norm2(av - lam*start)
@@ -686,7 +704,7 @@ contains
       end if
       start = vec
       ! (a start that was to be taken as it is, refined: no confirmation run)
-      call lanczos_largest(assembly_operator_apply, op, op%n, lanczos, status, eigenvector=vec, &
+      call lanczos_largest(apply, op, n, lanczos, status, eigenvector=vec, &
         tolerance=tol, ncv=m, max_restarts=scene_lanczos_restarts, &
         progress=progress, start=start, certify=present(upper), lower_bound=lower, confirm=.not. refine)
       if (present(upper)) upper = lanczos%upper_bound
@@ -778,7 +796,9 @@ contains
   !> end of the eigensolve's error bar): s = 4 tau/U is stable. The first
   !> solves run at a looser tolerance (the step they feed is corrected by the
   !> next); it stops when |theta - 4| is within the error bar of a solve at
-  !> `tol`, and takes the largest safe step found.
+  !> half of `tol` (s = 4 tau/U loses the whole residual of U, where the
+  !> undamped step 2/sqrt(U) loses half of it: the damped step is then good to
+  !> the same tol/2), and takes the largest safe step found.
   subroutine damped_newton(problem, lam_a, vb, rate, tol, result, status, progress)
     class(damped_problem_type), intent(inout) :: problem
     real(dp), intent(in) :: lam_a, vb, rate
@@ -787,12 +807,13 @@ contains
     type(critical_step_type), intent(inout) :: result
     type(demstep_status_type), intent(out) :: status
     class(progress_type), intent(inout), optional :: progress
-    real(dp) :: tau, tau_safe, theta, err, va, vb_k, step, q, tol_k, upper
+    real(dp) :: tau, tau_safe, theta, err, va, vb_k, step, q, tol_k, upper, tol_end
     integer :: it
     logical :: has_mode
     tau = damped_lower_bound(2.0_dp/sqrt(lam_a), vb)
     tau_safe = result%dt_critical_damped_bound*rate
-    tol_k = max(tol, 1.0e-4_dp)
+    tol_end = max(0.5_dp*tol, epsilon(1.0_dp))
+    tol_k = max(tol_end, 1.0e-4_dp)
     status%stat = demstep_stat%ok
     do it = 1, damped_newton_steps
       call problem%top(tau, tol_k, theta, err, va, has_mode, result, status, progress)
@@ -801,8 +822,8 @@ contains
       ! (only a solve to the full tolerance certifies a step: a looser one
       ! only steers)
       upper = theta + err
-      if (tol_k <= tol) tau_safe = max(tau_safe, tau*min(1.0_dp, 4.0_dp/upper))
-      if (abs(theta - 4.0_dp) <= err .and. tol_k <= tol) exit
+      if (tol_k <= tol_end) tau_safe = max(tau_safe, tau*min(1.0_dp, 4.0_dp/upper))
+      if (abs(theta - 4.0_dp) <= err .and. tol_k <= tol_end) exit
       ! the next tau: the root of the current mode's own quadratic
       ! q(t) = t^2 v'A'v + 2 t v'B'v (v'B'v = (theta - tau^2 v'A'v)/(2 tau)),
       ! which touches lambda at tau (value and slope) and lies below it: a
@@ -810,9 +831,9 @@ contains
       vb_k = max(0.0_dp, (theta - tau**2*va)/(2.0_dp*tau))
       step = tau - damped_lower_bound(2.0_dp/sqrt(va), vb_k)
       ! converged to rounding (a dense solve's error bar is a few ulps)
-      if (abs(step) <= 4.0_dp*epsilon(1.0_dp)*tau .and. tol_k <= tol) exit
+      if (abs(step) <= 4.0_dp*epsilon(1.0_dp)*tau .and. tol_k <= tol_end) exit
       ! Newton squares the relative error: the next solve to a hundredth of it
-      tol_k = max(tol, min(1.0e-4_dp, 1.0e-2_dp*(step/tau)**2))
+      tol_k = max(tol_end, min(1.0e-4_dp, 1.0e-2_dp*(step/tau)**2))
       tau = max(tau - step, tau_safe)
     end do
     if (.not. has_mode) return
@@ -836,7 +857,8 @@ contains
     class(progress_type), intent(inout), optional :: progress
     real(dp), allocatable :: y(:)
     call operator_mix(problem%op, tau**2, 2.0_dp*tau)
-    call top_eigenpair(problem%op, problem%choice, tol, problem%vec, theta, err, has_mode, &
+    call top_eigenpair(problem%op, assembly_operator_apply, assembly_matrix_of, problem%op%n, &
+      problem%choice, tol, problem%vec, theta, err, has_mode, &
       result%eigen_products, result%eigen_restarts, status, progress, problem%ncv, &
       accept_start=problem%accept_start)
     if (status%stat /= demstep_stat%ok) return
@@ -1041,6 +1063,16 @@ contains
     call assembly_matrix_rows(op, [(i, i = 1, op%n_bodies)], [(i, i = 1, op%n_bodies)], &
       matrix%row_start, matrix%col, matrix%val, status)
   end subroutine assembly_matrix
+
+  !> `assembly_matrix` for `top_eigenpair` (an `operator_matrix`).
+  subroutine assembly_matrix_of(context, matrix)
+    class(lanczos_context_type), intent(inout) :: context
+    type(csr_matrix_type), intent(out) :: matrix
+    select type (op => context)
+    class is (assembly_operator_type)
+      call assembly_matrix(op, matrix)
+    end select
+  end subroutine assembly_matrix_of
 
   !> The rows of A' that belong to a list of free bodies, with the bodies
   !> renumbered (e.g. to give each MPI rank the rows of its region): nc rows per

@@ -37,10 +37,10 @@ module demstep_body_assembly
   use demstep_assembly, only: critical_step_type, spring_block_type, damped_problem_type, linearise, &
     hertz_linearization, eigen_solver, default_max_eigen_dof, scene_lanczos_ncv, scene_lanczos_restarts, &
     bound_iterations, assembly_check_options, assembly_set_bound, assembly_set_estimates, &
-    assembly_set_damped, assembly_set_springs, damped_newton, damped_lower_bound
-  use demstep_lanczos, only: lanczos_context_type, lanczos_largest, eigen_result_type, lanczos_tolerance_default
-  use demstep_lapack, only: largest_eigenpair, symmetric_eigensystem
-  use demstep_csr, only: csr_matrix_type, csr_to_dense
+    assembly_set_damped, assembly_set_springs, damped_newton, damped_lower_bound, top_eigenpair
+  use demstep_lanczos, only: lanczos_context_type, lanczos_tolerance_default
+  use demstep_lapack, only: symmetric_eigensystem
+  use demstep_csr, only: csr_matrix_type
   use demstep_progress, only: progress_type
   implicit none
   private
@@ -126,8 +126,8 @@ contains
     type(spring_block_type), allocatable :: springs(:)
     type(body_damped_type) :: problem
     real(dp), allocatable :: vec(:), y(:)
-    real(dp) :: rate, tol, lam, err, b_bound, va, vb
-    integer :: choice, limit
+    real(dp) :: rate, tol, lam, err, b_bound, va, vb, upper, failure
+    integer :: choice, limit, basis
     logical :: has_mode, converged
     choice = eigen_solver%auto
     if (present(solver)) choice = solver
@@ -169,12 +169,15 @@ contains
       return
     end if
     allocate(vec(op%n), source=0.0_dp)
-    call body_top(op, choice, tol, vec, lam, err, has_mode, result%eigen_products, result%eigen_restarts, &
-      status, progress, scene_lanczos_ncv, converged)
+    ! (the body operator is semi-definite: no pre-stress; the certificate
+    ! unshifted)
+    call top_eigenpair(op, body_operator_apply, body_matrix_of, op%n, choice, tol, vec, lam, err, has_mode, &
+      result%eigen_products, result%eigen_restarts, status, progress, scene_lanczos_ncv, converged, &
+      0.0_dp, upper, failure, basis=basis)
     if (status%stat /= demstep_stat%ok) return
     result%eigen_tolerance = tol
     if (choice == eigen_solver%dense) result%eigen_tolerance = epsilon(1.0_dp)
-    call assembly_set_estimates(result, rate, lam, err, converged, b_bound, status)
+    call assembly_set_estimates(result, rate, lam, err, converged, b_bound, status, upper, basis, failure)
     if (status%stat /= demstep_stat%ok) return
     if (.not. (b_bound > 0.0_dp .and. has_mode)) return
     ! the exact damped limit: Newton from the undamped mode's quadratic
@@ -540,6 +543,16 @@ contains
     end do
   end subroutine body_matrix
 
+  !> `body_matrix` for `top_eigenpair` (an `operator_matrix`).
+  subroutine body_matrix_of(context, matrix)
+    class(lanczos_context_type), intent(inout) :: context
+    type(csr_matrix_type), intent(out) :: matrix
+    select type (op => context)
+    class is (body_operator_type)
+      call body_matrix(op, matrix)
+    end select
+  end subroutine body_matrix_of
+
   !> The rigorous bound of lambda_max of the operator as mixed: the
   !> Collatz-Wielandt quotients max_i (|A'| v)_i/v_i of the compressed rows'
   !> absolute values (|A'| entrywise; repeated columns summed after the
@@ -570,53 +583,6 @@ contains
     end do
   end function body_bound
 
-  !> The top eigenpair of the body operator as mixed: dense (LAPACK on its
-  !> matrix) or Lanczos (warm-started from `vec` when non-zero); the returned
-  !> mode's Rayleigh quotient and measured residual (or Lanczos' bracket
-  !> when it ran out of restarts without a mode: `has_mode` false).
-  subroutine body_top(op, choice, tol, vec, lam, err, has_mode, products, restarts, status, progress, ncv, &
-      converged)
-    type(body_operator_type), intent(inout) :: op
-    integer, intent(in) :: choice
-    real(dp), intent(in) :: tol
-    real(dp), intent(inout) :: vec(:)
-    real(dp), intent(out) :: lam, err
-    logical, intent(out) :: has_mode
-    integer(i8), intent(inout) :: products
-    integer, intent(inout) :: restarts
-    type(demstep_status_type), intent(out) :: status
-    class(progress_type), intent(inout), optional :: progress
-    integer, intent(in) :: ncv
-    logical, intent(out), optional :: converged
-    type(csr_matrix_type) :: sparse
-    type(eigen_result_type) :: lanczos
-    real(dp), allocatable :: a(:, :), av(:), start(:)
-    has_mode = .true.
-    if (present(converged)) converged = .true.
-    if (choice == eigen_solver%dense) then
-      call body_matrix(op, sparse)
-      call csr_to_dense(sparse, a)
-      call largest_eigenpair(a, lam, vec, status)
-      if (status%stat /= demstep_stat%ok) return
-      allocate(av(op%n))
-      call body_operator_apply(op, vec, av)
-      lam = dot_product(vec, av)
-      err = norm2(av - lam*vec)
-    else
-      start = vec
-      call lanczos_largest(body_operator_apply, op, op%n, lanczos, status, eigenvector=vec, tolerance=tol, &
-        ncv=ncv, max_restarts=scene_lanczos_restarts, progress=progress, start=start)
-      products = products + lanczos%applications
-      restarts = restarts + lanczos%iterations
-      has_mode = any(vec /= 0.0_dp)
-      if (status%stat == demstep_stat%not_converged) status%stat = demstep_stat%ok
-      if (status%stat /= demstep_stat%ok) return
-      lam = lanczos%eigenvalue
-      err = lanczos%residual
-      if (present(converged)) converged = lanczos%converged
-    end if
-  end subroutine body_top
-
   !> Top eigenpair of the body operator mixed as tau^2 A' + 2 tau B' (warm
   !> start from the previous mode) and v'A'v of that mode.
   subroutine body_damped_top(problem, tau, tol, theta, err, va, has_mode, result, status, progress)
@@ -630,8 +596,9 @@ contains
     real(dp), allocatable :: y(:)
     problem%op%alpha = tau**2
     problem%op%beta = 2.0_dp*tau
-    call body_top(problem%op, problem%choice, tol, problem%vec, theta, err, has_mode, &
-      result%eigen_products, result%eigen_restarts, status, progress, problem%ncv)
+    call top_eigenpair(problem%op, body_operator_apply, body_matrix_of, problem%op%n, problem%choice, tol, &
+      problem%vec, theta, err, has_mode, result%eigen_products, result%eigen_restarts, status, progress, &
+      problem%ncv)
     problem%op%alpha = 1.0_dp
     problem%op%beta = 0.0_dp
     if (status%stat /= demstep_stat%ok) return

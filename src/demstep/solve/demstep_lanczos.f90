@@ -31,34 +31,66 @@
 !> The stopping rule is a test on the eigenvalue: a run is accepted when the
 !> bracket [theta, theta + r] is at most `tolerance * theta` wide and a second
 !> run from new random components does not raise theta by more than
-!> `tolerance * theta` (the top found to the tolerance; see `iterate`).
+!> `tolerance * theta` (the top found to the tolerance; see `iterate`), or,
+!> for a cold certified solve, when the single unrestarted run from the
+!> certificate's random start meets it (`krylov_top`, below).
 !>
 !> Certificate (`certify`). The bracket says where *an* eigenvalue lies, not
 !> that none lies above it (an eigenvector missing from the starts). With
-!> `certify`, a separate Lanczos run of k steps from a Gaussian (so uniformly
-!> distributed on the unit sphere) start gives its largest Ritz value xi, and
-!> Kuczynski and Wozniakowski's bound (SIAM J. Matrix Anal. Appl. 13(4),
-!> 1094-1122, 1992: for a symmetric positive semi-definite A of order n and a
-!> start uniform on the sphere, the Lanczos Ritz value after k products falls
-!> below (1 - eps) lambda_max with probability at most
-!> 1.648 sqrt(n) exp(-(2k - 1) sqrt(eps))) makes
-!> `upper_bound` = max(theta, xi)/(1 - eps) an upper bound of lambda_max with
-!> failure probability at most `certificate_failure` (eps =
-!> `certificate_margin`, k from n; an operator that is not semi-definite is
-!> shifted by a lower bound of its spectrum). What it rests on: the bound is
-!> for exact arithmetic (the run is the three-term recurrence without
-!> reorthogonalisation; its largest Ritz value is taken to converge no slower
-!> in floating point, as Paige's and Greenbaum's analyses describe) and for a
-!> random start (the start is a fixed pseudo-random sequence, the same for
-!> every run: the probability is over that draw, for operators not chosen in
-!> view of it).
+!> `certify`, a Lanczos run of j products from a Gaussian (so uniformly
+!> distributed on the unit sphere) start b gives the largest Ritz value xi of
+!> its tridiagonal matrix T_j, the largest Rayleigh quotient over the Krylov
+!> space {p(A) b: degree p <= d = j - 1}, and
+!> `upper_bound` = max(theta, xi)/(1 - eps) bounds lambda_max except with
+!> probability at most `certificate_failure` (eps = `certificate_margin`; an
+!> operator that is not semi-definite is shifted by a lower bound of its
+!> spectrum). The bound used is proved here (`certificate_steps`), not
+!> quoted: for A >= 0 with eigenpairs (lambda_i, x_i), lambda_1 the largest,
+!> mu = (1 - eps) lambda_1 and p(x) = T_d(2x/mu - 1) (Chebyshev), |p| <= 1 on
+!> [0, mu] and p(lambda_1) = T_d((1 + eps)/(1 - eps)) = cosh(d t) with
+!> t = ln((1 + sqrt eps)/(1 - sqrt eps)), so u = p(A) b, c_i = x_i.b, has
+!> u.Au - mu u.u = sum c_i^2 p(lambda_i)^2 (lambda_i - mu)
+!>              >= lambda_1 (eps c_1^2 cosh(d t)^2 - (1 - eps)),
+!> and xi >= mu unless c_1^2 < (1 - eps)/(eps cosh(d t)^2). For b uniform on
+!> the sphere c_1 has the density (1 - u^2)^((n-3)/2)/B(1/2, (n-1)/2), at most
+!> Gamma(n/2)/(sqrt(pi) Gamma((n-1)/2)) <= sqrt((n-1)/(2 pi)) (Wendel's
+!> inequality), so (n >= 3; for n <= 2 the Krylov space is the whole space)
+!>   P(xi < (1 - eps) lambda_max) <= sqrt(2 n (1 - eps)/(pi eps))/cosh(d t).
+!> It has the rate of Kuczynski and Wozniakowski's bound for Lanczos from a
+!> random start (SIAM J. Matrix Anal. Appl. 13(4), 1094-1122, 1992; its
+!> abstract, Columbia Academic Commons doi:10.7916/D8B56SVV, gives the
+!> failure probability as at most of the order sqrt(n) e^(-(2k - 1) sqrt eps);
+!> t >= 2 sqrt(eps)); their constant was not checked against the paper, so
+!> this explicit one is used. What it rests on besides: exact arithmetic (the
+!> run is the three-term recurrence without reorthogonalisation; its largest
+!> Ritz value is taken to converge no slower in floating point, as Paige's and
+!> Greenbaum's analyses describe) and a random start (a fixed pseudo-random
+!> sequence, the same for every run: the probability is over that draw, for
+!> operators not chosen in view of it).
+!>
+!> One run for both (`krylov_top`). A cold certified solve of an operator
+!> larger than `krylov_min_order` makes a single run: the certificate's
+!> Gaussian start, the plain three-term recurrence (no restarts, no
+!> reorthogonalisation: a product and two dot products a step), at least
+!> `certificate_steps` products, on until the top Ritz pair's estimate
+!> beta_j |s_j| meets the tolerance; then its Ritz vector is formed (from the
+!> Lanczos vectors kept while they fit in `lanczos_store_bytes`, or else by
+!> running the recurrence again from the same start, the same bits), and its
+!> Rayleigh quotient and residual are measured as above. A crowded top is
+!> what an unrestarted Krylov space from a random start resolves best: the
+!> top's component is never filtered out by a restart (ARPACK's restarts
+!> with one wanted value did that on tilings), so no second start is run
+!> (basis `lanczos_basis_random`). A warm start to be confirmed (the damped
+!> limit's Newton solves, from the previous mode) likewise makes one run,
+!> from its vector plus the random one (what the ARPACK path's confirmation
+!> run starts from), without a certificate of its own.
 !>
 !> ARPACK keeps its state in SAVEd variables: one solve at a time per process.
 !> A solve started while another runs (another thread) is refused with status
 !> `busy` (`arpack_claim`); it never shares the state.
 module demstep_lanczos
   use demstep_kinds, only: dp, i8, pi
-  use demstep_lapack, only: largest_tridiagonal_eigenvalue
+  use demstep_lapack, only: largest_tridiagonal_eigenvalue, largest_tridiagonal_eigenpair
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_arpack, only: dsaupd, dseupd, dsaupd_status, dseupd_status, arpack_iparam_size
   use demstep_progress, only: progress_type
@@ -69,7 +101,7 @@ module demstep_lanczos
   private
 
   public :: lanczos_operator, lanczos_largest, lanczos_solve, lanczos_start_vector, &
-    check_lanczos_options, lanczos_options, accurate_dot_parts
+    check_lanczos_options, lanczos_options, accurate_dot_parts, certificate_steps
   public :: arpack_claim, arpack_release
 
   !> Default relative tolerance on the largest eigenvalue omega_max^2: 1e-6, so
@@ -84,6 +116,14 @@ module demstep_lanczos
   !> 1/(1 - eps) (a step 1 % below the estimate) and fails to bound
   !> lambda_max with probability at most 1e-6.
   real(dp), parameter, public :: certificate_failure = 1.0e-6_dp, certificate_margin = 2.0e-2_dp
+  !> A cold certified solve of an operator of larger order is one unrestarted
+  !> run from the certificate's start (`krylov_top`); smaller ones (where the
+  !> Krylov space soon is the whole space) run ARPACK and the certificate.
+  integer, parameter, public :: krylov_min_order = 1000
+  !> Memory (bytes, per process) for the Lanczos vectors of `krylov_top`
+  !> (at least the Krylov size asked, ncv, are kept as ARPACK would): beyond
+  !> it the Ritz vector is formed by running the recurrence again.
+  integer(i8), parameter, public :: lanczos_store_bytes = 2_i8**30
   !> Default Krylov size (Lanczos vectors kept between restarts), capped at n.
   integer, parameter, public :: lanczos_ncv_default = 24
   !> Default number of wanted Ritz values kept at each restart (a block of the
@@ -132,6 +172,10 @@ module demstep_lanczos
     procedure(space_product), deferred :: product
     !> x.y over the whole vector, as accurate as a sum in twice the precision.
     procedure(space_dot), deferred :: dot
+    !> x.y for the recurrence's coefficients (`krylov_top`), where an
+    !> ordinary sum's rounding is the recurrence's own: `dot` unless a space
+    !> has a cheaper one (the serial space's plain sum).
+    procedure :: recurrence_dot => space_recurrence_dot
     !> True when the condition holds on every process.
     procedure(space_all), deferred :: all_ranks
     !> One reverse-communication step of the (P)ARPACK iteration.
@@ -201,6 +245,7 @@ module demstep_lanczos
   contains
     procedure :: product => serial_product
     procedure :: dot => serial_dot
+    procedure :: recurrence_dot => serial_recurrence_dot
     procedure :: all_ranks => serial_all
     procedure :: saupd => serial_saupd
     procedure :: seupd => serial_seupd
@@ -211,7 +256,9 @@ module demstep_lanczos
   !> The values of `eigen_result_type%basis`.
   character(len=*), parameter, public :: lanczos_basis_whole = "whole space", &
     lanczos_basis_confirmed = "confirmed by a second start", lanczos_basis_estimate = "estimate", &
-    lanczos_basis_warm = "a warm start, not confirmed"
+    lanczos_basis_warm = "a warm start, not confirmed", &
+    lanczos_basis_random = "one unrestarted run from a random start", &
+    lanczos_basis_warm_random = "one unrestarted run from a warm start plus a random one"
 
   !> What one ARPACK run found (see `arpack_run`).
   type :: run_type
@@ -251,6 +298,9 @@ module demstep_lanczos
     integer :: ncv = 0, nev = 0
     !> What the claim that `eigenvalue` is the top (within the tolerance)
     !> rests on: `lanczos_basis_whole` (the Krylov space was the whole space),
+    !> `lanczos_basis_random` (one unrestarted run from the certificate's
+    !> random start met the tolerance, `krylov_top`), `lanczos_basis_warm_random`
+    !> (the same from a warm start's vector plus a random one),
     !> `lanczos_basis_confirmed` (a second run from a fresh random start did
     !> not raise it), `lanczos_basis_warm` (a warm start's first converged run,
     !> asked for without confirmation), or `lanczos_basis_estimate` (none: not converged or
@@ -304,7 +354,9 @@ contains
     !> Wanted Ritz values kept at restarts, >= 1 and < ncv. Default `lanczos_nev_default`.
     integer, intent(in), optional :: nev
     !> Maximum implicit restarts of each ARPACK run (>= 1; ARPACK's mxiter; a
-    !> solve makes at most `lanczos_runs` runs). Default `lanczos_restarts_default`.
+    !> solve makes at most `lanczos_runs` runs; a single unrestarted run,
+    !> `krylov_top`, makes at most max_restarts * ncv products). Default
+    !> `lanczos_restarts_default`.
     integer, intent(in), optional :: max_restarts
     !> Reports the products made (no total: convergence is not known ahead).
     class(progress_type), intent(inout), optional :: progress
@@ -312,7 +364,9 @@ contains
     !> a thousandth of the default start vector is added, so that no
     !> eigenvector is missing from it.
     real(dp), intent(in), optional :: start(:)
-    !> Add the randomised certificate `upper_bound` (default no).
+    !> Add the randomised certificate `upper_bound` (default no). Without a
+    !> warm start and for n > `krylov_min_order` the certificate's run is the
+    !> solve (module notes).
     logical, intent(in), optional :: certify
     !> A lower bound of the smallest eigenvalue (default 0: A is positive
     !> semi-definite), for the certificate.
@@ -375,7 +429,7 @@ contains
     logical, intent(in), optional :: confirm
     real(dp) :: tol, lower
     integer :: k, m, restarts
-    logical :: wanted, confirming
+    logical :: wanted, confirming, warm
 
     call lanczos_options(tol, m, k, restarts, tolerance, ncv, nev, max_restarts)
     result%solver = space%solver
@@ -390,13 +444,32 @@ contains
     if (present(progress)) call progress%start("Lanczos products", 0_i8)
     confirming = .true.
     if (present(confirm)) confirming = confirm
-    call iterate(space, tol, k, m, restarts, confirming, result, status, eigenvector, progress, start)
     wanted = .false.
     if (present(certify)) wanted = certify
     lower = 0.0_dp
     if (present(lower_bound)) lower = lower_bound
-    if (wanted .and. (status%stat == demstep_stat%ok .or. status%stat == demstep_stat%not_converged)) &
-      call random_certificate(space, lower, result, status, progress)
+    warm = .false.
+    if (present(start)) then
+      ! (a zero, non-finite or wrongly sized start is no warm start)
+      if (space%all_ranks(size(start) == space%n_local)) warm = space%all_ranks(any(start /= 0.0_dp)) &
+        .and. space%all_ranks(all(ieee_is_finite(start)))
+    end if
+    if (wanted .and. .not. warm .and. space%n_global > krylov_min_order) then
+      ! one run is the certificate and the solve (module notes)
+      call krylov_top(space, tol, certificate_steps(space%n_global), restarts*m, &
+        store_count(space, m), lower, result, status, eigenvector, progress)
+    else if (warm .and. confirming .and. space%n_global > krylov_min_order) then
+      ! one run from the warm start plus a random one (the start the ARPACK
+      ! path's confirmation run would take), then the certificate if asked
+      call krylov_top(space, tol, 0, restarts*m, store_count(space, m), lower, result, status, &
+        eigenvector, progress, start)
+      if (wanted .and. (status%stat == demstep_stat%ok .or. status%stat == demstep_stat%not_converged)) &
+        call random_certificate(space, lower, result, status, progress)
+    else
+      call iterate(space, tol, k, m, restarts, confirming, result, status, eigenvector, progress, start)
+      if (wanted .and. (status%stat == demstep_stat%ok .or. status%stat == demstep_stat%not_converged)) &
+        call random_certificate(space, lower, result, status, progress)
+    end if
     if (present(progress)) call progress%finish()
     call arpack_release()
   end subroutine lanczos_solve
@@ -652,16 +725,200 @@ contains
     run%converged = rnorm <= tol*abs(run%theta) .or. run%step_status%stat == demstep_stat%ok
   end subroutine arpack_run
 
-  !> Lanczos steps of the certificate for an operator of order n: the fewest
-  !> k + 1 with 1.648 sqrt(n) exp(-(2k - 1) sqrt(eps)) <= `certificate_failure`
-  !> (eps = `certificate_margin`; one product more than the bound's k, so that
-  !> its Krylov space [b, Ab, .., A^k b] is inside the run's).
+  !> Products of the certificate's run for an operator of order n: the
+  !> fewest j for which the bound proved in the module notes,
+  !> sqrt(2 n (1 - eps)/(pi eps))/cosh((j - 1) t) with t = ln((1 + sqrt
+  !> eps)/(1 - sqrt eps)), is at most `certificate_failure` (eps =
+  !> `certificate_margin`): j products give the Krylov space of the
+  !> polynomials of degree j - 1 in A applied to the start.
   pure integer function certificate_steps(n) result(steps)
     integer, intent(in) :: n
-    real(dp), parameter :: kw_constant = 1.648_dp
-    steps = ceiling(0.5_dp*(log(kw_constant*sqrt(real(n, dp))/certificate_failure) &
-      /sqrt(certificate_margin) + 1.0_dp)) + 1
+    real(dp) :: ratio, t
+    ratio = sqrt(2.0_dp*real(max(n, 1), dp)*(1.0_dp - certificate_margin)/(pi*certificate_margin)) &
+      /certificate_failure
+    t = log((1.0_dp + sqrt(certificate_margin))/(1.0_dp - sqrt(certificate_margin)))
+    steps = ceiling(acosh(max(ratio, 1.0_dp))/t) + 1
   end function certificate_steps
+
+  !> Lanczos vectors `krylov_top` may keep: as many as fit in
+  !> `lanczos_store_bytes` at the global order (the same count on every
+  !> process), and at least the Krylov size `m` asked for.
+  pure integer function store_count(space, m) result(count)
+    class(lanczos_space_type), intent(in) :: space
+    integer, intent(in) :: m
+    count = int(max(int(m, i8), lanczos_store_bytes/(8_i8*max(space%n_global, 1))))
+  end function store_count
+
+  !> The certified cold solve in one run (module notes, "One run for both"):
+  !> the three-term Lanczos recurrence from the certificate's Gaussian start
+  !> for at least `steps_min` and at most `steps_max` products, until the
+  !> top Ritz pair's estimate beta_j |s_j| is within the tolerance; the Ritz
+  !> vector's measured Rayleigh quotient and residual (the result's
+  !> eigenvalue, residual and error bar; a measured residual above the
+  !> tolerance sends the run on with a tenfold stricter estimate) and the
+  !> certificate from the largest Ritz value. Keeps up to `store_max` Lanczos
+  !> vectors, else forms the Ritz vector by a second pass. Status
+  !> `not_converged` when `steps_max` products did not meet the tolerance
+  !> (the result still has the measured pair and the certificate).
+  subroutine krylov_top(space, tol, steps_min, steps_max, store_max, lower, result, status, eigenvector, &
+      progress, warm)
+    class(lanczos_space_type), intent(inout) :: space
+    real(dp), intent(in) :: tol
+    integer, intent(in) :: steps_min, steps_max, store_max
+    !> A lower bound of the smallest eigenvalue (the certificate's shift).
+    real(dp), intent(in) :: lower
+    type(eigen_result_type), intent(inout) :: result
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(out), optional :: eigenvector(:)
+    class(progress_type), intent(inout), optional :: progress
+    !> A warm start (this block, non-zero): the run starts from its unit
+    !> vector plus the certificate's unit Gaussian one, and makes no
+    !> certificate (basis `lanczos_basis_warm_random`; steps_min should be 0).
+    real(dp), intent(in), optional :: warm(:)
+    real(dp), allocatable :: v(:), v_old(:), w(:), z(:), y(:), basis(:, :), alpha(:), beta(:), s(:)
+    real(dp) :: xi, estimate, threshold, scale, shift, theta, rnorm, beta_old
+    integer :: n, j, last
+    logical :: stored, invariant, met
+    type(demstep_status_type) :: step_status
+
+    n = space%n_local
+    last = max(steps_max, steps_min)
+    allocate(v(n), v_old(n), w(n), z(n), y(n), alpha(last), beta(last))
+    call run_start(v)
+    stored = store_max >= 1
+    if (stored) allocate(basis(n, min(store_max, last, 32)))
+    v_old = 0.0_dp
+    beta_old = 0.0_dp
+    scale = 0.0_dp
+    threshold = tol
+    met = .false.
+    theta = 0.0_dp
+    rnorm = 0.0_dp
+    xi = 0.0_dp
+    do j = 1, last
+      if (stored) call keep(j)
+      call product(space, v, w, result, status, progress)
+      if (status%stat /= demstep_stat%ok) return
+      if (j > 1) w = w - beta_old*v_old
+      alpha(j) = space%recurrence_dot(v, w)
+      w = w - alpha(j)*v
+      beta(j) = sqrt(space%recurrence_dot(w, w))
+      scale = max(scale, abs(alpha(j)) + beta(j) + beta_old)
+      ! an invariant Krylov space: its Ritz values are eigenvalues (exact
+      ! arithmetic), its largest one xi_k for every later k
+      invariant = .not. beta(j) > 1.0e3_dp*epsilon(1.0_dp)*scale
+      if (j >= steps_min .or. invariant .or. j == last) then
+        if (allocated(s)) deallocate(s)
+        allocate(s(j))
+        call largest_tridiagonal_eigenpair(alpha(:j), beta(:j - 1), xi, s, step_status)
+        if (step_status%stat /= demstep_stat%ok) then
+          status = step_status
+          return
+        end if
+        estimate = beta(j)*abs(s(j))
+        if (invariant .or. estimate <= threshold*abs(xi) .or. j == last) then
+          call ritz_vector(j)
+          if (status%stat /= demstep_stat%ok) return
+          met = rnorm <= tol*abs(theta) .or. (invariant .and. rnorm <= 1.0e3_dp*epsilon(1.0_dp)*scale)
+          if (met .or. invariant) exit
+          ! (the estimate said converged, the measurement did not: on, stricter)
+          threshold = 0.1_dp*threshold
+        end if
+      end if
+      v_old = v
+      v = w/beta(j)
+      beta_old = beta(j)
+    end do
+    result%ncv = min(j, last)
+    result%nev = 1
+    if (present(eigenvector)) eigenvector = z
+    step_status%stat = demstep_stat%ok
+    if (.not. met) call set_status(step_status, demstep_stat%not_converged, space%caller &
+      //": the Lanczos run from a random start did not meet the tolerance in " &
+      //int_text(result%applications)//" products")
+    call lanczos_finish(theta, rnorm, tol, step_status, result, status)
+    result%basis = lanczos_basis_estimate
+    if (met) result%basis = lanczos_basis_random
+    if (met .and. present(warm)) result%basis = lanczos_basis_warm_random
+    if (present(warm)) return
+    ! the certificate (module notes) from the largest Ritz value of T_j,
+    ! j >= steps_min or an invariant Krylov space
+    shift = -min(lower, 0.0_dp)
+    result%upper_bound = (max(theta, xi) + shift)/(1.0_dp - certificate_margin) - shift &
+      + rounding_ulps*epsilon(1.0_dp)*(scale + shift)
+    result%failure_probability = certificate_failure
+    result%certified = .true.
+    result%certificate_products = min(steps_min, result%ncv)
+  contains
+    !> The run's unit start vector (the same bits each time it is made).
+    subroutine run_start(u)
+      real(dp), intent(out) :: u(:)
+      call certificate_start(space, u)
+      if (present(warm)) then
+        u = u + warm/sqrt(space%dot(warm, warm))
+        u = u/sqrt(space%dot(u, u))
+      end if
+    end subroutine run_start
+
+    !> Keep the Lanczos vector v as column j (growing the array up to
+    !> `store_max` columns; past it, none are kept).
+    subroutine keep(j)
+      integer, intent(in) :: j
+      real(dp), allocatable :: grown(:, :)
+      if (j > store_max) then
+        stored = .false.
+        deallocate(basis)
+        return
+      end if
+      if (j > size(basis, 2)) then
+        allocate(grown(n, min(2*size(basis, 2), store_max, last)))
+        grown(:, :j - 1) = basis(:, :j - 1)
+        call move_alloc(grown, basis)
+      end if
+      basis(:, j) = v
+    end subroutine keep
+
+    !> z = the unit Ritz vector of T_j's top pair (s), theta and rnorm its
+    !> measured Rayleigh quotient and residual; a second pass of the
+    !> recurrence when the vectors were not kept.
+    subroutine ritz_vector(j)
+      integer, intent(in) :: j
+      real(dp), allocatable :: u(:), u_old(:), t(:)
+      integer :: i
+      if (stored) then
+        z = matmul(basis(:, :j), s)
+      else
+        allocate(u(n), u_old(n), t(n))
+        call run_start(u)
+        u_old = 0.0_dp
+        z = s(1)*u
+        do i = 1, j - 1
+          call product(space, u, t, result, status, progress)
+          if (status%stat /= demstep_stat%ok) return
+          if (i > 1) t = t - beta(i - 1)*u_old
+          t = t - alpha(i)*u
+          u_old = u
+          u = t/beta(i)
+          z = z + s(i + 1)*u
+        end do
+      end if
+      z = z/sqrt(space%dot(z, z))
+      call product(space, z, y, result, status, progress)
+      if (status%stat /= demstep_stat%ok) return
+      theta = space%dot(z, y)/space%dot(z, z)
+      y = y - theta*z
+      rnorm = sqrt(space%dot(y, y))
+    end subroutine ritz_vector
+  end subroutine krylov_top
+
+  !> The certificate's start: a unit Gaussian vector from a stretch of the
+  !> start sequence that the ARPACK runs' starts do not use (this block).
+  subroutine certificate_start(space, v)
+    class(lanczos_space_type), intent(inout) :: space
+    real(dp), intent(out) :: v(:)
+    call gaussian_vector(v, 2*(space%first_row - 1) + 1 + lanczos_runs*2*space%n_global)
+    v = v/sqrt(space%dot(v, v))
+  end subroutine certificate_start
 
   !> The randomised certificate (module notes): the three-term Lanczos
   !> recurrence from a Gaussian start for `certificate_steps` products (fewer
@@ -684,9 +941,7 @@ contains
     n = space%n_local
     m = certificate_steps(space%n_global)
     allocate(v(n), v_old(n), w(n), alpha(m), beta(m))
-    ! a stretch of the sequence the solve's starts do not use
-    call gaussian_vector(v, 2*(space%first_row - 1) + 1 + lanczos_runs*2*space%n_global)
-    v = v/sqrt(space%dot(v, v))
+    call certificate_start(space, v)
     v_old = 0.0_dp
     beta_old = 0.0_dp
     scale = 0.0_dp
@@ -849,6 +1104,20 @@ contains
     real(dp) :: s
     s = sum(accurate_dot_parts(x, y))
   end function serial_dot
+
+  function space_recurrence_dot(space, x, y) result(s)
+    class(lanczos_space_type), intent(inout) :: space
+    real(dp), intent(in) :: x(:), y(:)
+    real(dp) :: s
+    s = space%dot(x, y)
+  end function space_recurrence_dot
+
+  function serial_recurrence_dot(space, x, y) result(s)
+    class(serial_space_type), intent(inout) :: space
+    real(dp), intent(in) :: x(:), y(:)
+    real(dp) :: s
+    s = dot_product(x, y)
+  end function serial_recurrence_dot
 
   function serial_all(space, condition) result(held)
     class(serial_space_type), intent(inout) :: space

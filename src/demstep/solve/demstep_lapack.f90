@@ -13,7 +13,7 @@ module demstep_lapack
   private
 
   public :: largest_eigenpair, spectral_radius, largest_hermitian_eigenvalue, symmetric_eigensystem, &
-    largest_tridiagonal_eigenvalue
+    largest_tridiagonal_eigenvalue, largest_tridiagonal_eigenpair
 
   interface
     !> LAPACK dsyevr: selected eigenvalues (and vectors) of a real symmetric matrix
@@ -63,6 +63,22 @@ module demstep_lapack
       real(dp), intent(inout) :: d(*), e(*)
       integer, intent(out) :: info
     end subroutine dsterf
+
+    !> LAPACK dstevr: selected eigenvalues (and vectors) of a real symmetric
+    !> tridiagonal matrix (d and e are overwritten).
+    pure subroutine dstevr(jobz, range, n, d, e, vl, vu, il, iu, abstol, m, w, z, ldz, isuppz, &
+        work, lwork, iwork, liwork, info)
+      import :: dp
+      character(len=1), intent(in) :: jobz, range
+      integer, intent(in) :: n, il, iu, ldz, lwork, liwork
+      real(dp), intent(inout) :: d(*), e(*)
+      real(dp), intent(in) :: vl, vu, abstol
+      integer, intent(out) :: m, info
+      real(dp), intent(out) :: w(*), z(ldz, *)
+      integer, intent(out) :: isuppz(*)
+      real(dp), intent(inout) :: work(*)
+      integer, intent(inout) :: iwork(*)
+    end subroutine dstevr
   end interface
 
 contains
@@ -95,6 +111,41 @@ contains
     eigenvalue = d(n)
     status%stat = demstep_stat%ok
   end subroutine largest_tridiagonal_eigenvalue
+
+  !> The largest eigenvalue of the symmetric tridiagonal matrix with diagonal
+  !> `diag` (n >= 1) and off-diagonal `off` (n - 1) and a unit eigenvector
+  !> (size n), by dstevr (that one eigenpair: O(n) work). Status
+  !> `lapack_failure` with LAPACK's info explained.
+  pure subroutine largest_tridiagonal_eigenpair(diag, off, eigenvalue, vector, status)
+    real(dp), intent(in) :: diag(:), off(:)
+    real(dp), intent(out) :: eigenvalue
+    real(dp), intent(out) :: vector(:)
+    type(demstep_status_type), intent(out) :: status
+    real(dp), allocatable :: d(:), e(:), work(:)
+    integer, allocatable :: iwork(:)
+    real(dp) :: w(1)
+    integer :: n, m, info, isuppz(2)
+    n = size(diag)
+    eigenvalue = 0.0_dp
+    vector = 0.0_dp
+    if (n < 1 .or. size(off) < n - 1 .or. size(vector) /= n) then
+      call set_status(status, demstep_stat%invalid_input, "need n >= 1 diagonal, n - 1 " &
+        //"off-diagonal and n vector entries", where="largest_tridiagonal_eigenpair")
+      return
+    end if
+    d = diag
+    allocate(e(n), work(20*n), iwork(10*n))
+    e = 0.0_dp
+    if (n > 1) e(:n - 1) = off(:n - 1)
+    call dstevr("V", "I", n, d, e, 0.0_dp, 0.0_dp, n, n, 0.0_dp, m, w, vector, n, isuppz, work, &
+      size(work), iwork, size(iwork), info)
+    if (info /= 0 .or. m /= 1) then
+      call set_status(status, demstep_stat%lapack_failure, info_message(info, "dstevr"))
+      return
+    end if
+    eigenvalue = w(1)
+    status%stat = demstep_stat%ok
+  end subroutine largest_tridiagonal_eigenpair
 
   !> The largest eigenvalue of the complex Hermitian matrix `a` (its lower
   !> triangle is used and destroyed), by zheev (eigenvalues only). Status
