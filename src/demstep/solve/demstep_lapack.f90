@@ -121,10 +121,9 @@ contains
     real(dp), intent(out) :: eigenvalue
     real(dp), intent(out) :: vector(:)
     type(demstep_status_type), intent(out) :: status
-    real(dp), allocatable :: d(:), e(:), work(:)
-    integer, allocatable :: iwork(:)
-    real(dp) :: w(1)
-    integer :: n, m, info, isuppz(2)
+    real(dp), allocatable :: d(:), e(:), work(:), w(:)
+    integer, allocatable :: iwork(:), isuppz(:)
+    integer :: n, m, info
     n = size(diag)
     eigenvalue = 0.0_dp
     vector = 0.0_dp
@@ -134,7 +133,8 @@ contains
       return
     end if
     d = diag
-    allocate(e(n), work(20*n), iwork(10*n))
+    ! (w of size n as dstevr declares it, though one eigenvalue is asked)
+    allocate(e(n), w(n), isuppz(2*n), work(20*n), iwork(10*n))
     e = 0.0_dp
     if (n > 1) e(:n - 1) = off(:n - 1)
     call dstevr("V", "I", n, d, e, 0.0_dp, 0.0_dp, n, n, 0.0_dp, m, w, vector, n, isuppz, work, &
