@@ -128,7 +128,7 @@ contains
       var("body_union", "a logical", "a LIGGGHTS dump's multisphere bodies (mol, mass columns): the " &
         //"centre of mass and inertia of the union of the members (overlap counted once, as LIGGGHTS' " &
         //"Monte Carlo template); F: the members' sum (a template stating the sum as mass and " &
-        //"inertia_tensor)", "!F", default="T"), &
+        //"inertia_tensor)", "!F", default="T", needs="snapshot_file"), &
       var("law", "a quoted word", "contact law: "//word_choice(contact_law_names, [character(len=8) :: &
         "k_normal", "e_star"]), &
         "'linear'", default="'linear'"), &

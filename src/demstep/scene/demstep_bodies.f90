@@ -30,7 +30,8 @@
 !> 3d5c00f) and its origin at the members' volume-weighted centre, or for
 !> members that do not overlap; a template left to LIGGGHTS' Monte Carlo
 !> counts the overlap once (fix_template_multiplespheres.cpp:458-503) and
-!> has a smaller tensor for its mass than the sum.
+!> has a larger tensor for its mass than the sum: with `union` the centre
+!> and tensor are the union's (`demstep_sphere_union`) at the body's mass.
 module demstep_bodies
   use demstep_kinds, only: dp, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
