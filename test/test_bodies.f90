@@ -803,9 +803,11 @@ contains
   !> Measured relative errors (gfortran): 4e-16 for the single sphere, 2e-15
   !> for the nested ones, 2.5e-9 for the overlapping pair (volume 1.8e-9,
   !> axial moment 2.5e-9); tolerance 1e-7, far below LIGGGHTS' Monte Carlo noise
-  !> (0.3 % at ntry 1e5). The app's path: the LIGGGHTS body of two r = 1
-  !> spheres 1.2 apart with mass 5 gets 5 / V times the union's tensor.
-  !> Bad input refused by name.
+  !> (0.3 % at ntry 1e5). Three unequal overlapping spheres (no closed form):
+  !> 16 points a panel against 48 agree to 2.7e-12 (8 points against 64:
+  !> 6e-7). The app's path: the LIGGGHTS body of two r = 1 spheres 1.2
+  !> apart with mass 5 gets 5 / V times the union's tensor. Bad input
+  !> refused by name.
   subroutine test_union(error)
     type(error_type), allocatable, intent(out) :: error
     type(scene_type) :: scene
@@ -849,6 +851,19 @@ contains
       *spread(e, 1, 3)))))/axial)
     call check(error, err <= 1.0e-7_dp, "two overlapping spheres: relative error "//real_str(err))
     if (allocated(error)) return
+    ! three unequal spheres (validation scene i's template, mm): the default
+    ! 16 points against 48, measured 2.7e-12 apart (tolerance 1e-9)
+    block
+      real(dp) :: c3(3, 3), va, ca(3), ta(3, 3)
+      c3 = reshape([-0.30024691358_dp, -0.55555555556_dp, -0.12345679012_dp, 1.59975308642_dp, &
+        -0.55555555556_dp, -0.12345679012_dp, -0.30024691358_dp, 1.24444444444_dp, 0.27654320988_dp], [3, 3])
+      call sphere_union_moments(c3, [1.5_dp, 1.0_dp, 1.25_dp], va, ca, ta, status, points=48)
+      call sphere_union_moments(c3, [1.5_dp, 1.0_dp, 1.25_dp], v, c, t, status)
+      err = max(abs(v/va - 1.0_dp), maxval(abs(c - ca))/1.5_dp, maxval(abs(t - ta))/maxval(abs(ta)))
+      call check(error, status%stat == demstep_stat%ok .and. err <= 1.0e-9_dp, "three spheres, 16 against " &
+        //"48 points: "//real_str(err))
+      if (allocated(error)) return
+    end block
     ! the LIGGGHTS body: mass 5 on the union
     call new_scene(scene, 3, d, [1.0_dp, 1.0_dp], [1.0_dp, 1.0_dp], status)
     call bodies_from_members(scene, [7, 7], bodies, status, body_mass=[5.0_dp, 5.0_dp], union=.true.)
