@@ -125,6 +125,10 @@ contains
       var("body_density", "a real number", "clump members' density: body mass and inertia from their " &
         //"volumes (Yade's sum, overlaps counted twice); default the particles' masses and inertias", &
         "!2600.0", default="!0", needs="bodies_file"), &
+      var("body_union", "a logical", "a LIGGGHTS dump's multisphere bodies (mol, mass columns): the " &
+        //"centre of mass and inertia of the union of the members (overlap counted once, as LIGGGHTS' " &
+        //"Monte Carlo template); F: the members' sum (a template stating the sum as mass and " &
+        //"inertia_tensor)", "!F", default="T", needs="snapshot_file"), &
       var("law", "a quoted word", "contact law: "//word_choice(contact_law_names, [character(len=8) :: &
         "k_normal", "e_star"]), &
         "'linear'", default="'linear'"), &
@@ -350,7 +354,7 @@ contains
       local_damping, impact_velocity, duration, dt, n_per_period, k_tangential, kt_ratio, g_star, &
       friction, cell_lo(3), cell_hi(3), eigen_tolerance, damping_ratio_tangential, &
       damping_ratio_rolling, drag, rolling_ratio, twisting_ratio, rolling_friction, body_density
-    logical :: periodic(3), prestress, tangential_damping, participation
+    logical :: periodic(3), prestress, tangential_damping, participation, body_union
     character(len=512) :: participation_file
     namelist /scene/ dim, position, velocity, mass, radius, fixed, bonds, particles_file, &
       bonds_file, law, k_normal, e_star, k_bond, k_bond_tangential, walls, effects, gravity, &
@@ -360,7 +364,7 @@ contains
       eigen_solver, eigen_tolerance, snapshot_file, snapshot_format, snapshot_frame, &
       damping_ratio_tangential, damping_ratio_rolling, drag, rolling_ratio, twisting_ratio, rolling_friction, &
       wall_type, tangential_damping, bond_model, bond_parameters, bodies_file, body_density, &
-      participation, participation_file, liggghts_script
+      body_union, participation, participation_file, liggghts_script
     type(var_spec), allocatable :: specs(:)
     character(len=*), parameter :: g = "scene"
 
@@ -482,6 +486,7 @@ contains
     input%wall_type = wall_type
     input%tangential_damping = tangential_damping
     input%prestress = prestress
+    input%body_union = body_union
     input%eigen_tolerance = eigen_tolerance
     input%max_eigen_dof = max_eigen_dof
 

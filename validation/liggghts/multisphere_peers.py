@@ -6,16 +6,18 @@ GlobalStiffnessTimeStepper and exaDEM's rule on the same rigid bodies
 `body_exadem_step`, raw), demstep's exact limits with the bodies given
 explicitly (a cross-check of the app's `mol` reading), and the members taken
 as free spheres. Writes demstep/multisphere_peers.md. For j_multisphere_mc
-(the template left to LIGGGHTS' Monte Carlo) a last row gives the library
-LIGGGHTS' own estimate instead (the union's mass and principal moments from
-its log, the tensor axisymmetric about the two members' axis).
+(the template left to LIGGGHTS' Monte Carlo) the bodies are the union of
+their two equal spheres in closed form (the app's `body_union`, which
+integrates numerically), and a last row gives the library LIGGGHTS' own
+estimate instead (the union's mass and principal moments from its log, the
+tensor axisymmetric about the two members' axis).
 
     DEMSTEP_LIBRARY=path/to/libdemstep.so.0 python3 multisphere_peers.py
 
 The bodies are built here from the dump as LIGGGHTS has them (its template
 states them, see README.md): membership from `mol`, the body's mass from
 `mass`, the members sharing it in proportion to r^3, centre and tensor the
-members' sum with Steiner's term."""
+members' sum with Steiner's term (h, i) or the union's (j)."""
 import csv
 import json
 import os
@@ -51,6 +53,37 @@ def bodies(rows):
     return body_of, mass, com, inertia, x, rad, mb
 
 
+def union_pair_bodies(rows):
+    """Bodies of two equal overlapping spheres (r, centres d apart) as their
+    union at the dump's body mass: each sphere less the cap of height
+    h = r - d/2 beyond the mid-plane. Volume 2 (4/3 pi r^3 - pi h^2 (3 r - h)
+    / 3); axial moment per unit density 2 (8/15 pi r^5 - pi h^3 (20 r^2 -
+    15 r h + 3 h^2) / 30) (a cap's moment about its axis); transverse half
+    of it plus 2 int x^2 over a half (x = u + d/2, slice area pi (r^2 - u^2),
+    u from -d/2 to r); centre at the midpoint."""
+    body_of, mass, com, _, x, rad, _ = bodies(rows)
+    nb = body_of.max()
+    inertia = np.zeros((nb, 3, 3))
+    for b in range(nb):
+        k = body_of == b + 1
+        (xa, xb), (ra, rb) = x[k], rad[k]
+        assert ra == rb, "union_pair_bodies: two equal spheres"
+        r, d = ra, np.linalg.norm(xb - xa)
+        h, a = r - d / 2, d / 2
+        vol = 2 * (4 / 3 * np.pi * r ** 3 - np.pi * h * h * (3 * r - h) / 3)
+        axial = 2 * (8 / 15 * np.pi * r ** 5 - np.pi * h ** 3 * (20 * r * r - 15 * r * h + 3 * h * h) / 30)
+
+        def half(u):
+            return np.pi * (r * r * u ** 3 / 3 - u ** 5 / 5 + 2 * a * (r * r * u ** 2 / 2 - u ** 4 / 4)
+                            + a * a * (r * r * u - u ** 3 / 3))
+        transverse = 0.5 * axial + 2 * (half(r) - half(-a))
+        n = (xb - xa) / d
+        nn = np.outer(n, n)
+        inertia[b] = mass[b] / vol * (axial * nn + transverse * (np.eye(3) - nn))
+        com[b] = 0.5 * (xa + xb)
+    return mass, com, inertia
+
+
 def logged_bodies(mat, rows):
     """j_multisphere_mc's bodies as LIGGGHTS estimated them (its log): mass,
     principal moments (axial, and the mean of the two transverse ones, equal
@@ -74,6 +107,8 @@ def scene(mat, rows, with_bodies, logged=False):
     body_of, mass, com, inertia, x, rad, mb = bodies(rows)
     if logged:
         mass, com, inertia = logged_bodies(mat, rows)
+    elif "mass" not in mat["bodies"]:
+        mass, com, inertia = union_pair_bodies(rows)
     radii = sorted(set(mat["radii"]))
     types = np.array([min(range(len(radii)), key=lambda k: abs(r - radii[k])) for r in rad])
     s = demstep.Scene(3)

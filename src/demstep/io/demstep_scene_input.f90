@@ -87,6 +87,10 @@ module demstep_scene_input
     !> masses and inertias (default the particles' own).
     character(len=:), allocatable :: bodies_file
     real(dp), allocatable :: body_density
+    !> A LIGGGHTS multisphere dump's bodies (body mass per member): the
+    !> union of the members (overlap once, LIGGGHTS' Monte Carlo template),
+    !> else the members' sum (a template stating the sum).
+    logical :: body_union = .true.
     !> The periodic cell (the snapshot's box and axes when not given).
     logical, allocatable :: periodic(:)
     real(dp) :: cell_lo(3) = 0.0_dp
@@ -496,7 +500,8 @@ contains
       allocate(setup%bodies)
       if (from == "snapshot_file" .and. setup%snapshot%body_mass .and. .not. allocated(input%body_density)) then
         ! LIGGGHTS' multisphere: each member's mass is its body's
-        call bodies_from_members(scene, body_of, setup%bodies, status, body_mass=setup%snapshot%mass)
+        call bodies_from_members(scene, body_of, setup%bodies, status, body_mass=setup%snapshot%mass, &
+          union=input%body_union)
       else
         call bodies_from_members(scene, body_of, setup%bodies, status, density=input%body_density)
       end if
@@ -505,6 +510,7 @@ contains
         if (status%where == "body_of") call status_restate(status, from, status%detail)
         ! the particle's index: "body_mass(i): ..." (the dump's mass column)
         if (status%where == "body_mass") call status_restate(status, from, "mass column: "//status%message)
+        if (status%where == "body_union") call status_restate(status, "body_union", status%detail)
         deallocate(setup%bodies)
       end if
     end subroutine rigid_bodies

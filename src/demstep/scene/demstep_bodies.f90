@@ -30,12 +30,14 @@
 !> 3d5c00f) and its origin at the members' volume-weighted centre, or for
 !> members that do not overlap; a template left to LIGGGHTS' Monte Carlo
 !> counts the overlap once (fix_template_multiplespheres.cpp:458-503) and
-!> has a smaller tensor for its mass than the sum.
+!> has a larger tensor for its mass than the sum: with `union` the centre
+!> and tensor are the union's (`demstep_sphere_union`) at the body's mass.
 module demstep_bodies
   use demstep_kinds, only: dp, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text
   use demstep_scene_data, only: scene_type, branch_vector
+  use demstep_sphere_union, only: sphere_union_moments
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -78,7 +80,7 @@ contains
   !> negative id), `fixed` (a body with fixed and free members), `density`
   !> or `body_mass` (not finite and > 0, or differing between a body's
   !> members, with the particle's index).
-  subroutine bodies_from_members(scene, body_of, bodies, status, density, body_mass)
+  subroutine bodies_from_members(scene, body_of, bodies, status, density, body_mass, union)
     type(scene_type), intent(in) :: scene
     !> Body id of each particle (0: on its own).
     integer, intent(in) :: body_of(:)
@@ -88,6 +90,10 @@ contains
     real(dp), intent(in), optional :: density
     !> Each particle's body's mass (the same on every member of a body).
     real(dp), intent(in), optional :: body_mass(:)
+    !> With `body_mass`: the centre of mass and inertia tensor of the union
+    !> of the members (the overlap counted once, `body_union_moments`), as
+    !> LIGGGHTS' Monte Carlo template; default the members' sum.
+    logical, intent(in), optional :: union
     real(dp), allocatable :: m(:), im(:), ref(:, :)
     integer, allocatable :: first(:)
     real(dp) :: d(3), eye(3, 3)
@@ -135,6 +141,12 @@ contains
       bodies%inertia(:, :, b) = bodies%inertia(:, :, b) + im(i)*eye &
         + m(i)*(dot_product(d, d)*eye - spread(d, 2, 3)*spread(d, 1, 3))
     end do
+    if (present(body_mass) .and. present(union)) then
+      if (union) then
+        call body_union_moments(scene, bodies, ref, body_mass(first), status)
+        if (status%stat /= demstep_stat%ok) return
+      end if
+    end if
     do b = 1, bodies%n
       bodies%com(:, b) = bodies%com(:, b) + scene%x(:, first(b))
     end do
@@ -179,6 +191,51 @@ contains
       status%stat = demstep_stat%ok
     end subroutine shared_mass
   end subroutine bodies_from_members
+
+  !> Each body's centre of mass and inertia tensor as the union of its
+  !> member spheres (`sphere_union_moments`) at one density, its mass
+  !> `mass(b)`: com and the members' offsets from it replaced (com still
+  !> relative to the body's first member, `ref` each member's position from
+  !> it). Status: `sphere_union_moments`' with the body's index.
+  subroutine body_union_moments(scene, bodies, ref, mass, status)
+    type(scene_type), intent(in) :: scene
+    type(body_set_type), intent(inout) :: bodies
+    real(dp), intent(in) :: ref(:, :), mass(:)
+    type(demstep_status_type), intent(out) :: status
+    integer, allocatable :: start(:), list(:), fill(:)
+    real(dp) :: volume, centroid(3), tensor(3, 3)
+    integer :: i, b
+    character(len=:), allocatable :: detail
+    ! the members of body b: list(start(b):start(b + 1) - 1)
+    allocate(start(bodies%n + 1), fill(bodies%n), list(scene%n))
+    start(1) = 1
+    do b = 1, bodies%n
+      start(b + 1) = start(b) + bodies%members(b)
+    end do
+    fill(:) = start(:bodies%n)
+    do i = 1, scene%n
+      b = bodies%body_of(i)
+      list(fill(b)) = i
+      fill(b) = fill(b) + 1
+    end do
+    do b = 1, bodies%n
+      associate (m => list(start(b):start(b + 1) - 1))
+        call sphere_union_moments(ref(:, m), scene%radius(m), volume, centroid, tensor, status)
+        if (status%stat /= demstep_stat%ok) then
+          detail = status%message
+          call set_status(status, demstep_stat%invalid_input, "body "//int_text(b)//": "//detail, &
+            where="body_union")
+          return
+        end if
+        bodies%com(:, b) = centroid
+        bodies%inertia(:, :, b) = (mass(b)/volume)*tensor
+        do i = 1, size(m)
+          bodies%offset(:, m(i)) = ref(:, m(i)) - centroid
+        end do
+      end associate
+    end do
+    status%stat = demstep_stat%ok
+  end subroutine body_union_moments
 
   !> Bodies from lists of members (`members(first(k):first(k+1)-1)` for body
   !> k), mass and inertia as `bodies_from_members`; particles in no list are
