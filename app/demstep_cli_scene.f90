@@ -125,10 +125,11 @@ contains
       var("body_density", "a real number", "clump members' density: body mass and inertia from their " &
         //"volumes (Yade's sum, overlaps counted twice); default the particles' masses and inertias", &
         "!2600.0", default="!0", needs="bodies_file"), &
-      var("body_union", "a logical", "a LIGGGHTS dump's multisphere bodies (mol, mass columns): the " &
+      var("body_union", "a logical", "a LIGGGHTS dump's multisphere bodies (mol, mass columns): T, the " &
         //"centre of mass and inertia of the union of the members (overlap counted once, as LIGGGHTS' " &
-        //"Monte Carlo template); F: the members' sum (a template stating the sum as mass and " &
-        //"inertia_tensor)", "!F", default="T", needs="snapshot_file"), &
+        //"Monte Carlo template when it states no mass); F, the members' sum (a template stating " &
+        //"mass and inertia_tensor as the sum; the conservative default)", "!T", default="F", &
+        needs="snapshot_file"), &
       var("law", "a quoted word", "contact law: "//word_choice(contact_law_names, [character(len=8) :: &
         "k_normal", "e_star"]), &
         "'linear'", default="'linear'"), &

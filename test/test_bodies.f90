@@ -1208,7 +1208,7 @@ contains
     call write_file(work_dir//"/bodies.txt", [character(len=20) :: "1 1", "2 1"])
     call refused(g//", body_density = -1 /", "&scene: body_density: must be finite and > 0")
     if (allocated(error)) return
-    call refused(g//", body_union = F /", "&scene: snapshot_file: required with body_union")
+    call refused(g//", body_union = T /", "&scene: snapshot_file: required with body_union")
     if (allocated(error)) return
     call refused(g//", prestress = T /", "&scene: bodies_file: rigid bodies are analysed")
     if (allocated(error)) return

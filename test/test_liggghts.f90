@@ -13,8 +13,8 @@
 !> within [0.98, 1.005] of the measured limit (issue 22's goal: never above by
 !> more than 0.5 %, within 2 % below where no contact slides), j too, whose
 !> template LIGGGHTS estimated by Monte Carlo (the union of the members,
-!> which the app builds for a dump's bodies, `body_union`; h and i state
-!> the members' sum and say `body_union = F`). LIGGGHTS is not needed: the
+!> which the app builds with `body_union = T`; h and i state the members'
+!> sum, the default). LIGGGHTS is not needed: the
 !> measurements and the reference are committed files.
 module test_liggghts
   use testdrive, only: new_unittest, unittest_type, error_type, check

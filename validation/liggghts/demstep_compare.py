@@ -70,11 +70,11 @@ def write_deck(scene, mat, radii, path):
         lines.append("  rolling_ratio = 1.0")
     if not mat["tangential_damping"]:
         lines.append("  tangential_damping = F")
-    if "mass" in mat.get("bodies", {}):
-        # the template states mass and inertia_tensor (the members' sum), which
-        # LIGGGHTS takes as they are; without them (j) its Monte Carlo gives
-        # the union's, demstep's default for a dump's bodies
-        lines.append("  body_union = F")
+    if "bodies" in mat and "mass" not in mat["bodies"]:
+        # the template states no mass and inertia_tensor (j): LIGGGHTS' Monte
+        # Carlo gives the union's; with them (h, i: the members' sum, taken as
+        # they are) demstep's default, the members' sum
+        lines.append("  body_union = T")
     lines.append("/")
     code = "liggghts_hertz" if mat["model"] == "hertz" else "liggghts_hooke"
     lines += ["&material", "  code = '%s'" % code,

@@ -89,8 +89,10 @@ module demstep_scene_input
     real(dp), allocatable :: body_density
     !> A LIGGGHTS multisphere dump's bodies (body mass per member): the
     !> union of the members (overlap once, LIGGGHTS' Monte Carlo template),
-    !> else the members' sum (a template stating the sum).
-    logical :: body_union = .true.
+    !> else (the default) the members' sum (a template stating the sum): the
+    !> sum is the conservative one on the validation scenes (the union is
+    !> above the measured limit where the template states the sum).
+    logical :: body_union = .false.
     !> The periodic cell (the snapshot's box and axes when not given).
     logical, allocatable :: periodic(:)
     real(dp) :: cell_lo(3) = 0.0_dp
