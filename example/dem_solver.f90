@@ -31,27 +31,37 @@ program dem_solver
   use demstep_monitor, only: step_monitor_type, fresh_pour_estimate, mode_participation, top_shares, &
     monitor_verdict, scale_masses, solver_critical_steps
   use demstep_vtk, only: write_vtk_particles, vtk_field_type
+  use omp_lib, only: omp_set_num_threads, omp_get_max_threads
   implicit none
 
-  integer, parameter :: n = 3000
+  !> Spheres poured (tile=T makes T x T copies of the settled bed).
+  integer, parameter :: n_pour = 3000
+  integer :: n = n_pour
   real(dp), parameter :: pi = 3.14159265358979323846_dp
   real(dp), parameter :: r_mean = 1.0e-3_dp, poly = 0.2_dp, rho = 2500.0_dp
   real(dp), parameter :: k_n = 200.0_dp, k_t = 2.0_dp/7.0_dp*k_n, mu = 0.5_dp, restitution = 0.5_dp
   real(dp), parameter :: g(3) = [0.0_dp, 0.0_dp, -9.81_dp]
-  !> The periodic cell's side (x and y).
-  real(dp), parameter :: box = 30.0e-3_dp
-  integer, parameter :: check_every = 20, update_every = 500, report_every = 1000, settled_step = 3000
-  integer :: n_steps = 12000
+  !> The periodic cell's side (x and y), T times the pour's after tiling.
+  real(dp) :: box = 30.0e-3_dp
+  integer, parameter :: check_every = 20, report_every = 1000, settled_step = 3000
+  integer :: n_steps = 12000, update_every = 500, tile = 1
   real(dp) :: safety = 0.9_dp, scaling = 0.0_dp
+  !> From step settled_step on: the step over the limit (probe=S, 0: safety
+  !> throughout), and the velocity kick (m/s) at that step, random or along
+  !> the top mode (kick=V, kick_mode=V).
+  real(dp) :: probe = 0.0_dp, kick = 0.0_dp, kick_mode = 0.0_dp
+  !> The measured window: the steps after measure_from (the run's second
+  !> half; with tile=T the second half of the steps after the tiling).
+  integer :: measure_from
   integer, parameter :: max_history = 16
   !> The floor z = 0 as the monitor takes walls: a point and the normal into the domain.
   real(dp), parameter :: floor_point(3, 1) = reshape([0.0_dp, 0.0_dp, 0.0_dp], [3, 1])
   real(dp), parameter :: floor_normal(3, 1) = reshape([0.0_dp, 0.0_dp, 1.0_dp], [3, 1])
 
-  real(dp) :: x(3, n), v(3, n), w(3, n), f(3, n), tq(3, n), mass(n), radius(n), inertia(n)
+  real(dp), allocatable :: x(:, :), v(:, :), w(:, :), f(:, :), tq(:, :), mass(:), radius(:), inertia(:)
   ! tangential history: partners (j > i) and spring displacements per particle; the floor's
-  integer :: h_count(n), h_partner(max_history, n), new_count(n), new_partner(max_history, n)
-  real(dp) :: h_xi(3, max_history, n), new_xi(3, max_history, n), wall_xi(3, n)
+  integer, allocatable :: h_count(:), h_partner(:, :), new_count(:), new_partner(:, :)
+  real(dp), allocatable :: h_xi(:, :, :), new_xi(:, :, :), wall_xi(:, :)
   integer, allocatable :: pairs(:, :)
   real(dp), allocatable :: c_n(:)
   integer :: nc
@@ -82,6 +92,9 @@ program dem_solver
   zeta = -log(restitution)/sqrt(pi**2 + log(restitution)**2)
   vtk_path = ""
   call arguments()
+  measure_from = n_steps/2
+  if (tile > 1) measure_from = (settled_step + n_steps)/2
+  call one_thread()
   call setup()
 
   ! before any contact: the estimate from a generated packing of the same spheres
@@ -117,9 +130,10 @@ program dem_solver
     call verlet_step()
     call system_clock(c1)
     t_steps = t_steps + (c1 - c0)
-    if (step > n_steps/2) t2_steps = t2_steps + (c1 - c0)
+    if (step > measure_from) t2_steps = t2_steps + (c1 - c0)
     t = t + dt
 
+    if (step == settled_step) call settled()
     if (nc == 0) cycle
     if (.not. have_limit .or. mod(step, update_every) == 0) then
       call update(step)
@@ -133,7 +147,7 @@ program dem_solver
       if (.not. is_ok(status)) error stop status%message
       t_checks = t_checks + (c1 - c0)
       n_checks = n_checks + 1
-      if (step > n_steps/2) then
+      if (step > measure_from) then
         t2_checks = t2_checks + (c1 - c0)
         n2_checks = n2_checks + 1
       end if
@@ -179,10 +193,10 @@ program dem_solver
     1.0e3_dp*real(t_updates, dp)/rate/max(1, n_updates - 1), " ms, check ", &
     1.0e3_dp*real(t_checks, dp)/rate/max(1, n_checks), " ms"
   print '(a, i0, a, f0.2, a, i0, a, i0, a, i0, a, f0.2, a)', "settled bed (second half of the run): ", n2_updates, &
-    " updates of ", (real(t2_updates, dp)/max(1, n2_updates))/(real(t2_steps, dp)/(n_steps - n_steps/2)), &
+    " updates of ", (real(t2_updates, dp)/max(1, n2_updates))/(real(t2_steps, dp)/(n_steps - measure_from)), &
     " solver steps each (", n2_accepted, " took the previous modes, ", n2_confirmed, " confirmed by Lanczos), ", &
     n2_checks, " checks of ", &
-    (real(t2_checks, dp)/max(1, n2_checks))/(real(t2_steps, dp)/(n_steps - n_steps/2)), " solver steps each"
+    (real(t2_checks, dp)/max(1, n2_checks))/(real(t2_steps, dp)/(n_steps - measure_from)), " solver steps each"
   print '(a, f0.2, a, f0.2, a)', "whole run (pour and settled): warm updates of ", &
     (real(t_updates, dp)/max(1, n_updates - 1))/(real(t_steps, dp)/n_steps), " solver steps, checks of ", &
     (real(t_checks, dp)/max(1, n_checks))/(real(t_steps, dp)/n_steps), " solver steps"
@@ -193,8 +207,8 @@ program dem_solver
   if (scaling > 0.0_dp) call compare_scaling(scaling*monitor%last%dt_critical_damped)
   ! the settled bed: the second half of the run, its own solver steps
   print '(a, f0.2, a, f0.2, a, i0)', "monitor: update ", &
-    (real(t2_updates, dp)/max(1, n2_updates))/(real(t2_steps, dp)/(n_steps - n_steps/2)), " solver steps, check ", &
-    (real(t2_checks, dp)/max(1, n2_checks))/(real(t2_steps, dp)/(n_steps - n_steps/2)), " solver steps, particles ", n
+    (real(t2_updates, dp)/max(1, n2_updates))/(real(t2_steps, dp)/(n_steps - measure_from)), " solver steps, check ", &
+    (real(t2_checks, dp)/max(1, n2_checks))/(real(t2_steps, dp)/(n_steps - measure_from)), " solver steps, particles ", n
 
 contains
 
@@ -211,6 +225,24 @@ contains
         read(arg(9:), *, iostat=ios) scaling
         if (ios /= 0 .or. .not. (scaling > 1.0_dp .and. scaling < 100.0_dp)) &
           error stop "dem_solver: scaling= needs a number in (1, 100)"
+      else if (index(arg, "tile=") == 1) then
+        read(arg(6:), *, iostat=ios) tile
+        if (ios /= 0 .or. tile < 1 .or. tile > 10) error stop "dem_solver: tile= needs an integer in 1 to 10"
+      else if (index(arg, "update_every=") == 1) then
+        read(arg(14:), *, iostat=ios) update_every
+        if (ios /= 0 .or. update_every < check_every) error stop "dem_solver: update_every= needs an integer >= 20"
+      else if (index(arg, "probe=") == 1) then
+        read(arg(7:), *, iostat=ios) probe
+        if (ios /= 0 .or. .not. (probe > 0.0_dp .and. probe < 3.0_dp)) &
+          error stop "dem_solver: probe= needs a number in (0, 3)"
+      else if (index(arg, "kick=") == 1) then
+        read(arg(6:), *, iostat=ios) kick
+        if (ios /= 0 .or. .not. (kick >= 0.0_dp .and. kick < 1.0_dp)) &
+          error stop "dem_solver: kick= needs a speed in [0, 1) m/s"
+      else if (index(arg, "kick_mode=") == 1) then
+        read(arg(11:), *, iostat=ios) kick_mode
+        if (ios /= 0 .or. .not. (kick_mode >= 0.0_dp .and. kick_mode < 1.0_dp)) &
+          error stop "dem_solver: kick_mode= needs a speed in [0, 1) m/s"
       else if (index(arg, "safety=") == 1) then
         read(arg(8:), *, iostat=ios) safety
         if (ios /= 0 .or. .not. (safety > 0.0_dp .and. safety < 2.0_dp)) &
@@ -220,6 +252,140 @@ contains
       end if
     end do
   end subroutine arguments
+
+  !> A serial solver: the library's products run on its one thread too
+  !> (OpenMP), unless OMP_NUM_THREADS says otherwise; U and C compare
+  !> like with like.
+  subroutine one_thread()
+    integer :: length, st
+    call get_environment_variable("OMP_NUM_THREADS", length=length, status=st)
+    if (st /= 0 .or. length == 0) call omp_set_num_threads(1)
+    print '(a, i0, a)', "threads: ", omp_get_max_threads(), " (the solver is serial; OMP_NUM_THREADS to change)"
+  end subroutine one_thread
+
+  !> At step settled_step: tile the bed (tile=T), switch to the probed step
+  !> (probe=S) and kick the particles (kick=V, kick_mode=V).
+  subroutine settled()
+    real(dp), allocatable :: u(:, :)
+    real(dp) :: top
+    integer :: k
+    if (tile > 1) then
+      call tile_bed()
+      ! a new bed: the next update is cold
+      have_limit = .false.
+    end if
+    if (probe > 0.0_dp) then
+      safety = probe
+      dt = safety*dt_limit
+      print '(a, f0.4, a, es12.5, a)', "probe: the step is now ", probe, " x the monitored damped limit (", &
+        dt, " s)"
+    end if
+    if (kick > 0.0_dp) then
+      ! random directions, each particle's speed kick (translation only)
+      allocate(u(3, n))
+      call random_number(u)
+      u = u - 0.5_dp
+      do k = 1, n
+        v(:, k) = v(:, k) + kick*u(:, k)/norm2(u(:, k))
+      end do
+      print '(a, es10.3, a)', "kick: random velocities of ", kick, " m/s"
+    end if
+    if (kick_mode > 0.0_dp .and. monitor%ready) then
+      ! along the last update's top undamped mode: its displacement and r
+      ! theta per particle as velocities, the fastest particle at kick_mode
+      top = maxval(norm2(monitor%mode_particles(1:3, :), dim=1))
+      do k = 1, n
+        v(:, k) = v(:, k) + kick_mode*monitor%mode_particles(1:3, k)/top
+        w(:, k) = w(:, k) + kick_mode*monitor%mode_particles(4:6, k)/(top*radius(k))
+      end do
+      print '(a, es10.3, a)', "kick: along the top mode, fastest particle ", kick_mode, " m/s"
+    end if
+  end subroutine settled
+
+  !> T x T copies of the bed in x and y (tile=T): positions, velocities,
+  !> forces, the contact list and the tangential springs (each pair's partner
+  !> in the copy its nearest image lies in), so the tiled bed is the settled
+  !> one repeated, in equilibrium as it was.
+  subroutine tile_bed()
+    real(dp), allocatable :: x2(:, :), v2(:, :), w2(:, :), f2(:, :), tq2(:, :), wx2(:, :), c2(:), hx2(:, :, :)
+    integer, allocatable :: hc2(:), hp2(:, :), p2(:, :)
+    integer :: a, b, k, h, m, off, n2, nc2, ii, jj
+    real(dp) :: sg
+    n2 = n*tile*tile
+    allocate(x2(3, n2), v2(3, n2), w2(3, n2), f2(3, n2), tq2(3, n2), wx2(3, n2))
+    allocate(hc2(n2), hp2(max_history, n2), source=0)
+    allocate(hx2(3, max_history, n2), source=0.0_dp)
+    allocate(p2(2, 8*n2), c2(8*n2))
+    nc2 = 0
+    do b = 0, tile - 1
+      do a = 0, tile - 1
+        off = n*(a + tile*b)
+        do k = 1, n
+          x2(:, k + off) = x(:, k) + [a*box, b*box, 0.0_dp]
+          v2(:, k + off) = v(:, k)
+          w2(:, k + off) = w(:, k)
+          f2(:, k + off) = f(:, k)
+          tq2(:, k + off) = tq(:, k)
+          wx2(:, k + off) = wall_xi(:, k)
+          do h = 1, h_count(k)
+            call partner(k, h_partner(h, k), a, b, ii, jj, sg)
+            m = hc2(ii) + 1
+            if (m > max_history) cycle
+            hc2(ii) = m
+            hp2(m, ii) = jj
+            hx2(:, m, ii) = sg*h_xi(:, h, k)
+          end do
+        end do
+        do m = 1, nc
+          call partner(pairs(1, m), pairs(2, m), a, b, ii, jj, sg)
+          nc2 = nc2 + 1
+          p2(:, nc2) = [ii, jj]
+          c2(nc2) = c_n(m)
+        end do
+      end do
+    end do
+    n = n2
+    box = tile*box
+    call move_alloc(x2, x)
+    call move_alloc(v2, v)
+    call move_alloc(w2, w)
+    call move_alloc(f2, f)
+    call move_alloc(tq2, tq)
+    call move_alloc(wx2, wall_xi)
+    call move_alloc(hc2, h_count)
+    call move_alloc(hp2, h_partner)
+    call move_alloc(hx2, h_xi)
+    call move_alloc(p2, pairs)
+    call move_alloc(c2, c_n)
+    nc = nc2
+    mass = [(mass, k = 1, tile*tile)]
+    radius = [(radius, k = 1, tile*tile)]
+    inertia = [(inertia, k = 1, tile*tile)]
+    deallocate(new_count, new_partner, new_xi, cell_next)
+    allocate(new_count(n), new_partner(max_history, n), new_xi(3, max_history, n), cell_next(n))
+    ncell(1:2) = max(3, int(box/(2.0_dp*maxval(radius))))
+    cell_w(1:2) = box/ncell(1:2)
+    if (allocated(cell_start)) deallocate(cell_start)
+    print '(a, i0, a, i0, a, f0.1, a, i0, a)', "tiled: ", tile, " x ", tile, " copies of the settled bed, cell ", &
+      1.0e3_dp*box, " mm, ", n, " particles"
+  end subroutine tile_bed
+
+  !> The pair (i, j) (j > i) of copy (a, b) in the tiled numbering (before
+  !> n and box change): j's copy is the one its nearest image lies in; (ii,
+  !> jj) with jj > ii, and sg = -1 when the order turned (the spring's sense
+  !> with it).
+  subroutine partner(i, j, a, b, ii, jj, sg)
+    integer, intent(in) :: i, j, a, b
+    integer, intent(out) :: ii, jj
+    real(dp), intent(out) :: sg
+    integer :: i2, j2, s(2)
+    s = nint((x(1:2, j) - x(1:2, i))/box)
+    i2 = i + n*(a + tile*b)
+    j2 = j + n*(modulo(a - s(1), tile) + tile*modulo(b - s(2), tile))
+    ii = min(i2, j2)
+    jj = max(i2, j2)
+    sg = merge(1.0_dp, -1.0_dp, j2 > i2)
+  end subroutine partner
 
   !> Translational and rotational kinetic energy.
   real(dp) function kinetic()
@@ -235,6 +401,9 @@ contains
     allocate(seed(seed_size))
     seed = [(12345 + 7*k, k = 1, seed_size)]
     call random_seed(put=seed)
+    allocate(x(3, n), v(3, n), w(3, n), f(3, n), tq(3, n), mass(n), radius(n), inertia(n))
+    allocate(h_count(n), h_partner(max_history, n), new_count(n), new_partner(max_history, n))
+    allocate(h_xi(3, max_history, n), new_xi(3, max_history, n), wall_xi(3, n))
     do i = 1, n
       call random_number(u(1))
       radius(i) = r_mean*(1.0_dp + poly*(2.0_dp*u(1) - 1.0_dp))
@@ -448,7 +617,7 @@ contains
       cold_products = monitor%last%eigen_products
     end if
     n_updates = n_updates + 1
-    if (step > n_steps/2) then
+    if (step > measure_from) then
       t2_updates = t2_updates + (c1 - c0)
       n2_updates = n2_updates + 1
       if (monitor%accepted) n2_accepted = n2_accepted + 1

@@ -367,9 +367,10 @@ contains
   !> mode. With `accept_start` (the undamped solve) and `accept_damped` (the
   !> damped Newton steps), a warm start whose own residual already meets the
   !> tolerance is taken as it is (`top_eigenpair`): one product instead of a
-  !> Lanczos solve.
+  !> Lanczos solve. `certify` (default true) false: no randomised Lanczos
+  !> certificate (a monitor's warm updates: `safe_basis%estimate`).
   subroutine operator_critical_steps(op, springs, rate, geo, choice, limit, tol, vec, result, status, progress, &
-      bounds, ncv, damped_vec, accept_start, accept_damped)
+      bounds, ncv, damped_vec, accept_start, accept_damped, certify)
     type(assembly_operator_type), intent(inout), target :: op
     type(spring_block_type), intent(in) :: springs(:)
     !> omega = rate sqrt(lambda); whether the pre-stress is counted.
@@ -386,10 +387,10 @@ contains
     real(dp), intent(in), optional :: bounds(2)
     integer, intent(in), optional :: ncv
     real(dp), intent(inout), optional :: damped_vec(:)
-    logical, intent(in), optional :: accept_start, accept_damped
+    logical, intent(in), optional :: accept_start, accept_damped, certify
     real(dp) :: lam, err, b_bound, lower, upper, failure
     integer :: i, solver, basis
-    logical :: has_mode, converged
+    logical :: has_mode, converged, certified
     status%stat = demstep_stat%ok
     result%prestress = geo
     result%dof_per_particle = op%nc
@@ -418,8 +419,18 @@ contains
       ! the bound, which shifts the certificate's operator)
       lower = 0.0_dp
       if (geo) lower = -(result%omega_bound/rate)**2
-      call top_eigenpair(op, solver, tol, vec, lam, err, has_mode, result%eigen_products, &
-        result%eigen_restarts, status, progress, ncv, converged, lower, upper, failure, accept_start)
+      ! (a dense solve's bracket end costs nothing: always given)
+      certified = .true.
+      if (present(certify)) certified = certify .or. solver == eigen_solver%dense
+      if (certified) then
+        call top_eigenpair(op, solver, tol, vec, lam, err, has_mode, result%eigen_products, &
+          result%eigen_restarts, status, progress, ncv, converged, lower, upper, failure, accept_start)
+      else
+        upper = 0.0_dp
+        failure = 0.0_dp
+        call top_eigenpair(op, solver, tol, vec, lam, err, has_mode, result%eigen_products, &
+          result%eigen_restarts, status, progress, ncv, converged, accept_start=accept_start)
+      end if
       if (status%stat /= demstep_stat%ok) return
       result%eigen_tolerance = tol
       basis = safe_basis%randomised
