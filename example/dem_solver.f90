@@ -43,13 +43,21 @@ program dem_solver
   real(dp), parameter :: g(3) = [0.0_dp, 0.0_dp, -9.81_dp]
   !> The periodic cell's side (x and y), T times the pour's after tiling.
   real(dp) :: box = 30.0e-3_dp
-  integer, parameter :: check_every = 20, report_every = 1000, settled_step = 3000
+  integer, parameter :: check_every = 20, report_every = 1000
+  !> The step from which the bed counts as settled (settle=N): tiling, the
+  !> probe and the kick happen there, and the kinetic energy is watched.
+  integer :: settled_step = 3000
   integer :: n_steps = 12000, update_every = 500, tile = 1
   real(dp) :: safety = 0.9_dp, scaling = 0.0_dp
   !> From step settled_step on: the step over the limit (probe=S, 0: safety
   !> throughout), and the velocity kick (m/s) at that step, random or along
   !> the top mode (kick=V, kick_mode=V).
   real(dp) :: probe = 0.0_dp, kick = 0.0_dp, kick_mode = 0.0_dp
+  !> kick_mode: the kicked mode (6, n) and its energy's least and largest
+  !> values since, at the kick, and the step it grew 100 times (0: never).
+  real(dp), allocatable :: probe_mode(:, :)
+  real(dp) :: mode_min = huge(1.0_dp), mode_max = 0.0_dp, mode_kick = 0.0_dp
+  integer :: mode_grew_at = 0
   !> The measured window: the steps after measure_from (the run's second
   !> half; with tile=T the second half of the steps after the tiling).
   integer :: measure_from
@@ -78,7 +86,11 @@ program dem_solver
   integer(i8) :: c0, c1, rate, t_steps, t_updates, t_checks
   ! the second half of the run (a settled bed): its updates, checks and steps
   integer(i8) :: t2_steps, t2_updates, t2_checks
-  integer :: n2_updates, n2_checks, n2_accepted, n2_confirmed
+  integer :: n2_updates, n2_checks, n2_accepted, n2_confirmed, n2_local = 0
+  !> verify: each measured update against a cold one (a new monitor) on the
+  !> same arrays; the largest and least ratio of their damped limits.
+  logical :: verify = .false.
+  real(dp) :: verify_max = 0.0_dp, verify_min = huge(1.0_dp)
   ! the kinetic energy's least value since the bed settled, and the step it grew 100 times
   real(dp) :: ke_min
   integer :: grew_at
@@ -92,6 +104,7 @@ program dem_solver
   zeta = -log(restitution)/sqrt(pi**2 + log(restitution)**2)
   vtk_path = ""
   call arguments()
+  if (n_steps <= settled_step) error stop "dem_solver: steps= must exceed settle="
   measure_from = n_steps/2
   if (tile > 1) measure_from = (settled_step + n_steps)/2
   call one_thread()
@@ -156,6 +169,16 @@ program dem_solver
         call update(step)
       end if
     end if
+    if (allocated(probe_mode) .and. step >= settled_step .and. mod(step, 10) == 0) then
+      ke = mode_energy()
+      mode_min = min(mode_min, ke)
+      mode_max = max(mode_max, ke)
+      if (mode_grew_at == 0 .and. ke > 100.0_dp*mode_min) then
+        mode_grew_at = step
+        print '(a, i0, a, es10.3, a, es10.3, a)', "top-mode energy grew 100 times at step ", step, " (", ke, &
+          " J, least since the kick ", mode_min, " J)"
+      end if
+    end if
     if (step >= settled_step .and. mod(step, 10) == 0) then
       ke = kinetic()
       ke_min = min(ke_min, ke)
@@ -175,6 +198,8 @@ program dem_solver
   end do
 
   if (step <= n_steps) print '(a, i0, a)', "stopped at step ", step, ": the kinetic energy grew a million times"
+  if (allocated(probe_mode)) print '(a, es10.3, a, es10.3, a, es10.3, a, i0)', "top-mode energy: at the kick ", &
+    mode_kick, " J, least ", mode_min, " J, largest ", mode_max, " J, grew 100 times at step ", mode_grew_at
   if (grew_at == 0) print '(a, i0, a, es10.3, a)', "kinetic energy never grew 100 times over its least since step ", &
     settled_step, " (least ", ke_min, " J)"
   print '(a, i0, a, i0, a, i0, a)', "updates ", n_updates, " (", n_resolves, " asked for by a check), checks ", &
@@ -192,11 +217,15 @@ program dem_solver
     1.0e3_dp*real(t_steps, dp)/rate/n_steps, " ms, warm update ", &
     1.0e3_dp*real(t_updates, dp)/rate/max(1, n_updates - 1), " ms, check ", &
     1.0e3_dp*real(t_checks, dp)/rate/max(1, n_checks), " ms"
-  print '(a, i0, a, f0.2, a, i0, a, i0, a, i0, a, f0.2, a)', "settled bed (second half of the run): ", n2_updates, &
+  print '(a, i0, a, f0.2, a, i0, a, i0, a, i0, a, i0, a, f0.2, a)', "settled bed (measured window): ", &
+    n2_updates, &
     " updates of ", (real(t2_updates, dp)/max(1, n2_updates))/(real(t2_steps, dp)/(n_steps - measure_from)), &
-    " solver steps each (", n2_accepted, " took the previous modes, ", n2_confirmed, " confirmed by Lanczos), ", &
+    " solver steps each (", n2_accepted, " took the previous modes, ", n2_local, " started from a neighbourhood, ", &
+    n2_confirmed, " confirmed by Lanczos), ", &
     n2_checks, " checks of ", &
     (real(t2_checks, dp)/max(1, n2_checks))/(real(t2_steps, dp)/(n_steps - measure_from)), " solver steps each"
+  if (verify) print '(a, i0, a, f0.6, a, f0.6)', "verify: ", n2_updates, " warm updates against cold ones: "// &
+    "damped limit warm/cold from ", verify_min, " to ", verify_max
   print '(a, f0.2, a, f0.2, a)', "whole run (pour and settled): warm updates of ", &
     (real(t_updates, dp)/max(1, n_updates - 1))/(real(t_steps, dp)/n_steps), " solver steps, checks of ", &
     (real(t_checks, dp)/max(1, n_checks))/(real(t_steps, dp)/n_steps), " solver steps"
@@ -220,11 +249,19 @@ contains
       call get_command_argument(k, arg)
       if (index(arg, "steps=") == 1) then
         read(arg(7:), *, iostat=ios) n_steps
-        if (ios /= 0 .or. n_steps < 2*settled_step) error stop "dem_solver: steps= needs an integer >= 6000"
+        if (ios /= 0 .or. n_steps < 6000) error stop "dem_solver: steps= needs an integer >= 6000"
       else if (index(arg, "scaling=") == 1) then
         read(arg(9:), *, iostat=ios) scaling
         if (ios /= 0 .or. .not. (scaling > 1.0_dp .and. scaling < 100.0_dp)) &
           error stop "dem_solver: scaling= needs a number in (1, 100)"
+      else if (index(arg, "confirm_every=") == 1) then
+        read(arg(15:), *, iostat=ios) monitor%confirm_every
+        if (ios /= 0 .or. monitor%confirm_every < 0) error stop "dem_solver: confirm_every= needs an integer >= 0"
+      else if (arg == "verify") then
+        verify = .true.
+      else if (index(arg, "settle=") == 1) then
+        read(arg(8:), *, iostat=ios) settled_step
+        if (ios /= 0 .or. settled_step < 1000) error stop "dem_solver: settle= needs an integer >= 1000"
       else if (index(arg, "tile=") == 1) then
         read(arg(6:), *, iostat=ios) tile
         if (ios /= 0 .or. tile < 1 .or. tile > 10) error stop "dem_solver: tile= needs an integer in 1 to 10"
@@ -290,7 +327,7 @@ contains
       end do
       print '(a, es10.3, a)', "kick: random velocities of ", kick, " m/s"
     end if
-    if (kick_mode > 0.0_dp .and. monitor%ready) then
+    if (kick_mode > 0.0_dp .and. monitor%ready .and. size(monitor%mode_particles, 2) == n) then
       ! along the last update's top undamped mode: its displacement and r
       ! theta per particle as velocities, the fastest particle at kick_mode
       top = maxval(norm2(monitor%mode_particles(1:3, :), dim=1))
@@ -298,7 +335,10 @@ contains
         v(:, k) = v(:, k) + kick_mode*monitor%mode_particles(1:3, k)/top
         w(:, k) = w(:, k) + kick_mode*monitor%mode_particles(4:6, k)/(top*radius(k))
       end do
-      print '(a, es10.3, a)', "kick: along the top mode, fastest particle ", kick_mode, " m/s"
+      probe_mode = monitor%mode_particles
+      mode_kick = mode_energy()
+      print '(a, es10.3, a, es10.3, a)', "kick: along the top mode, fastest particle ", kick_mode, &
+        " m/s, its energy ", mode_kick, " J"
     end if
   end subroutine settled
 
@@ -386,6 +426,21 @@ contains
     jj = max(i2, j2)
     sg = merge(1.0_dp, -1.0_dp, j2 > i2)
   end subroutine partner
+
+  !> The kinetic energy in the kicked top mode: the velocities' component
+  !> along it in the mass norm (translations, and rotations as r theta).
+  real(dp) function mode_energy()
+    real(dp) :: a, b
+    integer :: k
+    a = 0.0_dp
+    b = 0.0_dp
+    do k = 1, n
+      a = a + mass(k)*dot_product(probe_mode(1:3, k), v(:, k)) + &
+        (inertia(k)/radius(k))*dot_product(probe_mode(4:6, k), w(:, k))
+      b = b + mass(k)*sum(probe_mode(1:3, k)**2) + (inertia(k)/radius(k)**2)*sum(probe_mode(4:6, k)**2)
+    end do
+    mode_energy = 0.5_dp*a**2/b
+  end function mode_energy
 
   !> Translational and rotational kinetic energy.
   real(dp) function kinetic()
@@ -622,11 +677,26 @@ contains
       n2_updates = n2_updates + 1
       if (monitor%accepted) n2_accepted = n2_accepted + 1
       if (monitor%confirmed) n2_confirmed = n2_confirmed + 1
+      if (monitor%local_start) n2_local = n2_local + 1
+      if (verify) call verify_update()
     end if
     have_limit = .true.
     dt_limit = monitor%last%dt_critical_damped
     dt = safety*dt_limit
   end subroutine update
+
+  !> The update just made against a cold one on the same arrays (verify).
+  subroutine verify_update()
+    type(step_monitor_type) :: fresh
+    type(demstep_status_type) :: st
+    call fresh%update(x, mass, radius, pairs(:, :nc), [k_n], st, k_t=[k_t], c_n=c_n(:nc), &
+      inertia=inertia, wall_point=floor_point, wall_normal=floor_normal, wall_k=[k_n, k_t], &
+      wall_damping=[zeta, 0.0_dp], periodic=[.true., .true., .false.], cell_lo=[0.0_dp, 0.0_dp, 0.0_dp], &
+      cell_hi=[box, box, 0.0_dp])
+    if (.not. is_ok(st)) error stop st%message
+    verify_max = max(verify_max, monitor%last%dt_critical_damped/fresh%last%dt_critical_damped)
+    verify_min = min(verify_min, monitor%last%dt_critical_damped/fresh%last%dt_critical_damped)
+  end subroutine verify_update
 
   !> One update of a monitor on the solver's current arrays: the contact
   !> list with its dashpots, scalar stiffness, the floor and the cell.
