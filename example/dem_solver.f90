@@ -32,7 +32,7 @@
 !>                    of the steps after it; tile=6 makes 108 000 spheres;
 !>   probe=S          from settle on, the step is S times the damped limit;
 !>   kick=V           random velocities of V m/s at settle;
-!>   kick_mode=V      velocities along the top undamped mode at settle (the
+!>   kick_mode=V      velocities along the damped limit's mode at settle (the
 !>                    fastest particle at V m/s); that mode's own kinetic
 !>                    energy is then watched (growth: 100 times its value
 !>                    at the kick);
@@ -350,14 +350,16 @@ contains
       print '(a, es10.3, a)', "kick: random velocities of ", kick, " m/s"
     end if
     if (kick_mode > 0.0_dp .and. monitor%ready .and. size(monitor%mode_particles, 2) == n) then
-      ! along the last update's top undamped mode: its displacement and r
-      ! theta per particle as velocities, the fastest particle at kick_mode
-      top = maxval(norm2(monitor%mode_particles(1:3, :), dim=1))
+      ! along the last update's damped limit's mode (the top undamped one
+      ! without dashpots): its displacement and r theta per particle as
+      ! velocities, the fastest particle at kick_mode
+      probe_mode = monitor%damped_particles
+      if (.not. any(probe_mode /= 0.0_dp)) probe_mode = monitor%mode_particles
+      top = maxval(norm2(probe_mode(1:3, :), dim=1))
       do k = 1, n
-        v(:, k) = v(:, k) + kick_mode*monitor%mode_particles(1:3, k)/top
-        w(:, k) = w(:, k) + kick_mode*monitor%mode_particles(4:6, k)/(top*radius(k))
+        v(:, k) = v(:, k) + kick_mode*probe_mode(1:3, k)/top
+        w(:, k) = w(:, k) + kick_mode*probe_mode(4:6, k)/(top*radius(k))
       end do
-      probe_mode = monitor%mode_particles
       mode_kick = mode_energy()
       print '(a, es10.3, a, es10.3, a)', "kick: along the top mode, fastest particle ", kick_mode, &
         " m/s, its energy ", mode_kick, " J"

@@ -190,6 +190,9 @@ module demstep_monitor
     !> and rotation times radius (6, particles; 0 for fixed ones): the check's
     !> Rayleigh quotient needs no operator.
     real(dp), allocatable :: mode_particles(:, :)
+    !> The same for the damped limit's mode (the damped Newton steps' last;
+    !> 0 without dashpots).
+    real(dp), allocatable :: damped_particles(:, :)
     !> The check's per-particle bound rows (work arrays kept between checks).
     real(dp), allocatable, private :: check_rows(:, :)
   contains
@@ -286,9 +289,10 @@ contains
     rows = rows*monitor%rate**2
     ! a cold solve with the scene's Krylov size, a warm one with the monitor's;
     ! a warm one takes the previous modes as they are when their residuals on
-    ! the new operator meet the tolerance, but every confirm_every-th update
-    ! runs the undamped Lanczos solve (its confirmation from a fresh random
-    ! start: a top mode elsewhere is found)
+    ! the new operator meet the tolerance; when the undamped one does not (the
+    ! top changed), and every confirm_every-th update, it runs the undamped
+    ! Lanczos solve with its confirmation from a fresh random start (a top
+    ! mode elsewhere is found)
     ncv = scene_lanczos_ncv
     warm = any(monitor%mode /= 0.0_dp)
     if (warm .and. monitor%ncv > 1) ncv = monitor%ncv
@@ -309,19 +313,22 @@ contains
         if (status%stat /= demstep_stat%ok) return
       end if
     end if
+    ! (a start with a neighbourhood's top added, or a previous mode whose
+    ! residual fails: the confirmed solve from it)
+    if (accept) accept = .not. monitor%local_start .and. stands(monitor%op, monitor%mode, monitor%tolerance)
     monitor%confirmed = warm .and. .not. accept
     certify = monitor%certify .or. .not. warm
     if (monitor%cheap) then
       call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
         default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status, &
         bounds=[a_bound, cheap_bound(monitor%op, dashpots=.true.)], ncv=ncv, &
-        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=warm, certify=certify)
+        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=accept, certify=certify)
     else
       call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
         default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status, ncv=ncv, &
-        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=warm, certify=certify)
+        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=accept, certify=certify)
     end if
-    monitor%accepted = accept .and. .not. monitor%local_start .and. monitor%last%eigen_restarts == 0
+    monitor%accepted = accept .and. monitor%last%eigen_restarts == 0
     if (status%stat /= demstep_stat%ok) then
       monitor%mode = 0.0_dp
       monitor%damped_mode = 0.0_dp
@@ -685,6 +692,23 @@ contains
     end if
   end subroutine look_at_stiffened
 
+  !> Whether a unit start vector stands as the operator's mode: its measured
+  !> residual within the tolerance of its Rayleigh quotient (as
+  !> `top_eigenpair` takes a start). One product.
+  logical function stands(op, vec, tol)
+    type(assembly_operator_type), intent(inout) :: op
+    real(dp), intent(in) :: vec(:), tol
+    real(dp), allocatable :: y(:)
+    real(dp) :: lam, length
+    allocate(y(size(vec)))
+    length = norm2(vec)
+    stands = length > 0.0_dp
+    if (.not. stands) return
+    call assembly_operator_apply(op, vec/length, y)
+    lam = dot_product(vec, y)/length
+    stands = lam > 0.0_dp .and. norm2(y - lam*vec/length) <= tol*lam
+  end function stands
+
   !> The top of body b's neighbourhood with the rest held: the largest
   !> eigenvalue lam (scaled) of the principal submatrix of A' on b and the
   !> free bodies it shares a spring with (`bodies`, b first), and its unit
@@ -733,25 +757,33 @@ contains
     call largest_eigenpair(a, lam, v, status)
   end subroutine local_top
 
-  !> The update's mode per particle (`mode_particles`): each free body's
-  !> components times its M'^-1/2 factors (proportional to the physical
-  !> displacement and r theta), 0 for fixed particles and absent components.
+  !> The update's modes per particle (`mode_particles`, `damped_particles`):
+  !> each free body's components times its M'^-1/2 factors (proportional to
+  !> the physical displacement and r theta), 0 for fixed particles and absent
+  !> components.
   subroutine store_mode(monitor, n)
     class(step_monitor_type), intent(inout) :: monitor
     integer, intent(in) :: n
-    integer :: b, c, nc
-    if (allocated(monitor%mode_particles)) then
-      if (size(monitor%mode_particles, 2) /= n) deallocate(monitor%mode_particles)
-    end if
-    if (.not. allocated(monitor%mode_particles)) allocate(monitor%mode_particles(6, n))
-    monitor%mode_particles = 0.0_dp
-    nc = monitor%op%nc
-    do b = 1, monitor%op%n_bodies
-      do c = 1, nc
-        monitor%mode_particles(monitor%op%comp(c), monitor%body_particle(b)) = &
-          monitor%mode((b - 1)*nc + c)*monitor%op%w(monitor%op%comp(c), b)
+    call per_particle(monitor%mode, monitor%mode_particles)
+    call per_particle(monitor%damped_mode, monitor%damped_particles)
+  contains
+    subroutine per_particle(mode, particles)
+      real(dp), intent(in) :: mode(:)
+      real(dp), allocatable, intent(inout) :: particles(:, :)
+      integer :: b, c, nc
+      if (allocated(particles)) then
+        if (size(particles, 2) /= n) deallocate(particles)
+      end if
+      if (.not. allocated(particles)) allocate(particles(6, n))
+      particles = 0.0_dp
+      nc = monitor%op%nc
+      do b = 1, monitor%op%n_bodies
+        do c = 1, nc
+          particles(monitor%op%comp(c), monitor%body_particle(b)) = mode((b - 1)*nc + c) &
+            *monitor%op%w(monitor%op%comp(c), b)
+        end do
       end do
-    end do
+    end subroutine per_particle
   end subroutine store_mode
 
   !> An ESTIMATE of a settled bed's (damped) limit before any contact exists
