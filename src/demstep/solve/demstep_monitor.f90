@@ -259,7 +259,7 @@ contains
     real(dp), intent(in), optional :: wall_point(:, :), wall_normal(:, :), wall_k(:), wall_damping(:)
     logical, intent(in), optional :: periodic(:)
     real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
-    logical :: rotation, warm, accept, certify
+    logical :: rotation, warm, accept, certify, stood
     integer :: i, nfree, ncv
     real(dp) :: a_bound
     real(dp), allocatable :: rows(:)
@@ -316,19 +316,23 @@ contains
       end if
     end if
     ! (a start with a neighbourhood's top added, or a previous mode whose
-    ! residual fails: the confirmed solve from it)
-    if (accept) accept = .not. monitor%local_start .and. stands(monitor%op, monitor%mode, monitor%tolerance)
+    ! residual fails: the confirmed solve from it; the damped mode is taken
+    ! as it is only when the undamped one stood, e.g. at a scheduled
+    ! confirmation)
+    stood = warm .and. .not. monitor%local_start
+    if (stood) stood = stands(monitor%op, monitor%mode, monitor%tolerance)
+    accept = accept .and. stood
     monitor%confirmed = warm .and. .not. accept
     certify = monitor%certify .or. .not. warm
     if (monitor%cheap) then
       call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
         default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status, &
         bounds=[a_bound, cheap_bound(monitor%op, dashpots=.true.)], ncv=ncv, &
-        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=accept, certify=certify)
+        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=stood, certify=certify)
     else
       call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
         default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status, ncv=ncv, &
-        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=accept, certify=certify)
+        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=stood, certify=certify)
     end if
     monitor%accepted = accept .and. monitor%last%eigen_restarts == 0
     if (status%stat /= demstep_stat%ok) then
