@@ -16,6 +16,8 @@ program capi_reference
   type(body_set_type) :: bodies
   real(dp) :: dt_crit, e, x(1, 12)
   integer :: i, stat, pairs(2, 11)
+  type(step_monitor_type) :: solved
+  real(dp), allocatable :: shares(:), contact_shares(:), wall_shares(:)
   call new_spring(spring, 0.01_dp, 1.0e5_dp, status)
   dt_crit = critical_time_step(spring)
   call put("dt_critical", dt_crit)
@@ -92,6 +94,16 @@ program capi_reference
   call put("contact_restitution", contact%restitution)
   call n_for_tolerance(quantity_kind%restitution, 1.0e-3_dp, e, status)
   call put("n_for_tolerance", e)
+  ! a solver's own arrays: three spheres in a row (1D), the middle one light;
+  ! the top mode's shares per particle and contact
+  call solver_critical_steps(reshape([0.0_dp, 1.9e-3_dp, 3.8e-3_dp], [1, 3]), [1.0e-3_dp, 2.0e-4_dp, &
+    1.0e-3_dp], [1.0e-3_dp, 1.0e-3_dp, 1.0e-3_dp], reshape([1, 2, 2, 3], [2, 2]), [1.0e4_dp], c, status, &
+    solved=solved)
+  call mode_participation(solved, 2, shares, contact_shares, wall_shares, status)
+  call put("solver_dt_critical_eigen", c%dt_critical_eigen)
+  call put("solver_share_1", shares(1))
+  call put("solver_share_2", shares(2))
+  call put("solver_contact_share_1", contact_shares(1))
 contains
   subroutine put(name, value)
     character(len=*), intent(in) :: name

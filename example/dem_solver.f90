@@ -14,44 +14,82 @@
 !> still safe; on "re-solve now", and every `update_every` steps, the exact
 !> (damped) limit is re-solved, warm-started, and the step set to `safety`
 !> times it. The run ends with the mean wall time of a warm-started update and
-!> of a check on the settled bed (the second half of the run), each over the
-!> mean time of one solver step there, measured here:
+!> of a check on the settled bed (the second half of the run, the measured
+!> window), each over the mean time of one solver step there, measured here:
 !>
 !>   monitor: update U solver steps, check C solver steps, particles P
 !>
-!> Run: fpm run --profile release --example dem_solver [-- steps=N safety=S scaling=F mode.vtk]
-!> (steps: default 12000; safety: the step over the damped limit, default
-!> 0.9; scaling: mass scaling of the settled bed to F times its damped limit,
-!> demstep's `scale_masses` against Yade's per-body density scaling rule; a
-!> file name: the settled bed's top mode as a VTK file). The kinetic
-!> energy is watched: the first step after the bed settled (step 3000) at which
-!> it exceeds 100 times its least value since is reported as growth.
+!> Run: fpm run --profile release --example dem_solver [-- options] with
+!>   steps=N          steps (default 12000);
+!>   safety=S         the step over the damped limit (default 0.9);
+!>   settle=N         the step the bed counts as settled (default 3000): from
+!>                    there the kinetic energy is watched (the first step at
+!>                    which it exceeds 100 times its least value since is
+!>                    reported as growth), and tile, probe and kick act;
+!>   tile=T           T x T copies of the settled bed in x and y (its contact
+!>                    list and tangential springs mapped to the copies: the
+!>                    bed as it was, repeated), measured over the second half
+!>                    of the steps after it; tile=6 makes 108 000 spheres;
+!>   probe=S          from settle on, the step is S times the damped limit;
+!>   kick=V           random velocities of V m/s at settle;
+!>   kick_mode=V      velocities along the damped limit's mode at settle (the
+!>                    fastest particle at V m/s); that mode's own kinetic
+!>                    energy is then watched (growth: 100 times its value
+!>                    at the kick);
+!>   update_every=N   steps between scheduled updates (default 500);
+!>   confirm_every=N  the monitor's confirmed Lanczos solve every N-th update;
+!>   verify           each measured update against a cold one on the same arrays;
+!>   scaling=F        mass scaling of the settled bed to F times its damped
+!>                    limit, demstep's `scale_masses` against Yade's per-body
+!>                    density scaling rule;
+!>   a file name      the settled bed's top mode as a VTK file.
+!> The solver is serial: the library runs on one OpenMP thread too unless
+!> OMP_NUM_THREADS is set (OpenBLAS's own threads: OPENBLAS_NUM_THREADS=1).
 program dem_solver
   use demstep, only: dp, i8, demstep_status_type, is_ok, critical_step_type
   use demstep_monitor, only: step_monitor_type, fresh_pour_estimate, mode_participation, top_shares, &
     monitor_verdict, scale_masses, solver_critical_steps
   use demstep_vtk, only: write_vtk_particles, vtk_field_type
+  use omp_lib, only: omp_set_num_threads, omp_get_max_threads
   implicit none
 
-  integer, parameter :: n = 3000
+  !> Spheres poured (tile=T makes T x T copies of the settled bed).
+  integer, parameter :: n_pour = 3000
+  integer :: n = n_pour
   real(dp), parameter :: pi = 3.14159265358979323846_dp
   real(dp), parameter :: r_mean = 1.0e-3_dp, poly = 0.2_dp, rho = 2500.0_dp
   real(dp), parameter :: k_n = 200.0_dp, k_t = 2.0_dp/7.0_dp*k_n, mu = 0.5_dp, restitution = 0.5_dp
   real(dp), parameter :: g(3) = [0.0_dp, 0.0_dp, -9.81_dp]
-  !> The periodic cell's side (x and y).
-  real(dp), parameter :: box = 30.0e-3_dp
-  integer, parameter :: check_every = 20, update_every = 500, report_every = 1000, settled_step = 3000
-  integer :: n_steps = 12000
+  !> The periodic cell's side (x and y), T times the pour's after tiling.
+  real(dp) :: box = 30.0e-3_dp
+  integer, parameter :: check_every = 20, report_every = 1000
+  !> The step from which the bed counts as settled (settle=N): tiling, the
+  !> probe and the kick happen there, and the kinetic energy is watched.
+  integer :: settled_step = 3000
+  integer :: n_steps = 12000, update_every = 500, tile = 1
   real(dp) :: safety = 0.9_dp, scaling = 0.0_dp
+  !> From step settled_step on: the step over the limit (probe=S, 0: safety
+  !> throughout), and the velocity kick (m/s) at that step, random or along
+  !> the top mode (kick=V, kick_mode=V).
+  real(dp) :: probe = 0.0_dp, kick = 0.0_dp, kick_mode = 0.0_dp
+  !> kick_mode: the kicked mode (6, n) and its energy's least and largest
+  !> values since, at the kick, and the step it first exceeded 100 times its
+  !> value at the kick (0: never).
+  real(dp), allocatable :: probe_mode(:, :)
+  real(dp) :: mode_min = huge(1.0_dp), mode_max = 0.0_dp, mode_kick = 0.0_dp
+  integer :: mode_grew_at = 0
+  !> The measured window: the steps after measure_from (the run's second
+  !> half; with tile=T the second half of the steps after the tiling).
+  integer :: measure_from
   integer, parameter :: max_history = 16
   !> The floor z = 0 as the monitor takes walls: a point and the normal into the domain.
   real(dp), parameter :: floor_point(3, 1) = reshape([0.0_dp, 0.0_dp, 0.0_dp], [3, 1])
   real(dp), parameter :: floor_normal(3, 1) = reshape([0.0_dp, 0.0_dp, 1.0_dp], [3, 1])
 
-  real(dp) :: x(3, n), v(3, n), w(3, n), f(3, n), tq(3, n), mass(n), radius(n), inertia(n)
+  real(dp), allocatable :: x(:, :), v(:, :), w(:, :), f(:, :), tq(:, :), mass(:), radius(:), inertia(:)
   ! tangential history: partners (j > i) and spring displacements per particle; the floor's
-  integer :: h_count(n), h_partner(max_history, n), new_count(n), new_partner(max_history, n)
-  real(dp) :: h_xi(3, max_history, n), new_xi(3, max_history, n), wall_xi(3, n)
+  integer, allocatable :: h_count(:), h_partner(:, :), new_count(:), new_partner(:, :)
+  real(dp), allocatable :: h_xi(:, :, :), new_xi(:, :, :), wall_xi(:, :)
   integer, allocatable :: pairs(:, :)
   real(dp), allocatable :: c_n(:)
   integer :: nc
@@ -68,7 +106,11 @@ program dem_solver
   integer(i8) :: c0, c1, rate, t_steps, t_updates, t_checks
   ! the second half of the run (a settled bed): its updates, checks and steps
   integer(i8) :: t2_steps, t2_updates, t2_checks
-  integer :: n2_updates, n2_checks, n2_accepted, n2_confirmed
+  integer :: n2_updates, n2_checks, n2_accepted, n2_confirmed, n2_local = 0
+  !> verify: each measured update against a cold one (a new monitor) on the
+  !> same arrays; the largest and least ratio of their damped limits.
+  logical :: verify = .false.
+  real(dp) :: verify_max = 0.0_dp, verify_min = huge(1.0_dp)
   ! the kinetic energy's least value since the bed settled, and the step it grew 100 times
   real(dp) :: ke_min
   integer :: grew_at
@@ -82,6 +124,10 @@ program dem_solver
   zeta = -log(restitution)/sqrt(pi**2 + log(restitution)**2)
   vtk_path = ""
   call arguments()
+  if (n_steps < settled_step + 1000) error stop "dem_solver: steps= must be at least settle= + 1000"
+  measure_from = n_steps/2
+  if (tile > 1) measure_from = (settled_step + n_steps)/2
+  call one_thread()
   call setup()
 
   ! before any contact: the estimate from a generated packing of the same spheres
@@ -117,9 +163,10 @@ program dem_solver
     call verlet_step()
     call system_clock(c1)
     t_steps = t_steps + (c1 - c0)
-    if (step > n_steps/2) t2_steps = t2_steps + (c1 - c0)
+    if (step > measure_from) t2_steps = t2_steps + (c1 - c0)
     t = t + dt
 
+    if (step == settled_step) call settled()
     if (nc == 0) cycle
     if (.not. have_limit .or. mod(step, update_every) == 0) then
       call update(step)
@@ -133,13 +180,25 @@ program dem_solver
       if (.not. is_ok(status)) error stop status%message
       t_checks = t_checks + (c1 - c0)
       n_checks = n_checks + 1
-      if (step > n_steps/2) then
+      if (step > measure_from) then
         t2_checks = t2_checks + (c1 - c0)
         n2_checks = n2_checks + 1
       end if
       if (.not. safe) then
         n_resolves = n_resolves + 1
         call update(step)
+      end if
+    end if
+    if (allocated(probe_mode) .and. step >= settled_step .and. mod(step, 10) == 0) then
+      ke = mode_energy()
+      mode_min = min(mode_min, ke)
+      mode_max = max(mode_max, ke)
+      ! (against its value at the kick: decayed, it sinks to the bed's
+      ! background, from which any noise is a hundredfold)
+      if (mode_grew_at == 0 .and. ke > 100.0_dp*mode_kick) then
+        mode_grew_at = step
+        print '(a, i0, a, es10.3, a, es10.3, a)', "top-mode energy grew 100 times at step ", step, " (", ke, &
+          " J, at the kick ", mode_kick, " J)"
       end if
     end if
     if (step >= settled_step .and. mod(step, 10) == 0) then
@@ -161,6 +220,8 @@ program dem_solver
   end do
 
   if (step <= n_steps) print '(a, i0, a)', "stopped at step ", step, ": the kinetic energy grew a million times"
+  if (allocated(probe_mode)) print '(a, es10.3, a, es10.3, a, es10.3, a, i0)', "top-mode energy: at the kick ", &
+    mode_kick, " J, least ", mode_min, " J, largest ", mode_max, " J, grew 100 times at step ", mode_grew_at
   if (grew_at == 0) print '(a, i0, a, es10.3, a)', "kinetic energy never grew 100 times over its least since step ", &
     settled_step, " (least ", ke_min, " J)"
   print '(a, i0, a, i0, a, i0, a)', "updates ", n_updates, " (", n_resolves, " asked for by a check), checks ", &
@@ -178,11 +239,15 @@ program dem_solver
     1.0e3_dp*real(t_steps, dp)/rate/n_steps, " ms, warm update ", &
     1.0e3_dp*real(t_updates, dp)/rate/max(1, n_updates - 1), " ms, check ", &
     1.0e3_dp*real(t_checks, dp)/rate/max(1, n_checks), " ms"
-  print '(a, i0, a, f0.2, a, i0, a, i0, a, i0, a, f0.2, a)', "settled bed (second half of the run): ", n2_updates, &
-    " updates of ", (real(t2_updates, dp)/max(1, n2_updates))/(real(t2_steps, dp)/(n_steps - n_steps/2)), &
-    " solver steps each (", n2_accepted, " took the previous modes, ", n2_confirmed, " confirmed by Lanczos), ", &
+  print '(a, i0, a, f0.2, a, i0, a, i0, a, i0, a, i0, a, f0.2, a)', "settled bed (measured window): ", &
+    n2_updates, &
+    " updates of ", (real(t2_updates, dp)/max(1, n2_updates))/(real(t2_steps, dp)/(n_steps - measure_from)), &
+    " solver steps each (", n2_accepted, " took the previous modes, ", n2_local, " started from a neighbourhood, ", &
+    n2_confirmed, " confirmed by Lanczos), ", &
     n2_checks, " checks of ", &
-    (real(t2_checks, dp)/max(1, n2_checks))/(real(t2_steps, dp)/(n_steps - n_steps/2)), " solver steps each"
+    (real(t2_checks, dp)/max(1, n2_checks))/(real(t2_steps, dp)/(n_steps - measure_from)), " solver steps each"
+  if (verify) print '(a, i0, a, f0.6, a, f0.6)', "verify: ", n2_updates, " warm updates against cold ones: "// &
+    "damped limit warm/cold from ", verify_min, " to ", verify_max
   print '(a, f0.2, a, f0.2, a)', "whole run (pour and settled): warm updates of ", &
     (real(t_updates, dp)/max(1, n_updates - 1))/(real(t_steps, dp)/n_steps), " solver steps, checks of ", &
     (real(t_checks, dp)/max(1, n_checks))/(real(t_steps, dp)/n_steps), " solver steps"
@@ -193,8 +258,8 @@ program dem_solver
   if (scaling > 0.0_dp) call compare_scaling(scaling*monitor%last%dt_critical_damped)
   ! the settled bed: the second half of the run, its own solver steps
   print '(a, f0.2, a, f0.2, a, i0)', "monitor: update ", &
-    (real(t2_updates, dp)/max(1, n2_updates))/(real(t2_steps, dp)/(n_steps - n_steps/2)), " solver steps, check ", &
-    (real(t2_checks, dp)/max(1, n2_checks))/(real(t2_steps, dp)/(n_steps - n_steps/2)), " solver steps, particles ", n
+    (real(t2_updates, dp)/max(1, n2_updates))/(real(t2_steps, dp)/(n_steps - measure_from)), " solver steps, check ", &
+    (real(t2_checks, dp)/max(1, n2_checks))/(real(t2_steps, dp)/(n_steps - measure_from)), " solver steps, particles ", n
 
 contains
 
@@ -206,11 +271,37 @@ contains
       call get_command_argument(k, arg)
       if (index(arg, "steps=") == 1) then
         read(arg(7:), *, iostat=ios) n_steps
-        if (ios /= 0 .or. n_steps < 2*settled_step) error stop "dem_solver: steps= needs an integer >= 6000"
+        if (ios /= 0 .or. n_steps < 2) error stop "dem_solver: steps= needs an integer >= 2"
       else if (index(arg, "scaling=") == 1) then
         read(arg(9:), *, iostat=ios) scaling
         if (ios /= 0 .or. .not. (scaling > 1.0_dp .and. scaling < 100.0_dp)) &
           error stop "dem_solver: scaling= needs a number in (1, 100)"
+      else if (index(arg, "confirm_every=") == 1) then
+        read(arg(15:), *, iostat=ios) monitor%confirm_every
+        if (ios /= 0 .or. monitor%confirm_every < 0) error stop "dem_solver: confirm_every= needs an integer >= 0"
+      else if (arg == "verify") then
+        verify = .true.
+      else if (index(arg, "settle=") == 1) then
+        read(arg(8:), *, iostat=ios) settled_step
+        if (ios /= 0 .or. settled_step < 1000) error stop "dem_solver: settle= needs an integer >= 1000"
+      else if (index(arg, "tile=") == 1) then
+        read(arg(6:), *, iostat=ios) tile
+        if (ios /= 0 .or. tile < 1 .or. tile > 10) error stop "dem_solver: tile= needs an integer in 1 to 10"
+      else if (index(arg, "update_every=") == 1) then
+        read(arg(14:), *, iostat=ios) update_every
+        if (ios /= 0 .or. update_every < check_every) error stop "dem_solver: update_every= needs an integer >= 20"
+      else if (index(arg, "probe=") == 1) then
+        read(arg(7:), *, iostat=ios) probe
+        if (ios /= 0 .or. .not. (probe > 0.0_dp .and. probe < 3.0_dp)) &
+          error stop "dem_solver: probe= needs a number in (0, 3)"
+      else if (index(arg, "kick=") == 1) then
+        read(arg(6:), *, iostat=ios) kick
+        if (ios /= 0 .or. .not. (kick >= 0.0_dp .and. kick < 1.0_dp)) &
+          error stop "dem_solver: kick= needs a speed in [0, 1) m/s"
+      else if (index(arg, "kick_mode=") == 1) then
+        read(arg(11:), *, iostat=ios) kick_mode
+        if (ios /= 0 .or. .not. (kick_mode >= 0.0_dp .and. kick_mode < 1.0_dp)) &
+          error stop "dem_solver: kick_mode= needs a speed in [0, 1) m/s"
       else if (index(arg, "safety=") == 1) then
         read(arg(8:), *, iostat=ios) safety
         if (ios /= 0 .or. .not. (safety > 0.0_dp .and. safety < 2.0_dp)) &
@@ -220,6 +311,160 @@ contains
       end if
     end do
   end subroutine arguments
+
+  !> A serial solver: the library's products run on its one thread too
+  !> (OpenMP), unless OMP_NUM_THREADS says otherwise; U and C compare
+  !> like with like.
+  subroutine one_thread()
+    integer :: length, st
+    call get_environment_variable("OMP_NUM_THREADS", length=length, status=st)
+    if (st /= 0 .or. length == 0) call omp_set_num_threads(1)
+    print '(a, i0, a)', "threads: ", omp_get_max_threads(), " (the solver is serial; OMP_NUM_THREADS to change)"
+  end subroutine one_thread
+
+  !> At step settled_step: tile the bed (tile=T), switch to the probed step
+  !> (probe=S) and kick the particles (kick=V, kick_mode=V).
+  subroutine settled()
+    real(dp), allocatable :: u(:, :)
+    real(dp) :: top
+    integer :: k
+    if (tile > 1) then
+      call tile_bed()
+      ! a new bed: the next update is cold
+      have_limit = .false.
+    end if
+    if (probe > 0.0_dp) then
+      safety = probe
+      dt = safety*dt_limit
+      print '(a, f0.4, a, es12.5, a)', "probe: the step is now ", probe, " x the monitored damped limit (", &
+        dt, " s)"
+    end if
+    if (kick > 0.0_dp) then
+      ! random directions, each particle's speed kick (translation only)
+      allocate(u(3, n))
+      call random_number(u)
+      u = u - 0.5_dp
+      do k = 1, n
+        v(:, k) = v(:, k) + kick*u(:, k)/norm2(u(:, k))
+      end do
+      print '(a, es10.3, a)', "kick: random velocities of ", kick, " m/s"
+    end if
+    if (kick_mode > 0.0_dp .and. monitor%ready .and. size(monitor%mode_particles, 2) == n) then
+      ! along the last update's damped limit's mode (the top undamped one
+      ! without dashpots): its displacement and r theta per particle as
+      ! velocities, the fastest particle at kick_mode
+      probe_mode = monitor%damped_particles
+      if (.not. any(probe_mode /= 0.0_dp)) probe_mode = monitor%mode_particles
+      top = maxval(norm2(probe_mode(1:3, :), dim=1))
+      do k = 1, n
+        v(:, k) = v(:, k) + kick_mode*probe_mode(1:3, k)/top
+        w(:, k) = w(:, k) + kick_mode*probe_mode(4:6, k)/(top*radius(k))
+      end do
+      mode_kick = mode_energy()
+      print '(a, es10.3, a, es10.3, a)', "kick: along the top mode, fastest particle ", kick_mode, &
+        " m/s, its energy ", mode_kick, " J"
+    end if
+  end subroutine settled
+
+  !> T x T copies of the bed in x and y (tile=T): positions, velocities,
+  !> forces, the contact list and the tangential springs (each pair's partner
+  !> in the copy its nearest image lies in), so the tiled bed is the settled
+  !> one repeated, in equilibrium as it was.
+  subroutine tile_bed()
+    real(dp), allocatable :: x2(:, :), v2(:, :), w2(:, :), f2(:, :), tq2(:, :), wx2(:, :), c2(:), hx2(:, :, :)
+    integer, allocatable :: hc2(:), hp2(:, :), p2(:, :)
+    integer :: a, b, k, h, m, off, n2, nc2, ii, jj
+    real(dp) :: sg
+    n2 = n*tile*tile
+    allocate(x2(3, n2), v2(3, n2), w2(3, n2), f2(3, n2), tq2(3, n2), wx2(3, n2))
+    allocate(hc2(n2), hp2(max_history, n2), source=0)
+    allocate(hx2(3, max_history, n2), source=0.0_dp)
+    allocate(p2(2, 8*n2), c2(8*n2))
+    nc2 = 0
+    do b = 0, tile - 1
+      do a = 0, tile - 1
+        off = n*(a + tile*b)
+        do k = 1, n
+          x2(:, k + off) = x(:, k) + [a*box, b*box, 0.0_dp]
+          v2(:, k + off) = v(:, k)
+          w2(:, k + off) = w(:, k)
+          f2(:, k + off) = f(:, k)
+          tq2(:, k + off) = tq(:, k)
+          wx2(:, k + off) = wall_xi(:, k)
+          do h = 1, h_count(k)
+            call partner(k, h_partner(h, k), a, b, ii, jj, sg)
+            m = hc2(ii) + 1
+            if (m > max_history) cycle
+            hc2(ii) = m
+            hp2(m, ii) = jj
+            hx2(:, m, ii) = sg*h_xi(:, h, k)
+          end do
+        end do
+        do m = 1, nc
+          call partner(pairs(1, m), pairs(2, m), a, b, ii, jj, sg)
+          nc2 = nc2 + 1
+          p2(:, nc2) = [ii, jj]
+          c2(nc2) = c_n(m)
+        end do
+      end do
+    end do
+    n = n2
+    box = tile*box
+    call move_alloc(x2, x)
+    call move_alloc(v2, v)
+    call move_alloc(w2, w)
+    call move_alloc(f2, f)
+    call move_alloc(tq2, tq)
+    call move_alloc(wx2, wall_xi)
+    call move_alloc(hc2, h_count)
+    call move_alloc(hp2, h_partner)
+    call move_alloc(hx2, h_xi)
+    call move_alloc(p2, pairs)
+    call move_alloc(c2, c_n)
+    nc = nc2
+    mass = [(mass, k = 1, tile*tile)]
+    radius = [(radius, k = 1, tile*tile)]
+    inertia = [(inertia, k = 1, tile*tile)]
+    deallocate(new_count, new_partner, new_xi, cell_next)
+    allocate(new_count(n), new_partner(max_history, n), new_xi(3, max_history, n), cell_next(n))
+    ncell(1:2) = max(3, int(box/(2.0_dp*maxval(radius))))
+    cell_w(1:2) = box/ncell(1:2)
+    if (allocated(cell_start)) deallocate(cell_start)
+    print '(a, i0, a, i0, a, f0.1, a, i0, a)', "tiled: ", tile, " x ", tile, " copies of the settled bed, cell ", &
+      1.0e3_dp*box, " mm, ", n, " particles"
+  end subroutine tile_bed
+
+  !> The pair (i, j) (j > i) of copy (a, b) in the tiled numbering (before
+  !> n and box change): j's copy is the one its nearest image lies in; (ii,
+  !> jj) with jj > ii, and sg = -1 when the order turned (the spring's sense
+  !> with it).
+  subroutine partner(i, j, a, b, ii, jj, sg)
+    integer, intent(in) :: i, j, a, b
+    integer, intent(out) :: ii, jj
+    real(dp), intent(out) :: sg
+    integer :: i2, j2, s(2)
+    s = nint((x(1:2, j) - x(1:2, i))/box)
+    i2 = i + n*(a + tile*b)
+    j2 = j + n*(modulo(a - s(1), tile) + tile*modulo(b - s(2), tile))
+    ii = min(i2, j2)
+    jj = max(i2, j2)
+    sg = merge(1.0_dp, -1.0_dp, j2 > i2)
+  end subroutine partner
+
+  !> The kinetic energy in the kicked top mode: the velocities' component
+  !> along it in the mass norm (translations, and rotations as r theta).
+  real(dp) function mode_energy()
+    real(dp) :: a, b
+    integer :: k
+    a = 0.0_dp
+    b = 0.0_dp
+    do k = 1, n
+      a = a + mass(k)*dot_product(probe_mode(1:3, k), v(:, k)) + &
+        (inertia(k)/radius(k))*dot_product(probe_mode(4:6, k), w(:, k))
+      b = b + mass(k)*sum(probe_mode(1:3, k)**2) + (inertia(k)/radius(k)**2)*sum(probe_mode(4:6, k)**2)
+    end do
+    mode_energy = 0.5_dp*a**2/b
+  end function mode_energy
 
   !> Translational and rotational kinetic energy.
   real(dp) function kinetic()
@@ -235,6 +480,9 @@ contains
     allocate(seed(seed_size))
     seed = [(12345 + 7*k, k = 1, seed_size)]
     call random_seed(put=seed)
+    allocate(x(3, n), v(3, n), w(3, n), f(3, n), tq(3, n), mass(n), radius(n), inertia(n))
+    allocate(h_count(n), h_partner(max_history, n), new_count(n), new_partner(max_history, n))
+    allocate(h_xi(3, max_history, n), new_xi(3, max_history, n), wall_xi(3, n))
     do i = 1, n
       call random_number(u(1))
       radius(i) = r_mean*(1.0_dp + poly*(2.0_dp*u(1) - 1.0_dp))
@@ -448,16 +696,31 @@ contains
       cold_products = monitor%last%eigen_products
     end if
     n_updates = n_updates + 1
-    if (step > n_steps/2) then
+    if (step > measure_from) then
       t2_updates = t2_updates + (c1 - c0)
       n2_updates = n2_updates + 1
       if (monitor%accepted) n2_accepted = n2_accepted + 1
       if (monitor%confirmed) n2_confirmed = n2_confirmed + 1
+      if (monitor%local_start) n2_local = n2_local + 1
+      if (verify) call verify_update()
     end if
     have_limit = .true.
     dt_limit = monitor%last%dt_critical_damped
     dt = safety*dt_limit
   end subroutine update
+
+  !> The update just made against a cold one on the same arrays (verify).
+  subroutine verify_update()
+    type(step_monitor_type) :: fresh
+    type(demstep_status_type) :: st
+    call fresh%update(x, mass, radius, pairs(:, :nc), [k_n], st, k_t=[k_t], c_n=c_n(:nc), &
+      inertia=inertia, wall_point=floor_point, wall_normal=floor_normal, wall_k=[k_n, k_t], &
+      wall_damping=[zeta, 0.0_dp], periodic=[.true., .true., .false.], cell_lo=[0.0_dp, 0.0_dp, 0.0_dp], &
+      cell_hi=[box, box, 0.0_dp])
+    if (.not. is_ok(st)) error stop st%message
+    verify_max = max(verify_max, monitor%last%dt_critical_damped/fresh%last%dt_critical_damped)
+    verify_min = min(verify_min, monitor%last%dt_critical_damped/fresh%last%dt_critical_damped)
+  end subroutine verify_update
 
   !> One update of a monitor on the solver's current arrays: the contact
   !> list with its dashpots, scalar stiffness, the floor and the cell.

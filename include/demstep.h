@@ -370,6 +370,24 @@ int demstep_solver_compute(int dim, int n, const double *x, const double *mass,
                            double tolerance, demstep_scene_result *result, size_t result_size,
                            demstep_error *err);
 
+/* The same solve (result filled as by demstep_solver_compute) and which particles
+ * and contacts carry its top undamped mode: particle_share (n values: each
+ * particle's squared amplitude, 0 for none), contact_share (n_contacts: each
+ * listed contact's part of the mode's energy, 0 when it does not overlap; NULL
+ * allowed when n_contacts is 0) and wall_share (n: each particle's wall contacts,
+ * summed). particle_share sums to 1, and so do contact_share and wall_share
+ * together. DEMSTEP_INVALID_INPUT for NULL shares or with DEMSTEP_EIGEN_NONE. */
+int demstep_solver_participation(int dim, int n, const double *x, const double *mass,
+                                 const double *radius, const double *inertia, int n_contacts,
+                                 const int *pairs, int n_values, const double *k_n,
+                                 const double *k_t, const double *c_n, const double *c_t,
+                                 int n_walls, const double *wall_point, const double *wall_normal,
+                                 const double *wall_k, const double *wall_damping,
+                                 const int *periodic, const double *cell_lo, const double *cell_hi,
+                                 int solver, double tolerance, demstep_scene_result *result,
+                                 size_t result_size, double *particle_share, double *contact_share,
+                                 double *wall_share, demstep_error *err);
+
 /* The discrete contact at one onset. */
 int demstep_contact_with_onset(double n_per_period, double onset, double damping_ratio,
                                demstep_contact *contact, demstep_error *err);

@@ -168,6 +168,25 @@ int main(void) {
   }
 
   {
+    /* a solver's own arrays: three spheres in a row (1D), the middle one light;
+       the top mode's shares per particle and contact */
+    double x[3] = {0.0, 1.9e-3, 3.8e-3}, m[3] = {1.0e-3, 2.0e-4, 1.0e-3}, r[3] = {1.0e-3, 1.0e-3, 1.0e-3};
+    double k = 1.0e4, shares[3], contact_shares[2], wall_shares[3];
+    int pairs[4] = {0, 1, 1, 2};
+    demstep_scene_result c;
+    if (demstep_solver_participation(1, 3, x, m, r, NULL, 2, pairs, 1, &k, NULL, NULL, NULL, 0, NULL, NULL,
+                                     NULL, NULL, NULL, NULL, NULL, DEMSTEP_EIGEN_AUTO, 0.0, &c, sizeof c,
+                                     shares, contact_shares, wall_shares, &err) != DEMSTEP_OK) {
+      fprintf(stderr, "solver: %s\n", err.message);
+      return 1;
+    }
+    put("solver_dt_critical_eigen", c.dt_critical_eigen);
+    put("solver_share_1", shares[0]);
+    put("solver_share_2", shares[1]);
+    put("solver_contact_share_1", contact_shares[0]);
+  }
+
+  {
     demstep_contact c;
     double n;
     demstep_contact_with_onset(20.0, 0.5, 0.1, &c, &err);

@@ -17,7 +17,7 @@ from . import _capi
 from ._arrays import as_array, count, pointer
 from ._common import CONSTANTS, call as _call, enum as _enum, fill as _fill, record as _record
 from ._errors import DemstepError
-from ._scene import Scene, SceneResult, solver_critical_steps
+from ._scene import Scene, SceneResult, solver_critical_steps, solver_participation
 from ._snapshot import Snapshot, read_snapshot
 from ._material import PEER_RULES, ContactParameters, Material, PeerSteps, contact_parameters, peer_time_steps
 
@@ -25,7 +25,7 @@ __all__ = ["DemstepError", "CONSTANTS", "Spring", "SpringState", "NRoots", "Stif
            "Contact", "SceneResult", "Scene", "harmonic_error", "n_roots", "simulated_stiffness",
            "contact_with_onset", "n_for_tolerance", "library_path", "Snapshot", "read_snapshot",
            "Material", "ContactParameters", "PeerSteps", "PEER_RULES", "contact_parameters", "peer_time_steps",
-           "solver_critical_steps"]
+           "solver_critical_steps", "solver_participation"]
 
 library_path = _capi.library_path
 

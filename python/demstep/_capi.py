@@ -157,6 +157,8 @@ PROTOTYPES = {
     "demstep_peer_time_steps": [_p, _p, _p],
     "demstep_solver_compute": [_i, _i, _p, _p, _p, _p, _i, _p, _i, _p, _p, _p, _p, _i, _p, _p, _p, _p, _p,
                                _p, _p, _i, _d, _p, C.c_size_t, _p],
+    "demstep_solver_participation": [_i, _i, _p, _p, _p, _p, _i, _p, _i, _p, _p, _p, _p, _i, _p, _p, _p, _p,
+                                     _p, _p, _p, _i, _d, _p, C.c_size_t, _p, _p, _p, _p],
 }
 
 for _name, _args in PROTOTYPES.items():

@@ -224,16 +224,10 @@ class Scene:
         return fill(SceneResult, result)
 
 
-def solver_critical_steps(x, mass, radius, pairs, k_n, k_t=None, c_n=None, c_t=None, inertia=None,
-                          wall_point=None, wall_normal=None, wall_k=None, wall_damping=None,
-                          periodic=None, cell_lo=None, cell_hi=None, solver="auto", tolerance=0.0):
-    """The critical steps from a solver's own arrays (demstep_solver_compute): no
-    scene and no contact search. x (n, dim); mass, radius, inertia (n,); pairs
-    (n_contacts, 2), 0-based; k_n, k_t, c_n, c_t one value or one per contact;
-    walls: points and normals (n_walls, dim), wall_k = (k_n, k_t), wall_damping
-    = (zeta_n, zeta_t); periodic (dim flags) with cell_lo, cell_hi (dim). A
-    SceneResult."""
-    f = "demstep_solver_compute"
+def _solver_arguments(f, x, mass, radius, pairs, k_n, k_t, c_n, c_t, inertia, wall_point, wall_normal,
+                      wall_k, wall_damping, periodic, cell_lo, cell_hi, solver, tolerance):
+    """The C arguments of the solver-facing calls (demstep_solver_compute and
+    demstep_solver_participation) before the result, and (n, n_contacts)."""
     x = as_array(x, f, "x", (None, None), "float", "dim coordinates per particle")
     n = count(x, f, "x")
     dim = x.shape[1]
@@ -262,9 +256,47 @@ def solver_critical_steps(x, mass, radius, pairs, k_n, k_t=None, c_n=None, c_t=N
     per_flag = None if periodic is None else as_array(periodic, f, "periodic", (dim,), "flag", per_axis)
     lo = None if cell_lo is None else as_array(cell_lo, f, "cell_lo", (dim,), "float", per_axis)
     hi = None if cell_hi is None else as_array(cell_hi, f, "cell_hi", (dim,), "float", per_axis)
+    # (the arrays are returned with the pointers so that they outlive the call)
+    args = [dim, n, pointer(x), pointer(m), pointer(r), pointer(inert), nc, pointer(p), nv, pointer(kn),
+            pointer(opt[0]), pointer(opt[1]), pointer(opt[2]), nw, pointer(wp), pointer(wn), pointer(wk),
+            pointer(wd), pointer(per_flag), pointer(lo), pointer(hi), enum("DEMSTEP_EIGEN_", solver, f, "solver"),
+            tolerance]
+    return args, (x, m, r, inert, p, kn, opt, wp, wn, wk, wd, per_flag, lo, hi), n, nc
+
+
+def solver_critical_steps(x, mass, radius, pairs, k_n, k_t=None, c_n=None, c_t=None, inertia=None,
+                          wall_point=None, wall_normal=None, wall_k=None, wall_damping=None,
+                          periodic=None, cell_lo=None, cell_hi=None, solver="auto", tolerance=0.0):
+    """The critical steps from a solver's own arrays (demstep_solver_compute): no
+    scene and no contact search. x (n, dim); mass, radius, inertia (n,); pairs
+    (n_contacts, 2), 0-based; k_n, k_t, c_n, c_t one value or one per contact;
+    walls: points and normals (n_walls, dim), wall_k = (k_n, k_t), wall_damping
+    = (zeta_n, zeta_t); periodic (dim flags) with cell_lo, cell_hi (dim). A
+    SceneResult."""
+    f = "demstep_solver_compute"
+    args, _keep, _, _ = _solver_arguments(f, x, mass, radius, pairs, k_n, k_t, c_n, c_t, inertia, wall_point,
+                                          wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi,
+                                          solver, tolerance)
     result = _capi.SceneResult()
-    call(f, dim, n, pointer(x), pointer(m), pointer(r), pointer(inert), nc, pointer(p), nv, pointer(kn),
-         pointer(opt[0]), pointer(opt[1]), pointer(opt[2]), nw, pointer(wp), pointer(wn), pointer(wk),
-         pointer(wd), pointer(per_flag), pointer(lo), pointer(hi), enum("DEMSTEP_EIGEN_", solver, f, "solver"),
-         tolerance, C.byref(result), C.sizeof(result))
+    call(f, *args, C.byref(result), C.sizeof(result))
     return fill(SceneResult, result)
+
+
+def solver_participation(x, mass, radius, pairs, k_n, k_t=None, c_n=None, c_t=None, inertia=None,
+                         wall_point=None, wall_normal=None, wall_k=None, wall_damping=None,
+                         periodic=None, cell_lo=None, cell_hi=None, solver="auto", tolerance=0.0):
+    """The solve of `solver_critical_steps` (same arguments) and which particles
+    and contacts carry its top undamped mode (demstep_solver_participation): a
+    SceneResult, the particles' shares (n,), the listed contacts' (n_contacts,)
+    and each particle's wall contacts' (n,)."""
+    f = "demstep_solver_participation"
+    args, _keep, n, nc = _solver_arguments(f, x, mass, radius, pairs, k_n, k_t, c_n, c_t, inertia, wall_point,
+                                           wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi,
+                                           solver, tolerance)
+    result = _capi.SceneResult()
+    shares = np.zeros(n)
+    contact_shares = np.zeros(max(nc, 1))
+    wall_shares = np.zeros(n)
+    call(f, *args, C.byref(result), C.sizeof(result), pointer(shares), pointer(contact_shares),
+         pointer(wall_shares))
+    return fill(SceneResult, result), shares, contact_shares[:nc], wall_shares

@@ -67,6 +67,13 @@ def values():
     out["bond_dt_critical_eigen"] = c.dt_critical_eigen
     out["contact_restitution"] = demstep.contact_with_onset(20.0, 0.5, 0.1).restitution
     out["n_for_tolerance"] = demstep.n_for_tolerance("restitution", 1.0e-3, 0.0, 0.0)
+    # a solver's own arrays: three spheres in a row (1D), the middle one light
+    c, shares, contact_shares, _ = demstep.solver_participation(
+        [[0.0], [1.9e-3], [3.8e-3]], [1.0e-3, 2.0e-4, 1.0e-3], [1.0e-3, 1.0e-3, 1.0e-3], [(0, 1), (1, 2)], 1.0e4)
+    out["solver_dt_critical_eigen"] = c.dt_critical_eigen
+    out["solver_share_1"] = shares[0]
+    out["solver_share_2"] = shares[1]
+    out["solver_contact_share_1"] = contact_shares[0]
     return out
 
 

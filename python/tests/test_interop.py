@@ -27,7 +27,7 @@ def test_python_equals_fortran_reference(root):
     assert done.returncode == 0, done.stderr
     fortran = read(done.stdout)
     python = values()
-    assert len(fortran) == 24 and fortran.keys() == python.keys()
+    assert len(fortran) == 28 and fortran.keys() == python.keys()
     assert {k: v for k, v in python.items() if v != fortran[k]} == {}
 
 
@@ -41,7 +41,7 @@ def test_python_equals_c_on_the_same_library(root, tmp_path):
                     str(lib), f"-Wl,-rpath,{lib.parent}", "-lm", "-o", str(exe)], check=True)
     c = read(subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout)
     python = values()
-    assert len(c) == 24 and c.keys() == python.keys()
+    assert len(c) == 28 and c.keys() == python.keys()
     assert {k: v for k, v in python.items() if v != c[k]} == {}
 
 

@@ -35,7 +35,7 @@ module demstep_capi
     default_max_eigen_dof, eigen_solver
   use demstep_lanczos, only: lanczos_tolerance_default, check_lanczos_options
   use demstep_contact, only: discrete_contact_type, contact_with_onset
-  use demstep_monitor, only: solver_critical_steps
+  use demstep_monitor, only: solver_critical_steps, step_monitor_type, mode_participation
   use demstep_cost, only: n_for_tolerance
   use demstep_snapshot, only: snapshot_type, snapshot_format, read_snapshot
   use demstep_scene_bonds, only: scene_set_bond_model
@@ -206,7 +206,8 @@ module demstep_capi
     c_scene_set_bond_stiffness, c_scene_set_contact_law, c_scene_set_types, c_scene_set_hertz_types, &
     c_scene_add_walls, c_scene_set_contacts, c_scene_set_effects, c_scene_set_cell, c_scene_set_damping, &
     c_scene_set_dashpots, c_scene_set_rolling, c_scene_set_materials, &
-    c_scene_set_gravity, c_scene_compute, c_scene_set_eigen_solver, c_solver_compute
+    c_scene_set_gravity, c_scene_compute, c_scene_set_eigen_solver, c_solver_compute, &
+    c_solver_participation
   public :: c_snapshot_read, c_snapshot_get, c_snapshot_free
   public :: c_contact_parameters, c_peer_time_steps
 
@@ -1322,7 +1323,76 @@ contains
     real(c_double), value :: tolerance
     integer(c_size_t), value :: result_size
     integer(c_int) :: code
-    character(len=*), parameter :: name = "demstep_solver_compute"
+    type(step_monitor_type) :: monitor
+    call solver_from_c("demstep_solver_compute", dim, n, x, mass, radius, inertia, n_contacts, pairs, &
+      n_values, k_n, k_t, c_n, c_t, n_walls, wall_point, wall_normal, wall_k, wall_damping, periodic, &
+      cell_lo, cell_hi, solver, tolerance, result, result_size, err, code, monitor)
+  end function c_solver_compute
+
+  !> int demstep_solver_participation(<demstep_solver_compute's arguments up to
+  !>   result_size>, double *particle_share, double *contact_share, double *wall_share,
+  !>   demstep_error *err)
+  !>
+  !> The same solve (`demstep_solver_compute`, result filled) and which
+  !> particles and contacts carry its top undamped mode (`mode_participation`):
+  !> particle_share (n), contact_share (n_contacts; NULL when 0) and
+  !> wall_share (n, each particle's wall contacts summed). Status invalid_input
+  !> for NULL shares or without an eigensolver (solver none).
+  function c_solver_participation(dim, n, x, mass, radius, inertia, n_contacts, pairs, n_values, k_n, k_t, &
+      c_n, c_t, n_walls, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi, &
+      solver, tolerance, result, result_size, particle_share, contact_share, wall_share, err) result(code) &
+      bind(C, name="demstep_solver_participation")
+    integer(c_int), value :: dim, n, n_contacts, n_values, n_walls, solver
+    type(c_ptr), value :: x, mass, radius, inertia, pairs, k_n, k_t, c_n, c_t, wall_point, wall_normal, &
+      wall_k, wall_damping, periodic, cell_lo, cell_hi, result, particle_share, contact_share, wall_share, err
+    real(c_double), value :: tolerance
+    integer(c_size_t), value :: result_size
+    integer(c_int) :: code
+    character(len=*), parameter :: name = "demstep_solver_participation"
+    type(step_monitor_type) :: monitor
+    real(dp), allocatable :: ps(:), cs(:), ws(:)
+    real(c_double), pointer :: to(:)
+    type(demstep_status_type) :: status
+    if (.not. (c_associated(particle_share) .and. c_associated(wall_share) .and. &
+        (n_contacts <= 0 .or. c_associated(contact_share)))) then
+      code = invalid(err, name//": particle_share, wall_share (and contact_share with contacts) must " &
+        //"not be NULL")
+      return
+    end if
+    call solver_from_c(name, dim, n, x, mass, radius, inertia, n_contacts, pairs, n_values, k_n, k_t, &
+      c_n, c_t, n_walls, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi, &
+      solver, tolerance, result, result_size, err, code, monitor)
+    if (code /= demstep_stat%ok) return
+    call mode_participation(monitor, int(n_contacts), ps, cs, ws, status)
+    if (status%stat /= demstep_stat%ok) then
+      status%message = name//": "//status%message
+      code = report(err, status)
+      return
+    end if
+    call c_f_pointer(particle_share, to, [int(n)])
+    to = ps
+    call c_f_pointer(wall_share, to, [int(n)])
+    to = ws
+    if (n_contacts > 0) then
+      call c_f_pointer(contact_share, to, [int(n_contacts)])
+      to = cs
+    end if
+  end function c_solver_participation
+
+  !> The solver-facing C calls' common part: the counts and pointers checked,
+  !> the arrays viewed in place and solved (`solver_critical_steps`, its
+  !> monitor returned), the result written; `name` starts the messages.
+  subroutine solver_from_c(name, dim, n, x, mass, radius, inertia, n_contacts, pairs, n_values, k_n, &
+      k_t, c_n, c_t, n_walls, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi, &
+      solver, tolerance, result, result_size, err, code, monitor)
+    character(len=*), intent(in) :: name
+    integer(c_int), intent(in) :: dim, n, n_contacts, n_values, n_walls, solver
+    type(c_ptr), intent(in) :: x, mass, radius, inertia, pairs, k_n, k_t, c_n, c_t, wall_point, &
+      wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi, result, err
+    real(c_double), intent(in) :: tolerance
+    integer(c_size_t), intent(in) :: result_size
+    integer(c_int), intent(out) :: code
+    type(step_monitor_type), intent(out) :: monitor
     real(c_double), pointer :: px(:, :), pm(:), pr(:), pkn(:), plo(:), phi(:)
     real(c_double), pointer :: pi(:), pkt(:), pcn(:), pct(:), pwp(:, :), pwn(:, :), pwk(:), pwd(:)
     integer(c_int), pointer :: pp(:, :), pper(:)
@@ -1386,16 +1456,16 @@ contains
       ! (pairs + 1: the library's particle numbers are 1-based)
       call solver_critical_steps(px, pm, pr, pp + 1, pkn, c, status, k_t=pkt, c_n=pcn, c_t=pct, &
         inertia=pi, wall_point=pwp, wall_normal=pwn, wall_k=pwk, wall_damping=pwd, periodic=axes, &
-        cell_lo=lo, cell_hi=hi, solver=int(solver), tolerance=tol)
+        cell_lo=lo, cell_hi=hi, solver=int(solver), tolerance=tol, solved=monitor)
     else
       call solver_critical_steps(px, pm, pr, pp + 1, pkn, c, status, k_t=pkt, c_n=pcn, c_t=pct, &
         inertia=pi, wall_point=pwp, wall_normal=pwn, wall_k=pwk, wall_damping=pwd, solver=int(solver), &
-        tolerance=tol)
+        tolerance=tol, solved=monitor)
     end if
     if (status%stat /= demstep_stat%ok) status%message = name//": "//status%message
     code = report(err, status)
     call write_result(c, name, err, code, result, result_size)
-  end function c_solver_compute
+  end subroutine solver_from_c
 
   !> A logical as a C int (1 or 0).
   elemental integer(c_int) function flag(value)

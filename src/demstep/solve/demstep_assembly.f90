@@ -266,6 +266,10 @@ module demstep_assembly
     !> tolerance (see `top_eigenpair`).
     logical :: accept_start = .false.
     real(dp), allocatable :: vec(:)
+    !> A' vec and B' vec when known (`cached`): the first solve's start is
+    !> then tried without a product.
+    real(dp), allocatable :: av(:), bv(:)
+    logical :: cached = .false.
   contains
     procedure :: top => serial_damped_top
   end type serial_damped_type
@@ -382,9 +386,10 @@ contains
   !> mode. With `accept_start` (the undamped solve) and `accept_damped` (the
   !> damped Newton steps), a warm start whose own residual already meets the
   !> tolerance is taken as it is (`top_eigenpair`): one product instead of a
-  !> Lanczos solve.
+  !> Lanczos solve. `certify` (default true) false: no randomised Lanczos
+  !> certificate (a monitor's warm updates: `safe_basis%estimate`).
   subroutine operator_critical_steps(op, springs, rate, geo, choice, limit, tol, vec, result, status, progress, &
-      bounds, ncv, damped_vec, accept_start, accept_damped)
+      bounds, ncv, damped_vec, accept_start, accept_damped, certify)
     type(assembly_operator_type), intent(inout), target :: op
     type(spring_block_type), intent(in) :: springs(:)
     !> omega = rate sqrt(lambda); whether the pre-stress is counted.
@@ -401,10 +406,10 @@ contains
     real(dp), intent(in), optional :: bounds(2)
     integer, intent(in), optional :: ncv
     real(dp), intent(inout), optional :: damped_vec(:)
-    logical, intent(in), optional :: accept_start, accept_damped
+    logical, intent(in), optional :: accept_start, accept_damped, certify
     real(dp) :: lam, err, b_bound, lower, upper, failure
     integer :: i, solver, basis
-    logical :: has_mode, converged
+    logical :: has_mode, converged, certified
     status%stat = demstep_stat%ok
     result%prestress = geo
     result%dof_per_particle = op%nc
@@ -433,9 +438,20 @@ contains
       ! the bound, which shifts the certificate's operator)
       lower = 0.0_dp
       if (geo) lower = -(result%omega_bound/rate)**2
-      call top_eigenpair(op, assembly_operator_apply, assembly_matrix_of, op%n, solver, tol, vec, lam, err, &
-        has_mode, result%eigen_products, &
-        result%eigen_restarts, status, progress, ncv, converged, lower, upper, failure, accept_start, basis)
+      ! (a dense solve's bracket end costs nothing: always given)
+      certified = .true.
+      if (present(certify)) certified = certify .or. solver == eigen_solver%dense
+      if (certified) then
+        call top_eigenpair(op, assembly_operator_apply, assembly_matrix_of, op%n, solver, tol, vec, lam, err, &
+          has_mode, result%eigen_products, result%eigen_restarts, status, progress, ncv, converged, lower, &
+          upper, failure, accept_start, basis)
+      else
+        upper = 0.0_dp
+        failure = 0.0_dp
+        call top_eigenpair(op, assembly_operator_apply, assembly_matrix_of, op%n, solver, tol, vec, lam, err, &
+          has_mode, result%eigen_products, result%eigen_restarts, status, progress, ncv, converged, &
+          accept_start=accept_start, basis=basis)
+      end if
       if (status%stat /= demstep_stat%ok) return
       result%eigen_tolerance = tol
       if (solver == eigen_solver%dense) result%eigen_tolerance = epsilon(1.0_dp)
@@ -741,11 +757,13 @@ contains
     !> Take a Newton step's start as it is when its residual meets `tol`.
     logical, intent(in), optional :: accept_start
     type(serial_damped_type) :: problem
-    real(dp), allocatable :: y(:), w(:)
+    real(dp), allocatable :: y(:), w(:), aw(:), bw(:)
     real(dp) :: lam_a, vb, lam_w, vb_w
     allocate(y(op%n))
     problem%vec = vec
     call quotients(vec, lam_a, vb)
+    problem%av = aw
+    problem%bv = y
     if (present(start)) then
       if (size(start) == op%n .and. any(start /= 0.0_dp)) then
         ! the start's quadratic root, when it is the lower (closer) of the two
@@ -754,12 +772,15 @@ contains
         if (lam_w > 0.0_dp) then
           if (damped_lower_bound(2.0_dp/sqrt(lam_w), vb_w) < damped_lower_bound(2.0_dp/sqrt(lam_a), vb)) then
             problem%vec = w
+            problem%av = aw
+            problem%bv = y
             lam_a = lam_w
             vb = vb_w
           end if
         end if
       end if
     end if
+    problem%cached = .true.
     problem%op => op
     problem%choice = choice
     if (present(ncv)) problem%ncv = ncv
@@ -770,13 +791,14 @@ contains
       if (size(start) == op%n) start = problem%vec
     end if
   contains
-    !> v'A'v and v'B'v of a unit vector.
+    !> v'A'v and v'B'v of a unit vector (A'v left in aw, B'v in y).
     subroutine quotients(v, a, b)
       real(dp), intent(in) :: v(:)
       real(dp), intent(out) :: a, b
       call operator_mix(op, 1.0_dp, 0.0_dp)
       call assembly_operator_apply(op, v, y)
       a = dot_product(v, y)
+      aw = y
       call operator_mix(op, 0.0_dp, 1.0_dp)
       call assembly_operator_apply(op, v, y)
       b = dot_product(v, y)
@@ -856,6 +878,23 @@ contains
     type(demstep_status_type), intent(out) :: status
     class(progress_type), intent(inout), optional :: progress
     real(dp), allocatable :: y(:)
+    if (problem%cached .and. problem%accept_start) then
+      ! the start as it is, its mixed product from A'v and B'v (as
+      ! `top_eigenpair` tries a start: its residual within the tolerance)
+      problem%cached = .false.
+      y = tau**2*problem%av + 2.0_dp*tau*problem%bv
+      theta = dot_product(problem%vec, y)
+      err = norm2(y - theta*problem%vec)
+      if (theta > 0.0_dp .and. err <= tol*theta) then
+        has_mode = .true.
+        status%stat = demstep_stat%ok
+        err = err + 8.0_dp*epsilon(1.0_dp)*theta
+        result%damped_solves = result%damped_solves + 1
+        va = dot_product(problem%vec, problem%av)
+        return
+      end if
+    end if
+    problem%cached = .false.
     call operator_mix(problem%op, tau**2, 2.0_dp*tau)
     call top_eigenpair(problem%op, assembly_operator_apply, assembly_matrix_of, problem%op%n, &
       problem%choice, tol, problem%vec, theta, err, has_mode, &
@@ -864,7 +903,7 @@ contains
     if (status%stat /= demstep_stat%ok) return
     err = err + 8.0_dp*epsilon(1.0_dp)*theta
     result%damped_solves = result%damped_solves + 1
-    allocate(y(problem%op%n))
+    if (.not. allocated(y)) allocate(y(problem%op%n))
     call operator_mix(problem%op, 1.0_dp, 0.0_dp)
     call assembly_operator_apply(problem%op, problem%vec, y)
     va = dot_product(problem%vec, y)

@@ -11,11 +11,17 @@
 !> `step_monitor_type` keeps the operator, the springs and the top mode
 !> between calls: `update` re-solves warm-started from the previous modes
 !> (taken as they are when their measured residuals on the new operator meet
-!> the tolerance; else Lanczos from them without a confirmation run; the
-!> confirmed Lanczos solve every `confirm_every`-th update and whenever a body
-!> that could carry the top (its per-body bound at or above omega_max^2)
-!> stiffened by more than `drift`), `check`
-!> says from O(contacts) work whether a step is still safe:
+!> the tolerance; else Lanczos from them with its confirmation run from a
+!> fresh random start; that confirmed solve also every `confirm_every`-th
+!> update). A body that could
+!> carry the top (its per-body bound at or above omega_max^2) and stiffened
+!> by more than `drift` (a new contact, say) has its neighbourhood solved on
+!> its own (`local_top`, a dense eigenproblem of a few dozen unknowns); when
+!> that top reaches `local_margin` omega_max^2 it joins the start and the
+!> confirmed Lanczos solve runs from it. Warm updates skip the randomised certificate unless
+!> `certify` (the first update always makes it). `check`
+!> says from one O(contacts) pass over the arrays (no operator built) whether
+!> a step is still safe:
 !> - the rigorous per-body bound (`cheap_bound`): with K_c the contact's
 !>   stiffness, (A + B)' K_c (A + B) <= 2 A' K_c A + 2 B' K_c B splits each
 !>   contact between its bodies, and per body k_n (n.u)^2 + k_t |P u + n x phi|^2
@@ -24,7 +30,8 @@
 !>   (a wall contact without the factor 2); a step below its (damped) limit is
 !>   safe whatever the mode;
 !> - the Rayleigh quotient of the previous top mode on the current contacts
-!>   (one product): a lower estimate of the new omega_max^2. The previous exact
+!>   (the interaction kernel once per contact): a lower estimate of the new
+!>   omega_max^2. The previous exact
 !>   limit scaled by sqrt(omega_then^2/quotient) is the estimate the step is
 !>   held against; when the quotient or the bound has moved by more than
 !>   `drift` since the update, or the step is above the estimate, the verdict
@@ -38,7 +45,7 @@
 module demstep_monitor
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_interaction, only: reduced_mass, contact_arm, wall_overlap, dashpot_coefficient
+  use demstep_interaction, only: reduced_mass, contact_arm, wall_overlap, dashpot_coefficient, contact_product
   use demstep_progress, only: progress_type
   use demstep_assembly, only: critical_step_type, assembly_operator_type, spring_block_type, &
     operator_from_springs, operator_critical_steps, assembly_operator_apply, eigen_solver, &
@@ -63,16 +70,23 @@ module demstep_monitor
   !> inside any safety factor, and lets a settled bed's previous modes stand
   !> as they are (`solver_critical_steps` keeps the scene's 1e-10).
   real(dp), parameter, public :: monitor_tolerance_default = 1.0e-3_dp
-  !> Default Krylov size of a monitor's warm-started solves: from a start
-  !> near the mode, 8 vectors converge in about one pass (measured in
-  !> example/dem_solver: 30 products per update of a settled bed against 54
-  !> with 16).
-  integer, parameter, public :: monitor_ncv_default = 8
+  !> Default Krylov size of a monitor's warm-started (confirmed) Lanczos
+  !> solves, the scene solve's: with 8, an agitated bed (example/dem_solver
+  !> at 1.2 times its limit, 300 updates checked against cold ones) got warm
+  !> limits up to 2.9 % above the cold ones, the confirmation run converging
+  !> to a lower top; with 32 the 150 checked agreed to 1e-6.
+  integer, parameter, public :: monitor_ncv_default = scene_lanczos_ncv
   !> Default relative drift of the mode's Rayleigh quotient or of the bound
   !> (omega^2) since the last update above which `check` asks for a re-solve.
   real(dp), parameter, public :: monitor_drift_default = 0.02_dp
   !> Default `confirm_every` of a monitor.
   integer, parameter, public :: monitor_confirm_default = 10
+  !> Default `local_margin` of a monitor: a stiffened body's neighbourhood
+  !> whose own top reaches this fraction of omega_max^2 joins the warm start.
+  !> Measured in example/dem_solver's settled beds: the top mode's peak body's
+  !> neighbourhood reaches 0.98 to 0.996 of omega_max^2; 10 of 3000 bodies'
+  !> reach 0.9 (81 reach 0.8).
+  real(dp), parameter, public :: monitor_local_margin_default = 0.9_dp
   !> Largest |coordinate| and radius (as scenes: squared distances stay finite).
   real(dp), parameter :: max_value = 1.0e150_dp
 
@@ -121,7 +135,7 @@ module demstep_monitor
     real(dp) :: tolerance = monitor_tolerance_default
     real(dp) :: drift = monitor_drift_default
     !> Krylov size of the warm-started Lanczos solves (the first, cold, solve
-    !> takes the scene solve's, 16).
+    !> takes the scene solve's, `scene_lanczos_ncv`).
     integer :: ncv = monitor_ncv_default
     !> The rigorous bound of an update: the per-body bound of `check`
     !> (`cheap_bound`, O(contacts), default) or, false, the Collatz-Wielandt
@@ -132,13 +146,25 @@ module demstep_monitor
     !> when the previous modes would do (0: never; 1: every update); the
     !> others take them when their residuals meet the tolerance.
     integer :: confirm_every = monitor_confirm_default
+    !> Whether warm updates add the randomised Lanczos certificate
+    !> (`safe_basis%randomised`; about 70 products at 18 000 degrees of
+    !> freedom, more than the rest of a confirmed update). The first, cold,
+    !> update always does; warm ones rest on the previous mode, the local
+    !> solves and the confirmations (`safe_basis%estimate`).
+    logical :: certify = .false.
+    !> A stiffened body's neighbourhood whose own top (`local_top`) reaches
+    !> local_margin omega_max^2 joins the warm start (see `update`).
+    real(dp) :: local_margin = monitor_local_margin_default
     !> Whether the last update took the previous modes as they were, and
     !> whether it was a warm update with the undamped solve confirmed.
     logical :: accepted = .false., confirmed = .false.
-    !> Each free body's per-body bound (omega^2) at the last update that ran
-    !> the confirmed solve: a warm update whose bodies that could carry the
-    !> top (bound at or above omega_max^2) stiffened by more than `drift`
-    !> since is confirmed.
+    !> The last update's stiffened bodies that were looked at, and whether a
+    !> neighbourhood's top joined its start (a Lanczos solve from it).
+    integer :: flagged = 0
+    logical :: local_start = .false.
+    !> Each free body's per-body bound (omega^2) when it was last looked at
+    !> (at the last confirmed solve, or since, when it stiffened by more than
+    !> `drift`).
     real(dp), allocatable :: confirmed_rows(:)
     !> The last update's result (`critical_step_type`), valid after an update.
     type(critical_step_type) :: last
@@ -162,10 +188,15 @@ module demstep_monitor
     type(spring_block_type), allocatable :: springs(:)
     integer, allocatable :: body_particle(:), spring_row(:)
     real(dp) :: rate = 0.0_dp
-    !> The check's own operator and springs (work arrays kept between checks).
-    type(assembly_operator_type), private :: check_op
-    type(spring_block_type), allocatable, private :: check_springs(:)
-    real(dp), allocatable, private :: work(:)
+    !> The top mode per particle, proportional to its physical displacement
+    !> and rotation times radius (6, particles; 0 for fixed ones): the check's
+    !> Rayleigh quotient needs no operator.
+    real(dp), allocatable :: mode_particles(:, :)
+    !> The same for the damped limit's mode (the damped Newton steps' last;
+    !> 0 without dashpots).
+    real(dp), allocatable :: damped_particles(:, :)
+    !> The check's per-particle bound rows (work arrays kept between checks).
+    real(dp), allocatable, private :: check_rows(:, :)
   contains
     !> Re-solve the exact limit, warm-started from the previous mode.
     procedure :: update => monitor_update
@@ -184,7 +215,7 @@ contains
   !> `where` the argument and `index` the particle, contact or wall.
   subroutine solver_critical_steps(x, mass, radius, pairs, k_n, result, status, k_t, c_n, c_t, &
       inertia, fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi, &
-      solver, tolerance)
+      solver, tolerance, solved)
     real(dp), intent(in) :: x(:, :), mass(:), radius(:)
     integer, intent(in) :: pairs(:, :)
     real(dp), intent(in) :: k_n(:)
@@ -199,6 +230,8 @@ contains
     !> as `assembly_critical_steps`.
     integer, intent(in), optional :: solver
     real(dp), intent(in), optional :: tolerance
+    !> The monitor that made the solve (e.g. for `mode_participation`).
+    type(step_monitor_type), intent(out), optional :: solved
     type(step_monitor_type) :: monitor
     ! the same bound and tolerance as assembly_critical_steps
     monitor%cheap = .false.
@@ -208,6 +241,7 @@ contains
     call monitor%update(x, mass, radius, pairs, k_n, status, k_t, c_n, c_t, inertia, fixed, &
       wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
     if (status%stat == demstep_stat%ok) result = monitor%last
+    if (present(solved)) solved = monitor
   end subroutine solver_critical_steps
 
   !> Re-solve the exact limit on the current arrays (as `solver_critical_steps`),
@@ -225,8 +259,9 @@ contains
     real(dp), intent(in), optional :: wall_point(:, :), wall_normal(:, :), wall_k(:), wall_damping(:)
     logical, intent(in), optional :: periodic(:)
     real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
-    logical :: rotation, warm, accept
+    logical :: rotation, warm, accept, certify, stood
     integer :: i, nfree, ncv
+    real(dp) :: a_bound
     real(dp), allocatable :: rows(:)
     monitor%ready = .false.
     monitor%accepted = .false.
@@ -237,7 +272,7 @@ contains
     end if
     call build_operator(x, mass, radius, pairs, k_n, monitor%springs, monitor%spring_row, monitor%op, &
       monitor%rate, rotation, status, k_t, c_n, c_t, inertia, fixed, wall_point, wall_normal, wall_k, &
-      wall_damping, periodic, cell_lo, cell_hi, keep_rows=.false.)
+      wall_damping, periodic, cell_lo, cell_hi)
     if (status%stat /= demstep_stat%ok) return
     ! the previous mode is a warm start while the degrees of freedom are the same
     if (allocated(monitor%mode)) then
@@ -249,12 +284,17 @@ contains
     monitor%last%rotation = rotation .and. size(x, 1) > 1
     monitor%last%periodic = .false.
     if (present(periodic)) monitor%last%periodic = any(periodic)
-    monitor%bound2 = cheap_bound(monitor%op)
+    ! each free body's per-body bound (omega^2), and the update's (its largest)
+    call body_bounds(monitor%op, rows)
+    a_bound = bound_of_rows(rows)
+    monitor%bound2 = a_bound*monitor%rate**2
+    rows = rows*monitor%rate**2
     ! a cold solve with the scene's Krylov size, a warm one with the monitor's;
     ! a warm one takes the previous modes as they are when their residuals on
-    ! the new operator meet the tolerance, but every confirm_every-th update
-    ! runs the undamped Lanczos solve (its confirmation from a fresh random
-    ! start: a top mode elsewhere is found)
+    ! the new operator meet the tolerance; when the undamped one does not (the
+    ! top changed), and every confirm_every-th update, it runs the undamped
+    ! Lanczos solve with its confirmation from a fresh random start (a top
+    ! mode elsewhere is found)
     ncv = scene_lanczos_ncv
     warm = any(monitor%mode /= 0.0_dp)
     if (warm .and. monitor%ncv > 1) ncv = monitor%ncv
@@ -262,29 +302,39 @@ contains
     if (accept .and. monitor%confirm_every > 1) accept = mod(monitor%updates + 1, monitor%confirm_every) /= 0
     ! a top elsewhere needs a body that could carry it (its own bound at or
     ! above the last omega_max^2) to have stiffened (a new contact, say): its
-    ! bound risen by more than `drift` since the last confirmed solve
-    call body_bounds(monitor%op, rows)
-    rows = rows*monitor%rate**2
+    ! bound risen by more than `drift` since it was last looked at. Such a
+    ! body's neighbourhood (`local_top`) is solved on its own: when its top
+    ! reaches `local_margin` omega_max^2, its vector joins the start
+    monitor%flagged = 0
+    monitor%local_start = .false.
     if (accept .and. allocated(monitor%confirmed_rows)) then
       if (size(monitor%confirmed_rows) /= size(rows)) then
         accept = .false.
       else
-        accept = .not. any(rows >= monitor%omega2 .and. rows > (1.0_dp + monitor%drift)*monitor%confirmed_rows)
+        call look_at_stiffened(monitor, rows, status)
+        if (status%stat /= demstep_stat%ok) return
       end if
     end if
+    ! (a start with a neighbourhood's top added, or a previous mode whose
+    ! residual fails: the confirmed solve from it; the damped mode is taken
+    ! as it is only when the undamped one stood, e.g. at a scheduled
+    ! confirmation)
+    stood = warm .and. .not. monitor%local_start
+    if (stood) stood = stands(monitor%op, monitor%mode, monitor%tolerance)
+    accept = accept .and. stood
     monitor%confirmed = warm .and. .not. accept
+    certify = monitor%certify .or. .not. warm
     if (monitor%cheap) then
       call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
         default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status, &
-        bounds=[monitor%bound2, cheap_bound(monitor%op, dashpots=.true.)], ncv=ncv, &
-        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=warm)
+        bounds=[a_bound, cheap_bound(monitor%op, dashpots=.true.)], ncv=ncv, &
+        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=stood, certify=certify)
     else
       call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
         default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status, ncv=ncv, &
-        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=warm)
+        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=stood, certify=certify)
     end if
     monitor%accepted = accept .and. monitor%last%eigen_restarts == 0
-    monitor%bound2 = monitor%bound2*monitor%rate**2
     if (status%stat /= demstep_stat%ok) then
       monitor%mode = 0.0_dp
       monitor%damped_mode = 0.0_dp
@@ -313,18 +363,20 @@ contains
     monitor%dim = size(x, 1)
     ! (the bodies' bounds the next updates are held against)
     if (.not. accept) call move_alloc(rows, monitor%confirmed_rows)
+    call store_mode(monitor, size(mass))
     monitor%updates = monitor%updates + 1
     monitor%ready = .true.
   end subroutine monitor_update
 
   !> Whether the step dt is still safe on the current arrays (the same as
-  !> `update` takes), from O(contacts) work: the rigorous per-body bound and
-  !> the previous mode's Rayleigh quotient (one product). `safe` is true for
-  !> the verdicts `safe_bound` and `safe_estimate`; monitor%verdict,
+  !> `update` takes), from one O(contacts) pass over them with no operator
+  !> built: the rigorous per-body bound and the previous mode's Rayleigh
+  !> quotient (the interaction kernel on each listed contact). `safe` is true
+  !> for the verdicts `safe_bound` and `safe_estimate`; monitor%verdict,
   !> %dt_estimate, %quotient_ratio and %bound_ratio say why. Without an
-  !> update yet, or when the degrees of freedom changed (particles fixed or
-  !> freed, rotations switched), the verdict is `resolve`. Status
-  !> invalid_input as `update`, or naming `dt` (not finite and > 0).
+  !> update yet, or when the degrees of freedom changed (particles, free
+  !> particles or rotations), the verdict is `resolve`. Status invalid_input
+  !> as `update`, or naming `dt` (not finite and > 0).
   subroutine monitor_check(monitor, dt, safe, x, mass, radius, pairs, k_n, status, k_t, c_n, c_t, &
       inertia, fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
     class(step_monitor_type), intent(inout) :: monitor
@@ -339,8 +391,8 @@ contains
     real(dp), intent(in), optional :: wall_point(:, :), wall_normal(:, :), wall_k(:), wall_damping(:)
     logical, intent(in), optional :: periodic(:)
     real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
-    logical :: rotation
-    real(dp) :: rate, a_bound, b_bound, q, dt_bound
+    real(dp) :: a_bound, b_bound, q, dt_bound
+    logical :: same
     safe = .false.
     monitor%verdict = monitor_verdict%resolve
     monitor%dt_estimate = 0.0_dp
@@ -348,31 +400,27 @@ contains
       call set_status(status, demstep_stat%invalid_input, "must be finite and > 0", where="dt")
       return
     end if
-    call build_operator(x, mass, radius, pairs, k_n, monitor%check_springs, monitor%spring_row, &
-      monitor%check_op, rate, rotation, status, k_t, c_n, c_t, inertia, fixed, wall_point, wall_normal, &
-      wall_k, wall_damping, periodic, cell_lo, cell_hi, keep_rows=.true.)
+    call check_solver_arrays(x, mass, radius, pairs, k_n, status, k_t, c_n, c_t, inertia, fixed, &
+      wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
+    if (status%stat /= demstep_stat%ok) return
+    call check_pass(monitor, x, mass, radius, pairs, k_n, a_bound, b_bound, q, same, status, k_t, c_n, &
+      c_t, inertia, fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
     if (status%stat /= demstep_stat%ok) return
     monitor%checks = monitor%checks + 1
     ! the rigorous bound (damped: its lower bound with the dashpots' own bound)
-    a_bound = cheap_bound(monitor%check_op)
-    b_bound = cheap_bound(monitor%check_op, dashpots=.true.)
-    dt_bound = damped_lower_bound(2.0_dp/sqrt(a_bound), b_bound)/rate
+    if (.not. a_bound > 0.0_dp) then
+      dt_bound = huge(1.0_dp)
+    else
+      dt_bound = damped_lower_bound(2.0_dp/sqrt(a_bound), b_bound)
+    end if
     if (dt <= dt_bound) then
       safe = .true.
       monitor%verdict = monitor_verdict%safe_bound
       monitor%dt_estimate = dt_bound
     end if
-    if (.not. monitor%ready) return
-    if (monitor%check_op%n /= size(monitor%mode)) return
-    if (.not. allocated(monitor%work)) allocate(monitor%work(size(monitor%mode)))
-    if (size(monitor%work) /= size(monitor%mode)) then
-      deallocate(monitor%work)
-      allocate(monitor%work(size(monitor%mode)))
-    end if
-    call assembly_operator_apply(monitor%check_op, monitor%mode, monitor%work)
-    q = dot_product(monitor%mode, monitor%work)*rate**2
+    if (.not. (monitor%ready .and. same)) return
     monitor%quotient_ratio = q/monitor%omega2
-    monitor%bound_ratio = a_bound*rate**2/monitor%bound2
+    monitor%bound_ratio = a_bound/monitor%bound2
     if (safe) return
     if (.not. (q > 0.0_dp)) return
     monitor%dt_estimate = monitor%dt_limit*sqrt(monitor%omega2/max(q, monitor%omega2))
@@ -383,6 +431,157 @@ contains
       monitor%verdict = monitor_verdict%safe_estimate
     end if
   end subroutine monitor_check
+
+  !> The check's one pass over the listed contacts and the wall contacts (the
+  !> springs `solver_springs` would make, none stored): the per-body bounds
+  !> a_bound >= omega_max^2 and b_bound >= lambda_max(M^-1/2 C M^-1/2) (1/s;
+  !> 0 without dashpots) as `cheap_bound` takes them, and the Rayleigh
+  !> quotient q (omega^2) of the last update's mode (`mode_particles`) on
+  !> these springs; `same` false (q = 0) when the degrees of freedom are not
+  !> the update's. Status invalid_input naming `pairs` (coincident particles).
+  subroutine check_pass(monitor, x, mass, radius, pairs, k_n, a_bound, b_bound, q, same, status, k_t, &
+      c_n, c_t, inertia, fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
+    class(step_monitor_type), intent(inout) :: monitor
+    real(dp), intent(in) :: x(:, :), mass(:), radius(:)
+    integer, intent(in) :: pairs(:, :)
+    real(dp), intent(in) :: k_n(:)
+    real(dp), intent(out) :: a_bound, b_bound, q
+    logical, intent(out) :: same
+    type(demstep_status_type), intent(out) :: status
+    real(dp), intent(in), optional :: k_t(:), c_n(:), c_t(:), inertia(:)
+    logical, intent(in), optional :: fixed(:)
+    real(dp), intent(in), optional :: wall_point(:, :), wall_normal(:, :), wall_k(:), wall_damping(:)
+    logical, intent(in), optional :: periodic(:)
+    real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
+    real(dp) :: box(3), d(3), dist, nn(3), arm(2), k(4), c(4), kw(2), zw(2), p(3), nw(3), xi(3), overlap, &
+      energy, norm, y(3, 4), wu(2), wr(2), rinv(2), f
+    real(dp), parameter :: zero3(3) = 0.0_dp
+    logical :: wrap(3), damped, rotation, touching, free(2)
+    integer :: n, nc, cc, i, j, e, w, n_walls, nfree
+    n = size(mass)
+    nc = size(pairs, 2)
+    status%stat = demstep_stat%ok
+    call solver_options(size(x, 1), wrap, box, kw, zw, damped, rotation, k_t, c_n, c_t, wall_k, &
+      wall_damping, periodic, cell_lo, cell_hi)
+    nfree = n
+    if (present(fixed)) nfree = count(.not. fixed)
+    same = monitor%ready .and. n == monitor%n_particles .and. (rotation .eqv. monitor%last%rotation) &
+      .and. nfree == size(monitor%body_particle) .and. allocated(monitor%mode_particles)
+    if (same) same = size(monitor%mode_particles, 2) == n
+    ! per particle: (the stiffness row, the dashpot row)
+    if (allocated(monitor%check_rows)) then
+      if (size(monitor%check_rows, 2) /= n) deallocate(monitor%check_rows)
+    end if
+    if (.not. allocated(monitor%check_rows)) allocate(monitor%check_rows(2, n))
+    monitor%check_rows = 0.0_dp
+    energy = 0.0_dp
+    k = 0.0_dp
+    c = 0.0_dp
+    do cc = 1, nc
+      i = pairs(1, cc)
+      j = pairs(2, cc)
+      free = [.true., .true.]
+      if (present(fixed)) free = [.not. fixed(i), .not. fixed(j)]
+      if (.not. any(free)) cycle
+      call pair_geometry(x(:, i), x(:, j), radius(i) + radius(j), wrap, box, d, dist, touching)
+      if (.not. touching) cycle
+      if (.not. dist > 0.0_dp) then
+        call coincident(cc, status)
+        return
+      end if
+      nn = d/dist
+      overlap = radius(i) + radius(j) - dist
+      arm = [contact_arm(radius(i), overlap)/radius(i), contact_arm(radius(j), overlap)/radius(j)]
+      k(1) = pick(k_n, cc)
+      if (present(k_t)) k(2) = pick(k_t, cc)
+      if (present(c_n)) c(1) = pick(c_n, cc)
+      if (present(c_t)) c(2) = pick(c_t, cc)
+      f = merge(2.0_dp, 1.0_dp, all(free))
+      call body_scales(i, 1)
+      call body_scales(j, 2)
+      if (free(1)) call add_rows(i, 1)
+      if (free(2)) call add_rows(j, 2)
+      if (same) then
+        call contact_product(nn, k, arm(1), arm(2), rinv(1), rinv(2), 0.0_dp, mode_u(i), mode_r(i), &
+          mode_u(j), mode_r(j), y(:, 1), y(:, 2), y(:, 3), y(:, 4))
+        energy = energy + dot_product(mode_u(i), y(:, 1)) + dot_product(mode_r(i), y(:, 2)) &
+          + dot_product(mode_u(j), y(:, 3)) + dot_product(mode_r(j), y(:, 4))
+      end if
+    end do
+    n_walls = 0
+    if (present(wall_point)) n_walls = size(wall_point, 2)
+    k = [kw(1), kw(2), 0.0_dp, 0.0_dp]
+    f = 1.0_dp
+    do w = 1, n_walls
+      call wall_of(wall_point, wall_normal, w, p, nw)
+      do i = 1, n
+        if (present(fixed)) then
+          if (fixed(i)) cycle
+        end if
+        xi = 0.0_dp
+        xi(:size(x, 1)) = x(:, i)
+        overlap = wall_overlap(xi, radius(i), p, nw)
+        if (.not. overlap > 0.0_dp) cycle
+        arm(2) = contact_arm(radius(i), overlap)/radius(i)
+        c = 0.0_dp
+        if (damped) c(1:2) = dashpot_coefficient(zw, mass(i), kw)
+        call body_scales(i, 2)
+        call add_rows(i, 2)
+        if (same) then
+          call contact_product(nw, k, 0.0_dp, arm(2), 0.0_dp, rinv(2), 0.0_dp, zero3, zero3, &
+            mode_u(i), mode_r(i), y(:, 1), y(:, 2), y(:, 3), y(:, 4))
+          energy = energy + dot_product(mode_u(i), y(:, 3)) + dot_product(mode_r(i), y(:, 4))
+        end if
+      end do
+    end do
+    a_bound = bound_of_rows(monitor%check_rows(1, :))
+    b_bound = 0.0_dp
+    if (damped) b_bound = bound_of_rows(monitor%check_rows(2, :))
+    q = 0.0_dp
+    if (.not. same) return
+    ! the mode's kinetic norm with the current masses (rotations as r theta: I/r^2)
+    norm = 0.0_dp
+    do i = 1, n
+      norm = norm + mass(i)*sum(monitor%mode_particles(1:3, i)**2) &
+        + (particle_inertia(i)/radius(i)**2)*sum(monitor%mode_particles(4:6, i)**2)
+    end do
+    if (norm > 0.0_dp) q = energy/norm
+  contains
+    !> Body i at end e of the spring: 1/sqrt(m), r/sqrt(I) (0 without
+    !> rotations) and 1/r.
+    subroutine body_scales(i, e)
+      integer, intent(in) :: i, e
+      wu(e) = 1.0_dp/sqrt(mass(i))
+      wr(e) = 0.0_dp
+      if (rotation) wr(e) = radius(i)/sqrt(particle_inertia(i))
+      rinv(e) = 1.0_dp/radius(i)
+    end subroutine body_scales
+    !> Body i's rows gain the spring's terms (end e).
+    subroutine add_rows(i, e)
+      integer, intent(in) :: i, e
+      monitor%check_rows(1, i) = monitor%check_rows(1, i) + row_term(k, arm(e), wu(e), wr(e), rinv(e), f)
+      if (damped) monitor%check_rows(2, i) = monitor%check_rows(2, i) + &
+        row_term(c, arm(e), wu(e), wr(e), rinv(e), f)
+    end subroutine add_rows
+    real(dp) function particle_inertia(i)
+      integer, intent(in) :: i
+      if (present(inertia)) then
+        particle_inertia = inertia(i)
+      else
+        particle_inertia = sphere_inertia(mass(i), radius(i))
+      end if
+    end function particle_inertia
+    function mode_u(i) result(u)
+      integer, intent(in) :: i
+      real(dp) :: u(3)
+      u = monitor%mode_particles(1:3, i)
+    end function mode_u
+    function mode_r(i) result(r)
+      integer, intent(in) :: i
+      real(dp) :: r(3)
+      r = monitor%mode_particles(4:6, i)
+    end function mode_r
+  end subroutine check_pass
 
   !> The rigorous per-body bound of lambda_max of the operator's scaled
   !> stiffness A' (or, with `dashpots`, of its scaled dashpots B'; see the
@@ -397,10 +596,17 @@ contains
     logical, intent(in), optional :: dashpots
     real(dp) :: bound
     real(dp), allocatable :: row(:)
-    bound = 0.0_dp
     call body_bounds(op, row, dashpots)
-    if (size(row) > 0) bound = maxval(row)*(1.0_dp + 1.0e-12_dp)
+    bound = bound_of_rows(row)
   end function cheap_bound
+
+  !> The rigorous bound from each body's row of `cheap_bound`: their largest,
+  !> raised by a relative 1e-12 for rounding (0 without bodies).
+  pure real(dp) function bound_of_rows(row) result(bound)
+    real(dp), intent(in) :: row(:)
+    bound = 0.0_dp
+    if (size(row) > 0) bound = maxval(row)*(1.0_dp + 1.0e-12_dp)
+  end function bound_of_rows
 
   !> Each free body's row of `cheap_bound` (scaled; none without dashpots
   !> when `dashpots`).
@@ -408,7 +614,7 @@ contains
     type(assembly_operator_type), intent(in) :: op
     real(dp), allocatable, intent(out) :: row(:)
     logical, intent(in), optional :: dashpots
-    real(dp) :: k(4), arm, wu, wr, f
+    real(dp) :: k(4), wr, f
     integer :: s, e, i, rot
     logical :: damped
     damped = .false.
@@ -429,15 +635,162 @@ contains
       do e = 1, 2
         i = op%ends(e, s)
         if (i == 0) cycle
-        arm = op%coef(2 + e, s)
-        wu = op%w(1, i)
         wr = 0.0_dp
         if (rot > 0) wr = op%w(rot, i)
-        row(i) = row(i) + f*max(max(k(1), 2.0_dp*k(2))*wu**2, &
-          2.0_dp*k(2)*(arm*wr)**2 + max(k(3), k(4))*(wr*op%rinv(i))**2)
+        row(i) = row(i) + row_term(k, op%coef(2 + e, s), op%w(1, i), wr, op%rinv(i), f)
       end do
     end do
   end subroutine body_bounds
+
+  !> One spring's term in its body's row of `cheap_bound` (see the module
+  !> notes): f max(max(k_n, 2 k_t) wu^2, 2 k_t (arm wr)^2 + max(k_r, k_w)
+  !> (wr rinv)^2), k = (k_n, k_t, k_r, k_w) (or the dashpots), arm in radii,
+  !> wu and wr the body's translational and rotational (r theta) inverse
+  !> square-root masses (wr 0 without rotations), rinv = 1/r, f = 2 (1 on the
+  !> ground).
+  pure real(dp) function row_term(k, arm, wu, wr, rinv, f) result(term)
+    real(dp), intent(in) :: k(4), arm, wu, wr, rinv, f
+    term = f*max(max(k(1), 2.0_dp*k(2))*wu**2, 2.0_dp*k(2)*(arm*wr)**2 + max(k(3), k(4))*(wr*rinv)**2)
+  end function row_term
+
+  !> Look at each body that could carry the top (its row at or above the last
+  !> omega_max^2) and stiffened by more than `drift` since it was last looked
+  !> at: its neighbourhood's own top (`local_top`); when it reaches
+  !> `local_margin` omega_max^2, that vector is added to the warm start
+  !> (monitor%mode, then no longer a mode: the update's Lanczos solve runs
+  !> from it). Counts them in monitor%flagged.
+  subroutine look_at_stiffened(monitor, rows, status)
+    class(step_monitor_type), intent(inout) :: monitor
+    !> Each free body's row (omega^2).
+    real(dp), intent(in) :: rows(:)
+    type(demstep_status_type), intent(out) :: status
+    integer, allocatable :: identity(:), bodies(:)
+    real(dp), allocatable :: v(:), start(:)
+    real(dp) :: lam, sgn
+    integer :: b, k, nc, lo
+    status%stat = demstep_stat%ok
+    nc = monitor%op%nc
+    do b = 1, size(rows)
+      if (.not. (rows(b) >= monitor%omega2 .and. rows(b) > (1.0_dp + monitor%drift)*monitor%confirmed_rows(b))) &
+        cycle
+      if (.not. allocated(identity)) identity = [(k, k = 1, monitor%op%n_bodies)]
+      monitor%flagged = monitor%flagged + 1
+      monitor%confirmed_rows(b) = rows(b)
+      call local_top(monitor%op, b, identity, bodies, lam, v, status)
+      if (status%stat /= demstep_stat%ok) return
+      if (lam*monitor%rate**2 < monitor%local_margin*monitor%omega2) cycle
+      if (.not. allocated(start)) start = monitor%mode/norm2(monitor%mode)
+      ! (the sign that does not cancel the start where they overlap)
+      sgn = 0.0_dp
+      do k = 1, size(bodies)
+        lo = (bodies(k) - 1)*nc
+        sgn = sgn + dot_product(start(lo + 1:lo + nc), v((k - 1)*nc + 1:k*nc))
+      end do
+      sgn = sign(1.0_dp, sgn)
+      do k = 1, size(bodies)
+        lo = (bodies(k) - 1)*nc
+        start(lo + 1:lo + nc) = start(lo + 1:lo + nc) + sgn*v((k - 1)*nc + 1:k*nc)
+      end do
+    end do
+    if (allocated(start)) then
+      monitor%mode = start
+      monitor%local_start = .true.
+    end if
+  end subroutine look_at_stiffened
+
+  !> Whether a unit start vector stands as the operator's mode: its measured
+  !> residual within the tolerance of its Rayleigh quotient (as
+  !> `top_eigenpair` takes a start). One product.
+  logical function stands(op, vec, tol)
+    type(assembly_operator_type), intent(inout) :: op
+    real(dp), intent(in) :: vec(:), tol
+    real(dp), allocatable :: y(:)
+    real(dp) :: lam, length
+    allocate(y(size(vec)))
+    length = norm2(vec)
+    stands = length > 0.0_dp
+    if (.not. stands) return
+    call assembly_operator_apply(op, vec/length, y)
+    lam = dot_product(vec, y)/length
+    stands = lam > 0.0_dp .and. norm2(y - lam*vec/length) <= tol*lam
+  end function stands
+
+  !> The top of body b's neighbourhood with the rest held: the largest
+  !> eigenvalue lam (scaled) of the principal submatrix of A' on b and the
+  !> free bodies it shares a spring with (`bodies`, b first), and its unit
+  !> vector v (nc per listed body). A principal submatrix's: lam <=
+  !> lambda_max(A') (Cauchy's interlacing). `identity` is 1..n_bodies.
+  subroutine local_top(op, b, identity, bodies, lam, v, status)
+    type(assembly_operator_type), intent(in) :: op
+    integer, intent(in) :: b, identity(:)
+    integer, allocatable, intent(out) :: bodies(:)
+    real(dp), intent(out) :: lam
+    real(dp), allocatable, intent(out) :: v(:)
+    type(demstep_status_type), intent(out) :: status
+    integer(i8), allocatable :: row_start(:)
+    integer, allocatable :: col(:)
+    real(dp), allocatable :: val(:), a(:, :)
+    integer(i8) :: p
+    integer :: s, e, j, nc, m, r, k, q, nb
+    nc = op%nc
+    allocate(bodies(op%first(b + 1) - op%first(b) + 1))
+    nb = 1
+    bodies(1) = b
+    do p = op%first(b), op%first(b + 1) - 1
+      s = (op%incident(p) + 1)/2
+      e = op%incident(p) - 2*(s - 1)
+      j = op%ends(3 - e, s)
+      if (j == 0) cycle
+      if (any(bodies(:nb) == j)) cycle
+      nb = nb + 1
+      bodies(nb) = j
+    end do
+    bodies = bodies(:nb)
+    lam = 0.0_dp
+    call assembly_matrix_rows(op, bodies, identity, row_start, col, val, status)
+    if (status%stat /= demstep_stat%ok) return
+    m = nc*nb
+    allocate(a(m, m), source=0.0_dp)
+    allocate(v(m))
+    do r = 1, m
+      do p = row_start(r), row_start(r + 1) - 1
+        j = (col(p) - 1)/nc + 1
+        q = col(p) - (j - 1)*nc
+        k = findloc(bodies, j, 1)
+        if (k > 0) a(r, (k - 1)*nc + q) = a(r, (k - 1)*nc + q) + val(p)
+      end do
+    end do
+    call largest_eigenpair(a, lam, v, status)
+  end subroutine local_top
+
+  !> The update's modes per particle (`mode_particles`, `damped_particles`):
+  !> each free body's components times its M'^-1/2 factors (proportional to
+  !> the physical displacement and r theta), 0 for fixed particles and absent
+  !> components.
+  subroutine store_mode(monitor, n)
+    class(step_monitor_type), intent(inout) :: monitor
+    integer, intent(in) :: n
+    call per_particle(monitor%mode, monitor%mode_particles)
+    call per_particle(monitor%damped_mode, monitor%damped_particles)
+  contains
+    subroutine per_particle(mode, particles)
+      real(dp), intent(in) :: mode(:)
+      real(dp), allocatable, intent(inout) :: particles(:, :)
+      integer :: b, c, nc
+      if (allocated(particles)) then
+        if (size(particles, 2) /= n) deallocate(particles)
+      end if
+      if (.not. allocated(particles)) allocate(particles(6, n))
+      particles = 0.0_dp
+      nc = monitor%op%nc
+      do b = 1, monitor%op%n_bodies
+        do c = 1, nc
+          particles(monitor%op%comp(c), monitor%body_particle(b)) = mode((b - 1)*nc + c) &
+            *monitor%op%w(monitor%op%comp(c), b)
+        end do
+      end do
+    end subroutine per_particle
+  end subroutine store_mode
 
   !> An ESTIMATE of a settled bed's (damped) limit before any contact exists
   !> (a fresh pour): the exact limit of a generated packing with the solver's
@@ -837,8 +1190,7 @@ contains
   !> The solver's arrays checked, linearised (`solver_springs`) and made the
   !> matrix-free operator (`operator_from_springs`; inertia default 2/5 m r^2).
   subroutine build_operator(x, mass, radius, pairs, k_n, springs, rows, op, rate, rotation, status, k_t, &
-      c_n, c_t, inertia, fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi, &
-      keep_rows)
+      c_n, c_t, inertia, fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
     real(dp), intent(in) :: x(:, :), mass(:), radius(:)
     integer, intent(in) :: pairs(:, :)
     real(dp), intent(in) :: k_n(:)
@@ -854,15 +1206,13 @@ contains
     real(dp), intent(in), optional :: wall_point(:, :), wall_normal(:, :), wall_k(:), wall_damping(:)
     logical, intent(in), optional :: periodic(:)
     real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
-    !> Leave `rows` as it is (a check keeps the update's).
-    logical, intent(in) :: keep_rows
     rate = 0.0_dp
     rotation = .false.
     call check_solver_arrays(x, mass, radius, pairs, k_n, status, k_t, c_n, c_t, inertia, fixed, &
       wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
     if (status%stat /= demstep_stat%ok) return
     call solver_springs(x, mass, radius, pairs, k_n, springs, rows, rotation, status, k_t, c_n, c_t, fixed, &
-      wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi, keep_rows)
+      wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
     if (status%stat /= demstep_stat%ok) return
     if (present(inertia)) then
       call operator_from_springs(size(x, 1), rotation, mass, inertia, radius, springs, .false., op, rate, &
@@ -896,9 +1246,9 @@ contains
   end function core_share
 
   !> Solid spheres' moments of inertia 2/5 m r^2 (as `new_scene`'s default).
-  pure function sphere_inertia(mass, radius) result(inertia)
-    real(dp), intent(in) :: mass(:), radius(:)
-    real(dp) :: inertia(size(mass))
+  elemental function sphere_inertia(mass, radius) result(inertia)
+    real(dp), intent(in) :: mass, radius
+    real(dp) :: inertia
     inertia = min(0.4_dp*mass*radius, huge(1.0_dp)/max(1.0_dp, radius))*radius
   end function sphere_inertia
 
@@ -1037,22 +1387,10 @@ contains
         return
       end if
     end if
-    if (present(wall_k)) then
-      if (size(wall_k) /= 2) then
-        call set_status(status, demstep_stat%invalid_input, "must be (k_n, k_t)", where="wall_k")
-        return
-      end if
-      call check_values("wall_k", wall_k, 2, .false., status)
-      if (status%stat /= demstep_stat%ok) return
-    end if
-    if (present(wall_damping)) then
-      if (size(wall_damping) /= 2) then
-        call set_status(status, demstep_stat%invalid_input, "must be (zeta_n, zeta_t)", where="wall_damping")
-        return
-      end if
-      call check_values("wall_damping", wall_damping, 2, .false., status)
-      if (status%stat /= demstep_stat%ok) return
-    end if
+    if (present(wall_k)) call check_pair("wall_k", wall_k, "(k_n, k_t)", status)
+    if (status%stat /= demstep_stat%ok) return
+    if (present(wall_damping)) call check_pair("wall_damping", wall_damping, "(zeta_n, zeta_t)", status)
+    if (status%stat /= demstep_stat%ok) return
     if (present(periodic)) then
       if (size(periodic) /= 3 .or. .not. (present(cell_lo) .and. present(cell_hi))) then
         call set_status(status, demstep_stat%invalid_input, "three flags, with cell_lo and cell_hi", &
@@ -1083,6 +1421,19 @@ contains
     end if
   end subroutine check_solver_arrays
 
+  !> A normal and tangential pair of values (size 2, each >= 0 and finite),
+  !> `what` naming them in the refusal.
+  subroutine check_pair(name, a, what, status)
+    character(len=*), intent(in) :: name, what
+    real(dp), intent(in) :: a(:)
+    type(demstep_status_type), intent(out) :: status
+    if (size(a) /= 2) then
+      call set_status(status, demstep_stat%invalid_input, "must be "//what, where=name)
+      return
+    end if
+    call check_values(name, a, 2, .false., status)
+  end subroutine check_pair
+
   !> A size-1 or per-contact array of values >= 0 (> 0 when `positive`), finite.
   subroutine check_values(name, a, nc, positive, status)
     character(len=*), intent(in) :: name
@@ -1111,10 +1462,9 @@ contains
 
   !> The linearised springs of the solver's overlapping listed pairs and wall
   !> contacts (as `linearise` makes them for a scene with the same list),
-  !> with the contact row (or -particle on a wall) of each. `keep_rows`: the
-  !> rows array is left alone (a check keeps the update's). O(n walls + nc).
+  !> with the contact row (or -particle on a wall) of each. O(n walls + nc).
   subroutine solver_springs(x, mass, radius, pairs, k_n, springs, rows, rotation, status, k_t, c_n, c_t, &
-      fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi, keep_rows)
+      fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
     real(dp), intent(in) :: x(:, :), mass(:), radius(:)
     integer, intent(in) :: pairs(:, :)
     real(dp), intent(in) :: k_n(:)
@@ -1127,16 +1477,114 @@ contains
     real(dp), intent(in), optional :: wall_point(:, :), wall_normal(:, :), wall_k(:), wall_damping(:)
     logical, intent(in), optional :: periodic(:)
     real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
-    logical, intent(in), optional :: keep_rows
     integer :: dim, nc, c, i, j, m, w, n_walls, n_springs
-    real(dp) :: d(3), box(3), dist, reach, overlap, p(3), nw(3), mi, mj, kw(2), zw(2), xi(3)
-    logical :: wrap(3), damped, rows_too
+    real(dp) :: d(3), box(3), dist, overlap, p(3), nw(3), mi, mj, kw(2), zw(2), xi(3)
+    logical :: wrap(3), damped, touching
     ! fixed flags of every particle (none given: none fixed)
     logical, allocatable :: fx(:)
     dim = size(x, 1)
     nc = size(pairs, 2)
-    rows_too = .true.
-    if (present(keep_rows)) rows_too = .not. keep_rows
+    call solver_options(dim, wrap, box, kw, zw, damped, rotation, k_t, c_n, c_t, wall_k, wall_damping, &
+      periodic, cell_lo, cell_hi)
+    n_walls = 0
+    if (present(wall_point)) n_walls = size(wall_point, 2)
+    if (present(fixed)) then
+      fx = fixed
+    else
+      allocate(fx(size(mass)), source=.false.)
+    end if
+    ! count the springs: overlapping pairs (not both fixed) and wall contacts
+    n_springs = 0
+    do c = 1, nc
+      i = pairs(1, c)
+      j = pairs(2, c)
+      if (fx(i) .and. fx(j)) cycle
+      call pair_geometry(x(:, i), x(:, j), radius(i) + radius(j), wrap, box, d, dist, touching)
+      if (touching) n_springs = n_springs + 1
+    end do
+    do w = 1, n_walls
+      call wall_of(wall_point, wall_normal, w, p, nw)
+      do i = 1, size(mass)
+        if (fx(i)) cycle
+        xi = 0.0_dp
+        xi(:dim) = x(:, i)
+        if (wall_overlap(xi, radius(i), p, nw) > 0.0_dp) n_springs = n_springs + 1
+      end do
+    end do
+    if (allocated(springs)) then
+      if (size(springs) /= n_springs) deallocate(springs)
+    end if
+    if (.not. allocated(springs)) allocate(springs(n_springs))
+    if (allocated(rows)) then
+      if (size(rows) /= n_springs) deallocate(rows)
+    end if
+    if (.not. allocated(rows)) allocate(rows(n_springs))
+    m = 0
+    do c = 1, nc
+      i = pairs(1, c)
+      j = pairs(2, c)
+      if (fx(i) .and. fx(j)) cycle
+      call pair_geometry(x(:, i), x(:, j), radius(i) + radius(j), wrap, box, d, dist, touching)
+      if (.not. touching) cycle
+      if (.not. dist > 0.0_dp) then
+        call coincident(c, status)
+        return
+      end if
+      overlap = radius(i) + radius(j) - dist
+      m = m + 1
+      mi = huge(1.0_dp)
+      mj = huge(1.0_dp)
+      if (.not. fx(i)) mi = mass(i)
+      if (.not. fx(j)) mj = mass(j)
+      springs(m) = spring_block_type(a=i, b=j, n=d/dist, arm_a=contact_arm(radius(i), overlap), &
+        arm_b=contact_arm(radius(j), overlap), m_eff=reduced_mass(mj, mi))
+      springs(m)%k(1) = pick(k_n, c)
+      if (present(k_t)) springs(m)%k(2) = pick(k_t, c)
+      if (present(c_n)) springs(m)%c(1) = pick(c_n, c)
+      if (present(c_t)) springs(m)%c(2) = pick(c_t, c)
+      rows(m) = c
+    end do
+    do w = 1, n_walls
+      call wall_of(wall_point, wall_normal, w, p, nw)
+      do i = 1, size(mass)
+        if (fx(i)) cycle
+        xi = 0.0_dp
+        xi(:dim) = x(:, i)
+        overlap = wall_overlap(xi, radius(i), p, nw)
+        if (.not. overlap > 0.0_dp) cycle
+        m = m + 1
+        springs(m) = spring_block_type(a=0, b=i, k=[kw(1), kw(2), 0.0_dp, 0.0_dp], n=nw, &
+          arm_b=contact_arm(radius(i), overlap), m_eff=mass(i))
+        if (damped) springs(m)%c(1:2) = dashpot_coefficient(zw, mass(i), kw)
+        rows(m) = -i
+      end do
+    end do
+    status%stat = demstep_stat%ok
+  end subroutine solver_springs
+
+  !> Wall w's point and unit normal, padded to 3D.
+  pure subroutine wall_of(wall_point, wall_normal, w, point, unit)
+    real(dp), intent(in) :: wall_point(:, :), wall_normal(:, :)
+    integer, intent(in) :: w
+    real(dp), intent(out) :: point(3), unit(3)
+    point = 0.0_dp
+    unit = 0.0_dp
+    point(:size(wall_point, 1)) = wall_point(:, w)
+    unit(:size(wall_point, 1)) = wall_normal(:, w)/norm2(wall_normal(:, w))
+  end subroutine wall_of
+
+  !> What the solver's optional arrays switch on (as `solver_springs` reads
+  !> them): the axes that wrap and the cell lengths, the wall stiffness and
+  !> damping ratios (0 when not given), whether any dashpot acts, and
+  !> whether rotations are degrees of freedom (any tangential stiffness, dim > 1).
+  pure subroutine solver_options(dim, wrap, box, kw, zw, damped, rotation, k_t, c_n, c_t, wall_k, &
+      wall_damping, periodic, cell_lo, cell_hi)
+    integer, intent(in) :: dim
+    logical, intent(out) :: wrap(3), damped, rotation
+    real(dp), intent(out) :: box(3), kw(2), zw(2)
+    real(dp), intent(in), optional :: k_t(:), c_n(:), c_t(:), wall_k(:), wall_damping(:)
+    logical, intent(in), optional :: periodic(:)
+    real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
     wrap = .false.
     box = 0.0_dp
     if (present(periodic)) then
@@ -1151,92 +1599,28 @@ contains
     rotation = kw(2) > 0.0_dp
     if (present(k_t)) rotation = rotation .or. any(k_t > 0.0_dp)
     rotation = rotation .and. dim > 1
-    n_walls = 0
-    if (present(wall_point)) n_walls = size(wall_point, 2)
-    if (present(fixed)) then
-      fx = fixed
-    else
-      allocate(fx(size(mass)), source=.false.)
-    end if
-    ! count the springs: overlapping pairs (not both fixed) and wall contacts
-    n_springs = 0
-    do c = 1, nc
-      i = pairs(1, c)
-      j = pairs(2, c)
-      if (fx(i) .and. fx(j)) cycle
-      d = nearest_image(x(:, i), x(:, j), wrap, box)
-      if (d(1)**2 + d(2)**2 + d(3)**2 < (radius(i) + radius(j))**2) n_springs = n_springs + 1
-    end do
-    do w = 1, n_walls
-      call wall_of(w, p, nw)
-      do i = 1, size(mass)
-        if (fx(i)) cycle
-        xi = 0.0_dp
-        xi(:dim) = x(:, i)
-        if (wall_overlap(xi, radius(i), p, nw) > 0.0_dp) n_springs = n_springs + 1
-      end do
-    end do
-    if (allocated(springs)) then
-      if (size(springs) /= n_springs) deallocate(springs)
-    end if
-    if (.not. allocated(springs)) allocate(springs(n_springs))
-    if (rows_too) then
-      if (allocated(rows)) deallocate(rows)
-      allocate(rows(n_springs))
-    end if
-    m = 0
-    do c = 1, nc
-      i = pairs(1, c)
-      j = pairs(2, c)
-      if (fx(i) .and. fx(j)) cycle
-      d = nearest_image(x(:, i), x(:, j), wrap, box)
-      reach = radius(i) + radius(j)
-      if (d(1)**2 + d(2)**2 + d(3)**2 >= reach**2) cycle
-      dist = norm2(d)
-      if (.not. dist > 0.0_dp) then
-        call set_status(status, demstep_stat%invalid_input, "its particles are at the same point (the " &
-          //"normal is undefined)", where="pairs", index=c, subscript=.true.)
-        return
-      end if
-      overlap = reach - dist
-      m = m + 1
-      mi = huge(1.0_dp)
-      mj = huge(1.0_dp)
-      if (.not. fx(i)) mi = mass(i)
-      if (.not. fx(j)) mj = mass(j)
-      springs(m) = spring_block_type(a=i, b=j, n=d/dist, arm_a=contact_arm(radius(i), overlap), &
-        arm_b=contact_arm(radius(j), overlap), m_eff=reduced_mass(mj, mi))
-      springs(m)%k(1) = pick(k_n, c)
-      if (present(k_t)) springs(m)%k(2) = pick(k_t, c)
-      if (present(c_n)) springs(m)%c(1) = pick(c_n, c)
-      if (present(c_t)) springs(m)%c(2) = pick(c_t, c)
-      if (rows_too) rows(m) = c
-    end do
-    do w = 1, n_walls
-      call wall_of(w, p, nw)
-      do i = 1, size(mass)
-        if (fx(i)) cycle
-        xi = 0.0_dp
-        xi(:dim) = x(:, i)
-        overlap = wall_overlap(xi, radius(i), p, nw)
-        if (.not. overlap > 0.0_dp) cycle
-        m = m + 1
-        springs(m) = spring_block_type(a=0, b=i, k=[kw(1), kw(2), 0.0_dp, 0.0_dp], n=nw, &
-          arm_b=contact_arm(radius(i), overlap), m_eff=mass(i))
-        if (damped) springs(m)%c(1:2) = dashpot_coefficient(zw, mass(i), kw)
-        if (rows_too) rows(m) = -i
-      end do
-    end do
-    status%stat = demstep_stat%ok
-  contains
-    pure subroutine wall_of(w, point, unit)
-      integer, intent(in) :: w
-      real(dp), intent(out) :: point(3), unit(3)
-      point = 0.0_dp
-      unit = 0.0_dp
-      point(:dim) = wall_point(:, w)
-      unit(:dim) = wall_normal(:, w)/norm2(wall_normal(:, w))
-    end subroutine wall_of
-  end subroutine solver_springs
+  end subroutine solver_options
+
+  !> A listed pair: d = x_j - x_i through the nearest image, its length, and
+  !> whether the spheres overlap (|d| < reach = r_i + r_j).
+  pure subroutine pair_geometry(xi, xj, reach, wrap, box, d, dist, touching)
+    real(dp), intent(in) :: xi(:), xj(:), reach
+    logical, intent(in) :: wrap(3)
+    real(dp), intent(in) :: box(3)
+    real(dp), intent(out) :: d(3), dist
+    logical, intent(out) :: touching
+    d = nearest_image(xi, xj, wrap, box)
+    dist = 0.0_dp
+    touching = d(1)**2 + d(2)**2 + d(3)**2 < reach**2
+    if (touching) dist = norm2(d)
+  end subroutine pair_geometry
+
+  !> The refusal of a listed pair whose particles are at the same point.
+  pure subroutine coincident(c, status)
+    integer, intent(in) :: c
+    type(demstep_status_type), intent(out) :: status
+    call set_status(status, demstep_stat%invalid_input, "its particles are at the same point (the " &
+      //"normal is undefined)", where="pairs", index=c, subscript=.true.)
+  end subroutine coincident
 
 end module demstep_monitor
