@@ -236,7 +236,11 @@ contains
         call fail("radius", "needs 1 or "//int_text(n)//" values, got "//int_text(length(input%radius)))
         return
       end if
-      x = reshape(input%position(:np), [dim, n])
+      if (np > 0) then
+        x = reshape(input%position(:np), [dim, n])
+      else
+        allocate(x(dim, 0))
+      end if
       allocate(v(dim, n), source=0.0_dp)
       if (length(input%velocity) > 0) v = reshape(input%velocity(:np), [dim, n])
       m = broadcast(input%mass, n)
@@ -314,13 +318,15 @@ contains
         call status_restate(status, "bonds_file", status%message)
         return
       end if
-    else
+    else if (allocated(input%bonds)) then
       np = length_int(input%bonds)
       if (mod(np, 2) /= 0) then
         call fail("bonds", "pairs of particle numbers: got an odd count "//int_text(np))
         return
       end if
       pairs = reshape(input%bonds(:np), [2, np/2])
+    else
+      allocate(pairs(2, 0))
     end if
     if (size(pairs, 2) > 0) then
       call scene_add_bonds(scene, pairs, status)
