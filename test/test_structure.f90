@@ -447,6 +447,12 @@ contains
     call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "mass" .and. &
       part == scene_input_part%scene, "mass: "//status%message)
     if (allocated(error)) return
+    ! no particles at all: the position is required, by name
+    input = scene_input_type(dim=2, k_normal=1.0e4_dp)
+    call scene_from_input(input, set, a, setup, status, part)
+    call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "position", &
+      "no position: "//status%message)
+    if (allocated(error)) return
     ! a snapshot's springs from a material set in one code's convention
     input = scene_input_type(dim=3, snapshot_file="example/liggghts_pour.dump")
     set%found = .true.

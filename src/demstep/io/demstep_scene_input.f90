@@ -219,6 +219,10 @@ contains
       n = size(m)
     else
       np = length(input%position)
+      if (np == 0) then
+        call fail("position", "give either position, particles_file or snapshot_file (one of them is required)")
+        return
+      end if
       if (mod(np, dim) /= 0) then
         call fail("position", int_text(np)//" values are not "//int_text(dim)//" per particle")
         return
@@ -236,11 +240,7 @@ contains
         call fail("radius", "needs 1 or "//int_text(n)//" values, got "//int_text(length(input%radius)))
         return
       end if
-      if (np > 0) then
-        x = reshape(input%position(:np), [dim, n])
-      else
-        allocate(x(dim, 0))
-      end if
+      x = reshape(input%position(:np), [dim, n])
       allocate(v(dim, n), source=0.0_dp)
       if (length(input%velocity) > 0) v = reshape(input%velocity(:np), [dim, n])
       m = broadcast(input%mass, n)
