@@ -54,7 +54,7 @@ module demstep_mpi_dist_scene
   use demstep_lanczos, only: eigen_result_type, lanczos_tolerance_default
   use demstep_mpi_lanczos, only: dist_operator_type, dist_halo_type, dist_halo_create, &
     dist_halo_exchange, dist_halo_free, parallel_lanczos_largest
-  use demstep_mpi_scene, only: mpi_lanczos_estimates
+  use demstep_mpi_scene, only: mpi_lanczos_estimates, mpi_damped_solve_done
   use demstep_mpi_parts, only: read_table_part, agree_status, broadcast_status, no_fault, &
     heap_sort, position
   implicit none
@@ -863,15 +863,8 @@ contains
       tolerance=tol, ncv=min(scene_lanczos_ncv, problem%dop%n_global), &
       max_restarts=scene_lanczos_restarts, progress=progress, start=start)
     call operator_mix(problem%dop%op, 1.0_dp, 0.0_dp)
-    result%eigen_products = result%eigen_products + lanczos%applications
-    result%eigen_restarts = result%eigen_restarts + lanczos%iterations
-    result%damped_solves = result%damped_solves + 1
-    has_mode = any(problem%vec /= 0.0_dp)
-    call MPI_Allreduce(MPI_IN_PLACE, has_mode, 1, MPI_LOGICAL, MPI_LOR, problem%dop%comm)
-    if (status%stat == demstep_stat%not_converged) status%stat = demstep_stat%ok
+    call mpi_damped_solve_done(problem%dop%comm, lanczos, problem%vec, result, status, theta, err, has_mode)
     if (status%stat /= demstep_stat%ok) return
-    theta = lanczos%eigenvalue
-    err = lanczos%residual + 8.0_dp*epsilon(1.0_dp)*theta
     allocate(y(size(problem%vec)))
     call problem%dop%apply(problem%vec, y)
     va = sum(problem%vec*y)

@@ -41,7 +41,7 @@ module demstep_mpi_scene
   implicit none
   private
 
-  public :: mpi_scene_critical_steps, scene_slabs, mpi_lanczos_estimates
+  public :: mpi_scene_critical_steps, scene_slabs, mpi_lanczos_estimates, mpi_damped_solve_done
 
   !> The distributed damped-limit problem: this rank's rows of the operator
   !> (mixed per tau, same pattern), the matrix and the last mode's block.
@@ -361,15 +361,8 @@ contains
     call parallel_lanczos_largest(problem%matrix, lanczos, status, eigenvector=problem%vec, &
       tolerance=tol, ncv=min(scene_lanczos_ncv, problem%op%n), max_restarts=scene_lanczos_restarts, &
       progress=progress, start=start)
-    result%eigen_products = result%eigen_products + lanczos%applications
-    result%eigen_restarts = result%eigen_restarts + lanczos%iterations
-    result%damped_solves = result%damped_solves + 1
-    has_mode = any(problem%vec /= 0.0_dp)
-    call MPI_Allreduce(MPI_IN_PLACE, has_mode, 1, MPI_LOGICAL, MPI_LOR, problem%matrix%comm)
-    if (status%stat == demstep_stat%not_converged) status%stat = demstep_stat%ok
+    call mpi_damped_solve_done(problem%matrix%comm, lanczos, problem%vec, result, status, theta, err, has_mode)
     if (status%stat /= demstep_stat%ok) return
-    theta = lanczos%eigenvalue
-    err = lanczos%residual + 8.0_dp*epsilon(1.0_dp)*theta
     ! v'A'v with A's rows
     problem%matrix%val = problem%a_val
     allocate(y(size(problem%vec)))
@@ -410,5 +403,31 @@ contains
       b_bound, status, lanczos%upper_bound, safe_basis%randomised, lanczos%failure_probability)
     mode = status%stat == demstep_stat%ok
   end subroutine mpi_lanczos_estimates
+
+  !> After one damped-limit Lanczos solve on the ranks of `comm`: its products
+  !> and restarts counted in `result`, whether any rank holds its mode
+  !> (`has_mode`), and its eigenvalue `theta` with the error bar `err` (the
+  !> residual plus rounding); status ok when restarts ran out (the bracket
+  !> still holds).
+  subroutine mpi_damped_solve_done(comm, lanczos, vec, result, status, theta, err, has_mode)
+    type(MPI_Comm), intent(in) :: comm
+    type(eigen_result_type), intent(in) :: lanczos
+    real(dp), intent(in) :: vec(:)
+    type(critical_step_type), intent(inout) :: result
+    type(demstep_status_type), intent(inout) :: status
+    real(dp), intent(out) :: theta, err
+    logical, intent(out) :: has_mode
+    result%eigen_products = result%eigen_products + lanczos%applications
+    result%eigen_restarts = result%eigen_restarts + lanczos%iterations
+    result%damped_solves = result%damped_solves + 1
+    has_mode = any(vec /= 0.0_dp)
+    call MPI_Allreduce(MPI_IN_PLACE, has_mode, 1, MPI_LOGICAL, MPI_LOR, comm)
+    theta = 0.0_dp
+    err = 0.0_dp
+    if (status%stat == demstep_stat%not_converged) status%stat = demstep_stat%ok
+    if (status%stat /= demstep_stat%ok) return
+    theta = lanczos%eigenvalue
+    err = lanczos%residual + 8.0_dp*epsilon(1.0_dp)*theta
+  end subroutine mpi_damped_solve_done
 
 end module demstep_mpi_scene
