@@ -25,7 +25,7 @@ program bench_bodies
     spring_block_type
   use demstep_bodies, only: body_set_type, bodies_from_members
   use demstep_body_assembly, only: body_operator, body_operator_type, body_operator_apply
-  use demstep_roots, only: sort_ascending
+  use demstep_sort, only: sort_ascending
   use demstep_neighbours, only: contact_list
   use demstep_scene_data, only: scene_effect
   use demstep_scene_builders, only: scene_add_bonds

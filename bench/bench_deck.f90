@@ -10,7 +10,7 @@ program bench_deck
   use, intrinsic :: iso_c_binding, only: c_int, c_long
   use demstep, only: dp, i8, demstep_status_type
   use demstep_namelist, only: nml_group_type, scan_namelist
-  use demstep_roots, only: sort_ascending
+  use demstep_sort, only: sort_ascending
   implicit none
   !> struct rusage of Linux/glibc: two timevals, then 14 longs.
   type, bind(c) :: rusage_type

@@ -4,7 +4,7 @@
 program bench_harmonic
   use demstep, only: dp, i8, harmonic_error
   use demstep_kinds, only: pi
-  use demstep_roots, only: sort_ascending
+  use demstep_sort, only: sort_ascending
   implicit none
   integer, parameter :: batch = 20000, repeats = 11
   real(dp), parameter :: ns(5) = [10.0_dp, 1.0e3_dp, 1.0e5_dp, 1.0e7_dp, 1.0e9_dp]

@@ -15,7 +15,7 @@
 program bench_read
   use demstep, only: dp, i8, demstep_status_type, demstep_stat, read_snapshot, snapshot_type
   use demstep_table_io, only: read_table
-  use demstep_roots, only: sort_ascending
+  use demstep_sort, only: sort_ascending
   implicit none
   integer, parameter :: repeats = 5, n_cases = 6
   character(len=*), parameter :: dir = "build/bench-read-files"

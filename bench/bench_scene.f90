@@ -4,7 +4,7 @@
 !> Run: fpm run --profile release --example bench_scene
 program bench_scene
   use demstep
-  use demstep_roots, only: sort_ascending
+  use demstep_sort, only: sort_ascending
   implicit none
   integer, parameter :: sizes(4) = [1000, 10000, 100000, 1000000]
   character(len=16), parameter :: labels(7) = [character(len=16) :: "plain loop", "bonds only", &

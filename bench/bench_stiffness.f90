@@ -4,7 +4,7 @@
 !> Run: fpm run --profile release --example bench_stiffness
 program bench_stiffness
   use demstep
-  use demstep_roots, only: sort_ascending
+  use demstep_sort, only: sort_ascending
   use demstep_stiffness, only: n_scan_start
   implicit none
   integer, parameter :: n_lambda_grid = 200, n_big = 10000, repeats = 5

@@ -55,8 +55,8 @@ module demstep_mpi_dist_scene
   use demstep_mpi_lanczos, only: dist_operator_type, dist_halo_type, dist_halo_create, &
     dist_halo_exchange, dist_halo_free, parallel_lanczos_largest
   use demstep_mpi_scene, only: mpi_lanczos_estimates, mpi_damped_solve_done
-  use demstep_mpi_parts, only: read_table_part, agree_status, broadcast_status, no_fault, &
-    heap_sort, position
+  use demstep_sort, only: heap_sort
+  use demstep_mpi_parts, only: read_table_part, agree_status, broadcast_status, no_fault, position
   implicit none
   private
 

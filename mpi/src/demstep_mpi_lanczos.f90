@@ -28,7 +28,8 @@ module demstep_mpi_lanczos
   use demstep_lanczos, only: eigen_result_type, lanczos_space_type, lanczos_solve, &
     lanczos_start_vector, accurate_dot_parts
   use demstep_progress, only: progress_type
-  use demstep_mpi_parts, only: heap_sort, position
+  use demstep_sort, only: heap_sort
+  use demstep_mpi_parts, only: position
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private

@@ -23,7 +23,7 @@ module demstep_mpi_parts
   implicit none
   private
 
-  public :: read_table_part, agree_status, broadcast_status, heap_sort, position
+  public :: read_table_part, agree_status, broadcast_status, position
 
   !> The key of "no refusal here".
   integer(i8), parameter, public :: no_fault = huge(1_i8)
@@ -265,42 +265,6 @@ contains
     call MPI_Bcast(status%detail, head(4), MPI_CHARACTER, root, comm)
     call MPI_Bcast(status%message, head(5), MPI_CHARACTER, root, comm)
   end subroutine broadcast_status
-
-  !> Ascending heap sort, in place (O(n log n), no extra memory).
-  pure subroutine heap_sort(a)
-    integer, intent(inout) :: a(:)
-    integer :: n, i, t
-    n = size(a)
-    do i = n/2, 1, -1
-      call sift(a, i, n)
-    end do
-    do i = n, 2, -1
-      t = a(1)
-      a(1) = a(i)
-      a(i) = t
-      call sift(a, 1, i - 1)
-    end do
-  end subroutine heap_sort
-
-  !> Move a(start) down the heap a(start:last) to its place.
-  pure subroutine sift(a, start, last)
-      integer, intent(inout) :: a(:)
-      integer, intent(in) :: start, last
-      integer :: root, child, tmp
-      root = start
-      do
-        child = 2*root
-        if (child > last) exit
-        if (child < last) then
-          if (a(child + 1) > a(child)) child = child + 1
-        end if
-        if (a(root) >= a(child)) exit
-        tmp = a(root)
-        a(root) = a(child)
-        a(child) = tmp
-        root = child
-      end do
-  end subroutine sift
 
   !> Index of `value` in the ascending array `a` (which holds it), by bisection.
   pure function position(a, value) result(i)

@@ -18,6 +18,7 @@
 !> sign change of f; with `f_tol > 0` the search also stops at the first point
 !> where |f| <= f_tol.
 module demstep_roots
+  use demstep_sort, only: sort_ascending
   use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -25,7 +26,7 @@ module demstep_roots
   implicit none
   private
 
-  public :: root_function, find_root, scan_roots, sort_ascending, append
+  public :: root_function, find_root, scan_roots, append
   public :: scan_break_function, scan_step_function, scan_visit_function
 
   !> Base of the user's context: extend it with the function's data.
@@ -483,23 +484,6 @@ contains
     context%evaluations = context%evaluations + 1
     if (stat == 0 .and. .not. ieee_is_finite(fx)) stat = demstep_stat%pole
   end subroutine evaluate
-
-  !> Sort in place, ascending (insertion sort: the arrays here are short).
-  pure subroutine sort_ascending(x)
-    real(dp), intent(inout) :: x(:)
-    real(dp) :: v
-    integer :: i, j
-    do i = 2, size(x)
-      v = x(i)
-      j = i - 1
-      do while (j >= 1)
-        if (x(j) <= v) exit
-        x(j + 1) = x(j)
-        j = j - 1
-      end do
-      x(j + 1) = v
-    end do
-  end subroutine sort_ascending
 
   !> The `scan_break` code of a word (case ignored); `-huge(0)` for another word.
   pure integer function scan_break_from_name(name) result(code)

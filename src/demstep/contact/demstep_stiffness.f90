@@ -25,7 +25,8 @@ module demstep_stiffness
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_harmonic, only: step_policy_type, step_kind, harmonic_error_steps, harmonic_error, &
     harmonic_n_max
-  use demstep_roots, only: root_context_type, find_root, sort_ascending, scan_roots, append, &
+  use demstep_sort, only: sort_ascending
+  use demstep_roots, only: root_context_type, find_root, scan_roots, append, &
     scan_break, scan_cell_type
   use demstep_progress, only: progress_type
   use demstep_text, only: int_text, real_text

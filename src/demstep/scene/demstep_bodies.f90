@@ -33,6 +33,7 @@
 !> has a larger tensor for its mass than the sum: with `union` the centre
 !> and tensor are the union's (`demstep_sphere_union`) at the body's mass.
 module demstep_bodies
+  use demstep_sort, only: heap_sort
   use demstep_kinds, only: dp, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text
@@ -489,40 +490,5 @@ contains
     end do
     status%stat = demstep_stat%ok
   end subroutine number_bodies
-
-  !> Sort integers ascending in place (heapsort: O(n log n), no recursion).
-  pure subroutine heap_sort(a)
-    integer, intent(inout) :: a(:)
-    integer :: n, i, t
-    n = size(a)
-    do i = n/2, 1, -1
-      call sift_down(a, i, n)
-    end do
-    do i = n, 2, -1
-      t = a(1)
-      a(1) = a(i)
-      a(i) = t
-      call sift_down(a, 1, i - 1)
-    end do
-  end subroutine heap_sort
-
-  !> Restore the heap order of a(start:last) below `start` (for `heap_sort`).
-  pure subroutine sift_down(a, start, last)
-    integer, intent(inout) :: a(:)
-    integer, intent(in) :: start, last
-    integer :: root, child, t
-    root = start
-    do while (2*root <= last)
-      child = 2*root
-      if (child < last) then
-        if (a(child) < a(child + 1)) child = child + 1
-      end if
-      if (a(root) >= a(child)) exit
-      t = a(root)
-      a(root) = a(child)
-      a(child) = t
-      root = child
-    end do
-  end subroutine sift_down
 
 end module demstep_bodies

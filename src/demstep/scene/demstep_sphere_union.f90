@@ -15,6 +15,7 @@
 !> the square-root ends of a slice's chord. A single sphere is then exact to
 !> rounding; the test suite `bodies` states the error on overlapping spheres.
 module demstep_sphere_union
+  use demstep_sort, only: sort_ascending
   use demstep_kinds, only: dp, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -105,7 +106,7 @@ contains
       yb(ny + 1:ny + 2) = [cc(2, k) - h2, cc(2, k) + h2]
       ny = ny + 2
     end do
-    call sort_values(yb(:ny))
+    call sort_ascending(yb(:ny))
     s = 0.0_dp
     do iy = 1, ny - 1
       if (yb(iy + 1) <= yb(iy)) cycle
@@ -172,7 +173,7 @@ contains
         zb(nz) = cc(3, m) + ca(m)*(cu(3, m)*cos(phi) + cv(3, m)*sin(phi))
       end do
     end do
-    call sort_values(zb(:nz))
+    call sort_ascending(zb(:nz))
   end subroutine slice_breaks
 
   !> The line at (y, z): its merged intervals' moments, weight wt, added to
@@ -274,23 +275,6 @@ contains
       w(q + 1 - i) = 2.0_dp/((1.0_dp - x*x)*dp1*dp1)
     end do
   end subroutine gauss_legendre
-
-  !> Insertion sort, ascending.
-  pure subroutine sort_values(x)
-    real(dp), intent(inout) :: x(:)
-    real(dp) :: v
-    integer :: i, j
-    do i = 2, size(x)
-      v = x(i)
-      j = i - 1
-      do while (j >= 1)
-        if (x(j) <= v) exit
-        x(j + 1) = x(j)
-        j = j - 1
-      end do
-      x(j + 1) = v
-    end do
-  end subroutine sort_values
 
   !> Insertion sort of intervals by their start.
   pure subroutine sort_pairs(a, b)
