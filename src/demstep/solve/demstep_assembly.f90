@@ -61,7 +61,7 @@ module demstep_assembly
     assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_damped, &
     damped_lower_bound, dashpot_names, damped_newton, assembly_dashpot_bound, operator_from_springs, &
     operator_critical_steps, operator_mix, assembly_set_springs, linearise, operator_abs_product, &
-    dof_masses
+    dof_masses, collatz_bound, abs_product_operator
 
   !> Hertz linearisation at the current overlap, at an impact's largest
   !> overlap (`hertz_linearization%impact`), or at the larger of the two
@@ -227,6 +227,14 @@ module demstep_assembly
       class(lanczos_context_type), intent(inout) :: context
       type(csr_matrix_type), intent(out) :: matrix
     end subroutine operator_matrix
+    !> r >= |A| v (entrywise absolute values, rounding included) for v >= 0,
+    !> of an operator given as a Lanczos context (for `collatz_bound`).
+    subroutine abs_product_operator(context, v, r)
+      import :: lanczos_context_type, dp
+      class(lanczos_context_type), intent(in) :: context
+      real(dp), intent(in) :: v(:)
+      real(dp), intent(out) :: r(:)
+    end subroutine abs_product_operator
   end interface
 
   !> A damped-limit problem for `damped_newton`: the top eigenpair of
@@ -1006,18 +1014,42 @@ contains
   function operator_bound(op) result(bound)
     type(assembly_operator_type), intent(in) :: op
     real(dp) :: bound
+    bound = collatz_bound(op, op%n, operator_abs_product_of)
+  end function operator_bound
+
+  !> The Collatz-Wielandt iteration of `operator_bound` on any operator given
+  !> by its absolute product `abs_product` (r >= |A| v for v >= 0) of order n:
+  !> the smallest max_i r_i/v_i from v = 1 and `bound_iterations` further
+  !> steps v <- r/max(r), floored at 1e-3.
+  function collatz_bound(context, n, abs_product) result(bound)
+    class(lanczos_context_type), intent(in) :: context
+    integer, intent(in) :: n
+    procedure(abs_product_operator) :: abs_product
+    real(dp) :: bound
     real(dp), allocatable :: v(:), r(:)
     integer :: k
-    allocate(v(op%n), r(op%n))
+    allocate(v(n), r(n))
     v = 1.0_dp
     bound = huge(1.0_dp)
     do k = 0, bound_iterations
-      call operator_abs_product(op, v, r)
+      call abs_product(context, v, r)
       bound = min(bound, maxval(r/v))
       if (.not. maxval(r) > 0.0_dp) exit
       v = max(r/maxval(r), 1.0e-3_dp)
     end do
-  end function operator_bound
+  end function collatz_bound
+
+  !> `operator_abs_product` as an `abs_product_operator` (for `collatz_bound`).
+  subroutine operator_abs_product_of(context, v, r)
+    class(lanczos_context_type), intent(in) :: context
+    real(dp), intent(in) :: v(:)
+    real(dp), intent(out) :: r(:)
+    r = 0.0_dp
+    select type (op => context)
+    class is (assembly_operator_type)
+      call operator_abs_product(op, v, r)
+    end select
+  end subroutine operator_abs_product_of
 
   !> The scene's mass-scaled stiffness as a matrix-free operator (see
   !> `assembly_operator_apply`), with `rate`: omega = rate sqrt(lambda) for an

@@ -36,11 +36,11 @@ module demstep_body_assembly
   use demstep_bonds, only: exadem_step
   use demstep_assembly, only: critical_step_type, spring_block_type, damped_problem_type, linearise, &
     hertz_linearization, eigen_solver, default_max_eigen_dof, scene_lanczos_ncv, scene_lanczos_restarts, &
-    bound_iterations, assembly_check_options, assembly_set_bound, assembly_set_estimates, &
-    assembly_set_damped, assembly_set_springs, damped_newton, damped_lower_bound, top_eigenpair
+    assembly_check_options, assembly_set_bound, assembly_set_estimates, &
+    assembly_set_damped, assembly_set_springs, damped_newton, damped_lower_bound, top_eigenpair, collatz_bound
   use demstep_lanczos, only: lanczos_context_type, lanczos_tolerance_default
   use demstep_lapack, only: symmetric_eigensystem
-  use demstep_csr, only: csr_matrix_type
+  use demstep_csr, only: csr_matrix_type, csr_abs_product
   use demstep_progress, only: progress_type
   implicit none
   private
@@ -556,31 +556,14 @@ contains
   !> The rigorous bound of lambda_max of the operator as mixed: the
   !> Collatz-Wielandt quotients max_i (|A'| v)_i/v_i of the compressed rows'
   !> absolute values (|A'| entrywise; repeated columns summed after the
-  !> absolute value, which only raises it), from v = 1 and `bound_iterations`
-  !> further steps, each row raised by its rounding allowance.
+  !> absolute value, which only raises it; `csr_abs_product`), by
+  !> `collatz_bound`, each row raised by its rounding allowance.
   function body_bound(op) result(bound)
     type(body_operator_type), intent(in) :: op
     real(dp) :: bound
     type(csr_matrix_type) :: a
-    real(dp), allocatable :: v(:), r(:)
-    integer :: k, i
-    integer(i8) :: p
     call body_matrix(op, a)
-    allocate(v(op%n), r(op%n))
-    v = 1.0_dp
-    bound = huge(1.0_dp)
-    do k = 0, bound_iterations
-      do i = 1, op%n
-        r(i) = 0.0_dp
-        do p = a%row_start(i), a%row_start(i + 1) - 1
-          r(i) = r(i) + abs(a%val(p))*v(a%col(p))
-        end do
-        r(i) = r(i)*(1.0_dp + real(a%row_start(i + 1) - a%row_start(i) + 4, dp)*epsilon(1.0_dp))
-      end do
-      bound = min(bound, maxval(r/v))
-      if (.not. maxval(r) > 0.0_dp) exit
-      v = max(r/maxval(r), 1.0e-3_dp)
-    end do
+    bound = collatz_bound(a, op%n, csr_abs_product)
   end function body_bound
 
   !> Top eigenpair of the body operator mixed as tau^2 A' + 2 tau B' (warm

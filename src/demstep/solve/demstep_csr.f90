@@ -10,7 +10,7 @@ module demstep_csr
   implicit none
   private
 
-  public :: csr_from_springs, csr_apply, csr_to_dense
+  public :: csr_from_springs, csr_apply, csr_abs_product, csr_to_dense
 
   !> Below this many rows a product runs on one thread: a parallel region costs
   !> more than the ~10 flops per row it would share.
@@ -157,6 +157,29 @@ contains
       !$omp end parallel do
     end select
   end subroutine csr_apply
+
+  !> r = |A| v for a `csr_matrix_type` (entrywise absolute values, a repeated
+  !> column summed after them) and v >= 0, each row raised by its rounding
+  !> allowance (1 + (entries + 4) eps): an upper bound of the exact |A| v,
+  !> for Collatz-Wielandt bounds (`collatz_bound`).
+  subroutine csr_abs_product(context, v, r)
+    class(lanczos_context_type), intent(in) :: context
+    real(dp), intent(in) :: v(:)
+    real(dp), intent(out) :: r(:)
+    integer :: i
+    integer(i8) :: p
+    r = 0.0_dp
+    select type (a => context)
+    class is (csr_matrix_type)
+      do i = 1, a%n
+        r(i) = 0.0_dp
+        do p = a%row_start(i), a%row_start(i + 1) - 1
+          r(i) = r(i) + abs(a%val(p))*v(a%col(p))
+        end do
+        r(i) = r(i)*(1.0_dp + real(a%row_start(i + 1) - a%row_start(i) + 4, dp)*epsilon(1.0_dp))
+      end do
+    end select
+  end subroutine csr_abs_product
 
   !> The dense matrix of a `csr_matrix_type` (for small checks).
   pure subroutine csr_to_dense(matrix, a)
