@@ -17,6 +17,8 @@
 import sys, os, json, math, random, time
 
 HERE = os.path.dirname(os.path.abspath(sys.argv[0]))
+sys.path.insert(0, HERE)
+import stability_search as search     # plain Python: the bisection
 QUICK = '--quick' in sys.argv[1:]
 POLY = '--poly' in sys.argv[1:]
 CASE = 'bonded_poly' if POLY else 'bonded'
@@ -141,21 +143,8 @@ def trial(dt, nmax):
         O.bodies[bid].state.vel = vel0[k]
         O.bodies[bid].state.angVel = ang0[k]
     O.dt = dt
-    e0 = kinetic()
-    emax = e0
-    steps = 0
-    while steps < nmax:
-        chunk = 5 if steps < 200 else (20 if steps < 1000 else 100)
-        O.run(chunk, True)
-        steps += chunk
-        e = kinetic()
-        emax = max(emax, e)
-        if not (e < GROWTH * e0):
-            break
-    unstable = not (emax < GROWTH * e0)
-    trials.append({'dt': dt, 'unstable': unstable, 'steps': steps, 'ke_ratio_max': emax / e0})
-    print('  dt=%.8e  %s  steps=%d  max KE/KE0=%.3e' % (dt, 'UNSTABLE' if unstable else 'stable', steps, emax / e0))
-    sys.stdout.flush()
+    unstable, steps, ratio = search.grows(lambda n: O.run(n, True), kinetic, nmax, GROWTH)
+    search.report(trials, dt, unstable, steps, ratio)
     return unstable
 
 
@@ -166,31 +155,9 @@ inertia = O.bodies[0].state.inertia[0]
 kn, ks = YOUNG * R0, POISSON * YOUNG * R0
 w2 = max(2 * kn / m, 2 * ks * (1 / m + R0 ** 2 / inertia), 2 * R0 ** 2 * ks * ALPHA_KR / inertia)
 dt = 2.0 / math.sqrt(w2)
-lo, hi = None, None
-while lo is None or hi is None:
-    if trial(dt, NMAX):
-        hi = dt
-        dt = dt / 1.1
-    else:
-        lo = dt
-        dt = dt * 1.1
-    if lo is not None and hi is not None:
-        break
 RTOL = 1e-3 if QUICK else 1e-4
-while (hi - lo) / lo > RTOL:
-    mid = 0.5 * (lo + hi)
-    if trial(mid, NMAX):
-        hi = mid
-    else:
-        lo = mid
-confirm = []
-while True:
-    unstable = trial(lo, 5 * NMAX)
-    confirm.append({'dt': lo, 'steps': trials[-1]['steps'], 'unstable': unstable})
-    if not unstable:
-        break
-    hi = lo
-    lo = lo * (1 - RTOL)
+lo, hi = search.bisect(lambda d: trial(d, NMAX), dt, 1.1, RTOL)
+lo, hi, confirm = search.confirm(lambda d: (trial(d, 5 * NMAX), trials[-1]['steps']), lo, hi, RTOL)
 
 pen = [c[6] for c in bonds]
 summary = {

@@ -17,6 +17,8 @@
 import sys, os, json, math, random, time
 
 HERE = os.path.dirname(os.path.abspath(sys.argv[0]))
+sys.path.insert(0, HERE)
+import stability_search as search     # plain Python: the bisection
 args = sys.argv[1:]
 SCENES = ('viscel', 'cohfrict')
 if not args or args[0] not in SCENES:
@@ -335,26 +337,8 @@ def trial(dt):
     sys.stdout.flush()
     return unstable
 
-lo, hi = None, None
-dt = DT_GUESS
-while lo is None or hi is None:
-    if trial(dt):
-        hi = dt
-        dt = dt / 1.05 if lo is None else dt
-    else:
-        lo = dt
-        dt = dt * 1.05 if hi is None else dt
-    if lo is not None and hi is not None:
-        break
-    if len(trials) > 60:
-        raise RuntimeError('no bracket')
 RTOL = 2e-3 if QUICK else 5e-4
-while (hi - lo) / lo > RTOL:
-    mid = 0.5 * (lo + hi)
-    if trial(mid):
-        hi = mid
-    else:
-        lo = mid
+lo, hi = search.bisect(trial, DT_GUESS, 1.05, RTOL, max_trials=60)
 
 summary.update({
     'measurement_damping': 0.0,

@@ -9,6 +9,8 @@
 import sys, os, json, math, random, time
 
 HERE = os.path.dirname(os.path.abspath(sys.argv[0]))
+sys.path.insert(0, HERE)
+import stability_search as search     # plain Python: the bisection
 args = [a for a in sys.argv[1:]]
 if not args or args[0] not in ('sc', 'fcc', 'random'):
     print('usage: yade -n -j1 -x yade_stability.py sc|fcc|random [--quick]')
@@ -216,10 +218,9 @@ def kinetic():
 
 GROWTH = 1.0e3
 NMAX = 4000 if QUICK else 20000
-CHUNK = 100
 trials = []
 
-def trial(dt):
+def trial(dt, nmax):
     O.loadTmp('frozen')
     for k, bid in enumerate(ids):
         b = O.bodies[bid]
@@ -228,57 +229,15 @@ def trial(dt):
         b.state.vel = vel0[k]
         b.state.angVel = ang0[k]
     O.dt = dt
-    e0 = kinetic()
-    emax = e0
-    steps = 0
-    while steps < NMAX:
-        # short chunks first: a clearly unstable step overflows within ~100 steps,
-        # and Yade's collider does not survive non-finite positions
-        chunk = 5 if steps < 200 else (20 if steps < 1000 else CHUNK)
-        O.run(chunk, True)
-        steps += chunk
-        e = kinetic()
-        emax = max(emax, e)
-        if not (e < GROWTH * e0):     # also catches NaN
-            break
-    unstable = not (emax < GROWTH * e0)
-    trials.append({'dt': dt, 'unstable': unstable, 'steps': steps, 'ke_ratio_max': emax / e0})
-    print('  dt=%.8e  %s  steps=%d  max KE/KE0=%.3e' % (dt, 'UNSTABLE' if unstable else 'stable', steps, emax / e0))
-    sys.stdout.flush()
+    unstable, steps, ratio = search.grows(lambda n: O.run(n, True), kinetic, nmax, GROWTH)
+    search.report(trials, dt, unstable, steps, ratio)
     return unstable
 
-# bracket: start at GlobalStiffnessTimeStepper's raw value, widen by 1.03
-lo, hi = None, None
-dt = gsts_dt
-while lo is None or hi is None:
-    if trial(dt):
-        hi = dt
-        dt = dt / 1.03
-    else:
-        lo = dt
-        dt = dt * 1.03
-    if lo is not None and hi is not None:
-        break
+# bracket: start at GlobalStiffnessTimeStepper's raw value, widen by 1.03;
+# then confirm the stable end with a run 5 times longer, stepping down while it fails
 RTOL = 1e-3 if QUICK else 1e-4
-while (hi - lo) / lo > RTOL:
-    mid = 0.5 * (lo + hi)
-    if trial(mid):
-        hi = mid
-    else:
-        lo = mid
-
-# confirm the stable end with a run 5 times longer; step down while it fails
-NCONFIRM = 5 * NMAX
-confirm = []
-while True:
-    NMAX, nsave = NCONFIRM, NMAX
-    unstable = trial(lo)
-    NMAX = nsave
-    confirm.append({'dt': lo, 'steps': trials[-1]['steps'], 'unstable': unstable})
-    if not unstable:
-        break
-    hi = lo
-    lo = lo * (1 - RTOL)
+lo, hi = search.bisect(lambda d: trial(d, NMAX), gsts_dt, 1.03, RTOL)
+lo, hi, confirm = search.confirm(lambda d: (trial(d, 5 * NMAX), trials[-1]['steps']), lo, hi, RTOL)
 
 ov = [c[4] for c in contacts]
 summary = {
