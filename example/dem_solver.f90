@@ -38,7 +38,10 @@
 !>                    at the kick);
 !>   update_every=N   steps between scheduled updates (default 500);
 !>   confirm_every=N  the monitor's confirmed Lanczos solve every N-th update;
-!>   verify           each measured update against a cold one on the same arrays;
+!>   in_place=X       the monitor's in_place (a refined top mode overlapping
+!>                    the previous one by at least X stayed in place);
+!>   verify           each measured update against a cold one on the same
+!>                    arrays (damped and undamped limits);
 !>   scaling=F        mass scaling of the settled bed to F times its damped
 !>                    limit, demstep's `scale_masses` against Yade's per-body
 !>                    density scaling rule;
