@@ -38,7 +38,10 @@
 !>                    at the kick);
 !>   update_every=N   steps between scheduled updates (default 500);
 !>   confirm_every=N  the monitor's confirmed Lanczos solve every N-th update;
-!>   verify           each measured update against a cold one on the same arrays;
+!>   in_place=X       the monitor's in_place (a refined top mode overlapping
+!>                    the previous one by at least X stayed in place);
+!>   verify           each measured update against a cold one on the same
+!>                    arrays (damped and undamped limits);
 !>   scaling=F        mass scaling of the settled bed to F times its damped
 !>                    limit, demstep's `scale_masses` against Yade's per-body
 !>                    density scaling rule;
@@ -111,6 +114,8 @@ program dem_solver
   !> same arrays; the largest and least ratio of their damped limits.
   logical :: verify = .false.
   real(dp) :: verify_max = 0.0_dp, verify_min = huge(1.0_dp)
+  !> verify: the same for the undamped limits.
+  real(dp) :: verify_max_u = 0.0_dp, verify_min_u = huge(1.0_dp)
   ! the kinetic energy's least value since the bed settled, and the step it grew 100 times
   real(dp) :: ke_min
   integer :: grew_at
@@ -248,6 +253,7 @@ program dem_solver
     (real(t2_checks, dp)/max(1, n2_checks))/(real(t2_steps, dp)/(n_steps - measure_from)), " solver steps each"
   if (verify) print '(a, i0, a, f0.6, a, f0.6)', "verify: ", n2_updates, " warm updates against cold ones: "// &
     "damped limit warm/cold from ", verify_min, " to ", verify_max
+  if (verify) print '(a, f0.6, a, f0.6)', "verify: undamped limit warm/cold from ", verify_min_u, " to ", verify_max_u
   print '(a, f0.2, a, f0.2, a)', "whole run (pour and settled): warm updates of ", &
     (real(t_updates, dp)/max(1, n_updates - 1))/(real(t_steps, dp)/n_steps), " solver steps, checks of ", &
     (real(t_checks, dp)/max(1, n_checks))/(real(t_steps, dp)/n_steps), " solver steps"
@@ -279,6 +285,9 @@ contains
       else if (index(arg, "confirm_every=") == 1) then
         read(arg(15:), *, iostat=ios) monitor%confirm_every
         if (ios /= 0 .or. monitor%confirm_every < 0) error stop "dem_solver: confirm_every= needs an integer >= 0"
+      else if (index(arg, "in_place=") == 1) then
+        read(arg(10:), *, iostat=ios) monitor%in_place
+        if (ios /= 0 .or. .not. monitor%in_place >= 0.0_dp) error stop "dem_solver: in_place= needs a number >= 0"
       else if (arg == "verify") then
         verify = .true.
       else if (index(arg, "settle=") == 1) then
@@ -720,6 +729,8 @@ contains
     if (.not. is_ok(st)) error stop st%message
     verify_max = max(verify_max, monitor%last%dt_critical_damped/fresh%last%dt_critical_damped)
     verify_min = min(verify_min, monitor%last%dt_critical_damped/fresh%last%dt_critical_damped)
+    verify_max_u = max(verify_max_u, monitor%last%dt_critical_eigen/fresh%last%dt_critical_eigen)
+    verify_min_u = min(verify_min_u, monitor%last%dt_critical_eigen/fresh%last%dt_critical_eigen)
   end subroutine verify_update
 
   !> One update of a monitor on the solver's current arrays: the contact

@@ -41,6 +41,8 @@ contains
       new_unittest("warm start with dashpots: the same damped limit, fewer products", test_warm_damped), &
       new_unittest("unchanged packing: the previous modes stand (1 product), below the exact limit; " &
         //"confirm_every runs Lanczos; a stiffened contact's neighbourhood starts it", test_warm_accept), &
+      new_unittest("a previous mode that fails: refined in place unconfirmed; a top that moved: confirmed", &
+        test_in_place), &
       new_unittest("scene participation: shares sum to 1, the light particle leads; result and VTK", &
         test_scene_participation), &
       new_unittest("app: participation in the report, the result group and a VTK file; inputs kept", &
@@ -424,6 +426,75 @@ contains
       monitor%last%dt_critical_damped >= exact%dt_critical_damped*(1.0_dp - 2.0_dp*monitor%tolerance), &
       "stiffened: "//real_str(monitor%last%dt_critical_damped)//" vs exact "//real_str(exact%dt_critical_damped))
   end subroutine test_warm_accept
+
+  !> The rule for a previous mode whose residual fails (`in_place`): the top
+  !> mode's leading contact 2 % stiffer moves the mode a little, in place:
+  !> it is refined from itself, with no confirmation run, to the exact limit;
+  !> the contacts that carry the top mode softened to a tenth move the top
+  !> elsewhere: the refined mode's overlap with the old one falls below
+  !> in_place and the confirmed solves run, again to the exact limit. The
+  !> neighbourhood guard is switched off (local_margin above 1) so that
+  !> the rule alone acts.
+  subroutine test_in_place(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(solver_arrays_type) :: a
+    type(step_monitor_type) :: monitor
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: ps(:), cs(:), ws(:)
+    integer, allocatable :: top(:)
+    integer :: k
+    call packing_arrays(400, a, error)
+    if (allocated(error)) return
+    monitor%solver = eigen_solver%lanczos
+    monitor%local_margin = 2.0_dp
+    call update_against_exact(monitor, a, "first", error)
+    if (allocated(error)) return
+    call mode_participation(monitor, size(a%pairs, 2), ps, cs, ws, status)
+    call check(error, is_ok(status), "participation")
+    if (allocated(error)) return
+    top = top_shares(cs, 1)
+    a%k_n(top(1)) = 1.02_dp*a%k_n(top(1))
+    a%k_t(top(1)) = 1.02_dp*a%k_t(top(1))
+    call update_against_exact(monitor, a, "in place", error)
+    if (allocated(error)) return
+    call check(error, .not. monitor%accepted .and. .not. monitor%confirmed .and. .not. monitor%local_start, &
+      "in place: accepted "//merge("T", "F", monitor%accepted)//", confirmed "//merge("T", "F", monitor%confirmed))
+    if (allocated(error)) return
+    ! (every contact with a share of the mode's energy above 1 %)
+    do k = 1, size(cs)
+      if (cs(k) <= 0.01_dp) cycle
+      a%k_n(k) = 0.1_dp*a%k_n(k)
+      a%k_t(k) = 0.1_dp*a%k_t(k)
+    end do
+    call update_against_exact(monitor, a, "moved", error)
+    if (allocated(error)) return
+    call check(error, monitor%confirmed .and. .not. monitor%accepted .and. .not. monitor%local_start, &
+      "moved: not confirmed")
+  contains
+    !> An update (scheduled confirmations off) against the exact damped limit
+    !> (tolerance 1e-10) on the same arrays: never above it, and within 2 tol
+    !> below it (see test_warm_damped).
+    subroutine update_against_exact(monitor, a, what, error)
+      type(step_monitor_type), intent(inout) :: monitor
+      type(solver_arrays_type), intent(in) :: a
+      character(len=*), intent(in) :: what
+      type(error_type), allocatable, intent(out) :: error
+      type(critical_step_type) :: exact
+      type(demstep_status_type) :: status
+      monitor%confirm_every = 0
+      call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, c_n=a%c_n, c_t=a%c_t, &
+        periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+      call check(error, is_ok(status) .and. monitor%last%damped_exact, what//": "//status_text(status))
+      if (allocated(error)) return
+      call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, a%k_n, exact, status, k_t=a%k_t, c_n=a%c_n, &
+        c_t=a%c_t, periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi, solver=eigen_solver%lanczos, &
+        tolerance=1.0e-10_dp)
+      call check(error, is_ok(status) .and. &
+        monitor%last%dt_critical_damped <= exact%dt_critical_damped*(1.0_dp + 1.0e-9_dp) .and. &
+        monitor%last%dt_critical_damped >= exact%dt_critical_damped*(1.0_dp - 2.0_dp*monitor%tolerance), &
+        what//": "//real_str(monitor%last%dt_critical_damped)//" vs exact "//real_str(exact%dt_critical_damped))
+    end subroutine update_against_exact
+  end subroutine test_in_place
 
   !> `scene_participation` on a packing with one light particle: the steps
   !> are `assembly_critical_steps`' bit for bit, the particle and spring shares

@@ -273,11 +273,16 @@ module demstep_assembly
     !> Take the start vector as it is when its own residual meets the
     !> tolerance (see `top_eigenpair`).
     logical :: accept_start = .false.
+    !> The least products of a confirmed solve (`top_eigenpair`).
+    integer :: confirm_steps = 0
     real(dp), allocatable :: vec(:)
     !> A' vec and B' vec when known (`cached`): the first solve's start is
     !> then tried without a product.
     real(dp), allocatable :: av(:), bv(:)
     logical :: cached = .false.
+    !> The other warm start (the undamped mode or the previous damped one):
+    !> the first confirmed solve starts from both.
+    real(dp), allocatable :: other(:)
   contains
     procedure :: top => serial_damped_top
   end type serial_damped_type
@@ -394,10 +399,19 @@ contains
   !> mode. With `accept_start` (the undamped solve) and `accept_damped` (the
   !> damped Newton steps), a warm start whose own residual already meets the
   !> tolerance is taken as it is (`top_eigenpair`): one product instead of a
-  !> Lanczos solve. `certify` (default true) false: no randomised Lanczos
+  !> Lanczos solve. `start_av` (A' times the unit start, measured by the
+  !> caller) spares that product, and the damped quotients' A' product when
+  !> the start is taken. `in_place`: when the undamped start was re-solved
+  !> by Lanczos and the mode found overlaps it by at least this (|cosine|),
+  !> the top stayed where it was and the damped start is tried as it is, as
+  !> with `accept_damped`; when a start refined without confirmation (an
+  !> `accept_start` whose residual failed) moved, the undamped solve is made
+  !> again with its confirmation run, and the damped Newton steps confirm
+  !> theirs. `certify` (default true) false: no randomised Lanczos
   !> certificate (a monitor's warm updates: `safe_basis%estimate`).
   subroutine operator_critical_steps(op, springs, rate, geo, choice, limit, tol, vec, result, status, progress, &
-      bounds, ncv, damped_vec, accept_start, accept_damped, certify)
+      bounds, ncv, damped_vec, accept_start, accept_damped, certify, start_av, in_place, confirm_steps, &
+      confirmed)
     type(assembly_operator_type), intent(inout), target :: op
     type(spring_block_type), intent(in) :: springs(:)
     !> omega = rate sqrt(lambda); whether the pre-stress is counted.
@@ -415,9 +429,17 @@ contains
     integer, intent(in), optional :: ncv
     real(dp), intent(inout), optional :: damped_vec(:)
     logical, intent(in), optional :: accept_start, accept_damped, certify
+    real(dp), intent(in), optional :: start_av(:)
+    real(dp), intent(in), optional :: in_place
+    !> The least products of a confirmed Lanczos solve from a warm start (the
+    !> undamped one and the damped Newton steps'; default 0).
+    integer, intent(in), optional :: confirm_steps
+    !> Whether a Lanczos solve with its confirmation run made the undamped top.
+    logical, intent(out), optional :: confirmed
     real(dp) :: lam, err, b_bound, lower, upper, failure
+    real(dp), allocatable :: start(:)
     integer :: i, solver, basis
-    logical :: has_mode, converged, certified
+    logical :: has_mode, converged, certified, taken, damped_taken, refine, moved, known
     status%stat = demstep_stat%ok
     result%prestress = geo
     result%dof_per_particle = op%nc
@@ -449,25 +471,45 @@ contains
       ! (a dense solve's bracket end costs nothing: always given)
       certified = .true.
       if (present(certify)) certified = certify .or. solver == eigen_solver%dense
-      if (certified) then
-        call top_eigenpair(op, assembly_operator_apply, assembly_matrix_of, op%n, solver, tol, vec, lam, err, &
-          has_mode, result%eigen_products, result%eigen_restarts, status, progress, ncv, converged, lower, &
-          upper, failure, accept_start, basis)
-      else
-        upper = 0.0_dp
-        failure = 0.0_dp
-        call top_eigenpair(op, assembly_operator_apply, assembly_matrix_of, op%n, solver, tol, vec, lam, err, &
-          has_mode, result%eigen_products, result%eigen_restarts, status, progress, ncv, converged, &
-          accept_start=accept_start, basis=basis)
-      end if
+      ! (the start, to tell whether the top stayed in place)
+      if (present(in_place)) start = vec
+      refine = .false.
+      if (present(accept_start)) refine = accept_start
+      call solve_top(refine)
       if (status%stat /= demstep_stat%ok) return
+      ! a start re-solved: did the top stay in place (the mode found overlaps
+      ! the start by at least in_place)? A refinement (no confirmation) whose
+      ! top left its place is solved again with its confirmation run
+      moved = .false.
+      known = .false.
+      if (present(in_place) .and. .not. taken .and. solver /= eigen_solver%dense) then
+        known = any(start /= 0.0_dp)
+        if (known) moved = abs(dot_product(start, vec))/(norm2(start)*norm2(vec)) < in_place
+      end if
+      if (moved .and. refine) then
+        call solve_top(.false.)
+        if (status%stat /= demstep_stat%ok) return
+      end if
+      if (present(confirmed)) confirmed = solver /= eigen_solver%dense .and. .not. taken .and. &
+        (moved .or. .not. refine)
       result%eigen_tolerance = tol
       if (solver == eigen_solver%dense) result%eigen_tolerance = epsilon(1.0_dp)
       call assembly_set_estimates(result, rate, lam, err, converged, b_bound, status, upper, &
         basis, failure)
       if (status%stat /= demstep_stat%ok) return
       if (b_bound > 0.0_dp .and. has_mode) then
-        call damped_exact(op, solver, tol, rate, vec, result, status, progress, ncv, damped_vec, accept_damped)
+        ! (the damped start is tried as it is when asked, or when the top
+        ! was re-solved in place)
+        damped_taken = .false.
+        if (present(accept_damped)) damped_taken = accept_damped
+        if (known) damped_taken = damped_taken .or. .not. moved
+        if (taken .and. present(start_av)) then
+          call damped_exact(op, solver, tol, rate, vec, result, status, progress, ncv, damped_vec, damped_taken, &
+            start_av, confirm_steps)
+        else
+          call damped_exact(op, solver, tol, rate, vec, result, status, progress, ncv, damped_vec, damped_taken, &
+            confirm_steps=confirm_steps)
+        end if
         if (status%stat /= demstep_stat%ok) return
       end if
     else
@@ -475,6 +517,23 @@ contains
       result%safe_basis = safe_basis%bound
       call assembly_set_damped(result, result%dt_critical_bound, b_bound, rate, status)
     end if
+  contains
+    !> The top eigenpair from vec (taken as it is when `accept` and its
+    !> residual meets the tolerance), with the certificate when asked.
+    subroutine solve_top(accept)
+      logical, intent(in) :: accept
+      if (certified) then
+        call top_eigenpair(op, assembly_operator_apply, assembly_matrix_of, op%n, solver, tol, vec, lam, err, &
+          has_mode, result%eigen_products, result%eigen_restarts, status, progress, ncv, converged, lower, &
+          upper, failure, accept, basis, start_av, taken, confirm_steps)
+      else
+        upper = 0.0_dp
+        failure = 0.0_dp
+        call top_eigenpair(op, assembly_operator_apply, assembly_matrix_of, op%n, solver, tol, vec, lam, err, &
+          has_mode, result%eigen_products, result%eigen_restarts, status, progress, ncv, converged, &
+          accept_start=accept, basis=basis, start_av=start_av, taken=taken, confirm_steps=confirm_steps)
+      end if
+    end subroutine solve_top
   end subroutine operator_critical_steps
 
   !> What the springs of an operator tell a result: their count (drag
@@ -650,8 +709,11 @@ contains
   !> previous top mode is, without the fresh random start that confirms a
   !> Lanczos solve). When it does not, the Lanczos solve starts from it
   !> and takes its first converged top without a confirmation run.
+  !> `start_av` (A times the unit start, when the caller has it) spares the
+  !> start's product; `taken` says the start was the answer.
   subroutine top_eigenpair(op, apply, to_matrix, n, choice, tol, vec, lam, err, has_mode, products, &
-      restarts, status, progress, ncv, converged, lower, upper, failure, accept_start, basis)
+      restarts, status, progress, ncv, converged, lower, upper, failure, accept_start, basis, start_av, taken, &
+      confirm_steps)
     !> The operator (a scene's `assembly_operator_type`, rigid bodies' ...),
     !> its product y = A x, its matrix (module procedures) and its order.
     class(lanczos_context_type), intent(inout) :: op
@@ -681,6 +743,10 @@ contains
     logical, intent(in), optional :: accept_start
     !> What `upper` rests on (a `safe_basis` code: dense or randomised).
     integer, intent(out), optional :: basis
+    real(dp), intent(in), optional :: start_av(:)
+    logical, intent(out), optional :: taken
+    !> The least products of a confirmed solve from a warm start (default 0).
+    integer, intent(in), optional :: confirm_steps
     type(eigen_result_type) :: lanczos
     type(csr_matrix_type) :: sparse
     real(dp), allocatable :: a(:, :), av(:), start(:)
@@ -688,6 +754,7 @@ contains
     logical :: refine
     has_mode = .true.
     refine = .false.
+    if (present(taken)) taken = .false.
     m = scene_lanczos_ncv
     if (present(ncv)) m = ncv
     if (present(converged)) converged = .true.
@@ -709,14 +776,19 @@ contains
     else
       if (present(accept_start)) then
         if (accept_start .and. any(vec /= 0.0_dp)) then
-          allocate(av(n))
           start = vec/norm2(vec)
-          call apply(op, start, av)
-          products = products + 1
+          if (present(start_av)) then
+            av = start_av
+          else
+            allocate(av(n))
+            call apply(op, start, av)
+            products = products + 1
+          end if
           lam = dot_product(start, av)
           err = norm2(av - lam*start)
           refine = .true.
           if (lam > 0.0_dp .and. err <= tol*lam) then
+            if (present(taken)) taken = .true.
             vec = start
             ! (no randomised certificate for a start taken as it is)
             if (present(upper)) upper = 0.0_dp
@@ -730,7 +802,8 @@ contains
       ! (a start that was to be taken as it is, refined: no confirmation run)
       call lanczos_largest(apply, op, n, lanczos, status, eigenvector=vec, &
         tolerance=tol, ncv=m, max_restarts=scene_lanczos_restarts, &
-        progress=progress, start=start, certify=present(upper), lower_bound=lower, confirm=.not. refine)
+        progress=progress, start=start, certify=present(upper), lower_bound=lower, confirm=.not. refine, &
+        confirm_steps=confirm_steps)
       if (present(upper)) upper = lanczos%upper_bound
       if (present(failure)) failure = lanczos%failure_probability
       products = products + lanczos%applications
@@ -751,8 +824,9 @@ contains
   !> The exact damped limit (see the module's notes), in place of the lower
   !> bound when it is larger: `damped_newton` on the serial operator, from the
   !> top undamped unit mode `vec`, or from `start` when it is given non-zero
-  !> (then the last damped mode on return).
-  subroutine damped_exact(op, choice, tol, rate, vec, result, status, progress, ncv, start, accept_start)
+  !> (then the last damped mode on return); `vec_av` = A' vec when known.
+  subroutine damped_exact(op, choice, tol, rate, vec, result, status, progress, ncv, start, accept_start, vec_av, &
+      confirm_steps)
     type(assembly_operator_type), intent(inout), target :: op
     integer, intent(in) :: choice
     real(dp), intent(in) :: tol, rate
@@ -764,12 +838,15 @@ contains
     real(dp), intent(inout), optional :: start(:)
     !> Take a Newton step's start as it is when its residual meets `tol`.
     logical, intent(in), optional :: accept_start
+    real(dp), intent(in), optional :: vec_av(:)
+    !> The least products of a Newton step's confirmed solve (default 0).
+    integer, intent(in), optional :: confirm_steps
     type(serial_damped_type) :: problem
     real(dp), allocatable :: y(:), w(:), aw(:), bw(:)
     real(dp) :: lam_a, vb, lam_w, vb_w
     allocate(y(op%n))
     problem%vec = vec
-    call quotients(vec, lam_a, vb)
+    call quotients(vec, lam_a, vb, vec_av)
     problem%av = aw
     problem%bv = y
     if (present(start)) then
@@ -784,6 +861,9 @@ contains
             problem%bv = y
             lam_a = lam_w
             vb = vb_w
+            problem%other = vec
+          else
+            problem%other = w
           end if
         end if
       end if
@@ -793,18 +873,25 @@ contains
     problem%choice = choice
     if (present(ncv)) problem%ncv = ncv
     if (present(accept_start)) problem%accept_start = accept_start
+    if (present(confirm_steps)) problem%confirm_steps = confirm_steps
     call damped_newton(problem, lam_a, vb, rate, tol, result, status, progress)
     call operator_mix(op, 1.0_dp, 0.0_dp)
     if (present(start)) then
       if (size(start) == op%n) start = problem%vec
     end if
   contains
-    !> v'A'v and v'B'v of a unit vector (A'v left in aw, B'v in y).
-    subroutine quotients(v, a, b)
+    !> v'A'v and v'B'v of a unit vector (A'v left in aw, B'v in y; A'v
+    !> given as `av` spares its product).
+    subroutine quotients(v, a, b, av)
       real(dp), intent(in) :: v(:)
       real(dp), intent(out) :: a, b
-      call operator_mix(op, 1.0_dp, 0.0_dp)
-      call assembly_operator_apply(op, v, y)
+      real(dp), intent(in), optional :: av(:)
+      if (present(av)) then
+        y = av
+      else
+        call operator_mix(op, 1.0_dp, 0.0_dp)
+        call assembly_operator_apply(op, v, y)
+      end if
       a = dot_product(v, y)
       aw = y
       call operator_mix(op, 0.0_dp, 1.0_dp)
@@ -903,11 +990,16 @@ contains
       end if
     end if
     problem%cached = .false.
+    if (allocated(problem%other) .and. .not. problem%accept_start) then
+      ! (a damped top where the undamped one is, or where it was: both in the start)
+      problem%vec = problem%vec + sign(1.0_dp, dot_product(problem%vec, problem%other))*problem%other
+      deallocate(problem%other)
+    end if
     call operator_mix(problem%op, tau**2, 2.0_dp*tau)
     call top_eigenpair(problem%op, assembly_operator_apply, assembly_matrix_of, problem%op%n, &
       problem%choice, tol, problem%vec, theta, err, has_mode, &
       result%eigen_products, result%eigen_restarts, status, progress, problem%ncv, &
-      accept_start=problem%accept_start)
+      accept_start=problem%accept_start, confirm_steps=problem%confirm_steps)
     if (status%stat /= demstep_stat%ok) return
     err = err + 8.0_dp*epsilon(1.0_dp)*theta
     result%damped_solves = result%damped_solves + 1

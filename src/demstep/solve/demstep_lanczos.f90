@@ -83,7 +83,9 @@
 !> (basis `lanczos_basis_random`). A warm start to be confirmed (the damped
 !> limit's Newton solves, from the previous mode) likewise makes one run,
 !> from its vector plus the random one (what the ARPACK path's confirmation
-!> run starts from), without a certificate of its own.
+!> run starts from), without a certificate of its own; one not to be
+!> confirmed (a monitor's previous mode refined) makes one run from its
+!> vector alone (basis `lanczos_basis_warm`).
 !>
 !> ARPACK keeps its state in SAVEd variables: one solve at a time per process.
 !> A solve started while another runs (another thread) is refused with status
@@ -336,7 +338,7 @@ contains
   !> Ritz value and ARPACK's estimate of its residual, the vector is zero),
   !> otherwise ARPACK's own failures (`dsaupd_status`, `dseupd_status`).
   subroutine lanczos_largest(apply, context, n, result, status, eigenvector, tolerance, ncv, &
-      nev, max_restarts, progress, start, certify, lower_bound, confirm)
+      nev, max_restarts, progress, start, certify, lower_bound, confirm, confirm_steps)
     !> y = A x (a module procedure, never an internal one).
     procedure(lanczos_operator) :: apply
     !> The operator's data, passed to `apply`.
@@ -375,6 +377,10 @@ contains
     !> (default true). False: the first converged run is the answer (basis
     !> `lanczos_basis_warm`), for a start known to be near the top mode.
     logical, intent(in), optional :: confirm
+    !> The least products of a confirming run from a warm start (its one
+    !> unrestarted run from the start plus a random one, n above
+    !> `krylov_min_order`): default 0, on until the top Ritz pair converges.
+    integer, intent(in), optional :: confirm_steps
     type(serial_space_type) :: space
     result%solver = lanczos_solver_name
     if (present(eigenvector)) eigenvector = 0.0_dp
@@ -398,7 +404,7 @@ contains
     space%apply => apply
     space%context => context
     call lanczos_solve(space, result, status, eigenvector, tolerance, ncv, nev, max_restarts, &
-      progress, start, certify, lower_bound, confirm)
+      progress, start, certify, lower_bound, confirm, confirm_steps)
   end subroutine lanczos_largest
 
   !> The Lanczos driver for any `lanczos_space_type`, serial or distributed:
@@ -409,7 +415,7 @@ contains
   !> the same on every process. Statuses as `lanczos_largest`'s, ARPACK's
   !> through the space's `saupd_status` and `seupd_status`.
   subroutine lanczos_solve(space, result, status, eigenvector, tolerance, ncv, nev, &
-      max_restarts, progress, start, certify, lower_bound, confirm)
+      max_restarts, progress, start, certify, lower_bound, confirm, confirm_steps)
     class(lanczos_space_type), intent(inout) :: space
     type(eigen_result_type), intent(out) :: result
     type(demstep_status_type), intent(out) :: status
@@ -425,10 +431,11 @@ contains
     !> spectrum for it (default 0).
     logical, intent(in), optional :: certify
     real(dp), intent(in), optional :: lower_bound
-    !> As `lanczos_largest`'s (default true).
+    !> As `lanczos_largest`'s (default true, and 0).
     logical, intent(in), optional :: confirm
+    integer, intent(in), optional :: confirm_steps
     real(dp) :: tol, lower
-    integer :: k, m, restarts
+    integer :: k, m, restarts, least
     logical :: wanted, confirming, warm
 
     call lanczos_options(tol, m, k, restarts, tolerance, ncv, nev, max_restarts)
@@ -458,11 +465,15 @@ contains
       ! one run is the certificate and the solve (module notes)
       call krylov_top(space, tol, certificate_steps(space%n_global), restarts*m, &
         store_count(space, m), lower, result, status, eigenvector, progress)
-    else if (warm .and. confirming .and. space%n_global > krylov_min_order) then
+    else if (warm .and. space%n_global > krylov_min_order) then
       ! one run from the warm start plus a random one (the start the ARPACK
-      ! path's confirmation run would take), then the certificate if asked
-      call krylov_top(space, tol, 0, restarts*m, store_count(space, m), lower, result, status, &
-        eigenvector, progress, start)
+      ! path's confirmation run would take), or, not confirming, from the
+      ! warm start alone (a near mode refined: no restarted Krylov space of
+      ! ncv products to fill first), then the certificate if asked
+      least = 0
+      if (confirming .and. present(confirm_steps)) least = max(0, min(confirm_steps, space%n_global))
+      call krylov_top(space, tol, least, restarts*m, store_count(space, m), lower, result, status, &
+        eigenvector, progress, start, confirming)
       if (wanted .and. (status%stat == demstep_stat%ok .or. status%stat == demstep_stat%not_converged)) &
         call random_certificate(space, lower, result, status, progress)
     else
@@ -761,7 +772,7 @@ contains
   !> `not_converged` when `steps_max` products did not meet the tolerance
   !> (the result still has the measured pair and the certificate).
   subroutine krylov_top(space, tol, steps_min, steps_max, store_max, lower, result, status, eigenvector, &
-      progress, warm)
+      progress, warm, random)
     class(lanczos_space_type), intent(inout) :: space
     real(dp), intent(in) :: tol
     integer, intent(in) :: steps_min, steps_max, store_max
@@ -775,6 +786,9 @@ contains
     !> vector plus the certificate's unit Gaussian one, and makes no
     !> certificate (basis `lanczos_basis_warm_random`; steps_min should be 0).
     real(dp), intent(in), optional :: warm(:)
+    !> With `warm`: false, the run starts from the warm vector alone (basis
+    !> `lanczos_basis_warm`: not confirmed). Default true.
+    logical, intent(in), optional :: random
     real(dp), allocatable :: v(:), v_old(:), w(:), z(:), y(:), basis(:, :), alpha(:), beta(:), s(:)
     real(dp) :: xi, estimate, threshold, scale, shift, theta, rnorm, beta_old
     integer :: n, j, last
@@ -840,6 +854,9 @@ contains
     result%basis = lanczos_basis_estimate
     if (met) result%basis = lanczos_basis_random
     if (met .and. present(warm)) result%basis = lanczos_basis_warm_random
+    if (met .and. present(warm) .and. present(random)) then
+      if (.not. random) result%basis = lanczos_basis_warm
+    end if
     if (present(warm)) return
     ! the certificate (module notes) from the largest Ritz value of T_j,
     ! j >= steps_min or an invariant Krylov space
@@ -853,6 +870,13 @@ contains
     !> The run's unit start vector (the same bits each time it is made).
     subroutine run_start(u)
       real(dp), intent(out) :: u(:)
+      logical :: mixed
+      mixed = .true.
+      if (present(random)) mixed = random
+      if (present(warm) .and. .not. mixed) then
+        u = warm/sqrt(space%dot(warm, warm))
+        return
+      end if
       call certificate_start(space, u)
       if (present(warm)) then
         u = u + warm/sqrt(space%dot(warm, warm))

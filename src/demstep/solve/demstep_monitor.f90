@@ -11,9 +11,10 @@
 !> `step_monitor_type` keeps the operator, the springs and the top mode
 !> between calls: `update` re-solves warm-started from the previous modes
 !> (taken as they are when their measured residuals on the new operator meet
-!> the tolerance; else Lanczos from them with its confirmation run from a
-!> fresh random start; that confirmed solve also every `confirm_every`-th
-!> update). A body that could
+!> the tolerance; else refined from themselves, and when the refined top
+!> left its place (`in_place`), Lanczos with its confirmation run, at least
+!> `ncv` products from the mode plus a fresh random start; that confirmed
+!> solve also every `confirm_every`-th update). A body that could
 !> carry the top (its per-body bound at or above omega_max^2) and stiffened
 !> by more than `drift` (a new contact, say) has its neighbourhood solved on
 !> its own (`local_top`, a dense eigenproblem of a few dozen unknowns); when
@@ -87,6 +88,9 @@ module demstep_monitor
   !> neighbourhood reaches 0.98 to 0.996 of omega_max^2; 10 of 3000 bodies'
   !> reach 0.9 (81 reach 0.8).
   real(dp), parameter, public :: monitor_local_margin_default = 0.9_dp
+  !> Default `in_place` of a monitor: a re-solved top mode whose overlap with
+  !> the previous one is at least this stayed where it was.
+  real(dp), parameter, public :: monitor_in_place_default = 0.9_dp
   !> Largest |coordinate| and radius (as scenes: squared distances stay finite).
   real(dp), parameter :: max_value = 1.0e150_dp
 
@@ -135,7 +139,8 @@ module demstep_monitor
     real(dp) :: tolerance = monitor_tolerance_default
     real(dp) :: drift = monitor_drift_default
     !> Krylov size of the warm-started Lanczos solves (the first, cold, solve
-    !> takes the scene solve's, `scene_lanczos_ncv`).
+    !> takes the scene solve's, `scene_lanczos_ncv`): a confirmation run
+    !> makes at least ncv products.
     integer :: ncv = monitor_ncv_default
     !> The rigorous bound of an update: the per-body bound of `check`
     !> (`cheap_bound`, O(contacts), default) or, false, the Collatz-Wielandt
@@ -155,6 +160,14 @@ module demstep_monitor
     !> A stiffened body's neighbourhood whose own top (`local_top`) reaches
     !> local_margin omega_max^2 joins the warm start (see `update`).
     real(dp) :: local_margin = monitor_local_margin_default
+    !> A previous undamped mode whose residual fails is refined from itself
+    !> alone; when the mode found overlaps it by at least in_place
+    !> (|cosine|; above 1: never) the top stayed in place: no confirmation,
+    !> and the previous damped mode is tried as it is (taken when its residual
+    !> meets the tolerance, else refined). A top that left its place is solved
+    !> again with its confirmation run, and so are the damped Newton steps.
+    !> (At a scheduled confirmation the same overlap decides the damped one.)
+    real(dp) :: in_place = monitor_in_place_default
     !> Whether the last update took the previous modes as they were, and
     !> whether it was a warm update with the undamped solve confirmed.
     logical :: accepted = .false., confirmed = .false.
@@ -261,8 +274,8 @@ contains
     real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
     logical :: rotation, warm, accept, certify, stood
     integer :: i, nfree, ncv
-    real(dp) :: a_bound
-    real(dp), allocatable :: rows(:)
+    real(dp) :: a_bound, in_place
+    real(dp), allocatable :: rows(:), mode_av(:)
     monitor%ready = .false.
     monitor%accepted = .false.
     if (monitor%solver < eigen_solver%auto .or. monitor%solver > eigen_solver%none) then
@@ -291,10 +304,12 @@ contains
     rows = rows*monitor%rate**2
     ! a cold solve with the scene's Krylov size, a warm one with the monitor's;
     ! a warm one takes the previous modes as they are when their residuals on
-    ! the new operator meet the tolerance; when the undamped one does not (the
-    ! top changed), and every confirm_every-th update, it runs the undamped
-    ! Lanczos solve with its confirmation from a fresh random start (a top
-    ! mode elsewhere is found)
+    ! the new operator meet the tolerance; when the undamped one does not, it
+    ! is refined from itself alone, and when the refined mode left its place
+    ! (overlap below `in_place`: the top moved), and every confirm_every-th
+    ! update, the undamped Lanczos solve runs with its confirmation (one run
+    ! of at least ncv products from the mode plus a fresh random start: a
+    ! top mode elsewhere is found)
     ncv = scene_lanczos_ncv
     warm = any(monitor%mode /= 0.0_dp)
     if (warm .and. monitor%ncv > 1) ncv = monitor%ncv
@@ -315,26 +330,36 @@ contains
         if (status%stat /= demstep_stat%ok) return
       end if
     end if
-    ! (a start with a neighbourhood's top added, or a previous mode whose
-    ! residual fails: the confirmed solve from it; the damped mode is taken
-    ! as it is only when the undamped one stood, e.g. at a scheduled
-    ! confirmation)
+    ! (a start with a neighbourhood's top added: the confirmed solve from it;
+    ! the damped mode is tried as it is when the undamped one stood or stayed
+    ! in place, else its Newton steps confirm their solves too)
     stood = warm .and. .not. monitor%local_start
-    if (stood) stood = stands(monitor%op, monitor%mode, monitor%tolerance)
-    accept = accept .and. stood
-    monitor%confirmed = warm .and. .not. accept
+    if (stood) stood = stands(monitor%op, monitor%mode, monitor%tolerance, mode_av)
+    if (.not. allocated(mode_av)) allocate(mode_av(0))
+    accept = accept .and. .not. monitor%local_start
     certify = monitor%certify .or. .not. warm
+    ! (the undamped mode's product from `stands` spares the solve's; a top
+    ! re-solved in place, not moved, lets the damped mode be tried as it is)
+    in_place = 2.0_dp
+    if (warm .and. .not. monitor%local_start) in_place = monitor%in_place
     if (monitor%cheap) then
       call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
         default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status, &
         bounds=[a_bound, cheap_bound(monitor%op, dashpots=.true.)], ncv=ncv, &
-        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=stood, certify=certify)
+        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=stood, certify=certify, &
+        start_av=mode_av, in_place=in_place, confirm_steps=merge(ncv, 0, warm), confirmed=monitor%confirmed)
     else
       call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
         default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status, ncv=ncv, &
-        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=stood, certify=certify)
+        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=stood, certify=certify, &
+        start_av=mode_av, in_place=in_place, confirm_steps=merge(ncv, 0, warm), confirmed=monitor%confirmed)
     end if
-    monitor%accepted = accept .and. monitor%last%eigen_restarts == 0
+    monitor%confirmed = warm .and. monitor%confirmed
+    monitor%accepted = accept .and. stood
+    ! (the product `stands` made)
+    if (allocated(mode_av)) then
+      if (size(mode_av) > 0) monitor%last%eigen_products = monitor%last%eigen_products + 1
+    end if
     if (status%stat /= demstep_stat%ok) then
       monitor%mode = 0.0_dp
       monitor%damped_mode = 0.0_dp
@@ -362,7 +387,7 @@ contains
     monitor%n_particles = size(mass)
     monitor%dim = size(x, 1)
     ! (the bodies' bounds the next updates are held against)
-    if (.not. accept) call move_alloc(rows, monitor%confirmed_rows)
+    if (monitor%confirmed .or. .not. warm) call move_alloc(rows, monitor%confirmed_rows)
     call store_mode(monitor, size(mass))
     monitor%updates = monitor%updates + 1
     monitor%ready = .true.
@@ -700,11 +725,12 @@ contains
 
   !> Whether a unit start vector stands as the operator's mode: its measured
   !> residual within the tolerance of its Rayleigh quotient (as
-  !> `top_eigenpair` takes a start). One product.
-  logical function stands(op, vec, tol)
+  !> `top_eigenpair` takes a start). One product, kept in `y`.
+  logical function stands(op, vec, tol, y)
     type(assembly_operator_type), intent(inout) :: op
     real(dp), intent(in) :: vec(:), tol
-    real(dp), allocatable :: y(:)
+    !> A' times the unit vector (for `operator_critical_steps`' start_av).
+    real(dp), allocatable, intent(out) :: y(:)
     real(dp) :: lam, length
     allocate(y(size(vec)))
     length = norm2(vec)
