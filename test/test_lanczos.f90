@@ -70,7 +70,9 @@ contains
       new_unittest("springs to CSR: the dense matrix, bad springs refused", test_csr), &
       new_unittest("same result for 1 and 2 threads, run after run", test_threads), &
       new_unittest("progress: one start, a update per product, one finish", test_progress), &
-      new_unittest("the randomised certificate bounds the top (semi-definite, shifted)", test_certificate) &
+      new_unittest("the randomised certificate bounds the top (semi-definite, shifted)", test_certificate), &
+      new_unittest("a certified run whose vectors are not kept: the Ritz vector from a second pass", &
+        test_second_pass) &
       ]
   end subroutine collect_lanczos
 
@@ -316,6 +318,12 @@ contains
       case (4)
         ! diag(-5 + 6 i/n): indefinite, top 1
         y = (-5.0_dp + 6.0_dp*[(real(i, dp), i = 1, size(x))]/size(x))*x
+      case (5)
+        ! diag(i/n) with the last entry 2: a simple top 2, gap 1
+        do i = 1, size(x) - 1
+          y(i) = real(i, dp)/size(x)*x(i)
+        end do
+        y(size(x)) = 2.0_dp*x(size(x))
       end select
     end select
   end subroutine odd_apply
@@ -354,6 +362,33 @@ contains
       /(1.0_dp - certificate_margin)*(1.0_dp + 1.0e-12_dp) - 5.0_dp, "indefinite: upper bound " &
       //real_str(r%upper_bound)//", found "//real_str(r%eigenvalue))
   end subroutine test_certificate
+
+  !> A certified cold run of order 2e6, whose Lanczos vectors do not fit in
+  !> `lanczos_store_bytes` for the certificate's steps (67 of 16 MB fit, 84
+  !> are made), so none are kept: the Ritz vector comes from a second pass of
+  !> the recurrence (as many products again, plus one for the residual). The
+  !> top 2 is simple with gap 1, so its eigenvector is e_n: the eigenvalue to
+  !> the tolerance 1e-6 and the vector to 1e-6.
+  subroutine test_second_pass(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(odd_operator_type) :: op
+    type(eigen_result_type) :: r
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: z(:)
+    integer, parameter :: n = 2000000
+    op%which = 5
+    allocate(z(n))
+    call lanczos_largest(odd_apply, op, n, r, status, eigenvector=z, tolerance=1.0e-6_dp, certify=.true.)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    call check(error, r%converged .and. r%certified .and. abs(r%eigenvalue - 2.0_dp) <= 2.0e-6_dp, &
+      "top "//real_str(r%eigenvalue)//" for 2")
+    if (allocated(error)) return
+    call check(error, r%applications == 2*r%ncv .and. r%ncv >= r%certificate_products, &
+      "a second pass: "//int_text(r%applications)//" products for "//int_text(r%ncv)//" steps")
+    if (allocated(error)) return
+    call check(error, abs(abs(z(n)) - 1.0_dp) <= 1.0e-6_dp, "eigenvector e_n: |z(n)| = "//real_str(abs(z(n))))
+  end subroutine test_second_pass
 
   subroutine test_arguments(error)
     type(error_type), allocatable, intent(out) :: error

@@ -29,11 +29,18 @@
 !>
 !> Memory per rank: its particles and halo (the scene and the part's numbers:
 !> about 110 bytes each), its contacts (about 80 bytes each in the scene,
-!> 192 in the operator), each free body's operator arrays (about 210 bytes
-!> with 6 dof), the Lanczos vectors (about 43 of its rows) and, while
-!> reading, its byte ranges of the files and their rows.
-!> Measured (`mpi/example/mpi_files`): about 3.2 kB per own particle with 6
-!> dof and 3 contacts per particle, and about 20 MiB per rank besides.
+!> 136 as springs while the operator is built, 192 in the operator), each
+!> free body's operator arrays (about 110 bytes with 6 dof) and its two
+!> halo-extended vectors (96 bytes), the Lanczos run's vectors of its rows
+!> (at most seven: the recurrence's three, the Ritz vector, two more for
+!> its second pass, the eigenvector returned; more only where all the
+!> certificate's steps fit in `lanczos_store_bytes` at the global order)
+!> and, while reading, its byte ranges of the files and their rows. With
+!> `release` (as `mpi_files_critical_steps` runs) the positions and
+!> contacts go once the springs are built, and the springs once the
+!> operator is. Measured (`mpi/example/mpi_files`, 6 dof and 3 contacts per
+!> particle, 2 ranks): 1.23 kB per own particle at 1e6 particles and 1.18 kB
+!> at 1e7 (5.5 GiB per rank), the fixed 27 MiB per rank included.
 module demstep_mpi_dist_scene
   use mpi_f08
   use demstep_kinds, only: dp, i8
@@ -521,9 +528,12 @@ contains
   !> (same scaling, Krylov size, restarts, tolerance, certificate, bound,
   !> per-contact rule and exact damped limit). Collective; the same result
   !> and status on every rank, those of the serial path for the whole scene.
-  subroutine mpi_part_critical_steps(comm, part, result, status, prestress, tolerance, progress)
+  !> With `release`, the part's positions, velocities and contacts are
+  !> released once its springs are built (the solve needs only these): the
+  !> part cannot be solved again.
+  subroutine mpi_part_critical_steps(comm, part, result, status, prestress, tolerance, progress, release)
     type(MPI_Comm), intent(in) :: comm
-    type(dist_scene_part_type), intent(in) :: part
+    type(dist_scene_part_type), intent(inout) :: part
     type(critical_step_type), intent(out) :: result
     type(demstep_status_type), intent(out) :: status
     !> Count the pre-stress (geometric) stiffness of loaded contacts (default no).
@@ -532,6 +542,8 @@ contains
     real(dp), intent(in), optional :: tolerance
     !> Reports the Lanczos products (pass it on one rank, e.g. rank 0).
     class(progress_type), intent(inout), optional :: progress
+    !> Release the part's positions and contacts after the springs (default no).
+    logical, intent(in), optional :: release
     type(dist_scene_operator_type), target :: dop
     type(spring_block_type), allocatable :: springs(:)
     type(critical_step_type) :: mine
@@ -539,7 +551,7 @@ contains
     integer, allocatable :: comp(:), blocks(:, :), halo(:)
     real(dp) :: tol, scales(2), rate, b_bound
     integer(i8) :: fault, counts(2)
-    integer :: rank, nranks, nc, i, s, q, n_own_bodies, root, color
+    integer :: rank, nranks, nc, i, s, q, n_own_bodies, root, color, n_owned
     logical :: geo, rotation, flags(8), active
 
     call MPI_Comm_rank(comm, rank)
@@ -566,6 +578,9 @@ contains
       call linearise(scene, hertz_linearization%current, 0.0_dp, geo, springs, status)
       call agree_status(comm, status, merge(no_fault, int(rank, i8), status%stat == demstep_stat%ok))
       if (status%stat /= demstep_stat%ok) return
+      if (present(release)) then
+        if (release) call release_contacts(part)
+      end if
 
       ! the whole scene's scales and counts
       rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
@@ -632,8 +647,15 @@ contains
         call dist_halo_create(rows_comm, blocks, halo, dop%halo)
         allocate(dop%x_ext(dop%op%n), dop%y_ext(dop%op%n), source=0.0_dp)
       end if
-      ! what the springs tell: each contact counted by its owner
-      call assembly_set_springs(mine, pack(springs, owned_spring(springs%a, springs%b)))
+      ! what the springs tell: each contact counted by its owner (the owned
+      ! springs moved to the front, in order: no copy of the springs)
+      n_owned = 0
+      do s = 1, size(springs)
+        if (.not. owned_spring(springs(s)%a, springs(s)%b)) cycle
+        n_owned = n_owned + 1
+        if (n_owned < s) springs(n_owned) = springs(s)
+      end do
+      call assembly_set_springs(mine, springs(:n_owned))
       deallocate(springs)
     end associate
     result = mine
@@ -787,8 +809,20 @@ contains
     call mpi_read_scene(comm, input, part, status, owned)
     if (status%stat /= demstep_stat%ok) return
     call mpi_part_critical_steps(comm, part, result, status, input%prestress, input%eigen_tolerance, &
-      progress)
+      progress, release=.true.)
   end subroutine mpi_files_critical_steps
+
+  !> Release a part's positions, velocities and contacts (its scene keeps
+  !> the particles' masses, radii, inertia and fixed flags).
+  subroutine release_contacts(part)
+    type(dist_scene_part_type), intent(inout) :: part
+    if (allocated(part%scene%x)) deallocate(part%scene%x)
+    if (allocated(part%scene%v)) deallocate(part%scene%v)
+    if (allocated(part%scene%w)) deallocate(part%scene%w)
+    if (allocated(part%scene%contact_pairs)) deallocate(part%scene%contact_pairs)
+    if (allocated(part%scene%contact_k)) deallocate(part%scene%contact_k)
+    if (allocated(part%contact_row)) deallocate(part%contact_row)
+  end subroutine release_contacts
 
   !> Bytes of a part's particle and contact arrays on this rank (the scene's
   !> per-particle and per-contact arrays and the part's numbers).

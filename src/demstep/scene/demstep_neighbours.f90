@@ -14,8 +14,9 @@ module demstep_neighbours
 
   public :: prepare_search, find_contacts, find_wall_contacts, search_trouble, contact_list
 
-  !> Most particle contacts a scene may have at once (about 1 GB of contact data
-  !> in the analysis; a DEM packing has a few per particle).
+  !> Most particle contacts a search may detect at once (about 1 GB of contact
+  !> data in the analysis; a DEM packing has a few per particle). A given
+  !> contact list is not limited: its rows bound its contacts.
   integer, parameter, public :: contact_limit = 10000000
   !> At most this many of the largest particles are searched against every
   !> particle instead of sizing the cells (a few giants must not put every
@@ -134,7 +135,8 @@ contains
   !> and the giants against every particle, in time linear in n plus the pairs
   !> of neighbouring cells. Pairs at the same point are not contacts (the normal
   !> is undefined): the first is recorded in s%coincident. The search stops at
-  !> `contact_limit` contacts (s%too_many). Shear histories start at zero.
+  !> `contact_limit` detected contacts (s%too_many; a given list is not
+  !> limited). Shear histories start at zero.
   subroutine find_contacts(scene, s)
     type(scene_type), intent(in) :: scene
     type(search_type), intent(inout) :: s
@@ -148,9 +150,11 @@ contains
     s%coincident = 0
     s%too_many = .false.
     if (scene%given_contacts) then
+      ! (a given list bounds its contacts itself: room for all its rows at
+      ! once, memory linear in the list, and no contact_limit)
+      call reserve_pairs(s, size(scene%contact_pairs, 2))
       do k = 1, size(scene%contact_pairs, 2)
         call try_pair(scene, s, scene%contact_pairs(1, k), scene%contact_pairs(2, k), k)
-        if (s%too_many) exit
       end do
       s%max_contacts = max(s%max_contacts, s%n_pairs + s%n_walls)
       return
@@ -298,11 +302,12 @@ contains
     integer :: m
     integer, allocatable :: ti(:), tj(:), tc(:)
     real(dp), allocatable :: td(:), tl(:), tn(:, :), tu(:, :)
-    if (s%n_pairs == contact_limit) then
-      s%too_many = .true.
-      return
-    end if
     if (s%n_pairs == size(s%pair_i)) then
+      ! (the room only grows to contact_limit: a given list has room for all its rows)
+      if (s%n_pairs >= contact_limit) then
+        s%too_many = .true.
+        return
+      end if
       ! double the capacity: amortised constant cost per pair
       m = min(2*size(s%pair_i), contact_limit)
       allocate(ti(m), tj(m), tc(m), td(m), tl(m), tn(3, m), tu(history_size, m))
@@ -331,6 +336,17 @@ contains
     s%pair_us(:, s%n_pairs) = 0.0_dp
     s%max_overlap = max(s%max_overlap, overlap)
   end subroutine add_pair
+
+  !> Room for at least m particle contacts (the lists' contents are not kept:
+  !> call it with no contacts listed).
+  subroutine reserve_pairs(s, m)
+    type(search_type), intent(inout) :: s
+    integer, intent(in) :: m
+    if (size(s%pair_i) >= m) return
+    deallocate(s%pair_i, s%pair_j, s%pair_c, s%pair_n, s%pair_d, s%pair_l, s%pair_us)
+    allocate(s%pair_i(m), s%pair_j(m), s%pair_c(m), s%pair_n(3, m), s%pair_d(m), s%pair_l(m), &
+      s%pair_us(history_size, m))
+  end subroutine reserve_pairs
 
   !> The wall contact list: particles overlapping a wall.
   subroutine find_wall_contacts(scene, s)

@@ -75,7 +75,8 @@
 !> `certificate_steps` products, on until the top Ritz pair's estimate
 !> beta_j |s_j| meets the tolerance; then its Ritz vector is formed (from the
 !> Lanczos vectors kept while they fit in `lanczos_store_bytes`, or else by
-!> running the recurrence again from the same start, the same bits), and its
+!> running the recurrence again from the same start, the same bits; none are
+!> kept when the certificate's products do not fit), and its
 !> Rayleigh quotient and residual are measured as above. A crowded top is
 !> what an unrestarted Krylov space from a random start resolves best: the
 !> top's component is never filtered out by a restart (ARPACK's restarts
@@ -124,7 +125,8 @@ module demstep_lanczos
   integer, parameter, public :: krylov_min_order = 1000
   !> Memory (bytes, per process) for the Lanczos vectors of `krylov_top`
   !> (at least the Krylov size asked, ncv, are kept as ARPACK would): beyond
-  !> it the Ritz vector is formed by running the recurrence again.
+  !> it the Ritz vector is formed by running the recurrence again, and none
+  !> are kept when the certificate's products alone would not fit.
   integer(i8), parameter, public :: lanczos_store_bytes = 2_i8**30
   !> Default Krylov size (Lanczos vectors kept between restarts), capped at n.
   integer, parameter, public :: lanczos_ncv_default = 24
@@ -797,9 +799,11 @@ contains
 
     n = space%n_local
     last = max(steps_max, steps_min)
-    allocate(v(n), v_old(n), w(n), z(n), y(n), alpha(last), beta(last))
+    allocate(v(n), v_old(n), w(n), alpha(last), beta(last))
     call run_start(v)
-    stored = store_max >= 1
+    ! (the run makes at least steps_min products: fewer kept vectors would
+    ! all be dropped, so none are kept)
+    stored = store_max >= max(1, steps_min)
     if (stored) allocate(basis(n, min(store_max, last, 32)))
     v_old = 0.0_dp
     beta_old = 0.0_dp
@@ -904,29 +908,32 @@ contains
 
     !> z = the unit Ritz vector of T_j's top pair (s), theta and rnorm its
     !> measured Rayleigh quotient and residual; a second pass of the
-    !> recurrence when the vectors were not kept.
+    !> recurrence when the vectors were not kept (its previous vector in
+    !> v_old, which the run sets anew before it goes on).
     subroutine ritz_vector(j)
       integer, intent(in) :: j
-      real(dp), allocatable :: u(:), u_old(:), t(:)
+      real(dp), allocatable :: u(:), t(:)
       integer :: i
       if (stored) then
         z = matmul(basis(:, :j), s)
       else
-        allocate(u(n), u_old(n), t(n))
+        allocate(u(n), t(n))
         call run_start(u)
-        u_old = 0.0_dp
+        v_old = 0.0_dp
         z = s(1)*u
         do i = 1, j - 1
           call product(space, u, t, result, status, progress)
           if (status%stat /= demstep_stat%ok) return
-          if (i > 1) t = t - beta(i - 1)*u_old
+          if (i > 1) t = t - beta(i - 1)*v_old
           t = t - alpha(i)*u
-          u_old = u
+          v_old = u
           u = t/beta(i)
           z = z + s(i + 1)*u
         end do
+        deallocate(u, t)
       end if
       z = z/sqrt(space%dot(z, z))
+      if (.not. allocated(y)) allocate(y(n))
       call product(space, z, y, result, status, progress)
       if (status%stat /= demstep_stat%ok) return
       theta = space%dot(z, y)/space%dot(z, z)
@@ -1012,13 +1019,17 @@ contains
     real(dp), intent(out) :: x(:)
     !> The sequence's index for x(1)'s first uniform entry.
     integer, intent(in) :: first
-    real(dp), allocatable :: u(:)
-    integer :: i
-    allocate(u(2*size(x)))
-    call lanczos_start_vector(u, first)
-    u = u + 0.5_dp
-    do i = 1, size(x)
-      x(i) = sqrt(-2.0_dp*log(u(2*i - 1)))*cos(2.0_dp*pi*u(2*i))
+    ! (the uniform entries a block at a time: no copy of x's size)
+    integer, parameter :: block = 4096
+    real(dp) :: u(2*block)
+    integer :: i, i0, nb
+    do i0 = 1, size(x), block
+      nb = min(block, size(x) - i0 + 1)
+      call lanczos_start_vector(u(:2*nb), first + 2*(i0 - 1))
+      u(:2*nb) = u(:2*nb) + 0.5_dp
+      do i = 1, nb
+        x(i0 + i - 1) = sqrt(-2.0_dp*log(u(2*i - 1)))*cos(2.0_dp*pi*u(2*i))
+      end do
     end do
   end subroutine gaussian_vector
 
