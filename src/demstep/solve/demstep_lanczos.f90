@@ -123,9 +123,9 @@ module demstep_lanczos
   !> Memory (bytes, per process) for the Lanczos vectors of `krylov_top`
   !> (at least the Krylov size asked, ncv, are kept as ARPACK would): beyond
   !> it the Ritz vector is formed by running the recurrence again, which
-  !> doubles the products. 3 GiB keeps the 87 steps of a 1e6-particle
-  !> scene with rotations (6e6 degrees of freedom) in single precision
-  !> (`single_basis_tolerance`), 2.1 GB.
+  !> doubles the products. 3 GiB keeps 134 vectors in single precision
+  !> (`single_basis_tolerance`) at 6e6 degrees of freedom: the 1e6-particle
+  !> tiled packing of `bench_scene_eigen` (rotations) took 132 steps.
   integer(i8), parameter, public :: lanczos_store_bytes = 3_i8*2_i8**30
   !> At tolerances this loose or looser `krylov_top` keeps its Lanczos
   !> vectors rounded to single precision, twice as many in the same memory:
