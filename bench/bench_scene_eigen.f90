@@ -23,7 +23,9 @@
 !> ARPACK's calls and take the cores from the OpenMP operator (2 threads were
 !> slower than 1 at 1e4 particles without it); eigsh keeps OpenBLAS's default.
 !>
-!>   OPENBLAS_NUM_THREADS=1 fpm run --example bench_scene_eigen --profile release [-- MAX_PARTICLES [noscipy [APP]]]
+!>   OPENBLAS_NUM_THREADS=1 fpm run --example bench_scene_eigen --profile release [-- MAX_PARTICLES [noscipy [APP [MIN_PARTICLES]]]]
+!>
+!> (MIN_PARTICLES: the cases below it are left out, e.g. 1000000 alone.)
 program bench_scene_eigen
   use, intrinsic :: iso_fortran_env, only: output_unit
   use demstep_kinds, only: dp, i8
@@ -58,7 +60,7 @@ program bench_scene_eigen
   character(len=512) :: app
   real(dp) :: t_app, omega_app
   integer(i8) :: app_products
-  integer :: c, n_max, ios, threads
+  integer :: c, n_max, n_min, ios, threads
   logical :: scipy
   real(dp) :: t_build, t_tile, t_bound, t_lanczos(2), t_dense, t_write, t_eigsh, lam_eigsh, omega_eigsh
   real(dp) :: t0, z, overlap, mb, peak_before
@@ -70,6 +72,9 @@ program bench_scene_eigen
   call get_command_argument(2, arg)
   scipy = arg /= "noscipy"
   call get_command_argument(3, app)
+  n_min = 0
+  call get_command_argument(4, arg)
+  if (arg /= "") read(arg, *, iostat=ios) n_min
   peak_before = 0.0_dp
 
   write(output_unit, '(a)') "# random periodic packings (seed 1) tiled up; 6 DOF per particle; one run each;"
@@ -80,7 +85,7 @@ program bench_scene_eigen
     //"| eigsh vs Lanczos | Lanczos vs base | MB peak | bytes/particle |"
   write(output_unit, '(a)') "|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
   do c = 1, n_cases
-    if (base(c)*product(reps(:, c)) > n_max) cycle
+    if (base(c)*product(reps(:, c)) > n_max .or. base(c)*product(reps(:, c)) < n_min) cycle
     t0 = progress_seconds()
     call random_periodic_packing(packing, base(c), status, seed=1)
     call require("random_periodic_packing")

@@ -1036,9 +1036,16 @@ contains
     type(assembly_operator_type), intent(in) :: op
     integer, intent(in) :: s
     real(dp), intent(out) :: k(4), geo
-    k = op%alpha*[op%coef(1, s), op%coef(2, s), op%coef(6, s), op%coef(7, s)]
+    k(1) = op%coef(1, s)
+    k(2) = op%coef(2, s)
+    k(3) = op%coef(6, s)
+    k(4) = op%coef(7, s)
+    geo = op%coef(5, s)
+    ! (A' alone, the solves' case: no multiplications)
+    if (op%alpha == 1.0_dp .and. op%beta == 0.0_dp) return
+    k = op%alpha*k
+    geo = op%alpha*geo
     if (op%beta /= 0.0_dp) k = k + op%beta*op%dcoef(:, s)
-    geo = op%alpha*op%coef(5, s)
   end subroutine mixed_coefficients
 
   !> r = |A'| v (each entry raised by its rounding allowance) for the operator

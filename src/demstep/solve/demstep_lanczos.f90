@@ -92,7 +92,7 @@
 !> A solve started while another runs (another thread) is refused with status
 !> `busy` (`arpack_claim`); it never shares the state.
 module demstep_lanczos
-  use demstep_kinds, only: dp, i8, pi
+  use demstep_kinds, only: dp, sp, i8, pi
   use demstep_lapack, only: largest_tridiagonal_eigenvalue, largest_tridiagonal_eigenpair
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_arpack, only: dsaupd, dseupd, dsaupd_status, dseupd_status, arpack_iparam_size
@@ -125,9 +125,20 @@ module demstep_lanczos
   integer, parameter, public :: krylov_min_order = 1000
   !> Memory (bytes, per process) for the Lanczos vectors of `krylov_top`
   !> (at least the Krylov size asked, ncv, are kept as ARPACK would): beyond
-  !> it the Ritz vector is formed by running the recurrence again, and none
-  !> are kept when the certificate's products alone would not fit.
-  integer(i8), parameter, public :: lanczos_store_bytes = 2_i8**30
+  !> it the Ritz vector is formed by running the recurrence again, which
+  !> doubles the products, and none are kept when the certificate's products
+  !> alone would not fit. 3 GiB keeps 134 vectors in single precision
+  !> (`single_basis_tolerance`) at 6e6 degrees of freedom: the 1e6-particle
+  !> tiled packing of `bench_scene_eigen` (rotations) took 132 steps.
+  integer(i8), parameter, public :: lanczos_store_bytes = 3_i8*2_i8**30
+  !> At tolerances this loose or looser `krylov_top` keeps its Lanczos
+  !> vectors rounded to single precision, twice as many in the same memory:
+  !> the Ritz vector formed from them is off by about 6e-8 of its length (the
+  !> rounding, weighted by the Ritz coefficients), which moves its measured
+  !> residual by about 1e-7 of the top eigenvalue, a tenth of this tolerance;
+  !> should the measured residual miss the tolerance, the Ritz vector is
+  !> formed again in full from a second run of the recurrence.
+  real(dp), parameter, public :: single_basis_tolerance = 1.0e-6_dp
   !> Default Krylov size (Lanczos vectors kept between restarts), capped at n.
   integer, parameter, public :: lanczos_ncv_default = 24
   !> Default number of wanted Ritz values kept at each restart (a block of the
@@ -171,6 +182,8 @@ module demstep_lanczos
     character(len=:), allocatable :: caller
     !> The solver's name in the result.
     character(len=:), allocatable :: solver
+    !> Memory (bytes per process) for the Lanczos vectors `krylov_top` keeps.
+    integer(i8) :: store_bytes = lanczos_store_bytes
   contains
     !> y = A x on this block.
     procedure(space_product), deferred :: product
@@ -180,6 +193,9 @@ module demstep_lanczos
     !> ordinary sum's rounding is the recurrence's own: `dot` unless a space
     !> has a cheaper one (the serial space's plain sum).
     procedure :: recurrence_dot => space_recurrence_dot
+    !> w = w - c u, then `recurrence_dot` of x (absent: w) and the new w, in
+    !> one pass over the vectors where a space can (the serial one).
+    procedure :: recurrence_update => space_recurrence_update
     !> True when the condition holds on every process.
     procedure(space_all), deferred :: all_ranks
     !> One reverse-communication step of the (P)ARPACK iteration.
@@ -250,6 +266,7 @@ module demstep_lanczos
     procedure :: product => serial_product
     procedure :: dot => serial_dot
     procedure :: recurrence_dot => serial_recurrence_dot
+    procedure :: recurrence_update => serial_recurrence_update
     procedure :: all_ranks => serial_all
     procedure :: saupd => serial_saupd
     procedure :: seupd => serial_seupd
@@ -340,7 +357,7 @@ contains
   !> Ritz value and ARPACK's estimate of its residual, the vector is zero),
   !> otherwise ARPACK's own failures (`dsaupd_status`, `dseupd_status`).
   subroutine lanczos_largest(apply, context, n, result, status, eigenvector, tolerance, ncv, &
-      nev, max_restarts, progress, start, certify, lower_bound, confirm, confirm_steps)
+      nev, max_restarts, progress, start, certify, lower_bound, confirm, confirm_steps, store_bytes)
     !> y = A x (a module procedure, never an internal one).
     procedure(lanczos_operator) :: apply
     !> The operator's data, passed to `apply`.
@@ -383,6 +400,10 @@ contains
     !> unrestarted run from the start plus a random one, n above
     !> `krylov_min_order`): default 0, on until the top Ritz pair converges.
     integer, intent(in), optional :: confirm_steps
+    !> Memory (bytes, >= 0) for the Lanczos vectors a single run keeps; default
+    !> `lanczos_store_bytes`. Fewer than its products: the Ritz vector comes
+    !> from a second run of the recurrence (twice the products, no vectors kept).
+    integer(i8), intent(in), optional :: store_bytes
     type(serial_space_type) :: space
     result%solver = lanczos_solver_name
     if (present(eigenvector)) eigenvector = 0.0_dp
@@ -403,6 +424,7 @@ contains
     space%first_row = 1
     space%caller = "lanczos_largest"
     space%solver = lanczos_solver_name
+    if (present(store_bytes)) space%store_bytes = max(0_i8, store_bytes)
     space%apply => apply
     space%context => context
     call lanczos_solve(space, result, status, eigenvector, tolerance, ncv, nev, max_restarts, &
@@ -753,13 +775,13 @@ contains
     steps = ceiling(acosh(max(ratio, 1.0_dp))/t) + 1
   end function certificate_steps
 
-  !> Lanczos vectors `krylov_top` may keep: as many as fit in
-  !> `lanczos_store_bytes` at the global order (the same count on every
+  !> Lanczos vectors `krylov_top` may keep: as many as fit in the space's
+  !> `store_bytes` (default `lanczos_store_bytes`) at the global order (the same count on every
   !> process), and at least the Krylov size `m` asked for.
   pure integer function store_count(space, m) result(count)
     class(lanczos_space_type), intent(in) :: space
     integer, intent(in) :: m
-    count = int(max(int(m, i8), lanczos_store_bytes/(8_i8*max(space%n_global, 1))))
+    count = int(max(int(m, i8), space%store_bytes/(8_i8*max(space%n_global, 1))))
   end function store_count
 
   !> The certified cold solve in one run (module notes, "One run for both"):
@@ -769,7 +791,7 @@ contains
   !> vector's measured Rayleigh quotient and residual (the result's
   !> eigenvalue, residual and error bar; a measured residual above the
   !> tolerance sends the run on with a tenfold stricter estimate) and the
-  !> certificate from the largest Ritz value. Keeps up to `store_max` Lanczos
+  !> certificate from the largest Ritz value. Keeps up to `store_max` Lanczos (twice as many in single precision at `single_basis_tolerance`)
   !> vectors, else forms the Ritz vector by a second pass. Status
   !> `not_converged` when `steps_max` products did not meet the tolerance
   !> (the result still has the measured pair and the certificate).
@@ -792,19 +814,27 @@ contains
     !> `lanczos_basis_warm`: not confirmed). Default true.
     logical, intent(in), optional :: random
     real(dp), allocatable :: v(:), v_old(:), w(:), z(:), y(:), basis(:, :), alpha(:), beta(:), s(:)
+    real(sp), allocatable :: basis_single(:, :)
+    real(dp), allocatable :: swap(:)
     real(dp) :: xi, estimate, threshold, scale, shift, theta, rnorm, beta_old
-    integer :: n, j, last
-    logical :: stored, invariant, met
+    integer :: n, j, last, capacity
+    logical :: stored, invariant, met, single
     type(demstep_status_type) :: step_status
 
     n = space%n_local
     last = max(steps_max, steps_min)
     allocate(v(n), v_old(n), w(n), alpha(last), beta(last))
     call run_start(v)
-    ! (the run makes at least steps_min products: fewer kept vectors would
-    ! all be dropped, so none are kept)
-    stored = store_max >= max(1, steps_min)
-    if (stored) allocate(basis(n, min(store_max, last, 32)))
+    single = tol >= single_basis_tolerance
+    ! (the columns that may be kept, in single precision twice as many in the
+    ! same memory, taken only as they are filled; the run makes at least
+    ! steps_min products: fewer kept vectors would all be dropped, so then
+    ! none are kept)
+    capacity = store_max
+    if (single) capacity = 2*store_max
+    stored = capacity >= max(1, steps_min)
+    if (stored .and. single) allocate(basis_single(n, min(capacity, last)))
+    if (stored .and. .not. single) allocate(basis(n, min(capacity, last)))
     v_old = 0.0_dp
     beta_old = 0.0_dp
     scale = 0.0_dp
@@ -817,10 +847,9 @@ contains
       if (stored) call keep(j)
       call product(space, v, w, result, status, progress)
       if (status%stat /= demstep_stat%ok) return
-      if (j > 1) w = w - beta_old*v_old
-      alpha(j) = space%recurrence_dot(v, w)
-      w = w - alpha(j)*v
-      beta(j) = sqrt(space%recurrence_dot(w, w))
+      ! (v_old is 0 at j = 1)
+      alpha(j) = space%recurrence_update(w, beta_old, v_old, v)
+      beta(j) = sqrt(space%recurrence_update(w, alpha(j), v))
       scale = max(scale, abs(alpha(j)) + beta(j) + beta_old)
       ! an invariant Krylov space: its Ritz values are eigenvalues (exact
       ! arithmetic), its largest one xi_k for every later k
@@ -838,12 +867,24 @@ contains
           call ritz_vector(j)
           if (status%stat /= demstep_stat%ok) return
           met = rnorm <= tol*abs(theta) .or. (invariant .and. rnorm <= 1.0e3_dp*epsilon(1.0_dp)*scale)
+          if (.not. met .and. stored .and. single) then
+            ! (the single-precision vectors may have cost the tolerance: the
+            ! same Ritz vector from the recurrence run again, in full)
+            stored = .false.
+            deallocate(basis_single)
+            call ritz_vector(j)
+            if (status%stat /= demstep_stat%ok) return
+            met = rnorm <= tol*abs(theta) .or. (invariant .and. rnorm <= 1.0e3_dp*epsilon(1.0_dp)*scale)
+          end if
           if (met .or. invariant) exit
           ! (the estimate said converged, the measurement did not: on, stricter)
           threshold = 0.1_dp*threshold
         end if
       end if
-      v_old = v
+      ! v_old <- v, v <- w/beta_j (the arrays trade places, no copy)
+      call move_alloc(v_old, swap)
+      call move_alloc(v, v_old)
+      call move_alloc(swap, v)
       v = w/beta(j)
       beta_old = beta(j)
     end do
@@ -888,22 +929,25 @@ contains
       end if
     end subroutine run_start
 
-    !> Keep the Lanczos vector v as column j (growing the array up to
-    !> `store_max` columns; past it, none are kept).
+    !> Keep the Lanczos vector v as column j (in single precision when
+    !> `single`); past the columns allocated, none are kept.
     subroutine keep(j)
       integer, intent(in) :: j
-      real(dp), allocatable :: grown(:, :)
-      if (j > store_max) then
-        stored = .false.
-        deallocate(basis)
-        return
+      if (single) then
+        if (j > size(basis_single, 2)) then
+          stored = .false.
+          deallocate(basis_single)
+          return
+        end if
+        basis_single(:, j) = real(v, sp)
+      else
+        if (j > size(basis, 2)) then
+          stored = .false.
+          deallocate(basis)
+          return
+        end if
+        basis(:, j) = v
       end if
-      if (j > size(basis, 2)) then
-        allocate(grown(n, min(2*size(basis, 2), store_max, last)))
-        grown(:, :j - 1) = basis(:, :j - 1)
-        call move_alloc(grown, basis)
-      end if
-      basis(:, j) = v
     end subroutine keep
 
     !> z = the unit Ritz vector of T_j's top pair (s), theta and rnorm its
@@ -914,7 +958,13 @@ contains
       integer, intent(in) :: j
       real(dp), allocatable :: u(:), t(:)
       integer :: i
-      if (stored) then
+      if (stored .and. single) then
+        if (.not. allocated(z)) allocate(z(n))
+        z = 0.0_dp
+        do i = 1, j
+          z = z + s(i)*real(basis_single(:, i), dp)
+        end do
+      else if (stored) then
         z = matmul(basis(:, :j), s)
       else
         allocate(u(n), t(n))
@@ -1146,6 +1196,43 @@ contains
     real(dp) :: s
     s = space%dot(x, y)
   end function space_recurrence_dot
+
+  function space_recurrence_update(space, w, c, u, x) result(s)
+    class(lanczos_space_type), intent(inout) :: space
+    real(dp), intent(inout) :: w(:)
+    real(dp), intent(in) :: c, u(:)
+    real(dp), intent(in), optional :: x(:)
+    real(dp) :: s
+    w = w - c*u
+    if (present(x)) then
+      s = space%recurrence_dot(x, w)
+    else
+      s = space%recurrence_dot(w, w)
+    end if
+  end function space_recurrence_update
+
+  !> The serial `recurrence_update`: the update and the plain sum (in index
+  !> order, as `serial_recurrence_dot`'s) in one loop.
+  function serial_recurrence_update(space, w, c, u, x) result(s)
+    class(serial_space_type), intent(inout) :: space
+    real(dp), intent(inout) :: w(:)
+    real(dp), intent(in) :: c, u(:)
+    real(dp), intent(in), optional :: x(:)
+    real(dp) :: s
+    integer :: i
+    s = 0.0_dp
+    if (present(x)) then
+      do i = 1, size(w)
+        w(i) = w(i) - c*u(i)
+        s = s + x(i)*w(i)
+      end do
+    else
+      do i = 1, size(w)
+        w(i) = w(i) - c*u(i)
+        s = s + w(i)*w(i)
+      end do
+    end if
+  end function serial_recurrence_update
 
   function serial_recurrence_dot(space, x, y) result(s)
     class(serial_space_type), intent(inout) :: space
