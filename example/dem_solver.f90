@@ -116,8 +116,9 @@ program dem_solver
   real(dp) :: verify_max = 0.0_dp, verify_min = huge(1.0_dp)
   !> verify: the same for the undamped limits.
   real(dp) :: verify_max_u = 0.0_dp, verify_min_u = huge(1.0_dp)
-  ! the kinetic energy's least value since the bed settled, and the step it grew 100 times
-  real(dp) :: ke_min
+  ! the kinetic energy's least and largest values since the bed settled (every
+  ! 10th step), and the step it grew 100 times
+  real(dp) :: ke_min, ke_max
   integer :: grew_at
   ! the first (cold) update's products and time, and the warm ones' products
   integer(i8) :: cold_products, warm_products, t_cold
@@ -156,6 +157,7 @@ program dem_solver
   n2_accepted = 0
   n2_confirmed = 0
   ke_min = huge(1.0_dp)
+  ke_max = 0.0_dp
   grew_at = 0
   n_updates = 0
   n_checks = 0
@@ -209,10 +211,11 @@ program dem_solver
     if (step >= settled_step .and. mod(step, 10) == 0) then
       ke = kinetic()
       ke_min = min(ke_min, ke)
+      ke_max = max(ke_max, ke)
       if (grew_at == 0 .and. (ke > 100.0_dp*ke_min .or. .not. ke <= huge(1.0_dp))) then
         grew_at = step
-        print '(a, i0, a, es10.3, a, es10.3, a)', "kinetic energy grew 100 times at step ", step, " (", ke, &
-          " J, least since step 3000 ", ke_min, " J)"
+        print '(a, i0, a, es10.3, a, i0, a, es10.3, a)', "kinetic energy grew 100 times at step ", step, " (", ke, &
+          " J, least since step ", settled_step, " ", ke_min, " J)"
       end if
       ! far beyond growth: stop before the cell list sees non-finite positions
       if (.not. ke <= 1.0e6_dp*ke_min) exit
@@ -229,6 +232,8 @@ program dem_solver
     mode_kick, " J, least ", mode_min, " J, largest ", mode_max, " J, grew 100 times at step ", mode_grew_at
   if (grew_at == 0) print '(a, i0, a, es10.3, a)', "kinetic energy never grew 100 times over its least since step ", &
     settled_step, " (least ", ke_min, " J)"
+  print '(a, i0, a, i0, a, es10.3, a, es10.3, a)', "kinetic energy from step ", settled_step, " to ", &
+    min(step, n_steps), " (every 10th step): least ", ke_min, " J, largest ", ke_max, " J"
   print '(a, i0, a, i0, a, i0, a)', "updates ", n_updates, " (", n_resolves, " asked for by a check), checks ", &
     n_checks, ""
   print '(a, es12.5, a, es12.5, a, f6.3)', "settled bed: exact damped limit ", monitor%last%dt_critical_damped, &
