@@ -48,7 +48,8 @@
 program dem_solver
   use demstep, only: dp, i8, demstep_status_type, is_ok, critical_step_type
   use demstep_monitor, only: step_monitor_type, fresh_pour_estimate, mode_participation, top_shares, &
-    monitor_verdict, scale_masses, solver_critical_steps
+    monitor_verdict, solver_critical_steps
+  use demstep_mass_scaling, only: scale_masses
   use demstep_vtk, only: write_vtk_particles, vtk_field_type
   use omp_lib, only: omp_set_num_threads, omp_get_max_threads
   implicit none

@@ -9,7 +9,8 @@ module test_monitor
   use demstep_assembly, only: assembly_operator_type, assembly_operator
   use demstep_neighbours, only: contact_list
   use demstep_monitor, only: solver_critical_steps, step_monitor_type, mode_participation, top_shares, &
-    monitor_verdict, fresh_pour_estimate, cheap_bound, scale_masses, participation_type, scene_participation
+    monitor_verdict, fresh_pour_estimate, cheap_bound, participation_type, scene_participation
+  use demstep_mass_scaling, only: scale_masses
   use demstep_vtk, only: write_vtk_particles, vtk_field_type, write_participation_vtk
   use demstep_lanczos, only: arpack_claim, arpack_release
   use demstep_capi, only: c_solver_compute, c_solver_participation, demstep_scene_result_c, demstep_error_c
