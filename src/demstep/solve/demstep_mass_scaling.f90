@@ -83,9 +83,6 @@ module demstep_mass_scaling
   real(dp), parameter :: common_factor_cap = 4.0_dp
   !> Exact solves kept for the repair (at most half of them).
   integer, parameter :: repair_solves = 16
-  !> A factor s_i below 1 + this is taken as 1 (the linear program's interior
-  !> point answer leaves rounding-size values on unscaled particles).
-  real(dp), parameter :: factor_floor = 1.0e-5_dp
 
 contains
 
@@ -169,7 +166,7 @@ contains
     ! cutting-plane rounds: each one exact solve at the current factors
     feasible = .false.
     do
-      ! (the last solves are kept for the common factor)
+      ! (the last solves are kept for the repair)
       if (solves >= max_solves - min(repair_solves, max_solves/2) .and. solves > 0) exit
       feasible = reaches(scale, h)
       if (status%stat /= demstep_stat%ok) return
@@ -178,9 +175,9 @@ contains
       ! (the exact limit hardly moved since the last round: the repair)
       if (m_cuts > 0 .and. h <= (1.0_dp + outer_change)*h_last) exit
       h_last = h
-      ! the whole system's modes at the target, then the neighbourhoods' cuts
-      ! and the linear program in turn (no exact solve) until no
-      ! neighbourhood's top at the target is above 4 (1 + local_tolerance)
+      ! the whole system's modes at the target, then the regions' cuts and
+      ! the linear program in turn (no exact solve) until no region makes a
+      ! new cut or the program's value settles
       call mix_at_target()
       if (any(dvec /= 0.0_dp)) call whole_cut(dvec)
       if (any(vec /= 0.0_dp)) call whole_cut(vec)
