@@ -614,12 +614,17 @@ contains
   end subroutine test_scale_masses
 
   !> A uniform packing has many near-equal localised top modes (a crowded
-  !> top): 1.2 times the limit is reached (re-checked at tolerance 1e-10 on
-  !> the scaled arrays) with no more added mass than a diagonal rule needs:
+  !> top): 1.2 and 1.3 times the limit are reached (re-checked at tolerance
+  !> 1e-10 on the scaled arrays) with no more added mass than a diagonal rule
+  !> needs:
   !> each particle's factor max(1, c (target/h_i)^2), h_i its own limit from
   !> its diagonal stiffness sums (Yade's per-body rule, as example/dem_solver
   !> takes it), with the least c that reaches the target (bisected to 0.1 %
   !> on the exact limit; its added mass is then within 0.1 % of its least).
+  !> (`scale_masses` has its own diagonal candidate, h_i from its diagonal
+  !> blocks' largest eigenvalues with the dashpots: a different estimate, so
+  !> this rule is an independent check; measured 0.110 against 0.137 at 1.2 x,
+  !> 0.253 against 0.289 at 1.3 x.)
   subroutine test_scale_crowded(error)
     type(error_type), allocatable, intent(out) :: error
     type(solver_arrays_type) :: a
@@ -628,28 +633,13 @@ contains
     type(demstep_status_type) :: status
     real(dp), allocatable :: scale(:), own(:), kd(:, :), rd(:, :), f(:)
     real(dp) :: added, target, least, nn(3), d(3), box(3), c_lo, c_hi, c, diagonal
-    integer :: passes, k, e, i
+    integer :: passes, k, e, i, j
+    real(dp), parameter :: ratios(2) = [1.2_dp, 1.3_dp]
     call packing_arrays(200, a, error)
     if (allocated(error)) return
     call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, c_n=a%c_n, c_t=a%c_t, &
       inertia=a%inertia, periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
     call check(error, is_ok(status), "update: "//status_text(status))
-    if (allocated(error)) return
-    target = 1.2_dp*monitor%last%dt_critical_damped
-    call scale_masses(monitor, target, a%mass, a%radius, scale, added, scaled, status, inertia=a%inertia, &
-      passes=passes, least=least)
-    call check(error, is_ok(status) .and. scaled%dt_critical_damped >= target, "target not reached: " &
-      //status_text(status))
-    if (allocated(error)) return
-    call check(error, minval(scale) >= 1.0_dp .and. added > 0.0_dp .and. added >= least - 1.0e-6_dp*added, &
-      "passes "//int_str(int(passes, i8))//", added "//real_str(added)//", bound "//real_str(least))
-    if (allocated(error)) return
-    ! the monitor certifies its limit below the exact one (tolerance 1e-3):
-    ! the scene's solve (1e-10) of the scaled arrays is at or above the target
-    call limit_of(scale, check_result)
-    if (allocated(error)) return
-    call check(error, check_result%dt_critical_damped >= (1.0_dp - 1.0e-9_dp)*target, &
-      "re-check "//real_str(check_result%dt_critical_damped)//" below the target "//real_str(target))
     if (allocated(error)) return
     ! the diagonal rule: per particle the diagonal stiffness sums per axis,
     ! K = sum (k_n - k_t) n_a^2 + k_t and R = sum k_t (1 - n_a^2) r^2, and
@@ -667,26 +657,45 @@ contains
       end do
     end do
     own = [(2.0_dp*min(a%mass(i)/maxval(kd(:, i)), a%inertia(i)/maxval(rd(:, i))), i = 1, size(a%mass))]
-    c_lo = 0.0_dp
-    c_hi = 1.0_dp
-    diagonal = -1.0_dp
-    do
-      c = c_hi
-      if (diagonal >= 0.0_dp) c = 0.5_dp*(c_lo + c_hi)
-      f = max(1.0_dp, c*target**2/own)
-      call limit_of(f, check_result)
+    do j = 1, size(ratios)
+      target = ratios(j)*monitor%last%dt_critical_damped
+      call scale_masses(monitor, target, a%mass, a%radius, scale, added, scaled, status, inertia=a%inertia, &
+        passes=passes, least=least)
+      call check(error, is_ok(status) .and. scaled%dt_critical_damped >= target, "target not reached: " &
+        //status_text(status))
       if (allocated(error)) return
-      if (check_result%dt_critical_damped >= target) then
-        c_hi = c
-        diagonal = sum((f - 1.0_dp)*a%mass)/sum(a%mass)
-        if (c_hi - c_lo <= 1.0e-3_dp*c_hi) exit
-      else
-        c_lo = c
-        if (diagonal < 0.0_dp) c_hi = 2.0_dp*c_hi
-      end if
+      call check(error, minval(scale) >= 1.0_dp .and. added > 0.0_dp .and. added >= least - 1.0e-6_dp*added, &
+        "passes "//int_str(int(passes, i8))//", added "//real_str(added)//", bound "//real_str(least))
+      if (allocated(error)) return
+      ! the monitor certifies its limit below the exact one (tolerance 1e-3):
+      ! the scene's solve (1e-10) of the scaled arrays is at or above the target
+      call limit_of(scale, check_result)
+      if (allocated(error)) return
+      call check(error, check_result%dt_critical_damped >= (1.0_dp - 1.0e-9_dp)*target, &
+        "re-check "//real_str(check_result%dt_critical_damped)//" below the target "//real_str(target))
+      if (allocated(error)) return
+      c_lo = 0.0_dp
+      c_hi = 1.0_dp
+      diagonal = -1.0_dp
+      do
+        c = c_hi
+        if (diagonal >= 0.0_dp) c = 0.5_dp*(c_lo + c_hi)
+        f = max(1.0_dp, c*target**2/own)
+        call limit_of(f, check_result)
+        if (allocated(error)) return
+        if (check_result%dt_critical_damped >= target) then
+          c_hi = c
+          diagonal = sum((f - 1.0_dp)*a%mass)/sum(a%mass)
+          if (c_hi - c_lo <= 1.0e-3_dp*c_hi) exit
+        else
+          c_lo = c
+          if (diagonal < 0.0_dp) c_hi = 2.0_dp*c_hi
+        end if
+      end do
+      call check(error, added <= diagonal, "added "//real_str(added) &
+        //" above the diagonal rule's "//real_str(diagonal)//" (lower bound "//real_str(least)//") at "//real_str(ratios(j))//" x")
+      if (allocated(error)) return
     end do
-    call check(error, added <= diagonal, "added "//real_str(added)//" above the diagonal rule's " &
-      //real_str(diagonal)//" (lower bound "//real_str(least)//")")
   contains
     !> The exact damped limit of the arrays with the factors f (tolerance 1e-10).
     subroutine limit_of(f, crit)

@@ -39,7 +39,12 @@
 !> gets max(1 + t_i, g (target/h_i)^2) (h_i its own limit with its partners
 !> held, from its diagonal blocks), the least g. Both bisected on the exact
 !> limit: each added mass lowers every eigenvalue of the scaled problem, so
-!> the limit does not decrease along either family.
+!> the limit does not decrease along either family. Last, the pure diagonal
+!> floor max(1, g (target/h_i)^2) (a per-body rule, as Yade's) is a second
+!> candidate: g bisected on the exact limit below the g at which it would add
+!> as much as the first candidate (one solve when it does not reach there),
+!> with up to `diagonal_solves` solves of its own; the lighter verified
+!> candidate is the answer, so it never adds more than that diagonal rule.
 module demstep_mass_scaling
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
@@ -83,6 +88,8 @@ module demstep_mass_scaling
   real(dp), parameter :: common_factor_cap = 4.0_dp
   !> Exact solves kept for the repair (at most half of them).
   integer, parameter :: repair_solves = 16
+  !> Exact solves of the diagonal-floor candidate beyond `max_passes`.
+  integer, parameter, public :: diagonal_solves = 16
 
 contains
 
@@ -95,11 +102,13 @@ contains
   !> target), `added` the added mass over the total, `passes` the exact solves
   !> made, `least` the lower bound of the added mass fraction of any factors
   !> >= 1 reaching the target (the linear programs' dual bound; 0 when the
-  !> limit already reaches it). Status invalid_input naming `monitor` (no
-  !> update with an eigensolve), `mass` (not the update's particles) or
-  !> `target` (not finite and > 0); not_converged after `max_passes` exact
-  !> solves (default `scale_masses_solves_default`) with the target not
-  !> reached.
+  !> limit already reaches it). The answer is the lighter of the cutting
+  !> planes' (repaired) factors and the diagonal floor's. Status
+  !> invalid_input naming `monitor` (no update with an eigensolve), `mass`
+  !> (not the update's particles) or
+  !> `target` (not finite and > 0); not_converged when neither candidate
+  !> reached the target (`max_passes` exact solves, default
+  !> `scale_masses_solves_default`, then `diagonal_solves` more).
   subroutine scale_masses(monitor, target, mass, radius, scale, added, result, status, inertia, fixed, &
       max_passes, passes, least)
     class(step_monitor_type), intent(inout) :: monitor
@@ -122,10 +131,10 @@ contains
     integer, allocatable :: cut_start(:), cut_col(:), identity(:), place(:)
     real(dp), allocatable :: top_bound(:, :), seen(:)
     real(dp), allocatable :: t_lp(:), q(:)
-    real(dp) :: h, rate_of_op, total, bound, lp_lower, lp_value, h_last
-    integer :: max_solves, solves, nb, b, m_cuts, n_entries, inner, new_cuts
-    logical :: feasible, found
-    integer, parameter :: common_factor = 1, diagonal_floor = 2
+    real(dp) :: h, rate_of_op, total, bound, lp_lower, lp_value, h_last, c_cap
+    integer :: max_solves, budget, solves, nb, b, m_cuts, n_entries, inner, new_cuts
+    logical :: feasible, found, found_diagonal
+    integer, parameter :: common_factor = 1, diagonal_floor = 2, pure_diagonal = 3
     added = 0.0_dp
     solves = 0
     if (present(passes)) passes = 0
@@ -145,6 +154,7 @@ contains
     end if
     max_solves = scale_masses_solves_default
     if (present(max_passes)) max_solves = max_passes
+    budget = max_solves
     if (present(inertia)) then
       base_inertia = inertia
     else
@@ -201,32 +211,49 @@ contains
       end do
     end do
     if (present(least)) least = bound
-    if (feasible) then
-      call finish()
-      return
-    end if
     ! the repair: the common factor on the added masses (doubled until the
     ! exact limit reaches the target, then bisected); when the limit stays
     ! below it (a mode on particles the cuts left alone), every particle
     ! also gets the diagonal floor g (target/h_i)^2, h_i its own limit with
     ! its partners held, g the least that reaches the target
-    if (allocated(t)) then
+    found = feasible
+    if (feasible) then
+      best = scale
+      best_result = result
+    else if (allocated(t)) then
       t_lp = t
       call repair(common_factor, found)
       if (status%stat /= demstep_stat%ok) return
       if (.not. found) then
-        call local_limits(q)
+        call floor_weights()
         if (status%stat /= demstep_stat%ok) return
-        q = (target/q)**2
         call repair(diagonal_floor, found)
         if (status%stat /= demstep_stat%ok) return
       end if
+    end if
+    ! the second candidate, the pure diagonal floor, tried only below the g
+    ! at which it adds as much as the first (c_cap); none when the first
+    ! adds nothing
+    found_diagonal = .not. found
+    if (found) found_diagonal = any(best > 1.0_dp)
+    if (found_diagonal) then
+      budget = max_solves + diagonal_solves
+      call floor_weights()
+      if (status%stat /= demstep_stat%ok) return
       if (found) then
-        scale = best
-        result = best_result
-        call finish()
-        return
+        c_cap = floor_matching(dot_product(cost, best(monitor%body_particle) - 1.0_dp))
+        call repair(pure_diagonal, found_diagonal, c_cap)
+      else
+        call repair(pure_diagonal, found_diagonal)
       end if
+      if (status%stat /= demstep_stat%ok) return
+      found = found .or. found_diagonal
+    end if
+    if (found) then
+      scale = best
+      result = best_result
+      call finish()
+      return
     end if
     added = sum((scale - 1.0_dp)*mass)/total
     if (present(passes)) passes = solves
@@ -274,7 +301,7 @@ contains
       reaches = .false.
       call exact_limit(factor, h)
       if (status%stat /= demstep_stat%ok .or. h < target) return
-      if (solves >= max_solves) return
+      if (solves >= budget) return
       call exact_limit(factor, h, cold=.true.)
       if (status%stat /= demstep_stat%ok) return
       reaches = h >= target
@@ -415,13 +442,15 @@ contains
       end if
     end subroutine grow
     !> The least parameter of a family of factors (`common_factor`: s = 1 +
-    !> c t; `diagonal_floor`: s = max(1 + c_cap t, c q)) whose exact limit
-    !> reaches the target: doubled, then bisected to `repair_resolution` (best,
-    !> best_result; found false when the solves or the common factor's cap
-    !> ran out first).
-    subroutine repair(family, found)
+    !> c t; `diagonal_floor`: s = max(1 + t, c q); `pure_diagonal`: s =
+    !> max(1, c q)) whose exact limit reaches the target: doubled (from `cap`
+    !> when given: then not above it), then bisected to `repair_resolution`
+    !> (best, best_result; found false when the solves, the common factor's
+    !> cap or `cap` ran out first).
+    subroutine repair(family, found, cap)
       integer, intent(in) :: family
       logical, intent(out) :: found
+      real(dp), intent(in), optional :: cap
       real(dp) :: lo, hi, c
       found = .false.
       if (family == common_factor) then
@@ -430,9 +459,10 @@ contains
       else
         lo = 0.0_dp
         hi = 1.0_dp
+        if (present(cap)) hi = cap
       end if
       do
-        if (solves >= max_solves) exit
+        if (solves >= budget) exit
         c = hi
         if (found) c = 0.5_dp*(lo + hi)
         call set_family(family, c)
@@ -448,6 +478,7 @@ contains
         if (found) then
           if (hi - lo <= repair_resolution*hi) exit
         else
+          if (present(cap)) exit
           if (family == common_factor) then
             if (hi >= common_factor_cap) exit
             hi = min(common_factor_cap, 1.0_dp + 2.0_dp*(hi - 1.0_dp))
@@ -462,12 +493,42 @@ contains
       integer, intent(in) :: family
       real(dp), intent(in) :: c
       scale = 1.0_dp
-      if (family == common_factor) then
+      select case (family)
+      case (common_factor)
         scale(monitor%body_particle) = 1.0_dp + c*t_lp
-      else
+      case (diagonal_floor)
         scale(monitor%body_particle) = max(1.0_dp + t_lp, c*q)
-      end if
+      case default
+        scale(monitor%body_particle) = max(1.0_dp, c*q)
+      end select
     end subroutine set_family
+    !> The diagonal floor's weights q = (target/h_i)^2 (once).
+    subroutine floor_weights()
+      if (allocated(q)) return
+      call local_limits(q)
+      if (status%stat /= demstep_stat%ok) return
+      q = (target/q)**2
+    end subroutine floor_weights
+    !> The largest g (to rounding) at which the pure diagonal floor adds at
+    !> most the mass `mass_added` (its added mass grows with g).
+    real(dp) function floor_matching(mass_added) result(g)
+      real(dp), intent(in) :: mass_added
+      real(dp) :: g_hi
+      integer :: k
+      g = 0.0_dp
+      g_hi = 1.0_dp
+      do while (dot_product(cost, max(1.0_dp, g_hi*q) - 1.0_dp) <= mass_added)
+        g = g_hi
+        g_hi = 2.0_dp*g_hi
+      end do
+      do k = 1, 60
+        if (dot_product(cost, max(1.0_dp, 0.5_dp*(g + g_hi)*q) - 1.0_dp) <= mass_added) then
+          g = 0.5_dp*(g + g_hi)
+        else
+          g_hi = 0.5_dp*(g + g_hi)
+        end if
+      end do
+    end function floor_matching
     !> Each free body's own damped limit (its partners held), unscaled: the
     !> lower bound `damped_lower_bound` from the largest eigenvalues of its
     !> diagonal blocks of A' and B'.
