@@ -127,8 +127,8 @@ module demstep
   use demstep_scene_input, only: scene_input_type, scene_setup_type, scene_from_input, scene_input_part
   ! inside a running solver: its own arrays, a persistent monitor, what governs the limit
   use demstep_monitor, only: solver_critical_steps, step_monitor_type, monitor_verdict, &
-    mode_participation, top_shares, fresh_pour_estimate, scale_masses, scene_participation, &
-    participation_type
+    mode_participation, top_shares, fresh_pour_estimate, scene_participation, participation_type
+  use demstep_mass_scaling, only: scale_masses
   use demstep_vtk, only: write_vtk_particles, vtk_field_type, write_participation_vtk
   ! one recommended step
   use demstep_recommend, only: recommended_step, contact_assessment_type, assess_contact

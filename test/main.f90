@@ -43,6 +43,7 @@ program tester
   use test_monitor, only: collect_monitor
   use test_bonds, only: collect_bonds
   use test_bodies, only: collect_bodies
+  use test_covering_lp, only: collect_covering_lp
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -88,7 +89,8 @@ program tester
     new_testsuite("structure", collect_structure), &
     new_testsuite("monitor", collect_monitor), &
     new_testsuite("bonds", collect_bonds), &
-    new_testsuite("bodies", collect_bodies) &
+    new_testsuite("bodies", collect_bodies), &
+    new_testsuite("covering_lp", collect_covering_lp) &
     ]
   stat = 0
   total = 0

@@ -5,7 +5,8 @@
 !> Bloch operator, the reference for tiled packings), the largest eigenvalue
 !> of a symmetric tridiagonal one (a Lanczos run's), and the spectral radius
 !> of a general one (a one-step map's, the reference for the damped stability
-!> limit).
+!> limit), and the Cholesky factor and solves of a positive definite one (a
+!> linear program's normal equations).
 module demstep_lapack
   use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
@@ -13,7 +14,7 @@ module demstep_lapack
   private
 
   public :: largest_eigenpair, spectral_radius, largest_hermitian_eigenvalue, symmetric_eigensystem, &
-    largest_tridiagonal_eigenvalue, largest_tridiagonal_eigenpair
+    largest_tridiagonal_eigenvalue, largest_tridiagonal_eigenpair, cholesky_factor, cholesky_solve
 
   interface
     !> LAPACK dsyevr: selected eigenvalues (and vectors) of a real symmetric matrix
@@ -79,6 +80,25 @@ module demstep_lapack
       real(dp), intent(inout) :: work(*)
       integer, intent(inout) :: iwork(*)
     end subroutine dstevr
+
+    !> LAPACK dpotrf: the Cholesky factor of a symmetric positive definite matrix.
+    pure subroutine dpotrf(uplo, n, a, lda, info)
+      import :: dp
+      character(len=1), intent(in) :: uplo
+      integer, intent(in) :: n, lda
+      real(dp), intent(inout) :: a(lda, *)
+      integer, intent(out) :: info
+    end subroutine dpotrf
+
+    !> LAPACK dpotrs: solves with a Cholesky factor from dpotrf.
+    pure subroutine dpotrs(uplo, n, nrhs, a, lda, b, ldb, info)
+      import :: dp
+      character(len=1), intent(in) :: uplo
+      integer, intent(in) :: n, nrhs, lda, ldb
+      real(dp), intent(in) :: a(lda, *)
+      real(dp), intent(inout) :: b(ldb, *)
+      integer, intent(out) :: info
+    end subroutine dpotrs
   end interface
 
 contains
@@ -303,6 +323,49 @@ contains
     rho = maxval(hypot(wr, wi))
     status%stat = demstep_stat%ok
   end subroutine spectral_radius
+
+  !> The Cholesky factor L L' of the symmetric positive definite n-by-n
+  !> matrix `a` (its lower triangle is used and overwritten by L), by dpotrf.
+  !> Status `lapack_failure` when it is not positive definite (to rounding).
+  pure subroutine cholesky_factor(a, status)
+    real(dp), intent(inout) :: a(:, :)
+    type(demstep_status_type), intent(out) :: status
+    integer :: n, info
+    n = size(a, 1)
+    if (n < 1 .or. size(a, 2) /= n) then
+      call set_status(status, demstep_stat%invalid_input, "need an n-by-n matrix, n >= 1", where="cholesky_factor")
+      return
+    end if
+    call dpotrf("L", n, a, n, info)
+    if (info > 0) then
+      call set_status(status, demstep_stat%lapack_failure, "dpotrf: the matrix is not positive definite")
+      return
+    else if (info < 0) then
+      call set_status(status, demstep_stat%lapack_failure, info_message(info, "dpotrf"))
+      return
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine cholesky_factor
+
+  !> Solves L L' x = b in place (b: size n) with the factor of `cholesky_factor`.
+  pure subroutine cholesky_solve(factor, b, status)
+    real(dp), intent(in) :: factor(:, :)
+    real(dp), intent(inout) :: b(:)
+    type(demstep_status_type), intent(out) :: status
+    integer :: n, info
+    n = size(factor, 1)
+    if (n < 1 .or. size(factor, 2) /= n .or. size(b) /= n) then
+      call set_status(status, demstep_stat%invalid_input, "need an n-by-n factor and b of size n", &
+        where="cholesky_solve")
+      return
+    end if
+    call dpotrs("L", n, 1, factor, n, b, n, info)
+    if (info /= 0) then
+      call set_status(status, demstep_stat%lapack_failure, info_message(info, "dpotrs"))
+      return
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine cholesky_solve
 
   !> A LAPACK routine's info as words.
   pure function info_message(info, routine) result(message)
