@@ -39,8 +39,10 @@
 !> `release` (as `mpi_files_critical_steps` runs) the positions and
 !> contacts go once the springs are built, and the springs once the
 !> operator is. Measured (`mpi/example/mpi_files`, 6 dof and 3 contacts per
-!> particle, 2 ranks): 1.23 kB per own particle at 1e6 particles and 1.18 kB
-!> at 1e7 (5.5 GiB per rank), the fixed 27 MiB per rank included.
+!> particle, 2 ranks, tolerance 1e-6): 3.39 kB per own particle at 1e6
+!> particles (the Lanczos vectors kept in single precision 2.2 kB of it) and
+!> 1.18 kB at 1e7 (5.5 GiB per rank; none kept), the fixed 27 MiB per rank
+!> included.
 module demstep_mpi_dist_scene
   use mpi_f08
   use demstep_kinds, only: dp, i8
