@@ -142,6 +142,11 @@ contains
     call covering_lp([1, 3], [1, 2], [1.0_dp, 1.0_dp], [1.0_dp, 1.0_dp], [1.0_dp, 1.0_dp], t, y, status)
     call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "row_start", &
       "row starts: "//status%message)
+    if (allocated(error)) return
+    ! entries past the last row's (one unused, with a column out of range)
+    call covering_lp([1, 3], [1, 2, 99], [1.0_dp, 1.0_dp, 1.0_dp], [1.0_dp], [1.0_dp, 1.0_dp], t, y, status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "row_start", &
+      "unused entries: "//status%message)
   end subroutine test_bad_input
 
 end module test_covering_lp

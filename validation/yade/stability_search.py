@@ -62,13 +62,15 @@ def bisect(trial, dt, widen, rtol, max_trials=200):
     return lo, hi
 
 
-def confirm(long_trial, lo, hi, rtol):
+def confirm(long_trial, lo, hi, rtol, max_trials=200):
     """Re-run the stable end `lo` with `long_trial` (a run several times
-    longer); step down by rtol while it fails.
+    longer); step down by rtol while it fails, at most max_trials times.
 
     `long_trial(dt)` returns (unstable, steps). Returns (lo, hi, records)."""
     records = []
     while True:
+        if len(records) >= max_trials:
+            raise RuntimeError('no stable long run within %d trials' % max_trials)
         unstable, steps = long_trial(lo)
         records.append({'dt': lo, 'steps': steps, 'unstable': unstable})
         if not unstable:

@@ -441,6 +441,7 @@ contains
     integer :: i, solver, basis
     logical :: has_mode, converged, certified, taken, damped_taken, refine, moved, known
     status%stat = demstep_stat%ok
+    if (present(confirmed)) confirmed = .false.
     result%prestress = geo
     result%dof_per_particle = op%nc
     result%n_dof = op%n
@@ -490,8 +491,9 @@ contains
         call solve_top(.false.)
         if (status%stat /= demstep_stat%ok) return
       end if
-      if (present(confirmed)) confirmed = solver /= eigen_solver%dense .and. .not. taken .and. &
-        (moved .or. .not. refine)
+      ! (a dense solve is exact: it counts as confirmed)
+      if (present(confirmed)) confirmed = solver == eigen_solver%dense .or. (.not. taken .and. &
+        (moved .or. .not. refine))
       result%eigen_tolerance = tol
       if (solver == eigen_solver%dense) result%eigen_tolerance = epsilon(1.0_dp)
       call assembly_set_estimates(result, rate, lam, err, converged, b_bound, status, upper, &
@@ -751,7 +753,7 @@ contains
     type(csr_matrix_type) :: sparse
     real(dp), allocatable :: a(:, :), av(:), start(:)
     integer :: m
-    logical :: refine
+    logical :: refine, reuse
     has_mode = .true.
     refine = .false.
     if (present(taken)) taken = .false.
@@ -777,7 +779,9 @@ contains
       if (present(accept_start)) then
         if (accept_start .and. any(vec /= 0.0_dp)) then
           start = vec/norm2(vec)
-          if (present(start_av)) then
+          reuse = present(start_av)
+          if (reuse) reuse = size(start_av) == n
+          if (reuse) then
             av = start_av
           else
             allocate(av(n))

@@ -184,10 +184,10 @@ contains
         call set_status(status, demstep_stat%invalid_input, "must have size(r) + 1 entries", where="row_start")
         return
       end if
-      if (row_start(1) /= 1 .or. any(row_start(2:) < row_start(:m)) .or. row_start(m + 1) - 1 > size(col) &
+      if (row_start(1) /= 1 .or. any(row_start(2:) < row_start(:m)) .or. row_start(m + 1) - 1 /= size(col) &
           .or. size(val) /= size(col)) then
-        call set_status(status, demstep_stat%invalid_input, "must start at 1 and not decrease, within " &
-          //"col and val (of one size)", where="row_start")
+        call set_status(status, demstep_stat%invalid_input, "must start at 1, not decrease and end " &
+          //"after the last entry of col and val (of one size)", where="row_start")
         return
       end if
       do p = 1, row_start(m + 1) - 1

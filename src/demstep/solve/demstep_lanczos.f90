@@ -123,7 +123,8 @@ module demstep_lanczos
   !> run from the certificate's start (`krylov_top`); smaller ones (where the
   !> Krylov space soon is the whole space) run ARPACK and the certificate.
   integer, parameter, public :: krylov_min_order = 1000
-  !> Memory (bytes, per process) for the Lanczos vectors of `krylov_top`
+  !> Memory (bytes, counted at the global order: all processes together,
+  !> each holding its share) for the Lanczos vectors of `krylov_top`
   !> (at least the Krylov size asked, ncv, are kept as ARPACK would): beyond
   !> it the Ritz vector is formed by running the recurrence again, which
   !> doubles the products, and none are kept when the certificate's products
@@ -182,7 +183,7 @@ module demstep_lanczos
     character(len=:), allocatable :: caller
     !> The solver's name in the result.
     character(len=:), allocatable :: solver
-    !> Memory (bytes per process) for the Lanczos vectors `krylov_top` keeps.
+    !> Memory (bytes, at the global order) for the Lanczos vectors `krylov_top` keeps.
     integer(i8) :: store_bytes = lanczos_store_bytes
   contains
     !> y = A x on this block.
@@ -781,7 +782,7 @@ contains
   pure integer function store_count(space, m) result(count)
     class(lanczos_space_type), intent(in) :: space
     integer, intent(in) :: m
-    count = int(max(int(m, i8), space%store_bytes/(8_i8*max(space%n_global, 1))))
+    count = int(min(int(huge(1)/2, i8), max(int(m, i8), space%store_bytes/(8_i8*max(space%n_global, 1)))))
   end function store_count
 
   !> The certified cold solve in one run (module notes, "One run for both"):
@@ -791,8 +792,9 @@ contains
   !> vector's measured Rayleigh quotient and residual (the result's
   !> eigenvalue, residual and error bar; a measured residual above the
   !> tolerance sends the run on with a tenfold stricter estimate) and the
-  !> certificate from the largest Ritz value. Keeps up to `store_max` Lanczos (twice as many in single precision at `single_basis_tolerance`)
-  !> vectors, else forms the Ritz vector by a second pass. Status
+  !> certificate from the largest Ritz value. Keeps up to `store_max` Lanczos
+  !> vectors (twice as many in single precision at `single_basis_tolerance`),
+  !> else forms the Ritz vector by a second pass. Status
   !> `not_converged` when `steps_max` products did not meet the tolerance
   !> (the result still has the measured pair and the certificate).
   subroutine krylov_top(space, tol, steps_min, steps_max, store_max, lower, result, status, eigenvector, &
@@ -808,7 +810,8 @@ contains
     class(progress_type), intent(inout), optional :: progress
     !> A warm start (this block, non-zero): the run starts from its unit
     !> vector plus the certificate's unit Gaussian one, and makes no
-    !> certificate (basis `lanczos_basis_warm_random`; steps_min should be 0).
+    !> certificate (basis `lanczos_basis_warm_random`; steps_min is the
+    !> confirmation's least products, 0 for none).
     real(dp), intent(in), optional :: warm(:)
     !> With `warm`: false, the run starts from the warm vector alone (basis
     !> `lanczos_basis_warm`: not confirmed). Default true.

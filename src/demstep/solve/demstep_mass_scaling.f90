@@ -200,7 +200,9 @@ contains
         if (status%stat /= demstep_stat%ok) return
         bound = max(bound, lp_lower/total)
         ! (the value's last relative change small: the neighbourhoods are met)
-        if (inner > 1 .and. dot_product(cost, t) <= (1.0_dp + inner_change)*lp_value) new_cuts = 0
+        if (inner > 1) then
+          if (dot_product(cost, t) <= (1.0_dp + inner_change)*lp_value) new_cuts = 0
+        end if
         lp_value = dot_product(cost, t)
         scale(monitor%body_particle) = 1.0_dp + t
         if (inner > 1 .and. new_cuts == 0) exit
@@ -553,11 +555,6 @@ contains
     end subroutine finish
   end subroutine scale_masses
 
-  !> The top of the region within `depth` springs of body b (free bodies
-  !> only, the rest held): the largest eigenvalue lam of the principal
-  !> submatrix of the operator as it is mixed on `bodies` (b first) and its
-  !> unit vector v (nc per listed body). `place` (n_bodies entries, all 0)
-  !> is work, returned all 0.
   !> The largest eigenvalue of each free body's diagonal block of the
   !> operator as it is mixed (its rows' first nc x nc entries,
   !> `assembly_matrix_rows`): the body's own frequency with its partners held.

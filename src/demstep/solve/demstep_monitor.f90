@@ -274,7 +274,7 @@ contains
     real(dp), intent(in), optional :: wall_point(:, :), wall_normal(:, :), wall_k(:), wall_damping(:)
     logical, intent(in), optional :: periodic(:)
     real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
-    logical :: rotation, warm, accept, certify, stood
+    logical :: rotation, warm, accept, certify, stood, stood_damped
     integer :: i, nfree, ncv
     real(dp) :: a_bound, in_place
     real(dp), allocatable :: rows(:), mode_av(:)
@@ -342,18 +342,21 @@ contains
     certify = monitor%certify .or. .not. warm
     ! (the undamped mode's product from `stands` spares the solve's; a top
     ! re-solved in place, not moved, lets the damped mode be tried as it is)
+    ! (a scheduled confirmation confirms the damped steps too: neither the
+    ! previous damped mode nor a top in place is taken then)
     in_place = 2.0_dp
-    if (warm .and. .not. monitor%local_start) in_place = monitor%in_place
+    if (accept) in_place = monitor%in_place
+    stood_damped = stood .and. accept
     if (monitor%cheap) then
       call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
         default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status, &
         bounds=[a_bound, cheap_bound(monitor%op, dashpots=.true.)], ncv=ncv, &
-        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=stood, certify=certify, &
+        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=stood_damped, certify=certify, &
         start_av=mode_av, in_place=in_place, confirm_steps=merge(ncv, 0, warm), confirmed=monitor%confirmed)
     else
       call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
         default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status, ncv=ncv, &
-        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=stood, certify=certify, &
+        damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=stood_damped, certify=certify, &
         start_av=mode_av, in_place=in_place, confirm_steps=merge(ncv, 0, warm), confirmed=monitor%confirmed)
     end if
     monitor%confirmed = warm .and. monitor%confirmed
