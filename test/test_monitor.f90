@@ -471,6 +471,13 @@ contains
     if (allocated(error)) return
     call check(error, monitor%confirmed .and. .not. monitor%accepted .and. .not. monitor%local_start, &
       "moved: not confirmed")
+    if (allocated(error)) return
+    ! (a NaN in_place would take every re-solved top as in place)
+    monitor%in_place = ieee_nan()
+    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, c_n=a%c_n, c_t=a%c_t, &
+      periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "in_place", &
+      "NaN in_place: "//status_text(status))
   contains
     !> An update (scheduled confirmations off) against the exact damped limit
     !> (tolerance 1e-10) on the same arrays: never above it, and within 2 tol

@@ -52,7 +52,7 @@ module demstep_mass_scaling
     operator_critical_steps, default_max_eigen_dof, scene_lanczos_ncv, operator_mix, assembly_operator_apply, &
     assembly_matrix_rows, damped_lower_bound
   use demstep_lapack, only: largest_eigenpair
-  use demstep_monitor, only: step_monitor_type, cheap_bound, sphere_inertia
+  use demstep_monitor, only: step_monitor_type, cheap_bound, sphere_inertia, region_of, region_top
   use demstep_covering_lp, only: covering_lp
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
@@ -344,7 +344,7 @@ contains
           if (top_bound(depth, b) < huge(1.0_dp)) top_bound(depth, b) = top_bound(depth, b)*ratio
           if (top_bound(depth, b) < 4.0_dp*merge(ring_fraction, 1.0_dp + local_tolerance, depth < ring_depth)) &
             exit
-          call ring_top(op, b, depth, place, bodies, lam, v, status)
+          call region_top(op, b, depth, identity, place, bodies, lam, v, status)
           if (status%stat /= demstep_stat%ok) return
           top_bound(depth, b) = lam
           if (lam > 4.0_dp*(1.0_dp + local_tolerance)) then
@@ -366,7 +366,7 @@ contains
       end do
       ! the widest regions around the peaks other regions saw, not yet made
       do k = 1, n_forced
-        call ring_top(op, forced(k), ring_depth, place, bodies, lam, v, status)
+        call region_top(op, forced(k), ring_depth, identity, place, bodies, lam, v, status)
         if (status%stat /= demstep_stat%ok) return
         top_bound(ring_depth, forced(k)) = lam
         if (.not. lam > 4.0_dp*(1.0_dp + local_tolerance) .or. peak_body(v, nc) /= 1) cycle
@@ -580,81 +580,5 @@ contains
       if (status%stat /= demstep_stat%ok) return
     end do
   end subroutine block_maxima
-
-  !> The free bodies within `depth` springs of body b (b first); `place`
-  !> (n_bodies entries, all 0 on entry) holds each listed body's position.
-  subroutine region_of(op, b, depth, place, bodies)
-    type(assembly_operator_type), intent(in) :: op
-    integer, intent(in) :: b, depth
-    integer, intent(inout) :: place(:)
-    integer, allocatable, intent(out) :: bodies(:)
-    integer(i8) :: p
-    integer :: nb, level, lo, hi, k, i, s, e, j
-    allocate(bodies(16))
-    nb = 1
-    bodies(1) = b
-    place(b) = 1
-    lo = 1
-    do level = 1, depth
-      hi = nb
-      do k = lo, hi
-        i = bodies(k)
-        do p = op%first(i), op%first(i + 1) - 1
-          s = (op%incident(p) + 1)/2
-          e = op%incident(p) - 2*(s - 1)
-          j = op%ends(3 - e, s)
-          if (j == 0) cycle
-          if (place(j) > 0) cycle
-          if (nb == size(bodies)) bodies = [bodies, bodies]
-          nb = nb + 1
-          bodies(nb) = j
-          place(j) = nb
-        end do
-      end do
-      lo = hi + 1
-    end do
-    bodies = bodies(:nb)
-  end subroutine region_of
-
-  !> The top of the region within `depth` springs of body b (free bodies
-  !> only, the rest held): the largest eigenvalue lam of the principal
-  !> submatrix of the operator as it is mixed on `bodies` (b first) and its
-  !> unit vector v (nc per listed body). `place` (n_bodies entries, all 0)
-  !> is work, returned all 0.
-  subroutine ring_top(op, b, depth, place, bodies, lam, v, status)
-    type(assembly_operator_type), intent(in) :: op
-    integer, intent(in) :: b, depth
-    integer, intent(inout) :: place(:)
-    integer, allocatable, intent(out) :: bodies(:)
-    real(dp), intent(out) :: lam
-    real(dp), allocatable, intent(out) :: v(:)
-    type(demstep_status_type), intent(out) :: status
-    integer(i8), allocatable :: row_start(:)
-    integer, allocatable :: col(:), identity(:)
-    real(dp), allocatable :: val(:), a(:, :)
-    integer(i8) :: p
-    integer :: nb, k, j, nc, m, r, q
-    nc = op%nc
-    lam = 0.0_dp
-    call region_of(op, b, depth, place, bodies)
-    nb = size(bodies)
-    identity = [(k, k = 1, op%n_bodies)]
-    call assembly_matrix_rows(op, bodies, identity, row_start, col, val, status)
-    if (status%stat == demstep_stat%ok) then
-      m = nc*nb
-      allocate(a(m, m), source=0.0_dp)
-      allocate(v(m))
-      do r = 1, m
-        do p = row_start(r), row_start(r + 1) - 1
-          j = (col(p) - 1)/nc + 1
-          q = col(p) - (j - 1)*nc
-          k = place(j)
-          if (k > 0) a(r, (k - 1)*nc + q) = a(r, (k - 1)*nc + q) + val(p)
-        end do
-      end do
-      call largest_eigenpair(a, lam, v, status)
-    end if
-    place(bodies) = 0
-  end subroutine ring_top
 
 end module demstep_mass_scaling

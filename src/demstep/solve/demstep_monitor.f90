@@ -17,7 +17,7 @@
 !> solve also every `confirm_every`-th update). A body that could
 !> carry the top (its per-body bound at or above omega_max^2) and stiffened
 !> by more than `drift` (a new contact, say) has its neighbourhood solved on
-!> its own (`local_top`, a dense eigenproblem of a few dozen unknowns); when
+!> its own (`region_top`, a dense eigenproblem of a few dozen unknowns); when
 !> that top reaches `local_margin` omega_max^2 it joins the start and the
 !> confirmed Lanczos solve runs from it. Warm updates skip the randomised certificate unless
 !> `certify` (the first update always makes it). `check`
@@ -63,7 +63,7 @@ module demstep_monitor
   public :: solver_critical_steps, mode_participation, top_shares, cheap_bound, fresh_pour_estimate, &
     scene_participation
   ! (for `demstep_mass_scaling`)
-  public :: sphere_inertia
+  public :: sphere_inertia, region_of, region_top
 
   !> Particles of the generated packing of `fresh_pour_estimate` (default).
   integer, parameter, public :: fresh_pour_particles = 500
@@ -159,7 +159,7 @@ module demstep_monitor
     !> update always does; warm ones rest on the previous mode, the local
     !> solves and the confirmations (`safe_basis%estimate`).
     logical :: certify = .false.
-    !> A stiffened body's neighbourhood whose own top (`local_top`) reaches
+    !> A stiffened body's neighbourhood whose own top (`region_top`) reaches
     !> local_margin omega_max^2 joins the warm start (see `update`).
     real(dp) :: local_margin = monitor_local_margin_default
     !> A previous undamped mode whose residual fails is refined from itself
@@ -285,6 +285,11 @@ contains
         where="solver")
       return
     end if
+    if (.not. (monitor%in_place >= 0.0_dp)) then
+      call set_status(status, demstep_stat%invalid_input, "must be >= 0 (above 1: never in place)", &
+        where="in_place")
+      return
+    end if
     call build_operator(x, mass, radius, pairs, k_n, monitor%springs, monitor%spring_row, monitor%op, &
       monitor%rate, rotation, status, k_t, c_n, c_t, inertia, fixed, wall_point, wall_normal, wall_k, &
       wall_damping, periodic, cell_lo, cell_hi)
@@ -320,7 +325,7 @@ contains
     ! a top elsewhere needs a body that could carry it (its own bound at or
     ! above the last omega_max^2) to have stiffened (a new contact, say): its
     ! bound risen by more than `drift` since it was last looked at. Such a
-    ! body's neighbourhood (`local_top`) is solved on its own: when its top
+    ! body's neighbourhood (`region_top`) is solved on its own: when its top
     ! reaches `local_margin` omega_max^2, its vector joins the start
     monitor%flagged = 0
     monitor%local_start = .false.
@@ -685,7 +690,7 @@ contains
 
   !> Look at each body that could carry the top (its row at or above the last
   !> omega_max^2) and stiffened by more than `drift` since it was last looked
-  !> at: its neighbourhood's own top (`local_top`); when it reaches
+  !> at: its neighbourhood's own top (`region_top`, depth 1); when it reaches
   !> `local_margin` omega_max^2, that vector is added to the warm start
   !> (monitor%mode, then no longer a mode: the update's Lanczos solve runs
   !> from it). Counts them in monitor%flagged.
@@ -694,7 +699,7 @@ contains
     !> Each free body's row (omega^2).
     real(dp), intent(in) :: rows(:)
     type(demstep_status_type), intent(out) :: status
-    integer, allocatable :: identity(:), bodies(:)
+    integer, allocatable :: identity(:), place(:), bodies(:)
     real(dp), allocatable :: v(:), start(:)
     real(dp) :: lam, sgn
     integer :: b, k, nc, lo
@@ -703,10 +708,13 @@ contains
     do b = 1, size(rows)
       if (.not. (rows(b) >= monitor%omega2 .and. rows(b) > (1.0_dp + monitor%drift)*monitor%confirmed_rows(b))) &
         cycle
-      if (.not. allocated(identity)) identity = [(k, k = 1, monitor%op%n_bodies)]
+      if (.not. allocated(identity)) then
+        identity = [(k, k = 1, monitor%op%n_bodies)]
+        allocate(place(monitor%op%n_bodies), source=0)
+      end if
       monitor%flagged = monitor%flagged + 1
       monitor%confirmed_rows(b) = rows(b)
-      call local_top(monitor%op, b, identity, bodies, lam, v, status)
+      call region_top(monitor%op, b, 1, identity, place, bodies, lam, v, status)
       if (status%stat /= demstep_stat%ok) return
       if (lam*monitor%rate**2 < monitor%local_margin*monitor%omega2) cycle
       if (.not. allocated(start)) start = monitor%mode/norm2(monitor%mode)
@@ -746,14 +754,53 @@ contains
     stands = lam > 0.0_dp .and. norm2(y - lam*vec/length) <= tol*lam
   end function stands
 
-  !> The top of body b's neighbourhood with the rest held: the largest
-  !> eigenvalue lam (scaled) of the principal submatrix of A' on b and the
-  !> free bodies it shares a spring with (`bodies`, b first), and its unit
-  !> vector v (nc per listed body). A principal submatrix's: lam <=
-  !> lambda_max(A') (Cauchy's interlacing). `identity` is 1..n_bodies.
-  subroutine local_top(op, b, identity, bodies, lam, v, status)
+  !> The free bodies within `depth` springs of body b (b first); `place`
+  !> (n_bodies entries, all 0 on entry) holds each listed body's position.
+  subroutine region_of(op, b, depth, place, bodies)
     type(assembly_operator_type), intent(in) :: op
-    integer, intent(in) :: b, identity(:)
+    integer, intent(in) :: b, depth
+    integer, intent(inout) :: place(:)
+    integer, allocatable, intent(out) :: bodies(:)
+    integer(i8) :: p
+    integer :: nb, level, lo, hi, k, i, s, e, j
+    allocate(bodies(16))
+    nb = 1
+    bodies(1) = b
+    place(b) = 1
+    lo = 1
+    do level = 1, depth
+      hi = nb
+      do k = lo, hi
+        i = bodies(k)
+        do p = op%first(i), op%first(i + 1) - 1
+          s = (op%incident(p) + 1)/2
+          e = op%incident(p) - 2*(s - 1)
+          j = op%ends(3 - e, s)
+          if (j == 0) cycle
+          if (place(j) > 0) cycle
+          if (nb == size(bodies)) bodies = [bodies, bodies]
+          nb = nb + 1
+          bodies(nb) = j
+          place(j) = nb
+        end do
+      end do
+      lo = hi + 1
+    end do
+    bodies = bodies(:nb)
+  end subroutine region_of
+
+  !> The top of the region within `depth` springs of body b (free bodies
+  !> only, the rest held): the largest eigenvalue lam of the principal
+  !> submatrix of the operator as it is mixed on `bodies` (b first) and its
+  !> unit vector v (nc per listed body). A principal submatrix's: lam <=
+  !> lambda_max(A') (Cauchy's interlacing). `place` (n_bodies entries, all
+  !> 0) is work, returned all 0.
+  subroutine region_top(op, b, depth, identity, place, bodies, lam, v, status)
+    type(assembly_operator_type), intent(in) :: op
+    integer, intent(in) :: b, depth
+    !> 1..n_bodies (`assembly_matrix_rows`' new_index, made once by the caller).
+    integer, intent(in) :: identity(:)
+    integer, intent(inout) :: place(:)
     integer, allocatable, intent(out) :: bodies(:)
     real(dp), intent(out) :: lam
     real(dp), allocatable, intent(out) :: v(:)
@@ -762,37 +809,28 @@ contains
     integer, allocatable :: col(:)
     real(dp), allocatable :: val(:), a(:, :)
     integer(i8) :: p
-    integer :: s, e, j, nc, m, r, k, q, nb
+    integer :: nb, k, j, nc, m, r, q
     nc = op%nc
-    allocate(bodies(op%first(b + 1) - op%first(b) + 1))
-    nb = 1
-    bodies(1) = b
-    do p = op%first(b), op%first(b + 1) - 1
-      s = (op%incident(p) + 1)/2
-      e = op%incident(p) - 2*(s - 1)
-      j = op%ends(3 - e, s)
-      if (j == 0) cycle
-      if (any(bodies(:nb) == j)) cycle
-      nb = nb + 1
-      bodies(nb) = j
-    end do
-    bodies = bodies(:nb)
     lam = 0.0_dp
+    call region_of(op, b, depth, place, bodies)
+    nb = size(bodies)
     call assembly_matrix_rows(op, bodies, identity, row_start, col, val, status)
-    if (status%stat /= demstep_stat%ok) return
-    m = nc*nb
-    allocate(a(m, m), source=0.0_dp)
-    allocate(v(m))
-    do r = 1, m
-      do p = row_start(r), row_start(r + 1) - 1
-        j = (col(p) - 1)/nc + 1
-        q = col(p) - (j - 1)*nc
-        k = findloc(bodies, j, 1)
-        if (k > 0) a(r, (k - 1)*nc + q) = a(r, (k - 1)*nc + q) + val(p)
+    if (status%stat == demstep_stat%ok) then
+      m = nc*nb
+      allocate(a(m, m), source=0.0_dp)
+      allocate(v(m))
+      do r = 1, m
+        do p = row_start(r), row_start(r + 1) - 1
+          j = (col(p) - 1)/nc + 1
+          q = col(p) - (j - 1)*nc
+          k = place(j)
+          if (k > 0) a(r, (k - 1)*nc + q) = a(r, (k - 1)*nc + q) + val(p)
+        end do
       end do
-    end do
-    call largest_eigenpair(a, lam, v, status)
-  end subroutine local_top
+      call largest_eigenpair(a, lam, v, status)
+    end if
+    place(bodies) = 0
+  end subroutine region_top
 
   !> The update's modes per particle (`mode_particles`, `damped_particles`):
   !> each free body's components times its M'^-1/2 factors (proportional to
