@@ -869,7 +869,7 @@ contains
         if (invariant .or. estimate <= threshold*abs(xi) .or. j == last) then
           call ritz_vector(j)
           if (status%stat /= demstep_stat%ok) return
-          met = rnorm <= tol*abs(theta) .or. (invariant .and. rnorm <= 1.0e3_dp*epsilon(1.0_dp)*scale)
+          met = measured_met()
           if (.not. met .and. stored .and. single) then
             ! (the single-precision vectors may have cost the tolerance: the
             ! same Ritz vector from the recurrence run again, in full)
@@ -877,7 +877,7 @@ contains
             deallocate(basis_single)
             call ritz_vector(j)
             if (status%stat /= demstep_stat%ok) return
-            met = rnorm <= tol*abs(theta) .or. (invariant .and. rnorm <= 1.0e3_dp*epsilon(1.0_dp)*scale)
+            met = measured_met()
           end if
           if (met .or. invariant) exit
           ! (the estimate said converged, the measurement did not: on, stricter)
@@ -931,6 +931,12 @@ contains
         u = u/sqrt(space%dot(u, u))
       end if
     end subroutine run_start
+
+    !> Whether the measured residual of the Ritz pair meets the tolerance (or
+    !> rounding's, in an invariant Krylov space).
+    logical function measured_met()
+      measured_met = rnorm <= tol*abs(theta) .or. (invariant .and. rnorm <= 1.0e3_dp*epsilon(1.0_dp)*scale)
+    end function measured_met
 
     !> Keep the Lanczos vector v as column j (in single precision when
     !> `single`); past the columns allocated, none are kept.

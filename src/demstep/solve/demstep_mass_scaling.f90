@@ -195,7 +195,7 @@ contains
         call local_cuts(new_cuts)
         if (status%stat /= demstep_stat%ok) return
         if (inner > 1 .and. new_cuts == 0) exit
-        call covering_lp(cut_start, cut_col(:n_entries), cut_val(:n_entries), cut_r(:m_cuts), cost, t, y, &
+        call covering_lp(cut_start(:m_cuts + 1), cut_col(:n_entries), cut_val(:n_entries), cut_r(:m_cuts), cost, t, y, &
           status, lower=lp_lower)
         if (status%stat /= demstep_stat%ok) return
         bound = max(bound, lp_lower/total)
@@ -423,7 +423,7 @@ contains
       end do
       m_cuts = m_cuts + 1
       cut_r(m_cuts) = rhs
-      cut_start = [cut_start, n_entries + 1]
+      cut_start(m_cuts + 1) = n_entries + 1
     end subroutine append_cut
     !> Room for one more cut of up to `entries` entries (storage doubled).
     subroutine grow(entries)
@@ -441,6 +441,9 @@ contains
         allocate(rv(2*(m_cuts + 1)))
         rv(:m_cuts) = cut_r(:m_cuts)
         call move_alloc(rv, cut_r)
+        allocate(ic(2*(m_cuts + 1) + 1))
+        ic(:m_cuts + 1) = cut_start(:m_cuts + 1)
+        call move_alloc(ic, cut_start)
       end if
     end subroutine grow
     !> The least parameter of a family of factors (`common_factor`: s = 1 +

@@ -367,9 +367,7 @@ contains
     monitor%confirmed = warm .and. monitor%confirmed
     monitor%accepted = accept .and. stood
     ! (the product `stands` made)
-    if (allocated(mode_av)) then
-      if (size(mode_av) > 0) monitor%last%eigen_products = monitor%last%eigen_products + 1
-    end if
+    if (size(mode_av) > 0) monitor%last%eigen_products = monitor%last%eigen_products + 1
     if (status%stat /= demstep_stat%ok) then
       monitor%mode = 0.0_dp
       monitor%damped_mode = 0.0_dp
