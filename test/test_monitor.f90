@@ -52,6 +52,7 @@ contains
       new_unittest("the per-body bound holds: above omega_max^2, with rolling springs too", test_cheap_bound), &
       new_unittest("mass scaling reaches its target; the light particle grows most", test_scale_masses), &
       new_unittest("mass scaling on a crowded top (a uniform packing) reaches its target", test_scale_crowded), &
+      new_unittest("mass scaling: max_passes below 2 or past the budget refused by name", test_scale_passes), &
       new_unittest("check: safe when unchanged, re-solve on a stiffened contact", test_check), &
       new_unittest("participation sums to 1; a light particle leads", test_participation), &
       new_unittest("C entry point: the Fortran numbers and participation bit for bit; bad counts refused", &
@@ -785,6 +786,44 @@ contains
       call check(error, is_ok(status), "solve: "//status_text(status))
     end subroutine limit_of
   end subroutine test_scale_crowded
+
+  !> `max_passes` of `scale_masses`: below 2 (a warm solve and its
+  !> confirmation: with 1 a target already reached was never confirmed and
+  !> mass was added for nothing) and past huge - `diagonal_solves` (the
+  !> diagonal candidate's budget overflowed) refused by name, nothing done;
+  !> 2 confirms a target the limit already reaches (half of it) with no
+  !> added mass in those 2 solves.
+  subroutine test_scale_passes(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(solver_arrays_type) :: a
+    type(step_monitor_type) :: monitor
+    type(critical_step_type) :: scaled
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: scale(:)
+    real(dp) :: added, target
+    integer :: passes, k
+    integer, parameter :: bad(4) = [1, 0, -3, huge(1)]
+    call packing_arrays(200, a, error)
+    if (allocated(error)) return
+    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, c_n=a%c_n, c_t=a%c_t, &
+      inertia=a%inertia, periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call check(error, is_ok(status), "update: "//status_text(status))
+    if (allocated(error)) return
+    target = 0.5_dp*monitor%last%dt_critical_damped
+    do k = 1, size(bad)
+      call scale_masses(monitor, target, a%mass, a%radius, scale, added, scaled, status, inertia=a%inertia, &
+        max_passes=bad(k), passes=passes)
+      call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "max_passes" .and. &
+        passes == 0, "max_passes = "//int_str(int(bad(k), i8))//": "//status_text(status)//", passes " &
+        //int_str(int(passes, i8)))
+      if (allocated(error)) return
+    end do
+    call scale_masses(monitor, target, a%mass, a%radius, scale, added, scaled, status, inertia=a%inertia, &
+      max_passes=2, passes=passes)
+    call check(error, is_ok(status) .and. added == 0.0_dp .and. all(scale == 1.0_dp) .and. passes == 2 .and. &
+      scaled%dt_critical_damped >= target, "max_passes = 2, target reached already: "//status_text(status) &
+      //", added "//real_str(added)//", passes "//int_str(int(passes, i8)))
+  end subroutine test_scale_passes
 
   subroutine test_check(error)
     type(error_type), allocatable, intent(out) :: error

@@ -48,6 +48,7 @@
 module demstep_mass_scaling
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
+  use demstep_text, only: int_text
   use demstep_assembly, only: critical_step_type, assembly_operator_type, operator_from_springs, &
     operator_critical_steps, default_max_eigen_dof, scene_lanczos_ncv, operator_mix, assembly_operator_apply, &
     assembly_matrix_rows, damped_lower_bound
@@ -106,7 +107,8 @@ contains
   !> planes' (repaired) factors and the diagonal floor's. Status
   !> invalid_input naming `monitor` (no update with an eigensolve), `mass`
   !> (not the update's particles) or
-  !> `target` (not finite and > 0); not_converged when neither candidate
+  !> `target` (not finite and > 0) or `max_passes` (below 2: a warm solve
+  !> and its confirmation); not_converged when neither candidate
   !> reached the target (`max_passes` exact solves, default
   !> `scale_masses_solves_default`, then `diagonal_solves` more).
   subroutine scale_masses(monitor, target, mass, radius, scale, added, result, status, inertia, fixed, &
@@ -121,6 +123,8 @@ contains
     type(demstep_status_type), intent(out) :: status
     real(dp), intent(in), optional :: inertia(:)
     logical, intent(in), optional :: fixed(:)
+    !> Most exact solves of the cutting planes and their repair, >= 2
+    !> (default `scale_masses_solves_default`).
     integer, intent(in), optional :: max_passes
     integer, intent(out), optional :: passes
     real(dp), intent(out), optional :: least
@@ -153,7 +157,17 @@ contains
       return
     end if
     max_solves = scale_masses_solves_default
-    if (present(max_passes)) max_solves = max_passes
+    if (present(max_passes)) then
+      ! (at least a warm solve and its confirmation, else a target the
+      ! limit already reaches is never confirmed; the diagonal candidate's
+      ! budget, max_passes + diagonal_solves, must not overflow)
+      if (max_passes < 2 .or. max_passes > huge(1) - diagonal_solves) then
+        call set_status(status, demstep_stat%invalid_input, "must be in 2.." &
+          //int_text(huge(1) - diagonal_solves)//", not "//int_text(max_passes), where="max_passes")
+        return
+      end if
+      max_solves = max_passes
+    end if
     budget = max_solves
     if (present(inertia)) then
       base_inertia = inertia
