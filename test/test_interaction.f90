@@ -7,7 +7,7 @@ module test_interaction
   use demstep
   use demstep_neighbours, only: contact_list
   use demstep_assembly, only: assembly_matrix, eigen_solver_name, assembly_operator_apply, &
-    assembly_operator, assembly_operator_type
+    assembly_operator, assembly_operator_type, assembly_matrix_rows
   use demstep_kinds, only: pi
   use demstep_interaction, only: contact_block, contact_forces, normal_force, normal_stiffness, &
     tangential_stiffness, reduced_radius
@@ -35,6 +35,7 @@ contains
       new_unittest("materials per type: linear k_n, k_t per pair; Hertz E, nu", test_materials), &
       new_unittest("stepper at 0.99/1.01 of the 6-dof limit: periodic packings", test_stability_full), &
       new_unittest("matrix-free operator = its matrix; its top = the dense omega_max", test_operator), &
+      new_unittest("matrix rows of listed bodies renumbered; a bad body or map entry refused", test_matrix_rows), &
       new_unittest("Lanczos vs dense on packings, lattices, rings; the error bar", test_lanczos_vs_dense), &
       new_unittest("eigen_solver: auto, dense, lanczos, none; bad values", test_solver_choice), &
       new_unittest("operator product: 1 and 2 threads agree bit for bit", test_threads), &
@@ -628,6 +629,117 @@ contains
       deallocate(e, y, z)
     end do
   end subroutine test_operator
+
+  !> `assembly_matrix_rows` on a 3D packing with rotations and two fixed
+  !> particles: the rows of three listed bodies, renumbered by a reversal,
+  !> are the matrix's rows (`assembly_matrix`) with the columns renumbered
+  !> (the same entries: exact); a listed body out of range, a map of the
+  !> wrong size and a new number out of range for a listed body or for a
+  !> partner of one are refused; a bad entry for a body the rows do not
+  !> touch is not read (the check is O(rows asked)): the rows as before.
+  subroutine test_matrix_rows(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(assembly_operator_type) :: op
+    type(csr_matrix_type) :: matrix
+    type(demstep_status_type) :: status
+    integer(i8), allocatable :: row_start(:)
+    integer, allocatable :: col(:), new_index(:), map(:), partner(:)
+    real(dp), allocatable :: val(:), a(:, :), rows(:, :), expected(:, :)
+    real(dp) :: rate
+    integer :: nb, nc, k, r, u, far, near
+    integer, parameter :: bodies(3) = [5, 1, 12]
+    call random_seed_fixed(17)
+    call random_packing(scene, 40, 3, 0.3_dp, 1.0_dp)
+    scene%fixed(2:3) = .true.
+    call assembly_operator(scene, op, rate, status)
+    call check(error, status%stat, demstep_stat%ok, "operator: "//status%message)
+    if (allocated(error)) return
+    call assembly_matrix(op, matrix)
+    call csr_to_dense(matrix, a)
+    nb = op%n_bodies
+    nc = op%nc
+    new_index = [(nb + 1 - u, u = 1, nb)]
+    ! the listed bodies' rows of the matrix, columns renumbered
+    allocate(expected(nc*size(bodies), op%n), source=0.0_dp)
+    do k = 1, size(bodies)
+      do u = 1, nb
+        expected((k - 1)*nc + 1:k*nc, (new_index(u) - 1)*nc + 1:new_index(u)*nc) = &
+          a((bodies(k) - 1)*nc + 1:bodies(k)*nc, (u - 1)*nc + 1:u*nc)
+      end do
+    end do
+    call rows_of(bodies, new_index)
+    if (allocated(error)) return
+    call check(error, status%stat, demstep_stat%ok, "rows: "//msg())
+    if (allocated(error)) return
+    call check(error, all(rows == expected), "the rows are the matrix's, renumbered")
+    if (allocated(error)) return
+    ! the bodies the rows touch: the listed ones and their partners
+    ! (0: untouched, 1: a partner, 2: listed)
+    allocate(partner(nb), source=0)
+    do u = 1, nb
+      do k = 1, size(bodies)
+        if (any(a((bodies(k) - 1)*nc + 1:bodies(k)*nc, (u - 1)*nc + 1:u*nc) /= 0.0_dp)) partner(u) = 1
+      end do
+    end do
+    partner(bodies) = 2
+    near = findloc(partner, 1, dim=1)
+    far = findloc(partner, 0, dim=1)
+    call check(error, near > 0 .and. far > 0, "a partner and an untouched body in the packing")
+    if (allocated(error)) return
+    call rows_of([bodies(1), 0], new_index)
+    call refused("listed body 0")
+    if (allocated(error)) return
+    call rows_of([bodies(1), nb + 1], new_index)
+    call refused("listed body n_bodies + 1")
+    if (allocated(error)) return
+    call rows_of(bodies, new_index(:nb - 1))
+    call refused("a map of n_bodies - 1 entries")
+    if (allocated(error)) return
+    map = new_index
+    map(bodies(2)) = 0
+    call rows_of(bodies, map)
+    call refused("a listed body's new number 0")
+    if (allocated(error)) return
+    map = new_index
+    map(near) = nb + 1
+    call rows_of(bodies, map)
+    call refused("a partner's new number n_bodies + 1")
+    if (allocated(error)) return
+    map = new_index
+    map(far) = -7
+    call rows_of(bodies, map)
+    call check(error, status%stat == demstep_stat%ok .and. all(rows == expected), &
+      "a bad entry the rows do not read: the rows as before; "//msg())
+  contains
+    !> The rows as a dense block (nc per listed body, op%n columns).
+    subroutine rows_of(list, index)
+      integer, intent(in) :: list(:), index(:)
+      integer(i8) :: p
+      call assembly_matrix_rows(op, list, index, row_start, col, val, status)
+      if (allocated(rows)) deallocate(rows)
+      allocate(rows(nc*size(list), op%n), source=0.0_dp)
+      if (status%stat /= demstep_stat%ok) return
+      call check(error, size(row_start) == nc*size(list) + 1, "row starts")
+      if (allocated(error)) return
+      do r = 1, nc*size(list)
+        do p = row_start(r), row_start(r + 1) - 1
+          rows(r, col(p)) = rows(r, col(p)) + val(p)
+        end do
+      end do
+    end subroutine rows_of
+    !> The last call refused, with no entries.
+    subroutine refused(what)
+      character(len=*), intent(in) :: what
+      call check(error, status%stat == demstep_stat%invalid_input .and. size(col) == 0 .and. &
+        size(val) == 0 .and. all(row_start == 1), what//": "//msg())
+    end subroutine refused
+    function msg() result(text)
+      character(len=:), allocatable :: text
+      text = "ok"
+      if (allocated(status%message)) text = status%message
+    end function msg
+  end subroutine test_matrix_rows
 
   !> Lanczos against dense on random periodic packings (2D, 3D, rotations,
   !> pre-stress, damping), a degenerate lattice top and a ring: 1e-10 relative,

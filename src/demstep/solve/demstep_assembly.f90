@@ -1254,8 +1254,10 @@ contains
   !> (new_index(j) - 1) nc + q. Each body's rows hold its diagonal block, then
   !> one nc x nc block per spring to another free body in `incident` order
   !> (columns may repeat). O(springs of the listed bodies).
-  !> Status invalid_input when a listed body is outside 1..n_bodies or
-  !> new_index does not map 1..n_bodies into 1..n_bodies.
+  !> Status invalid_input when a listed body is outside 1..n_bodies,
+  !> new_index has not n_bodies entries, or an entry of it the rows read (a
+  !> listed body's or a partner's) is outside 1..n_bodies; entries the rows
+  !> do not read are not looked at (the check is O(rows asked)).
   subroutine assembly_matrix_rows(op, bodies, new_index, row_start, col, val, status)
     type(assembly_operator_type), intent(in) :: op
     !> Free bodies (operator numbering) whose rows are wanted.
@@ -1274,21 +1276,33 @@ contains
     nc = op%nc
     allocate(row_start(nc*size(bodies) + 1))
     row_start(1) = 1
-    if (size(new_index) /= op%n_bodies .or. any(bodies < 1 .or. bodies > op%n_bodies) .or. &
-        any(new_index < 1 .or. new_index > op%n_bodies)) then
-      row_start = 1
-      allocate(col(0), val(0))
-      call set_status(status, demstep_stat%invalid_input, "bodies, new_index: need free bodies " &
-        //"in 1.."//int_text(op%n_bodies)//" and a new number in that range for each")
+    ! (each entry of new_index the rows read is checked as it is met: the
+    ! listed bodies' and their partners', O(rows asked), not O(n_bodies))
+    if (size(new_index) /= op%n_bodies) then
+      call refuse()
       return
     end if
     do k = 1, size(bodies)
       i = bodies(k)
+      if (i < 1 .or. i > op%n_bodies) then
+        call refuse()
+        return
+      end if
+      if (new_index(i) < 1 .or. new_index(i) > op%n_bodies) then
+        call refuse()
+        return
+      end if
       width = nc
       do p = op%first(i), op%first(i + 1) - 1
         s = (op%incident(p) + 1)/2
         e = op%incident(p) - 2*(s - 1)
-        if (op%ends(3 - e, s) > 0) width = width + nc
+        j = op%ends(3 - e, s)
+        if (j == 0) cycle
+        if (new_index(j) < 1 .or. new_index(j) > op%n_bodies) then
+          call refuse()
+          return
+        end if
+        width = width + nc
       end do
       do r = 1, nc
         row_start((k - 1)*nc + r + 1) = row_start((k - 1)*nc + r) + width
@@ -1329,6 +1343,14 @@ contains
       end do
     end do
     status%stat = demstep_stat%ok
+  contains
+    !> A listed body or a new number read out of range: no rows.
+    subroutine refuse()
+      row_start = 1
+      allocate(col(0), val(0))
+      call set_status(status, demstep_stat%invalid_input, "bodies, new_index: need free bodies " &
+        //"in 1.."//int_text(op%n_bodies)//" and a new number in that range for each")
+    end subroutine refuse
   end subroutine assembly_matrix_rows
 
   !> The common start of every assembly computation: options checked, degrees

@@ -582,13 +582,16 @@ contains
     integer(i8), allocatable :: row_start(:)
     integer, allocatable :: col(:)
     real(dp), allocatable :: val(:), block(:, :), v(:)
+    integer, allocatable :: identity(:)
     integer :: b, r, nc
     nc = op%nc
     allocate(lam(op%n_bodies), source=0.0_dp)
     allocate(block(nc, nc), v(nc))
+    ! (the identity map made once: O(springs) in all, not O(bodies^2))
+    identity = [(r, r = 1, op%n_bodies)]
     status%stat = demstep_stat%ok
     do b = 1, op%n_bodies
-      call assembly_matrix_rows(op, [b], [(r, r = 1, op%n_bodies)], row_start, col, val, status)
+      call assembly_matrix_rows(op, [b], identity, row_start, col, val, status)
       if (status%stat /= demstep_stat%ok) return
       do r = 1, nc
         block(r, :) = val(row_start(r):row_start(r) + nc - 1)
