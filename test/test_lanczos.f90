@@ -10,7 +10,8 @@ module test_lanczos
   use demstep_arpack, only: dsaupd, dsaupd_status, dseupd_status
   use demstep_lanczos, only: lanczos_largest, lanczos_context_type, eigen_result_type, &
     lanczos_start_vector, lanczos_tolerance_default, lanczos_runs, lanczos_basis_confirmed, &
-    lanczos_basis_estimate, lanczos_basis_whole, certificate_failure, certificate_margin, certificate_steps
+    lanczos_basis_estimate, lanczos_basis_whole, certificate_failure, certificate_margin, certificate_steps, &
+    single_basis_tolerance
   use demstep_csr, only: csr_matrix_type, csr_from_springs, csr_apply, csr_to_dense
   use test_support, only: real_str
   use demstep_progress, only: progress_type
@@ -72,7 +73,9 @@ contains
       new_unittest("progress: one start, a update per product, one finish", test_progress), &
       new_unittest("the randomised certificate bounds the top (semi-definite, shifted)", test_certificate), &
       new_unittest("a certified run whose vectors are not kept: the Ritz vector from a second pass", &
-        test_second_pass) &
+        test_second_pass), &
+      new_unittest("the Lanczos store: double, single, none kept, dropped mid-run, single's fallback", &
+        test_store_paths) &
       ]
   end subroutine collect_lanczos
 
@@ -324,6 +327,13 @@ contains
           y(i) = real(i, dp)/size(x)*x(i)
         end do
         y(size(x)) = 2.0_dp*x(size(x))
+      case (6)
+        ! diag(-100 + 100 i/n) with the last entry 1: a simple top 1, gap 1,
+        ! 100 times as much spectrum below 0
+        do i = 1, size(x) - 1
+          y(i) = (-100.0_dp + 100.0_dp*real(i, dp)/size(x))*x(i)
+        end do
+        y(size(x)) = x(size(x))
       end select
     end select
   end subroutine odd_apply
@@ -398,6 +408,112 @@ contains
       "kept: "//int_text(r%applications)//" products for "//int_text(r%ncv)//" steps, |z(n)| = " &
       //real_str(abs(z(n))))
   end subroutine test_second_pass
+
+  !> Every path of `krylov_top`'s store (module notes of demstep_lanczos), by
+  !> `store_bytes` at order n = 3000 (so each kept vector is 8 n bytes, and
+  !> the store holds max(ncv, store_bytes/(8 n)) vectors, twice as many in
+  !> single precision), each against the run with the default store at the
+  !> same tolerance, which keeps them all (j steps, j + 1 products):
+  !> - double (tolerance 1e-8, below `single_basis_tolerance`): kept when j
+  !>   fit (j + 1 products), not when j - 1 fit (dropped mid-run: the Ritz
+  !>   vector from a second pass, 2 j products), nor when the store is below
+  !>   the certificate's steps or 0 (none kept: 2 j);
+  !> - single (tolerance 1e-6): kept when ceil(j/2) fit in double (twice as
+  !>   many: j + 1), not with one fewer, nor below the certificate's steps
+  !>   (2 j);
+  !> - single's fallback: an operator with 100 times as much spectrum below
+  !>   0 as its top 1 (diag(-100 + 100 i/n), last entry 1) magnifies the
+  !>   single-precision rounding of the kept vectors (about 6e-8) in the
+  !>   Ritz vector's residual above the tolerance 1e-6: the Ritz vector is
+  !>   formed again from a second pass (2 j + 1 products; 2 j with none kept).
+  !> The same run (the same j) on every path, and the same top: within the
+  !> tolerance of the exact top 1 (the residual r <= tol theta bounds the
+  !> distance to an eigenvalue, and these runs converge to the top), and the
+  !> measured residual within the tolerance.
+  subroutine test_store_paths(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(odd_operator_type) :: op
+    type(eigen_result_type) :: r
+    type(demstep_status_type) :: status
+    integer, parameter :: n = 3000
+    integer(i8), parameter :: vector = 8_i8*n
+    integer :: j, steps
+    real(dp) :: tol
+    steps = certificate_steps(n)
+    ! double precision: diag(i/n), a crowded top 1 (its runs outlast the certificate's steps)
+    op%which = 3
+    tol = 1.0e-8_dp
+    call solve(-1_i8)
+    if (allocated(error)) return
+    j = r%ncv
+    call check(error, tol < single_basis_tolerance .and. j > steps .and. r%applications == j + 1, &
+      "1e-8, default store: kept, "//counts())
+    if (allocated(error)) return
+    call expect(vector*j, j + 1, "1e-8, j fit: kept")
+    if (allocated(error)) return
+    call expect(vector*(j - 1), 2*j, "1e-8, j - 1 fit: dropped mid-run")
+    if (allocated(error)) return
+    call expect(vector*(steps - 1), 2*j, "1e-8, below the certificate's steps: none kept")
+    if (allocated(error)) return
+    call expect(0_i8, 2*j, "1e-8, store 0: none kept")
+    if (allocated(error)) return
+    ! single precision
+    tol = 1.0e-6_dp
+    call solve(-1_i8)
+    if (allocated(error)) return
+    j = r%ncv
+    call check(error, tol >= single_basis_tolerance .and. j > steps .and. r%applications == j + 1, &
+      "1e-6, default store: kept, "//counts())
+    if (allocated(error)) return
+    call expect(vector*((j + 1)/2), j + 1, "1e-6, ceil(j/2) fit in double: kept in single")
+    if (allocated(error)) return
+    call expect(vector*((j + 1)/2 - 1), 2*j, "1e-6, one fewer: dropped mid-run")
+    if (allocated(error)) return
+    call expect(vector*((steps + 1)/2 - 1), 2*j, "1e-6, below the certificate's steps in single: none kept")
+    if (allocated(error)) return
+    ! single precision's fallback
+    op%which = 6
+    call solve(-1_i8)
+    if (allocated(error)) return
+    j = r%ncv
+    call check(error, r%applications == 2*j + 1, "wide spectrum, 1e-6, default store: single kept, then the " &
+      //"second pass, "//counts())
+    if (allocated(error)) return
+    call expect(0_i8, 2*j, "wide spectrum, 1e-6, store 0: none kept")
+  contains
+    !> The certified cold solve at tol with store_bytes (< 0: the default).
+    subroutine solve(store)
+      integer(i8), intent(in) :: store
+      if (store < 0) then
+        call lanczos_largest(odd_apply, op, n, r, status, tolerance=tol, certify=.true., lower_bound=-100.0_dp)
+      else
+        call lanczos_largest(odd_apply, op, n, r, status, tolerance=tol, certify=.true., lower_bound=-100.0_dp, &
+          store_bytes=store)
+      end if
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      call check(error, r%converged .and. r%certified .and. abs(r%eigenvalue - 1.0_dp) <= tol .and. &
+        r%residual <= tol*r%eigenvalue, "the top 1 to "//real_str(tol)//": "//real_str(r%eigenvalue) &
+        //", residual "//real_str(r%residual)//", "//counts())
+    end subroutine solve
+    !> The run with store_bytes `store`: the same steps j, `products` products.
+    subroutine expect(store, products, label)
+      integer(i8), intent(in) :: store
+      integer, intent(in) :: products
+      character(len=*), intent(in) :: label
+      call solve(store)
+      if (allocated(error)) then
+        error%message = label//": "//error%message
+        return
+      end if
+      call check(error, r%ncv == j .and. r%applications == products, label//": "//counts() &
+        //", expected "//int_text(products)//" for "//int_text(j)//" steps")
+    end subroutine expect
+    function counts() result(text)
+      character(len=:), allocatable :: text
+      text = int_text(r%applications)//" products for "//int_text(r%ncv)//" steps"
+    end function counts
+  end subroutine test_store_paths
 
   subroutine test_arguments(error)
     type(error_type), allocatable, intent(out) :: error
