@@ -84,6 +84,9 @@ module demstep_mpi_dist_scene
     integer, allocatable :: global(:), body(:)
     !> Row of each of the part's contacts in the contacts file (1-based).
     integer, allocatable :: contact_row(:)
+    !> Its positions, velocities and contacts were released by a solve with
+    !> `release`: no further solve (read the scene again).
+    logical :: released = .false.
   end type dist_scene_part_type
 
   !> The distributed operator A' = M'^-1/2 K' M'^-1/2 of a part: the serial
@@ -532,7 +535,8 @@ contains
   !> and status on every rank, those of the serial path for the whole scene.
   !> With `release`, the part's positions, velocities and contacts are
   !> released once its springs are built (the solve needs only these): the
-  !> part cannot be solved again.
+  !> part cannot be solved again, and a solve of a released part (on any
+  !> rank) is refused with invalid_input naming `part`.
   subroutine mpi_part_critical_steps(comm, part, result, status, prestress, tolerance, progress, release)
     type(MPI_Comm), intent(in) :: comm
     type(dist_scene_part_type), intent(inout) :: part
@@ -554,10 +558,18 @@ contains
     real(dp) :: tol, scales(2), rate, b_bound
     integer(i8) :: fault, counts(2)
     integer :: rank, nranks, nc, i, s, q, n_own_bodies, root, color, n_owned
-    logical :: geo, rotation, flags(8), active
+    logical :: geo, rotation, flags(8), active, gone
 
     call MPI_Comm_rank(comm, rank)
     call MPI_Comm_size(comm, nranks)
+    ! (released on one rank: refused on every rank, before any other collective)
+    gone = part%released
+    call MPI_Allreduce(MPI_IN_PLACE, gone, 1, MPI_LOGICAL, MPI_LOR, comm)
+    if (gone) then
+      call set_status(status, demstep_stat%invalid_input, "released by an earlier solve (release): its " &
+        //"positions and contacts are gone; read the scene again (mpi_read_scene)", where="part")
+      return
+    end if
     geo = .false.
     if (present(prestress)) geo = prestress
     tol = lanczos_tolerance_default
@@ -824,6 +836,7 @@ contains
     if (allocated(part%scene%contact_pairs)) deallocate(part%scene%contact_pairs)
     if (allocated(part%scene%contact_k)) deallocate(part%scene%contact_k)
     if (allocated(part%contact_row)) deallocate(part%contact_row)
+    part%released = .true.
   end subroutine release_contacts
 
   !> Bytes of a part's particle and contact arrays on this rank (the scene's

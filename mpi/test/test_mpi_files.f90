@@ -17,7 +17,8 @@ program test_mpi_files
   use demstep_material, only: material_set_type
   use demstep_scene_input, only: scene_input_type, scene_from_input, scene_setup_type
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, eigen_solver
-  use demstep_mpi_dist_scene, only: mpi_files_critical_steps
+  use demstep_mpi_dist_scene, only: mpi_files_critical_steps, dist_scene_part_type, mpi_read_scene, &
+    mpi_part_critical_steps
   implicit none
   integer :: rank, nranks, failures, n
   integer(i8) :: seed
@@ -64,6 +65,7 @@ program test_mpi_files
   input = base_input(2)
   input%periodic = [.false., .false.]
   call compare("a rank with fixed particles only", owned=half_owned())
+  call check_released()
   call refusals()
 
   if (rank == 0) then
@@ -329,6 +331,40 @@ contains
       same_everywhere(par%omega_upper) .and. same_everywhere(par%omega_bound) .and. &
       same_everywhere(par%dt_critical_damped) .and. same_everywhere(real(par%eigen_products, dp)), "")
   end subroutine compare
+
+  !> A part solved with `release` (its positions, velocities and contacts
+  !> dropped once its springs are built): a second solve is refused with a
+  !> status naming the part, the same on every rank (with or without
+  !> `release` again), no result; a part solved without it solves again to
+  !> the same result (the same run: bit for bit), and its solve with
+  !> `release` too.
+  subroutine check_released()
+    type(dist_scene_part_type) :: part
+    type(critical_step_type) :: first, again
+    type(demstep_status_type) :: st
+    call packing_files(200, 3, .true., 4, .false.)
+    input = base_input(3)
+    call mpi_read_scene(MPI_COMM_WORLD, input, part, st)
+    call report("release: the part read", st%stat == demstep_stat%ok, msg(st))
+    if (st%stat /= demstep_stat%ok) return
+    call mpi_part_critical_steps(MPI_COMM_WORLD, part, first, st, tolerance=1.0e-10_dp)
+    call report("release: a kept part solved", st%stat == demstep_stat%ok, msg(st))
+    if (st%stat /= demstep_stat%ok) return
+    call mpi_part_critical_steps(MPI_COMM_WORLD, part, again, st, tolerance=1.0e-10_dp)
+    call report("release: a kept part solved again, the same result", st%stat == demstep_stat%ok .and. &
+      again%omega_max == first%omega_max .and. again%dt_critical_safe == first%dt_critical_safe .and. &
+      again%dt_critical_damped == first%dt_critical_damped, num(again%omega_max)//num(first%omega_max))
+    call mpi_part_critical_steps(MPI_COMM_WORLD, part, again, st, tolerance=1.0e-10_dp, release=.true.)
+    call report("release: solved with release, the same result", st%stat == demstep_stat%ok .and. &
+      again%omega_max == first%omega_max, msg(st)//num(again%omega_max))
+    call mpi_part_critical_steps(MPI_COMM_WORLD, part, again, st, tolerance=1.0e-10_dp)
+    call report("release: a released part's second solve refused", st%stat == demstep_stat%invalid_input .and. &
+      st%where == "part" .and. same_status(st) .and. .not. again%eigen_computed .and. again%omega_max == 0.0_dp, &
+      msg(st))
+    call mpi_part_critical_steps(MPI_COMM_WORLD, part, again, st, tolerance=1.0e-10_dp, release=.true.)
+    call report("release: refused with release again", st%stat == demstep_stat%invalid_input .and. &
+      st%where == "part" .and. same_status(st), msg(st))
+  end subroutine check_released
 
   !> Bad files: the serial reader's status, the same on every rank. Each bad
   !> row sits in the last rank's part (the file's second half) unless said.
