@@ -9,6 +9,8 @@
 !> Prints one PASS/FAIL line per check (rank 0) and exits non-zero on a failure.
 program test_mpi_files
   use mpi_f08
+  use mpi_test_support, only: test_start, test_finish, report, uniform, num, close, &
+    same_everywhere, msg, same_status, rank, nranks
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_scene_data, only: scene_type, scene_effect, branch_vector
@@ -20,18 +22,13 @@ program test_mpi_files
   use demstep_mpi_dist_scene, only: mpi_files_critical_steps, dist_scene_part_type, mpi_read_scene, &
     mpi_part_critical_steps
   implicit none
-  integer :: rank, nranks, failures, n
-  integer(i8) :: seed
+  integer :: n
   character(len=*), parameter :: stem = "build/test_mpi_files_"
   character(len=:), allocatable :: pfile, cfile
   real(dp), allocatable :: x(:, :)
   type(scene_input_type) :: input
 
-  call MPI_Init()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  call MPI_Comm_size(MPI_COMM_WORLD, nranks)
-  failures = 0
-  seed = 4242_i8
+  call test_start(4242_i8)
   ! (the tables go to build/, which fpm makes; made here when run elsewhere)
   if (rank == 0) call execute_command_line("mkdir -p build")
   call MPI_Barrier(MPI_COMM_WORLD)
@@ -71,58 +68,10 @@ program test_mpi_files
   if (rank == 0) then
     call delete(pfile)
     call delete(cfile)
-    if (failures == 0) then
-      write (*, '(a, i0, a)') "test_mpi_files: all checks passed on ", nranks, " ranks"
-    else
-      write (*, '(a, i0, a, i0, a)') "test_mpi_files: ", failures, " checks FAILED on ", nranks, " ranks"
-    end if
   end if
-  call MPI_Finalize()
-  if (failures > 0) error stop 1
+  call test_finish("test_mpi_files")
 
 contains
-
-  !> Uniform (0,1) from a 64-bit linear congruential sequence: the same on every rank.
-  function uniform() result(u)
-    real(dp) :: u
-    seed = mod(48271_i8*seed, 2147483647_i8)
-    u = real(seed, dp)/2147483647.0_dp
-  end function uniform
-
-  subroutine report(name, ok, detail)
-    character(len=*), intent(in) :: name
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: detail
-    logical :: all_ok
-    call MPI_Allreduce(ok, all_ok, 1, MPI_LOGICAL, MPI_LAND, MPI_COMM_WORLD)
-    if (.not. all_ok) failures = failures + 1
-    if (rank == 0) then
-      if (all_ok) then
-        write (*, '(a)') "PASS "//name//" "//detail
-      else
-        write (*, '(a)') "FAIL "//name//" "//detail
-      end if
-    end if
-  end subroutine report
-
-  function num(v) result(text)
-    real(dp), intent(in) :: v
-    character(len=24) :: text
-    write (text, '(es24.16)') v
-  end function num
-
-  logical function close(a, b, rel)
-    real(dp), intent(in) :: a, b, rel
-    close = abs(a - b) <= rel*abs(b)
-  end function close
-
-  logical function same_everywhere(v)
-    real(dp), intent(in) :: v
-    real(dp) :: lo, hi
-    call MPI_Allreduce(v, lo, 1, MPI_DOUBLE_PRECISION, MPI_MIN, MPI_COMM_WORLD)
-    call MPI_Allreduce(v, hi, 1, MPI_DOUBLE_PRECISION, MPI_MAX, MPI_COMM_WORLD)
-    same_everywhere = lo == v .and. hi == v
-  end function same_everywhere
 
   !> The input of the packing files: periodic cell [0, box)^dim.
   function base_input(dim) result(inp)
@@ -529,21 +478,5 @@ contains
       order(j + 1) = t
     end do
   end subroutine sort_by
-
-  function msg(st) result(text)
-    type(demstep_status_type), intent(in) :: st
-    character(len=:), allocatable :: text
-    text = ""
-    if (allocated(st%message)) text = st%message
-  end function msg
-
-  logical function same_status(st)
-    type(demstep_status_type), intent(in) :: st
-    integer :: mine(2), lo(2), hi(2)
-    mine = [st%stat, len(msg(st))]
-    call MPI_Allreduce(mine, lo, 2, MPI_INTEGER, MPI_MIN, MPI_COMM_WORLD)
-    call MPI_Allreduce(mine, hi, 2, MPI_INTEGER, MPI_MAX, MPI_COMM_WORLD)
-    same_status = all(lo == mine) .and. all(hi == mine)
-  end function same_status
 
 end program test_mpi_files

@@ -5,6 +5,7 @@
 !> PASS/FAIL line per check (rank 0) and exits non-zero on a failure.
 program test_mpi_lanczos
   use mpi_f08
+  use mpi_test_support, only: test_start, test_finish, report, uniform, rank, nranks
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_arpack, only: dsaupd_status, dseupd_status
@@ -14,14 +15,8 @@ program test_mpi_lanczos
   use demstep_mpi_lanczos, only: dist_csr_type, dist_csr_create, parallel_lanczos_largest, &
     dist_gershgorin_bound, dist_start_vector, dist_csr_free
   implicit none
-  integer :: rank, nranks, failures
-  integer(i8) :: seed
 
-  call MPI_Init()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  call MPI_Comm_size(MPI_COMM_WORLD, nranks)
-  failures = 0
-  seed = 12345_i8
+  call test_start(12345_i8)
 
   call check_network("random network, 400 nodes", 400, 2400, .false.)
   call check_network("random network, 6000 nodes, masses and ground", 6000, 30000, .true.)
@@ -32,41 +27,9 @@ program test_mpi_lanczos
   call check_bad_partition()
   call check_status_messages()
 
-  if (rank == 0) then
-    if (failures == 0) then
-      write (*, '(a, i0, a)') "test_mpi_lanczos: all checks passed on ", nranks, " ranks"
-    else
-      write (*, '(a, i0, a, i0, a)') "test_mpi_lanczos: ", failures, " checks FAILED on ", &
-        nranks, " ranks"
-    end if
-  end if
-  call MPI_Finalize()
-  if (failures > 0) error stop 1
+  call test_finish("test_mpi_lanczos")
 
 contains
-
-  !> Uniform (0,1) from a 64-bit linear congruential sequence: the same on every rank.
-  function uniform() result(u)
-    real(dp) :: u
-    seed = mod(48271_i8*seed, 2147483647_i8)
-    u = real(seed, dp)/2147483647.0_dp
-  end function uniform
-
-  subroutine report(name, ok, detail)
-    character(len=*), intent(in) :: name
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: detail
-    logical :: all_ok
-    call MPI_Allreduce(ok, all_ok, 1, MPI_LOGICAL, MPI_LAND, MPI_COMM_WORLD)
-    if (.not. all_ok) failures = failures + 1
-    if (rank == 0) then
-      if (all_ok) then
-        write (*, '(a)') "PASS "//name//" "//detail
-      else
-        write (*, '(a)') "FAIL "//name//" "//detail
-      end if
-    end if
-  end subroutine report
 
   !> Rows of rank r: equal blocks, or rank 0 with a third of its share.
   subroutine my_block(n, uneven, first, count_rows)

@@ -49,6 +49,8 @@ end module test_mpi_scene_progress
 !> non-zero on a failure.
 program test_mpi_scene
   use mpi_f08
+  use mpi_test_support, only: test_start, test_finish, report, uniform, num, close, &
+    same_everywhere, msg, same_status, rank, nranks
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_scene_data, only: scene_type, scene_effect
@@ -59,16 +61,10 @@ program test_mpi_scene
   implicit none
 
 
-  integer :: rank, nranks, failures
-  integer(i8) :: seed
   type(scene_type) :: scene
   type(demstep_status_type) :: status
 
-  call MPI_Init()
-  call MPI_Comm_rank(MPI_COMM_WORLD, rank)
-  call MPI_Comm_size(MPI_COMM_WORLD, nranks)
-  failures = 0
-  seed = 2718_i8
+  call test_start(2718_i8)
 
   call random_packing(scene, 300, 3, 0.3_dp, 1.0_dp)
   scene%effects(scene_effect%damping) = .true.
@@ -84,62 +80,9 @@ program test_mpi_scene
   call check_progress()
   call check_not_converged()
 
-  if (rank == 0) then
-    if (failures == 0) then
-      write (*, '(a, i0, a)') "test_mpi_scene: all checks passed on ", nranks, " ranks"
-    else
-      write (*, '(a, i0, a, i0, a)') "test_mpi_scene: ", failures, " checks FAILED on ", &
-        nranks, " ranks"
-    end if
-  end if
-  call MPI_Finalize()
-  if (failures > 0) error stop 1
+  call test_finish("test_mpi_scene")
 
 contains
-
-  !> Uniform (0,1) from a 64-bit linear congruential sequence: the same on every rank.
-  function uniform() result(u)
-    real(dp) :: u
-    seed = mod(48271_i8*seed, 2147483647_i8)
-    u = real(seed, dp)/2147483647.0_dp
-  end function uniform
-
-  subroutine report(name, ok, detail)
-    character(len=*), intent(in) :: name
-    logical, intent(in) :: ok
-    character(len=*), intent(in) :: detail
-    logical :: all_ok
-    call MPI_Allreduce(ok, all_ok, 1, MPI_LOGICAL, MPI_LAND, MPI_COMM_WORLD)
-    if (.not. all_ok) failures = failures + 1
-    if (rank == 0) then
-      if (all_ok) then
-        write (*, '(a)') "PASS "//name//" "//detail
-      else
-        write (*, '(a)') "FAIL "//name//" "//detail
-      end if
-    end if
-  end subroutine report
-
-  function num(x) result(text)
-    real(dp), intent(in) :: x
-    character(len=24) :: text
-    write (text, '(es24.16)') x
-  end function num
-
-  !> |a - b| <= rel |b|.
-  logical function close(a, b, rel)
-    real(dp), intent(in) :: a, b, rel
-    close = abs(a - b) <= rel*abs(b)
-  end function close
-
-  !> True when x is the same on every rank, bit for bit.
-  logical function same_everywhere(x)
-    real(dp), intent(in) :: x
-    real(dp) :: lo, hi
-    call MPI_Allreduce(x, lo, 1, MPI_DOUBLE_PRECISION, MPI_MIN, MPI_COMM_WORLD)
-    call MPI_Allreduce(x, hi, 1, MPI_DOUBLE_PRECISION, MPI_MAX, MPI_COMM_WORLD)
-    same_everywhere = lo == x .and. hi == x
-  end function same_everywhere
 
   !> n particles (radii 0.4..0.7, masses 1..2, inertia of spheres) at random in
   !> a periodic box of n fill unit volumes, linear contacts k_n = 100,
@@ -352,23 +295,5 @@ contains
       (counter%starts == 1 .and. counter%finishes == 1 .and. counter%last == par%eigen_products &
       .and. par%eigen_products > 0)), msg(st))
   end subroutine check_progress
-
-  !> The status's message, '' on success.
-  function msg(st) result(text)
-    type(demstep_status_type), intent(in) :: st
-    character(len=:), allocatable :: text
-    text = ""
-    if (allocated(st%message)) text = st%message
-  end function msg
-
-  !> True when every rank holds this status code and message length.
-  logical function same_status(st)
-    type(demstep_status_type), intent(in) :: st
-    integer :: mine(2), lo(2), hi(2)
-    mine = [st%stat, len(msg(st))]
-    call MPI_Allreduce(mine, lo, 2, MPI_INTEGER, MPI_MIN, MPI_COMM_WORLD)
-    call MPI_Allreduce(mine, hi, 2, MPI_INTEGER, MPI_MAX, MPI_COMM_WORLD)
-    same_status = all(lo == mine) .and. all(hi == mine)
-  end function same_status
 
 end program test_mpi_scene
