@@ -9,7 +9,8 @@ module mpi_test_support
   implicit none
   private
 
-  public :: test_start, test_finish, report, uniform, num, close, same_everywhere, msg, same_status
+  public :: test_start, test_finish, report, uniform, random_particles, num, close, same_everywhere, msg, &
+    same_status
 
   !> This rank, the ranks of MPI_COMM_WORLD and the checks failed so far.
   integer, public, protected :: rank = 0, nranks = 1, failures = 0
@@ -68,6 +69,24 @@ contains
     seed = mod(48271_i8*seed, 2147483647_i8)
     u = real(seed, dp)/2147483647.0_dp
   end function uniform
+
+  !> `count` particles at random in [0, box)^dim (`uniform`, the same on every
+  !> rank): positions, radii 0.4..0.7 and masses 1..2, drawn particle by
+  !> particle.
+  subroutine random_particles(dim, count, box, x, r, m)
+    integer, intent(in) :: dim, count
+    real(dp), intent(in) :: box
+    real(dp), allocatable, intent(out) :: x(:, :), r(:), m(:)
+    integer :: i, d
+    allocate(x(dim, count), r(count), m(count))
+    do i = 1, count
+      do d = 1, dim
+        x(d, i) = box*uniform()
+      end do
+      r(i) = 0.4_dp + 0.3_dp*uniform()
+      m(i) = 1.0_dp + uniform()
+    end do
+  end subroutine random_particles
 
   !> A value with all its digits, for a report's detail.
   function num(x) result(text)

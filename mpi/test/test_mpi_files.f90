@@ -9,7 +9,7 @@
 !> Prints one PASS/FAIL line per check (rank 0) and exits non-zero on a failure.
 program test_mpi_files
   use mpi_f08
-  use mpi_test_support, only: test_start, test_finish, report, uniform, num, close, &
+  use mpi_test_support, only: test_start, test_finish, report, uniform, random_particles, num, close, &
     same_everywhere, msg, same_status, rank, nranks
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat
@@ -103,19 +103,11 @@ contains
     real(dp), allocatable :: r(:), m(:), nrm(:, :), ov(:), key(:)
     integer, allocatable :: ci(:), cj(:), order(:)
     real(dp) :: box, kn
-    integer :: i, d, u, c
+    integer :: i, u, c
     character(len=:), allocatable :: eol
     n = count
     box = box_of(count, dim)
-    if (allocated(x)) deallocate(x)
-    allocate(x(dim, count), r(count), m(count))
-    do i = 1, count
-      do d = 1, dim
-        x(d, i) = box*uniform()
-      end do
-      r(i) = 0.4_dp + 0.3_dp*uniform()
-      m(i) = 1.0_dp + uniform()
-    end do
+    call random_particles(dim, count, box, x, r, m)
     if (sorted) then
       key = x(1, :)
       order = [(i, i = 1, count)]

@@ -49,7 +49,7 @@ end module test_mpi_scene_progress
 !> non-zero on a failure.
 program test_mpi_scene
   use mpi_f08
-  use mpi_test_support, only: test_start, test_finish, report, uniform, num, close, &
+  use mpi_test_support, only: test_start, test_finish, report, uniform, random_particles, num, close, &
     same_everywhere, msg, same_status, rank, nranks
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat
@@ -94,16 +94,8 @@ contains
     real(dp), allocatable :: x(:, :), r(:), m(:)
     real(dp) :: box
     type(demstep_status_type) :: st
-    integer :: i, d
-    allocate(x(dim, n), r(n), m(n))
     box = (real(n, dp)*fill)**(1.0_dp/dim)
-    do i = 1, n
-      do d = 1, dim
-        x(d, i) = box*uniform()
-      end do
-      r(i) = 0.4_dp + 0.3_dp*uniform()
-      m(i) = 1.0_dp + uniform()
-    end do
+    call random_particles(dim, n, box, x, r, m)
     call new_scene(scene, dim, x, m, r, st)
     call scene_set_cell(scene, [.true., .true., dim == 3], [0.0_dp, 0.0_dp, 0.0_dp], &
       spread(box, 1, 3), st)
