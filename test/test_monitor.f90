@@ -645,6 +645,18 @@ contains
     end do
   end subroutine test_cheap_bound
 
+  !> A monitor's update on the arrays with their moments of inertia (the
+  !> mass-scaling tests' start).
+  subroutine update_with_inertia(a, monitor, error)
+    type(solver_arrays_type), intent(in) :: a
+    type(step_monitor_type), intent(inout) :: monitor
+    type(error_type), allocatable, intent(out) :: error
+    type(demstep_status_type) :: status
+    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, c_n=a%c_n, c_t=a%c_t, &
+      inertia=a%inertia, periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+    call check(error, is_ok(status), "update: "//status_text(status))
+  end subroutine update_with_inertia
+
   !> A packing with one particle 30 times lighter: a target 1.5 times the
   !> damped limit is reached (checked again by `solver_critical_steps` on the
   !> scaled arrays at tolerance 1e-10), the light particle takes the largest
@@ -664,9 +676,7 @@ contains
     if (allocated(error)) return
     a%mass(light) = a%mass(light)/30.0_dp
     a%inertia(light) = a%inertia(light)/30.0_dp
-    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, c_n=a%c_n, c_t=a%c_t, &
-      inertia=a%inertia, periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
-    call check(error, is_ok(status), "update: "//status_text(status))
+    call update_with_inertia(a, monitor, error)
     if (allocated(error)) return
     target = 1.5_dp*monitor%last%dt_critical_damped
     call scale_masses(monitor, target, a%mass, a%radius, scale, added, scaled, status, inertia=a%inertia, &
@@ -716,9 +726,7 @@ contains
     real(dp), parameter :: ratios(2) = [1.2_dp, 1.3_dp]
     call packing_arrays(200, a, error)
     if (allocated(error)) return
-    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, c_n=a%c_n, c_t=a%c_t, &
-      inertia=a%inertia, periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
-    call check(error, is_ok(status), "update: "//status_text(status))
+    call update_with_inertia(a, monitor, error)
     if (allocated(error)) return
     ! the diagonal rule: per particle the diagonal stiffness sums per axis,
     ! K = sum (k_n - k_t) n_a^2 + k_t and R = sum k_t (1 - n_a^2) r^2, and
@@ -805,9 +813,7 @@ contains
     integer, parameter :: bad(4) = [1, 0, -3, huge(1)]
     call packing_arrays(200, a, error)
     if (allocated(error)) return
-    call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, c_n=a%c_n, c_t=a%c_t, &
-      inertia=a%inertia, periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
-    call check(error, is_ok(status), "update: "//status_text(status))
+    call update_with_inertia(a, monitor, error)
     if (allocated(error)) return
     target = 0.5_dp*monitor%last%dt_critical_damped
     do k = 1, size(bad)
