@@ -6,7 +6,9 @@
 !> 1 and 2 OpenMP threads (the two results compared bit for bit). Prints the
 !> build time, the product's wall milliseconds and nanoseconds per spring,
 !> its CPU milliseconds (all threads; on a shared machine the 1-thread CPU
-!> time is the steadier figure) and x'A'x as a checksum.
+!> time is the steadier figure) and x'A'x as a checksum; then the same for
+!> the absolute product |A'| v of the bound (`operator_abs_product`, v > 0;
+!> the bound makes three) with the sum of r as its checksum.
 !>
 !>   OPENBLAS_NUM_THREADS=1 fpm run --example bench_product --profile release [-- K]
 program bench_product
@@ -16,7 +18,8 @@ program bench_product
   use demstep_progress, only: progress_seconds
   use demstep_scene_data, only: scene_type
   use demstep_packing, only: random_periodic_packing, tile_scene
-  use demstep_assembly, only: assembly_operator, assembly_operator_type, assembly_operator_apply
+  use demstep_assembly, only: assembly_operator, assembly_operator_type, assembly_operator_apply, &
+    operator_abs_product
   use demstep_sort, only: sort_ascending
   use demstep_text, only: int_text
   !$ use omp_lib, only: omp_set_num_threads
@@ -25,7 +28,7 @@ program bench_product
   type(scene_type) :: packing, scene
   type(assembly_operator_type) :: op
   type(demstep_status_type) :: status
-  real(dp), allocatable :: x(:), y(:, :)
+  real(dp), allocatable :: x(:), y(:, :), v(:)
   real(dp) :: t0, t_build, t(runs), tc(runs), rate, ms(2), cpu_ms(2), c0, c1
   integer :: k, j, r, threads, ios
   character(len=32) :: arg
@@ -45,23 +48,7 @@ program bench_product
   do j = 1, op%n
     x(j) = sin(real(j, dp))
   end do
-  do threads = 1, 2
-    !$ call omp_set_num_threads(threads)
-    do r = 1, runs
-      t0 = progress_seconds()
-      call cpu_time(c0)
-      do j = 1, products
-        call assembly_operator_apply(op, x, y(:, threads))
-      end do
-      call cpu_time(c1)
-      t(r) = (progress_seconds() - t0)/products
-      tc(r) = (c1 - c0)/products
-    end do
-    call sort_ascending(t)
-    call sort_ascending(tc)
-    ms(threads) = 1.0e3_dp*t((runs + 1)/2)
-    cpu_ms(threads) = 1.0e3_dp*tc((runs + 1)/2)
-  end do
+  call time_products(.false.)
   write(output_unit, '(a, i0, a, i0, a, f0.3, a)') "# particles ", scene%n, ", springs ", op%n_springs, &
     ", build ", t_build, " s"
   write(output_unit, '(a, 2(f0.2, a), 2(f0.1, a), l1)') "product ms (1, 2 threads): ", ms(1), " ", ms(2), &
@@ -70,4 +57,37 @@ program bench_product
   write(output_unit, '(a, 2(f0.2, a))') "product CPU ms (1, 2 threads: all threads' time): ", cpu_ms(1), " ", &
     cpu_ms(2), ""
   write(output_unit, '(a, es24.16)') "checksum ", sum(y(:, 1)*x)
+  ! the bound's absolute product on a positive vector
+  v = 1.0_dp + abs(x)
+  call time_products(.true.)
+  write(output_unit, '(4(a, f0.2), a, l1)') "abs product ms (1, 2 threads): ", ms(1), " ", ms(2), &
+    "; CPU ms: ", cpu_ms(1), " ", cpu_ms(2), "; same bits: ", all(y(:, 1) == y(:, 2))
+  write(output_unit, '(a, es24.16)') "abs checksum ", sum(y(:, 1))
+contains
+  !> ms and cpu_ms for 1 and 2 threads (medians of the runs) of the product
+  !> into y (absolute: |A'| v, else A' x).
+  subroutine time_products(absolute)
+    logical, intent(in) :: absolute
+    do threads = 1, 2
+      !$ call omp_set_num_threads(threads)
+      do r = 1, runs
+        t0 = progress_seconds()
+        call cpu_time(c0)
+        do j = 1, products
+          if (absolute) then
+            call operator_abs_product(op, v, y(:, threads))
+          else
+            call assembly_operator_apply(op, x, y(:, threads))
+          end if
+        end do
+        call cpu_time(c1)
+        t(r) = (progress_seconds() - t0)/products
+        tc(r) = (c1 - c0)/products
+      end do
+      call sort_ascending(t)
+      call sort_ascending(tc)
+      ms(threads) = 1.0e3_dp*t((runs + 1)/2)
+      cpu_ms(threads) = 1.0e3_dp*tc((runs + 1)/2)
+    end do
+  end subroutine time_products
 end program bench_product

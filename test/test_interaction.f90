@@ -9,7 +9,7 @@ module test_interaction
   use demstep_assembly, only: assembly_matrix, eigen_solver_name, assembly_operator_apply, &
     assembly_operator, assembly_operator_type, assembly_matrix_rows
   use demstep_kinds, only: pi
-  use demstep_interaction, only: contact_block, contact_forces, normal_force, normal_stiffness, &
+  use demstep_interaction, only: contact_block, contact_end_blocks, contact_forces, normal_force, normal_stiffness, &
     tangential_stiffness, reduced_radius
   use demstep_csr, only: csr_matrix_type, csr_to_dense
   use demstep_lapack, only: largest_eigenpair
@@ -25,6 +25,7 @@ contains
     type(unittest_type), allocatable, intent(out) :: testsuite(:)
     testsuite = [ &
       new_unittest("tangent block = finite differences of force and torque", test_block_fd), &
+      new_unittest("one end's columns in closed form = the kernel's block", test_end_blocks), &
       new_unittest("Coulomb friction caps the tangential force at friction F_n", test_friction), &
       new_unittest("rotating pair: omega^2 = k_t (1/m_i + 1/m_j + c_i^2/I_i + c_j^2/I_j), c = r - d/2", test_pair), &
       new_unittest("periodic ring with rotations vs its dispersion relation", test_ring), &
@@ -63,6 +64,34 @@ contains
     g(7:9) = f
     g(10:12) = t_j
   end function pair_forces
+
+  !> contact_end_blocks against contact_block's columns (12 kernel calls) on
+  !> random normals, stiffnesses (rolling and twisting included), arms, rot
+  !> and pre-stress, both ends: equal to 1e-14 of the block's largest entry
+  !> (a few roundings of entries of order one).
+  subroutine test_end_blocks(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp) :: u(12), n(3), k(4), kb(12, 12), own(6, 6), other(6, 6), err
+    integer :: trial
+    call random_seed_fixed(7)
+    err = 0.0_dp
+    do trial = 1, 50
+      call random_number(u)
+      n = u(1:3) - 0.5_dp
+      n = n/norm2(n)
+      k = [1.0_dp, u(4), 0.3_dp*u(5), 0.2_dp*u(6)]
+      if (mod(trial, 3) == 0) k(3:4) = 0.0_dp
+      kb = contact_block(n, k, 0.5_dp + u(7), 0.2_dp + u(8), 0.1_dp*u(9), 0.5_dp + u(10), 1.0_dp + u(11))
+      call contact_end_blocks(n, k, 0.5_dp + u(7), 0.2_dp + u(8), 0.5_dp + u(10), 1.0_dp + u(11), &
+        0.1_dp*u(9), .true., own, other)
+      err = max(err, max(maxval(abs(own - kb(1:6, 1:6))), maxval(abs(other - kb(7:12, 1:6))))/maxval(abs(kb)))
+      call contact_end_blocks(n, k, 0.5_dp + u(7), 0.2_dp + u(8), 0.5_dp + u(10), 1.0_dp + u(11), &
+        0.1_dp*u(9), .false., own, other)
+      err = max(err, max(maxval(abs(own - kb(7:12, 7:12))), maxval(abs(other - kb(1:6, 7:12))))/maxval(abs(kb)))
+    end do
+    call check(error, err <= 1.0e-14_dp, "closed-form end blocks vs contact_block: largest " &
+      //"difference "//real_str(err)//" of the block's largest entry")
+  end subroutine test_end_blocks
 
   subroutine test_block_fd(error)
     type(error_type), allocatable, intent(out) :: error

@@ -25,7 +25,8 @@ module demstep_interaction
   private
 
   public :: reduced_radius, reduced_mass, normal_force, normal_stiffness, tangential_stiffness, &
-    normal_energy, dashpot_coefficient, wall_overlap, contact_block, contact_product, contact_product_arms, &
+    normal_energy, dashpot_coefficient, wall_overlap, contact_block, contact_end_blocks, contact_product, &
+    contact_product_arms, &
     contact_forces, &
     rolling_moments, contact_arm, hooke_size_factor, &
     add_bond_forces, dof_components, hertz_e_star, mindlin_g_star, cross
@@ -250,6 +251,56 @@ contains
         kb(1:3, c), kb(4:6, c), kb(7:9, c), kb(10:12, c))
     end do
   end function contact_block
+
+  !> The columns of one end of `contact_block` in closed form (same
+  !> arguments; `first`: the end is i, else j): `own` its rows of that end
+  !> (6 x 6, u then theta) and `other` the other end's rows. With
+  !> Q = k_n n n^T + (k_t - geo) P, N the cross-product matrix of n (N x = n x x),
+  !> R = k_r P + k_w n n^T, a and b the end's and the other end's arms, r_a,
+  !> r_b their rot and sign +1 for i, -1 for j:
+  !> own = [Q, -sign k_t a N; sign k_t a N, k_t a^2 P + r_a^2 R],
+  !> other = [-Q, sign k_t a N; sign k_t b N, k_t a b P - r_a r_b R]
+  !> (from the kernel with N N = -P and N P = N; equal to `contact_block`'s to
+  !> rounding, tested). One evaluation instead of six kernel calls, for the
+  !> operator's absolute product (`operator_abs_product`).
+  pure subroutine contact_end_blocks(n, k, arm_i, arm_j, rot_i, rot_j, geo, first, own, other)
+    real(dp), intent(in) :: n(3), k(4), arm_i, arm_j, rot_i, rot_j, geo
+    logical, intent(in) :: first
+    real(dp), intent(out) :: own(6, 6), other(6, 6)
+    real(dp) :: nn(3, 3), p(3, 3), q(3, 3), r(3, 3), cn(3, 3), a, b, ra, rb, sgn
+    integer :: c
+    do c = 1, 3
+      nn(:, c) = n*n(c)
+    end do
+    p = -nn
+    do c = 1, 3
+      p(c, c) = p(c, c) + 1.0_dp
+    end do
+    q = k(1)*nn + (k(2) - geo)*p
+    r = k(3)*p + k(4)*nn
+    cn = reshape([0.0_dp, n(3), -n(2), -n(3), 0.0_dp, n(1), n(2), -n(1), 0.0_dp], [3, 3])
+    if (first) then
+      a = arm_i
+      b = arm_j
+      ra = rot_i
+      rb = rot_j
+      sgn = 1.0_dp
+    else
+      a = arm_j
+      b = arm_i
+      ra = rot_j
+      rb = rot_i
+      sgn = -1.0_dp
+    end if
+    own(1:3, 1:3) = q
+    own(1:3, 4:6) = (-sgn*k(2)*a)*cn
+    own(4:6, 1:3) = (sgn*k(2)*a)*cn
+    own(4:6, 4:6) = (k(2)*a*a)*p + (ra*ra)*r
+    other(1:3, 1:3) = -q
+    other(1:3, 4:6) = (sgn*k(2)*a)*cn
+    other(4:6, 1:3) = (sgn*k(2)*b)*cn
+    other(4:6, 4:6) = (k(2)*a*b)*p - (ra*rb)*r
+  end subroutine contact_end_blocks
 
   !> Forces and torques of one interaction in the stepper. The shear displacement
   !> u_s (history, inout) is first turned into the plane normal to the current n

@@ -39,7 +39,7 @@ module demstep_assembly
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text, real_text
   use demstep_spring, only: damped_limit
-  use demstep_interaction, only: contact_law, contact_block, contact_product, dashpot_coefficient, &
+  use demstep_interaction, only: contact_law, contact_block, contact_end_blocks, contact_product, dashpot_coefficient, &
     wall_overlap, reduced_radius, dof_components, contact_arm
   use demstep_scene_data, only: scene_type, scene_effect, effective_mass, contact_values, wall_values, &
     contact_dashpots, check_scene_damping
@@ -1056,18 +1056,19 @@ contains
   !> as it is mixed (alpha A' + beta B'), without its pre-stress (|A'| the assembled
   !> matrix's absolute values: each body's diagonal block summed over its springs
   !> before they are taken, so the contacts of one body cancel there). Per body,
-  !> in parallel, from the kernel (`contact_product`; the columns of the body's
-  !> end of each spring are its rows, by symmetry): O(springs), no storage.
+  !> in parallel, from the closed form of the kernel's block (`contact_end_blocks`;
+  !> the columns of the body's end of each spring are its rows, by symmetry):
+  !> O(springs), no storage.
   subroutine operator_abs_product(op, v, r)
     type(assembly_operator_type), intent(in) :: op
     !> size n, >= 0.
     real(dp), intent(in) :: v(:)
     real(dp), intent(out) :: r(:)
-    real(dp) :: d(6, 6), off(6), col(12, 6), e(12), row, k(4), geo
+    real(dp) :: d(6, 6), off(6), own(6, 6), other(6, 6), row, k(4), geo
     integer :: i, s, en, o, j, c, q, nc
     integer(i8) :: p
     nc = op%nc
-    !$omp parallel do private(i, s, en, o, j, c, q, p, d, off, col, e, row, k, geo) &
+    !$omp parallel do private(i, s, en, o, j, c, q, p, d, off, own, other, row, k, geo) &
     !$omp schedule(static) if(op%n_springs >= parallel_springs)
     do i = 1, op%n_bodies
       d = 0.0_dp
@@ -1077,19 +1078,16 @@ contains
         en = op%incident(p) - 2*(s - 1)
         o = 3 - en
         call mixed_coefficients(op, s, k, geo)
+        call contact_end_blocks(op%normal(:, s), k, op%coef(3, s), op%coef(4, s), &
+          op%rinv(op%ends(1, s)), op%rinv(op%ends(2, s)), 0.0_dp, en == 1, own, other)
         do c = 1, nc
-          e = 0.0_dp
-          e(6*(en - 1) + op%comp(c)) = 1.0_dp
-          call contact_product(op%normal(:, s), k, op%coef(3, s), op%coef(4, s), &
-            op%rinv(op%ends(1, s)), op%rinv(op%ends(2, s)), 0.0_dp, e(1:3), e(4:6), e(7:9), e(10:12), &
-            col(1:3, c), col(4:6, c), col(7:9, c), col(10:12, c))
-          d(:, c) = d(:, c) + col(6*(en - 1) + 1:6*en, c)
+          d(:, c) = d(:, c) + own(:, op%comp(c))
         end do
         j = op%ends(o, s)
         if (j == 0) cycle
         do c = 1, nc
           do q = 1, nc
-            off(c) = off(c) + abs(col(6*(o - 1) + op%comp(q), c))*op%w(op%comp(q), j)*v((j - 1)*nc + q)
+            off(c) = off(c) + abs(other(op%comp(q), op%comp(c)))*op%w(op%comp(q), j)*v((j - 1)*nc + q)
           end do
         end do
       end do
@@ -1186,7 +1184,7 @@ contains
     integer :: s, a, b, i, c, nc
     integer(i8) :: p
     real(dp) :: acc(6), k(4), geo
-    y = 0.0_dp
+    logical :: plain
     select type (op => context)
     class is (assembly_operator_type)
       nc = op%nc
@@ -1200,11 +1198,19 @@ contains
         end do
       end do
       !$omp end parallel do
+      ! (A' alone, the solves' case: `mixed_coefficients`' plain case, inline)
+      plain = op%alpha == 1.0_dp .and. op%beta == 0.0_dp
       !$omp parallel do private(s, a, b, k, geo) schedule(static) if(op%n_springs >= parallel_springs)
       do s = 1, op%n_springs
         a = op%ends(1, s)
         b = op%ends(2, s)
-        call mixed_coefficients(op, s, k, geo)
+        if (plain) then
+          k(1:2) = op%coef(1:2, s)
+          k(3:4) = op%coef(6:7, s)
+          geo = op%coef(5, s)
+        else
+          call mixed_coefficients(op, s, k, geo)
+        end if
         call contact_product(op%normal(:, s), k, op%coef(3, s), op%coef(4, s), op%rinv(a), op%rinv(b), &
           geo, op%xs(1:3, a), op%xs(4:6, a), op%xs(1:3, b), op%xs(4:6, b), &
           op%work(1:3, 2*s - 1), op%work(4:6, 2*s - 1), op%work(1:3, 2*s), op%work(4:6, 2*s))
@@ -1221,6 +1227,8 @@ contains
         end do
       end do
       !$omp end parallel do
+    class default
+      y = 0.0_dp
     end select
   end subroutine assembly_operator_apply
 

@@ -154,6 +154,11 @@ module demstep_lanczos
   !> the top rose or the restarts ran out), and how far the Krylov size may
   !> grow (a multiple of the asked ncv) when the restarts run out.
   integer, parameter, public :: lanczos_runs = 3, lanczos_ncv_growth = 2
+  !> Entries per block of the serial space's recurrence sums: each block is
+  !> summed in index order, then the blocks' sums in block order, so the sum
+  !> has the same bits for every thread count (and is one plain sum for a
+  !> vector of one block); the blocks run in parallel under OpenMP.
+  integer, parameter :: recurrence_block = 65536
 
   !> Rounding allowance of the error bar, in units of epsilon * |theta|: the
   !> residual and the Rayleigh quotient are sums of rounded products.
@@ -888,7 +893,7 @@ contains
       call move_alloc(v_old, swap)
       call move_alloc(v, v_old)
       call move_alloc(swap, v)
-      v = w/beta(j)
+      call scaled_copy(w, beta(j), v)
       beta_old = beta(j)
     end do
     result%ncv = min(j, last)
@@ -942,13 +947,18 @@ contains
     !> `single`); past the columns allocated, none are kept.
     subroutine keep(j)
       integer, intent(in) :: j
+      integer :: i
       if (single) then
         if (j > size(basis_single, 2)) then
           stored = .false.
           deallocate(basis_single)
           return
         end if
-        basis_single(:, j) = real(v, sp)
+        !$omp parallel do schedule(static) if(n > recurrence_block)
+        do i = 1, n
+          basis_single(i, j) = real(v(i), sp)
+        end do
+        !$omp end parallel do
       else
         if (j > size(basis, 2)) then
           stored = .false.
@@ -966,13 +976,21 @@ contains
     subroutine ritz_vector(j)
       integer, intent(in) :: j
       real(dp), allocatable :: u(:), t(:)
-      integer :: i
+      integer, parameter :: ritz_block = 1024
+      integer :: i, k, k1
       if (stored .and. single) then
         if (.not. allocated(z)) allocate(z(n))
-        z = 0.0_dp
-        do i = 1, j
-          z = z + s(i)*real(basis_single(:, i), dp)
+        ! (a block of z at a time over the columns in order: each entry's
+        ! sum in column order, in parallel over the blocks)
+        !$omp parallel do private(i, k, k1) schedule(static) if(n > recurrence_block)
+        do k = 1, n, ritz_block
+          k1 = min(n, k + ritz_block - 1)
+          z(k:k1) = 0.0_dp
+          do i = 1, j
+            z(k:k1) = z(k:k1) + s(i)*real(basis_single(k:k1, i), dp)
+          end do
         end do
+        !$omp end parallel do
       else if (stored) then
         z = matmul(basis(:, :j), s)
       else
@@ -1111,7 +1129,7 @@ contains
     call space%product(x, ax)
     result%applications = result%applications + 1
     if (present(progress)) call progress%update(result%applications)
-    if (.not. space%all_ranks(all(ieee_is_finite(ax)))) then
+    if (.not. space%all_ranks(all_finite(ax))) then
       call set_status(status, demstep_stat%invalid_input, space%caller//": the operator " &
         //"returned a non-finite value (product "//int_text(result%applications)//")")
       return
@@ -1222,33 +1240,96 @@ contains
 
   !> The serial `recurrence_update`: the update and the plain sum (in index
   !> order, as `serial_recurrence_dot`'s) in one loop.
+  !> (blocks of `recurrence_block`, in parallel)
   function serial_recurrence_update(space, w, c, u, x) result(s)
     class(serial_space_type), intent(inout) :: space
     real(dp), intent(inout) :: w(:)
     real(dp), intent(in) :: c, u(:)
     real(dp), intent(in), optional :: x(:)
     real(dp) :: s
-    integer :: i
-    s = 0.0_dp
-    if (present(x)) then
-      do i = 1, size(w)
-        w(i) = w(i) - c*u(i)
-        s = s + x(i)*w(i)
-      end do
-    else
-      do i = 1, size(w)
-        w(i) = w(i) - c*u(i)
-        s = s + w(i)*w(i)
-      end do
-    end if
+    real(dp), allocatable :: part(:)
+    real(dp) :: t
+    integer :: i, b, nb
+    logical :: other
+    other = present(x)
+    nb = max(1, (size(w) + recurrence_block - 1)/recurrence_block)
+    allocate(part(nb))
+    !$omp parallel do private(b, i, t) schedule(static) if(nb > 1)
+    do b = 1, nb
+      t = 0.0_dp
+      if (other) then
+        do i = (b - 1)*recurrence_block + 1, min(size(w), b*recurrence_block)
+          w(i) = w(i) - c*u(i)
+          t = t + x(i)*w(i)
+        end do
+      else
+        do i = (b - 1)*recurrence_block + 1, min(size(w), b*recurrence_block)
+          w(i) = w(i) - c*u(i)
+          t = t + w(i)*w(i)
+        end do
+      end if
+      part(b) = t
+    end do
+    !$omp end parallel do
+    s = sum_in_order(part)
   end function serial_recurrence_update
 
+  !> (blocks of `recurrence_block`, in parallel)
   function serial_recurrence_dot(space, x, y) result(s)
     class(serial_space_type), intent(inout) :: space
     real(dp), intent(in) :: x(:), y(:)
     real(dp) :: s
-    s = dot_product(x, y)
+    real(dp), allocatable :: part(:)
+    real(dp) :: t
+    integer :: i, b, nb
+    nb = max(1, (size(x) + recurrence_block - 1)/recurrence_block)
+    allocate(part(nb))
+    !$omp parallel do private(b, i, t) schedule(static) if(nb > 1)
+    do b = 1, nb
+      t = 0.0_dp
+      do i = (b - 1)*recurrence_block + 1, min(size(x), b*recurrence_block)
+        t = t + x(i)*y(i)
+      end do
+      part(b) = t
+    end do
+    !$omp end parallel do
+    s = sum_in_order(part)
   end function serial_recurrence_dot
+
+  !> The plain sum of the entries in index order (`serial_recurrence_update`'s
+  !> blocks: one block's sum is returned as it is).
+  pure real(dp) function sum_in_order(part) result(s)
+    real(dp), intent(in) :: part(:)
+    integer :: b
+    s = 0.0_dp
+    do b = 1, size(part)
+      s = s + part(b)
+    end do
+  end function sum_in_order
+
+  !> y = x/c, entrywise in parallel (the Lanczos vectors' normalisation).
+  subroutine scaled_copy(x, c, y)
+    real(dp), intent(in) :: x(:), c
+    real(dp), intent(out) :: y(:)
+    integer :: i
+    !$omp parallel do schedule(static) if(size(x) > recurrence_block)
+    do i = 1, size(x)
+      y(i) = x(i)/c
+    end do
+    !$omp end parallel do
+  end subroutine scaled_copy
+
+  !> Whether every entry is finite, checked in parallel.
+  logical function all_finite(x) result(finite)
+    real(dp), intent(in) :: x(:)
+    integer :: i
+    finite = .true.
+    !$omp parallel do reduction(.and.:finite) schedule(static) if(size(x) > recurrence_block)
+    do i = 1, size(x)
+      finite = finite .and. ieee_is_finite(x(i))
+    end do
+    !$omp end parallel do
+  end function all_finite
 
   function serial_all(space, condition) result(held)
     class(serial_space_type), intent(inout) :: space
