@@ -25,7 +25,11 @@
 !>   increasing in h: Newton's method from the top undamped mode's estimate
 !>   (above the root) converges from above, each step one eigensolve of the
 !>   same matrix-free operator with mixed coefficients (warm-started); the
-!>   reported step is then verified below the root. C holds the normal,
+!>   reported step is then verified below the root. A warm-started Lanczos
+!>   step finds a top near its start, not necessarily lambda_max (a crowded
+!>   top, a damped top away from the undamped one): the converged steps are
+!>   confirmed by a cold solve (`damped_newton`) whenever the undamped top
+!>   had its certificate or a warm start's steps are confirmed. C holds the normal,
 !>   tangential, rolling and twisting dashpots of contacts and walls, the
 !>   bonds' dashpots (normal; a bond model's own four) and the drag to ground. Its rigorous lower bound:
 !>   (2/a)(sqrt(1 + z^2) - z) with a^2 >= lambda_max(A), z = b/(2 a) and b >=
