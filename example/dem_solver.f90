@@ -45,8 +45,10 @@
 !>   verify           each measured update against a cold one on the same
 !>                    arrays (damped and undamped limits);
 !>   reference        each update and a cold one against the dense exact
-!>                    damped limit (one `reference:` line an update; a few
-!>                    hundred particles: a dense eigensolve of 6 N unknowns);
+!>                    damped limit (one `reference:` line an update; a state
+!>                    where either came out above it is written to
+!>                    dem_solver_state_STEP.txt; a few hundred particles: a
+!>                    dense eigensolve of 6 N unknowns);
 !>   scaling=F        mass scaling of the settled bed to F times its damped
 !>                    limit, demstep's `scale_masses` against Yade's per-body
 !>                    density scaling rule;
@@ -121,11 +123,11 @@ program dem_solver
   !> same arrays; the largest and least ratio of their damped limits.
   logical :: verify = .false.
   real(dp) :: verify_max = 0.0_dp, verify_min = huge(1.0_dp)
+  !> verify: the same for the undamped limits.
+  real(dp) :: verify_max_u = 0.0_dp, verify_min_u = huge(1.0_dp)
   !> reference: each update (warm) and a cold one against the dense exact
   !> damped limit on the same arrays (one line each, `reference:`).
   logical :: reference = .false.
-  !> verify: the same for the undamped limits.
-  real(dp) :: verify_max_u = 0.0_dp, verify_min_u = huge(1.0_dp)
   ! the kinetic energy's least and largest values since the bed settled (every
   ! 10th step), and the step it grew 100 times
   real(dp) :: ke_min, ke_max
