@@ -21,6 +21,8 @@
 !>
 !> Run: fpm run --profile release --example dem_solver [-- options] with
 !>   steps=N          steps (default 12000);
+!>   particles=N      spheres poured (default 3000; the cell's side scaled
+!>                    to keep the pour's layers 2.5 mm apart);
 !>   safety=S         the step over the damped limit (default 0.9);
 !>   settle=N         the step the bed counts as settled (default 3000): from
 !>                    there the kinetic energy is watched (the first step at
@@ -42,6 +44,11 @@
 !>                    the previous one by at least X stayed in place);
 !>   verify           each measured update against a cold one on the same
 !>                    arrays (damped and undamped limits);
+!>   reference        each update and a cold one against the dense exact
+!>                    damped limit (one `reference:` line an update; a state
+!>                    where either came out above it is written to
+!>                    dem_solver_state_STEP.txt; a few hundred particles: a
+!>                    dense eigensolve of 6 N unknowns);
 !>   scaling=F        mass scaling of the settled bed to F times its damped
 !>                    limit, demstep's `scale_masses` against Yade's per-body
 !>                    density scaling rule;
@@ -49,7 +56,7 @@
 !> The solver is serial: the library runs on one OpenMP thread too unless
 !> OMP_NUM_THREADS is set (OpenBLAS's own threads: OPENBLAS_NUM_THREADS=1).
 program dem_solver
-  use demstep, only: dp, i8, demstep_status_type, is_ok, critical_step_type
+  use demstep, only: dp, i8, demstep_status_type, is_ok, critical_step_type, eigen_solver
   use demstep_monitor, only: step_monitor_type, fresh_pour_estimate, mode_participation, top_shares, &
     monitor_verdict, solver_critical_steps
   use demstep_mass_scaling, only: scale_masses
@@ -57,15 +64,16 @@ program dem_solver
   use omp_lib, only: omp_set_num_threads, omp_get_max_threads
   implicit none
 
-  !> Spheres poured (tile=T makes T x T copies of the settled bed).
-  integer, parameter :: n_pour = 3000
-  integer :: n = n_pour
+  !> Spheres poured (particles=N; tile=T makes T x T copies of the settled bed).
+  integer :: n = 3000
   real(dp), parameter :: pi = 3.14159265358979323846_dp
   real(dp), parameter :: r_mean = 1.0e-3_dp, poly = 0.2_dp, rho = 2500.0_dp
   real(dp), parameter :: k_n = 200.0_dp, k_t = 2.0_dp/7.0_dp*k_n, mu = 0.5_dp, restitution = 0.5_dp
   real(dp), parameter :: g(3) = [0.0_dp, 0.0_dp, -9.81_dp]
   !> The periodic cell's side (x and y), T times the pour's after tiling.
   real(dp) :: box = 30.0e-3_dp
+  !> The pour's grid: m x m spheres a layer, 2.5 mm apart (12 for 3000).
+  integer :: grid = 12
   integer, parameter :: check_every = 20, report_every = 1000
   !> The step from which the bed counts as settled (settle=N): tiling, the
   !> probe and the kick happen there, and the kinetic energy is watched.
@@ -117,6 +125,9 @@ program dem_solver
   real(dp) :: verify_max = 0.0_dp, verify_min = huge(1.0_dp)
   !> verify: the same for the undamped limits.
   real(dp) :: verify_max_u = 0.0_dp, verify_min_u = huge(1.0_dp)
+  !> reference: each update (warm) and a cold one against the dense exact
+  !> damped limit on the same arrays (one line each, `reference:`).
+  logical :: reference = .false.
   ! the kinetic energy's least and largest values since the bed settled (every
   ! 10th step), and the step it grew 100 times
   real(dp) :: ke_min, ke_max
@@ -296,6 +307,13 @@ contains
         if (ios /= 0 .or. .not. monitor%in_place >= 0.0_dp) error stop "dem_solver: in_place= needs a number >= 0"
       else if (arg == "verify") then
         verify = .true.
+      else if (arg == "reference") then
+        reference = .true.
+      else if (index(arg, "particles=") == 1) then
+        read(arg(11:), *, iostat=ios) n
+        if (ios /= 0 .or. n < 10 .or. n > 100000) error stop "dem_solver: particles= needs an integer in 10 to 100000"
+        grid = max(3, nint(12.0_dp*sqrt(n/3000.0_dp)))
+        box = grid*2.5e-3_dp
       else if (index(arg, "settle=") == 1) then
         read(arg(8:), *, iostat=ios) settled_step
         if (ios /= 0 .or. settled_step < 1000) error stop "dem_solver: settle= needs an integer >= 1000"
@@ -504,7 +522,7 @@ contains
     end do
     mass = rho*4.0_dp/3.0_dp*pi*radius**3
     inertia = 0.4_dp*mass*radius**2
-    m = 12
+    m = grid
     spacing = box/m
     k = 0
     do c = 0, n
@@ -719,6 +737,7 @@ contains
       if (monitor%local_start) n2_local = n2_local + 1
       if (verify) call verify_update()
     end if
+    if (reference) call reference_update(step)
     have_limit = .true.
     dt_limit = monitor%last%dt_critical_damped
     dt = safety*dt_limit
@@ -738,6 +757,51 @@ contains
     verify_max_u = max(verify_max_u, monitor%last%dt_critical_eigen/fresh%last%dt_critical_eigen)
     verify_min_u = min(verify_min_u, monitor%last%dt_critical_eigen/fresh%last%dt_critical_eigen)
   end subroutine verify_update
+
+  !> The update just made and a cold one against the dense exact damped limit
+  !> on the same arrays (reference): one line, the ratios to the exact one.
+  subroutine reference_update(step)
+    integer, intent(in) :: step
+    type(step_monitor_type) :: fresh
+    type(critical_step_type) :: exact
+    type(demstep_status_type) :: st
+    call solve(fresh)
+    if (.not. is_ok(status)) error stop status%message
+    call solver_critical_steps(x, mass, radius, pairs(:, :nc), [k_n], exact, st, k_t=[k_t], c_n=c_n(:nc), &
+      inertia=inertia, wall_point=floor_point, wall_normal=floor_normal, wall_k=[k_n, k_t], &
+      wall_damping=[zeta, 0.0_dp], periodic=[.true., .true., .false.], cell_lo=[0.0_dp, 0.0_dp, 0.0_dp], &
+      cell_hi=[box, box, 0.0_dp], solver=eigen_solver%dense)
+    if (.not. is_ok(st)) error stop st%message
+    print '(a, i0, a, i0, a, es14.7, a, f11.8, a, f11.8, a, f11.8, a, l1, a, l1)', "reference: step ", step, &
+      " contacts ", nc, " exact ", exact%dt_critical_damped, " warm/exact ", &
+      monitor%last%dt_critical_damped/exact%dt_critical_damped, " cold/exact ", &
+      fresh%last%dt_critical_damped/exact%dt_critical_damped, " undamped warm/exact ", &
+      monitor%last%dt_critical_eigen/exact%dt_critical_eigen, " accepted ", monitor%accepted, " confirmed ", &
+      monitor%confirmed
+    if (max(monitor%last%dt_critical_damped, fresh%last%dt_critical_damped) > exact%dt_critical_damped) &
+      call write_state(step, exact%dt_critical_damped)
+  end subroutine reference_update
+
+  !> The solver's arrays at `step` (a state whose warm or cold damped limit
+  !> came out above the exact one, `exact`) as a text file
+  !> `dem_solver_state_STEP.txt`: the constants, then one line a particle
+  !> (x, mass, radius, inertia) and one a contact (pair, c_n).
+  subroutine write_state(step, exact)
+    integer, intent(in) :: step
+    real(dp), intent(in) :: exact
+    character(len=64) :: path
+    integer :: u, k
+    write(path, '(a, i0, a)') "dem_solver_state_", step, ".txt"
+    open(newunit=u, file=trim(path), status="replace", action="write")
+    write(u, '(2i8, 5es25.17)') n, nc, box, k_n, k_t, zeta, exact
+    do k = 1, n
+      write(u, '(6es25.17)') x(:, k), mass(k), radius(k), inertia(k)
+    end do
+    do k = 1, nc
+      write(u, '(2i8, es25.17)') pairs(:, k), c_n(k)
+    end do
+    close(u)
+  end subroutine write_state
 
   !> One update of a monitor on the solver's current arrays: the contact
   !> list with its dashpots, scalar stiffness, the floor and the cell.

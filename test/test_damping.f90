@@ -1,5 +1,6 @@
 !> Tests of the damped assembly: the exact damped limit against the spectral
-!> radius of the one-step map (LAPACK dgeev, dense), the stepper run just
+!> radius of the one-step map (LAPACK dgeev, dense), the monitor's damped
+!> limits on a DEM pour's states against the dense exact one, the stepper run just
 !> below and above it, the rolling, twisting and dashpot terms of the kernel
 !> against finite differences and the contact point's velocity, and the
 !> library's defaults and setters.
@@ -12,6 +13,7 @@ module test_damping
   use demstep_interaction, only: contact_block, contact_forces, rolling_moments, contact_product
   use demstep_lapack, only: spectral_radius
   use demstep_scene_data, only: contact_values, wall_values, contact_dashpots
+  use demstep_monitor, only: step_monitor_type
   use test_support, only: real_str, seed_fixed
   implicit none
   private
@@ -26,6 +28,7 @@ contains
       new_unittest("one spring: (2/omega)(sqrt(1 + z^2) - z), normal and tangential", test_one_spring), &
       new_unittest("lower bound <= exact damped <= undamped; 'none' gives the bound", test_bounds), &
       new_unittest("Lanczos damped limit = dense damped limit", test_lanczos_damped), &
+      new_unittest("a pour's states: the monitor's damped limits never above the exact one", test_pour_states), &
       new_unittest("stepper at 0.99/1.01 of the damped limit: all dashpots", test_stepper_damped), &
       new_unittest("rolling and twisting block = finite differences", test_rolling_fd), &
       new_unittest("dashpot forces = c times the contact point's velocity", test_dashpot_kernel), &
@@ -232,6 +235,67 @@ contains
       d%dt_critical_damped) <= 1.0e-10_dp*d%dt_critical_damped, "Lanczos "//real_str(l%dt_critical_damped) &
       //", dense "//real_str(d%dt_critical_damped))
   end subroutine test_lanczos_damped
+
+  !> States of example/dem_solver's pour (`particles=300 reference
+  !> update_every=40 steps=2300 settle=1300`: 300 spheres, 1800 unknowns,
+  !> normal dashpots, tangential springs, rotations, the floor, a cell
+  !> periodic in x and y), test/data/damped/pour_state_STEP.txt, each with
+  !> its exact damped limit (the dense solve of `solver_critical_steps`,
+  !> whose damped limit `test_map` checks against the one-step map; 17
+  !> s a state, so stored). On these states the monitor's cold update, and
+  !> a second one confirmed (confirm_every = 1), put the damped limit 0.1 to
+  !> 0.22 % above the exact one before the damped Newton steps were
+  !> confirmed by a cold solve (measured: cold 1.00111, 1.00095, 1.00224;
+  !> confirmed 1.00137, 1.00113, 0.99997): the warm-started Lanczos solves
+  !> stopped on a top below lambda_max. Each limit must be at or below the
+  !> exact one (1e-9: the dense reference's rounding; a step 4 tau/U from an
+  !> upper end U of the true top is below the root) and within 2 tol of it
+  !> (see test_monitor's test_warm_damped).
+  subroutine test_pour_states(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer, parameter :: steps(3) = [1200, 1380, 1400]
+    type(step_monitor_type) :: monitor
+    type(demstep_status_type) :: status
+    character(len=64) :: path
+    real(dp), allocatable :: x(:, :), mass(:), radius(:), inertia(:), c_n(:)
+    integer, allocatable :: pairs(:, :)
+    real(dp) :: box, k_n, k_t, zeta, exact, got
+    integer :: s, u, n, nc, k, pass, ios
+    do s = 1, size(steps)
+      write(path, '(a, i0, a)') "test/data/damped/pour_state_", steps(s), ".txt"
+      open(newunit=u, file=trim(path), status="old", action="read", iostat=ios)
+      call check(error, ios == 0, "cannot open "//trim(path))
+      if (allocated(error)) return
+      read(u, *) n, nc, box, k_n, k_t, zeta, exact
+      allocate(x(3, n), mass(n), radius(n), inertia(n), c_n(nc), pairs(2, nc))
+      do k = 1, n
+        read(u, *) x(:, k), mass(k), radius(k), inertia(k)
+      end do
+      do k = 1, nc
+        read(u, *) pairs(:, k), c_n(k)
+      end do
+      close(u)
+      monitor = step_monitor_type()
+      do pass = 1, 2
+        ! (the first update is cold, the second confirmed)
+        if (pass == 2) monitor%confirm_every = 1
+        call monitor%update(x, mass, radius, pairs, [k_n], status, k_t=[k_t], c_n=c_n, inertia=inertia, &
+          wall_point=reshape([0.0_dp, 0.0_dp, 0.0_dp], [3, 1]), &
+          wall_normal=reshape([0.0_dp, 0.0_dp, 1.0_dp], [3, 1]), wall_k=[k_n, k_t], &
+          wall_damping=[zeta, 0.0_dp], periodic=[.true., .true., .false.], cell_lo=[0.0_dp, 0.0_dp, 0.0_dp], &
+          cell_hi=[box, box, 0.0_dp])
+        call check(error, status%stat == demstep_stat%ok .and. monitor%last%damped_exact, trim(path)//": " &
+          //status%message)
+        if (allocated(error)) return
+        got = monitor%last%dt_critical_damped
+        call check(error, got <= exact*(1.0_dp + 1.0e-9_dp) .and. got >= exact*(1.0_dp - 2.0_dp*monitor%tolerance), &
+          trim(path)//merge(": cold      ", ": confirmed ", pass == 1)//real_str(got)//" against the exact " &
+          //real_str(exact)//" (ratio "//real_str(got/exact)//")")
+        if (allocated(error)) return
+      end do
+      deallocate(x, mass, radius, inertia, c_n, pairs)
+    end do
+  end subroutine test_pour_states
 
   subroutine test_stepper_damped(error)
     type(error_type), allocatable, intent(out) :: error

@@ -25,7 +25,11 @@
 !>   increasing in h: Newton's method from the top undamped mode's estimate
 !>   (above the root) converges from above, each step one eigensolve of the
 !>   same matrix-free operator with mixed coefficients (warm-started); the
-!>   reported step is then verified below the root. C holds the normal,
+!>   reported step is then verified below the root. A warm-started Lanczos
+!>   step finds a top near its start, not necessarily lambda_max (a crowded
+!>   top, a damped top away from the undamped one): the converged steps are
+!>   confirmed by a cold solve (`damped_newton`) whenever the undamped top
+!>   had its certificate or a warm start's steps are confirmed. C holds the normal,
 !>   tangential, rolling and twisting dashpots of contacts and walls, the
 !>   bonds' dashpots (normal; a bond model's own four) and the drag to ground. Its rigorous lower bound:
 !>   (2/a)(sqrt(1 + z^2) - z) with a^2 >= lambda_max(A), z = b/(2 a) and b >=
@@ -133,6 +137,9 @@ module demstep_assembly
   integer, parameter, public :: bound_iterations = 2
   !> Newton steps of the exact damped limit (it converges in 3 to 6).
   integer, parameter, public :: damped_newton_steps = 40
+  !> Cold solves that confirm the damped Newton steps at most (`damped_newton`):
+  !> each one that finds a higher top sends the steps on from its mode.
+  integer, parameter, public :: damped_confirmations = 3
   !> The dashpots C may hold, as `critical_step_type%dashpots` flags them.
   character(len=*), parameter :: dashpot_names(6) = [character(len=10) :: "normal", "tangential", &
     "rolling", "twisting", "bond", "drag"]
@@ -240,6 +247,10 @@ module demstep_assembly
   !> A damped-limit problem for `damped_newton`: the top eigenpair of
   !> tau^2 A' + 2 tau B' at a given tau (serial or distributed).
   type, abstract, public :: damped_problem_type
+    !> Whether the converged Newton steps are confirmed by a cold solve (set
+    !> by a problem whose `top` makes one when `cold` is set; see
+    !> `damped_newton`), and whether the next `top` is that solve.
+    logical :: confirm_cold = .false., cold = .false.
   contains
     procedure(damped_top), deferred :: top
   end type damped_problem_type
@@ -439,7 +450,7 @@ contains
     real(dp) :: lam, err, b_bound, lower, upper, failure
     real(dp), allocatable :: start(:)
     integer :: i, solver, basis
-    logical :: has_mode, converged, certified, taken, damped_taken, refine, moved, known
+    logical :: has_mode, converged, certified, taken, damped_taken, refine, moved, known, cold
     status%stat = demstep_stat%ok
     if (present(confirmed)) confirmed = .false.
     result%prestress = geo
@@ -505,12 +516,17 @@ contains
         damped_taken = .false.
         if (present(accept_damped)) damped_taken = accept_damped
         if (known) damped_taken = damped_taken .or. .not. moved
+        ! (the converged damped steps confirmed by a cold solve when the
+        ! undamped top made the certificate, and when a warm start's steps
+        ! are to be confirmed: `damped_newton`)
+        cold = certified
+        if (present(confirm_steps)) cold = cold .or. (confirm_steps > 0 .and. .not. damped_taken)
         if (taken .and. present(start_av)) then
           call damped_exact(op, solver, tol, rate, vec, result, status, progress, ncv, damped_vec, damped_taken, &
-            start_av, confirm_steps)
+            start_av, confirm_steps, confirm_cold=cold)
         else
           call damped_exact(op, solver, tol, rate, vec, result, status, progress, ncv, damped_vec, damped_taken, &
-            confirm_steps=confirm_steps)
+            confirm_steps=confirm_steps, confirm_cold=cold)
         end if
         if (status%stat /= demstep_stat%ok) return
       end if
@@ -830,7 +846,7 @@ contains
   !> top undamped unit mode `vec`, or from `start` when it is given non-zero
   !> (then the last damped mode on return); `vec_av` = A' vec when known.
   subroutine damped_exact(op, choice, tol, rate, vec, result, status, progress, ncv, start, accept_start, vec_av, &
-      confirm_steps)
+      confirm_steps, confirm_cold)
     type(assembly_operator_type), intent(inout), target :: op
     integer, intent(in) :: choice
     real(dp), intent(in) :: tol, rate
@@ -845,6 +861,9 @@ contains
     real(dp), intent(in), optional :: vec_av(:)
     !> The least products of a Newton step's confirmed solve (default 0).
     integer, intent(in), optional :: confirm_steps
+    !> Confirm the converged Newton steps by a cold solve (`damped_newton`;
+    !> default false; a dense solve needs none).
+    logical, intent(in), optional :: confirm_cold
     type(serial_damped_type) :: problem
     real(dp), allocatable :: y(:), w(:), aw(:), bw(:)
     real(dp) :: lam_a, vb, lam_w, vb_w
@@ -878,6 +897,7 @@ contains
     if (present(ncv)) problem%ncv = ncv
     if (present(accept_start)) problem%accept_start = accept_start
     if (present(confirm_steps)) problem%confirm_steps = confirm_steps
+    if (present(confirm_cold)) problem%confirm_cold = confirm_cold .and. choice /= eigen_solver%dense
     call damped_newton(problem, lam_a, vb, rate, tol, result, status, progress)
     call operator_mix(op, 1.0_dp, 0.0_dp)
     if (present(start)) then
@@ -919,7 +939,11 @@ contains
   !> next); it stops when |theta - 4| is within the error bar of a solve at
   !> half of `tol` (s = 4 tau/U loses the whole residual of U, where the
   !> undamped step 2/sqrt(U) loses half of it: the damped step is then good to
-  !> the same tol/2), and takes the largest safe step found.
+  !> the same tol/2), and takes the largest safe step found. A problem with
+  !> `confirm_cold` certifies no step until the converged tau is confirmed by
+  !> a cold solve (its `top` with `cold` set) that finds no top above the
+  !> last one's error bar; one that does sends the steps on from its mode
+  !> (at most `damped_confirmations` cold solves).
   subroutine damped_newton(problem, lam_a, vb, rate, tol, result, status, progress)
     class(damped_problem_type), intent(inout) :: problem
     real(dp), intent(in) :: lam_a, vb, rate
@@ -928,31 +952,60 @@ contains
     type(critical_step_type), intent(inout) :: result
     type(demstep_status_type), intent(out) :: status
     class(progress_type), intent(inout), optional :: progress
-    real(dp) :: tau, tau_safe, theta, err, va, vb_k, step, q, tol_k, upper, tol_end
-    integer :: it
-    logical :: has_mode
+    real(dp) :: tau, tau_safe, theta, err, va, vb_k, step, q, tol_k, upper, tol_end, theta_c, err_c, va_c
+    integer :: it, confirms
+    logical :: has_mode, certifying, done
     tau = damped_lower_bound(2.0_dp/sqrt(lam_a), vb)
     tau_safe = result%dt_critical_damped_bound*rate
     tol_end = max(0.5_dp*tol, epsilon(1.0_dp))
     tol_k = max(tol_end, 1.0e-4_dp)
+    confirms = 0
+    problem%cold = .false.
     status%stat = demstep_stat%ok
     do it = 1, damped_newton_steps
       call problem%top(tau, tol_k, theta, err, va, has_mode, result, status, progress)
       if (status%stat /= demstep_stat%ok) return
       if (.not. has_mode) exit
       ! (only a solve to the full tolerance certifies a step: a looser one
-      ! only steers)
+      ! only steers; with `confirm_cold` only the cold solve that confirms
+      ! the converged steps does)
       upper = theta + err
-      if (tol_k <= tol_end) tau_safe = max(tau_safe, tau*min(1.0_dp, 4.0_dp/upper))
-      if (abs(theta - 4.0_dp) <= err .and. tol_k <= tol_end) exit
+      certifying = tol_k <= tol_end
+      if (certifying .and. .not. problem%confirm_cold) tau_safe = max(tau_safe, tau*min(1.0_dp, 4.0_dp/upper))
       ! the next tau: the root of the current mode's own quadratic
       ! q(t) = t^2 v'A'v + 2 t v'B'v (v'B'v = (theta - tau^2 v'A'v)/(2 tau)),
       ! which touches lambda at tau (value and slope) and lies below it: a
       ! Newton step that keeps the curvature, from above
-      vb_k = max(0.0_dp, (theta - tau**2*va)/(2.0_dp*tau))
-      step = tau - damped_lower_bound(2.0_dp/sqrt(va), vb_k)
-      ! converged to rounding (a dense solve's error bar is a few ulps)
-      if (abs(step) <= 4.0_dp*epsilon(1.0_dp)*tau .and. tol_k <= tol_end) exit
+      step = newton_step(theta, va)
+      ! converged: theta = 4 within its error bar, or to rounding (a dense
+      ! solve's error bar is a few ulps)
+      done = certifying .and. (abs(theta - 4.0_dp) <= err .or. abs(step) <= 4.0_dp*epsilon(1.0_dp)*tau)
+      if (done .and. problem%confirm_cold) then
+        ! the converged tau confirmed by a cold solve (a random start, as
+        ! long a run as the undamped top's cold solve): the warm-started
+        ! steps find a top near their start, and on a crowded top or where
+        ! the damped top sits apart from the undamped one that need not be
+        ! lambda's. No higher top, or one whose step 4 tau/U is within tol/2
+        ! of tau: the step is certified from it. A higher one: the Newton
+        ! steps go on from its mode, and the new tau is confirmed too
+        problem%cold = .true.
+        call problem%top(tau, tol_end, theta_c, err_c, va_c, has_mode, result, status, progress)
+        problem%cold = .false.
+        if (status%stat /= demstep_stat%ok) return
+        if (.not. has_mode) exit
+        confirms = confirms + 1
+        if (theta_c <= upper .or. theta_c + err_c <= 4.0_dp*(1.0_dp + tol_end) .or. &
+            confirms >= damped_confirmations) then
+          tau_safe = max(tau_safe, tau*min(1.0_dp, 4.0_dp/max(upper, theta_c + err_c)))
+          exit
+        end if
+        theta = theta_c
+        err = err_c
+        va = va_c
+        step = newton_step(theta, va)
+        done = .false.
+      end if
+      if (done) exit
       ! Newton squares the relative error: the next solve to a hundredth of it
       tol_k = max(tol_end, min(1.0e-4_dp, 1.0e-2_dp*(step/tau)**2))
       tau = max(tau - step, tau_safe)
@@ -964,10 +1017,19 @@ contains
     ! the one-spring damping ratio with the same limit at the bracket's end
     q = result%dt_critical_damped*bracket_omega(result)/2.0_dp
     result%damping_ratio_top = max(0.0_dp, (1.0_dp - q**2)/(2.0_dp*q))
+  contains
+    !> tau minus the root of the quadratic of a mode with Rayleigh quotients
+    !> theta (of tau^2 A' + 2 tau B') and va (of A').
+    real(dp) function newton_step(theta, va) result(s)
+      real(dp), intent(in) :: theta, va
+      vb_k = max(0.0_dp, (theta - tau**2*va)/(2.0_dp*tau))
+      s = tau - damped_lower_bound(2.0_dp/sqrt(va), vb_k)
+    end function newton_step
   end subroutine damped_newton
 
   !> Top eigenpair of the serial operator mixed as tau^2 A' + 2 tau B'
-  !> (warm start from the previous mode), and v'A'v of that mode.
+  !> (warm start from the previous mode; with `cold` set, none: see
+  !> `damped_newton`), and v'A'v of that mode.
   subroutine serial_damped_top(problem, tau, tol, theta, err, va, has_mode, result, status, progress)
     class(serial_damped_type), intent(inout) :: problem
     real(dp), intent(in) :: tau, tol
@@ -977,7 +1039,8 @@ contains
     type(demstep_status_type), intent(out) :: status
     class(progress_type), intent(inout), optional :: progress
     real(dp), allocatable :: y(:)
-    if (problem%cached .and. problem%accept_start) then
+    real(dp) :: upper, failure
+    if (problem%cached .and. problem%accept_start .and. .not. problem%cold) then
       ! the start as it is, its mixed product from A'v and B'v (as
       ! `top_eigenpair` tries a start: its residual within the tolerance)
       problem%cached = .false.
@@ -994,16 +1057,30 @@ contains
       end if
     end if
     problem%cached = .false.
-    if (allocated(problem%other) .and. .not. problem%accept_start) then
-      ! (a damped top where the undamped one is, or where it was: both in the start)
-      problem%vec = problem%vec + sign(1.0_dp, dot_product(problem%vec, problem%other))*problem%other
-      deallocate(problem%other)
-    end if
     call operator_mix(problem%op, tau**2, 2.0_dp*tau)
-    call top_eigenpair(problem%op, assembly_operator_apply, assembly_matrix_of, problem%op%n, &
-      problem%choice, tol, problem%vec, theta, err, has_mode, &
-      result%eigen_products, result%eigen_restarts, status, progress, problem%ncv, &
-      accept_start=problem%accept_start, confirm_steps=problem%confirm_steps)
+    if (problem%cold) then
+      ! the cold confirming solve: no start, the run of a cold certified
+      ! solve (`top_eigenpair` with the certificate; for a large operator
+      ! one unrestarted run from a random start of at least
+      ! `certificate_steps` products); the certificate's bound is not used
+      ! (the step is taken from the bracket, as the undamped one)
+      if (allocated(problem%other)) deallocate(problem%other)
+      problem%vec = 0.0_dp
+      call top_eigenpair(problem%op, assembly_operator_apply, assembly_matrix_of, problem%op%n, &
+        problem%choice, tol, problem%vec, theta, err, has_mode, &
+        result%eigen_products, result%eigen_restarts, status, progress, problem%ncv, &
+        lower=0.0_dp, upper=upper, failure=failure)
+    else
+      if (allocated(problem%other) .and. .not. problem%accept_start) then
+        ! (a damped top where the undamped one is, or where it was: both in the start)
+        problem%vec = problem%vec + sign(1.0_dp, dot_product(problem%vec, problem%other))*problem%other
+        deallocate(problem%other)
+      end if
+      call top_eigenpair(problem%op, assembly_operator_apply, assembly_matrix_of, problem%op%n, &
+        problem%choice, tol, problem%vec, theta, err, has_mode, &
+        result%eigen_products, result%eigen_restarts, status, progress, problem%ncv, &
+        accept_start=problem%accept_start, confirm_steps=problem%confirm_steps)
+    end if
     if (status%stat /= demstep_stat%ok) return
     err = err + 8.0_dp*epsilon(1.0_dp)*theta
     result%damped_solves = result%damped_solves + 1
