@@ -340,10 +340,12 @@ contains
     ! (a start with a neighbourhood's top added: the confirmed solve from it;
     ! the damped mode is tried as it is when the undamped one stood or stayed
     ! in place, else its Newton steps confirm their solves too)
-    stood = warm .and. .not. monitor%local_start
+    ! (only a mode that may be taken is tried: a confirmed solve makes no
+    ! use of the product)
+    accept = accept .and. .not. monitor%local_start
+    stood = accept
     if (stood) stood = stands(monitor%op, monitor%mode, monitor%tolerance, mode_av)
     if (.not. allocated(mode_av)) allocate(mode_av(0))
-    accept = accept .and. .not. monitor%local_start
     certify = monitor%certify .or. .not. warm
     ! (the undamped mode's product from `stands` spares the solve's; a top
     ! re-solved in place, not moved, lets the damped mode be tried as it is)
