@@ -174,16 +174,16 @@ contains
     real(dp), intent(out) :: y_i(3), t_i(3), y_j(3), t_j(3)
     real(dp) :: coef(7, 1), x(6, 0:2), f(6, 2)
     real(dp), parameter :: no_dashpots(4, 1) = 0.0_dp
-    ! (one spring of `contact_products`: the kernel's arithmetic stays in one
-    ! loop, which the compiler optimises as a whole)
+    integer, parameter :: one_pair(2, 1) = reshape([1, 2], [2, 1])
+    ! (one spring of `contact_products`, bodies 1 and 2 (x(:, 0), the ground,
+    ! is not read): the kernel's arithmetic stays in one loop, which the
+    ! compiler optimises as a whole)
     coef(:, 1) = [k(1), k(2), arm_i, arm_j, geo, k(3), k(4)]
-    x(:, 0) = 0.0_dp
     x(1:3, 1) = u_i
     x(4:6, 1) = theta_i
     x(1:3, 2) = u_j
     x(4:6, 2) = theta_j
-    call contact_products(1, 1, n, coef, no_dashpots, 1.0_dp, 0.0_dp, reshape([1, 2], [2, 1]), &
-      [0.0_dp, rot_i, rot_j], x, f)
+    call contact_products(1, 1, n, coef, no_dashpots, 1.0_dp, 0.0_dp, one_pair, [0.0_dp, rot_i, rot_j], x, f)
     y_i = f(1:3, 1)
     t_i = f(4:6, 1)
     y_j = f(1:3, 2)
