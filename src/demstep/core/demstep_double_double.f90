@@ -9,7 +9,7 @@ module demstep_double_double
   private
 
   public :: dd_type, two_sum, two_prod, dd, dd_add, dd_sub, dd_mul, dd_mul_d, &
-    dd_div, dd_div_d, dd_neg, dd_sinpi, dd_cospi
+    dd_div, dd_div_d, dd_neg, dd_sinpi, dd_cospi, dot_parts
 
   !> The value hi + lo with |lo| <= ulp(hi)/2.
   type :: dd_type
@@ -63,15 +63,47 @@ contains
   elemental subroutine two_sum(a, b, s, e)
     real(dp), intent(in) :: a, b
     real(dp), intent(out) :: s, e
-    real(dp) :: v
-    s = a + b
-    v = s - a
-    e = (a - (s - v)) + (b - v)
+    call sum_kernel(a, b, s, e)
   end subroutine two_sum
 
   !> p + e = a b (Dekker's product): exact but for the rounding of the last,
   !> 27-by-27-bit partial product, an error below |a b| 2^-104.
   elemental subroutine two_prod(a, b, p, e)
+    real(dp), intent(in) :: a, b
+    real(dp), intent(out) :: p, e
+    call prod_kernel(a, b, p, e)
+  end subroutine two_prod
+
+  !> x.y as (sum, its error) in twice the working precision: each product
+  !> split exactly (`two_prod`) and summed with `two_sum`, the errors summed
+  !> apart (a compensated dot product, Ogita, Rump and Oishi's Dot2).
+  pure function dot_parts(x, y) result(parts)
+    real(dp), intent(in) :: x(:), y(:)
+    real(dp) :: parts(2)
+    real(dp) :: p, q, h, r
+    integer :: i
+    parts = 0.0_dp
+    do i = 1, size(x)
+      call prod_kernel(x(i), y(i), h, r)
+      call sum_kernel(parts(1), h, p, q)
+      parts(1) = p
+      parts(2) = parts(2) + (q + r)
+    end do
+  end function dot_parts
+
+  !> The body of `two_sum` (private: compiled into this module's loops, which
+  !> a public procedure under -fPIC is not).
+  elemental subroutine sum_kernel(a, b, s, e)
+    real(dp), intent(in) :: a, b
+    real(dp), intent(out) :: s, e
+    real(dp) :: v
+    s = a + b
+    v = s - a
+    e = (a - (s - v)) + (b - v)
+  end subroutine sum_kernel
+
+  !> The body of `two_prod` (private, as `sum_kernel`).
+  elemental subroutine prod_kernel(a, b, p, e)
     real(dp), intent(in) :: a, b
     real(dp), intent(out) :: p, e
     real(dp) :: ah, al, bh, bl
@@ -81,7 +113,7 @@ contains
     bh = transfer(iand(transfer(b, 0_int64), high_bits), 1.0_dp)
     bl = b - bh
     e = ((ah*bh - p) + ah*bl + al*bh) + al*bl
-  end subroutine two_prod
+  end subroutine prod_kernel
 
   !> Normalise hi + lo.
   elemental function dd(hi, lo) result(c)

@@ -26,8 +26,7 @@ module demstep_interaction
 
   public :: reduced_radius, reduced_mass, normal_force, normal_stiffness, tangential_stiffness, &
     normal_energy, dashpot_coefficient, wall_overlap, contact_block, contact_end_blocks, contact_product, &
-    contact_product_arms, &
-    contact_forces, &
+    contact_product_arms, contact_products, mixed_stiffness, contact_forces, &
     rolling_moments, contact_arm, hooke_size_factor, &
     add_bond_forces, dof_components, hertz_e_star, mindlin_g_star, cross
 
@@ -166,29 +165,103 @@ contains
   !> t_j = arm_j g + rot_j m. `rot` is 1 for rotations in radians and 1/r for
   !> the scaled coordinate r theta. The same kernel with dashpot coefficients
   !> (c_n, c_t, c_r, c_w) in k and velocities in place of displacements gives
-  !> the dashpot forces. This is the one linearised interaction kernel.
+  !> the dashpot forces. This is the one linearised interaction kernel (its
+  !> arithmetic is the loop of `contact_products`, here on one spring).
   pure subroutine contact_product(n, k, arm_i, arm_j, rot_i, rot_j, geo, u_i, theta_i, u_j, theta_j, &
       y_i, t_i, y_j, t_j)
     real(dp), intent(in) :: n(3), k(4), arm_i, arm_j, rot_i, rot_j, geo
     real(dp), intent(in) :: u_i(3), theta_i(3), u_j(3), theta_j(3)
     real(dp), intent(out) :: y_i(3), t_i(3), y_j(3), t_j(3)
-    real(dp) :: du(3), dn, pdu(3), s(3), f(3), g(3), m(3)
-    du = u_j - u_i
-    dn = n(1)*du(1) + n(2)*du(2) + n(3)*du(3)
-    pdu = du - dn*n
-    s = pdu + arm_i*cross_product(n, theta_i) + arm_j*cross_product(n, theta_j)
-    f = (k(1)*dn)*n + k(2)*s - geo*pdu
-    g = k(2)*cross_product(s, n)
-    y_i = -f
-    y_j = f
-    t_i = arm_i*g
-    t_j = arm_j*g
-    if (k(3) /= 0.0_dp .or. k(4) /= 0.0_dp) then
-      m = rotation_moment(n, k(3), k(4), rot_j*theta_j - rot_i*theta_i)
-      t_i = t_i - rot_i*m
-      t_j = t_j + rot_j*m
-    end if
+    real(dp) :: coef(7, 1), x(6, 0:2), f(6, 2)
+    real(dp), parameter :: no_dashpots(4, 1) = 0.0_dp
+    integer, parameter :: one_pair(2, 1) = reshape([1, 2], [2, 1])
+    ! (one spring of `contact_products`, bodies 1 and 2 (x(:, 0), the ground,
+    ! is not read): the kernel's arithmetic stays in one loop, which the
+    ! compiler optimises as a whole)
+    coef(:, 1) = [k(1), k(2), arm_i, arm_j, geo, k(3), k(4)]
+    x(1:3, 1) = u_i
+    x(4:6, 1) = theta_i
+    x(1:3, 2) = u_j
+    x(4:6, 2) = theta_j
+    call contact_products(1, 1, n, coef, no_dashpots, 1.0_dp, 0.0_dp, one_pair, [0.0_dp, rot_i, rot_j], x, f)
+    y_i = f(1:3, 1)
+    t_i = f(4:6, 1)
+    y_j = f(1:3, 2)
+    t_j = f(4:6, 2)
   end subroutine contact_product
+
+  !> `contact_product` over springs first..last of a list (the operator
+  !> product's spring pass; the kernel is written out in the loop, where the
+  !> compiler can keep it in registers: a call per spring cost a quarter of
+  !> the product): spring s joins bodies ends(1, s) and ends(2, s) (0: the ground,
+  !> whose x and rinv are 0) along normal(:, s) with coef(:, s) = (k_n, k_t,
+  !> arm_i, arm_j, geo, k_r, k_w) mixed as `mixed_stiffness` says; x(1:3, b)
+  !> and x(4:6, b) are body b's displacement and rotation, rinv(b) its `rot`.
+  !> The forces and torques on its two ends go to f(:, 2s - 1) and f(:, 2s).
+  pure subroutine contact_products(first, last, normal, coef, dcoef, alpha, beta, ends, rinv, x, f)
+    integer, intent(in) :: first, last
+    real(dp), intent(in) :: normal(3, *), coef(7, *), dcoef(4, *), alpha, beta
+    integer, intent(in) :: ends(2, *)
+    real(dp), intent(in) :: rinv(0:*), x(6, 0:*)
+    real(dp), intent(inout) :: f(6, *)
+    real(dp) :: k(4), geo, n(3), du(3), dn, pdu(3), sl(3), fn(3), g(3), m(3), arm_i, arm_j
+    integer :: s, a, b
+    do s = first, last
+      a = ends(1, s)
+      b = ends(2, s)
+      call mix_kernel(coef(:, s), dcoef, s, alpha, beta, k, geo)
+      n = normal(:, s)
+      arm_i = coef(3, s)
+      arm_j = coef(4, s)
+      ! (the kernel, as `contact_product` states it)
+      du = x(1:3, b) - x(1:3, a)
+      dn = n(1)*du(1) + n(2)*du(2) + n(3)*du(3)
+      pdu = du - dn*n
+      sl = pdu + arm_i*cross_product(n, x(4:6, a)) + arm_j*cross_product(n, x(4:6, b))
+      fn = (k(1)*dn)*n + k(2)*sl - geo*pdu
+      g = k(2)*cross_product(sl, n)
+      f(1:3, 2*s - 1) = -fn
+      f(1:3, 2*s) = fn
+      f(4:6, 2*s - 1) = arm_i*g
+      f(4:6, 2*s) = arm_j*g
+      if (k(3) /= 0.0_dp .or. k(4) /= 0.0_dp) then
+        m = rotation_moment(n, k(3), k(4), rinv(b)*x(4:6, b) - rinv(a)*x(4:6, a))
+        f(4:6, 2*s - 1) = f(4:6, 2*s - 1) - rinv(a)*m
+        f(4:6, 2*s) = f(4:6, 2*s) + rinv(b)*m
+      end if
+    end do
+  end subroutine contact_products
+
+  !> The stiffness (k_n, k_t, k_r, k_w) and pre-stress geo of spring s of an
+  !> operator mixed as alpha K + beta C: coef = (k_n, k_t, arm_i, arm_j, geo,
+  !> k_r, k_w) of the spring, dcoef(:, s) its dashpots (read only when beta
+  !> is not 0; no pre-stress in C).
+  pure subroutine mixed_stiffness(coef, dcoef, s, alpha, beta, k, geo)
+    real(dp), intent(in) :: coef(7), dcoef(4, *)
+    integer, intent(in) :: s
+    real(dp), intent(in) :: alpha, beta
+    real(dp), intent(out) :: k(4), geo
+    call mix_kernel(coef, dcoef, s, alpha, beta, k, geo)
+  end subroutine mixed_stiffness
+
+  !> The body of `mixed_stiffness` (private: compiled into the loop of
+  !> `contact_products`, which a public procedure under -fPIC is not).
+  pure subroutine mix_kernel(coef, dcoef, s, alpha, beta, k, geo)
+    real(dp), intent(in) :: coef(7), dcoef(4, *)
+    integer, intent(in) :: s
+    real(dp), intent(in) :: alpha, beta
+    real(dp), intent(out) :: k(4), geo
+    k(1) = coef(1)
+    k(2) = coef(2)
+    k(3) = coef(6)
+    k(4) = coef(7)
+    geo = coef(5)
+    ! (K alone, the solves' case: no multiplications)
+    if (alpha == 1.0_dp .and. beta == 0.0_dp) return
+    k = alpha*k
+    geo = alpha*geo
+    if (beta /= 0.0_dp) k = k + beta*dcoef(:, s)
+  end subroutine mix_kernel
 
   !> The moment of a relative rotation dr on an interaction of normal n:
   !> rolling k_r on its tangential part, twisting k_w on its normal part,

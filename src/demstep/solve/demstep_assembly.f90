@@ -43,7 +43,8 @@ module demstep_assembly
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text, real_text
   use demstep_spring, only: damped_limit
-  use demstep_interaction, only: contact_law, contact_block, contact_end_blocks, contact_product, dashpot_coefficient, &
+  use demstep_interaction, only: contact_law, contact_block, contact_end_blocks, contact_product, contact_products, &
+    mixed_stiffness, dashpot_coefficient, &
     wall_overlap, reduced_radius, dof_components, contact_arm
   use demstep_scene_data, only: scene_type, scene_effect, effective_mass, contact_values, wall_values, &
     contact_dashpots, check_scene_damping
@@ -145,6 +146,8 @@ module demstep_assembly
     "rolling", "twisting", "bond", "drag"]
   !> Below this many springs an operator product runs on one thread.
   integer, parameter :: parallel_springs = 4096
+  !> Springs per call of the product's kernel loop (`contact_products`).
+  integer, parameter :: spring_block = 512
 
   !> The mass-scaled stiffness A' = M'^-1/2 K' M'^-1/2 of a scene as a matrix-free
   !> operator (a Lanczos context): the linearised springs and, per free body, the
@@ -1112,21 +1115,12 @@ contains
   end subroutine operator_mix
 
   !> The coefficients (k_n, k_t, k_r, k_w) of spring s in the mixed operator
-  !> alpha A' + beta B', and its pre-stress.
+  !> alpha A' + beta B', and its pre-stress (`mixed_stiffness`).
   pure subroutine mixed_coefficients(op, s, k, geo)
     type(assembly_operator_type), intent(in) :: op
     integer, intent(in) :: s
     real(dp), intent(out) :: k(4), geo
-    k(1) = op%coef(1, s)
-    k(2) = op%coef(2, s)
-    k(3) = op%coef(6, s)
-    k(4) = op%coef(7, s)
-    geo = op%coef(5, s)
-    ! (A' alone, the solves' case: no multiplications)
-    if (op%alpha == 1.0_dp .and. op%beta == 0.0_dp) return
-    k = op%alpha*k
-    geo = op%alpha*geo
-    if (op%beta /= 0.0_dp) k = k + op%beta*op%dcoef(:, s)
+    call mixed_stiffness(op%coef(:, s), op%dcoef, s, op%alpha, op%beta, k, geo)
   end subroutine mixed_coefficients
 
   !> r = |A'| v (each entry raised by its rounding allowance) for the operator
@@ -1258,10 +1252,9 @@ contains
     class(lanczos_context_type), intent(inout) :: context
     real(dp), intent(in) :: x(:)
     real(dp), intent(out) :: y(:)
-    integer :: s, a, b, i, c, nc
+    integer :: s, i, c, nc
     integer(i8) :: p
-    real(dp) :: acc(6), k(4), geo
-    logical :: plain
+    real(dp) :: acc(6)
     select type (op => context)
     class is (assembly_operator_type)
       nc = op%nc
@@ -1269,28 +1262,22 @@ contains
       ! column 0 is the ground
       !$omp parallel do private(i, c) schedule(static) if(op%n_springs >= parallel_springs)
       do i = 1, op%n_bodies
-        op%xs(:, i) = 0.0_dp
-        do c = 1, nc
-          op%xs(op%comp(c), i) = x((i - 1)*nc + c)*op%w(op%comp(c), i)
-        end do
+        if (nc == 6) then
+          ! (all six components, in order: the common 3D case without indirection)
+          op%xs(:, i) = x(6*i - 5:6*i)*op%w(:, i)
+        else
+          op%xs(:, i) = 0.0_dp
+          do c = 1, nc
+            op%xs(op%comp(c), i) = x((i - 1)*nc + c)*op%w(op%comp(c), i)
+          end do
+        end if
       end do
       !$omp end parallel do
-      ! (A' alone, the solves' case: `mixed_coefficients`' plain case, inline)
-      plain = op%alpha == 1.0_dp .and. op%beta == 0.0_dp
-      !$omp parallel do private(s, a, b, k, geo) schedule(static) if(op%n_springs >= parallel_springs)
-      do s = 1, op%n_springs
-        a = op%ends(1, s)
-        b = op%ends(2, s)
-        if (plain) then
-          k(1:2) = op%coef(1:2, s)
-          k(3:4) = op%coef(6:7, s)
-          geo = op%coef(5, s)
-        else
-          call mixed_coefficients(op, s, k, geo)
-        end if
-        call contact_product(op%normal(:, s), k, op%coef(3, s), op%coef(4, s), op%rinv(a), op%rinv(b), &
-          geo, op%xs(1:3, a), op%xs(4:6, a), op%xs(1:3, b), op%xs(4:6, b), &
-          op%work(1:3, 2*s - 1), op%work(4:6, 2*s - 1), op%work(1:3, 2*s), op%work(4:6, 2*s))
+      ! (in blocks of springs: the kernel is compiled into its loop)
+      !$omp parallel do private(s) schedule(static) if(op%n_springs >= parallel_springs)
+      do s = 1, op%n_springs, spring_block
+        call contact_products(s, min(s + spring_block - 1, op%n_springs), op%normal, op%coef, op%dcoef, &
+          op%alpha, op%beta, op%ends, op%rinv, op%xs, op%work)
       end do
       !$omp end parallel do
       !$omp parallel do private(i, p, c, acc) schedule(static) if(op%n_springs >= parallel_springs)
@@ -1299,9 +1286,13 @@ contains
         do p = op%first(i), op%first(i + 1) - 1
           acc = acc + op%work(:, op%incident(p))
         end do
-        do c = 1, nc
-          y((i - 1)*nc + c) = acc(op%comp(c))*op%w(op%comp(c), i)
-        end do
+        if (nc == 6) then
+          y(6*i - 5:6*i) = acc*op%w(:, i)
+        else
+          do c = 1, nc
+            y((i - 1)*nc + c) = acc(op%comp(c))*op%w(op%comp(c), i)
+          end do
+        end if
       end do
       !$omp end parallel do
     class default

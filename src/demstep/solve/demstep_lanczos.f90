@@ -98,7 +98,7 @@ module demstep_lanczos
   use demstep_arpack, only: dsaupd, dseupd, dsaupd_status, dseupd_status, arpack_iparam_size
   use demstep_progress, only: progress_type
   use demstep_text, only: int_text, real_text
-  use demstep_double_double, only: two_sum, two_prod
+  use demstep_double_double, only: dot_parts
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -140,6 +140,17 @@ module demstep_lanczos
   !> should the measured residual miss the tolerance, the Ritz vector is
   !> formed again in full from a second run of the recurrence.
   real(dp), parameter, public :: single_basis_tolerance = 1.0e-6_dp
+  !> `krylov_top` keeps its Lanczos vectors in blocks of this many columns,
+  !> each allocated when the run reaches it: a run that stops soon touches no
+  !> more memory than it uses (and its blocks are reused by the next run's
+  !> allocations instead of being mapped afresh).
+  integer, parameter :: basis_block = 64
+
+  !> One block of `krylov_top`'s kept Lanczos vectors (single or double precision).
+  type :: basis_block_type
+    real(sp), allocatable :: single(:, :)
+    real(dp), allocatable :: full(:, :)
+  end type basis_block_type
   !> Default Krylov size (Lanczos vectors kept between restarts), capped at n.
   integer, parameter, public :: lanczos_ncv_default = 24
   !> Default number of wanted Ritz values kept at each restart (a block of the
@@ -821,8 +832,8 @@ contains
     !> With `warm`: false, the run starts from the warm vector alone (basis
     !> `lanczos_basis_warm`: not confirmed). Default true.
     logical, intent(in), optional :: random
-    real(dp), allocatable :: v(:), v_old(:), w(:), z(:), y(:), basis(:, :), alpha(:), beta(:), s(:)
-    real(sp), allocatable :: basis_single(:, :)
+    real(dp), allocatable :: v(:), v_old(:), w(:), z(:), y(:), alpha(:), beta(:), s(:)
+    type(basis_block_type), allocatable :: basis(:)
     real(dp), allocatable :: swap(:)
     real(dp) :: xi, estimate, threshold, scale, shift, theta, rnorm, beta_old
     integer :: n, j, last, capacity
@@ -841,8 +852,8 @@ contains
     capacity = store_max
     if (single) capacity = 2*store_max
     stored = capacity >= max(1, steps_min)
-    if (stored .and. single) allocate(basis_single(n, min(capacity, last)))
-    if (stored .and. .not. single) allocate(basis(n, min(capacity, last)))
+    capacity = min(capacity, last)
+    if (stored) allocate(basis((capacity - 1)/basis_block + 1))
     v_old = 0.0_dp
     beta_old = 0.0_dp
     scale = 0.0_dp
@@ -879,7 +890,7 @@ contains
             ! (the single-precision vectors may have cost the tolerance: the
             ! same Ritz vector from the recurrence run again, in full)
             stored = .false.
-            deallocate(basis_single)
+            deallocate(basis)
             call ritz_vector(j)
             if (status%stat /= demstep_stat%ok) return
             met = measured_met()
@@ -947,25 +958,26 @@ contains
     !> `single`); past the columns allocated, none are kept.
     subroutine keep(j)
       integer, intent(in) :: j
-      integer :: i
+      integer :: i, b, c
+      if (j > capacity) then
+        stored = .false.
+        deallocate(basis)
+        return
+      end if
+      b = (j - 1)/basis_block + 1
+      c = j - (b - 1)*basis_block
+      if (c == 1) then
+        if (single) allocate(basis(b)%single(n, min(basis_block, capacity - (b - 1)*basis_block)))
+        if (.not. single) allocate(basis(b)%full(n, min(basis_block, capacity - (b - 1)*basis_block)))
+      end if
       if (single) then
-        if (j > size(basis_single, 2)) then
-          stored = .false.
-          deallocate(basis_single)
-          return
-        end if
         !$omp parallel do schedule(static) if(n > recurrence_block)
         do i = 1, n
-          basis_single(i, j) = real(v(i), sp)
+          basis(b)%single(i, c) = real(v(i), sp)
         end do
         !$omp end parallel do
       else
-        if (j > size(basis, 2)) then
-          stored = .false.
-          deallocate(basis)
-          return
-        end if
-        basis(:, j) = v
+        basis(b)%full(:, c) = v
       end if
     end subroutine keep
 
@@ -977,22 +989,30 @@ contains
       integer, intent(in) :: j
       real(dp), allocatable :: u(:), t(:)
       integer, parameter :: ritz_block = 1024
-      integer :: i, k, k1
+      integer :: i, b, c, k, k1
       if (stored .and. single) then
         if (.not. allocated(z)) allocate(z(n))
         ! (a block of z at a time over the columns in order: each entry's
         ! sum in column order, in parallel over the blocks)
-        !$omp parallel do private(i, k, k1) schedule(static) if(n > recurrence_block)
+        !$omp parallel do private(i, b, c, k, k1) schedule(static) if(n > recurrence_block)
         do k = 1, n, ritz_block
           k1 = min(n, k + ritz_block - 1)
           z(k:k1) = 0.0_dp
           do i = 1, j
-            z(k:k1) = z(k:k1) + s(i)*real(basis_single(k:k1, i), dp)
+            b = (i - 1)/basis_block + 1
+            c = i - (b - 1)*basis_block
+            z(k:k1) = z(k:k1) + s(i)*real(basis(b)%single(k:k1, c), dp)
           end do
         end do
         !$omp end parallel do
       else if (stored) then
-        z = matmul(basis(:, :j), s)
+        if (.not. allocated(z)) allocate(z(n))
+        z = 0.0_dp
+        do i = 1, j, basis_block
+          ! (a block's columns at once)
+          b = (i - 1)/basis_block + 1
+          z = z + matmul(basis(b)%full(:, :min(basis_block, j - i + 1)), s(i:min(i + basis_block - 1, j)))
+        end do
       else
         allocate(u(n), t(n))
         call run_start(u)
@@ -1159,19 +1179,11 @@ contains
 
   !> x.y by compensated summation (Ogita, Rump and Oishi's Dot2) as the pair
   !> (sum, its rounding error): sum(parts) is as accurate as a sum in twice the
-  !> working precision. The pairs of several blocks add up (a distributed dot).
+  !> working precision (`dot_parts`). The pairs of several blocks add up (a distributed dot).
   pure function accurate_dot_parts(x, y) result(parts)
     real(dp), intent(in) :: x(:), y(:)
     real(dp) :: parts(2)
-    real(dp) :: p, q, h, r
-    integer :: i
-    parts = 0.0_dp
-    do i = 1, size(x)
-      call two_prod(x(i), y(i), h, r)
-      call two_sum(parts(1), h, p, q)
-      parts(1) = p
-      parts(2) = parts(2) + (q + r)
-    end do
+    parts = dot_parts(x, y)
   end function accurate_dot_parts
 
   !> The fixed start vector: a Park-Miller (minimal standard, multiplier 48271)

@@ -46,7 +46,8 @@
 module demstep_monitor
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
-  use demstep_interaction, only: reduced_mass, contact_arm, wall_overlap, dashpot_coefficient, contact_product
+  use demstep_interaction, only: reduced_mass, contact_arm, wall_overlap, dashpot_coefficient, contact_product, &
+    contact_products
   use demstep_progress, only: progress_type
   use demstep_assembly, only: critical_step_type, assembly_operator_type, spring_block_type, &
     operator_from_springs, operator_critical_steps, assembly_operator_apply, eigen_solver, &
@@ -340,10 +341,12 @@ contains
     ! (a start with a neighbourhood's top added: the confirmed solve from it;
     ! the damped mode is tried as it is when the undamped one stood or stayed
     ! in place, else its Newton steps confirm their solves too)
-    stood = warm .and. .not. monitor%local_start
+    ! (only a mode that may be taken is tried: a confirmed solve makes no
+    ! use of the product)
+    accept = accept .and. .not. monitor%local_start
+    stood = accept
     if (stood) stood = stands(monitor%op, monitor%mode, monitor%tolerance, mode_av)
     if (.not. allocated(mode_av)) allocate(mode_av(0))
-    accept = accept .and. .not. monitor%local_start
     certify = monitor%certify .or. .not. warm
     ! (the undamped mode's product from `stands` spares the solve's; a top
     ! re-solved in place, not moved, lets the damped mode be tried as it is)
@@ -491,7 +494,17 @@ contains
     real(dp), parameter :: zero3(3) = 0.0_dp
     logical :: wrap(3), damped, rotation, touching, free(2)
     integer :: n, nc, cc, i, j, e, w, n_walls, nfree
+    ! a batch of contacts for the mode's energy: normals, coefficients,
+    ! ends (2c - 1, 2c), the mode at them, their 1/r, the forces
+    integer, parameter :: batch = 64
+    real(dp), parameter :: no_dashpots(4, 1) = 0.0_dp
+    real(dp) :: bn(3, batch), bc(7, batch), bx(6, 0:2*batch), br(0:2*batch), bf(6, 2*batch)
+    integer :: be(2, batch), nb
     n = size(mass)
+    nb = 0
+    be = reshape([(e, e = 1, 2*batch)], [2, batch])
+    bx(:, 0) = 0.0_dp
+    br(0) = 0.0_dp
     nc = size(pairs, 2)
     status%stat = demstep_stat%ok
     call solver_options(size(x, 1), wrap, box, kw, zw, damped, rotation, k_t, c_n, c_t, wall_k, &
@@ -535,12 +548,17 @@ contains
       if (free(1)) call add_rows(i, 1)
       if (free(2)) call add_rows(j, 2)
       if (same) then
-        call contact_product(nn, k, arm(1), arm(2), rinv(1), rinv(2), 0.0_dp, mode_u(i), mode_r(i), &
-          mode_u(j), mode_r(j), y(:, 1), y(:, 2), y(:, 3), y(:, 4))
-        energy = energy + dot_product(mode_u(i), y(:, 1)) + dot_product(mode_r(i), y(:, 2)) &
-          + dot_product(mode_u(j), y(:, 3)) + dot_product(mode_r(j), y(:, 4))
+        ! (the mode's energy on a batch of contacts at once: `contact_products`)
+        nb = nb + 1
+        bn(:, nb) = nn
+        bc(:, nb) = [k(1), k(2), arm(1), arm(2), 0.0_dp, k(3), k(4)]
+        bx(:, 2*nb - 1) = monitor%mode_particles(:, i)
+        bx(:, 2*nb) = monitor%mode_particles(:, j)
+        br(2*nb - 1:2*nb) = rinv
+        if (nb == batch) call add_batch()
       end if
     end do
+    if (nb > 0) call add_batch()
     n_walls = 0
     if (present(wall_point)) n_walls = size(wall_point, 2)
     k = [kw(1), kw(2), 0.0_dp, 0.0_dp]
@@ -580,6 +598,17 @@ contains
     end do
     if (norm > 0.0_dp) q = energy/norm
   contains
+    !> The batch's energy on the mode (each contact's terms in the order of
+    !> one `contact_product`), and the batch emptied.
+    subroutine add_batch()
+      integer :: b
+      call contact_products(1, nb, bn, bc, no_dashpots, 1.0_dp, 0.0_dp, be, br, bx, bf)
+      do b = 1, 2*nb, 2
+        energy = energy + dot_product(bx(1:3, b), bf(1:3, b)) + dot_product(bx(4:6, b), bf(4:6, b)) &
+          + dot_product(bx(1:3, b + 1), bf(1:3, b + 1)) + dot_product(bx(4:6, b + 1), bf(4:6, b + 1))
+      end do
+      nb = 0
+    end subroutine add_batch
     !> Body i at end e of the spring: 1/sqrt(m), r/sqrt(I) (0 without
     !> rotations) and 1/r.
     subroutine body_scales(i, e)
