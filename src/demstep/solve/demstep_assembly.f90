@@ -1355,17 +1355,17 @@ contains
     ! (each entry of new_index the rows read is checked as it is met: the
     ! listed bodies' and their partners', O(rows asked), not O(n_bodies))
     if (size(new_index) /= op%n_bodies) then
-      call refuse()
+      call refuse("new_index", 0)
       return
     end if
     do k = 1, size(bodies)
       i = bodies(k)
       if (i < 1 .or. i > op%n_bodies) then
-        call refuse()
+        call refuse("bodies", k)
         return
       end if
       if (new_index(i) < 1 .or. new_index(i) > op%n_bodies) then
-        call refuse()
+        call refuse("new_index", i)
         return
       end if
       width = nc
@@ -1375,7 +1375,7 @@ contains
         j = op%ends(3 - e, s)
         if (j == 0) cycle
         if (new_index(j) < 1 .or. new_index(j) > op%n_bodies) then
-          call refuse()
+          call refuse("new_index", j)
           return
         end if
         width = width + nc
@@ -1420,12 +1420,16 @@ contains
     end do
     status%stat = demstep_stat%ok
   contains
-    !> A listed body or a new number read out of range: no rows.
-    subroutine refuse()
+    !> A listed body or a new number read out of range (argument `name`,
+    !> entry `at`; 0: its size): no rows.
+    subroutine refuse(name, at)
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: at
       row_start = 1
       allocate(col(0), val(0))
       call set_status(status, demstep_stat%invalid_input, "bodies, new_index: need free bodies " &
-        //"in 1.."//int_text(op%n_bodies)//" and a new number in that range for each")
+        //"in 1.."//int_text(op%n_bodies)//" and a new number in that range for each", &
+        where=name, index=at, subscript=.true.)
     end subroutine refuse
   end subroutine assembly_matrix_rows
 

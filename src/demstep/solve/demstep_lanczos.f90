@@ -142,8 +142,9 @@ module demstep_lanczos
   real(dp), parameter, public :: single_basis_tolerance = 1.0e-6_dp
   !> `krylov_top` keeps its Lanczos vectors in blocks of this many columns,
   !> each allocated when the run reaches it: a run that stops soon touches no
-  !> more memory than it uses (and its blocks are reused by the next run's
-  !> allocations instead of being mapped afresh).
+  !> more memory than it uses (and, for blocks below the C library's mmap
+  !> threshold, as in a monitor's small solves, the next run's allocations
+  !> reuse them instead of mapping pages afresh).
   integer, parameter :: basis_block = 64
 
   !> One block of `krylov_top`'s kept Lanczos vectors (single or double precision).
