@@ -70,6 +70,8 @@ contains
       new_unittest("ARPACK info codes as statuses (some provoked)", test_arpack_codes), &
       new_unittest("springs to CSR: the dense matrix, bad springs refused", test_csr), &
       new_unittest("same result for 1 and 2 threads, run after run", test_threads), &
+      new_unittest("same bits for 1 and 2 threads at 2e5: blocked sums, double and single store, none kept", &
+        test_threads_blocked), &
       new_unittest("progress: one start, a update per product, one finish", test_progress), &
       new_unittest("the randomised certificate bounds the top (semi-definite, shifted)", test_certificate), &
       new_unittest("a certified run whose vectors are not kept: the Ritz vector from a second pass", &
@@ -757,6 +759,70 @@ contains
     if (allocated(error)) return
     call check(error, r1%tolerance == lanczos_tolerance_default, "default tolerance")
   end subroutine test_threads
+
+  !> The certified cold solve at order n = 2e5 (above `recurrence_block`, so
+  !> the recurrence sums run in blocks, and the Lanczos vectors' copies, the
+  !> finiteness check and the single-precision store and Ritz sum run in
+  !> parallel) with 1 and with 2 threads: the same bits (eigenvalue, upper
+  !> bound, Ritz vector, products, steps) on each path of the store:
+  !> tolerance 1e-8 (double) and 1e-6 (single), each kept (store_bytes for
+  !> 128 double columns, so the run's j > 64 steps, at least
+  !> `certificate_steps`(2e5) = 80, fill two 64-column blocks: j + 1
+  !> products) and not kept (store_bytes 0: the second pass, 2 j products).
+  !> The operator is a free chain of unit springs and unit masses, one node
+  !> of mass 1/4 in the middle: a simple top (a mode bound to the light node,
+  !> measured 9.142857 = 64/7) well above the band's top 4, met within the
+  !> tolerance in j = 80 steps on every path (measured).
+  subroutine test_threads_blocked(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer, parameter :: n = 200000
+    type(csr_matrix_type) :: a
+    type(eigen_result_type) :: r1, r2
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: z1(:), z2(:), mass(:)
+    integer :: threads, i, path
+    real(dp) :: tol
+    integer(i8) :: store
+    logical :: kept
+    character(len=:), allocatable :: label
+    mass = [(1.0_dp, i = 1, n)]
+    mass(n/2) = 0.25_dp
+    call csr_from_springs(n, [(i, i = 1, n - 1)], [(i + 1, i = 1, n - 1)], [(1.0_dp, i = 1, n - 1)], a, status, &
+      mass=mass)
+    call check(error, status%stat, demstep_stat%ok, "chain")
+    if (allocated(error)) return
+    allocate(z1(n), z2(n))
+    threads = 1
+    !$ threads = omp_get_max_threads()
+    do path = 1, 4
+      tol = merge(1.0e-8_dp, 1.0e-6_dp, path <= 2)
+      kept = mod(path, 2) == 1
+      store = merge(8_i8*n*128_i8, 0_i8, kept)
+      label = "tolerance "//real_str(tol)//merge(", kept    ", ", not kept", kept)//": "
+      !$ call omp_set_num_threads(1)
+      call lanczos_largest(csr_apply, a, n, r1, status, eigenvector=z1, tolerance=tol, certify=.true., &
+        store_bytes=store)
+      call check(error, status%stat, demstep_stat%ok, label//"1 thread: "//status%message)
+      if (allocated(error)) exit
+      !$ call omp_set_num_threads(2)
+      call lanczos_largest(csr_apply, a, n, r2, status, eigenvector=z2, tolerance=tol, certify=.true., &
+        store_bytes=store)
+      call check(error, status%stat, demstep_stat%ok, label//"2 threads: "//status%message)
+      if (allocated(error)) exit
+      ! the path: converged and certified, more than one block of steps, kept or not
+      call check(error, r1%converged .and. r1%certified .and. r1%ncv > 64 .and. r1%ncv <= 128 .and. &
+        r1%applications == merge(r1%ncv + 1, 2*r1%ncv, kept), label//int_text(r1%applications) &
+        //" products for "//int_text(r1%ncv)//" steps")
+      if (allocated(error)) exit
+      call check(error, r1%eigenvalue == r2%eigenvalue .and. r1%upper_bound == r2%upper_bound .and. &
+        r1%applications == r2%applications .and. r1%ncv == r2%ncv .and. all(z1 == z2), &
+        label//"1 and 2 threads differ: "//real_str(r1%eigenvalue)//" "//real_str(r2%eigenvalue)//", " &
+        //int_text(r1%applications)//" "//int_text(r2%applications)//" products, " &
+        //int_text(count(z1 /= z2))//" vector entries")
+      if (allocated(error)) exit
+    end do
+    !$ call omp_set_num_threads(threads)
+  end subroutine test_threads_blocked
 
   subroutine test_progress(error)
     type(error_type), allocatable, intent(out) :: error
