@@ -54,7 +54,7 @@ module demstep_assembly
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use demstep_lapack, only: largest_eigenpair
   use demstep_lanczos, only: lanczos_context_type, lanczos_largest, eigen_result_type, lanczos_operator, &
-    lanczos_tolerance_default, check_lanczos_options
+    lanczos_tolerance_default, check_lanczos_options, krylov_min_order
   use demstep_csr, only: csr_matrix_type, csr_to_dense
   use demstep_progress, only: progress_type
   use demstep_words, only: word_index, word_of
@@ -1079,16 +1079,24 @@ contains
     call operator_mix(problem%op, tau**2, 2.0_dp*tau)
     if (problem%cold) then
       ! the cold confirming solve: no start, the run of a cold certified
-      ! solve (`top_eigenpair` with the certificate; for a large operator
-      ! one unrestarted run from a random start of at least
-      ! `certificate_steps` products); the certificate's bound is not used
-      ! (the step is taken from the bracket, as the undamped one)
+      ! solve (for an operator above `krylov_min_order`, `top_eigenpair`
+      ! with the certificate: one unrestarted run from a random start of at
+      ! least `certificate_steps` products; at or below it, the ARPACK solve
+      ! with its confirmation run, whose certificate would be a separate run
+      ! and is not asked for); the certificate's bound is not used (the step
+      ! is taken from the bracket, as the undamped one)
       if (allocated(problem%other)) deallocate(problem%other)
       problem%vec = 0.0_dp
-      call top_eigenpair(problem%op, assembly_operator_apply, assembly_matrix_of, problem%op%n, &
-        problem%choice, tol, problem%vec, theta, err, has_mode, &
-        result%eigen_products, result%eigen_restarts, status, progress, problem%ncv, &
-        lower=0.0_dp, upper=upper, failure=failure)
+      if (problem%op%n > krylov_min_order) then
+        call top_eigenpair(problem%op, assembly_operator_apply, assembly_matrix_of, problem%op%n, &
+          problem%choice, tol, problem%vec, theta, err, has_mode, &
+          result%eigen_products, result%eigen_restarts, status, progress, problem%ncv, &
+          lower=0.0_dp, upper=upper, failure=failure)
+      else
+        call top_eigenpair(problem%op, assembly_operator_apply, assembly_matrix_of, problem%op%n, &
+          problem%choice, tol, problem%vec, theta, err, has_mode, &
+          result%eigen_products, result%eigen_restarts, status, progress, problem%ncv)
+      end if
     else
       if (allocated(problem%other) .and. .not. problem%accept_start) then
         ! (a damped top where the undamped one is, or where it was: both in the start)
