@@ -8,7 +8,7 @@ module test_damping
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
   use demstep_assembly, only: assembly_matrix, assembly_operator, assembly_operator_type, &
-    damped_lower_bound
+    damped_lower_bound, eigen_solver_name
   use demstep_csr, only: csr_matrix_type, csr_to_dense
   use demstep_interaction, only: contact_block, contact_forces, rolling_moments, contact_product
   use demstep_lapack, only: spectral_radius
@@ -35,7 +35,8 @@ contains
       new_unittest("defaults: rotation with k_t, walls on when added", test_defaults), &
       new_unittest("setters refuse bad values by name", test_setters), &
       new_unittest("a one-dof scene by Lanczos: computed", test_one_dof), &
-      new_unittest("materials: each code's dashpots per contact and on walls", test_materials) &
+      new_unittest("materials: each code's dashpots per contact and on walls", test_materials), &
+      new_unittest("a drag-only top (an isolated light particle): 2 m/c, Lanczos and dense", test_drag_top) &
       ]
   end subroutine collect_damping
 
@@ -512,6 +513,47 @@ contains
     call check(error, status%stat == demstep_stat%ok .and. abs(c%omega_max - 100.0_dp) < 1.0e-12_dp, &
       "omega_max = 100: "//status%message)
   end subroutine test_one_dof
+
+  !> A chain of 20 touching spheres (mass 1, k = 1e3, 2/omega_max >= 2/sqrt(4 k) = 0.032)
+  !> and one isolated light sphere (m = 1e-3) far from them, all with a drag
+  !> c = 1 to ground: the light sphere's translations are the damped top, a
+  !> mode with v'A'v = 0 whose limit is the root of 2 h c/m = 4, h = 2 m/c =
+  !> 2e-3 (the chain's own limits are above 0.03). Both solvers must find it
+  !> exactly (damped_exact), at or below it (1e-13: rounding of the dense
+  !> solve's error bar) and within 1e-9 of it (Lanczos to 1e-10: the damped
+  !> step is good to half the tolerance; dense to rounding).
+  subroutine test_drag_top(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    real(dp) :: x(3, 21), m(21), expected
+    integer :: i, k
+    integer, parameter :: solvers(2) = [eigen_solver%dense, eigen_solver%lanczos]
+    x = 0.0_dp
+    do i = 1, 20
+      x(1, i) = 1.8_dp*i
+    end do
+    x(:, 21) = [0.0_dp, 100.0_dp, 0.0_dp]
+    m = 1.0_dp
+    m(21) = 1.0e-3_dp
+    call new_scene(scene, 3, x, m, [(1.0_dp, i = 1, 21)], status)
+    call scene_set_law(scene, contact_law%linear, 1.0e3_dp, 0.0_dp, status)
+    call scene_set_damping(scene, 0.1_dp, status, drag=1.0_dp)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    expected = 2.0_dp*m(21)/1.0_dp
+    do k = 1, size(solvers)
+      call assembly_critical_steps(scene, c, status, solver=solvers(k), tolerance=1.0e-10_dp)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      call check(error, c%damped_exact .and. c%dt_critical_damped <= expected*(1.0_dp + 1.0e-13_dp) .and. &
+        c%dt_critical_damped >= expected*(1.0_dp - 1.0e-9_dp), eigen_solver_name(solvers(k))//": "// &
+        real_str(c%dt_critical_damped)//" vs 2 m/c = "//real_str(expected)//", exact "// &
+        merge("yes", "no ", c%damped_exact))
+      if (allocated(error)) return
+    end do
+  end subroutine test_drag_top
 
   !> LIGGGHTS Hertz (normal_model_hertz.h): gamma_n = -2 sqrt(5/6) beta
   !> sqrt(S_n m*), gamma_t = -2 sqrt(5/6) beta sqrt(S_t m*), S_n = 2 E* a,

@@ -29,7 +29,10 @@
 !>   step finds a top near its start, not necessarily lambda_max (a crowded
 !>   top, a damped top away from the undamped one): the converged steps are
 !>   confirmed by a cold solve (`damped_newton`) whenever the undamped top
-!>   had its certificate or a warm start's steps are confirmed. C holds the normal,
+!>   had its certificate or a warm start's steps are confirmed. Confirmed so:
+!>   the serial spheres (here) and rigid bodies (demstep_body_assembly), with
+!>   Lanczos; NOT yet the MPI paths (mpi/src/demstep_mpi_scene.f90,
+!>   demstep_mpi_dist_scene.f90: their damped steps stay warm, unconfirmed). C holds the normal,
 !>   tangential, rolling and twisting dashpots of contacts and walls, the
 !>   bonds' dashpots (normal; a bond model's own four) and the drag to ground. Its rigorous lower bound:
 !>   (2/a)(sqrt(1 + z^2) - z) with a^2 >= lambda_max(A), z = b/(2 a) and b >=
@@ -54,7 +57,7 @@ module demstep_assembly
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use demstep_lapack, only: largest_eigenpair
   use demstep_lanczos, only: lanczos_context_type, lanczos_largest, eigen_result_type, lanczos_operator, &
-    lanczos_tolerance_default, check_lanczos_options
+    lanczos_tolerance_default, check_lanczos_options, krylov_min_order
   use demstep_csr, only: csr_matrix_type, csr_to_dense
   use demstep_progress, only: progress_type
   use demstep_words, only: word_index, word_of
@@ -957,12 +960,13 @@ contains
     class(progress_type), intent(inout), optional :: progress
     real(dp) :: tau, tau_safe, theta, err, va, vb_k, step, q, tol_k, upper, tol_end, theta_c, err_c, va_c
     integer :: it, confirms
-    logical :: has_mode, certifying, done
+    logical :: has_mode, certifying, done, exact
     tau = damped_lower_bound(2.0_dp/sqrt(lam_a), vb)
     tau_safe = result%dt_critical_damped_bound*rate
     tol_end = max(0.5_dp*tol, epsilon(1.0_dp))
     tol_k = max(tol_end, 1.0e-4_dp)
     confirms = 0
+    exact = .false.
     problem%cold = .false.
     status%stat = demstep_stat%ok
     do it = 1, damped_newton_steps
@@ -1000,6 +1004,8 @@ contains
         if (theta_c <= upper .or. theta_c + err_c <= 4.0_dp*(1.0_dp + tol_end) .or. &
             confirms >= damped_confirmations) then
           tau_safe = max(tau_safe, tau*min(1.0_dp, 4.0_dp/max(upper, theta_c + err_c)))
+          ! (out of confirmations with a higher top: a safe step, not the root)
+          exact = theta_c <= upper .or. theta_c + err_c <= 4.0_dp*(1.0_dp + tol_end)
           exit
         end if
         theta = theta_c
@@ -1008,7 +1014,10 @@ contains
         step = newton_step(theta, va)
         done = .false.
       end if
-      if (done) exit
+      if (done) then
+        exact = .true.
+        exit
+      end if
       ! Newton squares the relative error: the next solve to a hundredth of it
       tol_k = max(tol_end, min(1.0e-4_dp, 1.0e-2_dp*(step/tau)**2))
       tau = max(tau - step, tau_safe)
@@ -1016,17 +1025,27 @@ contains
     if (.not. has_mode) return
     ! (never below the rigorous bound, which the solves confirm or beat)
     result%dt_critical_damped = max(tau_safe/rate, result%dt_critical_damped_bound)
-    result%damped_exact = .true.
+    ! exact only where a certified solve converged on the root (out of steps:
+    ! the largest safe step found, or the bound, is no root)
+    result%damped_exact = exact
     ! the one-spring damping ratio with the same limit at the bracket's end
     q = result%dt_critical_damped*bracket_omega(result)/2.0_dp
     result%damping_ratio_top = max(0.0_dp, (1.0_dp - q**2)/(2.0_dp*q))
   contains
     !> tau minus the root of the quadratic of a mode with Rayleigh quotients
-    !> theta (of tau^2 A' + 2 tau B') and va (of A').
+    !> theta (of tau^2 A' + 2 tau B') and va (of A'); a drag-only mode (va =
+    !> 0: no spring moves it) has the linear 2 t v'B'v, its root 2/v'B'v.
     real(dp) function newton_step(theta, va) result(s)
       real(dp), intent(in) :: theta, va
       vb_k = max(0.0_dp, (theta - tau**2*va)/(2.0_dp*tau))
-      s = tau - damped_lower_bound(2.0_dp/sqrt(va), vb_k)
+      if (va > 0.0_dp) then
+        s = tau - damped_lower_bound(2.0_dp/sqrt(va), vb_k)
+      else if (vb_k > 0.0_dp) then
+        s = tau - 2.0_dp/vb_k
+      else
+        ! (theta = 0: no root, no step)
+        s = 0.0_dp
+      end if
     end function newton_step
   end subroutine damped_newton
 
@@ -1063,16 +1082,24 @@ contains
     call operator_mix(problem%op, tau**2, 2.0_dp*tau)
     if (problem%cold) then
       ! the cold confirming solve: no start, the run of a cold certified
-      ! solve (`top_eigenpair` with the certificate; for a large operator
-      ! one unrestarted run from a random start of at least
-      ! `certificate_steps` products); the certificate's bound is not used
-      ! (the step is taken from the bracket, as the undamped one)
+      ! solve (for an operator above `krylov_min_order`, `top_eigenpair`
+      ! with the certificate: one unrestarted run from a random start of at
+      ! least `certificate_steps` products; at or below it, the ARPACK solve
+      ! with its confirmation run, whose certificate would be a separate run
+      ! and is not asked for); the certificate's bound is not used (the step
+      ! is taken from the bracket, as the undamped one)
       if (allocated(problem%other)) deallocate(problem%other)
       problem%vec = 0.0_dp
-      call top_eigenpair(problem%op, assembly_operator_apply, assembly_matrix_of, problem%op%n, &
-        problem%choice, tol, problem%vec, theta, err, has_mode, &
-        result%eigen_products, result%eigen_restarts, status, progress, problem%ncv, &
-        lower=0.0_dp, upper=upper, failure=failure)
+      if (problem%op%n > krylov_min_order) then
+        call top_eigenpair(problem%op, assembly_operator_apply, assembly_matrix_of, problem%op%n, &
+          problem%choice, tol, problem%vec, theta, err, has_mode, &
+          result%eigen_products, result%eigen_restarts, status, progress, problem%ncv, &
+          lower=0.0_dp, upper=upper, failure=failure)
+      else
+        call top_eigenpair(problem%op, assembly_operator_apply, assembly_matrix_of, problem%op%n, &
+          problem%choice, tol, problem%vec, theta, err, has_mode, &
+          result%eigen_products, result%eigen_restarts, status, progress, problem%ncv)
+      end if
     else
       if (allocated(problem%other) .and. .not. problem%accept_start) then
         ! (a damped top where the undamped one is, or where it was: both in the start)
