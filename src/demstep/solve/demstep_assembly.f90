@@ -65,7 +65,8 @@ module demstep_assembly
   private
 
   public :: assembly_critical_steps, assembly_step_for_n_per_period, assembly_operator, &
-    assembly_operator_apply, assembly_matrix, assembly_matrix_rows, top_eigenpair, operator_matrix, &
+    assembly_operator_apply, assembly_matrix, assembly_matrix_rows, top_eigenpair, cold_top_eigenpair, &
+    operator_matrix, &
     assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_damped, &
     damped_lower_bound, dashpot_names, damped_newton, assembly_dashpot_bound, operator_from_springs, &
     operator_critical_steps, operator_mix, assembly_set_springs, linearise, operator_abs_product, &
@@ -847,6 +848,40 @@ contains
     end if
   end subroutine top_eigenpair
 
+  !> The cold solve that confirms converged damped Newton steps
+  !> (`damped_newton`): no start (`vec` is set to 0), the run of a cold
+  !> certified solve. Above `krylov_min_order` that is `top_eigenpair` with
+  !> the certificate (one unrestarted run from a random start of at least
+  !> `certificate_steps` products); at or below it, the ARPACK solve with its
+  !> confirmation run, whose certificate would be a separate run and is not
+  !> asked for. The certificate's bound is not used: the step is taken from
+  !> the bracket, as the undamped one's.
+  subroutine cold_top_eigenpair(op, apply, to_matrix, n, choice, tol, vec, lam, err, has_mode, products, &
+      restarts, status, progress, ncv)
+    class(lanczos_context_type), intent(inout) :: op
+    procedure(lanczos_operator) :: apply
+    procedure(operator_matrix) :: to_matrix
+    integer, intent(in) :: n, choice
+    real(dp), intent(in) :: tol
+    real(dp), intent(inout) :: vec(:)
+    real(dp), intent(out) :: lam, err
+    logical, intent(out) :: has_mode
+    integer(i8), intent(inout) :: products
+    integer, intent(inout) :: restarts
+    type(demstep_status_type), intent(out) :: status
+    class(progress_type), intent(inout), optional :: progress
+    integer, intent(in), optional :: ncv
+    real(dp) :: upper, failure
+    vec = 0.0_dp
+    if (n > krylov_min_order) then
+      call top_eigenpair(op, apply, to_matrix, n, choice, tol, vec, lam, err, has_mode, products, &
+        restarts, status, progress, ncv, lower=0.0_dp, upper=upper, failure=failure)
+    else
+      call top_eigenpair(op, apply, to_matrix, n, choice, tol, vec, lam, err, has_mode, products, &
+        restarts, status, progress, ncv)
+    end if
+  end subroutine cold_top_eigenpair
+
   !> The exact damped limit (see the module's notes), in place of the lower
   !> bound when it is larger: `damped_newton` on the serial operator, from the
   !> top undamped unit mode `vec`, or from `start` when it is given non-zero
@@ -1061,7 +1096,6 @@ contains
     type(demstep_status_type), intent(out) :: status
     class(progress_type), intent(inout), optional :: progress
     real(dp), allocatable :: y(:)
-    real(dp) :: upper, failure
     if (problem%cached .and. problem%accept_start .and. .not. problem%cold) then
       ! the start as it is, its mixed product from A'v and B'v (as
       ! `top_eigenpair` tries a start: its residual within the tolerance)
@@ -1081,25 +1115,11 @@ contains
     problem%cached = .false.
     call operator_mix(problem%op, tau**2, 2.0_dp*tau)
     if (problem%cold) then
-      ! the cold confirming solve: no start, the run of a cold certified
-      ! solve (for an operator above `krylov_min_order`, `top_eigenpair`
-      ! with the certificate: one unrestarted run from a random start of at
-      ! least `certificate_steps` products; at or below it, the ARPACK solve
-      ! with its confirmation run, whose certificate would be a separate run
-      ! and is not asked for); the certificate's bound is not used (the step
-      ! is taken from the bracket, as the undamped one)
+      ! the cold confirming solve (`cold_top_eigenpair`)
       if (allocated(problem%other)) deallocate(problem%other)
-      problem%vec = 0.0_dp
-      if (problem%op%n > krylov_min_order) then
-        call top_eigenpair(problem%op, assembly_operator_apply, assembly_matrix_of, problem%op%n, &
-          problem%choice, tol, problem%vec, theta, err, has_mode, &
-          result%eigen_products, result%eigen_restarts, status, progress, problem%ncv, &
-          lower=0.0_dp, upper=upper, failure=failure)
-      else
-        call top_eigenpair(problem%op, assembly_operator_apply, assembly_matrix_of, problem%op%n, &
-          problem%choice, tol, problem%vec, theta, err, has_mode, &
-          result%eigen_products, result%eigen_restarts, status, progress, problem%ncv)
-      end if
+      call cold_top_eigenpair(problem%op, assembly_operator_apply, assembly_matrix_of, problem%op%n, &
+        problem%choice, tol, problem%vec, theta, err, has_mode, &
+        result%eigen_products, result%eigen_restarts, status, progress, problem%ncv)
     else
       if (allocated(problem%other) .and. .not. problem%accept_start) then
         ! (a damped top where the undamped one is, or where it was: both in the start)

@@ -37,8 +37,9 @@ module demstep_body_assembly
   use demstep_assembly, only: critical_step_type, spring_block_type, damped_problem_type, linearise, &
     hertz_linearization, eigen_solver, default_max_eigen_dof, scene_lanczos_ncv, scene_lanczos_restarts, &
     assembly_check_options, assembly_set_bound, assembly_set_estimates, &
-    assembly_set_damped, assembly_set_springs, damped_newton, damped_lower_bound, top_eigenpair, collatz_bound
-  use demstep_lanczos, only: lanczos_context_type, lanczos_tolerance_default, krylov_min_order
+    assembly_set_damped, assembly_set_springs, damped_newton, damped_lower_bound, top_eigenpair, cold_top_eigenpair, &
+    collatz_bound
+  use demstep_lanczos, only: lanczos_context_type, lanczos_tolerance_default
   use demstep_lapack, only: symmetric_eigensystem
   use demstep_csr, only: csr_matrix_type, csr_abs_product
   use demstep_progress, only: progress_type
@@ -579,20 +580,15 @@ contains
     type(demstep_status_type), intent(out) :: status
     class(progress_type), intent(inout), optional :: progress
     real(dp), allocatable :: y(:)
-    real(dp) :: upper, failure
     problem%op%alpha = tau**2
     problem%op%beta = 2.0_dp*tau
-    if (problem%cold .and. problem%op%n > krylov_min_order) then
-      ! the cold confirming solve (`damped_newton`), as `serial_damped_top`
-      ! makes it: no start, the run of a cold certified solve (its bound unused)
-      problem%vec = 0.0_dp
-      call top_eigenpair(problem%op, body_operator_apply, body_matrix_of, problem%op%n, problem%choice, tol, &
-        problem%vec, theta, err, has_mode, result%eigen_products, result%eigen_restarts, status, progress, &
-        problem%ncv, lower=0.0_dp, upper=upper, failure=failure)
+    if (problem%cold) then
+      ! the cold confirming solve (`damped_newton`)
+      call cold_top_eigenpair(problem%op, body_operator_apply, body_matrix_of, problem%op%n, problem%choice, &
+        tol, problem%vec, theta, err, has_mode, result%eigen_products, result%eigen_restarts, status, progress, &
+        problem%ncv)
     else
-      ! (warm from the previous mode; cold at or below `krylov_min_order`:
-      ! no start, the ARPACK solve with its confirmation run)
-      if (problem%cold) problem%vec = 0.0_dp
+      ! (warm from the previous mode)
       call top_eigenpair(problem%op, body_operator_apply, body_matrix_of, problem%op%n, problem%choice, tol, &
         problem%vec, theta, err, has_mode, result%eigen_products, result%eigen_restarts, status, progress, &
         problem%ncv)

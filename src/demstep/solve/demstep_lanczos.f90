@@ -1251,9 +1251,9 @@ contains
     end if
   end function space_recurrence_update
 
-  !> The serial `recurrence_update`: the update and the plain sum (in index
-  !> order, as `serial_recurrence_dot`'s) in one loop.
-  !> (blocks of `recurrence_block`, in parallel)
+  !> The serial `recurrence_update`: the update and the plain sum (as
+  !> `serial_recurrence_dot`'s) in one loop, in blocks of `recurrence_block`
+  !> in parallel.
   function serial_recurrence_update(space, w, c, u, x) result(s)
     class(serial_space_type), intent(inout) :: space
     real(dp), intent(inout) :: w(:)
@@ -1287,7 +1287,9 @@ contains
     s = sum_in_order(part)
   end function serial_recurrence_update
 
-  !> (blocks of `recurrence_block`, in parallel)
+  !> The serial `recurrence_dot`: the plain sum of x(i) y(i), each block of
+  !> `recurrence_block` in index order (in parallel), then the blocks' sums
+  !> in order (`sum_in_order`): the same bits for every thread count.
   function serial_recurrence_dot(space, x, y) result(s)
     class(serial_space_type), intent(inout) :: space
     real(dp), intent(in) :: x(:), y(:)
