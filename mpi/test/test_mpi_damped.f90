@@ -20,7 +20,7 @@
 !> PASS/FAIL line per check (rank 0) and exits non-zero on a failure.
 program test_mpi_damped
   use mpi_f08
-  use mpi_test_support, only: test_start, test_finish, report, num, close, same_everywhere, msg, rank
+  use mpi_test_support, only: test_start, test_finish, report, num, close, same_everywhere, msg, rank, delete
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_scene_data, only: scene_type, scene_effect
@@ -242,12 +242,5 @@ contains
       num(got)//num(ser%dt_critical_damped))
     call report(what//": the same on every rank", same_everywhere(got), "")
   end subroutine check_limit
-
-  subroutine delete(file)
-    character(len=*), intent(in) :: file
-    integer :: u, ios
-    open (newunit=u, file=file, status="old", iostat=ios)
-    if (ios == 0) close (u, status="delete")
-  end subroutine delete
 
 end program test_mpi_damped
