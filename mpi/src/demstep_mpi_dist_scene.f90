@@ -63,7 +63,7 @@ module demstep_mpi_dist_scene
   use demstep_lanczos, only: eigen_result_type, lanczos_tolerance_default
   use demstep_mpi_lanczos, only: dist_operator_type, dist_halo_type, dist_halo_create, &
     dist_halo_exchange, dist_halo_free, parallel_lanczos_largest
-  use demstep_mpi_scene, only: mpi_lanczos_estimates, mpi_damped_solve_done
+  use demstep_mpi_scene, only: mpi_lanczos_estimates, mpi_damped_solve_done, mpi_damped_lanczos
   use demstep_sort, only: heap_sort
   use demstep_mpi_parts, only: read_table_part, agree_status, broadcast_status, no_fault, position
   implicit none
@@ -773,15 +773,18 @@ contains
         progress=progress, certify=.true., lower_bound=lower)
       call mpi_lanczos_estimates(rows_comm, lanczos, vec, rate, b_bound, result, status, has_mode)
       if (status%stat /= demstep_stat%ok .or. .not. has_mode .or. .not. b_bound > 0.0_dp) return
-      call exact_damped(vec, lanczos%eigenvalue)
+      call exact_damped(vec, lanczos%eigenvalue, lanczos%certified)
     end subroutine estimates
 
-    !> The exact damped limit from the top undamped mode's block `vec`.
-    subroutine exact_damped(vec, lam)
+    !> The exact damped limit from the top undamped mode's block `vec`, its
+    !> converged steps confirmed by a cold solve when that top was certified.
+    subroutine exact_damped(vec, lam, certified)
       real(dp), intent(in) :: vec(:), lam
+      logical, intent(in) :: certified
       type(part_damped_type) :: problem
       real(dp), allocatable :: y(:)
       real(dp) :: vb
+      problem%confirm_cold = certified
       problem%dop => dop
       problem%vec = vec
       allocate(y(size(vec)))
@@ -892,7 +895,7 @@ contains
   end function scene_bound
 
   !> Top eigenpair of tau^2 A' + 2 tau B' on the ranks (warm start from the
-  !> last mode) and v'A'v of it.
+  !> last mode, or with `cold` set none: `mpi_damped_lanczos`) and v'A'v of it.
   subroutine part_damped_top(problem, tau, tol, theta, err, va, has_mode, result, status, progress)
     class(part_damped_type), intent(inout) :: problem
     real(dp), intent(in) :: tau, tol
@@ -902,15 +905,12 @@ contains
     type(demstep_status_type), intent(out) :: status
     class(progress_type), intent(inout), optional :: progress
     type(eigen_result_type) :: lanczos
-    real(dp), allocatable :: y(:), start(:)
+    real(dp), allocatable :: y(:)
     theta = 0.0_dp
     err = 0.0_dp
     va = 0.0_dp
     call operator_mix(problem%dop%op, tau**2, 2.0_dp*tau)
-    start = problem%vec
-    call parallel_lanczos_largest(problem%dop, lanczos, status, eigenvector=problem%vec, &
-      tolerance=tol, ncv=min(scene_lanczos_ncv, problem%dop%n_global), &
-      max_restarts=scene_lanczos_restarts, progress=progress, start=start)
+    call mpi_damped_lanczos(problem%dop, problem%cold, tol, problem%vec, lanczos, status, progress)
     call operator_mix(problem%dop%op, 1.0_dp, 0.0_dp)
     call mpi_damped_solve_done(problem%dop%comm, lanczos, problem%vec, result, status, theta, err, has_mode)
     if (status%stat /= demstep_stat%ok) return

@@ -21,7 +21,9 @@
 !> the per-contact rule as a minimum
 !> over each rank's springs; the exact damped limit by the serial path's
 !> Newton steps (`damped_newton`), each a distributed Lanczos solve of
-!> tau^2 A' + 2 tau B' (this rank's rows rebuilt per step, warm-started), its
+!> tau^2 A' + 2 tau B' (this rank's rows rebuilt per step, warm-started), the
+!> converged steps confirmed by a cold solve as the serial path's
+!> (`mpi_damped_lanczos`; the undamped top is always certified here), its
 !> lower bound from the dashpots' bound (replicated, O(springs) per rank).
 module demstep_mpi_scene
   use mpi_f08
@@ -35,13 +37,14 @@ module demstep_mpi_scene
     assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_dashpot_bound, &
     critical_step_type, eigen_solver, scene_lanczos_ncv, scene_lanczos_restarts, bound_iterations, &
     damped_problem_type, damped_newton, dashpot_names, safe_basis
-  use demstep_lanczos, only: eigen_result_type, lanczos_tolerance_default
+  use demstep_lanczos, only: eigen_result_type, lanczos_tolerance_default, krylov_min_order
   use demstep_mpi_lanczos, only: dist_csr_type, dist_csr_create, dist_csr_apply, dist_csr_free, &
-    dist_collatz_bound, parallel_lanczos_largest
+    dist_collatz_bound, parallel_lanczos_largest, dist_operator_type
   implicit none
   private
 
-  public :: mpi_scene_critical_steps, scene_slabs, mpi_lanczos_estimates, mpi_damped_solve_done
+  public :: mpi_scene_critical_steps, scene_slabs, mpi_lanczos_estimates, mpi_damped_solve_done, &
+    mpi_damped_lanczos
 
   !> The distributed damped-limit problem: this rank's rows of the operator
   !> (mixed per tau, same pattern), the matrix and the last mode's block.
@@ -188,15 +191,18 @@ contains
         certify=.true., lower_bound=lower)
       call mpi_lanczos_estimates(comm, lanczos, vec, rate, b_bound, result, status, has_mode)
       if (status%stat /= demstep_stat%ok .or. .not. has_mode .or. .not. b_bound > 0.0_dp) return
-      call exact_damped(vec, lanczos%eigenvalue)
+      call exact_damped(vec, lanczos%eigenvalue, lanczos%certified)
     end subroutine estimates
 
-    !> The exact damped limit from the top undamped mode's block `vec`.
-    subroutine exact_damped(vec, lam)
+    !> The exact damped limit from the top undamped mode's block `vec`, its
+    !> converged steps confirmed by a cold solve when that top was certified.
+    subroutine exact_damped(vec, lam, certified)
       real(dp), intent(in) :: vec(:), lam
+      logical, intent(in) :: certified
       type(mpi_damped_type) :: problem
       real(dp), allocatable :: y(:)
       real(dp) :: vb
+      problem%confirm_cold = certified
       problem%op => op
       problem%matrix => matrix
       problem%bodies = bodies
@@ -333,7 +339,8 @@ contains
   end subroutine sift
 
   !> Top eigenpair of tau^2 A' + 2 tau B' on the ranks (this rank's rows
-  !> rebuilt, same pattern; warm start from the last mode) and v'A'v of it.
+  !> rebuilt, same pattern; warm start from the last mode, or with `cold`
+  !> set none: `mpi_damped_lanczos`) and v'A'v of it.
   subroutine mpi_damped_top(problem, tau, tol, theta, err, va, has_mode, result, status, progress)
     class(mpi_damped_type), intent(inout) :: problem
     real(dp), intent(in) :: tau, tol
@@ -345,7 +352,7 @@ contains
     type(eigen_result_type) :: lanczos
     integer, allocatable :: col(:)
     integer(i8), allocatable :: row_start(:)
-    real(dp), allocatable :: val(:), y(:), start(:)
+    real(dp), allocatable :: val(:), y(:)
     problem%op%alpha = tau**2
     problem%op%beta = 2.0_dp*tau
     call assembly_matrix_rows(problem%op, problem%bodies, problem%new_index, row_start, col, val, status)
@@ -357,10 +364,7 @@ contains
     has_mode = .false.
     if (status%stat /= demstep_stat%ok) return
     problem%matrix%val = val
-    start = problem%vec
-    call parallel_lanczos_largest(problem%matrix, lanczos, status, eigenvector=problem%vec, &
-      tolerance=tol, ncv=min(scene_lanczos_ncv, problem%op%n), max_restarts=scene_lanczos_restarts, &
-      progress=progress, start=start)
+    call mpi_damped_lanczos(problem%matrix, problem%cold, tol, problem%vec, lanczos, status, progress)
     call mpi_damped_solve_done(problem%matrix%comm, lanczos, problem%vec, result, status, theta, err, has_mode)
     if (status%stat /= demstep_stat%ok) return
     ! v'A'v with A's rows
@@ -403,6 +407,35 @@ contains
       b_bound, status, lanczos%upper_bound, safe_basis%randomised, lanczos%failure_probability)
     mode = status%stat == demstep_stat%ok
   end subroutine mpi_lanczos_estimates
+
+  !> One damped-limit Lanczos solve of `matrix` (mixed as tau^2 A' + 2 tau
+  !> B') on its ranks, the mode's block left in `vec`: warm-started from
+  !> `vec`, or, `cold`, the cold solve that confirms the converged Newton
+  !> steps (`damped_newton`), the serial `cold_top_eigenpair`'s: no start,
+  !> above `krylov_min_order` the certified one (one unrestarted run from the
+  !> certificate's random start, as the undamped top's), at or below it the
+  !> ARPACK solve with its confirmation run (no separate certificate run;
+  !> the certificate's bound is not used). Collective.
+  subroutine mpi_damped_lanczos(matrix, cold, tol, vec, lanczos, status, progress)
+    class(dist_operator_type), intent(inout) :: matrix
+    logical, intent(in) :: cold
+    real(dp), intent(in) :: tol
+    real(dp), intent(inout) :: vec(:)
+    type(eigen_result_type), intent(out) :: lanczos
+    type(demstep_status_type), intent(out) :: status
+    class(progress_type), intent(inout), optional :: progress
+    real(dp), allocatable :: start(:)
+    if (cold) then
+      call parallel_lanczos_largest(matrix, lanczos, status, eigenvector=vec, tolerance=tol, &
+        ncv=min(scene_lanczos_ncv, matrix%n_global), max_restarts=scene_lanczos_restarts, progress=progress, &
+        certify=matrix%n_global > krylov_min_order)
+    else
+      start = vec
+      call parallel_lanczos_largest(matrix, lanczos, status, eigenvector=vec, tolerance=tol, &
+        ncv=min(scene_lanczos_ncv, matrix%n_global), max_restarts=scene_lanczos_restarts, progress=progress, &
+        start=start)
+    end if
+  end subroutine mpi_damped_lanczos
 
   !> After one damped-limit Lanczos solve on the ranks of `comm`: its products
   !> and restarts counted in `result`, whether any rank holds its mode

@@ -1,7 +1,7 @@
 !> What every MPI test program shares: MPI started and stopped with the
 !> summary line, a check reported once (rank 0) and failed when it fails on
-!> any rank, a random sequence that is the same on every rank, and the
-!> comparisons of a value or a status across the ranks.
+!> any rank, a random sequence that is the same on every rank, the
+!> comparisons of a value or a status across the ranks, and a scratch file's deletion.
 module mpi_test_support
   use mpi_f08
   use demstep_kinds, only: dp, i8
@@ -10,7 +10,7 @@ module mpi_test_support
   private
 
   public :: test_start, test_finish, report, uniform, random_particles, num, close, same_everywhere, msg, &
-    same_status
+    same_status, delete
 
   !> This rank, the ranks of MPI_COMM_WORLD and the checks failed so far.
   integer, public, protected :: rank = 0, nranks = 1, failures = 0
@@ -127,5 +127,13 @@ contains
     call MPI_Allreduce(mine, hi, 2, MPI_INTEGER, MPI_MAX, MPI_COMM_WORLD)
     same_status = all(lo == mine) .and. all(hi == mine)
   end function same_status
+
+  !> Delete a file if it exists (a test's scratch tables).
+  subroutine delete(path)
+    character(len=*), intent(in) :: path
+    integer :: u, ios
+    open (newunit=u, file=path, status="old", iostat=ios)
+    if (ios == 0) close (u, status="delete")
+  end subroutine delete
 
 end module mpi_test_support

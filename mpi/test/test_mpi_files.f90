@@ -10,7 +10,7 @@
 program test_mpi_files
   use mpi_f08
   use mpi_test_support, only: test_start, test_finish, report, uniform, random_particles, num, close, &
-    same_everywhere, msg, same_status, rank, nranks
+    same_everywhere, msg, same_status, rank, nranks, delete
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_scene_data, only: scene_type, scene_effect, branch_vector
@@ -442,13 +442,6 @@ contains
     end if
     call MPI_Barrier(MPI_COMM_WORLD)
   end subroutine write_text
-
-  subroutine delete(path)
-    character(len=*), intent(in) :: path
-    integer :: u, ios
-    open (newunit=u, file=path, status="old", iostat=ios)
-    if (ios == 0) close (u, status="delete")
-  end subroutine delete
 
   !> Sort order by key (insertion sort: small n).
   subroutine sort_by(key, order)

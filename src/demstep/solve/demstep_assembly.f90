@@ -29,10 +29,11 @@
 !>   step finds a top near its start, not necessarily lambda_max (a crowded
 !>   top, a damped top away from the undamped one): the converged steps are
 !>   confirmed by a cold solve (`damped_newton`) whenever the undamped top
-!>   had its certificate or a warm start's steps are confirmed. Confirmed so:
-!>   the serial spheres (here) and rigid bodies (demstep_body_assembly), with
-!>   Lanczos; NOT yet the MPI paths (mpi/src/demstep_mpi_scene.f90,
-!>   demstep_mpi_dist_scene.f90: their damped steps stay warm, unconfirmed). C holds the normal,
+!>   had its certificate or a warm start's steps are confirmed. Confirmed so,
+!>   with Lanczos: the serial spheres (here), rigid bodies
+!>   (demstep_body_assembly) and the MPI paths (mpi/src/demstep_mpi_scene.f90,
+!>   demstep_mpi_dist_scene.f90: `mpi_damped_lanczos`, the distributed cold
+!>   solve; their undamped top is always certified). C holds the normal,
 !>   tangential, rolling and twisting dashpots of contacts and walls, the
 !>   bonds' dashpots (normal; a bond model's own four) and the drag to ground. Its rigorous lower bound:
 !>   (2/a)(sqrt(1 + z^2) - z) with a^2 >= lambda_max(A), z = b/(2 a) and b >=
