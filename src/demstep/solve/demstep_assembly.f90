@@ -1198,10 +1198,21 @@ contains
         call mixed_coefficients(op, s, k, geo)
         call contact_end_blocks(op%normal(:, s), k, op%coef(3, s), op%coef(4, s), &
           op%rinv(op%ends(1, s)), op%rinv(op%ends(2, s)), 0.0_dp, en == 1, own, other)
+        j = op%ends(o, s)
+        if (nc == 6) then
+          ! (all six components: the same sums without the indirection)
+          d = d + own
+          if (j == 0) cycle
+          do c = 1, 6
+            do q = 1, 6
+              off(c) = off(c) + abs(other(q, c))*op%w(q, j)*v(6*(j - 1) + q)
+            end do
+          end do
+          cycle
+        end if
         do c = 1, nc
           d(:, c) = d(:, c) + own(:, op%comp(c))
         end do
-        j = op%ends(o, s)
         if (j == 0) cycle
         do c = 1, nc
           do q = 1, nc
