@@ -7,6 +7,7 @@ module test_table_io
   use demstep_status, only: demstep_status_type, demstep_stat
   use demstep_table_io, only: read_table, table_max_line
   use test_support, only: write_file, work_dir
+  !$ use omp_lib, only: omp_get_max_threads, omp_set_num_threads
   implicit none
   private
   public :: collect_table_io
@@ -25,7 +26,9 @@ contains
       new_unittest("binary input, long lines, missing files", test_refused), &
       new_unittest("line ends: LF, CR LF, a lone CR; devices read by records", test_line_ends), &
       new_unittest("1e5 rows, each value in its place", test_many_rows), &
-      new_unittest("particle numbers: integers in [1, huge], refused by line and column", test_index_columns) &
+      new_unittest("particle numbers: integers in [1, huge], refused by line and column", test_index_columns), &
+      new_unittest("rows converted in parallel: the first faulty row in file order is named", &
+        test_first_fault) &
       ]
   end subroutine collect_table_io
 
@@ -178,6 +181,61 @@ contains
     call check(error, all(rows(1, :) == [(real(i, dp), i = 1, n)]) .and. &
       all(rows(2, :) == [(real(n - i, dp), i = 1, n)]), "every value in its place")
   end subroutine test_many_rows
+
+  !> The rows are converted in parallel (OpenMP, each thread a stretch of
+  !> rows): with faults in several stretches (1 and 2 threads), the first
+  !> in file order is the one refused, whatever its kind; a table whose only
+  !> fault lies in its last stretch names that one.
+  subroutine test_first_fault(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), allocatable :: rows(:, :)
+    type(demstep_status_type) :: status
+    integer, parameter :: n = 40000
+    integer :: case, threads, t
+    threads = 1
+    !$ threads = omp_get_max_threads()
+    do t = 1, 2
+      !$ call omp_set_num_threads(t)
+      do case = 1, 3
+        call write_rows(case)
+        call read_table(table, 3, rows, status, index_columns=[1, 2])
+        select case (case)
+        case (1)
+          ! (a bad particle number at 5000, a short row at 15000, a word at 39000)
+          call expect(error, status, demstep_stat%invalid_input, table//": line 5000: column 2: '2.5' is " &
+            //"not an integer (a particle number)")
+        case (2)
+          call expect(error, status, demstep_stat%invalid_input, table//": line 15000: expected 3 numbers, " &
+            //"found 2")
+        case (3)
+          call expect(error, status, demstep_stat%invalid_input, table//": line 39000: cannot read " &
+            //"'3 4 x' as finite numbers")
+        end select
+        if (allocated(error)) exit
+      end do
+      if (allocated(error)) exit
+    end do
+    !$ call omp_set_num_threads(threads)
+  contains
+    !> Rows "i i+1 0.5", with the faults from `case` on (1: all three).
+    subroutine write_rows(case)
+      integer, intent(in) :: case
+      integer :: unit, i
+      open(newunit=unit, file=table, status="replace", action="write")
+      do i = 1, n
+        if (i == 5000 .and. case <= 1) then
+          write(unit, '(a)') "1 2.5 0.5"
+        else if (i == 15000 .and. case <= 2) then
+          write(unit, '(a)') "1 2"
+        else if (i == 39000) then
+          write(unit, '(a)') "3 4 x"
+        else
+          write(unit, '(i0, 1x, i0, " 0.5")') i, i + 1
+        end if
+      end do
+      close(unit)
+    end subroutine write_rows
+  end subroutine test_first_fault
 
   !> Particle numbers were read as reals: 4294967297 wrapped around, 1.5 was
   !> caught only by the app and without a line. Now read as integers.

@@ -46,6 +46,8 @@ module demstep_table_io
   !> Byte classes: a separator, a character of a number, anything else.
   integer, parameter :: other_byte = 0, separator_byte = 1, number_byte = 2
   integer, parameter :: lf = 10, cr = 13
+  !> What `row_fault` finds in a row.
+  integer, parameter :: row_fine = 0, row_count = 1, row_unread = 2, row_not_integer = 3, row_range = 4
 
   !> What pass 1 (`table_scan`) found in a table's text: each row's first and
   !> last character (comment cut) and file line, the layout (numbers per row,
@@ -197,9 +199,10 @@ contains
   end subroutine table_scan
 
   !> Pass 2 of reading a table: the rows `table_scan` found converted and
-  !> checked in file order against the layout `scan%ncol` (0: none found)
-  !> of line `scan%first_line` (a caller reading a file in parts may set the
-  !> whole file's). Status invalid_input naming `name` and the line.
+  !> checked against the layout `scan%ncol` (0: none found) of line
+  !> `scan%first_line` (a caller reading a file in parts may set the whole
+  !> file's); in parallel over the rows (OpenMP), the first faulty row in
+  !> file order refused. Status invalid_input naming `name` and the line.
   subroutine table_rows(text, name, allowed, scan, rows, status, lines, index_columns, fault_line)
     !> The text `scan` came from.
     character(len=*), intent(in) :: text
@@ -219,64 +222,68 @@ contains
     integer, intent(out), optional :: fault_line
     real(dp), allocatable :: values(:)
     integer(i8), allocatable :: field_first(:), field_last(:)
+    integer, allocatable :: index_cols(:)
     integer(i8) :: first, last
-    integer(i8) :: number
-    integer :: line, n, count, ncol, c, j
-    logical :: whole, too_large
+    integer :: line, n, count, ncol, c, fault, bad
     if (present(fault_line)) fault_line = 0
     ncol = scan%ncol
-    allocate(values(maxval(allowed)), field_first(maxval(allowed)), field_last(maxval(allowed)))
     allocate(rows(ncol, scan%n_rows))
     if (present(lines)) lines = scan%row_line(:scan%n_rows)
+    allocate(index_cols(0))
+    if (present(index_columns)) index_cols = index_columns
+    ! (the rows are independent: converted in parallel, the first faulty one
+    ! in file order kept; its message made after, from the same check)
+    bad = huge(bad)
+    !$omp parallel private(n, values, field_first, field_last, count, fault, c)
+    allocate(values(maxval(allowed)), field_first(maxval(allowed)), field_last(maxval(allowed)))
+    !$omp do schedule(static) reduction(min:bad)
     do n = 1, scan%n_rows
-      first = scan%row_first(n)
-      last = scan%row_last(n)
-      line = scan%row_line(n)
-      call parse_row(text(first:last), values, count, field_first, field_last)
-      if (count >= 0 .and. count /= ncol) then
-        if (ncol == 0) then
-          ! no row has an allowed count: the layout is not known
-          call fail(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
-            counts_text(allowed)//" numbers, found "//int_text(count))
-        else if (any(allowed == count)) then
-          call fail(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
-            int_text(ncol)//" numbers, found "//int_text(count)//" (line "//int_text(scan%first_line) &
-            //" has "//int_text(ncol)//"; every row the same)")
-        else
-          call fail(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
-            int_text(ncol)//" numbers, found "//int_text(count))
-        end if
-        return
-      end if
-      if (count >= 0) then
-        if (.not. all(ieee_is_finite(values(:ncol)))) count = -1
-      end if
-      if (count < 0) then
-        call fail(demstep_stat%invalid_input, "line "//int_text(line)//": cannot read '"// &
-          shortened(trim(adjustl(text(first:last))))//"' as finite numbers")
-        return
-      end if
-      rows(:, n) = values(:ncol)
-      if (present(index_columns)) then
-        do j = 1, size(index_columns)
-          c = index_columns(j)
-          if (c < 1 .or. c > ncol) cycle
-          associate(f => text(first+field_first(c)-1:first+field_last(c)-1))
-            call integer_of(f, number, whole, too_large)
-            if (.not. (whole .or. too_large)) then
-              call fail(demstep_stat%invalid_input, "line "//int_text(line)//": column "//int_text(c)// &
-                ": '"//shortened(f)//"' is not an integer (a particle number)")
-              return
-            else if (too_large .or. number < 1 .or. number > huge(1)) then
-              call fail(demstep_stat%invalid_input, "line "//int_text(line)//": column "//int_text(c)// &
-                ": particle number '"//shortened(f)//"' must lie in [1, "//int_text(huge(1))//"]")
-              return
-            end if
-          end associate
-        end do
+      call row_fault(text(scan%row_first(n):scan%row_last(n)), ncol, index_cols, values, count, &
+        field_first, field_last, fault, c)
+      if (fault == row_fine) then
+        rows(:, n) = values(:ncol)
+      else
+        bad = min(bad, n)
       end if
     end do
+    !$omp end do
+    !$omp end parallel
     status%stat = demstep_stat%ok
+    if (bad > scan%n_rows) return
+    allocate(values(maxval(allowed)), field_first(maxval(allowed)), field_last(maxval(allowed)))
+    n = bad
+    first = scan%row_first(n)
+    last = scan%row_last(n)
+    line = scan%row_line(n)
+    call row_fault(text(first:last), ncol, index_cols, values, count, field_first, field_last, fault, c)
+    select case (fault)
+    case (row_count)
+      if (ncol == 0) then
+        ! no row has an allowed count: the layout is not known
+        call fail(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
+          counts_text(allowed)//" numbers, found "//int_text(count))
+      else if (any(allowed == count)) then
+        call fail(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
+          int_text(ncol)//" numbers, found "//int_text(count)//" (line "//int_text(scan%first_line) &
+          //" has "//int_text(ncol)//"; every row the same)")
+      else
+        call fail(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
+          int_text(ncol)//" numbers, found "//int_text(count))
+      end if
+    case (row_unread)
+      call fail(demstep_stat%invalid_input, "line "//int_text(line)//": cannot read '"// &
+        shortened(trim(adjustl(text(first:last))))//"' as finite numbers")
+    case (row_not_integer)
+      associate(f => text(first+field_first(c)-1:first+field_last(c)-1))
+        call fail(demstep_stat%invalid_input, "line "//int_text(line)//": column "//int_text(c)// &
+          ": '"//shortened(f)//"' is not an integer (a particle number)")
+      end associate
+    case default
+      associate(f => text(first+field_first(c)-1:first+field_last(c)-1))
+        call fail(demstep_stat%invalid_input, "line "//int_text(line)//": column "//int_text(c)// &
+          ": particle number '"//shortened(f)//"' must lie in [1, "//int_text(huge(1))//"]")
+      end associate
+    end select
   contains
     subroutine fail(stat, what)
       integer, intent(in) :: stat
@@ -285,6 +292,50 @@ contains
       if (present(fault_line)) fault_line = line
     end subroutine fail
   end subroutine table_rows
+
+  !> The check of one row of `table_rows` (its text, comment cut): its
+  !> numbers in `values` and their columns, and `fault`: `row_fine`, or
+  !> `row_count` (not ncol numbers; `count` the fields found), `row_unread`
+  !> (a field not a finite number), `row_not_integer` or `row_range` (column
+  !> `c`, one of `index_columns`, not an integer, or not in [1, huge(1)]).
+  pure subroutine row_fault(text, ncol, index_columns, values, count, field_first, field_last, fault, c)
+    character(len=*), intent(in) :: text
+    integer, intent(in) :: ncol, index_columns(:)
+    real(dp), intent(out) :: values(:)
+    integer, intent(out) :: count
+    integer(i8), intent(out) :: field_first(:), field_last(:)
+    integer, intent(out) :: fault, c
+    integer(i8) :: number
+    integer :: j
+    logical :: whole, too_large
+    fault = row_fine
+    c = 0
+    call parse_row(text, values, count, field_first, field_last)
+    if (count >= 0 .and. count /= ncol) then
+      fault = row_count
+      return
+    end if
+    if (count >= 0) then
+      if (.not. all(ieee_is_finite(values(:ncol)))) count = -1
+    end if
+    if (count < 0) then
+      fault = row_unread
+      return
+    end if
+    do j = 1, size(index_columns)
+      c = index_columns(j)
+      if (c < 1 .or. c > ncol) cycle
+      call integer_of(text(field_first(c):field_last(c)), number, whole, too_large)
+      if (.not. (whole .or. too_large)) then
+        fault = row_not_integer
+        return
+      else if (too_large .or. number < 1 .or. number > huge(1)) then
+        fault = row_range
+        return
+      end if
+    end do
+    c = 0
+  end subroutine row_fault
 
   !> A file whose size the system does not tell (a device such as /dev/zero, a
   !> pipe; or an empty file): read record by record in chunks of 1024

@@ -568,17 +568,18 @@ contains
     type(critical_step_type), intent(inout) :: result
     type(spring_block_type), intent(in) :: springs(:)
     integer :: i
-    result%n_springs = count(springs%kind /= 6)
-    result%tangential = any(springs%k(2) > 0.0_dp)
-    do i = 1, 4
-      result%dashpots(i) = any(springs%c(i) > 0.0_dp .and. springs%kind == 0)
-    end do
-    result%dashpots(5) = any((springs%c(1) > 0.0_dp .or. springs%c(2) > 0.0_dp .or. springs%c(3) > 0.0_dp &
-      .or. springs%c(4) > 0.0_dp) .and. springs%kind == 5)
-    result%dashpots(6) = any(springs%kind == 6)
+    ! (one pass over the springs)
+    result%n_springs = 0
+    result%tangential = .false.
+    result%dashpots = .false.
     result%dt_contact_rule = huge(1.0_dp)
     do i = 1, size(springs)
       associate(sp => springs(i))
+        if (sp%kind /= 6) result%n_springs = result%n_springs + 1
+        result%tangential = result%tangential .or. sp%k(2) > 0.0_dp
+        if (sp%kind == 0) result%dashpots(1:4) = result%dashpots(1:4) .or. sp%c > 0.0_dp
+        if (sp%kind == 5) result%dashpots(5) = result%dashpots(5) .or. any(sp%c > 0.0_dp)
+        if (sp%kind == 6) result%dashpots(6) = .true.
         if (max(sp%k(1), sp%k(2)) > 0.0_dp) result%dt_contact_rule = min(result%dt_contact_rule, &
           2.0_dp*sqrt(sp%m_eff)/sqrt(max(sp%k(1), sp%k(2))))
       end associate
@@ -1562,7 +1563,7 @@ contains
     real(dp) :: k_scale, m_scale, c_scale
     integer :: i, nfree, nc, s, e
     integer(i8) :: p
-    logical :: touches
+    logical :: touches, damped
     rate = 0.0_dp
     k_scale = 0.0_dp
     op%alpha = 1.0_dp
@@ -1595,7 +1596,10 @@ contains
     if (present(scales)) m_scale = scales(2)
     mdof = mdof/m_scale
     touches = .false.
+    damped = .false.
     do i = 1, size(springs)
+      ! (whether any spring has a dashpot, in the same pass)
+      damped = damped .or. any(springs(i)%c > 0.0_dp)
       if (.not. maxval(springs(i)%k) > 0.0_dp) cycle
       if (springs(i)%a > 0) touches = touches .or. body(springs(i)%a) > 0
       touches = touches .or. body(springs(i)%b) > 0
@@ -1630,8 +1634,7 @@ contains
     if (.not. allocated(op%rinv)) allocate(op%rinv(0:nfree))
     op%rinv = 0.0_dp
     c_scale = sqrt(k_scale)*sqrt(m_scale)
-    if (any(springs%c(1) > 0.0_dp .or. springs%c(2) > 0.0_dp .or. springs%c(3) > 0.0_dp .or. &
-        springs%c(4) > 0.0_dp)) then
+    if (damped) then
       call fit_real2(op%dcoef, 4, 1, op%n_springs)
     else
       call fit_real2(op%dcoef, 4, 1, 0)
@@ -1643,6 +1646,9 @@ contains
       end if
     end do
     op%first = 0
+    ! (each spring's entries in parallel, in the products' static partition,
+    ! which then find their pages where they are used; the count after)
+    !$omp parallel do private(s) schedule(static) if(op%n_springs >= parallel_springs)
     do s = 1, op%n_springs
       associate(sp => springs(s))
         op%ends(:, s) = 0
@@ -1660,10 +1666,13 @@ contains
         op%coef(5, s) = 0.0_dp
         if (geo) op%coef(5, s) = sp%geo/k_scale
         if (size(op%dcoef, 2) > 0) op%dcoef(:, s) = sp%c/c_scale
-        do e = 1, 2
-          if (op%ends(e, s) > 0) op%first(op%ends(e, s) + 1) = op%first(op%ends(e, s) + 1) + 1
-        end do
       end associate
+    end do
+    !$omp end parallel do
+    do s = 1, op%n_springs
+      do e = 1, 2
+        if (op%ends(e, s) > 0) op%first(op%ends(e, s) + 1) = op%first(op%ends(e, s) + 1) + 1
+      end do
     end do
     op%first(1) = 1
     do i = 1, nfree
