@@ -28,6 +28,7 @@ module demstep_table_io
   use demstep_text, only: int_text, integer_of, printable, read_text_file
   use demstep_decimal, only: real_of
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  !$ use omp_lib, only: omp_get_max_threads
   implicit none
   private
 
@@ -46,6 +47,8 @@ module demstep_table_io
   !> Byte classes: a separator, a character of a number, anything else.
   integer, parameter :: other_byte = 0, separator_byte = 1, number_byte = 2
   integer, parameter :: lf = 10, cr = 13
+  !> Texts at least this long are scanned in parts in parallel (`parallel_scan`).
+  integer(i8), parameter :: parallel_scan_bytes = 1048576_i8
   !> What `row_fault` finds in a row.
   integer, parameter :: row_fine = 0, row_count = 1, row_unread = 2, row_not_integer = 3, row_range = 4
 
@@ -117,10 +120,123 @@ contains
     ! a size of 0: an empty file, or a device or pipe whose size is not known
     if (len(text) == 0) call read_by_records(path, text, status)
     if (status%stat /= demstep_stat%ok) return
-    call table_scan(text, path, allowed, scan, status)
+    call parallel_scan(text, path, allowed, scan, status)
     if (status%stat /= demstep_stat%ok) return
     call table_rows(text, path, allowed, scan, rows, status, lines, index_columns)
   end subroutine read_table_allowed
+
+  !> `table_scan` of a whole text in parts, in parallel (OpenMP): the text
+  !> cut after line feeds into one part per thread (a text below
+  !> `parallel_scan_bytes`, or one thread: one part), the lines of each part
+  !> counted, then each part scanned with the lines before it as its offset,
+  !> and the parts' rows joined in order. The same scan as one `table_scan`
+  !> of the whole text: a line feed always ends a line, so every part starts
+  !> at a line's start; the layout is the first part's that found one; the
+  !> fault refused is the first part's that has one (parts in file order).
+  subroutine parallel_scan(text, name, allowed, scan, status)
+    character(len=*), intent(in) :: text
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: allowed(:)
+    type(table_scan_type), intent(out) :: scan
+    type(demstep_status_type), intent(out) :: status
+    type(table_scan_type), allocatable :: part(:)
+    type(demstep_status_type), allocatable :: part_status(:)
+    integer(i8), allocatable :: cut(:)
+    integer(i8) :: n, i, j
+    integer, allocatable :: lines_before(:)
+    integer :: np, k, total
+    n = len(text, i8)
+    np = 1
+    !$ np = omp_get_max_threads()
+    if (n < parallel_scan_bytes .or. np < 2) then
+      call table_scan(text, name, allowed, scan, status)
+      return
+    end if
+    ! the parts: cut(k) + 1 .. cut(k + 1), each cut just after a line feed
+    ! (parts without one are merged into the one before)
+    allocate(cut(np + 1))
+    cut(1) = 0
+    k = 1
+    do while (k < np)
+      i = max(cut(k) + 1, (n*k)/np)
+      ! (the first line feed at or after i; none, or the text's last byte: no more parts)
+      j = index(text(i:), achar(lf), kind=i8)
+      if (j == 0) exit
+      i = i + j - 1
+      if (i >= n) exit
+      k = k + 1
+      cut(k) = i
+    end do
+    np = k
+    cut(np + 1) = n
+    allocate(part(np), part_status(np), lines_before(np + 1))
+    ! the lines of each part but the last (each ends with a line feed)
+    lines_before = 0
+    !$omp parallel do schedule(static, 1)
+    do k = 1, np - 1
+      lines_before(k + 1) = line_ends(text(cut(k) + 1:cut(k + 1)))
+    end do
+    !$omp end parallel do
+    do k = 2, np
+      ! (a count past huge: the part's own scan refuses the text at its first line)
+      lines_before(k) = int(min(int(lines_before(k - 1), i8) + lines_before(k), int(huge(1), i8)))
+    end do
+    !$omp parallel do schedule(static, 1)
+    do k = 1, np
+      call table_scan(text(cut(k) + 1:cut(k + 1)), name, allowed, part(k), part_status(k), &
+        line_offset=lines_before(k))
+    end do
+    !$omp end parallel do
+    do k = 1, np
+      if (part_status(k)%stat /= demstep_stat%ok) then
+        status = part_status(k)
+        return
+      end if
+    end do
+    ! joined: rows in order (their positions in the whole text), the first layout
+    total = sum(part%n_rows)
+    allocate(scan%row_first(max(total, 1)), scan%row_last(max(total, 1)), scan%row_line(max(total, 1)))
+    scan%n_rows = 0
+    scan%ncol = 0
+    scan%first_line = 0
+    do k = 1, np
+      associate(p => part(k), m => part(k)%n_rows)
+        scan%row_first(scan%n_rows + 1:scan%n_rows + m) = p%row_first(:m) + cut(k)
+        scan%row_last(scan%n_rows + 1:scan%n_rows + m) = p%row_last(:m) + cut(k)
+        scan%row_line(scan%n_rows + 1:scan%n_rows + m) = p%row_line(:m)
+        scan%n_rows = scan%n_rows + m
+        if (scan%ncol == 0 .and. p%n_rows > 0 .and. p%ncol > 0 .and. p%first_line > 0) then
+          scan%ncol = p%ncol
+          scan%first_line = p%first_line
+        end if
+      end associate
+    end do
+    scan%n_lines = part(np)%n_lines
+    if (scan%n_rows == 0) scan%ncol = maxval(allowed)
+    status%stat = demstep_stat%ok
+  end subroutine parallel_scan
+
+  !> The lines a text ends, as `next_line` counts them: each line feed, each
+  !> carriage return and line feed, each lone carriage return.
+  pure integer function line_ends(text) result(count)
+    character(len=*), intent(in) :: text
+    integer(i8) :: i, n
+    integer :: b
+    n = len(text, i8)
+    count = 0
+    do i = 1, n
+      b = iachar(text(i:i))
+      if (b == lf) then
+        count = count + 1
+      else if (b == cr) then
+        if (i == n) then
+          count = count + 1
+        else if (iachar(text(i+1:i+1)) /= lf) then
+          count = count + 1
+        end if
+      end if
+    end do
+  end function line_ends
 
   !> Pass 1 of reading a table held in `text` (a whole file, or a part of one
   !> that starts at a line's start and ends at a line's end): the text

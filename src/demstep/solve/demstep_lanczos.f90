@@ -1128,14 +1128,17 @@ contains
   !> each: entry i uses the sequence's entries first + 2(i - 1) and the next.
   !> Normalised, it is uniform on the unit sphere (as far as the sequence is
   !> random).
-  pure subroutine gaussian_vector(x, first)
+  subroutine gaussian_vector(x, first)
     real(dp), intent(out) :: x(:)
     !> The sequence's index for x(1)'s first uniform entry.
     integer, intent(in) :: first
-    ! (the uniform entries a block at a time: no copy of x's size)
+    ! (the uniform entries a block at a time: no copy of x's size; each
+    ! block enters the sequence at its own index, so the blocks run in
+    ! parallel with the same bits)
     integer, parameter :: block = 4096
     real(dp) :: u(2*block)
     integer :: i, i0, nb
+    !$omp parallel do private(i, i0, nb, u) schedule(static) if(size(x) > recurrence_block)
     do i0 = 1, size(x), block
       nb = min(block, size(x) - i0 + 1)
       call lanczos_start_vector(u(:2*nb), first + 2*(i0 - 1))
@@ -1144,6 +1147,7 @@ contains
         x(i0 + i - 1) = sqrt(-2.0_dp*log(u(2*i - 1)))*cos(2.0_dp*pi*u(2*i))
       end do
     end do
+    !$omp end parallel do
   end subroutine gaussian_vector
 
   !> The routine's name that starts an ARPACK status message ("ARPACK dsaupd: ").
