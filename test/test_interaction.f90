@@ -43,6 +43,8 @@ contains
       new_unittest("Lanczos vs dense on packings, lattices, rings; the error bar", test_lanczos_vs_dense), &
       new_unittest("eigen_solver: auto, dense, lanczos, none; bad values", test_solver_choice), &
       new_unittest("operator product: 1 and 2 threads agree bit for bit", test_threads), &
+      new_unittest("springs linearised in parallel: the first overflowing contact in list order", &
+        test_overflow_first), &
       new_unittest("Lanczos out of restarts: the bracket holds the chain's closed form", test_not_converged) &
       ]
   end subroutine collect_interaction
@@ -936,6 +938,63 @@ contains
     !$ call omp_set_num_threads(threads)
     call check(error, all(y1 == y2), "1 and 2 threads agree bit for bit")
   end subroutine test_threads
+
+  !> The contacts are linearised in parallel (above 4096 of them): a Hertz
+  !> tangent stiffness that overflows (E* = 0.4 huge, sqrt(R* d) above 1.25)
+  !> is refused naming the first such contact in the contact list's order,
+  !> on 1 and 2 threads; the same chain without the two deep overlaps
+  !> linearises. A chain of 6000 spheres of radius 10 overlapping by 1e-6,
+  !> two pairs far apart by 0.5.
+  subroutine test_overflow_first(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer, parameter :: n = 6000
+    type(scene_type) :: scene
+    type(critical_step_type) :: c
+    type(demstep_status_type) :: status
+    integer, allocatable :: pi(:), pj(:)
+    real(dp), allocatable :: pn(:, :), pd(:)
+    real(dp) :: x(1, n), gap(n)
+    integer :: i, k, first, threads, t
+    gap = 1.0e-6_dp
+    gap(3000) = 0.5_dp
+    gap(5000) = 0.5_dp
+    x(1, 1) = 0.0_dp
+    do i = 2, n
+      x(1, i) = x(1, i - 1) + 20.0_dp - gap(i - 1)
+    end do
+    call new_scene(scene, 1, x, spread(1.0_dp, 1, n), spread(10.0_dp, 1, n), status)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    scene%law = contact_law%hertz
+    ! (2 E* stays finite: the deep pairs' sqrt(R* d) = 1.58 overflows it)
+    scene%e_star = 0.4_dp*huge(1.0_dp)
+    ! the first deep pair in the list's order
+    call contact_list(scene, pi, pj, pn, pd)
+    first = 0
+    do k = 1, size(pi)
+      if (pd(k) > 0.25_dp) then
+        first = k
+        exit
+      end if
+    end do
+    call check(error, size(pi) == n - 1 .and. first > 0, "the chain's contacts")
+    if (allocated(error)) return
+    threads = 1
+    !$ threads = omp_get_max_threads()
+    do t = 1, 2
+      !$ call omp_set_num_threads(t)
+      call assembly_critical_steps(scene, c, status, solver=eigen_solver%none)
+      call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "e_star" .and. &
+        index(status%message, "of particles "//int_text(pi(first))//" and "//int_text(pj(first)) &
+        //" overflows") > 0, "threads "//int_text(t)//": "//status%message)
+      if (allocated(error)) exit
+    end do
+    !$ call omp_set_num_threads(threads)
+    if (allocated(error)) return
+    scene%e_star = 1.0e6_dp
+    call assembly_critical_steps(scene, c, status, solver=eigen_solver%none)
+    call check(error, status%stat == demstep_stat%ok .and. c%n_springs == n - 1, "a finite E*: "//status%message)
+  end subroutine test_overflow_first
 
   !> Lanczos out of restarts (an open chain of 3000: its top eigenvalues are
   !> 1e-6 apart relative, far below a 1e-13 tolerance): not an error, the bracket

@@ -17,7 +17,7 @@ module test_lanczos
   use demstep_progress, only: progress_type
   use demstep_text, only: int_text
   !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
-  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_positive_inf, ieee_quiet_nan
   implicit none
   private
   public :: collect_lanczos
@@ -25,6 +25,8 @@ module test_lanczos
   !> An operator that fails (NaN) or does nothing (zero).
   type, extends(lanczos_context_type) :: odd_operator_type
     integer :: which = 0
+    !> Products made; with which = 7, the product that returns a NaN.
+    integer :: products = 0, bad_product = 0
   end type odd_operator_type
 
   !> Counts the progress calls.
@@ -77,7 +79,8 @@ contains
       new_unittest("a certified run whose vectors are not kept: the Ritz vector from a second pass", &
         test_second_pass), &
       new_unittest("the Lanczos store: double, single, none kept, dropped mid-run, single's fallback", &
-        test_store_paths) &
+        test_store_paths), &
+      new_unittest("a non-finite product in the certified single run is refused", test_single_run_nonfinite) &
       ]
   end subroutine collect_lanczos
 
@@ -336,9 +339,51 @@ contains
           y(i) = (-100.0_dp + 100.0_dp*real(i, dp)/size(x))*x(i)
         end do
         y(size(x)) = x(size(x))
+      case (7)
+        ! diag(i/n), one NaN in product bad_product
+        context%products = context%products + 1
+        y = [(real(i, dp), i = 1, size(x))]/size(x)*x
+        if (context%products == context%bad_product) y(size(x)/2) = ieee_value(1.0_dp, ieee_quiet_nan)
       end select
     end select
   end subroutine odd_apply
+
+  !> The certified single run (`krylov_top`, n above krylov_min_order) checks
+  !> its products' finiteness on the recurrence's sums: an Inf in the first
+  !> product and a NaN in the fifth (the recurrence under way, vectors kept in
+  !> single precision and in full) are refused as invalid input naming the
+  !> product, as the checked products of the other paths are.
+  subroutine test_single_run_nonfinite(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(odd_operator_type) :: op
+    type(eigen_result_type) :: r
+    type(demstep_status_type) :: status
+    integer, parameter :: n = 3000
+    real(dp) :: tol
+    integer :: t
+    op%which = 2
+    call lanczos_largest(odd_apply, op, n, r, status, tolerance=1.0e-6_dp, certify=.true.)
+    call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, &
+      "non-finite value (product 1)") > 0, "Inf in the first product: "//status%message)
+    if (allocated(error)) return
+    do t = 1, 2
+      ! (1e-6 keeps the vectors in single precision, 1e-8 in full)
+      tol = merge(1.0e-6_dp, 1.0e-8_dp, t == 1)
+      op%which = 7
+      op%products = 0
+      op%bad_product = 5
+      call lanczos_largest(odd_apply, op, n, r, status, tolerance=tol, certify=.true.)
+      call check(error, status%stat == demstep_stat%invalid_input .and. index(status%message, &
+        "non-finite value (product 5)") > 0 .and. r%applications == 5, "NaN in the fifth product: " &
+        //status%message)
+      if (allocated(error)) return
+    end do
+    ! (the same operator without the NaN converges: the refusal is the NaN's)
+    op%products = 0
+    op%bad_product = 0
+    call lanczos_largest(odd_apply, op, n, r, status, tolerance=1.0e-6_dp, certify=.true.)
+    call check(error, status%stat, demstep_stat%ok, "diag(i/n) without a NaN")
+  end subroutine test_single_run_nonfinite
 
   !> The certificate on diagonal operators of order 3000 with a crowded top
   !> (eigenvalues i/n) and an indefinite one (-5 + 6 i/n, shifted by the

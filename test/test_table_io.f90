@@ -5,8 +5,10 @@ module test_table_io
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep_kinds, only: dp
   use demstep_status, only: demstep_status_type, demstep_stat
-  use demstep_table_io, only: read_table, table_max_line
+  use demstep_table_io, only: read_table, table_max_line, table_scan, table_rows, table_scan_type
+  use demstep_text, only: read_text_file, int_text
   use test_support, only: write_file, work_dir
+  !$ use omp_lib, only: omp_get_max_threads, omp_set_num_threads
   implicit none
   private
   public :: collect_table_io
@@ -25,7 +27,11 @@ contains
       new_unittest("binary input, long lines, missing files", test_refused), &
       new_unittest("line ends: LF, CR LF, a lone CR; devices read by records", test_line_ends), &
       new_unittest("1e5 rows, each value in its place", test_many_rows), &
-      new_unittest("particle numbers: integers in [1, huge], refused by line and column", test_index_columns) &
+      new_unittest("particle numbers: integers in [1, huge], refused by line and column", test_index_columns), &
+      new_unittest("rows converted in parallel: the first faulty row in file order is named", &
+        test_first_fault), &
+      new_unittest("a large table scanned in parts: the whole text's scan; faults by line", &
+        test_scan_parts) &
       ]
   end subroutine collect_table_io
 
@@ -178,6 +184,150 @@ contains
     call check(error, all(rows(1, :) == [(real(i, dp), i = 1, n)]) .and. &
       all(rows(2, :) == [(real(n - i, dp), i = 1, n)]), "every value in its place")
   end subroutine test_many_rows
+
+  !> A table above 1 MB is scanned in parts in parallel (cut after line
+  !> feeds, each part's lines counted first): its rows, their lines and the
+  !> layout are those of one scan of the whole text (`table_scan`,
+  !> `table_rows`) on 1 and 2 threads, with LF, CR LF and lone CR line ends,
+  !> comments and blank lines throughout and the first row of the layout's
+  !> count past the first part; a control byte or an overlong line in the
+  !> second half is refused naming its line.
+  subroutine test_scan_parts(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer, parameter :: n = 90000
+    real(dp), allocatable :: rows(:, :), ref_rows(:, :)
+    integer, allocatable :: lines(:), ref_lines(:)
+    character(len=:), allocatable :: text
+    type(table_scan_type) :: scan
+    type(demstep_status_type) :: status
+    integer :: threads, t, fault
+    threads = 1
+    !$ threads = omp_get_max_threads()
+    call write_text(0)
+    call read_text_file(table, text, status)
+    call check(error, status%stat == demstep_stat%ok .and. len(text) > 1100000, "a text above 1 MB")
+    if (allocated(error)) return
+    call table_scan(text, table, [3, 4], scan, status)
+    call check(error, status%stat, demstep_stat%ok, "one scan: "//status%message)
+    if (allocated(error)) return
+    call check(error, scan%ncol == 3 .and. scan%first_line == 65003, "the layout's first row: line " &
+      //int_text(scan%first_line)//", columns "//int_text(scan%ncol)//" (want 65003, 3)")
+    if (allocated(error)) return
+    call table_rows(text, table, [3, 4], scan, ref_rows, status, ref_lines)
+    call check(error, status%stat, demstep_stat%ok, "one scan's rows: "//status%message)
+    if (allocated(error)) return
+    do t = 1, 2
+      !$ call omp_set_num_threads(t)
+      call read_table(table, [3, 4], rows, status, lines)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) exit
+      call check(error, size(rows, 2) == size(ref_rows, 2) .and. size(rows, 1) == 3, "rows counted as one scan")
+      if (allocated(error)) exit
+      call check(error, all(rows == ref_rows) .and. all(lines == ref_lines), "rows and lines as one scan's")
+      if (allocated(error)) exit
+      do fault = 1, 2
+        call write_text(fault)
+        call read_table(table, [3, 4], rows, status, lines)
+        if (fault == 1) then
+          call expect(error, status, demstep_stat%invalid_input, table//": line 80001: not a text file (byte 1 " &
+            //"in column 3)")
+        else
+          call expect(error, status, demstep_stat%invalid_input, table//": line 80001: longer than")
+        end if
+        if (allocated(error)) exit
+      end do
+      if (allocated(error)) exit
+      call write_text(0)
+    end do
+    !$ call omp_set_num_threads(threads)
+  contains
+    !> n lines: comments and blank lines by turns up to line 65000, then rows
+    !> of 3 numbers with a comment and a blank line every 1000; line ends LF,
+    !> CR LF or a lone CR by turns; `fault` 1 puts a control byte, 2 an
+    !> overlong line, at line 80001.
+    subroutine write_text(fault)
+      integer, intent(in) :: fault
+      integer :: unit, i
+      character(len=40) :: row
+      character(len=2) :: ends(3)
+      ends = [character(len=2) :: achar(10), achar(13)//achar(10), achar(13)]
+      open(newunit=unit, file=table, status="replace", action="write", access="stream", form="unformatted")
+      do i = 1, n
+        if (mod(i, 1000) == 1 .or. (i <= 65000 .and. mod(i, 2) == 1)) then
+          row = "# a comment line"
+        else if (mod(i, 1000) == 2 .or. i <= 65000) then
+          row = "   "
+        else
+          write(row, '(i0, 1x, i0, " 0.5 # row")') i, i + 1
+        end if
+        if (i == 80001 .and. fault == 1) row = "1 "//achar(1)//" 2"
+        if (i == 80001 .and. fault == 2) then
+          write(unit) repeat("1 ", table_max_line)
+        else
+          ! (a blank line keeps a space: an empty line after a lone carriage
+          ! return would make a carriage return and line feed, one line end)
+          write(unit) row(:max(1, len_trim(row)))
+        end if
+        write(unit) trim(ends(mod(i, 3) + 1))
+      end do
+      close(unit)
+    end subroutine write_text
+  end subroutine test_scan_parts
+
+  !> The rows are converted in parallel (OpenMP, each thread a stretch of
+  !> rows): with faults in several stretches (1 and 2 threads), the first
+  !> in file order is the one refused, whatever its kind; a table whose only
+  !> fault lies in its last stretch names that one.
+  subroutine test_first_fault(error)
+    type(error_type), allocatable, intent(out) :: error
+    real(dp), allocatable :: rows(:, :)
+    type(demstep_status_type) :: status
+    integer, parameter :: n = 40000
+    integer :: case, threads, t
+    threads = 1
+    !$ threads = omp_get_max_threads()
+    do t = 1, 2
+      !$ call omp_set_num_threads(t)
+      do case = 1, 3
+        call write_rows(case)
+        call read_table(table, 3, rows, status, index_columns=[1, 2])
+        select case (case)
+        case (1)
+          ! (a bad particle number at 5000, a short row at 15000, a word at 39000)
+          call expect(error, status, demstep_stat%invalid_input, table//": line 5000: column 2: '2.5' is " &
+            //"not an integer (a particle number)")
+        case (2)
+          call expect(error, status, demstep_stat%invalid_input, table//": line 15000: expected 3 numbers, " &
+            //"found 2")
+        case (3)
+          call expect(error, status, demstep_stat%invalid_input, table//": line 39000: cannot read " &
+            //"'3 4 x' as finite numbers")
+        end select
+        if (allocated(error)) exit
+      end do
+      if (allocated(error)) exit
+    end do
+    !$ call omp_set_num_threads(threads)
+  contains
+    !> Rows "i i+1 0.5", with the faults from `case` on (1: all three).
+    subroutine write_rows(case)
+      integer, intent(in) :: case
+      integer :: unit, i
+      open(newunit=unit, file=table, status="replace", action="write")
+      do i = 1, n
+        if (i == 5000 .and. case <= 1) then
+          write(unit, '(a)') "1 2.5 0.5"
+        else if (i == 15000 .and. case <= 2) then
+          write(unit, '(a)') "1 2"
+        else if (i == 39000) then
+          write(unit, '(a)') "3 4 x"
+        else
+          write(unit, '(i0, 1x, i0, " 0.5")') i, i + 1
+        end if
+      end do
+      close(unit)
+    end subroutine write_rows
+  end subroutine test_first_fault
 
   !> Particle numbers were read as reals: 4294967297 wrapped around, 1.5 was
   !> caught only by the app and without a line. Now read as integers.

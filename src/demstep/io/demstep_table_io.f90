@@ -28,6 +28,7 @@ module demstep_table_io
   use demstep_text, only: int_text, integer_of, printable, read_text_file
   use demstep_decimal, only: real_of
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  !$ use omp_lib, only: omp_get_max_threads
   implicit none
   private
 
@@ -46,6 +47,10 @@ module demstep_table_io
   !> Byte classes: a separator, a character of a number, anything else.
   integer, parameter :: other_byte = 0, separator_byte = 1, number_byte = 2
   integer, parameter :: lf = 10, cr = 13
+  !> Texts at least this long are scanned in parts in parallel (`parallel_scan`).
+  integer(i8), parameter :: parallel_scan_bytes = 1048576_i8
+  !> What `row_fault` finds in a row.
+  integer, parameter :: row_fine = 0, row_count = 1, row_unread = 2, row_not_integer = 3, row_range = 4
 
   !> What pass 1 (`table_scan`) found in a table's text: each row's first and
   !> last character (comment cut) and file line, the layout (numbers per row,
@@ -115,10 +120,123 @@ contains
     ! a size of 0: an empty file, or a device or pipe whose size is not known
     if (len(text) == 0) call read_by_records(path, text, status)
     if (status%stat /= demstep_stat%ok) return
-    call table_scan(text, path, allowed, scan, status)
+    call parallel_scan(text, path, allowed, scan, status)
     if (status%stat /= demstep_stat%ok) return
     call table_rows(text, path, allowed, scan, rows, status, lines, index_columns)
   end subroutine read_table_allowed
+
+  !> `table_scan` of a whole text in parts, in parallel (OpenMP): the text
+  !> cut after line feeds into one part per thread (a text below
+  !> `parallel_scan_bytes`, or one thread: one part), the lines of each part
+  !> counted, then each part scanned with the lines before it as its offset,
+  !> and the parts' rows joined in order. The same scan as one `table_scan`
+  !> of the whole text: a line feed always ends a line, so every part starts
+  !> at a line's start; the layout is the first part's that found one; the
+  !> fault refused is the first part's that has one (parts in file order).
+  subroutine parallel_scan(text, name, allowed, scan, status)
+    character(len=*), intent(in) :: text
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: allowed(:)
+    type(table_scan_type), intent(out) :: scan
+    type(demstep_status_type), intent(out) :: status
+    type(table_scan_type), allocatable :: part(:)
+    type(demstep_status_type), allocatable :: part_status(:)
+    integer(i8), allocatable :: cut(:)
+    integer(i8) :: n, i, j
+    integer, allocatable :: lines_before(:)
+    integer :: np, k, total
+    n = len(text, i8)
+    np = 1
+    !$ np = omp_get_max_threads()
+    if (n < parallel_scan_bytes .or. np < 2) then
+      call table_scan(text, name, allowed, scan, status)
+      return
+    end if
+    ! the parts: cut(k) + 1 .. cut(k + 1), each cut just after a line feed
+    ! (parts without one are merged into the one before)
+    allocate(cut(np + 1))
+    cut(1) = 0
+    k = 1
+    do while (k < np)
+      i = max(cut(k) + 1, (n*k)/np)
+      ! (the first line feed at or after i; none, or the text's last byte: no more parts)
+      j = index(text(i:), achar(lf), kind=i8)
+      if (j == 0) exit
+      i = i + j - 1
+      if (i >= n) exit
+      k = k + 1
+      cut(k) = i
+    end do
+    np = k
+    cut(np + 1) = n
+    allocate(part(np), part_status(np), lines_before(np + 1))
+    ! the lines of each part but the last (each ends with a line feed)
+    lines_before = 0
+    !$omp parallel do schedule(static, 1)
+    do k = 1, np - 1
+      lines_before(k + 1) = line_ends(text(cut(k) + 1:cut(k + 1)))
+    end do
+    !$omp end parallel do
+    do k = 2, np
+      ! (a count past huge: the part's own scan refuses the text at its first line)
+      lines_before(k) = int(min(int(lines_before(k - 1), i8) + lines_before(k), int(huge(1), i8)))
+    end do
+    !$omp parallel do schedule(static, 1)
+    do k = 1, np
+      call table_scan(text(cut(k) + 1:cut(k + 1)), name, allowed, part(k), part_status(k), &
+        line_offset=lines_before(k))
+    end do
+    !$omp end parallel do
+    do k = 1, np
+      if (part_status(k)%stat /= demstep_stat%ok) then
+        status = part_status(k)
+        return
+      end if
+    end do
+    ! joined: rows in order (their positions in the whole text), the first layout
+    total = sum(part%n_rows)
+    allocate(scan%row_first(max(total, 1)), scan%row_last(max(total, 1)), scan%row_line(max(total, 1)))
+    scan%n_rows = 0
+    scan%ncol = 0
+    scan%first_line = 0
+    do k = 1, np
+      associate(p => part(k), m => part(k)%n_rows)
+        scan%row_first(scan%n_rows + 1:scan%n_rows + m) = p%row_first(:m) + cut(k)
+        scan%row_last(scan%n_rows + 1:scan%n_rows + m) = p%row_last(:m) + cut(k)
+        scan%row_line(scan%n_rows + 1:scan%n_rows + m) = p%row_line(:m)
+        scan%n_rows = scan%n_rows + m
+        if (scan%ncol == 0 .and. p%n_rows > 0 .and. p%ncol > 0 .and. p%first_line > 0) then
+          scan%ncol = p%ncol
+          scan%first_line = p%first_line
+        end if
+      end associate
+    end do
+    scan%n_lines = part(np)%n_lines
+    if (scan%n_rows == 0) scan%ncol = maxval(allowed)
+    status%stat = demstep_stat%ok
+  end subroutine parallel_scan
+
+  !> The lines a text ends, as `next_line` counts them: each line feed, each
+  !> carriage return and line feed, each lone carriage return.
+  pure integer function line_ends(text) result(count)
+    character(len=*), intent(in) :: text
+    integer(i8) :: i, n
+    integer :: b
+    n = len(text, i8)
+    count = 0
+    do i = 1, n
+      b = iachar(text(i:i))
+      if (b == lf) then
+        count = count + 1
+      else if (b == cr) then
+        if (i == n) then
+          count = count + 1
+        else if (iachar(text(i+1:i+1)) /= lf) then
+          count = count + 1
+        end if
+      end if
+    end do
+  end function line_ends
 
   !> Pass 1 of reading a table held in `text` (a whole file, or a part of one
   !> that starts at a line's start and ends at a line's end): the text
@@ -197,9 +315,10 @@ contains
   end subroutine table_scan
 
   !> Pass 2 of reading a table: the rows `table_scan` found converted and
-  !> checked in file order against the layout `scan%ncol` (0: none found)
-  !> of line `scan%first_line` (a caller reading a file in parts may set the
-  !> whole file's). Status invalid_input naming `name` and the line.
+  !> checked against the layout `scan%ncol` (0: none found) of line
+  !> `scan%first_line` (a caller reading a file in parts may set the whole
+  !> file's); in parallel over the rows (OpenMP), the first faulty row in
+  !> file order refused. Status invalid_input naming `name` and the line.
   subroutine table_rows(text, name, allowed, scan, rows, status, lines, index_columns, fault_line)
     !> The text `scan` came from.
     character(len=*), intent(in) :: text
@@ -219,64 +338,68 @@ contains
     integer, intent(out), optional :: fault_line
     real(dp), allocatable :: values(:)
     integer(i8), allocatable :: field_first(:), field_last(:)
+    integer, allocatable :: index_cols(:)
     integer(i8) :: first, last
-    integer(i8) :: number
-    integer :: line, n, count, ncol, c, j
-    logical :: whole, too_large
+    integer :: line, n, count, ncol, c, fault, bad
     if (present(fault_line)) fault_line = 0
     ncol = scan%ncol
-    allocate(values(maxval(allowed)), field_first(maxval(allowed)), field_last(maxval(allowed)))
     allocate(rows(ncol, scan%n_rows))
     if (present(lines)) lines = scan%row_line(:scan%n_rows)
+    allocate(index_cols(0))
+    if (present(index_columns)) index_cols = index_columns
+    ! (the rows are independent: converted in parallel, the first faulty one
+    ! in file order kept; its message made after, from the same check)
+    bad = huge(bad)
+    !$omp parallel private(n, values, field_first, field_last, count, fault, c)
+    allocate(values(maxval(allowed)), field_first(maxval(allowed)), field_last(maxval(allowed)))
+    !$omp do schedule(static) reduction(min:bad)
     do n = 1, scan%n_rows
-      first = scan%row_first(n)
-      last = scan%row_last(n)
-      line = scan%row_line(n)
-      call parse_row(text(first:last), values, count, field_first, field_last)
-      if (count >= 0 .and. count /= ncol) then
-        if (ncol == 0) then
-          ! no row has an allowed count: the layout is not known
-          call fail(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
-            counts_text(allowed)//" numbers, found "//int_text(count))
-        else if (any(allowed == count)) then
-          call fail(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
-            int_text(ncol)//" numbers, found "//int_text(count)//" (line "//int_text(scan%first_line) &
-            //" has "//int_text(ncol)//"; every row the same)")
-        else
-          call fail(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
-            int_text(ncol)//" numbers, found "//int_text(count))
-        end if
-        return
-      end if
-      if (count >= 0) then
-        if (.not. all(ieee_is_finite(values(:ncol)))) count = -1
-      end if
-      if (count < 0) then
-        call fail(demstep_stat%invalid_input, "line "//int_text(line)//": cannot read '"// &
-          shortened(trim(adjustl(text(first:last))))//"' as finite numbers")
-        return
-      end if
-      rows(:, n) = values(:ncol)
-      if (present(index_columns)) then
-        do j = 1, size(index_columns)
-          c = index_columns(j)
-          if (c < 1 .or. c > ncol) cycle
-          associate(f => text(first+field_first(c)-1:first+field_last(c)-1))
-            call integer_of(f, number, whole, too_large)
-            if (.not. (whole .or. too_large)) then
-              call fail(demstep_stat%invalid_input, "line "//int_text(line)//": column "//int_text(c)// &
-                ": '"//shortened(f)//"' is not an integer (a particle number)")
-              return
-            else if (too_large .or. number < 1 .or. number > huge(1)) then
-              call fail(demstep_stat%invalid_input, "line "//int_text(line)//": column "//int_text(c)// &
-                ": particle number '"//shortened(f)//"' must lie in [1, "//int_text(huge(1))//"]")
-              return
-            end if
-          end associate
-        end do
+      call row_fault(text(scan%row_first(n):scan%row_last(n)), ncol, index_cols, values, count, &
+        field_first, field_last, fault, c)
+      if (fault == row_fine) then
+        rows(:, n) = values(:ncol)
+      else
+        bad = min(bad, n)
       end if
     end do
+    !$omp end do
+    !$omp end parallel
     status%stat = demstep_stat%ok
+    if (bad > scan%n_rows) return
+    allocate(values(maxval(allowed)), field_first(maxval(allowed)), field_last(maxval(allowed)))
+    n = bad
+    first = scan%row_first(n)
+    last = scan%row_last(n)
+    line = scan%row_line(n)
+    call row_fault(text(first:last), ncol, index_cols, values, count, field_first, field_last, fault, c)
+    select case (fault)
+    case (row_count)
+      if (ncol == 0) then
+        ! no row has an allowed count: the layout is not known
+        call fail(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
+          counts_text(allowed)//" numbers, found "//int_text(count))
+      else if (any(allowed == count)) then
+        call fail(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
+          int_text(ncol)//" numbers, found "//int_text(count)//" (line "//int_text(scan%first_line) &
+          //" has "//int_text(ncol)//"; every row the same)")
+      else
+        call fail(demstep_stat%invalid_input, "line "//int_text(line)//": expected "// &
+          int_text(ncol)//" numbers, found "//int_text(count))
+      end if
+    case (row_unread)
+      call fail(demstep_stat%invalid_input, "line "//int_text(line)//": cannot read '"// &
+        shortened(trim(adjustl(text(first:last))))//"' as finite numbers")
+    case (row_not_integer)
+      associate(f => text(first+field_first(c)-1:first+field_last(c)-1))
+        call fail(demstep_stat%invalid_input, "line "//int_text(line)//": column "//int_text(c)// &
+          ": '"//shortened(f)//"' is not an integer (a particle number)")
+      end associate
+    case default
+      associate(f => text(first+field_first(c)-1:first+field_last(c)-1))
+        call fail(demstep_stat%invalid_input, "line "//int_text(line)//": column "//int_text(c)// &
+          ": particle number '"//shortened(f)//"' must lie in [1, "//int_text(huge(1))//"]")
+      end associate
+    end select
   contains
     subroutine fail(stat, what)
       integer, intent(in) :: stat
@@ -285,6 +408,50 @@ contains
       if (present(fault_line)) fault_line = line
     end subroutine fail
   end subroutine table_rows
+
+  !> The check of one row of `table_rows` (its text, comment cut): its
+  !> numbers in `values` and their columns, and `fault`: `row_fine`, or
+  !> `row_count` (not ncol numbers; `count` the fields found), `row_unread`
+  !> (a field not a finite number), `row_not_integer` or `row_range` (column
+  !> `c`, one of `index_columns`, not an integer, or not in [1, huge(1)]).
+  pure subroutine row_fault(text, ncol, index_columns, values, count, field_first, field_last, fault, c)
+    character(len=*), intent(in) :: text
+    integer, intent(in) :: ncol, index_columns(:)
+    real(dp), intent(out) :: values(:)
+    integer, intent(out) :: count
+    integer(i8), intent(out) :: field_first(:), field_last(:)
+    integer, intent(out) :: fault, c
+    integer(i8) :: number
+    integer :: j
+    logical :: whole, too_large
+    fault = row_fine
+    c = 0
+    call parse_row(text, values, count, field_first, field_last)
+    if (count >= 0 .and. count /= ncol) then
+      fault = row_count
+      return
+    end if
+    if (count >= 0) then
+      if (.not. all(ieee_is_finite(values(:ncol)))) count = -1
+    end if
+    if (count < 0) then
+      fault = row_unread
+      return
+    end if
+    do j = 1, size(index_columns)
+      c = index_columns(j)
+      if (c < 1 .or. c > ncol) cycle
+      call integer_of(text(field_first(c):field_last(c)), number, whole, too_large)
+      if (.not. (whole .or. too_large)) then
+        fault = row_not_integer
+        return
+      else if (too_large .or. number < 1 .or. number > huge(1)) then
+        fault = row_range
+        return
+      end if
+    end do
+    c = 0
+  end subroutine row_fault
 
   !> A file whose size the system does not tell (a device such as /dev/zero, a
   !> pipe; or an empty file): read record by record in chunks of 1024

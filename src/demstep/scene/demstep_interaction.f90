@@ -351,7 +351,16 @@ contains
     end do
     q = k(1)*nn + (k(2) - geo)*p
     r = k(3)*p + k(4)*nn
-    cn = reshape([0.0_dp, n(3), -n(2), -n(3), 0.0_dp, n(1), n(2), -n(1), 0.0_dp], [3, 3])
+    ! (N entry by entry: an array constructor of variables is a library call per spring)
+    cn(1, 1) = 0.0_dp
+    cn(2, 1) = n(3)
+    cn(3, 1) = -n(2)
+    cn(1, 2) = -n(3)
+    cn(2, 2) = 0.0_dp
+    cn(3, 2) = n(1)
+    cn(1, 3) = n(2)
+    cn(2, 3) = -n(1)
+    cn(3, 3) = 0.0_dp
     if (first) then
       a = arm_i
       b = arm_j

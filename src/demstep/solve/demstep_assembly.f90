@@ -569,17 +569,18 @@ contains
     type(critical_step_type), intent(inout) :: result
     type(spring_block_type), intent(in) :: springs(:)
     integer :: i
-    result%n_springs = count(springs%kind /= 6)
-    result%tangential = any(springs%k(2) > 0.0_dp)
-    do i = 1, 4
-      result%dashpots(i) = any(springs%c(i) > 0.0_dp .and. springs%kind == 0)
-    end do
-    result%dashpots(5) = any((springs%c(1) > 0.0_dp .or. springs%c(2) > 0.0_dp .or. springs%c(3) > 0.0_dp &
-      .or. springs%c(4) > 0.0_dp) .and. springs%kind == 5)
-    result%dashpots(6) = any(springs%kind == 6)
+    ! (one pass over the springs)
+    result%n_springs = 0
+    result%tangential = .false.
+    result%dashpots = .false.
     result%dt_contact_rule = huge(1.0_dp)
     do i = 1, size(springs)
       associate(sp => springs(i))
+        if (sp%kind /= 6) result%n_springs = result%n_springs + 1
+        result%tangential = result%tangential .or. sp%k(2) > 0.0_dp
+        if (sp%kind == 0) result%dashpots(1:4) = result%dashpots(1:4) .or. sp%c > 0.0_dp
+        if (sp%kind == 5) result%dashpots(5) = result%dashpots(5) .or. any(sp%c > 0.0_dp)
+        if (sp%kind == 6) result%dashpots(6) = .true.
         if (max(sp%k(1), sp%k(2)) > 0.0_dp) result%dt_contact_rule = min(result%dt_contact_rule, &
           2.0_dp*sqrt(sp%m_eff)/sqrt(max(sp%k(1), sp%k(2))))
       end associate
@@ -1199,10 +1200,21 @@ contains
         call mixed_coefficients(op, s, k, geo)
         call contact_end_blocks(op%normal(:, s), k, op%coef(3, s), op%coef(4, s), &
           op%rinv(op%ends(1, s)), op%rinv(op%ends(2, s)), 0.0_dp, en == 1, own, other)
+        j = op%ends(o, s)
+        if (nc == 6) then
+          ! (all six components: the same sums without the indirection)
+          d = d + own
+          if (j == 0) cycle
+          do c = 1, 6
+            do q = 1, 6
+              off(c) = off(c) + abs(other(q, c))*op%w(q, j)*v(6*(j - 1) + q)
+            end do
+          end do
+          cycle
+        end if
         do c = 1, nc
           d(:, c) = d(:, c) + own(:, op%comp(c))
         end do
-        j = op%ends(o, s)
         if (j == 0) cycle
         do c = 1, nc
           do q = 1, nc
@@ -1246,16 +1258,40 @@ contains
     integer, intent(in) :: n
     procedure(abs_product_operator) :: abs_product
     real(dp) :: bound
-    real(dp), allocatable :: v(:), r(:)
-    integer :: k
-    allocate(v(n), r(n))
-    v = 1.0_dp
+    ! (the vector passes in parallel over blocks, each block's maxval, then
+    ! the maxval of those: the same values as maxval over the whole)
+    integer, parameter :: block = 65536
+    real(dp), allocatable :: v(:), r(:), part(:, :)
+    real(dp) :: r_max
+    integer :: k, b, nb, i0, i1
+    nb = max(1, (n + block - 1)/block)
+    allocate(v(n), r(n), part(2, nb))
+    !$omp parallel do private(b, i0, i1) schedule(static) if(nb > 1)
+    do b = 1, nb
+      v((b - 1)*block + 1:min(n, b*block)) = 1.0_dp
+    end do
+    !$omp end parallel do
     bound = huge(1.0_dp)
     do k = 0, bound_iterations
       call abs_product(context, v, r)
-      bound = min(bound, maxval(r/v))
-      if (.not. maxval(r) > 0.0_dp) exit
-      v = max(r/maxval(r), 1.0e-3_dp)
+      !$omp parallel do private(b, i0, i1) schedule(static) if(nb > 1)
+      do b = 1, nb
+        i0 = (b - 1)*block + 1
+        i1 = min(n, b*block)
+        part(1, b) = maxval(r(i0:i1)/v(i0:i1))
+        part(2, b) = maxval(r(i0:i1))
+      end do
+      !$omp end parallel do
+      bound = min(bound, maxval(part(1, :)))
+      r_max = maxval(part(2, :))
+      if (.not. r_max > 0.0_dp) exit
+      !$omp parallel do private(b, i0, i1) schedule(static) if(nb > 1)
+      do b = 1, nb
+        i0 = (b - 1)*block + 1
+        i1 = min(n, b*block)
+        v(i0:i1) = max(r(i0:i1)/r_max, 1.0e-3_dp)
+      end do
+      !$omp end parallel do
     end do
   end function collatz_bound
 
@@ -1552,7 +1588,7 @@ contains
     real(dp) :: k_scale, m_scale, c_scale
     integer :: i, nfree, nc, s, e
     integer(i8) :: p
-    logical :: touches
+    logical :: touches, damped
     rate = 0.0_dp
     k_scale = 0.0_dp
     op%alpha = 1.0_dp
@@ -1585,12 +1621,19 @@ contains
     if (present(scales)) m_scale = scales(2)
     mdof = mdof/m_scale
     touches = .false.
+    damped = .false.
+    ! (whether any spring has a dashpot, in the same pass; in parallel: a
+    ! largest value and "or"s do not depend on the order)
+    !$omp parallel do private(i) reduction(.or.:touches, damped) reduction(max:k_scale) &
+    !$omp schedule(static) if(size(springs) >= parallel_springs)
     do i = 1, size(springs)
+      damped = damped .or. any(springs(i)%c > 0.0_dp)
       if (.not. maxval(springs(i)%k) > 0.0_dp) cycle
       if (springs(i)%a > 0) touches = touches .or. body(springs(i)%a) > 0
       touches = touches .or. body(springs(i)%b) > 0
       k_scale = max(k_scale, springs(i)%k(1), springs(i)%k(2))
     end do
+    !$omp end parallel do
     if (present(scales)) then
       k_scale = scales(1)
       touches = .true.
@@ -1620,8 +1663,7 @@ contains
     if (.not. allocated(op%rinv)) allocate(op%rinv(0:nfree))
     op%rinv = 0.0_dp
     c_scale = sqrt(k_scale)*sqrt(m_scale)
-    if (any(springs%c(1) > 0.0_dp .or. springs%c(2) > 0.0_dp .or. springs%c(3) > 0.0_dp .or. &
-        springs%c(4) > 0.0_dp)) then
+    if (damped) then
       call fit_real2(op%dcoef, 4, 1, op%n_springs)
     else
       call fit_real2(op%dcoef, 4, 1, 0)
@@ -1633,6 +1675,9 @@ contains
       end if
     end do
     op%first = 0
+    ! (each spring's entries in parallel, in the products' static partition,
+    ! which then find their pages where they are used; the count after)
+    !$omp parallel do private(s) schedule(static) if(op%n_springs >= parallel_springs)
     do s = 1, op%n_springs
       associate(sp => springs(s))
         op%ends(:, s) = 0
@@ -1650,10 +1695,13 @@ contains
         op%coef(5, s) = 0.0_dp
         if (geo) op%coef(5, s) = sp%geo/k_scale
         if (size(op%dcoef, 2) > 0) op%dcoef(:, s) = sp%c/c_scale
-        do e = 1, 2
-          if (op%ends(e, s) > 0) op%first(op%ends(e, s) + 1) = op%first(op%ends(e, s) + 1) + 1
-        end do
       end associate
+    end do
+    !$omp end parallel do
+    do s = 1, op%n_springs
+      do e = 1, 2
+        if (op%ends(e, s) > 0) op%first(op%ends(e, s) + 1) = op%first(op%ends(e, s) + 1) + 1
+      end do
     end do
     op%first(1) = 1
     do i = 1, nfree
@@ -1723,9 +1771,9 @@ contains
     logical, intent(in) :: geo
     type(spring_block_type), allocatable, intent(out) :: springs(:)
     type(demstep_status_type), intent(out) :: status
-    integer, allocatable :: pi(:), pj(:), pc(:)
+    integer, allocatable :: pi(:), pj(:), pc(:), place(:)
     real(dp), allocatable :: pn(:, :), pd(:)
-    integer :: k, i, j, w, m, n_contacts, n_walls, n_drag
+    integer :: k, i, j, w, m, n_contacts, n_walls, n_drag, bad
     real(dp) :: overlap, d, f_n, kc(4), rs, l, e_pair, f_now, k_now(4)
     type(bond_law_type) :: law
     logical :: damped
@@ -1767,10 +1815,22 @@ contains
         scene%k_bond)
     end do
     if (scene%effects(scene_effect%contacts)) then
+      ! (each contact's spring at its place in the list, known ahead: the
+      ! contacts in parallel, the first overflow in list order refused)
+      allocate(place(size(pi)))
       do k = 1, size(pi)
+        place(k) = 0
+        if (scene%fixed(pi(k)) .and. scene%fixed(pj(k))) cycle
+        m = m + 1
+        place(k) = m
+      end do
+      bad = huge(bad)
+      !$omp parallel do private(k, i, j, rs, e_pair, d, f_n, kc, f_now, k_now, l) reduction(min:bad) &
+      !$omp schedule(static) if(size(pi) >= parallel_springs)
+      do k = 1, size(pi)
+        if (place(k) == 0) cycle
         i = pi(k)
         j = pj(k)
-        if (scene%fixed(i) .and. scene%fixed(j)) cycle
         rs = reduced_radius(scene%radius(i), scene%radius(j))
         ! the pair's E* (per-type materials) or the scene's
         e_pair = scene%e_star
@@ -1778,20 +1838,24 @@ contains
         d = linearisation_overlap(scene, pc(k), pd(k), rs, effective_mass(scene, i, j), mode, v_impact, e_pair)
         call contact_values(scene, pc(k), i, j, d, f_n, kc)
         if (.not. all(ieee_is_finite(kc))) then
-          call stiffness_overflow(i, j)
-          return
+          bad = min(bad, k)
+          cycle
         end if
-        m = m + 1
-        springs(m) = spring_block_type(a=i, b=j, k=kc, c=contact_dashpots(scene, pc(k), i, j, kc), &
+        springs(place(k)) = spring_block_type(a=i, b=j, k=kc, c=contact_dashpots(scene, pc(k), i, j, kc), &
           n=pn(:, k), arm_a=contact_arm(scene%radius(i), pd(k)), arm_b=contact_arm(scene%radius(j), pd(k)), &
           m_eff=effective_mass(scene, j, i))
         if (geo) then
           ! F_n at the current overlap over the branch length
           call contact_values(scene, pc(k), i, j, pd(k), f_now, k_now)
           l = scene%radius(i) + scene%radius(j) - pd(k)
-          springs(m)%geo = f_now/l
+          springs(place(k))%geo = f_now/l
         end if
       end do
+      !$omp end parallel do
+      if (bad <= size(pi)) then
+        call stiffness_overflow(pi(bad), pj(bad))
+        return
+      end if
     end if
     if (scene%effects(scene_effect%walls)) then
       do w = 1, size(scene%wall_normal, 2)

@@ -836,7 +836,7 @@ contains
     real(dp), allocatable :: v(:), v_old(:), w(:), z(:), y(:), alpha(:), beta(:), s(:)
     type(basis_block_type), allocatable :: basis(:)
     real(dp), allocatable :: swap(:)
-    real(dp) :: xi, estimate, threshold, scale, shift, theta, rnorm, beta_old
+    real(dp) :: xi, estimate, threshold, scale, shift, theta, rnorm, beta_old, beta2
     integer :: n, j, last, capacity
     logical :: stored, invariant, met, single
     type(demstep_status_type) :: step_status
@@ -863,13 +863,20 @@ contains
     theta = 0.0_dp
     rnorm = 0.0_dp
     xi = 0.0_dp
+    if (stored) call keep(1)
     do j = 1, last
-      if (stored) call keep(j)
-      call product(space, v, w, result, status, progress)
-      if (status%stat /= demstep_stat%ok) return
+      ! (the product's finiteness is checked on the recurrence's sums below)
+      call product(space, v, w, result, status, progress, checked=.false.)
       ! (v_old is 0 at j = 1)
       alpha(j) = space%recurrence_update(w, beta_old, v_old, v)
-      beta(j) = sqrt(space%recurrence_update(w, alpha(j), v))
+      beta2 = space%recurrence_update(w, alpha(j), v)
+      ! a non-finite entry of A v makes the sum of squares of w non-finite
+      ! (Inf and NaN survive both updates): one check instead of a pass
+      if (.not. (ieee_is_finite(alpha(j)) .and. ieee_is_finite(beta2))) then
+        call nonfinite_product(space, result, status)
+        return
+      end if
+      beta(j) = sqrt(beta2)
       scale = max(scale, abs(alpha(j)) + beta(j) + beta_old)
       ! an invariant Krylov space: its Ritz values are eigenvalues (exact
       ! arithmetic), its largest one xi_k for every later k
@@ -901,11 +908,13 @@ contains
           threshold = 0.1_dp*threshold
         end if
       end if
-      ! v_old <- v, v <- w/beta_j (the arrays trade places, no copy)
+      ! v_old <- v, v <- w/beta_j (the arrays trade places, no copy), kept
+      ! as column j + 1 in the same pass
       call move_alloc(v_old, swap)
       call move_alloc(v, v_old)
       call move_alloc(swap, v)
-      call scaled_copy(w, beta(j), v)
+      if (stored .and. j < last) call keep(j + 1, w, beta(j))
+      if (.not. (stored .and. j < last)) call scaled_copy(w, beta(j), v)
       beta_old = beta(j)
     end do
     result%ncv = min(j, last)
@@ -956,13 +965,16 @@ contains
     end function measured_met
 
     !> Keep the Lanczos vector v as column j (in single precision when
-    !> `single`); past the columns allocated, none are kept.
-    subroutine keep(j)
+    !> `single`); with `from` and `by`, first set v = from/by in the same
+    !> pass (`scaled_copy`). Past the columns allocated, none are kept.
+    subroutine keep(j, from, by)
       integer, intent(in) :: j
+      real(dp), intent(in), optional :: from(:), by
       integer :: i, b, c
       if (j > capacity) then
         stored = .false.
         deallocate(basis)
+        if (present(from)) call scaled_copy(from, by, v)
         return
       end if
       b = (j - 1)/basis_block + 1
@@ -971,13 +983,16 @@ contains
         if (single) allocate(basis(b)%single(n, min(basis_block, capacity - (b - 1)*basis_block)))
         if (.not. single) allocate(basis(b)%full(n, min(basis_block, capacity - (b - 1)*basis_block)))
       end if
-      if (single) then
+      if (single .and. present(from)) then
+        call scaled_copy(from, by, v, basis(b)%single(:, c))
+      else if (single) then
         !$omp parallel do schedule(static) if(n > recurrence_block)
         do i = 1, n
           basis(b)%single(i, c) = real(v(i), sp)
         end do
         !$omp end parallel do
       else
+        if (present(from)) call scaled_copy(from, by, v)
         basis(b)%full(:, c) = v
       end if
     end subroutine keep
@@ -1113,14 +1128,17 @@ contains
   !> each: entry i uses the sequence's entries first + 2(i - 1) and the next.
   !> Normalised, it is uniform on the unit sphere (as far as the sequence is
   !> random).
-  pure subroutine gaussian_vector(x, first)
+  subroutine gaussian_vector(x, first)
     real(dp), intent(out) :: x(:)
     !> The sequence's index for x(1)'s first uniform entry.
     integer, intent(in) :: first
-    ! (the uniform entries a block at a time: no copy of x's size)
+    ! (the uniform entries a block at a time: no copy of x's size; each
+    ! block enters the sequence at its own index, so the blocks run in
+    ! parallel with the same bits)
     integer, parameter :: block = 4096
     real(dp) :: u(2*block)
     integer :: i, i0, nb
+    !$omp parallel do private(i, i0, nb, u) schedule(static) if(size(x) > recurrence_block)
     do i0 = 1, size(x), block
       nb = min(block, size(x) - i0 + 1)
       call lanczos_start_vector(u(:2*nb), first + 2*(i0 - 1))
@@ -1129,6 +1147,7 @@ contains
         x(i0 + i - 1) = sqrt(-2.0_dp*log(u(2*i - 1)))*cos(2.0_dp*pi*u(2*i))
       end do
     end do
+    !$omp end parallel do
   end subroutine gaussian_vector
 
   !> The routine's name that starts an ARPACK status message ("ARPACK dsaupd: ").
@@ -1139,24 +1158,35 @@ contains
     if (allocated(status%message)) who = status%message(:index(status%message, ": ") + 1)
   end function arpack_name
 
-  !> One product, counted, reported and checked for finiteness on every process.
-  subroutine product(space, x, ax, result, status, progress)
+  !> One product, counted, reported and checked for finiteness on every
+  !> process (`checked` false: not checked, the caller checks it on sums it
+  !> takes of ax, as `krylov_top` does; the same on every process).
+  subroutine product(space, x, ax, result, status, progress, checked)
     class(lanczos_space_type), intent(inout) :: space
     real(dp), intent(in) :: x(:)
     real(dp), intent(out) :: ax(:)
     type(eigen_result_type), intent(inout) :: result
     type(demstep_status_type), intent(out) :: status
     class(progress_type), intent(inout), optional :: progress
+    logical, intent(in), optional :: checked
     call space%product(x, ax)
     result%applications = result%applications + 1
     if (present(progress)) call progress%update(result%applications)
-    if (.not. space%all_ranks(all_finite(ax))) then
-      call set_status(status, demstep_stat%invalid_input, space%caller//": the operator " &
-        //"returned a non-finite value (product "//int_text(result%applications)//")")
-      return
-    end if
     status%stat = demstep_stat%ok
+    if (present(checked)) then
+      if (.not. checked) return
+    end if
+    if (.not. space%all_ranks(all_finite(ax))) call nonfinite_product(space, result, status)
   end subroutine product
+
+  !> The status of a product that returned a non-finite value (the last one counted).
+  subroutine nonfinite_product(space, result, status)
+    class(lanczos_space_type), intent(in) :: space
+    type(eigen_result_type), intent(in) :: result
+    type(demstep_status_type), intent(out) :: status
+    call set_status(status, demstep_stat%invalid_input, space%caller//": the operator " &
+      //"returned a non-finite value (product "//int_text(result%applications)//")")
+  end subroutine nonfinite_product
 
   !> The end of a Lanczos solve: the result from the measured Rayleigh quotient
   !> `theta` and residual `rnorm` of the returned unit vector (error bar
@@ -1322,11 +1352,23 @@ contains
     end do
   end function sum_in_order
 
-  !> y = x/c, entrywise in parallel (the Lanczos vectors' normalisation).
-  subroutine scaled_copy(x, c, y)
+  !> y = x/c, entrywise in parallel (the Lanczos vectors' normalisation),
+  !> and y rounded to single precision in `y_single` when present (the kept
+  !> vector, in the same pass).
+  subroutine scaled_copy(x, c, y, y_single)
     real(dp), intent(in) :: x(:), c
     real(dp), intent(out) :: y(:)
+    real(sp), intent(out), optional :: y_single(:)
     integer :: i
+    if (present(y_single)) then
+      !$omp parallel do schedule(static) if(size(x) > recurrence_block)
+      do i = 1, size(x)
+        y(i) = x(i)/c
+        y_single(i) = real(y(i), sp)
+      end do
+      !$omp end parallel do
+      return
+    end if
     !$omp parallel do schedule(static) if(size(x) > recurrence_block)
     do i = 1, size(x)
       y(i) = x(i)/c
