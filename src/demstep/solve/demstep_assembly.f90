@@ -430,7 +430,13 @@ contains
   !> with `accept_damped`; when a start refined without confirmation (an
   !> `accept_start` whose residual failed) moved, the undamped solve is made
   !> again with its confirmation run, and the damped Newton steps confirm
-  !> theirs. `certify` (default true) false: no randomised Lanczos
+  !> theirs. With dashpots, a warm start and no certificate, the confirmation
+  !> is the damped limit's (`confirm_steps`): the undamped top refined from
+  !> its start plus a random one with no least length, the damped start tried
+  !> as it is, the converged damped steps confirmed by a cold solve (the
+  !> damped floor meanwhile the rigorous bound's); a cold solve that finds a
+  !> higher damped top sends the undamped solve on, confirmed, then the damped
+  !> steps. `certify` (default true) false: no randomised Lanczos
   !> certificate (a monitor's warm updates: `safe_basis%estimate`).
   subroutine operator_critical_steps(op, springs, rate, geo, choice, limit, tol, vec, result, status, progress, &
       bounds, ncv, damped_vec, accept_start, accept_damped, certify, start_av, in_place, confirm_steps, &
@@ -455,7 +461,8 @@ contains
     real(dp), intent(in), optional :: start_av(:)
     real(dp), intent(in), optional :: in_place
     !> The least products of a confirmed Lanczos solve from a warm start (the
-    !> undamped one and the damped Newton steps'; default 0).
+    !> undamped one, and the damped Newton steps' where no cold solve confirms
+    !> them; default 0). With dashpots the cold solve stands for them (above).
     integer, intent(in), optional :: confirm_steps
     !> Whether a Lanczos solve with its confirmation run made the undamped top.
     logical, intent(out), optional :: confirmed
