@@ -298,6 +298,10 @@ module demstep_assembly
     logical :: accept_start = .false.
     !> The least products of a confirmed solve (`top_eigenpair`).
     integer :: confirm_steps = 0
+    !> A start tried as it is that does not stand (its residual above the
+    !> tolerance: the damped top moved) has the converged steps confirmed by
+    !> a cold solve (`confirm_cold` is set then).
+    logical :: confirm_refined = .false.
     real(dp), allocatable :: vec(:)
     !> A' vec and B' vec when known (`cached`): the first solve's start is
     !> then tried without a product.
@@ -600,10 +604,11 @@ contains
       if (known_av) known_av = size(start_av) == op%n
       if (known_av) then
         call damped_exact(op, solver, tol, rate, vec, result, status, progress, ncv, damped_vec, damped_taken, &
-          start_av, damped_steps, confirm_cold=cold, confirms=confirms, higher=higher)
+          start_av, damped_steps, confirm_cold=cold, confirms=confirms, higher=higher, confirm_refined=may_defer)
       else
         call damped_exact(op, solver, tol, rate, vec, result, status, progress, ncv, damped_vec, damped_taken, &
-          confirm_steps=damped_steps, confirm_cold=cold, confirms=confirms, higher=higher)
+          confirm_steps=damped_steps, confirm_cold=cold, confirms=confirms, higher=higher, &
+          confirm_refined=may_defer)
       end if
     end subroutine damped_solve
 
@@ -951,7 +956,7 @@ contains
   !> top undamped unit mode `vec`, or from `start` when it is given non-zero
   !> (then the last damped mode on return); `vec_av` = A' vec when known.
   subroutine damped_exact(op, choice, tol, rate, vec, result, status, progress, ncv, start, accept_start, vec_av, &
-      confirm_steps, confirm_cold, confirms, higher)
+      confirm_steps, confirm_cold, confirms, higher, confirm_refined)
     type(assembly_operator_type), intent(inout), target :: op
     integer, intent(in) :: choice
     real(dp), intent(in) :: tol, rate
@@ -972,6 +977,9 @@ contains
     !> The cold solves made, and whether one found a higher top (`damped_newton`).
     integer, intent(out), optional :: confirms
     logical, intent(out), optional :: higher
+    !> Confirm the steps by a cold solve when the start, tried as it is, does
+    !> not stand (default false).
+    logical, intent(in), optional :: confirm_refined
     type(serial_damped_type) :: problem
     real(dp), allocatable :: y(:), w(:), aw(:), bw(:)
     real(dp) :: lam_a, vb, lam_w, vb_w
@@ -1006,6 +1014,7 @@ contains
     if (present(accept_start)) problem%accept_start = accept_start
     if (present(confirm_steps)) problem%confirm_steps = confirm_steps
     if (present(confirm_cold)) problem%confirm_cold = confirm_cold .and. choice /= eigen_solver%dense
+    if (present(confirm_refined)) problem%confirm_refined = confirm_refined .and. choice /= eigen_solver%dense
     call damped_newton(problem, lam_a, vb, rate, tol, result, status, progress)
     if (present(confirms)) confirms = problem%confirms
     if (present(higher)) higher = problem%higher
@@ -1185,6 +1194,7 @@ contains
         va = dot_product(problem%vec, problem%av)
         return
       end if
+      if (problem%confirm_refined) problem%confirm_cold = .true.
     end if
     problem%cached = .false.
     call operator_mix(problem%op, tau**2, 2.0_dp*tau)
