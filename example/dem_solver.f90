@@ -42,6 +42,8 @@
 !>   confirm_every=N  the monitor's confirmed Lanczos solve every N-th update;
 !>   in_place=X       the monitor's in_place (a refined top mode overlapping
 !>                    the previous one by at least X stayed in place);
+!>   trace            one line per measured update: its kind, products and
+!>                    wall time over the mean solver step so far;
 !>   verify           each measured update against a cold one on the same
 !>                    arrays (damped and undamped limits);
 !>   reference        each update and a cold one against the dense exact
@@ -122,6 +124,8 @@ program dem_solver
   !> verify: each measured update against a cold one (a new monitor) on the
   !> same arrays; the largest and least ratio of their damped limits.
   logical :: verify = .false.
+  !> trace: one line per measured update (its kind, products, solver steps).
+  logical :: trace = .false.
   real(dp) :: verify_max = 0.0_dp, verify_min = huge(1.0_dp)
   !> verify: the same for the undamped limits.
   real(dp) :: verify_max_u = 0.0_dp, verify_min_u = huge(1.0_dp)
@@ -309,6 +313,8 @@ contains
         verify = .true.
       else if (arg == "reference") then
         reference = .true.
+      else if (arg == "trace") then
+        trace = .true.
       else if (index(arg, "particles=") == 1) then
         read(arg(11:), *, iostat=ios) n
         if (ios /= 0 .or. n < 10 .or. n > 100000) error stop "dem_solver: particles= needs an integer in 10 to 100000"
@@ -736,6 +742,10 @@ contains
       if (monitor%confirmed) n2_confirmed = n2_confirmed + 1
       if (monitor%local_start) n2_local = n2_local + 1
       if (verify) call verify_update()
+      if (trace) print '(a, i0, a, l1, a, l1, a, l1, a, i0, a, f0.2, a)', "update at ", step, ": accepted ", &
+        monitor%accepted, ", confirmed ", monitor%confirmed, ", local ", monitor%local_start, ", ", &
+        monitor%last%eigen_products, " products, ", real(c1 - c0, dp)/(real(t_steps, dp)/max(1, step)), &
+        " solver steps"
     end if
     if (reference) call reference_update(step)
     have_limit = .true.

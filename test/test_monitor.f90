@@ -12,7 +12,7 @@ module test_monitor
     monitor_verdict, fresh_pour_estimate, cheap_bound, participation_type, scene_participation
   use demstep_mass_scaling, only: scale_masses
   use demstep_vtk, only: write_vtk_particles, vtk_field_type, write_participation_vtk
-  use demstep_lanczos, only: arpack_claim, arpack_release
+  use demstep_lanczos, only: arpack_claim, arpack_release, certificate_steps
   use demstep_capi, only: c_solver_compute, c_solver_participation, demstep_scene_result_c, demstep_error_c
   use test_support, only: real_str, ieee_nan, run_app, write_file, work_dir, read_file, count_lines, int_str, seed_fixed
   use, intrinsic :: iso_c_binding, only: c_int, c_double, c_loc, c_null_ptr, c_sizeof, c_char
@@ -44,6 +44,8 @@ contains
         //"confirm_every runs Lanczos; a stiffened contact's neighbourhood starts it", test_warm_accept), &
       new_unittest("a previous mode that fails: refined in place unconfirmed; a top that moved: confirmed", &
         test_in_place), &
+      new_unittest("a confirmation with dashpots: the damped limit's cold solve finds a top that moved", &
+        test_deferred_confirmation), &
       new_unittest("scene participation: shares sum to 1, the light particle leads; result and VTK", &
         test_scene_participation), &
       new_unittest("app: participation in the report, the result group and a VTK file; inputs kept", &
@@ -504,6 +506,72 @@ contains
         what//": "//real_str(monitor%last%dt_critical_damped)//" vs exact "//real_str(exact%dt_critical_damped))
     end subroutine update_against_exact
   end subroutine test_in_place
+
+  !> A scheduled confirmation with dashpots (`confirm_every` = 1) makes no
+  !> undamped confirmation run of its own: the damped limit's cold solve is
+  !> the one. One particle, far from the top mode, made half as heavy after
+  !> the second update puts the top on it, 1.3 % above the previous one (the
+  !> neighbourhood guard off: local_margin above 1). The undamped solve
+  !> refined from the previous mode stays on it; the cold solve finds the
+  !> higher damped top and the undamped solve is made again, confirmed: the
+  !> update lands on the exact damped limit of the new arrays (never above
+  !> it, within 2 tol below) and on their undamped top (within tol; without
+  !> the second undamped solve 1.3 % below). It costs fewer products than the
+  !> undamped confirmation run plus the cold solve did on the unchanged
+  !> arrays (the second update) than a confirmation run of ncv products
+  !> plus the cold solve.
+  subroutine test_deferred_confirmation(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(solver_arrays_type) :: a
+    type(step_monitor_type) :: monitor
+    type(critical_step_type) :: exact
+    type(demstep_status_type) :: status
+    integer(i8) :: unchanged
+    integer :: light
+    call packing_arrays(400, a, error)
+    if (allocated(error)) return
+    monitor%solver = eigen_solver%lanczos
+    monitor%local_margin = 2.0_dp
+    monitor%confirm_every = 1
+    call update(error)
+    if (allocated(error)) return
+    call update(error)
+    if (allocated(error)) return
+    call check(error, monitor%confirmed .and. .not. monitor%accepted, "unchanged: not confirmed")
+    if (allocated(error)) return
+    unchanged = monitor%last%eigen_products
+    ! (the particle farthest from the top mode's peak)
+    light = maxloc(sum((a%x - spread(a%x(:, maxloc(sum(monitor%mode_particles**2, 1), 1)), 2, &
+      size(a%mass)))**2, 1), 1)
+    a%mass(light) = 0.5_dp*a%mass(light)
+    a%inertia(light) = 0.5_dp*a%inertia(light)
+    call update(error)
+    if (allocated(error)) return
+    call solver_critical_steps(a%x, a%mass, a%radius, a%pairs, a%k_n, exact, status, k_t=a%k_t, c_n=a%c_n, &
+      c_t=a%c_t, periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi, solver=eigen_solver%lanczos, &
+      tolerance=1.0e-10_dp)
+    call check(error, is_ok(status) .and. monitor%confirmed .and. monitor%last%damped_exact .and. &
+      monitor%last%dt_critical_damped <= exact%dt_critical_damped*(1.0_dp + 1.0e-9_dp) .and. &
+      monitor%last%dt_critical_damped >= exact%dt_critical_damped*(1.0_dp - 2.0_dp*monitor%tolerance), &
+      "light particle: damped "//real_str(monitor%last%dt_critical_damped)//" vs exact " &
+      //real_str(exact%dt_critical_damped))
+    if (allocated(error)) return
+    call check(error, abs(monitor%last%omega_max/exact%omega_max - 1.0_dp) <= monitor%tolerance, &
+      "light particle: omega_max "//real_str(monitor%last%omega_max)//" vs exact "//real_str(exact%omega_max))
+    if (allocated(error)) return
+    ! (the confirmation on unchanged arrays: the previous modes taken, then
+    ! the cold solve of at least the certificate's products; an undamped
+    ! confirmation run would add at least ncv)
+    call check(error, unchanged < monitor%ncv + certificate_steps(6*size(a%mass)), &
+      "unchanged arrays' confirmation: "//int_str(unchanged)//" products")
+  contains
+    subroutine update(error)
+      type(error_type), allocatable, intent(out) :: error
+      call monitor%update(a%x, a%mass, a%radius, a%pairs, a%k_n, status, k_t=a%k_t, c_n=a%c_n, c_t=a%c_t, &
+        inertia=a%inertia, periodic=[.true., .true., .true.], cell_lo=a%lo, cell_hi=a%hi)
+      call check(error, is_ok(status), "update: "//status_text(status))
+    end subroutine update
+  end subroutine test_deferred_confirmation
 
   !> `scene_participation` on a packing with one light particle: the steps
   !> are `assembly_critical_steps`' bit for bit, the particle and spring shares

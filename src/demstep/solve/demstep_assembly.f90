@@ -259,6 +259,10 @@ module demstep_assembly
     !> by a problem whose `top` makes one when `cold` is set; see
     !> `damped_newton`), and whether the next `top` is that solve.
     logical :: confirm_cold = .false., cold = .false.
+    !> After `damped_newton`: the cold solves made, and whether one found a
+    !> top above the warm steps' (the steps then went on from its mode).
+    integer :: confirms = 0
+    logical :: higher = .false.
   contains
     procedure(damped_top), deferred :: top
   end type damped_problem_type
@@ -294,6 +298,10 @@ module demstep_assembly
     logical :: accept_start = .false.
     !> The least products of a confirmed solve (`top_eigenpair`).
     integer :: confirm_steps = 0
+    !> A start tried as it is that does not stand (its residual above the
+    !> tolerance: the damped top moved) has the converged steps confirmed by
+    !> a cold solve (`confirm_cold` is set then).
+    logical :: confirm_refined = .false.
     real(dp), allocatable :: vec(:)
     !> A' vec and B' vec when known (`cached`): the first solve's start is
     !> then tried without a product.
@@ -426,7 +434,13 @@ contains
   !> with `accept_damped`; when a start refined without confirmation (an
   !> `accept_start` whose residual failed) moved, the undamped solve is made
   !> again with its confirmation run, and the damped Newton steps confirm
-  !> theirs. `certify` (default true) false: no randomised Lanczos
+  !> theirs. With dashpots, a warm start and no certificate, the confirmation
+  !> is the damped limit's (`confirm_steps`): the undamped top refined from
+  !> its start plus a random one with no least length, the damped start tried
+  !> as it is, the converged damped steps confirmed by a cold solve (the
+  !> damped floor meanwhile the rigorous bound's); a cold solve that finds a
+  !> higher damped top sends the undamped solve on, confirmed, then the damped
+  !> steps. `certify` (default true) false: no randomised Lanczos
   !> certificate (a monitor's warm updates: `safe_basis%estimate`).
   subroutine operator_critical_steps(op, springs, rate, geo, choice, limit, tol, vec, result, status, progress, &
       bounds, ncv, damped_vec, accept_start, accept_damped, certify, start_av, in_place, confirm_steps, &
@@ -451,14 +465,17 @@ contains
     real(dp), intent(in), optional :: start_av(:)
     real(dp), intent(in), optional :: in_place
     !> The least products of a confirmed Lanczos solve from a warm start (the
-    !> undamped one and the damped Newton steps'; default 0).
+    !> undamped one, and the damped Newton steps' where no cold solve confirms
+    !> them; default 0). With dashpots the cold solve stands for them (above).
     integer, intent(in), optional :: confirm_steps
     !> Whether a Lanczos solve with its confirmation run made the undamped top.
     logical, intent(out), optional :: confirmed
     real(dp) :: lam, err, b_bound, lower, upper, failure
     real(dp), allocatable :: start(:)
     integer :: i, solver, basis
-    logical :: has_mode, converged, certified, taken, damped_taken, refine, moved, known, cold
+    logical :: has_mode, converged, certified, taken, damped_taken, refine, moved, known, cold, defer, higher, &
+      may_defer
+    integer :: damped_steps, confirms, undamped_steps
     status%stat = demstep_stat%ok
     if (present(confirmed)) confirmed = .false.
     result%prestress = geo
@@ -495,6 +512,18 @@ contains
       if (present(in_place)) start = vec
       refine = .false.
       if (present(accept_start)) refine = accept_start
+      ! with dashpots, a warm start's confirmation is the damped limit's cold
+      ! solve (on the operator the step is held against, at least the
+      ! certificate's products from a random start): the undamped start is
+      ! taken as it is or refined from itself, and when that cold solve finds
+      ! a damped top above the warm steps' the undamped solve is made again
+      ! with its own confirmation run (after the damped steps)
+      may_defer = .false.
+      if (present(confirm_steps) .and. b_bound > 0.0_dp .and. solver == eigen_solver%lanczos .and. &
+        .not. certified) may_defer = confirm_steps > 0 .and. any(vec /= 0.0_dp)
+      defer = may_defer .and. .not. refine
+      undamped_steps = 0
+      if (present(confirm_steps) .and. .not. defer) undamped_steps = confirm_steps
       call solve_top(refine)
       if (status%stat /= demstep_stat%ok) return
       ! a start re-solved: did the top stay in place (the mode found overlaps
@@ -507,12 +536,14 @@ contains
         if (known) moved = abs(dot_product(start, vec))/(norm2(start)*norm2(vec)) < in_place
       end if
       if (moved .and. refine) then
+        defer = may_defer
+        if (defer) undamped_steps = 0
         call solve_top(.false.)
         if (status%stat /= demstep_stat%ok) return
       end if
       ! (a dense solve is exact: it counts as confirmed)
       if (present(confirmed)) confirmed = solver == eigen_solver%dense .or. (.not. taken .and. &
-        (moved .or. .not. refine))
+        (moved .or. .not. refine) .and. .not. defer)
       result%eigen_tolerance = tol
       if (solver == eigen_solver%dense) result%eigen_tolerance = epsilon(1.0_dp)
       call assembly_set_estimates(result, rate, lam, err, converged, b_bound, status, upper, &
@@ -521,22 +552,44 @@ contains
       if (b_bound > 0.0_dp .and. has_mode) then
         ! (the damped start is tried as it is when asked, or when the top
         ! was re-solved in place)
-        damped_taken = .false.
-        if (present(accept_damped)) damped_taken = accept_damped
+        damped_taken = defer
+        if (present(accept_damped)) damped_taken = damped_taken .or. accept_damped
         if (known) damped_taken = damped_taken .or. .not. moved
         ! (the converged damped steps confirmed by a cold solve when the
         ! undamped top made the certificate, and when a warm start's steps
-        ! are to be confirmed: `damped_newton`)
-        cold = certified
+        ! are to be confirmed: `damped_newton`; the warm steps then make no
+        ! confirmation run of their own)
+        cold = certified .or. defer
         if (present(confirm_steps)) cold = cold .or. (confirm_steps > 0 .and. .not. damped_taken)
-        if (taken .and. present(start_av)) then
-          call damped_exact(op, solver, tol, rate, vec, result, status, progress, ncv, damped_vec, damped_taken, &
-            start_av, confirm_steps, confirm_cold=cold)
-        else
-          call damped_exact(op, solver, tol, rate, vec, result, status, progress, ncv, damped_vec, damped_taken, &
-            confirm_steps=confirm_steps, confirm_cold=cold)
-        end if
+        damped_steps = 0
+        if (present(confirm_steps) .and. .not. cold) damped_steps = confirm_steps
+        ! (an undamped top not confirmed is no floor for the damped limit: the
+        ! rigorous bound's is)
+        if (defer) call assembly_set_damped(result, result%dt_critical_bound, b_bound, rate, status)
         if (status%stat /= demstep_stat%ok) return
+        call damped_solve()
+        if (status%stat /= demstep_stat%ok) return
+        if (defer .and. higher) then
+          ! the cold solve found a damped top above the warm steps': the top
+          ! moved, the undamped solve is made again with its confirmation
+          ! run, from its mode and the damped one, then the damped steps
+          if (present(damped_vec)) then
+            if (size(damped_vec) == op%n) vec = vec + sign(1.0_dp, dot_product(vec, damped_vec))*damped_vec
+          end if
+          defer = .false.
+          taken = .false.
+          if (present(confirm_steps)) undamped_steps = confirm_steps
+          call solve_top(.false.)
+          if (status%stat /= demstep_stat%ok) return
+          call assembly_set_estimates(result, rate, lam, err, converged, b_bound, status, upper, basis, failure)
+          if (status%stat /= demstep_stat%ok) return
+          call damped_solve()
+          if (status%stat /= demstep_stat%ok) return
+          if (present(confirmed)) confirmed = .true.
+        end if
+        ! (the damped top confirmed cold stands for the undamped one's
+        ! confirmation)
+        if (defer .and. present(confirmed)) confirmed = confirms > 0
       end if
     else
       ! no eigensolver: the damped limit's rigorous lower bound from the bound
@@ -544,6 +597,21 @@ contains
       call assembly_set_damped(result, result%dt_critical_bound, b_bound, rate, status)
     end if
   contains
+    !> The exact damped limit from the undamped mode vec and the damped start.
+    subroutine damped_solve()
+      logical :: known_av
+      known_av = taken .and. present(start_av)
+      if (known_av) known_av = size(start_av) == op%n
+      if (known_av) then
+        call damped_exact(op, solver, tol, rate, vec, result, status, progress, ncv, damped_vec, damped_taken, &
+          start_av, damped_steps, confirm_cold=cold, confirms=confirms, higher=higher, confirm_refined=may_defer)
+      else
+        call damped_exact(op, solver, tol, rate, vec, result, status, progress, ncv, damped_vec, damped_taken, &
+          confirm_steps=damped_steps, confirm_cold=cold, confirms=confirms, higher=higher, &
+          confirm_refined=may_defer)
+      end if
+    end subroutine damped_solve
+
     !> The top eigenpair from vec (taken as it is when `accept` and its
     !> residual meets the tolerance), with the certificate when asked.
     subroutine solve_top(accept)
@@ -551,13 +619,13 @@ contains
       if (certified) then
         call top_eigenpair(op, assembly_operator_apply, assembly_matrix_of, op%n, solver, tol, vec, lam, err, &
           has_mode, result%eigen_products, result%eigen_restarts, status, progress, ncv, converged, lower, &
-          upper, failure, accept, basis, start_av, taken, confirm_steps)
+          upper, failure, accept, basis, start_av, taken, undamped_steps)
       else
         upper = 0.0_dp
         failure = 0.0_dp
         call top_eigenpair(op, assembly_operator_apply, assembly_matrix_of, op%n, solver, tol, vec, lam, err, &
           has_mode, result%eigen_products, result%eigen_restarts, status, progress, ncv, converged, &
-          accept_start=accept, basis=basis, start_av=start_av, taken=taken, confirm_steps=confirm_steps)
+          accept_start=accept, basis=basis, start_av=start_av, taken=taken, confirm_steps=undamped_steps)
       end if
     end subroutine solve_top
   end subroutine operator_critical_steps
@@ -889,7 +957,7 @@ contains
   !> top undamped unit mode `vec`, or from `start` when it is given non-zero
   !> (then the last damped mode on return); `vec_av` = A' vec when known.
   subroutine damped_exact(op, choice, tol, rate, vec, result, status, progress, ncv, start, accept_start, vec_av, &
-      confirm_steps, confirm_cold)
+      confirm_steps, confirm_cold, confirms, higher, confirm_refined)
     type(assembly_operator_type), intent(inout), target :: op
     integer, intent(in) :: choice
     real(dp), intent(in) :: tol, rate
@@ -907,6 +975,12 @@ contains
     !> Confirm the converged Newton steps by a cold solve (`damped_newton`;
     !> default false; a dense solve needs none).
     logical, intent(in), optional :: confirm_cold
+    !> The cold solves made, and whether one found a higher top (`damped_newton`).
+    integer, intent(out), optional :: confirms
+    logical, intent(out), optional :: higher
+    !> Confirm the steps by a cold solve when the start, tried as it is, does
+    !> not stand (default false).
+    logical, intent(in), optional :: confirm_refined
     type(serial_damped_type) :: problem
     real(dp), allocatable :: y(:), w(:), aw(:), bw(:)
     real(dp) :: lam_a, vb, lam_w, vb_w
@@ -941,7 +1015,10 @@ contains
     if (present(accept_start)) problem%accept_start = accept_start
     if (present(confirm_steps)) problem%confirm_steps = confirm_steps
     if (present(confirm_cold)) problem%confirm_cold = confirm_cold .and. choice /= eigen_solver%dense
+    if (present(confirm_refined)) problem%confirm_refined = confirm_refined .and. choice /= eigen_solver%dense
     call damped_newton(problem, lam_a, vb, rate, tol, result, status, progress)
+    if (present(confirms)) confirms = problem%confirms
+    if (present(higher)) higher = problem%higher
     call operator_mix(op, 1.0_dp, 0.0_dp)
     if (present(start)) then
       if (size(start) == op%n) start = problem%vec
@@ -1005,6 +1082,8 @@ contains
     confirms = 0
     exact = .false.
     problem%cold = .false.
+    problem%confirms = 0
+    problem%higher = .false.
     status%stat = demstep_stat%ok
     do it = 1, damped_newton_steps
       call problem%top(tau, tol_k, theta, err, va, has_mode, result, status, progress)
@@ -1038,13 +1117,16 @@ contains
         if (status%stat /= demstep_stat%ok) return
         if (.not. has_mode) exit
         confirms = confirms + 1
+        problem%confirms = confirms
         if (theta_c <= upper .or. theta_c + err_c <= 4.0_dp*(1.0_dp + tol_end) .or. &
             confirms >= damped_confirmations) then
           tau_safe = max(tau_safe, tau*min(1.0_dp, 4.0_dp/max(upper, theta_c + err_c)))
           ! (out of confirmations with a higher top: a safe step, not the root)
           exact = theta_c <= upper .or. theta_c + err_c <= 4.0_dp*(1.0_dp + tol_end)
+          problem%higher = problem%higher .or. .not. exact
           exit
         end if
+        problem%higher = .true.
         theta = theta_c
         err = err_c
         va = va_c
@@ -1113,6 +1195,7 @@ contains
         va = dot_product(problem%vec, problem%av)
         return
       end if
+      if (problem%confirm_refined) problem%confirm_cold = .true.
     end if
     problem%cached = .false.
     call operator_mix(problem%op, tau**2, 2.0_dp*tau)

@@ -14,7 +14,9 @@
 !> the tolerance; else refined from themselves, and when the refined top
 !> left its place (`in_place`), Lanczos with its confirmation run, at least
 !> `ncv` products from the mode plus a fresh random start; that confirmed
-!> solve also every `confirm_every`-th update). A body that could
+!> solve also every `confirm_every`-th update; with dashpots the
+!> confirmation is the damped limit's cold solve instead, see
+!> `operator_critical_steps`). A body that could
 !> carry the top (its per-body bound at or above omega_max^2) and stiffened
 !> by more than `drift` (a new contact, say) has its neighbourhood solved on
 !> its own (`region_top`, a dense eigenproblem of a few dozen unknowns); when
