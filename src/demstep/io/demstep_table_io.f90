@@ -366,7 +366,9 @@ contains
     !$omp end parallel
     status%stat = demstep_stat%ok
     if (bad > scan%n_rows) return
-    allocate(values(maxval(allowed)), field_first(maxval(allowed)), field_last(maxval(allowed)))
+    ! (built without OpenMP the region's arrays are these, still allocated)
+    if (.not. allocated(values)) allocate(values(maxval(allowed)), field_first(maxval(allowed)), &
+      field_last(maxval(allowed)))
     n = bad
     first = scan%row_first(n)
     last = scan%row_last(n)
