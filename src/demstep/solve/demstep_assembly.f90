@@ -583,9 +583,11 @@ contains
           if (status%stat /= demstep_stat%ok) return
           call assembly_set_estimates(result, rate, lam, err, converged, b_bound, status, upper, basis, failure)
           if (status%stat /= demstep_stat%ok) return
-          call damped_solve()
+          ! (no mode back, out of restarts: the damped limit stays the floor
+          ! assembly_set_estimates set, nothing confirmed)
+          if (has_mode) call damped_solve()
           if (status%stat /= demstep_stat%ok) return
-          if (present(confirmed)) confirmed = .true.
+          if (present(confirmed)) confirmed = has_mode
         end if
         ! (the damped top confirmed cold stands for the undamped one's
         ! confirmation)
