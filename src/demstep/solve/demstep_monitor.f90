@@ -778,14 +778,59 @@ contains
     !> A' times the unit vector (for `operator_critical_steps`' start_av).
     real(dp), allocatable, intent(out) :: y(:)
     real(dp) :: lam, length
+    real(dp), allocatable :: unit(:)
     allocate(y(size(vec)))
     length = norm2(vec)
     stands = length > 0.0_dp
     if (.not. stands) return
-    call assembly_operator_apply(op, vec/length, y)
-    lam = dot_product(vec, y)/length
-    stands = lam > 0.0_dp .and. norm2(y - lam*vec/length) <= tol*lam
+    ! (the unit start as `top_eigenpair` makes it: y is its start_av; the
+    ! quotient and residual only decide, in vectorised sums)
+    unit = vec/length
+    call assembly_operator_apply(op, unit, y)
+    lam = split_dot(unit, y)
+    stands = lam > 0.0_dp .and. residual_norm(y, lam, unit) <= tol*lam
   end function stands
+
+  !> x.y in eight interleaved partial sums: a loop the compiler vectorises
+  !> (dot_product's one running sum is a chain of dependent additions, about
+  !> three times slower at 18 000 entries). The same value to rounding.
+  pure real(dp) function split_dot(x, y) result(d)
+    real(dp), intent(in) :: x(:), y(:)
+    real(dp) :: s(8)
+    integer :: i, m
+    s = 0.0_dp
+    m = size(x) - mod(size(x), 8)
+    do i = 1, m, 8
+      s = s + x(i:i + 7)*y(i:i + 7)
+    end do
+    do i = m + 1, size(x)
+      s(1) = s(1) + x(i)*y(i)
+    end do
+    d = ((s(1) + s(5)) + (s(2) + s(6))) + ((s(3) + s(7)) + (s(4) + s(8)))
+  end function split_dot
+
+  !> |y - lam v| in the partial sums of `split_dot`, without a temporary;
+  !> norm2 (which scales against overflow and underflow, dividing per entry)
+  !> where the sum of squares leaves [1e-280, 1e280].
+  pure real(dp) function residual_norm(y, lam, v) result(r)
+    real(dp), intent(in) :: y(:), lam, v(:)
+    real(dp) :: s(8), q
+    integer :: i, m
+    s = 0.0_dp
+    m = size(y) - mod(size(y), 8)
+    do i = 1, m, 8
+      s = s + (y(i:i + 7) - lam*v(i:i + 7))**2
+    end do
+    do i = m + 1, size(y)
+      s(1) = s(1) + (y(i) - lam*v(i))**2
+    end do
+    q = ((s(1) + s(5)) + (s(2) + s(6))) + ((s(3) + s(7)) + (s(4) + s(8)))
+    if (q >= 1.0e-280_dp .and. q <= 1.0e280_dp) then
+      r = sqrt(q)
+    else
+      r = norm2(y - lam*v)
+    end if
+  end function residual_norm
 
   !> The free bodies within `depth` springs of body b (b first); `place`
   !> (n_bodies entries, all 0 on entry) holds each listed body's position.
