@@ -639,20 +639,34 @@ contains
     type(critical_step_type), intent(inout) :: result
     type(spring_block_type), intent(in) :: springs(:)
     integer :: i
+    real(dp) :: k, t, t_least
     ! (one pass over the springs)
     result%n_springs = 0
     result%tangential = .false.
     result%dashpots = .false.
     result%dt_contact_rule = huge(1.0_dp)
+    ! the least m*/k so far: a spring whose m*/k is above it by more than
+    ! rounding (1e-12, against a few ulps in either form) cannot lower the rule
+    t_least = huge(1.0_dp)
     do i = 1, size(springs)
       associate(sp => springs(i))
         if (sp%kind /= 6) result%n_springs = result%n_springs + 1
         result%tangential = result%tangential .or. sp%k(2) > 0.0_dp
-        if (sp%kind == 0) result%dashpots(1:4) = result%dashpots(1:4) .or. sp%c > 0.0_dp
-        if (sp%kind == 5) result%dashpots(5) = result%dashpots(5) .or. any(sp%c > 0.0_dp)
-        if (sp%kind == 6) result%dashpots(6) = .true.
-        if (max(sp%k(1), sp%k(2)) > 0.0_dp) result%dt_contact_rule = min(result%dt_contact_rule, &
-          2.0_dp*sqrt(sp%m_eff)/sqrt(max(sp%k(1), sp%k(2))))
+        if (sp%kind == 0) then
+          result%dashpots(1:4) = result%dashpots(1:4) .or. sp%c > 0.0_dp
+        else if (sp%kind == 5) then
+          result%dashpots(5) = result%dashpots(5) .or. any(sp%c > 0.0_dp)
+        else if (sp%kind == 6) then
+          result%dashpots(6) = .true.
+        end if
+        k = max(sp%k(1), sp%k(2))
+        if (k > 0.0_dp) then
+          t = sp%m_eff/k
+          if (.not. t > t_least*(1.0_dp + 1.0e-12_dp)) then
+            result%dt_contact_rule = min(result%dt_contact_rule, 2.0_dp*sqrt(sp%m_eff)/sqrt(k))
+            t_least = min(t_least, t)
+          end if
+        end if
       end associate
     end do
   end subroutine assembly_set_springs
@@ -877,14 +891,15 @@ contains
           reuse = present(start_av)
           if (reuse) reuse = size(start_av) == n
           if (reuse) then
-            av = start_av
+            lam = dot_product(start, start_av)
+            err = norm2(start_av - lam*start)
           else
             allocate(av(n))
             call apply(op, start, av)
             products = products + 1
+            lam = dot_product(start, av)
+            err = norm2(av - lam*start)
           end if
-          lam = dot_product(start, av)
-          err = norm2(av - lam*start)
           refine = .true.
           if (lam > 0.0_dp .and. err <= tol*lam) then
             if (present(taken)) taken = .true.
@@ -984,32 +999,34 @@ contains
     !> not stand (default false).
     logical, intent(in), optional :: confirm_refined
     type(serial_damped_type) :: problem
-    real(dp), allocatable :: y(:), w(:), aw(:), bw(:)
+    real(dp), allocatable :: w(:), aw(:), bw(:)
     real(dp) :: lam_a, vb, lam_w, vb_w
-    allocate(y(op%n))
-    problem%vec = vec
-    call quotients(vec, lam_a, vb, vec_av)
-    problem%av = aw
-    problem%bv = y
+    logical :: from_vec
+    ! (the chosen start's A' and B' products move into the problem, no copies)
+    call quotients(vec, lam_a, vb, problem%av, problem%bv, vec_av)
+    from_vec = .true.
     if (present(start)) then
       if (size(start) == op%n .and. any(start /= 0.0_dp)) then
         ! the start's quadratic root, when it is the lower (closer) of the two
         w = start/norm2(start)
-        call quotients(w, lam_w, vb_w)
+        call quotients(w, lam_w, vb_w, aw, bw)
         if (lam_w > 0.0_dp) then
           if (damped_lower_bound(2.0_dp/sqrt(lam_w), vb_w) < damped_lower_bound(2.0_dp/sqrt(lam_a), vb)) then
-            problem%vec = w
-            problem%av = aw
-            problem%bv = y
+            from_vec = .false.
+            call move_alloc(aw, problem%av)
+            call move_alloc(bw, problem%bv)
             lam_a = lam_w
             vb = vb_w
-            problem%other = vec
+            ! (the other start serves only a start not to be taken as it is)
+            if (.not. accepting()) problem%other = vec
+            call move_alloc(w, problem%vec)
           else
-            problem%other = w
+            if (.not. accepting()) call move_alloc(w, problem%other)
           end if
         end if
       end if
     end if
+    if (from_vec) problem%vec = vec
     problem%cached = .true.
     problem%op => op
     problem%choice = choice
@@ -1026,24 +1043,31 @@ contains
       if (size(start) == op%n) start = problem%vec
     end if
   contains
-    !> v'A'v and v'B'v of a unit vector (A'v left in aw, B'v in y; A'v
-    !> given as `av` spares its product).
-    subroutine quotients(v, a, b, av)
+    !> v'A'v and v'B'v of a unit vector, with A'v and B'v (A'v given as
+    !> `given` spares its product).
+    subroutine quotients(v, a, b, av, bv, given)
       real(dp), intent(in) :: v(:)
       real(dp), intent(out) :: a, b
-      real(dp), intent(in), optional :: av(:)
-      if (present(av)) then
-        y = av
+      real(dp), allocatable, intent(inout) :: av(:), bv(:)
+      real(dp), intent(in), optional :: given(:)
+      if (present(given)) then
+        av = given
       else
+        if (.not. allocated(av)) allocate(av(op%n))
         call operator_mix(op, 1.0_dp, 0.0_dp)
-        call assembly_operator_apply(op, v, y)
+        call assembly_operator_apply(op, v, av)
       end if
-      a = dot_product(v, y)
-      aw = y
+      a = dot_product(v, av)
+      if (.not. allocated(bv)) allocate(bv(op%n))
       call operator_mix(op, 0.0_dp, 1.0_dp)
-      call assembly_operator_apply(op, v, y)
-      b = dot_product(v, y)
+      call assembly_operator_apply(op, v, bv)
+      b = dot_product(v, bv)
     end subroutine quotients
+    !> Whether a Newton step's start is taken as it is when it stands.
+    logical function accepting()
+      accepting = .false.
+      if (present(accept_start)) accepting = accept_start
+    end function accepting
   end subroutine damped_exact
 
   !> The root of lambda(tau) = lambda_max(tau^2 A' + 2 tau B') = 4 (tau = h
@@ -1669,8 +1693,7 @@ contains
     !> springs touch no free body is then not refused.
     real(dp), intent(in), optional :: scales(2)
     integer, allocatable :: body(:)
-    real(dp), allocatable :: mdof(:, :)
-    real(dp) :: k_scale, m_scale, c_scale
+    real(dp) :: k_scale, m_scale, c_scale, mdof(6)
     integer :: i, nfree, nc, s, e
     integer(i8) :: p
     logical :: touches, damped
@@ -1682,19 +1705,20 @@ contains
     op%comp = dof_components(dim, rotation)
     nc = size(op%comp)
     op%nc = nc
-    ! degrees of freedom: nc per free particle, scaled masses per component
-    allocate(body(size(mass)), source=0)
-    allocate(mdof(6, size(mass)), source=1.0_dp)
+    ! degrees of freedom: nc per free particle; the mass scale, the smallest
+    ! mass of a component (`dof_masses`; each body's are scaled below)
+    allocate(body(size(mass)))
     nfree = 0
     m_scale = huge(1.0_dp)
     do i = 1, size(mass)
+      body(i) = 0
       if (present(fixed)) then
         if (fixed(i)) cycle
       end if
       nfree = nfree + 1
       body(i) = nfree
-      mdof(:, i) = dof_masses(mass(i), inertia(i), radius(i))
-      m_scale = min(m_scale, minval(mdof(op%comp, i)))
+      mdof = dof_masses(mass(i), inertia(i), radius(i))
+      m_scale = min(m_scale, minval(mdof(op%comp)))
     end do
     op%n_bodies = nfree
     op%n = nfree*nc
@@ -1704,7 +1728,6 @@ contains
       return
     end if
     if (present(scales)) m_scale = scales(2)
-    mdof = mdof/m_scale
     touches = .false.
     damped = .false.
     ! (whether any spring has a dashpot, in the same pass; in parallel: a
@@ -1736,8 +1759,12 @@ contains
     call fit_real2(op%coef, 7, 1, op%n_springs)
     call fit_real2(op%w, 6, 1, nfree)
     call fit_real2(op%work, 6, 1, 2*op%n_springs)
-    call fit_real2(op%xs, 6, 0, nfree)
-    op%xs = 0.0_dp
+    ! (each product fills the bodies' columns; column 0, the ground, stays 0)
+    if (allocated(op%xs)) then
+      if (size(op%xs, 1) /= 6 .or. lbound(op%xs, 2) /= 0 .or. ubound(op%xs, 2) /= nfree) deallocate(op%xs)
+    end if
+    if (.not. allocated(op%xs)) allocate(op%xs(6, 0:nfree), source=0.0_dp)
+    op%xs(:, 0) = 0.0_dp
     if (allocated(op%first)) then
       if (size(op%first) /= nfree + 1) deallocate(op%first)
     end if
@@ -1755,7 +1782,7 @@ contains
     end if
     do i = 1, size(mass)
       if (body(i) > 0) then
-        op%w(:, body(i)) = 1.0_dp/sqrt(mdof(:, i))
+        op%w(:, body(i)) = 1.0_dp/sqrt(dof_masses(mass(i), inertia(i), radius(i))/m_scale)
         op%rinv(body(i)) = 1.0_dp/radius(i)
       end if
     end do
