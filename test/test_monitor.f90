@@ -516,10 +516,10 @@ contains
   !> higher damped top and the undamped solve is made again, confirmed: the
   !> update lands on the exact damped limit of the new arrays (never above
   !> it, within 2 tol below) and on their undamped top (within tol; without
-  !> the second undamped solve 1.3 % below). It costs fewer products than the
-  !> undamped confirmation run plus the cold solve did on the unchanged
-  !> arrays (the second update) than a confirmation run of ncv products
-  !> plus the cold solve.
+  !> the second undamped solve 1.3 % below). On the unchanged arrays (the
+  !> second update) the confirmation is one cold solve and costs fewer
+  !> products than an undamped confirmation run of ncv products plus that
+  !> cold solve.
   subroutine test_deferred_confirmation(error)
     type(error_type), allocatable, intent(out) :: error
     type(solver_arrays_type) :: a
@@ -537,7 +537,8 @@ contains
     if (allocated(error)) return
     call update(error)
     if (allocated(error)) return
-    call check(error, monitor%confirmed .and. .not. monitor%accepted, "unchanged: not confirmed")
+    call check(error, monitor%confirmed .and. .not. monitor%accepted .and. &
+      monitor%last%damped_confirmations == 1, "unchanged: not confirmed by one cold solve")
     if (allocated(error)) return
     unchanged = monitor%last%eigen_products
     ! (the particle farthest from the top mode's peak)

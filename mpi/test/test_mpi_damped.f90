@@ -218,7 +218,8 @@ contains
     ! the files path makes the serial path's solves (the same operator and
     ! start vectors, rounding only): the same Newton steps and the same cold
     ! confirmation (without it, one solve fewer)
-    call report(name//": MPI files: the serial path's damped solves", fil%damped_solves == ser%damped_solves, &
+    call report(name//": MPI files: the serial path's damped solves and cold confirmations", &
+      fil%damped_solves == ser%damped_solves .and. fil%damped_confirmations == ser%damped_confirmations, &
       num(real(fil%damped_solves, dp))//num(real(ser%damped_solves, dp)))
   end subroutine compare
 
@@ -234,8 +235,9 @@ contains
     real(dp) :: got, tol
     tol = lanczos_tolerance_default
     got = c%dt_critical_damped
-    call report(what//": damped exact, confirmed cold (a loose solve, one to the tolerance, the cold one)", &
-      c%damped_exact .and. c%damped_solves >= 3, num(real(c%damped_solves, dp)))
+    call report(what//": damped exact, confirmed by a cold solve", &
+      c%damped_exact .and. c%damped_confirmations >= 1 .and. c%damped_solves > c%damped_confirmations, &
+      num(real(c%damped_solves, dp))//num(real(c%damped_confirmations, dp)))
     call report(what//": damped limit at or below the exact one, within 2 tol", got <= exact*(1.0_dp + &
       1.0e-9_dp) .and. got >= exact*(1.0_dp - 2.0_dp*tol), "ratio "//num(got/exact))
     call report(what//": damped limit as the serial one (tol)", close(got, ser%dt_critical_damped, tol), &

@@ -227,8 +227,9 @@ module demstep_assembly
     real(dp) :: damping_ratio_top = 0.0_dp, dt_critical_damped = 0.0_dp
     real(dp) :: dt_critical_damped_bound = 0.0_dp
     logical :: damped_exact = .false.
-    !> Eigensolves of the damped limit's Newton steps.
-    integer :: damped_solves = 0
+    !> Eigensolves of the damped limit's Newton steps, and how many of them
+    !> were cold solves from a random start confirming the converged steps.
+    integer :: damped_solves = 0, damped_confirmations = 0
     !> Which dashpots entered C (`dashpot_names`: normal, tangential, rolling,
     !> twisting, bond, drag).
     logical :: dashpots(6) = .false.
@@ -468,7 +469,11 @@ contains
     !> undamped one, and the damped Newton steps' where no cold solve confirms
     !> them; default 0). With dashpots the cold solve stands for them (above).
     integer, intent(in), optional :: confirm_steps
-    !> Whether a Lanczos solve with its confirmation run made the undamped top.
+    !> Whether the top was confirmed: without dashpots, a Lanczos solve with
+    !> its confirmation run made the undamped top; with dashpots and a
+    !> deferred confirmation, the damped top's cold solve confirmed the damped
+    !> steps (and the undamped top was re-solved confirmed if it found a
+    !> higher one).
     logical, intent(out), optional :: confirmed
     real(dp) :: lam, err, b_bound, lower, upper, failure
     real(dp), allocatable :: start(:)
@@ -1144,6 +1149,7 @@ contains
         if (.not. has_mode) exit
         confirms = confirms + 1
         problem%confirms = confirms
+        result%damped_confirmations = result%damped_confirmations + 1
         if (theta_c <= upper .or. theta_c + err_c <= 4.0_dp*(1.0_dp + tol_end) .or. &
             confirms >= damped_confirmations) then
           tau_safe = max(tau_safe, tau*min(1.0_dp, 4.0_dp/max(upper, theta_c + err_c)))

@@ -174,7 +174,9 @@ module demstep_monitor
     !> (At a scheduled confirmation the same overlap decides the damped one.)
     real(dp) :: in_place = monitor_in_place_default
     !> Whether the last update took the previous modes as they were, and
-    !> whether it was a warm update with the undamped solve confirmed.
+    !> whether it was a warm update whose top was confirmed (without dashpots
+    !> the undamped solve's confirmation run; with dashpots the damped
+    !> limit's cold solve, see `operator_critical_steps`).
     logical :: accepted = .false., confirmed = .false.
     !> The last update's stiffened bodies that were looked at, and whether a
     !> neighbourhood's top joined its start (a Lanczos solve from it).
