@@ -677,7 +677,8 @@ contains
   !> released once its springs are built (the solve needs only these): the
   !> part cannot be solved again, and a solve of a released part (on any
   !> rank) is refused with invalid_input naming `part`.
-  subroutine mpi_part_critical_steps(comm, part, result, status, prestress, tolerance, progress, release)
+  subroutine mpi_part_critical_steps(comm, part, result, status, prestress, tolerance, progress, release, &
+      cold_solves)
     type(MPI_Comm), intent(in) :: comm
     type(dist_scene_part_type), intent(inout) :: part
     type(critical_step_type), intent(out) :: result
@@ -690,6 +691,9 @@ contains
     class(progress_type), intent(inout), optional :: progress
     !> Release the part's positions and contacts after the springs (default no).
     logical, intent(in), optional :: release
+    !> The cold solves that confirmed the damped Newton steps
+    !> (`damped_problem_type%confirms`; 0 without a damped limit).
+    integer, intent(out), optional :: cold_solves
     type(dist_scene_operator_type), target :: dop
     type(spring_block_type), allocatable :: springs(:)
     type(critical_step_type) :: mine
@@ -697,11 +701,13 @@ contains
     integer, allocatable :: comp(:), blocks(:, :), halo(:)
     real(dp) :: tol, scales(2), rate, b_bound
     integer(i8) :: fault, counts(2)
-    integer :: rank, nranks, nc, i, s, q, n_own_bodies, root, color, n_owned
+    integer :: rank, nranks, nc, i, s, q, n_own_bodies, root, color, n_owned, confirms
     logical :: geo, rotation, flags(8), active, gone
 
     call MPI_Comm_rank(comm, rank)
     call MPI_Comm_size(comm, nranks)
+    confirms = 0
+    if (present(cold_solves)) cold_solves = 0
     ! (released on one rank: refused on every rank, before any other collective)
     gone = part%released
     call MPI_Allreduce(MPI_IN_PLACE, gone, 1, MPI_LOGICAL, MPI_LOR, comm)
@@ -837,6 +843,8 @@ contains
     ! a byte copy: right while critical_step_type has no allocatable or pointer
     ! component (test_mpi_files compares every rank's result with the serial one)
     call MPI_Bcast(result, int(storage_size(result)/8), MPI_BYTE, root, comm)
+    call MPI_Bcast(confirms, 1, MPI_INTEGER, root, comm)
+    if (present(cold_solves)) cold_solves = confirms
     call broadcast_status(comm, status, root)
 
   contains
@@ -934,6 +942,7 @@ contains
       vb = sum(vec*y)
       call MPI_Allreduce(MPI_IN_PLACE, vb, 1, MPI_DOUBLE_PRECISION, MPI_SUM, rows_comm)
       call damped_newton(problem, lam, vb, rate, tol, result, status, progress)
+      confirms = problem%confirms
     end subroutine exact_damped
 
   end subroutine mpi_part_critical_steps
@@ -953,7 +962,7 @@ contains
   !> `mpi_read_scene` then `mpi_part_critical_steps` with the input's
   !> pre-stress and tolerance. Collective; the same result and status on
   !> every rank.
-  subroutine mpi_files_critical_steps(comm, input, result, status, owned, progress)
+  subroutine mpi_files_critical_steps(comm, input, result, status, owned, progress, cold_solves)
     type(MPI_Comm), intent(in) :: comm
     type(scene_input_type), intent(in) :: input
     type(critical_step_type), intent(out) :: result
@@ -962,11 +971,15 @@ contains
     integer, intent(in), optional :: owned(:)
     !> Reports the Lanczos products (pass it on one rank).
     class(progress_type), intent(inout), optional :: progress
+    !> The cold solves that confirmed the damped Newton steps (as
+    !> `mpi_part_critical_steps`').
+    integer, intent(out), optional :: cold_solves
     type(dist_scene_part_type) :: part
+    if (present(cold_solves)) cold_solves = 0
     call mpi_read_scene(comm, input, part, status, owned)
     if (status%stat /= demstep_stat%ok) return
     call mpi_part_critical_steps(comm, part, result, status, input%prestress, input%eigen_tolerance, &
-      progress, release=.true.)
+      progress, release=.true., cold_solves=cold_solves)
   end subroutine mpi_files_critical_steps
 
   !> Release a part's positions, velocities and contacts (its scene keeps

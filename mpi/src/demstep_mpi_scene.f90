@@ -68,7 +68,7 @@ contains
   !> invalid_input `comm:` when there are fewer free particles than ranks;
   !> PARPACK's through `parallel_lanczos_largest`.
   subroutine mpi_scene_critical_steps(comm, scene, result, status, hertz_mode, impact_velocity, &
-      prestress, tolerance, progress)
+      prestress, tolerance, progress, cold_solves)
     !> The ranks sharing the work.
     type(MPI_Comm), intent(in) :: comm
     !> The whole scene, the same on every rank.
@@ -85,6 +85,9 @@ contains
     real(dp), intent(in), optional :: tolerance
     !> Reports the Lanczos products (pass it on one rank, e.g. rank 0).
     class(progress_type), intent(inout), optional :: progress
+    !> The cold solves that confirmed the damped Newton steps
+    !> (`damped_problem_type%confirms`; 0 without a damped limit).
+    integer, intent(out), optional :: cold_solves
     type(assembly_operator_type), target :: op
     type(dist_csr_type), target :: matrix
     integer, allocatable :: order(:), new_index(:), bodies(:), col(:)
@@ -97,6 +100,7 @@ contains
 
     call MPI_Comm_size(comm, nranks)
     call MPI_Comm_rank(comm, rank)
+    if (present(cold_solves)) cold_solves = 0
     with_geo = .false.
     if (present(prestress)) with_geo = prestress
     tol = lanczos_tolerance_default
@@ -222,6 +226,7 @@ contains
       vb = sum(vec*y)
       call MPI_Allreduce(MPI_IN_PLACE, vb, 1, MPI_DOUBLE_PRECISION, MPI_SUM, matrix%comm)
       call damped_newton(problem, lam, vb, rate, tol, result, status, progress)
+      if (present(cold_solves)) cold_solves = problem%confirms
       matrix%val = problem%a_val
     end subroutine exact_damped
 
