@@ -2,24 +2,40 @@
 !> critical time steps: no rank ever holds the whole particles or contacts
 !> table, nor the whole scene.
 !>
-!> Ownership. The particles are split into contiguous ranges of their file
-!> numbers, one per rank in rank order (balanced by count, or as the caller
-!> gives them); a contact belongs to the owner of its first particle. Each
-!> rank holds its own particles, every contact that touches one of them (the
-!> contacts of its own first, then those owned by others, each in file order)
-!> and the partners of those contacts it does not own (the halo), in a scene
-!> of its own: own particles first, then the halo in file order.
+!> Ownership: slabs. The particles are cut into slabs along the axis on
+!> which the free ones spread furthest (`slab_axis`, the replicated path's
+!> rule), one per rank in rank order, balanced by count (or as the caller
+!> gives the counts): ordered by (coordinate, file number), the slabs are
+!> consecutive runs of that order. The cuts are found without sorting the
+!> scene: a bisection on the coordinate (as an ordered 64-bit key) and then
+!> on the file number among equal coordinates, every cut at once, each step
+!> a count over each rank's rows and one `MPI_Allreduce` (`slab_owners`). A
+!> contact belongs to the owner of its first particle. Each rank holds its
+!> own particles (in file order), every contact that touches one of them
+!> (the contacts of its own first particles, then the others, each in file
+!> order) and the partners of those contacts it does not own (the halo: the
+!> particles across its slab's faces, the periodic ones included), in a
+!> scene of its own: own particles first, then the halo in file order.
 !>
 !> Reading (`mpi_read_scene`). Each rank reads one byte range of each table
-!> (`read_table_part`), sends the particle rows to their owners and each
-!> contact row to the owners of its two particles (`MPI_Alltoallv`), then
-!> asks the owners of its halo particles for their rows. The checks are the
-!> serial `scene_from_input`'s, on each rank's part, in the same order; the
+!> (`read_table_part`) and checks its rows there, numbered as in the file
+!> (the checks are the serial `scene_from_input`'s, in the same order; the
 !> refusal reported is the one the serial reader reports, the same on every
-!> rank (`agree_status`).
+!> rank: `agree_status`). It then sends each particle row, with its file
+!> number, to its slab's rank (`MPI_Alltoallv`), asks the rank that read
+!> each contact's particles for their slabs' ranks, sends each contact row to
+!> the ranks of its two particles, and asks the owners of its halo
+!> particles for their rows. No rank holds more than its byte ranges, its
+!> rows, its part and one rank number per row it read.
 !>
-!> The operator. The free bodies are numbered in file order (as the serial
-!> path numbers them), so each rank's own bodies are one block of rows. Each
+!> The operator. The free bodies are numbered slab by slab in rank order,
+!> in file order within a slab (in file order over the whole scene when the
+!> file lists the particles in slab order), so each rank's own bodies are
+!> one block of rows. (The Lanczos start vectors, and the certificate's
+!> Gaussian start, are entered by row number, as on the replicated path:
+!> another numbering than the serial path's file order gives another draw
+!> of the same fixed sequences, the same stopping rules and error bars, an
+!> answer equal to the serial one within the tolerance.) Each
 !> rank builds the serial matrix-free operator (`operator_from_springs`) of
 !> its part, scaled by the whole scene's largest stiffness and smallest mass
 !> (the serial scaling), and a product y = M^-1/2 K M^-1/2 x is one halo
@@ -120,8 +136,8 @@ contains
     type(scene_input_type), intent(in) :: input
     type(dist_scene_part_type), intent(out) :: part
     type(demstep_status_type), intent(out) :: status
-    !> Particles owned by each rank (rank order, summing to the particles
-    !> read); default: as equal as can be.
+    !> Particles owned by each rank: the slabs' counts, in rank order,
+    !> summing to the particles read; default: as equal as can be.
     integer, intent(in), optional :: owned(:)
     type(scene_type) :: probe
     type(demstep_status_type) :: st

@@ -284,12 +284,11 @@ contains
 
   !> The 2D random-order packing read in parts: each rank owns its share
   !> (n/nranks, as equal as can be) and holds a halo of at most n/8
-  !> particles. The slabs' halo is the layer within a contact (1.4) of the
-  !> two faces of a slab in a box 28.3 wide (about 2 x 28.3 x 1.4 x 0.9 per
-  !> unit area, about 70; 55 to 60 on 2 ranks); contiguous ranges of the
-  !> file's random order hold almost every particle of the other ranks (395
-  !> of 400 on 2 ranks with the file-number partition this reader used
-  !> before).
+  !> particles. The slabs' halo is the layer within a contact of the two
+  !> faces of a slab in a box 28.3 wide (33 particles on 2 ranks); contiguous
+  !> ranges of the file's random order hold most of the other ranks' particles
+  !> (343 of the other rank's 400 on 2 ranks with the file-number partition
+  !> this reader used up to c4d4041: this check failed there).
   subroutine check_thin_halo()
     type(dist_scene_part_type) :: part
     type(demstep_status_type) :: st
