@@ -42,7 +42,7 @@ program test_mpi_files
   input = base_input(3)
   input%effects = [scene_effect%contacts, scene_effect%damping, scene_effect%rotation]
   input%damping_ratio = 0.2_dp
-  call compare("3D periodic packing, file order, damping")
+  call compare("3D periodic packing, random order, damping")
   call compare("3D periodic packing, all on the last rank", owned=last_rank_owns())
   call compare("3D periodic packing, all on the first rank", owned=first_rank_owns())
   ! 2D, random order: slabs of a long box, each rank's halo a thin layer
