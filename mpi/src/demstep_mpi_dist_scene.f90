@@ -15,7 +15,9 @@
 !> (the contacts of its own first particles, then the others, each in file
 !> order) and the partners of those contacts it does not own (the halo: the
 !> particles across its slab's faces, the periodic ones included), in a
-!> scene of its own: own particles first, then the halo in file order.
+!> scene of its own: own particles first, then the halo by owner in rank
+!> order, each owner's in file order (so its free bodies' rows ascend, as
+!> the halo exchange takes them).
 !>
 !> Reading (`mpi_read_scene`). Each rank reads one byte range of each table
 !> (`read_table_part`) and checks its rows there, numbered as in the file
@@ -145,7 +147,7 @@ contains
       r(:), inertia(:), contacts(:, :), mine(:, :), buffer(:, :)
     integer, allocatable :: lines(:), pairs(:, :), quota(:), send_n(:), recv_n(:), send_at(:), &
       recv_at(:), dest(:, :), partners(:), halo(:), asked(:), ask_n(:), give_n(:), local_pairs(:, :), &
-      order(:), own_body(:), own_file(:), slab_of(:), slab_to(:), asked_of(:), halo_rank(:)
+      order(:), own_body(:), own_file(:), slab_of(:), slab_to(:), asked_of(:), halo_rank(:), slot(:)
     integer(i8), allocatable :: read_from(:)
     logical, allocatable :: fixed(:)
     logical :: periodic(3)
@@ -420,11 +422,15 @@ contains
     send_n = give_n*(ncol + 1)
     recv_n = ask_n*(ncol + 1)
     call exchange(buffer, halo_rows)
-    halo_rows(:, order) = halo_rows
-    deallocate(buffer, asked, order)
+    ! (the halo kept in that order: by owner, each owner's in file order;
+    ! slot(k): the part's place of the k-th in file order)
+    allocate(slot(n_halo))
+    slot(order) = [(i, i = 1, n_halo)]
+    deallocate(buffer, asked)
 
     ! the part's scene: own particles, then the halo
-    part%global = [own_file, halo]
+    part%global = [own_file, halo(order)]
+    deallocate(order)
     part%body = [own_body, nint(halo_rows(ncol + 1, :))]
     call part_arrays(reshape([own_rows(:ncol, :), halo_rows(:ncol, :)], [ncol, part%n_own + n_halo]))
     deallocate(own_rows, halo_rows)
@@ -500,7 +506,7 @@ contains
       if (is_own(p)) then
         local_number = position(own_file, p)
       else
-        local_number = part%n_own + position(halo, p)
+        local_number = part%n_own + slot(position(halo, p))
       end if
     end function local_number
 
@@ -817,7 +823,8 @@ contains
         call MPI_Comm_size(rows_comm, q)
         allocate(blocks(2, 0:q - 1))
         call MPI_Allgather([dop%first_row, dop%n_local], 2, MPI_INTEGER, blocks, 2, MPI_INTEGER, rows_comm)
-        ! the halo's rows: its free bodies' (part order = file order)
+        ! the halo's rows: its free bodies' (part order: by owner, then file
+        ! order; their rows ascend)
         halo = pack(part%body(part%n_own + 1:), part%body(part%n_own + 1:) > 0)
         halo = [((halo((i - 1)/nc + 1) - 1)*nc + mod(i - 1, nc) + 1, i = 1, nc*size(halo))]
         call dist_halo_create(rows_comm, blocks, halo, dop%halo)
