@@ -2,24 +2,42 @@
 !> critical time steps: no rank ever holds the whole particles or contacts
 !> table, nor the whole scene.
 !>
-!> Ownership. The particles are split into contiguous ranges of their file
-!> numbers, one per rank in rank order (balanced by count, or as the caller
-!> gives them); a contact belongs to the owner of its first particle. Each
-!> rank holds its own particles, every contact that touches one of them (the
-!> contacts of its own first, then those owned by others, each in file order)
-!> and the partners of those contacts it does not own (the halo), in a scene
-!> of its own: own particles first, then the halo in file order.
+!> Ownership: slabs. The particles are cut into slabs along the axis on
+!> which the free ones spread furthest (`slab_axis`, the replicated path's
+!> rule), one per rank in rank order, balanced by count (or as the caller
+!> gives the counts): ordered by (coordinate, file number), the slabs are
+!> consecutive runs of that order. The cuts are found without sorting the
+!> scene: a bisection on the coordinate (as an ordered 64-bit key) and then
+!> on the file number among equal coordinates, every cut at once, each step
+!> a count over each rank's rows and one `MPI_Allreduce` (`slab_owners`). A
+!> contact belongs to the owner of its first particle. Each rank holds its
+!> own particles (in file order), every contact that touches one of them
+!> (the contacts of its own first particles, then the others, each in file
+!> order) and the partners of those contacts it does not own (the halo: the
+!> particles across its slab's faces, the periodic ones included), in a
+!> scene of its own: own particles first, then the halo by owner in rank
+!> order, each owner's in file order (so its free bodies' rows ascend, as
+!> the halo exchange takes them).
 !>
 !> Reading (`mpi_read_scene`). Each rank reads one byte range of each table
-!> (`read_table_part`), sends the particle rows to their owners and each
-!> contact row to the owners of its two particles (`MPI_Alltoallv`), then
-!> asks the owners of its halo particles for their rows. The checks are the
-!> serial `scene_from_input`'s, on each rank's part, in the same order; the
+!> (`read_table_part`) and checks its rows there, numbered as in the file
+!> (the checks are the serial `scene_from_input`'s, in the same order; the
 !> refusal reported is the one the serial reader reports, the same on every
-!> rank (`agree_status`).
+!> rank: `agree_status`). It then sends each particle row, with its file
+!> number, to its slab's rank (`MPI_Alltoallv`), asks the rank that read
+!> each contact's particles for their slabs' ranks, sends each contact row to
+!> the ranks of its two particles, and asks the owners of its halo
+!> particles for their rows. No rank holds more than its byte ranges, its
+!> rows, its part and one rank number per row it read.
 !>
-!> The operator. The free bodies are numbered in file order (as the serial
-!> path numbers them), so each rank's own bodies are one block of rows. Each
+!> The operator. The free bodies are numbered slab by slab in rank order,
+!> in file order within a slab (in file order over the whole scene when the
+!> file lists the particles in slab order), so each rank's own bodies are
+!> one block of rows. (The Lanczos start vectors, and the certificate's
+!> Gaussian start, are entered by row number, as on the replicated path:
+!> another numbering than the serial path's file order gives another draw
+!> of the same fixed sequences, the same stopping rules and error bars, an
+!> answer equal to the serial one within the tolerance.) Each
 !> rank builds the serial matrix-free operator (`operator_from_springs`) of
 !> its part, scaled by the whole scene's largest stiffness and smallest mass
 !> (the serial scaling), and a product y = M^-1/2 K M^-1/2 x is one halo
@@ -63,7 +81,7 @@ module demstep_mpi_dist_scene
   use demstep_lanczos, only: eigen_result_type, lanczos_tolerance_default
   use demstep_mpi_lanczos, only: dist_operator_type, dist_halo_type, dist_halo_create, &
     dist_halo_exchange, dist_halo_free, parallel_lanczos_largest
-  use demstep_mpi_scene, only: mpi_lanczos_estimates, mpi_damped_solve_done, mpi_damped_lanczos
+  use demstep_mpi_scene, only: slab_axis, mpi_lanczos_estimates, mpi_damped_solve_done, mpi_damped_lanczos
   use demstep_sort, only: heap_sort
   use demstep_mpi_parts, only: read_table_part, agree_status, broadcast_status, no_fault, position
   implicit none
@@ -73,8 +91,8 @@ module demstep_mpi_dist_scene
 
   !> This rank's part of a scene read in parts.
   type, public :: dist_scene_part_type
-    !> Particles of the whole scene, and the file number of this rank's first.
-    integer :: n_particles = 0, first_particle = 1
+    !> Particles of the whole scene; the axis of the slabs (1 to 3).
+    integer :: n_particles = 0, axis = 1
     !> Own particles: the first n_own of the part's scene; the halo follows.
     integer :: n_own = 0
     !> The part: own particles, halo, the contacts touching own particles.
@@ -120,19 +138,20 @@ contains
     type(scene_input_type), intent(in) :: input
     type(dist_scene_part_type), intent(out) :: part
     type(demstep_status_type), intent(out) :: status
-    !> Particles owned by each rank (rank order, summing to the particles
-    !> read); default: as equal as can be.
+    !> Particles owned by each rank: the slabs' counts, in rank order,
+    !> summing to the particles read; default: as equal as can be.
     integer, intent(in), optional :: owned(:)
     type(scene_type) :: probe
     type(demstep_status_type) :: st
     real(dp), allocatable :: rows(:, :), own_rows(:, :), halo_rows(:, :), x(:, :), v(:, :), m(:), &
       r(:), inertia(:), contacts(:, :), mine(:, :), buffer(:, :)
-    integer, allocatable :: lines(:), pairs(:, :), first_of(:), send_n(:), recv_n(:), &
-      send_at(:), recv_at(:), dest(:, :), partners(:), halo(:), asked(:), ask_n(:), ask_at(:), &
-      give_n(:), give_at(:), local_pairs(:, :), order(:), own_body(:)
+    integer, allocatable :: lines(:), pairs(:, :), quota(:), send_n(:), recv_n(:), send_at(:), &
+      recv_at(:), dest(:, :), partners(:), halo(:), asked(:), ask_n(:), give_n(:), local_pairs(:, :), &
+      order(:), own_body(:), own_file(:), slab_of(:), slab_to(:), asked_of(:), halo_rank(:), slot(:)
+    integer(i8), allocatable :: read_from(:)
     logical, allocatable :: fixed(:)
     logical :: periodic(3)
-    real(dp) :: cell_hi(3), rmax
+    real(dp) :: cell_hi(3), rmax, lo(3), hi(3)
     integer(i8) :: row_offset, n_total, fault, c_offset, c_total
     integer :: nranks, rank, dim, ncol, n, i, k, c, d, e, q, width, n_halo, first_body, n_free
 
@@ -170,44 +189,30 @@ contains
       return
     end if
     part%n_particles = int(n_total)
-    ! the ranges owned: first_of(r) .. first_of(r + 1) - 1
-    allocate(first_of(0:nranks))
+    ! the counts owned (slab order)
+    allocate(quota(0:nranks - 1))
     if (present(owned)) then
       if (size(owned) /= nranks .or. any(owned < 0) .or. sum(int(owned, i8)) /= n_total) then
         call set_status(status, demstep_stat%invalid_input, "one count >= 0 per rank, summing to the " &
           //int_text(n_total)//" particles read", where="owned")
         return
       end if
-      first_of(0) = 1
-      do d = 1, nranks
-        first_of(d) = first_of(d - 1) + owned(d)
-      end do
+      quota = owned
     else
-      do d = 0, nranks
-        first_of(d) = int(int(d, i8)*n_total/nranks) + 1
+      do d = 0, nranks - 1
+        quota(d) = int(int(d + 1, i8)*n_total/nranks - int(d, i8)*n_total/nranks)
       end do
     end if
-    part%first_particle = first_of(rank)
-    part%n_own = first_of(rank + 1) - first_of(rank)
-    ! rows to their owners: rows row_offset + 1 .. row_offset + size(rows, 2)
     ncol = size(rows, 1)
-    allocate(send_n(0:nranks - 1), recv_n(0:nranks - 1), send_at(0:nranks - 1), recv_at(0:nranks - 1))
-    do d = 0, nranks - 1
-      send_n(d) = ncol*max(0, min(int(row_offset) + size(rows, 2), first_of(d + 1) - 1) &
-        - max(int(row_offset) + 1, first_of(d)) + 1)
-    end do
-    allocate(own_rows(ncol, part%n_own))
-    call exchange(rows, own_rows)
-    deallocate(rows)
 
-    ! the serial scene's checks of the own particles (numbered as in the file)
-    call part_arrays(own_rows)
+    ! the serial scene's checks of the rows read (numbered as in the file)
+    call part_arrays(rows)
     if (allocated(inertia)) then
       call new_scene(probe, dim, x, m, r, status, v=v, fixed=fixed, inertia=inertia, search=.false., &
-        first_number=part%first_particle)
+        first_number=int(row_offset) + 1)
     else
       call new_scene(probe, dim, x, m, r, status, v=v, fixed=fixed, search=.false., &
-        first_number=part%first_particle)
+        first_number=int(row_offset) + 1)
     end if
     fault = no_fault
     if (status%stat /= demstep_stat%ok) then
@@ -227,13 +232,48 @@ contains
       return
     end if
     rmax = 0.0_dp
-    if (part%n_own > 0) rmax = maxval(r)
+    if (size(r) > 0) rmax = maxval(r)
     call MPI_Allreduce(MPI_IN_PLACE, rmax, 1, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
+
+    ! the slabs: along the free particles' widest spread (the replicated
+    ! path's rule), cut by count; each row read goes to its slab's rank
+    lo = huge(1.0_dp)
+    hi = -huge(1.0_dp)
+    do i = 1, size(fixed)
+      if (fixed(i)) cycle
+      lo(:dim) = min(lo(:dim), x(:, i))
+      hi(:dim) = max(hi(:dim), x(:, i))
+    end do
+    call MPI_Allreduce(MPI_IN_PLACE, lo, 3, MPI_DOUBLE_PRECISION, MPI_MIN, comm)
+    call MPI_Allreduce(MPI_IN_PLACE, hi, 3, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
+    part%axis = slab_axis(dim, lo, hi)
+    allocate(slab_of(size(rows, 2)))
+    call slab_owners(comm, ordered_key(x(part%axis, :)), row_offset, quota, slab_of)
+    deallocate(x, v, m, r, fixed)
+    if (allocated(inertia)) deallocate(inertia)
+    ! the rows to their ranks, each with its file number: every rank's rows
+    ! come in file order from ranks in file order, so the own rows ascend
+    allocate(send_n(0:nranks - 1), recv_n(0:nranks - 1), send_at(0:nranks - 1), recv_at(0:nranks - 1), &
+      ask_n(0:nranks - 1), give_n(0:nranks - 1))
+    call group(slab_of, order, send_n)
+    allocate(buffer(ncol + 1, size(rows, 2)))
+    do k = 1, size(rows, 2)
+      buffer(:, k) = [rows(:, order(k)), real(row_offset + order(k), dp)]
+    end do
+    deallocate(rows, order)
+    send_n = send_n*(ncol + 1)
+    call MPI_Alltoall(send_n, 1, MPI_INTEGER, recv_n, 1, MPI_INTEGER, comm)
+    part%n_own = sum(recv_n)/(ncol + 1)
+    allocate(own_rows(ncol + 1, part%n_own))
+    call exchange(buffer, own_rows)
+    deallocate(buffer)
+    own_file = nint(own_rows(ncol + 1, :))
+    ! own free bodies: numbered after those of the ranks before, in file order
+    call part_arrays(own_rows(:ncol, :))
     n_free = count(.not. fixed)
     first_body = 0
     call MPI_Exscan(n_free, first_body, 1, MPI_INTEGER, MPI_SUM, comm)
     if (rank == 0) first_body = 0
-    ! own free bodies: numbered after those of the ranks before, in file order
     allocate(own_body(part%n_own), source=0)
     n_free = first_body
     do i = 1, part%n_own
@@ -290,32 +330,40 @@ contains
       return
     end if
     deallocate(lines)
-    ! each row to the owners of its two particles, with its file row first
-    width = size(rows, 1) + 1
-    allocate(dest(2, size(rows, 2)))
-    send_n = 0
-    do c = 1, size(rows, 2)
-      dest(1, c) = owner(pairs(1, c))
-      dest(2, c) = owner(pairs(2, c))
-      if (dest(2, c) == dest(1, c)) dest(2, c) = -1
-      do e = 1, 2
-        if (dest(e, c) >= 0) send_n(dest(e, c)) = send_n(dest(e, c)) + width
-      end do
+    ! the ranks of the contacts' particles, asked of the ranks that read them
+    allocate(read_from(0:nranks))
+    call MPI_Allgather(row_offset, 1, MPI_INTEGER8, read_from, 1, MPI_INTEGER8, comm)
+    read_from(nranks) = n_total
+    call group([((reader(pairs(e, c)), e = 1, 2), c = 1, size(pairs, 2))], order, ask_n)
+    asked_of = [(pairs(mod(order(k) - 1, 2) + 1, (order(k) - 1)/2 + 1), k = 1, size(order))]
+    call MPI_Alltoall(ask_n, 1, MPI_INTEGER, give_n, 1, MPI_INTEGER, comm)
+    allocate(asked(sum(give_n)))
+    call int_exchange(asked_of, ask_n, asked, give_n)
+    asked = slab_of(asked - row_offset)
+    call int_exchange(asked, give_n, asked_of, ask_n)
+    allocate(dest(2, size(pairs, 2)))
+    do k = 1, size(order)
+      dest(mod(order(k) - 1, 2) + 1, (order(k) - 1)/2 + 1) = asked_of(k)
     end do
-    allocate(mine(width, sum(send_n)/width))
-    send_at(0) = 0
-    do d = 1, nranks - 1
-      send_at(d) = send_at(d - 1) + send_n(d - 1)/width
-    end do
+    deallocate(asked, asked_of, order, slab_of)
+    ! each row to the ranks of its two particles, with its file row first and
+    ! the two ranks last
+    width = size(rows, 1) + 3
+    allocate(mine(width, 2*size(rows, 2)), slab_to(2*size(rows, 2)))
+    k = 0
     do c = 1, size(rows, 2)
       do e = 1, 2
-        d = dest(e, c)
-        if (d < 0) cycle
-        send_at(d) = send_at(d) + 1
-        mine(:, send_at(d)) = [real(c_offset + c, dp), rows(:, c)]
+        if (e == 2 .and. dest(2, c) == dest(1, c)) cycle
+        k = k + 1
+        mine(:, k) = [real(c_offset + c, dp), rows(:, c), real(dest(:, c), dp)]
+        slab_to(k) = dest(e, c)
       end do
     end do
     deallocate(rows, pairs, dest)
+    call group(slab_to(:k), order, send_n)
+    mine = mine(:, order)
+    deallocate(order)
+    send_n = send_n*width
     call MPI_Alltoall(send_n, 1, MPI_INTEGER, recv_n, 1, MPI_INTEGER, comm)
     allocate(contacts(width, sum(recv_n)/width))
     call exchange(mine, contacts)
@@ -329,7 +377,7 @@ contains
     local_pairs = local_pairs(:, order)
     deallocate(order)
 
-    ! the halo: the partners this rank does not own, in file order
+    ! the halo: the partners this rank does not own, in file order, and their ranks
     allocate(partners(2*size(local_pairs, 2)))
     n = 0
     do c = 1, size(local_pairs, 2)
@@ -352,38 +400,39 @@ contains
     end do
     halo = halo(:n_halo)
     deallocate(partners)
-    ! ask their owners for their rows and free-body numbers
-    allocate(ask_n(0:nranks - 1), ask_at(0:nranks - 1), give_n(0:nranks - 1), give_at(0:nranks - 1))
-    ask_n = 0
-    do i = 1, n_halo
-      d = owner(halo(i))
-      ask_n(d) = ask_n(d) + 1
+    allocate(halo_rank(n_halo))
+    do c = 1, size(local_pairs, 2)
+      do e = 1, 2
+        if (.not. is_own(local_pairs(e, c))) halo_rank(position(halo, local_pairs(e, c))) = &
+          nint(contacts(width - 2 + e, c))
+      end do
     end do
+    ! ask their ranks for their rows and free-body numbers
+    call group(halo_rank, order, ask_n)
     call MPI_Alltoall(ask_n, 1, MPI_INTEGER, give_n, 1, MPI_INTEGER, comm)
-    ask_at(0) = 0
-    give_at(0) = 0
-    do d = 1, nranks - 1
-      ask_at(d) = ask_at(d - 1) + ask_n(d - 1)
-      give_at(d) = give_at(d - 1) + give_n(d - 1)
-    end do
     allocate(asked(sum(give_n)))
-    call MPI_Alltoallv(halo, ask_n, ask_at, MPI_INTEGER, asked, give_n, give_at, MPI_INTEGER, comm)
+    call int_exchange(halo(order), ask_n, asked, give_n)
     allocate(buffer(ncol + 1, size(asked)))
     do i = 1, size(asked)
-      q = asked(i) - part%first_particle + 1
-      buffer(:ncol, i) = own_rows(:, q)
-      buffer(ncol + 1, i) = real(body_number(q), dp)
+      q = position(own_file, asked(i))
+      buffer(:ncol, i) = own_rows(:ncol, q)
+      buffer(ncol + 1, i) = real(own_body(q), dp)
     end do
     allocate(halo_rows(ncol + 1, n_halo))
     send_n = give_n*(ncol + 1)
     recv_n = ask_n*(ncol + 1)
     call exchange(buffer, halo_rows)
+    ! (the halo kept in that order: by owner, each owner's in file order;
+    ! slot(k): the part's place of the k-th in file order)
+    allocate(slot(n_halo))
+    slot(order) = [(i, i = 1, n_halo)]
     deallocate(buffer, asked)
 
     ! the part's scene: own particles, then the halo
-    part%global = [(part%first_particle + i - 1, i = 1, part%n_own), halo]
-    part%body = [(body_number(i), i = 1, part%n_own), nint(halo_rows(ncol + 1, :))]
-    call part_arrays(reshape([own_rows, halo_rows(:ncol, :)], [ncol, part%n_own + n_halo]))
+    part%global = [own_file, halo(order)]
+    deallocate(order)
+    part%body = [own_body, nint(halo_rows(ncol + 1, :))]
+    call part_arrays(reshape([own_rows(:ncol, :), halo_rows(:ncol, :)], [ncol, part%n_own + n_halo]))
     deallocate(own_rows, halo_rows)
     if (allocated(inertia)) then
       call new_scene(part%scene, dim, x, m, r, st, v=v, fixed=fixed, inertia=inertia, search=.false.)
@@ -401,7 +450,7 @@ contains
       end do
     end do
     part%contact_row = nint(contacts(1, :))
-    if (st%stat == demstep_stat%ok) call scene_set_contacts(part%scene, local_pairs, contacts(4:, :), st)
+    if (st%stat == demstep_stat%ok) call scene_set_contacts(part%scene, local_pairs, contacts(4:width - 2, :), st)
     deallocate(contacts, local_pairs)
     ! (the checks above passed: a part's scene is built as the whole one)
     call agree_status(comm, st, merge(no_fault, int(rank, i8), st%stat == demstep_stat%ok))
@@ -426,45 +475,40 @@ contains
 
   contains
 
-    !> The rank owning particle p.
-    integer function owner(p)
+    !> The rank that read particle p's row.
+    integer function reader(p)
       integer, intent(in) :: p
-      integer :: lo, hi, mid
-      lo = 0
-      hi = nranks - 1
-      ! the last rank whose range starts at or before p (empty ranges skipped)
-      do while (lo < hi)
-        mid = (lo + hi + 1)/2
-        if (first_of(mid) <= p) then
-          lo = mid
+      integer :: lo_r, hi_r, mid
+      lo_r = 0
+      hi_r = nranks - 1
+      ! the last rank whose rows start at or before p (ranks without rows skipped)
+      do while (lo_r < hi_r)
+        mid = (lo_r + hi_r + 1)/2
+        if (read_from(mid) < p) then
+          lo_r = mid
         else
-          hi = mid - 1
+          hi_r = mid - 1
         end if
       end do
-      owner = lo
-    end function owner
+      reader = lo_r
+    end function reader
 
     !> Whether particle p is this rank's.
     elemental logical function is_own(p)
       integer, intent(in) :: p
-      is_own = p >= part%first_particle .and. p < part%first_particle + part%n_own
+      is_own = .false.
+      if (part%n_own > 0) is_own = own_file(position(own_file, p)) == p
     end function is_own
 
     !> The part's number of particle p (own or halo).
     integer function local_number(p)
       integer, intent(in) :: p
       if (is_own(p)) then
-        local_number = p - part%first_particle + 1
+        local_number = position(own_file, p)
       else
-        local_number = part%n_own + position(halo, p)
+        local_number = part%n_own + slot(position(halo, p))
       end if
     end function local_number
-
-    !> The free-body number of own particle q (0: fixed).
-    integer function body_number(q)
-      integer, intent(in) :: q
-      body_number = own_body(q)
-    end function body_number
 
     !> The scene's arrays from particle rows (checked before).
     subroutine part_arrays(prows)
@@ -493,7 +537,125 @@ contains
         MPI_DOUBLE_PRECISION, comm)
     end subroutine exchange
 
+    !> Integers `sent` to the ranks, n_sent(d) to rank d in rank order, into
+    !> `got`, n_got(d) from rank d. Collective.
+    subroutine int_exchange(sent, n_sent, got, n_got)
+      integer, intent(in) :: sent(:), n_sent(0:), n_got(0:)
+      integer, intent(inout) :: got(:)
+      integer :: s
+      send_at(0) = 0
+      recv_at(0) = 0
+      do s = 1, nranks - 1
+        send_at(s) = send_at(s - 1) + n_sent(s - 1)
+        recv_at(s) = recv_at(s - 1) + n_got(s - 1)
+      end do
+      call MPI_Alltoallv(sent, n_sent, send_at, MPI_INTEGER, got, n_got, recv_at, MPI_INTEGER, comm)
+    end subroutine int_exchange
+
   end subroutine mpi_read_scene
+
+  !> A stable grouping of items by rank: `order` lists the items of rank 0
+  !> first, then rank 1's, ..., each in item order; `n(d)` items of rank d.
+  pure subroutine group(item_rank, order, n)
+    integer, intent(in) :: item_rank(:)
+    integer, allocatable, intent(out) :: order(:)
+    integer, intent(inout) :: n(0:)
+    integer :: at(0:size(n) - 1), i, d
+    n = 0
+    do i = 1, size(item_rank)
+      n(item_rank(i)) = n(item_rank(i)) + 1
+    end do
+    at(0) = 0
+    do d = 1, size(n) - 1
+      at(d) = at(d - 1) + n(d - 1)
+    end do
+    allocate(order(size(item_rank)))
+    do i = 1, size(item_rank)
+      at(item_rank(i)) = at(item_rank(i)) + 1
+      order(at(item_rank(i))) = i
+    end do
+  end subroutine group
+
+  !> An integer whose order is the order of the real number a (equal
+  !> numbers, -0 and 0 too, equal keys): its bits, the negative ones' flipped.
+  elemental integer(i8) function ordered_key(a) result(key)
+    real(dp), intent(in) :: a
+    key = transfer(a + 0.0_dp, 1_i8)
+    if (key < 0) key = ieor(key, huge(1_i8))
+  end function ordered_key
+
+  !> The rank of each row read (`slab_of`) in the slab partition: the rows of
+  !> all ranks ordered by (key, file number) and cut into consecutive runs
+  !> of quota(d) rows for rank d, in rank order. The cuts by bisection, all
+  !> at once: on the key (at most 64 steps), then on the file number among
+  !> the rows with the cut's key (at most 32), each step one count over this
+  !> rank's rows per cut and one MPI_Allreduce. No rank holds more than its
+  !> rows. Collective.
+  subroutine slab_owners(comm, key, row_offset, quota, slab_of)
+    type(MPI_Comm), intent(in) :: comm
+    !> `ordered_key` of this rank's rows; file number of its first less one.
+    integer(i8), intent(in) :: key(:), row_offset
+    !> Rows per rank.
+    integer, intent(in) :: quota(0:)
+    integer, intent(out) :: slab_of(:)
+    integer(i8) :: below(size(quota) - 1), lo(size(quota) - 1), hi(size(quota) - 1), &
+      mid(size(quota) - 1), cnt(size(quota) - 1), cut_key(size(quota) - 1), range(2), t(size(quota) - 1)
+    integer(i8) :: file(size(key))
+    integer :: j, i, nc
+    nc = size(quota) - 1
+    slab_of = 0
+    if (nc == 0) return
+    file = [(row_offset + i, i = 1, size(key))]
+    do j = 1, nc
+      below(j) = sum(int(quota(0:j - 1), i8))
+    end do
+    range = -huge(1_i8)
+    if (size(key) > 0) range = [-minval(key), maxval(key)]
+    call MPI_Allreduce(MPI_IN_PLACE, range, 2, MPI_INTEGER8, MPI_MAX, comm)
+    ! the smallest key v with below(j) keys at or below it (none: below the least)
+    lo = -range(1) - 1
+    hi = range(2)
+    where (below == 0) hi = lo
+    do
+      mid = floor_mean(lo, hi)
+      if (all(mid == lo)) exit
+      do j = 1, nc
+        cnt(j) = count(key <= mid(j))
+      end do
+      call MPI_Allreduce(MPI_IN_PLACE, cnt, nc, MPI_INTEGER8, MPI_SUM, comm)
+      where (mid > lo .and. cnt >= below) hi = mid
+      where (mid > lo .and. cnt < below) lo = mid
+    end do
+    cut_key = hi
+    ! of the rows with that key, the first t(j) by file number
+    do j = 1, nc
+      t(j) = count(key < cut_key(j))
+    end do
+    call MPI_Allreduce(MPI_IN_PLACE, t, nc, MPI_INTEGER8, MPI_SUM, comm)
+    t = below - t
+    lo = -1
+    hi = sum(int(quota, i8))
+    where (t == 0) hi = 0
+    do
+      mid = floor_mean(lo, hi)
+      if (all(mid == lo)) exit
+      do j = 1, nc
+        cnt(j) = count(key == cut_key(j) .and. file <= mid(j))
+      end do
+      call MPI_Allreduce(MPI_IN_PLACE, cnt, nc, MPI_INTEGER8, MPI_SUM, comm)
+      where (mid > lo .and. cnt >= t) hi = mid
+      where (mid > lo .and. cnt < t) lo = mid
+    end do
+    do i = 1, size(key)
+      slab_of(i) = count(key(i) > cut_key .or. (key(i) == cut_key .and. file(i) > hi))
+    end do
+  end subroutine slab_owners
+
+  !> floor((a + b)/2) without overflow.
+  elemental integer(i8) function floor_mean(a, b)
+    integer(i8), intent(in) :: a, b
+    floor_mean = shifta(a, 1) + shifta(b, 1) + iand(iand(a, b), 1_i8)
+  end function floor_mean
 
   !> Refuse the input components the distributed reader does not read (it
   !> reads tables of particles and contacts, a cell, effects and dashpots).
@@ -655,7 +817,8 @@ contains
         call MPI_Comm_size(rows_comm, q)
         allocate(blocks(2, 0:q - 1))
         call MPI_Allgather([dop%first_row, dop%n_local], 2, MPI_INTEGER, blocks, 2, MPI_INTEGER, rows_comm)
-        ! the halo's rows: its free bodies' (part order = file order)
+        ! the halo's rows: its free bodies' (part order: by owner, then file
+        ! order; their rows ascend)
         halo = pack(part%body(part%n_own + 1:), part%body(part%n_own + 1:) > 0)
         halo = [((halo((i - 1)/nc + 1) - 1)*nc + mod(i - 1, nc) + 1, i = 1, nc*size(halo))]
         call dist_halo_create(rows_comm, blocks, halo, dop%halo)

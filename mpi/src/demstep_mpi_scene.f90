@@ -43,7 +43,7 @@ module demstep_mpi_scene
   implicit none
   private
 
-  public :: mpi_scene_critical_steps, scene_slabs, mpi_lanczos_estimates, mpi_damped_solve_done, &
+  public :: mpi_scene_critical_steps, scene_slabs, slab_axis, mpi_lanczos_estimates, mpi_damped_solve_done, &
     mpi_damped_lanczos
 
   !> The distributed damped-limit problem: this rank's rows of the operator
@@ -250,7 +250,7 @@ contains
       lo = min(lo, scene%x(:, i))
       hi = max(hi, scene%x(:, i))
     end do
-    ax = maxloc(hi(:scene%dim) - lo(:scene%dim), 1)
+    ax = slab_axis(scene%dim, lo, hi)
     b = 0
     do i = 1, scene%n
       if (scene%fixed(i)) cycle
@@ -263,6 +263,16 @@ contains
       new_index(order(b)) = b
     end do
   end subroutine scene_slabs
+
+  !> The slabs' axis: the one along which the free bodies spread furthest
+  !> (`lo`, `hi`: their smallest and largest coordinates; the first such
+  !> axis; 1 when there are none, lo > hi).
+  pure integer function slab_axis(dim, lo, hi) result(ax)
+    integer, intent(in) :: dim
+    real(dp), intent(in) :: lo(3), hi(3)
+    ax = 1
+    if (all(lo(:dim) <= hi(:dim))) ax = maxloc(hi(:dim) - lo(:dim), 1)
+  end function slab_axis
 
   !> The per-contact rule min 2 sqrt(m*/k) over the springs of the listed
   !> bodies, in the operator's scaled units (divide by its rate); huge when

@@ -1,11 +1,12 @@
 !> Distributed input (`demstep_mpi_dist_scene`): scenes read in parts from
 !> particles and contacts tables against the serial reader and solver
 !> (`scene_from_input`, `assembly_critical_steps`) on the same files, on
-!> every rank count (CI runs it under `mpirun -np 2`): a periodic packing in
-!> file order and one sorted into slabs with contacts across the periodic
-!> face between the first and the last rank, a 2D packing with given
-!> dashpots and CRLF lines, ranks without particles or without free ones,
-!> and the refusals (each the serial reader's message, on every rank).
+!> every rank count (CI runs it under `mpirun -np 2`): periodic packings in
+!> random file order (each rank's halo a thin layer at its slab's faces,
+!> far below the whole scene) and sorted into slabs, with contacts across the
+!> periodic face between the first and the last rank, a 2D packing with
+!> given dashpots and CRLF lines, ranks without particles or without free
+!> ones, and the refusals (each the serial reader's message, on every rank).
 !> Prints one PASS/FAIL line per check (rank 0) and exits non-zero on a failure.
 program test_mpi_files
   use mpi_f08
@@ -35,15 +36,20 @@ program test_mpi_files
   pfile = stem//"particles.txt"
   cfile = stem//"contacts.txt"
 
-  ! a 3D periodic packing in the generator's (random) order: every rank's
-  ! particles touch every other's
+  ! a 3D periodic packing in the generator's (random) order: the slabs
+  ! gather each rank's particles from all over the files
   call packing_files(300, 3, .false., 4, .false.)
   input = base_input(3)
   input%effects = [scene_effect%contacts, scene_effect%damping, scene_effect%rotation]
   input%damping_ratio = 0.2_dp
-  call compare("3D periodic packing, file order, damping")
+  call compare("3D periodic packing, random order, damping")
   call compare("3D periodic packing, all on the last rank", owned=last_rank_owns())
   call compare("3D periodic packing, all on the first rank", owned=first_rank_owns())
+  ! 2D, random order: slabs of a long box, each rank's halo a thin layer
+  call packing_files(800, 2, .false., 4, .false.)
+  input = base_input(2)
+  call compare("2D periodic packing, random order")
+  call check_thin_halo()
   ! the same sorted along x: contiguous ranges are slabs, and the periodic
   ! face joins the first slab to the last
   call packing_files(400, 3, .true., 4, .false.)
@@ -61,7 +67,7 @@ program test_mpi_files
   call fixed_tail_files()
   input = base_input(2)
   input%periodic = [.false., .false.]
-  call compare("a rank with fixed particles only", owned=half_owned())
+  call compare("a rank with fixed particles only", owned=tail_owned())
   call check_released()
   call refusals()
 
@@ -152,28 +158,31 @@ contains
     call MPI_Barrier(MPI_COMM_WORLD)
   end subroutine packing_files
 
-  !> 2D: a chain of 40 free particles then 40 fixed ones, each free one on a
-  !> fixed one below it, no cell: split in halves, the last rank owns only
-  !> fixed particles (no rows).
+  !> 2D: a row of 40 free particles along x, each on a fixed one below it,
+  !> continued by a row of 40 fixed ones touching the last free one, no
+  !> cell (listed with the fixed ones first): with the last 40 in slab order
+  !> (along x, the free ones' widest spread) the last rank owns only fixed
+  !> particles (no rows).
   subroutine fixed_tail_files()
     integer :: u, i
-    n = 80
+    n = 120
     if (rank == 0) then
       open (newunit=u, file=pfile, status="replace", action="write")
+      do i = 1, 80
+        write (u, '(a, f6.2, a)') "", 1.0_dp*(i - 1), merge(" 0.0", " 1.0", i <= 40)//"  0 0  1.0 0.55 1"
+      end do
       do i = 1, 40
         write (u, '(a, f6.2, a)') "", 1.0_dp*(i - 1), " 1.0  0 0  1.5 0.55 0"
       end do
-      do i = 1, 40
-        write (u, '(a, f6.2, a)') "", 1.0_dp*(i - 1), " 0.0  0 0  1.0 0.55 1"
-      end do
       close (u)
       open (newunit=u, file=cfile, status="replace", action="write")
-      do i = 1, 39
+      do i = 81, 119
         write (u, '(i0, 1x, i0, a)') i, i + 1, " 100 30"
       end do
       do i = 1, 40
-        write (u, '(i0, 1x, i0, a)') i + 40, i, " 250 60"
+        write (u, '(i0, 1x, i0, a)') i + 80, i, " 250 60"
       end do
+      write (u, '(a)') "120 41 150 40"
       close (u)
     end if
     call MPI_Barrier(MPI_COMM_WORLD)
@@ -212,17 +221,17 @@ contains
     owned(1) = n
   end function first_rank_owns
 
-  !> The first n/2 on the first ranks, the rest on the last (n = 80).
-  function half_owned() result(owned)
+  !> The last n/3 (in slab order) on the last rank, the rest on the first ones.
+  function tail_owned() result(owned)
     integer :: owned(nranks)
     owned = 0
-    owned(nranks) = n/2
-    owned(1) = owned(1) + n/2
+    owned(nranks) = n/3
+    owned(1) = owned(1) + n - n/3
     if (nranks > 2) then
       owned(1) = owned(1) - (nranks - 2)
       owned(2:nranks - 1) = 1
     end if
-  end function half_owned
+  end function tail_owned
 
   !> The distributed result from the files against the serial one.
   subroutine compare(name, owned)
@@ -272,6 +281,29 @@ contains
       same_everywhere(par%omega_upper) .and. same_everywhere(par%omega_bound) .and. &
       same_everywhere(par%dt_critical_damped) .and. same_everywhere(real(par%eigen_products, dp)), "")
   end subroutine compare
+
+  !> The 2D random-order packing read in parts: each rank owns its share
+  !> (n/nranks, as equal as can be) and holds a halo of at most n/8
+  !> particles. The slabs' halo is the layer within a contact of the two
+  !> faces of a slab in a box 28.3 wide (33 particles on 2 ranks); contiguous
+  !> ranges of the file's random order hold most of the other ranks' particles
+  !> (343 of the other rank's 400 on 2 ranks with the file-number partition
+  !> this reader used up to c4d4041: this check failed there).
+  subroutine check_thin_halo()
+    type(dist_scene_part_type) :: part
+    type(demstep_status_type) :: st
+    integer :: counts(2), most(2), fewest
+    call mpi_read_scene(MPI_COMM_WORLD, input, part, st)
+    call report("random order: the part read", st%stat == demstep_stat%ok, msg(st))
+    if (st%stat /= demstep_stat%ok) return
+    counts = [part%n_own, part%scene%n - part%n_own]
+    call MPI_Allreduce(counts, most, 2, MPI_INTEGER, MPI_MAX, MPI_COMM_WORLD)
+    call MPI_Allreduce(counts(1), fewest, 1, MPI_INTEGER, MPI_MIN, MPI_COMM_WORLD)
+    call report("random order: own particles balanced", most(1) - fewest <= 1, &
+      "own "//num(real(most(1), dp))//num(real(fewest, dp)))
+    call report("random order: each rank's halo thin (at most n/8)", most(2) <= n/8, &
+      "largest halo "//num(real(most(2), dp))//" of "//num(real(n, dp)))
+  end subroutine check_thin_halo
 
   !> A part solved with `release` (its positions, velocities and contacts
   !> dropped once its springs are built): a second solve is refused with a
