@@ -299,9 +299,9 @@ module demstep_assembly
     logical :: accept_start = .false.
     !> The least products of a confirmed solve (`top_eigenpair`).
     integer :: confirm_steps = 0
-    !> A start tried as it is that does not stand (its residual above the
-    !> tolerance: the damped top moved) has the converged steps confirmed by
-    !> a cold solve (`confirm_cold` is set then).
+    !> Steps that refine a top by Lanczos (a start tried as it is that does
+    !> not stand: the damped top moved; or any later step) have the converged
+    !> steps confirmed by a cold solve (`confirm_cold` is set then).
     logical :: confirm_refined = .false.
     real(dp), allocatable :: vec(:)
     !> A' vec and B' vec when known (`cached`): the first solve's start is
@@ -469,11 +469,11 @@ contains
     !> undamped one, and the damped Newton steps' where no cold solve confirms
     !> them; default 0). With dashpots the cold solve stands for them (above).
     integer, intent(in), optional :: confirm_steps
-    !> Whether the top was confirmed: without dashpots, a Lanczos solve with
-    !> its confirmation run made the undamped top; with dashpots and a
-    !> deferred confirmation, the damped top's cold solve confirmed the damped
-    !> steps (and the undamped top was re-solved confirmed if it found a
-    !> higher one).
+    !> Whether the undamped top was confirmed: made by a Lanczos solve with its
+    !> confirmation run, or, with dashpots when that run was deferred, by the
+    !> damped limit's cold solve (the damped top is then what is confirmed:
+    !> the cold solve on the operator the step is held against found no top
+    !> above the warm steps', and the undamped mode stands with it).
     logical, intent(out), optional :: confirmed
     real(dp) :: lam, err, b_bound, lower, upper, failure
     real(dp), allocatable :: start(:)
@@ -1000,8 +1000,8 @@ contains
     !> The cold solves made, and whether one found a higher top (`damped_newton`).
     integer, intent(out), optional :: confirms
     logical, intent(out), optional :: higher
-    !> Confirm the steps by a cold solve when the start, tried as it is, does
-    !> not stand (default false).
+    !> Confirm the steps by a cold solve when any of them refines its top (the
+    !> start tried as it is does not stand; default false).
     logical, intent(in), optional :: confirm_refined
     type(serial_damped_type) :: problem
     real(dp), allocatable :: w(:), aw(:), bw(:)
@@ -1227,8 +1227,13 @@ contains
         va = dot_product(problem%vec, problem%av)
         return
       end if
-      if (problem%confirm_refined) problem%confirm_cold = .true.
     end if
+    ! (a start that did not stand is refined, confirmed cold when asked. A
+    ! start that stood is at its own quadratic root, theta = 4 to rounding
+    ! within its error bar, so the steps end there; should rounding send them
+    ! on, these later refined steps are confirmed cold too: no refined damped
+    ! top is left unconfirmed)
+    if (problem%confirm_refined .and. .not. problem%cold) problem%confirm_cold = .true.
     problem%cached = .false.
     call operator_mix(problem%op, tau**2, 2.0_dp*tau)
     if (problem%cold) then

@@ -174,9 +174,10 @@ module demstep_monitor
     !> (At a scheduled confirmation the same overlap decides the damped one.)
     real(dp) :: in_place = monitor_in_place_default
     !> Whether the last update took the previous modes as they were, and
-    !> whether it was a warm update whose top was confirmed (without dashpots
-    !> the undamped solve's confirmation run; with dashpots the damped
-    !> limit's cold solve, see `operator_critical_steps`).
+    !> whether it was a warm update that was confirmed: the undamped solve's
+    !> confirmation run or, with dashpots, the damped top's cold solve (on the
+    !> operator the step is held against; it confirms the damped limit, and
+    !> the undamped mode with it).
     logical :: accepted = .false., confirmed = .false.
     !> The last update's stiffened bodies that were looked at, and whether a
     !> neighbourhood's top joined its start (a Lanczos solve from it).
