@@ -80,7 +80,7 @@ module demstep_mpi_dist_scene
     operator_from_springs, operator_abs_product, operator_mix, dof_masses, hertz_linearization
   use demstep_lanczos, only: eigen_result_type, lanczos_tolerance_default
   use demstep_mpi_lanczos, only: dist_operator_type, dist_halo_type, dist_halo_create, &
-    dist_halo_exchange, dist_halo_free, parallel_lanczos_largest
+    dist_halo_exchange, dist_halo_free, parallel_lanczos_largest, offsets_of
   use demstep_mpi_scene, only: slab_axis, mpi_lanczos_estimates, mpi_damped_solve_done, mpi_damped_lanczos
   use demstep_sort, only: heap_sort
   use demstep_mpi_parts, only: read_table_part, agree_status, broadcast_status, no_fault, position
@@ -524,15 +524,10 @@ contains
     subroutine exchange(sent, got)
       real(dp), intent(in) :: sent(:, :)
       real(dp), intent(inout) :: got(:, :)
-      integer :: s
       if (.not. allocated(recv_n)) allocate(recv_n(0:nranks - 1))
       call MPI_Alltoall(send_n, 1, MPI_INTEGER, recv_n, 1, MPI_INTEGER, comm)
-      send_at(0) = 0
-      recv_at(0) = 0
-      do s = 1, nranks - 1
-        send_at(s) = send_at(s - 1) + send_n(s - 1)
-        recv_at(s) = recv_at(s - 1) + recv_n(s - 1)
-      end do
+      send_at = offsets_of(send_n)
+      recv_at = offsets_of(recv_n)
       call MPI_Alltoallv(sent, send_n, send_at, MPI_DOUBLE_PRECISION, got, recv_n, recv_at, &
         MPI_DOUBLE_PRECISION, comm)
     end subroutine exchange
@@ -542,13 +537,8 @@ contains
     subroutine int_exchange(sent, n_sent, got, n_got)
       integer, intent(in) :: sent(:), n_sent(0:), n_got(0:)
       integer, intent(inout) :: got(:)
-      integer :: s
-      send_at(0) = 0
-      recv_at(0) = 0
-      do s = 1, nranks - 1
-        send_at(s) = send_at(s - 1) + n_sent(s - 1)
-        recv_at(s) = recv_at(s - 1) + n_got(s - 1)
-      end do
+      send_at = offsets_of(n_sent)
+      recv_at = offsets_of(n_got)
       call MPI_Alltoallv(sent, n_sent, send_at, MPI_INTEGER, got, n_got, recv_at, MPI_INTEGER, comm)
     end subroutine int_exchange
 

@@ -36,6 +36,7 @@ module demstep_mpi_lanczos
 
   public :: dist_csr_create, dist_csr_apply, dist_gershgorin_bound, dist_collatz_bound, &
     parallel_lanczos_largest
+  public :: offsets_of
   public :: dist_start_vector, dist_csr_bytes, dist_csr_free, dist_halo_create, dist_halo_exchange, &
     dist_halo_free
 
@@ -274,12 +275,8 @@ contains
       want(r) = want(r) + 1
     end do
     call MPI_Alltoall(want, 1, MPI_INTEGER, give, 1, MPI_INTEGER, comm)
-    want_displ(0) = 0
-    give_displ(0) = 0
-    do r = 1, nranks - 1
-      want_displ(r) = want_displ(r - 1) + want(r - 1)
-      give_displ(r) = give_displ(r - 1) + give(r - 1)
-    end do
+    want_displ = offsets_of(want)
+    give_displ = offsets_of(give)
     allocate(requested(sum(give)))
     call MPI_Alltoallv(halo, want, want_displ, MPI_INTEGER, requested, give, give_displ, &
       MPI_INTEGER, comm)
@@ -522,5 +519,18 @@ contains
     type(demstep_status_type) :: status
     status = pdseupd_status(info)
   end function dist_seupd_status
+
+  !> The displacements of `counts` laid end to end in rank order (0,
+  !> counts(0), counts(0) + counts(1), ...), as MPI_Alltoallv takes them.
+  pure function offsets_of(counts) result(at)
+    integer, intent(in) :: counts(0:)
+    integer :: at(0:size(counts) - 1)
+    integer :: r
+    if (size(counts) == 0) return
+    at(0) = 0
+    do r = 1, size(counts) - 1
+      at(r) = at(r - 1) + counts(r - 1)
+    end do
+  end function offsets_of
 
 end module demstep_mpi_lanczos
