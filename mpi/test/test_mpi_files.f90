@@ -347,6 +347,8 @@ contains
     input = base_input(2)
     good_p = slurp(pfile)
     good_c = slurp(cfile)
+    ! (every rank has read both before rank 0 rewrites them: `refused`)
+    call MPI_Barrier(MPI_COMM_WORLD)
     call refused("a particle row of 6 numbers", late_line(good_p, "1 2 3 4 5 6"), good_c)
     call refused("a fixed column of 2", late_line(good_p, "1 2 0 0 1 0.5 2 0.1"), good_c)
     call refused("a mass of 0", late_line(good_p, "1 2 0 0 0 0.5 0 0.1"), good_c)
