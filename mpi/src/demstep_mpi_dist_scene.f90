@@ -550,15 +550,12 @@ contains
     integer, intent(in) :: item_rank(:)
     integer, allocatable, intent(out) :: order(:)
     integer, intent(inout) :: n(0:)
-    integer :: at(0:size(n) - 1), i, d
+    integer :: at(0:size(n) - 1), i
     n = 0
     do i = 1, size(item_rank)
       n(item_rank(i)) = n(item_rank(i)) + 1
     end do
-    at(0) = 0
-    do d = 1, size(n) - 1
-      at(d) = at(d - 1) + n(d - 1)
-    end do
+    at = offsets_of(n)
     allocate(order(size(item_rank)))
     do i = 1, size(item_rank)
       at(item_rank(i)) = at(item_rank(i)) + 1
