@@ -10,7 +10,10 @@
 !> the absolute product |A'| v of the bound (`operator_abs_product`, v > 0;
 !> the bound makes three) with the sum of r as its checksum.
 !>
-!>   OPENBLAS_NUM_THREADS=1 fpm run --example bench_product --profile release [-- K]
+!> A second argument sets the product's block size (`operator_set_blocks`;
+!> default `product_block_bodies`); the springs that cross blocks are counted.
+!>
+!>   OPENBLAS_NUM_THREADS=1 fpm run --example bench_product --profile release [-- K [block_bodies]]
 program bench_product
   use, intrinsic :: iso_fortran_env, only: output_unit
   use demstep_kinds, only: dp
@@ -19,7 +22,7 @@ program bench_product
   use demstep_scene_data, only: scene_type
   use demstep_packing, only: random_periodic_packing, tile_scene
   use demstep_assembly, only: assembly_operator, assembly_operator_type, assembly_operator_apply, &
-    operator_abs_product
+    operator_abs_product, operator_set_blocks, product_block_bodies
   use demstep_sort, only: sort_ascending
   use demstep_text, only: int_text
   !$ use omp_lib, only: omp_set_num_threads
@@ -30,12 +33,15 @@ program bench_product
   type(demstep_status_type) :: status
   real(dp), allocatable :: x(:), y(:, :), v(:)
   real(dp) :: t0, t_build, t(runs), tc(runs), rate, ms(2), cpu_ms(2), c0, c1
-  integer :: k, j, r, threads, ios
+  integer :: k, j, r, threads, ios, block_bodies
   character(len=32) :: arg
 
   k = 10
   call get_command_argument(1, arg)
   if (arg /= "") read(arg, *, iostat=ios) k
+  block_bodies = product_block_bodies
+  call get_command_argument(2, arg)
+  if (arg /= "") read(arg, *, iostat=ios) block_bodies
   call random_periodic_packing(packing, 1000, status, seed=1)
   if (status%stat /= demstep_stat%ok) error stop status%message
   call tile_scene(packing, [k, k, k], scene, status)
@@ -43,6 +49,7 @@ program bench_product
   t0 = progress_seconds()
   call assembly_operator(scene, op, rate, status)
   if (status%stat /= demstep_stat%ok) error stop status%message
+  call operator_set_blocks(op, block_bodies)
   t_build = progress_seconds() - t0
   allocate(x(op%n), y(op%n, 2))
   do j = 1, op%n
@@ -51,6 +58,8 @@ program bench_product
   call time_products(.false.)
   write(output_unit, '(a, i0, a, i0, a, f0.3, a)') "# particles ", scene%n, ", springs ", op%n_springs, &
     ", build ", t_build, " s"
+  write(output_unit, '(a, i0, a, i0, a, f0.2, a)') "# blocks of ", op%block_bodies, " bodies: ", size(op%cross), &
+    " springs cross blocks (", 100.0_dp*size(op%cross)/op%n_springs, " %)"
   write(output_unit, '(a, 2(f0.2, a), 2(f0.1, a), l1)') "product ms (1, 2 threads): ", ms(1), " ", ms(2), &
     "; ns per spring: ", 1.0e6_dp*ms(1)/op%n_springs, " ", 1.0e6_dp*ms(2)/op%n_springs, &
     "; same bits: ", all(y(:, 1) == y(:, 2))

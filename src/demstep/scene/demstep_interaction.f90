@@ -26,8 +26,8 @@ module demstep_interaction
 
   public :: reduced_radius, reduced_mass, normal_force, normal_stiffness, tangential_stiffness, &
     normal_energy, dashpot_coefficient, wall_overlap, contact_block, contact_end_blocks, contact_product, &
-    contact_product_arms, contact_products, mixed_stiffness, contact_forces, &
-    rolling_moments, contact_arm, hooke_size_factor, &
+    contact_product_arms, contact_products, contact_products_listed, contact_products_add, mixed_stiffness, &
+    contact_forces, rolling_moments, contact_arm, hooke_size_factor, &
     add_bond_forces, dof_components, hertz_e_star, mindlin_g_star, cross
 
   !> Contact laws, as components of a parameter: `contact_law%hertz`.
@@ -191,7 +191,7 @@ contains
   end subroutine contact_product
 
   !> `contact_product` over springs first..last of a list (the operator
-  !> product's spring pass; the kernel is written out in the loop, where the
+  !> product's spring pass; the kernel is written out in a loop, where the
   !> compiler can keep it in registers: a call per spring cost a quarter of
   !> the product): spring s joins bodies ends(1, s) and ends(2, s) (0: the ground,
   !> whose x and rinv are 0) along normal(:, s) with coef(:, s) = (k_n, k_t,
@@ -204,9 +204,60 @@ contains
     integer, intent(in) :: ends(2, *)
     real(dp), intent(in) :: rinv(0:*), x(6, 0:*)
     real(dp), intent(inout) :: f(6, *)
-    real(dp) :: k(4), geo, n(3), du(3), dn, pdu(3), sl(3), fn(3), g(3), m(3), arm_i, arm_j
-    integer :: s, a, b
-    do s = first, last
+    integer, parameter :: no_list(1) = 0
+    real(dp) :: no_acc(6, 1)
+    call spring_pass(first, last, .false., .false., no_list, normal, coef, dcoef, alpha, beta, ends, rinv, x, &
+      f, 1, 1, no_acc)
+  end subroutine contact_products
+
+  !> `contact_products` on the springs list(first..last): the forces and
+  !> torques of spring list(p) go to f(:, 2p - 1) and f(:, 2p).
+  pure subroutine contact_products_listed(first, last, list, normal, coef, dcoef, alpha, beta, ends, rinv, &
+      x, f)
+    integer, intent(in) :: first, last, list(*)
+    real(dp), intent(in) :: normal(3, *), coef(7, *), dcoef(4, *), alpha, beta
+    integer, intent(in) :: ends(2, *)
+    real(dp), intent(in) :: rinv(0:*), x(6, 0:*)
+    real(dp), intent(inout) :: f(6, *)
+    real(dp) :: no_acc(6, 1)
+    call spring_pass(first, last, .true., .false., list, normal, coef, dcoef, alpha, beta, ends, rinv, x, &
+      f, 1, 1, no_acc)
+  end subroutine contact_products_listed
+
+  !> `contact_products` on the springs list(first..last), each end's force
+  !> and torque added to acc(:, body) as the springs come (the ground's, body
+  !> 0, dropped; every other end's body in lo..hi), none stored: a body's sum
+  !> is in the list's order.
+  pure subroutine contact_products_add(first, last, list, normal, coef, dcoef, alpha, beta, ends, rinv, x, &
+      lo, hi, acc)
+    integer, intent(in) :: first, last, list(*), lo, hi
+    real(dp), intent(in) :: normal(3, *), coef(7, *), dcoef(4, *), alpha, beta
+    integer, intent(in) :: ends(2, *)
+    real(dp), intent(in) :: rinv(0:*), x(6, 0:*)
+    real(dp), intent(inout) :: acc(6, lo:hi)
+    real(dp) :: no_f(6, 1)
+    call spring_pass(first, last, .true., .true., list, normal, coef, dcoef, alpha, beta, ends, rinv, x, &
+      no_f, lo, hi, acc)
+  end subroutine contact_products_add
+
+  !> The loop of `contact_products` (listed: spring list(p), else p, for p in
+  !> first..last; add: forces added to acc(:, body), else stored in
+  !> f(:, 2p - 1: 2p)). The one place of the kernel's arithmetic; private, so
+  !> that it is compiled into each caller's loop with its flags fixed.
+  pure subroutine spring_pass(first, last, listed, add, list, normal, coef, dcoef, alpha, beta, ends, rinv, &
+      x, f, lo, hi, acc)
+    integer, intent(in) :: first, last
+    logical, intent(in) :: listed, add
+    integer, intent(in) :: list(*), lo, hi
+    real(dp), intent(in) :: normal(3, *), coef(7, *), dcoef(4, *), alpha, beta
+    integer, intent(in) :: ends(2, *)
+    real(dp), intent(in) :: rinv(0:*), x(6, 0:*)
+    real(dp), intent(inout) :: f(6, *), acc(6, lo:hi)
+    real(dp) :: k(4), geo, n(3), du(3), dn, pdu(3), sl(3), fn(3), g(3), m(3), arm_i, arm_j, fa(6), fb(6)
+    integer :: p, s, a, b
+    do p = first, last
+      s = p
+      if (listed) s = list(p)
       a = ends(1, s)
       b = ends(2, s)
       call mix_kernel(coef(:, s), dcoef, s, alpha, beta, k, geo)
@@ -220,17 +271,24 @@ contains
       sl = pdu + arm_i*cross_product(n, x(4:6, a)) + arm_j*cross_product(n, x(4:6, b))
       fn = (k(1)*dn)*n + k(2)*sl - geo*pdu
       g = k(2)*cross_product(sl, n)
-      f(1:3, 2*s - 1) = -fn
-      f(1:3, 2*s) = fn
-      f(4:6, 2*s - 1) = arm_i*g
-      f(4:6, 2*s) = arm_j*g
+      fa(1:3) = -fn
+      fb(1:3) = fn
+      fa(4:6) = arm_i*g
+      fb(4:6) = arm_j*g
       if (k(3) /= 0.0_dp .or. k(4) /= 0.0_dp) then
         m = rotation_moment(n, k(3), k(4), rinv(b)*x(4:6, b) - rinv(a)*x(4:6, a))
-        f(4:6, 2*s - 1) = f(4:6, 2*s - 1) - rinv(a)*m
-        f(4:6, 2*s) = f(4:6, 2*s) + rinv(b)*m
+        fa(4:6) = fa(4:6) - rinv(a)*m
+        fb(4:6) = fb(4:6) + rinv(b)*m
+      end if
+      if (add) then
+        if (a > 0) acc(:, a) = acc(:, a) + fa
+        if (b > 0) acc(:, b) = acc(:, b) + fb
+      else
+        f(:, 2*p - 1) = fa
+        f(:, 2*p) = fb
       end if
     end do
-  end subroutine contact_products
+  end subroutine spring_pass
 
   !> The stiffness (k_n, k_t, k_r, k_w) and pre-stress geo of spring s of an
   !> operator mixed as alpha K + beta C: coef = (k_n, k_t, arm_i, arm_j, geo,

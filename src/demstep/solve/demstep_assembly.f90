@@ -47,8 +47,8 @@ module demstep_assembly
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text, real_text
   use demstep_spring, only: damped_limit
-  use demstep_interaction, only: contact_law, contact_block, contact_end_blocks, contact_product, contact_products, &
-    mixed_stiffness, dashpot_coefficient, &
+  use demstep_interaction, only: contact_law, contact_block, contact_end_blocks, contact_product, &
+    contact_products_listed, contact_products_add, mixed_stiffness, dashpot_coefficient, &
     wall_overlap, reduced_radius, dof_components, contact_arm
   use demstep_scene_data, only: scene_type, scene_effect, effective_mass, contact_values, wall_values, &
     contact_dashpots, check_scene_damping
@@ -71,7 +71,7 @@ module demstep_assembly
     assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_damped, &
     damped_lower_bound, dashpot_names, damped_newton, assembly_dashpot_bound, operator_from_springs, &
     operator_critical_steps, operator_mix, assembly_set_springs, linearise, operator_abs_product, &
-    dof_masses, collatz_bound, abs_product_operator
+    dof_masses, collatz_bound, abs_product_operator, operator_set_blocks, operator_spring_energies
 
   !> Hertz linearisation at the current overlap, at an impact's largest
   !> overlap (`hertz_linearization%impact`), or at the larger of the two
@@ -153,6 +153,11 @@ module demstep_assembly
   integer, parameter :: parallel_springs = 4096
   !> Springs per call of the product's kernel loop (`contact_products`).
   integer, parameter :: spring_block = 512
+  !> Bodies per block of the operator product (`operator_set_blocks`): fixed,
+  !> not the thread count's, so that the product's sums have one order. A
+  !> block's scaled displacements and sums (2 x 48 bytes a body) stay in a
+  !> core's cache while its springs run.
+  integer, parameter, public :: product_block_bodies = 2**15
 
   !> The mass-scaled stiffness A' = M'^-1/2 K' M'^-1/2 of a scene as a matrix-free
   !> operator (a Lanczos context): the linearised springs and, per free body, the
@@ -178,8 +183,20 @@ module demstep_assembly
     !> `incident`, each 2(s-1)+e for end e of spring s, in spring order.
     integer(i8), allocatable :: first(:)
     integer, allocatable :: incident(:)
-    !> Each spring end's generalised force (6, 2 springs) and each body's scaled
-    !> displacement (6, 0:bodies; 0 the ground), filled per product.
+    !> The product's blocks (`operator_set_blocks`): free bodies in blocks of
+    !> block_bodies (block b holds bodies (b-1) block_bodies + 1 ..). A spring
+    !> whose free ends lie in one block is interior to it: block b's are
+    !> block_springs(block_first(b) .. block_first(b+1)-1), in spring order.
+    !> The others cross blocks: cross(:), in spring order; their free ends
+    !> at block b's bodies are entries cross_first(b) .. cross_first(b+1)-1
+    !> of cross_body (the body) and cross_col (its column of `work`), by
+    !> body, then in spring order. (A spring without free ends is in neither.)
+    integer :: block_bodies = 0, n_blocks = 0
+    integer, allocatable :: block_first(:), block_springs(:), cross(:)
+    integer, allocatable :: cross_first(:), cross_body(:), cross_col(:)
+    !> Each crossing spring's end forces (6, 2 per entry of `cross`: columns
+    !> 2k - 1 and 2k for cross(k)) and each body's scaled displacement
+    !> (6, 0:bodies; 0 the ground), filled per product.
     real(dp), allocatable :: work(:, :), xs(:, :)
   end type assembly_operator_type
 
@@ -1447,62 +1464,233 @@ contains
   end subroutine assembly_operator
 
   !> y = A' x (or, mixed, (alpha A' + beta B') x) for an
-  !> `assembly_operator_type` (a `lanczos_operator`): each
-  !> spring's generalised forces from the interaction kernel (`contact_product`),
-  !> then each body's sum over its springs in spring order. Both loops run in
-  !> parallel under OpenMP and every sum has a fixed order: the result is the
-  !> same for every thread count, bit for bit. O(springs + dof).
+  !> `assembly_operator_type` (a `lanczos_operator`), each spring's generalised
+  !> forces from the interaction kernel (`contact_product`), in three passes:
+  !> block by block (`operator_set_blocks`), its bodies' scaled displacements,
+  !> then its interior springs in spring order, each end's force added to its
+  !> body's sum as it comes, and y = M'^-1/2 times the sums; then the springs
+  !> that cross blocks, their ends' forces kept in `work`; then at each body
+  !> with crossing ends y += M'^-1/2 times their sum in spring order. Every
+  !> pass runs in parallel under OpenMP and every sum has an order fixed by the
+  !> operator alone: the result is the same for every thread count, bit for
+  !> bit. O(springs + dof); interior springs store nothing.
   subroutine assembly_operator_apply(context, x, y)
     class(lanczos_context_type), intent(inout) :: context
     real(dp), intent(in) :: x(:)
     real(dp), intent(out) :: y(:)
-    integer :: s, i, c, nc
-    integer(i8) :: p
-    real(dp) :: acc(6)
+    integer :: k, blk, lo, hi, i, c, nc, q
+    real(dp) :: f(6)
+    real(dp), allocatable :: acc(:, :)
     select type (op => context)
     class is (assembly_operator_type)
       nc = op%nc
-      ! every body's scaled displacement, six components (0 where not a dof);
-      ! column 0 is the ground
-      !$omp parallel do private(i, c) schedule(static) if(op%n_springs >= parallel_springs)
-      do i = 1, op%n_bodies
+      !$omp parallel private(blk, lo, hi, i, c, acc) if(op%n_springs >= parallel_springs)
+      allocate(acc(6, min(op%block_bodies, op%n_bodies)))
+      !$omp do schedule(dynamic)
+      do blk = 1, op%n_blocks
+        lo = (blk - 1)*op%block_bodies + 1
+        hi = min(op%n_bodies, blk*op%block_bodies)
+        call operator_scatter(op, x, lo, hi)
+        acc(:, :hi - lo + 1) = 0.0_dp
+        call contact_products_add(op%block_first(blk), op%block_first(blk + 1) - 1, op%block_springs, &
+          op%normal, op%coef, op%dcoef, op%alpha, op%beta, op%ends, op%rinv, op%xs, lo, hi, acc)
         if (nc == 6) then
           ! (all six components, in order: the common 3D case without indirection)
-          op%xs(:, i) = x(6*i - 5:6*i)*op%w(:, i)
+          do i = lo, hi
+            y(6*i - 5:6*i) = acc(:, i - lo + 1)*op%w(:, i)
+          end do
         else
-          op%xs(:, i) = 0.0_dp
-          do c = 1, nc
-            op%xs(op%comp(c), i) = x((i - 1)*nc + c)*op%w(op%comp(c), i)
+          do i = lo, hi
+            do c = 1, nc
+              y((i - 1)*nc + c) = acc(op%comp(c), i - lo + 1)*op%w(op%comp(c), i)
+            end do
           end do
         end if
       end do
-      !$omp end parallel do
-      ! (in blocks of springs: the kernel is compiled into its loop)
-      !$omp parallel do private(s) schedule(static) if(op%n_springs >= parallel_springs)
-      do s = 1, op%n_springs, spring_block
-        call contact_products(s, min(s + spring_block - 1, op%n_springs), op%normal, op%coef, op%dcoef, &
-          op%alpha, op%beta, op%ends, op%rinv, op%xs, op%work)
+      !$omp end do
+      !$omp end parallel
+      ! the crossing springs (in blocks of springs: the kernel is compiled into its loop)
+      !$omp parallel do private(k) schedule(static) if(op%n_springs >= parallel_springs)
+      do k = 1, size(op%cross), spring_block
+        call contact_products_listed(k, min(k + spring_block - 1, size(op%cross)), op%cross, op%normal, op%coef, &
+          op%dcoef, op%alpha, op%beta, op%ends, op%rinv, op%xs, op%work)
       end do
       !$omp end parallel do
-      !$omp parallel do private(i, p, c, acc) schedule(static) if(op%n_springs >= parallel_springs)
-      do i = 1, op%n_bodies
-        acc = 0.0_dp
-        do p = op%first(i), op%first(i + 1) - 1
-          acc = acc + op%work(:, op%incident(p))
+      !$omp parallel do private(blk, q, i, c, f) schedule(static) if(op%n_springs >= parallel_springs)
+      do blk = 1, op%n_blocks
+        f = 0.0_dp
+        do q = op%cross_first(blk), op%cross_first(blk + 1) - 1
+          i = op%cross_body(q)
+          f = f + op%work(:, op%cross_col(q))
+          if (q < op%cross_first(blk + 1) - 1) then
+            if (op%cross_body(q + 1) == i) cycle
+          end if
+          ! the body's last crossing end
+          if (nc == 6) then
+            y(6*i - 5:6*i) = y(6*i - 5:6*i) + f*op%w(:, i)
+          else
+            do c = 1, nc
+              y((i - 1)*nc + c) = y((i - 1)*nc + c) + f(op%comp(c))*op%w(op%comp(c), i)
+            end do
+          end if
+          f = 0.0_dp
         end do
-        if (nc == 6) then
-          y(6*i - 5:6*i) = acc*op%w(:, i)
-        else
-          do c = 1, nc
-            y((i - 1)*nc + c) = acc(op%comp(c))*op%w(op%comp(c), i)
-          end do
-        end if
       end do
       !$omp end parallel do
     class default
       y = 0.0_dp
     end select
   end subroutine assembly_operator_apply
+
+  !> Bodies lo..hi's scaled displacements xs(:, i) = M'^-1/2 x (six components,
+  !> 0 where not a degree of freedom; column 0, the ground, stays 0).
+  subroutine operator_scatter(op, x, lo, hi)
+    type(assembly_operator_type), intent(inout) :: op
+    real(dp), intent(in) :: x(:)
+    integer, intent(in) :: lo, hi
+    integer :: i, c, nc
+    nc = op%nc
+    do i = lo, hi
+      if (nc == 6) then
+        ! (all six components, in order: the common 3D case without indirection)
+        op%xs(:, i) = x(6*i - 5:6*i)*op%w(:, i)
+      else
+        op%xs(:, i) = 0.0_dp
+        do c = 1, nc
+          op%xs(op%comp(c), i) = x((i - 1)*nc + c)*op%w(op%comp(c), i)
+        end do
+      end if
+    end do
+  end subroutine operator_scatter
+
+  !> Each spring's part of x'A'x (A' as mixed): energy(s) = xs_a.f_a + xs_b.f_b
+  !> over its two ends (xs the ends' scaled displacements, `operator_scatter`;
+  !> f their forces from the kernel; the ground's term 0). Sums to x'A'x up to
+  !> rounding. O(springs), in parallel.
+  subroutine operator_spring_energies(op, x, energy)
+    type(assembly_operator_type), intent(inout) :: op
+    !> size n.
+    real(dp), intent(in) :: x(:)
+    !> size n_springs.
+    real(dp), intent(out) :: energy(:)
+    integer :: s0, s1, s, j, list(spring_block)
+    real(dp) :: f(6, 2*spring_block)
+    integer :: blk
+    !$omp parallel do private(blk) schedule(static) if(op%n_springs >= parallel_springs)
+    do blk = 1, op%n_blocks
+      call operator_scatter(op, x, (blk - 1)*op%block_bodies + 1, min(op%n_bodies, blk*op%block_bodies))
+    end do
+    !$omp end parallel do
+    !$omp parallel do private(s0, s1, s, j, list, f) schedule(static) if(op%n_springs >= parallel_springs)
+    do s0 = 1, op%n_springs, spring_block
+      s1 = min(s0 + spring_block - 1, op%n_springs)
+      do s = s0, s1
+        list(s - s0 + 1) = s
+      end do
+      call contact_products_listed(1, s1 - s0 + 1, list, op%normal, op%coef, op%dcoef, op%alpha, op%beta, &
+        op%ends, op%rinv, op%xs, f)
+      do s = s0, s1
+        j = s - s0 + 1
+        energy(s) = dot_product(op%xs(:, op%ends(1, s)), f(:, 2*j - 1)) &
+          + dot_product(op%xs(:, op%ends(2, s)), f(:, 2*j))
+      end do
+    end do
+    !$omp end parallel do
+  end subroutine operator_spring_energies
+
+  !> The product's blocks of an operator (`assembly_operator_type`): free
+  !> bodies in blocks of block_bodies (> 0; `operator_from_springs` sets
+  !> `product_block_bodies`), each spring with free ends interior to the
+  !> block of its free ends (the ground counts as inside any) or crossing.
+  !> Products' sums depend on it in their last bits only. O(springs).
+  subroutine operator_set_blocks(op, block_bodies)
+    type(assembly_operator_type), intent(inout) :: op
+    integer, intent(in) :: block_bodies
+    integer, allocatable :: home(:), at(:)
+    integer :: nb, s, blk, k, e, i, nx
+    op%block_bodies = max(1, block_bodies)
+    nb = max(1, (op%n_bodies + op%block_bodies - 1)/op%block_bodies)
+    op%n_blocks = nb
+    ! each spring's block (0: crossing, -1: no free end); the counts per
+    ! block, and of crossing ends per body
+    allocate(home(op%n_springs), at(op%n_bodies + 1))
+    call fit_int1(op%block_first, nb + 1)
+    op%block_first = 0
+    at = 0
+    nx = 0
+    do s = 1, op%n_springs
+      home(s) = spring_home(op, s)
+      if (home(s) > 0) then
+        op%block_first(home(s) + 1) = op%block_first(home(s) + 1) + 1
+      else if (home(s) == 0) then
+        nx = nx + 1
+        do e = 1, 2
+          at(op%ends(e, s) + 1) = at(op%ends(e, s) + 1) + 1
+        end do
+      end if
+    end do
+    op%block_first(1) = 1
+    do blk = 1, nb
+      op%block_first(blk + 1) = op%block_first(blk + 1) + op%block_first(blk)
+    end do
+    at(1) = 1
+    do i = 1, op%n_bodies
+      at(i + 1) = at(i + 1) + at(i)
+    end do
+    call fit_int1(op%cross_first, nb + 1)
+    do blk = 1, nb
+      op%cross_first(blk) = at((blk - 1)*op%block_bodies + 1)
+    end do
+    op%cross_first(nb + 1) = at(op%n_bodies + 1)
+    call fit_int1(op%block_springs, op%block_first(nb + 1) - 1)
+    call fit_int1(op%cross, nx)
+    call fit_int1(op%cross_body, at(op%n_bodies + 1) - 1)
+    call fit_int1(op%cross_col, at(op%n_bodies + 1) - 1)
+    call fit_real2(op%work, 6, 1, 2*nx)
+    ! the lists, in spring order (block_first(b) and at(i) run ahead as
+    ! entries are placed)
+    k = 0
+    do s = 1, op%n_springs
+      if (home(s) > 0) then
+        op%block_springs(op%block_first(home(s))) = s
+        op%block_first(home(s)) = op%block_first(home(s)) + 1
+      else if (home(s) == 0) then
+        k = k + 1
+        op%cross(k) = s
+        do e = 1, 2
+          i = op%ends(e, s)
+          op%cross_body(at(i)) = i
+          op%cross_col(at(i)) = 2*(k - 1) + e
+          at(i) = at(i) + 1
+        end do
+      end if
+    end do
+    ! block_first(b) now points past block b's entries: shift back
+    do blk = nb, 1, -1
+      op%block_first(blk + 1) = op%block_first(blk)
+    end do
+    op%block_first(1) = 1
+  end subroutine operator_set_blocks
+
+  !> The product's block of spring s (`operator_set_blocks`): its free ends'
+  !> block, 0 when they lie in two blocks, -1 when it has none.
+  pure integer function spring_home(op, s) result(home)
+    type(assembly_operator_type), intent(in) :: op
+    integer, intent(in) :: s
+    integer :: a, b
+    a = op%ends(1, s)
+    b = op%ends(2, s)
+    if (a == 0 .and. b == 0) then
+      home = -1
+    else if (a == 0) then
+      home = (b - 1)/op%block_bodies + 1
+    else if (b == 0) then
+      home = (a - 1)/op%block_bodies + 1
+    else
+      home = (a - 1)/op%block_bodies + 1
+      if ((b - 1)/op%block_bodies + 1 /= home) home = 0
+    end if
+  end function spring_home
 
   !> The operator's matrix A' in compressed rows (each body's diagonal block
   !> once, then one block per spring to another free body; columns may repeat),
@@ -1769,7 +1957,6 @@ contains
     call fit_real2(op%normal, 3, 1, op%n_springs)
     call fit_real2(op%coef, 7, 1, op%n_springs)
     call fit_real2(op%w, 6, 1, nfree)
-    call fit_real2(op%work, 6, 1, 2*op%n_springs)
     ! (each product fills the bodies' columns; column 0, the ground, stays 0)
     if (allocated(op%xs)) then
       if (size(op%xs, 1) /= 6 .or. lbound(op%xs, 2) /= 0 .or. ubound(op%xs, 2) /= nfree) deallocate(op%xs)
@@ -1848,6 +2035,7 @@ contains
       op%first(i + 1) = op%first(i)
     end do
     op%first(1) = 1
+    call operator_set_blocks(op, product_block_bodies)
     rate = sqrt(k_scale)/sqrt(m_scale)
     status%stat = demstep_stat%ok
   end subroutine operator_from_springs
@@ -1870,6 +2058,16 @@ contains
     end if
     if (.not. allocated(a)) allocate(a(m, lo:hi))
   end subroutine fit_real2
+
+  !> a(n), reallocated only when its size differs (contents undefined).
+  pure subroutine fit_int1(a, n)
+    integer, allocatable, intent(inout) :: a(:)
+    integer, intent(in) :: n
+    if (allocated(a)) then
+      if (size(a) /= n) deallocate(a)
+    end if
+    if (.not. allocated(a)) allocate(a(n))
+  end subroutine fit_int1
 
   !> a(m, n), reallocated only when its shape differs (contents undefined).
   pure subroutine fit_int2(a, m, n)

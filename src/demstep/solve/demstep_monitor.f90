@@ -53,7 +53,7 @@ module demstep_monitor
   use demstep_progress, only: progress_type
   use demstep_assembly, only: critical_step_type, assembly_operator_type, spring_block_type, &
     operator_from_springs, operator_critical_steps, assembly_operator_apply, eigen_solver, &
-    default_max_eigen_dof, damped_lower_bound, scene_lanczos_ncv, assembly_matrix_rows
+    default_max_eigen_dof, damped_lower_bound, scene_lanczos_ncv, assembly_matrix_rows, operator_spring_energies
   use demstep_lapack, only: largest_eigenpair
   use demstep_lanczos, only: lanczos_tolerance_default
   use demstep_scene_data, only: scene_type
@@ -1017,29 +1017,22 @@ contains
 
   !> The shares of a unit mode of an operator (scaled coordinates): per
   !> particle its degrees of freedom's squared amplitude (body b is particle
-  !> body_particle(b) of np), per spring its part of v'A'v over v'A'v (one
-  !> product: it leaves each spring's generalised forces in op%work, against
-  !> which the scaled displacement of its ends is its energy).
+  !> body_particle(b) of np), per spring its part of v'A'v over v'A'v
+  !> (`operator_spring_energies`: one pass of the kernel over the springs).
   subroutine mode_shares(op, mode, body_particle, np, particle_share, spring_share)
     type(assembly_operator_type), intent(inout) :: op
     real(dp), intent(in) :: mode(:)
     integer, intent(in) :: body_particle(:), np
     real(dp), allocatable, intent(out) :: particle_share(:), spring_share(:)
-    real(dp), allocatable :: y(:)
     real(dp) :: total
-    integer :: b, s
+    integer :: b
     allocate(particle_share(np), source=0.0_dp)
     allocate(spring_share(op%n_springs), source=0.0_dp)
     do b = 1, op%n_bodies
       particle_share(body_particle(b)) = sum(mode((b - 1)*op%nc + 1:b*op%nc)**2)
     end do
     if (sum(particle_share) > 0.0_dp) particle_share = particle_share/sum(particle_share)
-    allocate(y(op%n))
-    call assembly_operator_apply(op, mode, y)
-    do s = 1, op%n_springs
-      spring_share(s) = dot_product(op%xs(:, op%ends(1, s)), op%work(:, 2*s - 1)) + &
-        dot_product(op%xs(:, op%ends(2, s)), op%work(:, 2*s))
-    end do
+    call operator_spring_energies(op, mode, spring_share)
     total = sum(spring_share)
     if (total > 0.0_dp) spring_share = spring_share/total
   end subroutine mode_shares
