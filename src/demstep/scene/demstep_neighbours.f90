@@ -144,35 +144,39 @@ contains
   !> The explicit contact list's overlapping rows, in list order, as
   !> `contact_list` gives them (rows c(k)), and the first pair of the list at
   !> the same point (`coincident`, 0 if none; not a contact). Blocks of
-  !> `list_block` rows in parallel: a count, then each block's contacts
-  !> written from its place in the list (the same pairs and bits as
-  !> `try_pair` row by row).
+  !> `list_block` rows in parallel, each row's contact at the row's own place
+  !> (the same pairs and bits as `try_pair` row by row); only when some rows
+  !> are not contacts are the contacts then moved up to their places in the
+  !> result (a given list is usually all contacts).
   subroutine listed_contacts(scene, i, j, n, d, c, coincident)
     type(scene_type), intent(in) :: scene
     integer, allocatable, intent(out) :: i(:), j(:), c(:)
     real(dp), allocatable, intent(out) :: n(:, :), d(:)
     integer, intent(inout) :: coincident(2)
-    integer, allocatable :: start(:), same(:)
-    real(dp) :: normal(3), overlap, dist
-    integer :: nk, nb, b, k, p, a, z
+    integer, allocatable :: start(:), same(:), ti(:), tj(:), tc(:)
+    real(dp), allocatable :: tn(:, :), td(:)
+    real(dp) :: dist
+    integer :: nk, nb, b, k, p
     logical :: touching
     nk = size(scene%contact_pairs, 2)
     nb = (nk + list_block - 1)/list_block
-    allocate(start(nb + 1), same(nb))
+    allocate(start(nb + 1), same(nb), i(nk), j(nk), c(nk), n(3, nk), d(nk))
     start(1) = 1
-    !$omp parallel do private(b, k, p, touching, normal, overlap, dist, a, z) schedule(static) if(nb > 1)
+    !$omp parallel do private(b, k, p, touching, dist) schedule(static) if(nb > 1)
     do b = 1, nb
       p = 0
       same(b) = 0
       do k = (b - 1)*list_block + 1, min(nk, b*list_block)
-        a = scene%contact_pairs(1, k)
-        z = scene%contact_pairs(2, k)
-        call pair_geometry(scene, a, z, touching, normal, overlap, dist)
+        i(k) = scene%contact_pairs(1, k)
+        j(k) = scene%contact_pairs(2, k)
+        call pair_geometry(scene, i(k), j(k), touching, n(:, k), d(k), dist)
+        c(k) = 0
         if (.not. touching) cycle
         if (.not. dist > 0.0_dp) then
           if (same(b) == 0) same(b) = k
           cycle
         end if
+        c(k) = k
         p = p + 1
       end do
       start(b + 1) = p
@@ -180,30 +184,32 @@ contains
     !$omp end parallel do
     do b = 1, nb
       start(b + 1) = start(b + 1) + start(b)
+      if (same(b) == 0 .or. coincident(1) /= 0) cycle
+      coincident = scene%contact_pairs(:, same(b))
     end do
-    allocate(i(start(nb + 1) - 1), j(start(nb + 1) - 1), c(start(nb + 1) - 1), n(3, start(nb + 1) - 1), &
-      d(start(nb + 1) - 1))
-    !$omp parallel do private(b, k, p, touching, normal, overlap, dist, a, z) schedule(static) if(nb > 1)
+    if (start(nb + 1) - 1 == nk) return
+    ! some rows are not contacts: each block's contacts moved to their places
+    p = start(nb + 1) - 1
+    allocate(ti(p), tj(p), tc(p), tn(3, p), td(p))
+    !$omp parallel do private(b, k, p) schedule(static) if(nb > 1)
     do b = 1, nb
       p = start(b)
       do k = (b - 1)*list_block + 1, min(nk, b*list_block)
-        a = scene%contact_pairs(1, k)
-        z = scene%contact_pairs(2, k)
-        call pair_geometry(scene, a, z, touching, normal, overlap, dist)
-        if (.not. (touching .and. dist > 0.0_dp)) cycle
-        i(p) = a
-        j(p) = z
-        c(p) = k
-        n(:, p) = normal
-        d(p) = overlap
+        if (c(k) == 0) cycle
+        ti(p) = i(k)
+        tj(p) = j(k)
+        tc(p) = k
+        tn(:, p) = n(:, k)
+        td(p) = d(k)
         p = p + 1
       end do
     end do
     !$omp end parallel do
-    do b = 1, nb
-      if (same(b) == 0 .or. coincident(1) /= 0) cycle
-      coincident = scene%contact_pairs(:, same(b))
-    end do
+    call move_alloc(ti, i)
+    call move_alloc(tj, j)
+    call move_alloc(tc, c)
+    call move_alloc(tn, n)
+    call move_alloc(td, d)
   end subroutine listed_contacts
 
   !> The particle contact list: the explicit list's overlapping rows, or every
