@@ -5,7 +5,7 @@ module test_scene
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
   use demstep_spring, only: restitution_to_damping_ratio
-  use demstep_neighbours, only: contact_list
+  use demstep_neighbours, only: contact_list, search_type, prepare_search, find_contacts
   use demstep_scene_data, only: n_effects
   use demstep_kinds, only: pi
   use test_support, only: real_str
@@ -43,6 +43,7 @@ contains
       new_unittest("contacts: a Hertz pair conserves energy, max overlap", test_hertz_pair), &
       new_unittest("bad scenes give a status", test_bad_scenes), &
       new_unittest("contact search with giants equals brute force", test_giants_brute_force), &
+      new_unittest("a given contact list: contact_list equals the search, in blocks", test_listed_contacts), &
       new_unittest("coincident particles are refused by number", test_coincident), &
       new_unittest("extreme mass and stiffness: omega_max scaled, vs closed form", test_scaled_eigen), &
       new_unittest("extreme damping ratio: computed to 1e100, refused above", test_extreme_damping), &
@@ -505,6 +506,79 @@ contains
     ! the giants do touch many particles: the test exercises their search
     call check(error, count(ci <= 10 .or. cj <= 10) > 100, "giants have contacts")
   end subroutine test_giants_brute_force
+
+  !> A given contact list of 100 000 rows (several of `contact_list`'s
+  !> parallel blocks; about one row in fifteen overlaps, through the periodic
+  !> images) with a pair at the same point listed twice: `contact_list` gives
+  !> the same rows, normals and overlaps, bit for bit, as the stepper's
+  !> search row by row (`find_contacts`), without the coincident rows, and
+  !> refuses the first coincident pair of the list by number.
+  subroutine test_listed_contacts(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer, parameter :: n = 2000, rows = 100000
+    type(scene_type) :: scene
+    type(search_type) :: s
+    type(demstep_status_type) :: status
+    real(dp) :: x(3, n), r(n), u(2)
+    integer :: pairs(2, rows), k, m
+    integer, allocatable :: ci(:), cj(:), cc(:)
+    real(dp), allocatable :: cn(:, :), cd(:)
+    call seed(5)
+    call random_number(x)
+    x = 6.0_dp*x
+    call random_number(r)
+    r = 0.5_dp + 0.5_dp*r
+    x(:, 1500) = x(:, 17)
+    do k = 1, rows
+      call random_number(u)
+      pairs(1, k) = 1 + int(u(1)*n)
+      pairs(2, k) = 1 + modulo(pairs(1, k) + int(u(2)*(n - 1)), n)
+    end do
+    pairs(:, 80000) = [17, 1500]
+    pairs(:, 90000) = [1500, 17]
+    call new_scene(scene, 3, x, spread(1.0_dp, 1, n), r, status, search=.false.)
+    if (status%stat == demstep_stat%ok) call scene_set_cell(scene, [.true., .true., .true.], &
+      [0.0_dp, 0.0_dp, 0.0_dp], [6.0_dp, 6.0_dp, 6.0_dp], status, search=.false.)
+    if (status%stat == demstep_stat%ok) call scene_set_contacts(scene, pairs, &
+      reshape(spread(1.0_dp, 1, 2*rows), [2, rows]), status)
+    call check(error, status%stat, demstep_stat%ok, message="scene: "//status%message)
+    if (allocated(error)) return
+    call contact_list(scene, ci, cj, cn, cd, status, cc)
+    call check(error, status%stat, demstep_stat%invalid_input, message="the coincident pair is refused")
+    if (allocated(error)) return
+    call check(error, index(status%message, "particles 17 and 1500 are at the same point") > 0, &
+      "message: "//status%message)
+    if (allocated(error)) return
+    call prepare_search(scene, s)
+    call find_contacts(scene, s)
+    m = s%n_pairs
+    call check(error, size(ci), m, message="contacts")
+    if (allocated(error)) return
+    call check(error, m > rows/50 .and. m < rows - 2, "some rows overlap, some do not: "//real_str(real(m, dp)))
+    if (allocated(error)) return
+    call check(error, all(ci == s%pair_i(:m)) .and. all(cj == s%pair_j(:m)) .and. all(cc == s%pair_c(:m)), &
+      "the same rows")
+    if (allocated(error)) return
+    call check(error, all(cn == s%pair_n(:, :m)) .and. all(cd == s%pair_d(:m)), "the same normals and overlaps")
+    if (allocated(error)) return
+    call check(error, s%coincident(1) == 17 .and. s%coincident(2) == 1500, "the search's first coincident pair")
+    if (allocated(error)) return
+    call check(error, .not. any(cc == 80000 .or. cc == 90000), "coincident rows are not contacts")
+    if (allocated(error)) return
+    ! the rows are checked in parallel: the first faulty row in list order is refused
+    pairs(:, 95000) = [3, n + 1]
+    call scene_set_contacts(scene, pairs, reshape([(real(1 - 2*merge(1, 0, k == 2*70000 - 1), dp), &
+      k = 1, 2*rows)], [2, rows]), status)
+    call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "contacts" .and. &
+      status%index == 70000 .and. index(status%message, "k_n") > 0, "the first faulty row: "//status%message)
+    if (allocated(error)) return
+    ! and the first faulty particle
+    r(1900) = -1.0_dp
+    x(2, 1950) = huge(1.0_dp)
+    call new_scene(scene, 3, x, spread(1.0_dp, 1, n), r, status, search=.false.)
+    call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "radius" .and. &
+      status%index == 1900, "the first faulty particle: "//status%message)
+  end subroutine test_listed_contacts
 
   !> 1000 particles at one point: refused at once, naming two of them.
   subroutine test_coincident(error)

@@ -18,7 +18,7 @@ module demstep_scene_input
   use demstep_interaction, only: contact_law
   use demstep_material, only: material_set_type
   use demstep_scene_data, only: scene_type, scene_effect, has_tangential, n_effects
-  use demstep_scene_builders, only: new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, &
+  use demstep_scene_builders, only: parallel_rows, new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, &
     scene_set_cell, scene_set_law, scene_set_bond_stiffness, scene_set_gravity, scene_set_types, &
     scene_set_hertz_types, scene_set_damping, scene_set_friction, scene_set_rolling, &
     scene_set_local_damping
@@ -784,10 +784,17 @@ contains
     real(dp), allocatable, intent(out) :: k(:, :)
     type(demstep_status_type), intent(out) :: status
     real(dp), allocatable :: rows(:, :)
+    integer :: c
     call read_table(path, contact_columns, rows, status, lines=lines, index_columns=[1, 2])
     if (status%stat /= demstep_stat%ok) return
-    pairs = nint(rows(1:2, :))
-    k = rows(3:, :)
+    allocate(pairs(2, size(rows, 2)), k(size(rows, 1) - 2, size(rows, 2)))
+    ! (split in parallel: each thread touches its own pages first)
+    !$omp parallel do private(c) schedule(static) if(size(rows, 2) >= parallel_rows)
+    do c = 1, size(rows, 2)
+      pairs(:, c) = nint(rows(1:2, c))
+      k(:, c) = rows(3:, c)
+    end do
+    !$omp end parallel do
   end subroutine read_contacts
 
   !> One value for all n, or n values.

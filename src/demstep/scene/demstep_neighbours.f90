@@ -22,6 +22,9 @@ module demstep_neighbours
   !> particle instead of sizing the cells (a few giants must not put every
   !> particle into one cell).
   integer, parameter :: n_giants = 16
+  !> Rows of an explicit contact list per block of `listed_contacts` (blocks
+  !> run in parallel; the result does not depend on it).
+  integer, parameter :: list_block = 32768
 
   !> The contact lists of one configuration and the search's scratch.
   !> Values of a contact's history: shear displacement and relative rotation.
@@ -119,6 +122,15 @@ contains
     type(demstep_status_type), intent(out), optional :: status
     integer, allocatable, intent(out), optional :: c(:)
     type(search_type) :: s
+    integer, allocatable :: rows(:)
+    if (scene%given_contacts) then
+      ! (the explicit list in parallel, straight into the result: no search's
+      ! lists and histories)
+      call listed_contacts(scene, i, j, n, d, rows, s%coincident)
+      if (present(c)) call move_alloc(rows, c)
+      if (present(status)) call search_trouble(s, status)
+      return
+    end if
     call prepare_search(scene, s)
     call find_contacts(scene, s)
     i = s%pair_i(:s%n_pairs)
@@ -128,6 +140,77 @@ contains
     if (present(c)) c = s%pair_c(:s%n_pairs)
     if (present(status)) call search_trouble(s, status)
   end subroutine contact_list
+
+  !> The explicit contact list's overlapping rows, in list order, as
+  !> `contact_list` gives them (rows c(k)), and the first pair of the list at
+  !> the same point (`coincident`, 0 if none; not a contact). Blocks of
+  !> `list_block` rows in parallel, each row's contact at the row's own place
+  !> (the same pairs and bits as `try_pair` row by row); only when some rows
+  !> are not contacts are the contacts then moved up to their places in the
+  !> result (a given list is usually all contacts).
+  subroutine listed_contacts(scene, i, j, n, d, c, coincident)
+    type(scene_type), intent(in) :: scene
+    integer, allocatable, intent(out) :: i(:), j(:), c(:)
+    real(dp), allocatable, intent(out) :: n(:, :), d(:)
+    integer, intent(inout) :: coincident(2)
+    integer, allocatable :: start(:), same(:), ti(:), tj(:), tc(:)
+    real(dp), allocatable :: tn(:, :), td(:)
+    real(dp) :: dist
+    integer :: nk, nb, b, k, p
+    logical :: touching
+    nk = size(scene%contact_pairs, 2)
+    nb = (nk + list_block - 1)/list_block
+    allocate(start(nb + 1), same(nb), i(nk), j(nk), c(nk), n(3, nk), d(nk))
+    start(1) = 1
+    !$omp parallel do private(b, k, p, touching, dist) schedule(static) if(nb > 1)
+    do b = 1, nb
+      p = 0
+      same(b) = 0
+      do k = (b - 1)*list_block + 1, min(nk, b*list_block)
+        i(k) = scene%contact_pairs(1, k)
+        j(k) = scene%contact_pairs(2, k)
+        call pair_geometry(scene, i(k), j(k), touching, n(:, k), d(k), dist)
+        c(k) = 0
+        if (.not. touching) cycle
+        if (.not. dist > 0.0_dp) then
+          if (same(b) == 0) same(b) = k
+          cycle
+        end if
+        c(k) = k
+        p = p + 1
+      end do
+      start(b + 1) = p
+    end do
+    !$omp end parallel do
+    do b = 1, nb
+      start(b + 1) = start(b + 1) + start(b)
+      if (same(b) == 0 .or. coincident(1) /= 0) cycle
+      coincident = scene%contact_pairs(:, same(b))
+    end do
+    if (start(nb + 1) - 1 == nk) return
+    ! some rows are not contacts: each block's contacts moved to their places
+    p = start(nb + 1) - 1
+    allocate(ti(p), tj(p), tc(p), tn(3, p), td(p))
+    !$omp parallel do private(b, k, p) schedule(static) if(nb > 1)
+    do b = 1, nb
+      p = start(b)
+      do k = (b - 1)*list_block + 1, min(nk, b*list_block)
+        if (c(k) == 0) cycle
+        ti(p) = i(k)
+        tj(p) = j(k)
+        tc(p) = k
+        tn(:, p) = n(:, k)
+        td(p) = d(k)
+        p = p + 1
+      end do
+    end do
+    !$omp end parallel do
+    call move_alloc(ti, i)
+    call move_alloc(tj, j)
+    call move_alloc(tc, c)
+    call move_alloc(tn, n)
+    call move_alloc(td, d)
+  end subroutine listed_contacts
 
   !> The particle contact list: the explicit list's overlapping rows, or every
   !> pair of overlapping particles found with a cell list (cells at least one
@@ -283,17 +366,38 @@ contains
     type(scene_type), intent(in) :: scene
     type(search_type), intent(inout) :: s
     integer, intent(in) :: i, j, c
-    real(dp) :: d(3), reach, dist
-    d = branch_vector(scene, i, j)
-    reach = scene%radius(i) + scene%radius(j)
-    if (d(1)**2 + d(2)**2 + d(3)**2 >= reach**2) return
-    dist = norm2(d)
+    real(dp) :: normal(3), overlap, dist
+    logical :: touching
+    call pair_geometry(scene, i, j, touching, normal, overlap, dist)
+    if (.not. touching) return
     if (.not. dist > 0.0_dp) then
       if (s%coincident(1) == 0) s%coincident = [i, j]
       return
     end if
-    call add_pair(s, i, j, c, d/dist, reach - dist, dist)
+    call add_pair(s, i, j, c, normal, overlap, dist)
   end subroutine try_pair
+
+  !> Whether particles i and j overlap (nearest image), and then their
+  !> distance and, when it is above 0, the unit normal i to j and the overlap.
+  pure subroutine pair_geometry(scene, i, j, touching, normal, overlap, dist)
+    type(scene_type), intent(in) :: scene
+    integer, intent(in) :: i, j
+    logical, intent(out) :: touching
+    real(dp), intent(out) :: normal(3), overlap, dist
+    real(dp) :: d(3), reach
+    d = branch_vector(scene, i, j)
+    reach = scene%radius(i) + scene%radius(j)
+    normal = 0.0_dp
+    overlap = 0.0_dp
+    dist = 0.0_dp
+    ! (a NaN distance is not a miss: it goes on to the same-point test)
+    touching = .not. d(1)**2 + d(2)**2 + d(3)**2 >= reach**2
+    if (.not. touching) return
+    dist = norm2(d)
+    if (.not. dist > 0.0_dp) return
+    normal = d/dist
+    overlap = reach - dist
+  end subroutine pair_geometry
 
   subroutine add_pair(s, i, j, c, normal, overlap, dist)
     type(search_type), intent(inout) :: s

@@ -20,6 +20,9 @@ module demstep_scene_builders
 
   !> Largest |coordinate| and radius of a scene: squared distances stay finite.
   real(dp), parameter, public :: max_coordinate = 1.0e150_dp
+  !> Rows (particles, contacts) from which the builders' checks and copies run
+  !> in parallel (the results do not depend on it).
+  integer, parameter, public :: parallel_rows = 65536
 
 contains
 
@@ -54,7 +57,7 @@ contains
     !> The number of particle 1 in messages and `status%index` (default 1:
     !> a caller holding one part of a larger scene gives its first particle's).
     integer, intent(in), optional :: first_number
-    integer :: n, i, k
+    integer :: n, i, k, bad
     scene%gravity = 0.0_dp
     if (dim < 1 .or. dim > 3) then
       call set_status(status, demstep_stat%invalid_input, "must be 1, 2 or 3", where="dim")
@@ -66,85 +69,96 @@ contains
         //"must describe the same particles", where="position")
       return
     end if
+    ! (the particles checked in parallel: the first faulty one in order)
+    bad = huge(bad)
+    !$omp parallel do private(i) reduction(min:bad) schedule(static) if(n >= parallel_rows)
     do i = 1, n
+      if (particle_fault(mass(i), radius(i), x(:, i)) /= 0) bad = min(bad, i)
+    end do
+    !$omp end parallel do
+    if (bad <= n) then
+      i = bad
       k = i
       if (present(first_number)) k = first_number + i - 1
-      if (.not. (ieee_is_finite(mass(i)) .and. mass(i) > 0.0_dp)) then
+      select case (particle_fault(mass(i), radius(i), x(:, i)))
+      case (1)
         call set_status(status, demstep_stat%invalid_input, "particle "//int_text(k)//": must be > 0", &
           where="mass", index=k)
-        return
-      end if
-      if (.not. ieee_is_finite(1.0_dp/mass(i))) then
+      case (2)
         call set_status(status, demstep_stat%invalid_input, "particle "//int_text(k)//": must be " &
           //"at least 5.6e-309 (1/mass must be finite)", where="mass", index=k)
-        return
-      end if
-      if (.not. (ieee_is_finite(radius(i)) .and. radius(i) > 0.0_dp)) then
+      case (3)
         call set_status(status, demstep_stat%invalid_input, "particle "//int_text(k)//": must be > 0", &
           where="radius", index=k)
-        return
-      end if
-      if (radius(i) > max_coordinate) then
+      case (4)
         call set_status(status, demstep_stat%invalid_input, "particle "//int_text(k)//": must be " &
           //"at most 1e150 (squared distances must be representable)", where="radius", index=k)
-        return
-      end if
-      if (.not. all(ieee_is_finite(x(:, i)))) then
+      case (5)
         call set_status(status, demstep_stat%invalid_input, "particle "//int_text(k)//" is not finite", &
           where="position", index=k)
-        return
-      end if
-      if (any(abs(x(:, i)) > max_coordinate)) then
+      case default
         call set_status(status, demstep_stat%invalid_input, "particle "//int_text(k)//": every " &
           //"coordinate must be within +-1e150 (squared distances must be representable)", &
           where="position", index=k)
-        return
-      end if
-    end do
+      end select
+      return
+    end if
     scene%dim = dim
     scene%n = n
-    allocate(scene%x(3, n), source=0.0_dp)
-    scene%x(:dim, :) = x
-    scene%mass = mass
-    scene%radius = radius
     if (present(inertia)) then
       if (size(inertia) /= n) then
         call set_status(status, demstep_stat%invalid_input, "one per particle", where="inertia")
         return
       end if
+      bad = huge(bad)
+      !$omp parallel do private(i) reduction(min:bad) schedule(static) if(n >= parallel_rows)
       do i = 1, n
-        k = i
-        if (present(first_number)) k = first_number + i - 1
-        if (.not. (ieee_is_finite(inertia(i)) .and. inertia(i) > 0.0_dp)) then
-          call set_status(status, demstep_stat%invalid_input, "particle "//int_text(k)// &
-            ": must be > 0 and finite", where="inertia", index=k)
-          return
-        end if
+        if (.not. (ieee_is_finite(inertia(i)) .and. inertia(i) > 0.0_dp)) bad = min(bad, i)
       end do
-      scene%inertia = inertia
-    else
-      ! 2/5 m r^2, saturated (only rotations use it)
-      scene%inertia = min(0.4_dp*mass*radius, huge(1.0_dp)/max(1.0_dp, radius))*radius
+      !$omp end parallel do
+      if (bad <= n) then
+        k = bad
+        if (present(first_number)) k = first_number + bad - 1
+        call set_status(status, demstep_stat%invalid_input, "particle "//int_text(k)// &
+          ": must be > 0 and finite", where="inertia", index=k)
+        return
+      end if
     end if
-    allocate(scene%v(3, n), scene%w(3, n), source=0.0_dp)
     if (present(v)) then
       if (size(v, 1) /= dim .or. size(v, 2) /= n .or. .not. all(ieee_is_finite(v))) then
         call set_status(status, demstep_stat%invalid_input, "must be finite, one per particle", where="velocity")
         return
       end if
-      scene%v(:dim, :) = v
     end if
-    allocate(scene%fixed(n), source=.false.)
     if (present(fixed)) then
       if (size(fixed) /= n) then
         call set_status(status, demstep_stat%invalid_input, "one fixed flag per particle", where="fixed")
         return
       end if
-      scene%fixed = fixed
     end if
-    do i = 1, 3
-      where (scene%fixed) scene%v(i, :) = 0.0_dp
+    allocate(scene%x(3, n), scene%v(3, n), scene%w(3, n), scene%mass(n), scene%radius(n), scene%inertia(n), &
+      scene%fixed(n))
+    ! (one pass in parallel: each thread touches its own pages first)
+    !$omp parallel do private(i) schedule(static) if(n >= parallel_rows)
+    do i = 1, n
+      scene%x(:, i) = 0.0_dp
+      scene%x(:dim, i) = x(:, i)
+      scene%mass(i) = mass(i)
+      scene%radius(i) = radius(i)
+      if (present(inertia)) then
+        scene%inertia(i) = inertia(i)
+      else
+        ! 2/5 m r^2, saturated (only rotations use it)
+        scene%inertia(i) = min(0.4_dp*mass(i)*radius(i), huge(1.0_dp)/max(1.0_dp, radius(i)))*radius(i)
+      end if
+      scene%fixed(i) = .false.
+      if (present(fixed)) scene%fixed(i) = fixed(i)
+      scene%v(:, i) = 0.0_dp
+      ! (a fixed particle does not move)
+      if (present(v) .and. .not. scene%fixed(i)) scene%v(:dim, i) = v(:, i)
+      scene%w(:, i) = 0.0_dp
     end do
+    !$omp end parallel do
     allocate(scene%bonds(2, 0), scene%bond_rest(3, 0), scene%bond_normal(3, 0), &
       scene%wall_point(3, 0), scene%wall_normal(3, 0), scene%contact_pairs(2, 0), scene%contact_k(8, 0))
     status%stat = demstep_stat%ok
@@ -153,6 +167,29 @@ contains
     end if
     call check_contacts(scene, status)
   end subroutine new_scene
+
+  !> What is wrong with one particle for `new_scene` (the first fault in this
+  !> order): 0 nothing, 1 mass not finite and > 0, 2 1/mass not finite, 3
+  !> radius not finite and > 0, 4 radius above `max_coordinate`, 5 a position
+  !> not finite, 6 a coordinate beyond +-`max_coordinate`.
+  pure integer function particle_fault(mass, radius, x) result(fault)
+    real(dp), intent(in) :: mass, radius, x(:)
+    if (.not. (ieee_is_finite(mass) .and. mass > 0.0_dp)) then
+      fault = 1
+    else if (.not. ieee_is_finite(1.0_dp/mass)) then
+      fault = 2
+    else if (.not. (ieee_is_finite(radius) .and. radius > 0.0_dp)) then
+      fault = 3
+    else if (radius > max_coordinate) then
+      fault = 4
+    else if (.not. all(ieee_is_finite(x))) then
+      fault = 5
+    else if (any(abs(x) > max_coordinate)) then
+      fault = 6
+    else
+      fault = 0
+    end if
+  end function particle_fault
 
   !> The contact search's refusals for the current configuration: coincident
   !> particles, too many contacts, overlapping fixed particles.
@@ -244,47 +281,84 @@ contains
     type(demstep_status_type), intent(out) :: status
     character(len=*), parameter :: names(8) = [character(len=3) :: "k_n", "k_t", "k_r", "k_w", &
       "c_n", "c_t", "c_r", "c_w"]
-    integer :: c, m, q
+    integer :: c, m, q, nc, bad
+    logical :: turning
     m = size(k, 1)
-    if (size(pairs, 1) /= 2 .or. .not. (m == 2 .or. m == 4 .or. m == 8) .or. size(k, 2) /= size(pairs, 2)) then
+    nc = size(pairs, 2)
+    if (size(pairs, 1) /= 2 .or. .not. (m == 2 .or. m == 4 .or. m == 8) .or. size(k, 2) /= nc) then
       call set_status(status, demstep_stat%invalid_input, "each contact is two particle " &
         //"numbers and 2, 4 or 8 values (k_n, k_t, k_r, k_w, c_n, c_t, c_r, c_w)", where="contacts")
       return
     end if
-    do c = 1, size(pairs, 2)
-      if (any(pairs(:, c) < 1) .or. any(pairs(:, c) > scene%n)) then
+    ! (the rows checked in parallel: the first faulty one in list order)
+    bad = huge(bad)
+    !$omp parallel do private(c) reduction(min:bad) schedule(static) if(nc >= parallel_rows)
+    do c = 1, nc
+      if (contact_fault(pairs(:, c), k(:, c), scene%n) /= 0) bad = min(bad, c)
+    end do
+    !$omp end parallel do
+    if (bad <= nc) then
+      c = bad
+      q = contact_fault(pairs(:, c), k(:, c), scene%n)
+      if (q == -2) then
         call set_status(status, demstep_stat%invalid_input, "names a " &
           //"missing particle ("//int_text(pairs(1, c))//", "//int_text(pairs(2, c))//"; there are " &
           //int_text(scene%n)//")", where="contacts", index=int(c), subscript=.true.)
-        return
-      end if
-      if (pairs(1, c) == pairs(2, c)) then
+      else if (q == -1) then
         call set_status(status, demstep_stat%invalid_input, "pairs " &
           //"particle "//int_text(pairs(1, c))//" with itself", where="contacts", index=int(c), subscript=.true.)
-        return
-      end if
-      if (.not. (ieee_is_finite(k(1, c)) .and. k(1, c) > 0.0_dp)) then
+      else if (q == 1) then
         call set_status(status, demstep_stat%invalid_input, "k_n " &
           //"must be > 0 and finite", where="contacts", index=int(c), subscript=.true.)
-        return
+      else
+        call set_status(status, demstep_stat%invalid_input, trim(names(q)) &
+          //" must be >= 0 and finite", where="contacts", index=int(c), subscript=.true.)
       end if
-      do q = 2, m
-        if (.not. (ieee_is_finite(k(q, c)) .and. k(q, c) >= 0.0_dp)) then
-          call set_status(status, demstep_stat%invalid_input, trim(names(q)) &
-            //" must be >= 0 and finite", where="contacts", index=int(c), subscript=.true.)
+      return
+    end if
+    if (allocated(scene%contact_pairs)) deallocate(scene%contact_pairs)
+    if (allocated(scene%contact_k)) deallocate(scene%contact_k)
+    allocate(scene%contact_pairs(2, nc), scene%contact_k(8, nc))
+    ! (copied in parallel: each thread touches its own pages first)
+    turning = .false.
+    !$omp parallel do private(c) reduction(.or.:turning) schedule(static) if(nc >= parallel_rows)
+    do c = 1, nc
+      scene%contact_pairs(:, c) = pairs(:, c)
+      scene%contact_k(:m, c) = k(:, c)
+      scene%contact_k(m+1:, c) = 0.0_dp
+      turning = turning .or. any(scene%contact_k(2:4, c) > 0.0_dp)
+    end do
+    !$omp end parallel do
+    scene%given_dashpots = m == 8
+    scene%given_contacts = .true.
+    if (turning) scene%effects(scene_effect%rotation) = .true.
+    status%stat = demstep_stat%ok
+  end subroutine scene_set_contacts
+
+  !> What is wrong with one row of an explicit contact list (`scene_set_contacts`)
+  !> of particles 1 to n: 0 nothing, -2 a missing particle, -1 a particle paired
+  !> with itself, q > 0 the value k(q) (k_n must be > 0, the others >= 0, all
+  !> finite).
+  pure integer function contact_fault(pair, k, n) result(fault)
+    integer, intent(in) :: pair(2), n
+    real(dp), intent(in) :: k(:)
+    integer :: q
+    fault = 0
+    if (any(pair < 1) .or. any(pair > n)) then
+      fault = -2
+    else if (pair(1) == pair(2)) then
+      fault = -1
+    else if (.not. (ieee_is_finite(k(1)) .and. k(1) > 0.0_dp)) then
+      fault = 1
+    else
+      do q = 2, size(k)
+        if (.not. (ieee_is_finite(k(q)) .and. k(q) >= 0.0_dp)) then
+          fault = q
           return
         end if
       end do
-    end do
-    scene%contact_pairs = pairs
-    deallocate(scene%contact_k)
-    allocate(scene%contact_k(8, size(pairs, 2)), source=0.0_dp)
-    scene%contact_k(:m, :) = k
-    scene%given_dashpots = m == 8
-    scene%given_contacts = .true.
-    if (any(scene%contact_k(2:4, :) > 0.0_dp)) scene%effects(scene_effect%rotation) = .true.
-    status%stat = demstep_stat%ok
-  end subroutine scene_set_contacts
+    end if
+  end function contact_fault
 
   !> Linear materials per particle type: the type of each particle (1 to nt) and
   !> per type pair k(:, a, b) = (k_n, k_t), symmetric; `rotation` on when any
