@@ -82,12 +82,13 @@ module demstep_mpi_dist_scene
   use demstep_mpi_lanczos, only: dist_operator_type, dist_halo_type, dist_halo_create, &
     dist_halo_exchange, dist_halo_free, parallel_lanczos_largest, offsets_of
   use demstep_mpi_scene, only: slab_axis, mpi_lanczos_estimates, mpi_damped_solve_done, mpi_damped_lanczos
-  use demstep_sort, only: heap_sort
+  use demstep_sort, only: heap_sort, merge_sort
   use demstep_mpi_parts, only: read_table_part, agree_status, broadcast_status, no_fault, position
   implicit none
   private
 
-  public :: mpi_read_scene, mpi_part_critical_steps, mpi_files_critical_steps, dist_scene_bytes
+  public :: mpi_read_scene, mpi_part_critical_steps, mpi_files_critical_steps, dist_scene_bytes, &
+    slab_owners, ordered_key
 
   !> This rank's part of a scene read in parts.
   type, public :: dist_scene_part_type
@@ -147,7 +148,7 @@ contains
       r(:), inertia(:), contacts(:, :), mine(:, :), buffer(:, :)
     integer, allocatable :: lines(:), pairs(:, :), quota(:), send_n(:), recv_n(:), send_at(:), &
       recv_at(:), dest(:, :), partners(:), halo(:), asked(:), ask_n(:), give_n(:), local_pairs(:, :), &
-      order(:), own_body(:), own_file(:), slab_of(:), slab_to(:), asked_of(:), halo_rank(:), slot(:)
+      order(:), own_body(:), own_file(:), place(:), slab_to(:), asked_of(:), halo_rank(:), earlier(:), base(:)
     integer(i8), allocatable :: read_from(:)
     logical, allocatable :: fixed(:)
     logical :: periodic(3)
@@ -247,18 +248,31 @@ contains
     call MPI_Allreduce(MPI_IN_PLACE, lo, 3, MPI_DOUBLE_PRECISION, MPI_MIN, comm)
     call MPI_Allreduce(MPI_IN_PLACE, hi, 3, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
     part%axis = slab_axis(dim, lo, hi)
-    allocate(slab_of(size(rows, 2)))
-    call slab_owners(comm, ordered_key(x(part%axis, :)), row_offset, quota, slab_of)
+    allocate(place(size(rows, 2)))
+    call slab_owners(comm, ordered_key(x(part%axis, :)), row_offset, quota, place)
     deallocate(x, v, m, r, fixed)
     if (allocated(inertia)) deallocate(inertia)
     ! the rows to their ranks, each with its file number: every rank's rows
-    ! come in file order from ranks in file order, so the own rows ascend
+    ! come in file order from ranks in file order, so the own rows ascend.
+    ! Each row's place (from here on, `place` holds it instead of the rank):
+    ! its number when the ranks' own particles are listed in rank order, each
+    ! rank's in file order (rank d's own particle q has place base(d) + q)
     allocate(send_n(0:nranks - 1), recv_n(0:nranks - 1), send_at(0:nranks - 1), recv_at(0:nranks - 1), &
-      ask_n(0:nranks - 1), give_n(0:nranks - 1))
-    call group(slab_of, order, send_n)
+      ask_n(0:nranks - 1), give_n(0:nranks - 1), earlier(0:nranks - 1), source=0)
+    allocate(base(0:nranks), source=0)
+    do d = 0, nranks - 1
+      base(d + 1) = base(d) + quota(d)
+    end do
+    call group(place, order, send_n)
+    call MPI_Exscan(send_n, earlier, nranks, MPI_INTEGER, MPI_SUM, comm)
+    if (rank == 0) earlier = 0
+    send_at = offsets_of(send_n)
     allocate(buffer(ncol + 1, size(rows, 2)))
     do k = 1, size(rows, 2)
-      buffer(:, k) = [rows(:, order(k)), real(row_offset + order(k), dp)]
+      buffer(:ncol, k) = rows(:, order(k))
+      buffer(ncol + 1, k) = real(row_offset + order(k), dp)
+      d = place(order(k))
+      place(order(k)) = base(d) + earlier(d) + k - send_at(d)
     end do
     deallocate(rows, order)
     send_n = send_n*(ncol + 1)
@@ -330,7 +344,7 @@ contains
       return
     end if
     deallocate(lines)
-    ! the ranks of the contacts' particles, asked of the ranks that read them
+    ! the places of the contacts' particles, asked of the ranks that read them
     allocate(read_from(0:nranks))
     call MPI_Allgather(row_offset, 1, MPI_INTEGER8, read_from, 1, MPI_INTEGER8, comm)
     read_from(nranks) = n_total
@@ -339,24 +353,29 @@ contains
     call MPI_Alltoall(ask_n, 1, MPI_INTEGER, give_n, 1, MPI_INTEGER, comm)
     allocate(asked(sum(give_n)))
     call int_exchange(asked_of, ask_n, asked, give_n)
-    asked = slab_of(asked - row_offset)
+    asked = place(asked - row_offset)
     call int_exchange(asked, give_n, asked_of, ask_n)
     allocate(dest(2, size(pairs, 2)))
     do k = 1, size(order)
       dest(mod(order(k) - 1, 2) + 1, (order(k) - 1)/2 + 1) = asked_of(k)
     end do
-    deallocate(asked, asked_of, order, slab_of)
+    deallocate(asked, asked_of, order, place)
     ! each row to the ranks of its two particles, with its file row first and
-    ! the two ranks last
+    ! the two places last
     width = size(rows, 1) + 3
     allocate(mine(width, 2*size(rows, 2)), slab_to(2*size(rows, 2)))
     k = 0
     do c = 1, size(rows, 2)
       do e = 1, 2
-        if (e == 2 .and. dest(2, c) == dest(1, c)) cycle
+        d = owner(dest(e, c))
+        if (e == 2) then
+          if (d == slab_to(k)) cycle
+        end if
         k = k + 1
-        mine(:, k) = [real(c_offset + c, dp), rows(:, c), real(dest(:, c), dp)]
-        slab_to(k) = dest(e, c)
+        mine(1, k) = real(c_offset + c, dp)
+        mine(2:width - 2, k) = rows(:, c)
+        mine(width - 1:, k) = real(dest(:, c), dp)
+        slab_to(k) = d
       end do
     end do
     deallocate(rows, pairs, dest)
@@ -368,16 +387,18 @@ contains
     allocate(contacts(width, sum(recv_n)/width))
     call exchange(mine, contacts)
     deallocate(mine)
-    ! own contacts first (the first particle is this rank's), each group in file order
+    ! own contacts first (the first particle is this rank's), each group in
+    ! file order; local_pairs: their particles' places
     allocate(local_pairs(2, size(contacts, 2)))
-    local_pairs = nint(contacts(2:3, :))
+    local_pairs = nint(contacts(width - 1:, :))
     order = [(c, c = 1, size(contacts, 2))]
     order = [pack(order, is_own(local_pairs(1, :))), pack(order, .not. is_own(local_pairs(1, :)))]
     contacts = contacts(:, order)
     local_pairs = local_pairs(:, order)
     deallocate(order)
 
-    ! the halo: the partners this rank does not own, in file order, and their ranks
+    ! the halo: the partners this rank does not own, by place (by owner, each
+    ! owner's in file order: their rows ascend, as the halo exchange takes them)
     allocate(partners(2*size(local_pairs, 2)))
     n = 0
     do c = 1, size(local_pairs, 2)
@@ -400,37 +421,27 @@ contains
     end do
     halo = halo(:n_halo)
     deallocate(partners)
-    allocate(halo_rank(n_halo))
-    do c = 1, size(local_pairs, 2)
-      do e = 1, 2
-        if (.not. is_own(local_pairs(e, c))) halo_rank(position(halo, local_pairs(e, c))) = &
-          nint(contacts(width - 2 + e, c))
-      end do
-    end do
-    ! ask their ranks for their rows and free-body numbers
+    ! ask their owners for their rows, file and free-body numbers
+    halo_rank = [(owner(halo(i)), i = 1, n_halo)]
     call group(halo_rank, order, ask_n)
     call MPI_Alltoall(ask_n, 1, MPI_INTEGER, give_n, 1, MPI_INTEGER, comm)
     allocate(asked(sum(give_n)))
-    call int_exchange(halo(order), ask_n, asked, give_n)
-    allocate(buffer(ncol + 1, size(asked)))
+    call int_exchange(halo, ask_n, asked, give_n)
+    allocate(buffer(ncol + 2, size(asked)))
     do i = 1, size(asked)
-      q = position(own_file, asked(i))
+      q = asked(i) - base(rank)
       buffer(:ncol, i) = own_rows(:ncol, q)
       buffer(ncol + 1, i) = real(own_body(q), dp)
+      buffer(ncol + 2, i) = real(own_file(q), dp)
     end do
-    allocate(halo_rows(ncol + 1, n_halo))
-    send_n = give_n*(ncol + 1)
-    recv_n = ask_n*(ncol + 1)
+    allocate(halo_rows(ncol + 2, n_halo))
+    send_n = give_n*(ncol + 2)
+    recv_n = ask_n*(ncol + 2)
     call exchange(buffer, halo_rows)
-    ! (the halo kept in that order: by owner, each owner's in file order;
-    ! slot(k): the part's place of the k-th in file order)
-    allocate(slot(n_halo))
-    slot(order) = [(i, i = 1, n_halo)]
-    deallocate(buffer, asked)
+    deallocate(buffer, asked, order)
 
     ! the part's scene: own particles, then the halo
-    part%global = [own_file, halo(order)]
-    deallocate(order)
+    part%global = [own_file, nint(halo_rows(ncol + 2, :))]
     part%body = [own_body, nint(halo_rows(ncol + 1, :))]
     call part_arrays(reshape([own_rows(:ncol, :), halo_rows(:ncol, :)], [ncol, part%n_own + n_halo]))
     deallocate(own_rows, halo_rows)
@@ -475,6 +486,24 @@ contains
 
   contains
 
+    !> The rank that owns the particle at place p.
+    integer function owner(p)
+      integer, intent(in) :: p
+      integer :: lo_r, hi_r, mid
+      lo_r = 0
+      hi_r = nranks - 1
+      ! the first rank whose places end at or after p (ranks without any skipped)
+      do while (lo_r < hi_r)
+        mid = (lo_r + hi_r)/2
+        if (base(mid + 1) < p) then
+          lo_r = mid + 1
+        else
+          hi_r = mid
+        end if
+      end do
+      owner = lo_r
+    end function owner
+
     !> The rank that read particle p's row.
     integer function reader(p)
       integer, intent(in) :: p
@@ -493,20 +522,19 @@ contains
       reader = lo_r
     end function reader
 
-    !> Whether particle p is this rank's.
+    !> Whether the particle at place p is this rank's.
     elemental logical function is_own(p)
       integer, intent(in) :: p
-      is_own = .false.
-      if (part%n_own > 0) is_own = own_file(position(own_file, p)) == p
+      is_own = p > base(rank) .and. p <= base(rank + 1)
     end function is_own
 
-    !> The part's number of particle p (own or halo).
+    !> The part's number of the particle at place p (own or halo).
     integer function local_number(p)
       integer, intent(in) :: p
       if (is_own(p)) then
-        local_number = position(own_file, p)
+        local_number = p - base(rank)
       else
-        local_number = part%n_own + slot(position(halo, p))
+        local_number = part%n_own + position(halo, p)
       end if
     end function local_number
 
@@ -573,11 +601,14 @@ contains
 
   !> The rank of each row read (`slab_of`) in the slab partition: the rows of
   !> all ranks ordered by (key, file number) and cut into consecutive runs
-  !> of quota(d) rows for rank d, in rank order. The cuts by bisection, all
-  !> at once: on the key (at most 64 steps), then on the file number among
-  !> the rows with the cut's key (at most 32), each step one count over this
-  !> rank's rows per cut and one MPI_Allreduce. No rank holds more than its
-  !> rows. Collective.
+  !> of quota(d) rows for rank d, in rank order. Each cut is the pair (key,
+  !> file number) of its run's last row; the cuts are found all at once, by
+  !> bisection on the key (at most 64 steps) and then on the file number
+  !> among the rows with the cut's key (at most 32; none where all those rows
+  !> fall before the cut, as when keys are distinct), each step one count per
+  !> cut and one MPI_Allreduce. This rank's keys are sorted once
+  !> (`merge_sort`) and its rows with a cut's key listed once, so a count is
+  !> a binary search. No rank holds more than its rows. Collective.
   subroutine slab_owners(comm, key, row_offset, quota, slab_of)
     type(MPI_Comm), intent(in) :: comm
     !> `ordered_key` of this rank's rows; file number of its first less one.
@@ -586,18 +617,20 @@ contains
     integer, intent(in) :: quota(0:)
     integer, intent(out) :: slab_of(:)
     integer(i8) :: below(size(quota) - 1), lo(size(quota) - 1), hi(size(quota) - 1), &
-      mid(size(quota) - 1), cnt(size(quota) - 1), cut_key(size(quota) - 1), range(2), t(size(quota) - 1)
-    integer(i8) :: file(size(key))
-    integer :: j, i, nc
+      mid(size(quota) - 1), cnt(size(quota) - 1), cut_key(size(quota) - 1), range(2), &
+      less(2*(size(quota) - 1))
+    integer(i8), allocatable :: sorted(:), tied(:)
+    integer :: first(size(quota) - 1), at(size(quota)), j, i, nc
     nc = size(quota) - 1
     slab_of = 0
     if (nc == 0) return
-    file = [(row_offset + i, i = 1, size(key))]
     do j = 1, nc
       below(j) = sum(int(quota(0:j - 1), i8))
     end do
+    sorted = key
+    call merge_sort(sorted)
     range = -huge(1_i8)
-    if (size(key) > 0) range = [-minval(key), maxval(key)]
+    if (size(key) > 0) range = [-sorted(1), sorted(size(key))]
     call MPI_Allreduce(MPI_IN_PLACE, range, 2, MPI_INTEGER8, MPI_MAX, comm)
     ! the smallest key v with below(j) keys at or below it (none: below the least)
     lo = -range(1) - 1
@@ -607,36 +640,117 @@ contains
       mid = floor_mean(lo, hi)
       if (all(mid == lo)) exit
       do j = 1, nc
-        cnt(j) = count(key <= mid(j))
+        cnt(j) = keys_before(sorted, mid(j), .true.)
       end do
       call MPI_Allreduce(MPI_IN_PLACE, cnt, nc, MPI_INTEGER8, MPI_SUM, comm)
       where (mid > lo .and. cnt >= below) hi = mid
       where (mid > lo .and. cnt < below) lo = mid
     end do
     cut_key = hi
-    ! of the rows with that key, the first t(j) by file number
     do j = 1, nc
-      t(j) = count(key < cut_key(j))
+      less(j) = keys_before(sorted, cut_key(j), .false.)
     end do
-    call MPI_Allreduce(MPI_IN_PLACE, t, nc, MPI_INTEGER8, MPI_SUM, comm)
-    t = below - t
-    lo = -1
-    hi = sum(int(quota, i8))
-    where (t == 0) hi = 0
-    do
-      mid = floor_mean(lo, hi)
-      if (all(mid == lo)) exit
-      do j = 1, nc
-        cnt(j) = count(key == cut_key(j) .and. file <= mid(j))
-      end do
-      call MPI_Allreduce(MPI_IN_PLACE, cnt, nc, MPI_INTEGER8, MPI_SUM, comm)
-      where (mid > lo .and. cnt >= t) hi = mid
-      where (mid > lo .and. cnt < t) lo = mid
+    deallocate(sorted)
+    ! this rank's rows with a cut's key (the cuts' keys ascend): their file
+    ! numbers, ascending, listed once for the first cut with that key
+    ! (tied(at(j):at(j + 1) - 1)), and how many there are in all
+    first = [(j, j = 1, nc)]
+    do j = 2, nc
+      if (cut_key(j) == cut_key(j - 1)) first(j) = first(j - 1)
     end do
+    at = 0
     do i = 1, size(key)
-      slab_of(i) = count(key(i) > cut_key .or. (key(i) == cut_key .and. file(i) > hi))
+      j = cut_of(key(i))
+      if (j > 0) at(j + 1) = at(j + 1) + 1
     end do
+    less(nc + 1:) = at(first + 1)
+    at(1) = 1
+    do j = 1, nc
+      at(j + 1) = at(j + 1) + at(j)
+    end do
+    allocate(tied(at(nc + 1) - 1))
+    do i = 1, size(key)
+      j = cut_of(key(i))
+      if (j == 0) cycle
+      tied(at(j)) = row_offset + i
+      at(j) = at(j) + 1
+    end do
+    do j = nc, 1, -1
+      at(j + 1) = at(j)
+    end do
+    at(1) = 1
+    ! of the rows with that key (all ranks), the first t(j) by file number
+    call MPI_Allreduce(MPI_IN_PLACE, less, 2*nc, MPI_INTEGER8, MPI_SUM, comm)
+    associate (t => below - less(:nc), tied_count => less(nc + 1:))
+      ! the largest file number with the key, where the cut takes all such rows
+      mid = -1
+      do j = 1, nc
+        if (at(first(j) + 1) > at(first(j))) mid(j) = tied(at(first(j) + 1) - 1)
+      end do
+      call MPI_Allreduce(MPI_IN_PLACE, mid, nc, MPI_INTEGER8, MPI_MAX, comm)
+      lo = -1
+      hi = sum(int(quota, i8))
+      where (t == 0) hi = 0
+      where (t > 0 .and. t == tied_count)
+        hi = mid
+        lo = mid - 1
+      end where
+      do
+        mid = floor_mean(lo, hi)
+        if (all(mid == lo)) exit
+        do j = 1, nc
+          cnt(j) = keys_before(tied(at(first(j)):at(first(j) + 1) - 1), mid(j), .true.)
+        end do
+        call MPI_Allreduce(MPI_IN_PLACE, cnt, nc, MPI_INTEGER8, MPI_SUM, comm)
+        where (mid > lo .and. cnt >= t) hi = mid
+        where (mid > lo .and. cnt < t) lo = mid
+      end do
+    end associate
+    do i = 1, size(key)
+      slab_of(i) = count(key(i) > cut_key .or. (key(i) == cut_key .and. row_offset + i > hi))
+    end do
+
+  contains
+
+    !> The first cut whose key is k (0: none).
+    pure integer function cut_of(k)
+      integer(i8), intent(in) :: k
+      integer :: a, b, m
+      a = 1
+      b = nc
+      do while (a < b)
+        m = (a + b)/2
+        if (cut_key(m) < k) then
+          a = m + 1
+        else
+          b = m
+        end if
+      end do
+      cut_of = 0
+      if (cut_key(a) == k) cut_of = first(a)
+    end function cut_of
+
   end subroutine slab_owners
+
+  !> The entries of an ascending list before v: those < v, or with
+  !> `inclusive` those <= v (a binary search).
+  pure integer(i8) function keys_before(list, v, inclusive) result(n)
+    integer(i8), intent(in) :: list(:), v
+    logical, intent(in) :: inclusive
+    integer :: a, b, m
+    a = 0
+    b = size(list)
+    ! list(:a) before v, list(b + 1:) not
+    do while (a < b)
+      m = a + (b - a + 1)/2
+      if (list(m) < v .or. (inclusive .and. list(m) == v)) then
+        a = m
+      else
+        b = m - 1
+      end if
+    end do
+    n = a
+  end function keys_before
 
   !> floor((a + b)/2) without overflow.
   elemental integer(i8) function floor_mean(a, b)
