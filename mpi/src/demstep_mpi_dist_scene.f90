@@ -6,11 +6,12 @@
 !> which the free ones spread furthest (`slab_axis`, the replicated path's
 !> rule), one per rank in rank order, balanced by count (or as the caller
 !> gives the counts): ordered by (coordinate, file number), the slabs are
-!> consecutive runs of that order. The cuts are found without sorting the
+!> consecutive runs of that order. The cuts are found without gathering the
 !> scene: a bisection on the coordinate (as an ordered 64-bit key) and then
-!> on the file number among equal coordinates, every cut at once, each step
-!> a count over each rank's rows and one `MPI_Allreduce` (`slab_owners`). A
-!> contact belongs to the owner of its first particle. Each rank holds its
+!> on the file number among equal coordinates, every cut at once, each round
+!> a binary search per cut in each rank's sorted keys and one
+!> `MPI_Allreduce` (`slab_owners`). A contact belongs to the owner of its
+!> first particle. Each rank holds its
 !> own particles (in file order), every contact that touches one of them
 !> (the contacts of its own first particles, then the others, each in file
 !> order) and the partners of those contacts it does not own (the halo: the
@@ -25,10 +26,13 @@
 !> refusal reported is the one the serial reader reports, the same on every
 !> rank: `agree_status`). It then sends each particle row, with its file
 !> number, to its slab's rank (`MPI_Alltoallv`), asks the rank that read
-!> each contact's particles for their slabs' ranks, sends each contact row to
+!> each contact's particles for their places (a particle's place: its
+!> number when the ranks' own particles are listed in rank order, each
+!> rank's in file order, so it tells the owner and the particle's number
+!> there without a search), sends each contact row with its two places to
 !> the ranks of its two particles, and asks the owners of its halo
 !> particles for their rows. No rank holds more than its byte ranges, its
-!> rows, its part and one rank number per row it read.
+!> rows, its part and one place per row it read.
 !>
 !> The operator. The free bodies are numbered slab by slab in rank order,
 !> in file order within a slab (in file order over the whole scene when the
@@ -68,7 +72,7 @@ module demstep_mpi_dist_scene
   use demstep_text, only: int_text
   use demstep_progress, only: progress_type
   use demstep_scene_data, only: scene_type, scene_effect, has_tangential, branch_vector
-  use demstep_scene_builders, only: new_scene, scene_set_cell, scene_set_contacts
+  use demstep_scene_builders, only: new_scene, scene_set_cell, scene_set_contacts, contact_rows_check
   use demstep_scene_input, only: scene_input_type, particle_columns, particles_from_rows, scene_input_check_dim, &
     contact_columns, scene_input_effects, scene_input_damping
   use demstep_interaction, only: dof_components
@@ -82,7 +86,7 @@ module demstep_mpi_dist_scene
   use demstep_mpi_lanczos, only: dist_operator_type, dist_halo_type, dist_halo_create, &
     dist_halo_exchange, dist_halo_free, parallel_lanczos_largest, offsets_of
   use demstep_mpi_scene, only: slab_axis, mpi_lanczos_estimates, mpi_damped_solve_done, mpi_damped_lanczos
-  use demstep_sort, only: heap_sort, merge_sort
+  use demstep_sort, only: heap_sort, radix_sort
   use demstep_mpi_parts, only: read_table_part, agree_status, broadcast_status, no_fault, position
   implicit none
   private
@@ -148,6 +152,7 @@ contains
       r(:), inertia(:), contacts(:, :), mine(:, :), buffer(:, :)
     integer, allocatable :: lines(:), pairs(:, :), quota(:), send_n(:), recv_n(:), send_at(:), &
       recv_at(:), dest(:, :), partners(:), halo(:), asked(:), ask_n(:), give_n(:), local_pairs(:, :), &
+      sent_row(:), own_first(:), &
       order(:), own_body(:), own_file(:), place(:), slab_to(:), asked_of(:), halo_rank(:), earlier(:), base(:)
     integer(i8), allocatable :: read_from(:)
     logical, allocatable :: fixed(:)
@@ -208,13 +213,17 @@ contains
 
     ! the serial scene's checks of the rows read (numbered as in the file)
     call part_arrays(rows)
-    if (allocated(inertia)) then
-      call new_scene(probe, dim, x, m, r, status, v=v, fixed=fixed, inertia=inertia, search=.false., &
-        first_number=int(row_offset) + 1)
-    else
-      call new_scene(probe, dim, x, m, r, status, v=v, fixed=fixed, search=.false., &
-        first_number=int(row_offset) + 1)
-    end if
+    block
+      ! (a scene of the rows read, for its checks only)
+      type(scene_type) :: rows_scene
+      if (allocated(inertia)) then
+        call new_scene(rows_scene, dim, x, m, r, status, v=v, fixed=fixed, inertia=inertia, search=.false., &
+          first_number=int(row_offset) + 1)
+      else
+        call new_scene(rows_scene, dim, x, m, r, status, v=v, fixed=fixed, search=.false., &
+          first_number=int(row_offset) + 1)
+      end if
+    end block
     fault = no_fault
     if (status%stat /= demstep_stat%ok) then
       select case (status%where)
@@ -325,9 +334,7 @@ contains
       return
     end if
     pairs = nint(rows(1:2, :))
-    probe%n = part%n_particles
-    call scene_set_contacts(probe, pairs, rows(3:, :), st)
-    deallocate(probe%contact_pairs, probe%contact_k)
+    call contact_rows_check(part%n_particles, pairs, rows(3:, :), st)
     fault = no_fault
     if (st%stat /= demstep_stat%ok) then
       fault = 0
@@ -362,8 +369,9 @@ contains
     deallocate(asked, asked_of, order, place)
     ! each row to the ranks of its two particles, with its file row first and
     ! the two places last
+    ! (slab_to(k): the rank of the k-th copy, of contact row sent_row(k))
     width = size(rows, 1) + 3
-    allocate(mine(width, 2*size(rows, 2)), slab_to(2*size(rows, 2)))
+    allocate(slab_to(2*size(rows, 2)), sent_row(2*size(rows, 2)))
     k = 0
     do c = 1, size(rows, 2)
       do e = 1, 2
@@ -372,30 +380,41 @@ contains
           if (d == slab_to(k)) cycle
         end if
         k = k + 1
-        mine(1, k) = real(c_offset + c, dp)
-        mine(2:width - 2, k) = rows(:, c)
-        mine(width - 1:, k) = real(dest(:, c), dp)
         slab_to(k) = d
+        sent_row(k) = c
       end do
     end do
-    deallocate(rows, pairs, dest)
+    deallocate(pairs)
     call group(slab_to(:k), order, send_n)
-    mine = mine(:, order)
-    deallocate(order)
+    allocate(mine(width, k))
+    do i = 1, k
+      c = sent_row(order(i))
+      mine(1, i) = real(c_offset + c, dp)
+      mine(2:width - 2, i) = rows(:, c)
+      mine(width - 1:, i) = real(dest(:, c), dp)
+    end do
+    deallocate(rows, dest, order, slab_to, sent_row)
     send_n = send_n*width
     call MPI_Alltoall(send_n, 1, MPI_INTEGER, recv_n, 1, MPI_INTEGER, comm)
     allocate(contacts(width, sum(recv_n)/width))
     call exchange(mine, contacts)
     deallocate(mine)
     ! own contacts first (the first particle is this rank's), each group in
-    ! file order; local_pairs: their particles' places
-    allocate(local_pairs(2, size(contacts, 2)))
-    local_pairs = nint(contacts(width - 1:, :))
-    order = [(c, c = 1, size(contacts, 2))]
-    order = [pack(order, is_own(local_pairs(1, :))), pack(order, .not. is_own(local_pairs(1, :)))]
-    contacts = contacts(:, order)
-    local_pairs = local_pairs(:, order)
-    deallocate(order)
+    ! file order (the part's c-th contact is contacts(:, own_first(c)));
+    ! local_pairs: their particles' places
+    allocate(own_first(size(contacts, 2)))
+    n = 0
+    do c = 1, size(contacts, 2)
+      if (.not. is_own(nint(contacts(width - 1, c)))) cycle
+      n = n + 1
+      own_first(n) = c
+    end do
+    do c = 1, size(contacts, 2)
+      if (is_own(nint(contacts(width - 1, c)))) cycle
+      n = n + 1
+      own_first(n) = c
+    end do
+    local_pairs = nint(contacts(width - 1:, own_first))
 
     ! the halo: the partners this rank does not own, by place (by owner, each
     ! owner's in file order: their rows ascend, as the halo exchange takes them)
@@ -443,8 +462,13 @@ contains
     ! the part's scene: own particles, then the halo
     part%global = [own_file, nint(halo_rows(ncol + 2, :))]
     part%body = [own_body, nint(halo_rows(ncol + 1, :))]
-    call part_arrays(reshape([own_rows(:ncol, :), halo_rows(:ncol, :)], [ncol, part%n_own + n_halo]))
-    deallocate(own_rows, halo_rows)
+    allocate(buffer(ncol, part%n_own + n_halo))
+    buffer(:, :part%n_own) = own_rows(:ncol, :)
+    deallocate(own_rows)
+    buffer(:, part%n_own + 1:) = halo_rows(:ncol, :)
+    deallocate(halo_rows)
+    call part_arrays(buffer)
+    deallocate(buffer)
     if (allocated(inertia)) then
       call new_scene(part%scene, dim, x, m, r, st, v=v, fixed=fixed, inertia=inertia, search=.false.)
     else
@@ -460,9 +484,10 @@ contains
         local_pairs(e, c) = local_number(local_pairs(e, c))
       end do
     end do
-    part%contact_row = nint(contacts(1, :))
-    if (st%stat == demstep_stat%ok) call scene_set_contacts(part%scene, local_pairs, contacts(4:width - 2, :), st)
-    deallocate(contacts, local_pairs)
+    part%contact_row = nint(contacts(1, own_first))
+    if (st%stat == demstep_stat%ok) call scene_set_contacts(part%scene, local_pairs, &
+      contacts(4:width - 2, own_first), st)
+    deallocate(contacts, local_pairs, own_first)
     ! (the checks above passed: a part's scene is built as the whole one)
     call agree_status(comm, st, merge(no_fault, int(rank, i8), st%stat == demstep_stat%ok))
     if (st%stat /= demstep_stat%ok) then
@@ -603,12 +628,16 @@ contains
   !> all ranks ordered by (key, file number) and cut into consecutive runs
   !> of quota(d) rows for rank d, in rank order. Each cut is the pair (key,
   !> file number) of its run's last row; the cuts are found all at once, by
-  !> bisection on the key (at most 64 steps) and then on the file number
-  !> among the rows with the cut's key (at most 32; none where all those rows
-  !> fall before the cut, as when keys are distinct), each step one count per
-  !> cut and one MPI_Allreduce. This rank's keys are sorted once
-  !> (`merge_sort`) and its rows with a cut's key listed once, so a count is
-  !> a binary search. No rank holds more than its rows. Collective.
+  !> bisection on the key (at most 64 steps, four a round: the counts at the
+  !> 15 points those four steps could visit, one MPI_Allreduce a round) and
+  !> then on the file number among the rows with the cut's key (one step a
+  !> round, at most 32; none where the cut takes all those rows, as when the
+  !> keys are distinct: their largest file number is the cut's, one
+  !> MPI_Allreduce). This rank's keys are sorted once (`radix_sort`) and its
+  !> rows with a cut's key listed once, so each count is a binary search: a
+  !> round costs O(cuts log rows), and the whole search O(rows + cuts log
+  !> rows) besides the sort and the final assignment, O(rows cuts). No rank
+  !> holds more than its rows and their sorted keys. Collective.
   subroutine slab_owners(comm, key, row_offset, quota, slab_of)
     type(MPI_Comm), intent(in) :: comm
     !> `ordered_key` of this rank's rows; file number of its first less one.
@@ -620,7 +649,9 @@ contains
       mid(size(quota) - 1), cnt(size(quota) - 1), cut_key(size(quota) - 1), range(2), &
       less(2*(size(quota) - 1))
     integer(i8), allocatable :: sorted(:), tied(:)
-    integer :: first(size(quota) - 1), at(size(quota)), j, i, nc
+    integer, parameter :: levels = 4, ways = 2**levels
+    integer(i8) :: points(0:ways, size(quota) - 1), cnts(ways - 1, size(quota) - 1)
+    integer :: first(size(quota) - 1), at(size(quota)), j, i, k, nc, step
     nc = size(quota) - 1
     slab_of = 0
     if (nc == 0) return
@@ -628,23 +659,42 @@ contains
       below(j) = sum(int(quota(0:j - 1), i8))
     end do
     sorted = key
-    call merge_sort(sorted)
+    call radix_sort(sorted)
     range = -huge(1_i8)
     if (size(key) > 0) range = [-sorted(1), sorted(size(key))]
     call MPI_Allreduce(MPI_IN_PLACE, range, 2, MPI_INTEGER8, MPI_MAX, comm)
-    ! the smallest key v with below(j) keys at or below it (none: below the least)
+    ! the smallest key v with below(j) keys at or below it (none: below the
+    ! least): `levels` bisection steps a round, the counts at the points
+    ! those steps could visit (the midpoints of the midpoints) in one MPI_Allreduce
     lo = -range(1) - 1
     hi = range(2)
     where (below == 0) hi = lo
     do
-      mid = floor_mean(lo, hi)
-      if (all(mid == lo)) exit
+      if (all(floor_mean(lo, hi) == lo)) exit
       do j = 1, nc
-        cnt(j) = keys_before(sorted, mid(j), .true.)
+        points(0, j) = lo(j)
+        points(ways, j) = hi(j)
+        step = ways
+        do while (step > 1)
+          do k = step/2, ways - 1, step
+            points(k, j) = floor_mean(points(k - step/2, j), points(k + step/2, j))
+          end do
+          step = step/2
+        end do
+        do k = 1, ways - 1
+          cnts(k, j) = keys_before(sorted, points(k, j), .true.)
+        end do
       end do
-      call MPI_Allreduce(MPI_IN_PLACE, cnt, nc, MPI_INTEGER8, MPI_SUM, comm)
-      where (mid > lo .and. cnt >= below) hi = mid
-      where (mid > lo .and. cnt < below) lo = mid
+      call MPI_Allreduce(MPI_IN_PLACE, cnts, nc*(ways - 1), MPI_INTEGER8, MPI_SUM, comm)
+      do j = 1, nc
+        k = findloc(cnts(:, j) >= below(j), .true., dim=1)
+        if (k == 0) then
+          lo(j) = points(ways - 1, j)
+        else
+          hi(j) = points(k, j)
+          lo(j) = points(k - 1, j)
+        end if
+      end do
     end do
     cut_key = hi
     do j = 1, nc

@@ -1,12 +1,12 @@
 !> Small in-place sorts shared by the library: reals by insertion (the short
 !> lists of roots and breakpoints), integers by heapsort (ids, any length) and
-!> 64-bit keys by merge sort (long lists of keys).
+!> 64-bit keys by radix sort (long lists of keys).
 module demstep_sort
   use demstep_kinds, only: dp, i8
   implicit none
   private
 
-  public :: sort_ascending, heap_sort, merge_sort
+  public :: sort_ascending, heap_sort, radix_sort
 
 contains
 
@@ -63,66 +63,56 @@ contains
     end do
   end subroutine sift_down
 
-  !> Sort 64-bit integers ascending in place (bottom-up merge sort: O(n log n)
-  !> in sequential passes over the array, n integers of scratch).
-  pure subroutine merge_sort(a)
+  !> Sort 64-bit integers ascending in place (least significant digit radix
+  !> sort, 8 bits a digit: at most 8 stable passes over the array, a pass
+  !> skipped where every key has the same digit; n integers of scratch).
+  pure subroutine radix_sort(a)
     integer(i8), intent(inout) :: a(:)
     integer(i8), allocatable :: scratch(:)
-    integer :: n, width
-    logical :: in_scratch
-    n = size(a)
-    if (n < 2) return
-    allocate(scratch(n))
-    width = 1
+    integer :: pass
+    logical :: in_scratch, moved
+    if (size(a) < 2) return
+    allocate(scratch(size(a)))
     in_scratch = .false.
-    do while (width < n)
+    do pass = 0, 7
       if (in_scratch) then
-        call merge_runs(scratch, a, width)
+        call radix_pass(scratch, a, pass, moved)
       else
-        call merge_runs(a, scratch, width)
+        call radix_pass(a, scratch, pass, moved)
       end if
-      in_scratch = .not. in_scratch
-      if (width > (n - 1)/2) exit
-      width = 2*width
+      if (moved) in_scratch = .not. in_scratch
     end do
     if (in_scratch) a = scratch
-  end subroutine merge_sort
+  end subroutine radix_sort
 
-  !> One pass of `merge_sort`: the sorted runs of `width` in `from` merged
-  !> pairwise into `to`.
-  pure subroutine merge_runs(from, to, width)
+  !> One pass of `radix_sort`: `from` ordered stably by its digit `pass`
+  !> (bits 8 pass to 8 pass + 7; the sign bit flipped in the top digit, so
+  !> negative keys come first) into `to`, unless every key has the same digit
+  !> (then `moved` is false and `to` is untouched).
+  pure subroutine radix_pass(from, to, pass, moved)
     integer(i8), intent(in) :: from(:)
-    integer(i8), intent(out) :: to(:)
-    integer, intent(in) :: width
-    integer :: n, first, mid, last, i, j, k
-    n = size(from)
-    first = 1
-    do while (first <= n)
-      mid = min(first + width - 1, n)
-      last = min(first + 2*width - 1, n)
-      if (mid == last) then
-        to(first:last) = from(first:last)
-        exit
-      end if
-      i = first
-      j = mid + 1
-      do k = first, last
-        if (j > last) then
-          to(k:last) = from(i:mid)
-          exit
-        else if (i > mid) then
-          to(k:last) = from(j:last)
-          exit
-        else if (from(j) < from(i)) then
-          to(k) = from(j)
-          j = j + 1
-        else
-          to(k) = from(i)
-          i = i + 1
-        end if
-      end do
-      first = last + 1
+    integer(i8), intent(inout) :: to(:)
+    integer, intent(in) :: pass
+    logical, intent(out) :: moved
+    integer :: counts(0:255), at(0:255), i, d, flip
+    flip = 0
+    if (pass == 7) flip = 128
+    counts = 0
+    do i = 1, size(from)
+      d = ieor(int(ibits(from(i), 8*pass, 8)), flip)
+      counts(d) = counts(d) + 1
     end do
-  end subroutine merge_runs
+    moved = maxval(counts) < size(from)
+    if (.not. moved) return
+    at(0) = 1
+    do d = 1, 255
+      at(d) = at(d - 1) + counts(d - 1)
+    end do
+    do i = 1, size(from)
+      d = ieor(int(ibits(from(i), 8*pass, 8)), flip)
+      to(at(d)) = from(i)
+      at(d) = at(d) + 1
+    end do
+  end subroutine radix_pass
 
 end module demstep_sort

@@ -13,7 +13,7 @@ module demstep_scene_builders
   implicit none
   private
 
-  public :: new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, scene_set_cell, &
+  public :: new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, contact_rows_check, scene_set_cell, &
     scene_set_types, scene_set_hertz_types, scene_set_law, scene_set_bond_stiffness, scene_set_gravity, &
     scene_set_damping, scene_set_friction, scene_set_local_damping, scene_set_rolling, scene_set_effects, &
     cubic_lattice
@@ -242,6 +242,27 @@ contains
     integer, intent(in) :: pairs(:, :)
     real(dp), intent(in) :: k(:, :)
     type(demstep_status_type), intent(out) :: status
+    integer :: m
+    call contact_rows_check(scene%n, pairs, k, status)
+    if (status%stat /= demstep_stat%ok) return
+    m = size(k, 1)
+    scene%contact_pairs = pairs
+    deallocate(scene%contact_k)
+    allocate(scene%contact_k(8, size(pairs, 2)), source=0.0_dp)
+    scene%contact_k(:m, :) = k
+    scene%given_dashpots = m == 8
+    scene%given_contacts = .true.
+    if (any(scene%contact_k(2:4, :) > 0.0_dp)) scene%effects(scene_effect%rotation) = .true.
+    status%stat = demstep_stat%ok
+  end subroutine scene_set_contacts
+
+  !> The checks of `scene_set_contacts` on an explicit contact list for a
+  !> scene of n particles (the same statuses), without the scene.
+  pure subroutine contact_rows_check(n, pairs, k, status)
+    integer, intent(in) :: n
+    integer, intent(in) :: pairs(:, :)
+    real(dp), intent(in) :: k(:, :)
+    type(demstep_status_type), intent(out) :: status
     character(len=*), parameter :: names(8) = [character(len=3) :: "k_n", "k_t", "k_r", "k_w", &
       "c_n", "c_t", "c_r", "c_w"]
     integer :: c, m, q
@@ -252,10 +273,10 @@ contains
       return
     end if
     do c = 1, size(pairs, 2)
-      if (any(pairs(:, c) < 1) .or. any(pairs(:, c) > scene%n)) then
+      if (any(pairs(:, c) < 1) .or. any(pairs(:, c) > n)) then
         call set_status(status, demstep_stat%invalid_input, "names a " &
           //"missing particle ("//int_text(pairs(1, c))//", "//int_text(pairs(2, c))//"; there are " &
-          //int_text(scene%n)//")", where="contacts", index=int(c), subscript=.true.)
+          //int_text(n)//")", where="contacts", index=int(c), subscript=.true.)
         return
       end if
       if (pairs(1, c) == pairs(2, c)) then
@@ -276,15 +297,8 @@ contains
         end if
       end do
     end do
-    scene%contact_pairs = pairs
-    deallocate(scene%contact_k)
-    allocate(scene%contact_k(8, size(pairs, 2)), source=0.0_dp)
-    scene%contact_k(:m, :) = k
-    scene%given_dashpots = m == 8
-    scene%given_contacts = .true.
-    if (any(scene%contact_k(2:4, :) > 0.0_dp)) scene%effects(scene_effect%rotation) = .true.
     status%stat = demstep_stat%ok
-  end subroutine scene_set_contacts
+  end subroutine contact_rows_check
 
   !> Linear materials per particle type: the type of each particle (1 to nt) and
   !> per type pair k(:, a, b) = (k_n, k_t), symmetric; `rotation` on when any
