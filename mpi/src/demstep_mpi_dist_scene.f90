@@ -153,8 +153,8 @@ contains
     integer, allocatable :: lines(:), pairs(:, :), quota(:), send_n(:), recv_n(:), send_at(:), &
       recv_at(:), dest(:, :), partners(:), halo(:), asked(:), ask_n(:), give_n(:), local_pairs(:, :), &
       sent_row(:), own_first(:), &
-      order(:), own_body(:), own_file(:), place(:), slab_to(:), asked_of(:), halo_rank(:), earlier(:), base(:)
-    integer(i8), allocatable :: read_from(:)
+      order(:), own_body(:), own_file(:), place(:), slab_to(:), asked_of(:), halo_rank(:), earlier(:), base(:), &
+      read_from(:)
     logical, allocatable :: fixed(:)
     logical :: periodic(3)
     real(dp) :: cell_hi(3), rmax, lo(3), hi(3)
@@ -353,9 +353,9 @@ contains
     deallocate(lines)
     ! the places of the contacts' particles, asked of the ranks that read them
     allocate(read_from(0:nranks))
-    call MPI_Allgather(row_offset, 1, MPI_INTEGER8, read_from, 1, MPI_INTEGER8, comm)
-    read_from(nranks) = n_total
-    call group([((reader(pairs(e, c)), e = 1, 2), c = 1, size(pairs, 2))], order, ask_n)
+    call MPI_Allgather(int(row_offset), 1, MPI_INTEGER, read_from, 1, MPI_INTEGER, comm)
+    read_from(nranks) = part%n_particles
+    call group([((rank_of(read_from, pairs(e, c)), e = 1, 2), c = 1, size(pairs, 2))], order, ask_n)
     asked_of = [(pairs(mod(order(k) - 1, 2) + 1, (order(k) - 1)/2 + 1), k = 1, size(order))]
     call MPI_Alltoall(ask_n, 1, MPI_INTEGER, give_n, 1, MPI_INTEGER, comm)
     allocate(asked(sum(give_n)))
@@ -375,7 +375,7 @@ contains
     k = 0
     do c = 1, size(rows, 2)
       do e = 1, 2
-        d = owner(dest(e, c))
+        d = rank_of(base, dest(e, c))
         if (e == 2) then
           if (d == slab_to(k)) cycle
         end if
@@ -441,7 +441,7 @@ contains
     halo = halo(:n_halo)
     deallocate(partners)
     ! ask their owners for their rows, file and free-body numbers
-    halo_rank = [(owner(halo(i)), i = 1, n_halo)]
+    halo_rank = [(rank_of(base, halo(i)), i = 1, n_halo)]
     call group(halo_rank, order, ask_n)
     call MPI_Alltoall(ask_n, 1, MPI_INTEGER, give_n, 1, MPI_INTEGER, comm)
     allocate(asked(sum(give_n)))
@@ -511,42 +511,6 @@ contains
 
   contains
 
-    !> The rank that owns the particle at place p.
-    integer function owner(p)
-      integer, intent(in) :: p
-      integer :: lo_r, hi_r, mid
-      lo_r = 0
-      hi_r = nranks - 1
-      ! the first rank whose places end at or after p (ranks without any skipped)
-      do while (lo_r < hi_r)
-        mid = (lo_r + hi_r)/2
-        if (base(mid + 1) < p) then
-          lo_r = mid + 1
-        else
-          hi_r = mid
-        end if
-      end do
-      owner = lo_r
-    end function owner
-
-    !> The rank that read particle p's row.
-    integer function reader(p)
-      integer, intent(in) :: p
-      integer :: lo_r, hi_r, mid
-      lo_r = 0
-      hi_r = nranks - 1
-      ! the last rank whose rows start at or before p (ranks without rows skipped)
-      do while (lo_r < hi_r)
-        mid = (lo_r + hi_r + 1)/2
-        if (read_from(mid) < p) then
-          lo_r = mid
-        else
-          hi_r = mid - 1
-        end if
-      end do
-      reader = lo_r
-    end function reader
-
     !> Whether the particle at place p is this rank's.
     elemental logical function is_own(p)
       integer, intent(in) :: p
@@ -596,6 +560,24 @@ contains
     end subroutine int_exchange
 
   end subroutine mpi_read_scene
+
+  !> The rank whose run of numbers (starts(d), starts(d + 1)] holds p: the
+  !> last d < ubound(starts) with starts(d) < p (a rank with an empty run
+  !> is never the answer).
+  pure integer function rank_of(starts, p) result(d)
+    integer, intent(in) :: starts(0:), p
+    integer :: hi, mid
+    d = 0
+    hi = ubound(starts, 1) - 1
+    do while (d < hi)
+      mid = (d + hi + 1)/2
+      if (starts(mid) < p) then
+        d = mid
+      else
+        hi = mid - 1
+      end if
+    end do
+  end function rank_of
 
   !> A stable grouping of items by rank: `order` lists the items of rank 0
   !> first, then rank 1's, ..., each in item order; `n(d)` items of rank d.
