@@ -44,6 +44,7 @@ program tester
   use test_bonds, only: collect_bonds
   use test_bodies, only: collect_bodies
   use test_covering_lp, only: collect_covering_lp
+  use test_sort, only: collect_sort
   implicit none
   integer :: stat, is, total
   character(len=:), allocatable :: suite_name, test_name
@@ -90,7 +91,8 @@ program tester
     new_testsuite("monitor", collect_monitor), &
     new_testsuite("bonds", collect_bonds), &
     new_testsuite("bodies", collect_bodies), &
-    new_testsuite("covering_lp", collect_covering_lp) &
+    new_testsuite("covering_lp", collect_covering_lp), &
+    new_testsuite("sort", collect_sort) &
     ]
   stat = 0
   total = 0

@@ -6,11 +6,12 @@
 !> which the free ones spread furthest (`slab_axis`, the replicated path's
 !> rule), one per rank in rank order, balanced by count (or as the caller
 !> gives the counts): ordered by (coordinate, file number), the slabs are
-!> consecutive runs of that order. The cuts are found without sorting the
+!> consecutive runs of that order. The cuts are found without gathering the
 !> scene: a bisection on the coordinate (as an ordered 64-bit key) and then
-!> on the file number among equal coordinates, every cut at once, each step
-!> a count over each rank's rows and one `MPI_Allreduce` (`slab_owners`). A
-!> contact belongs to the owner of its first particle. Each rank holds its
+!> on the file number among equal coordinates, every cut at once, each round
+!> a binary search per cut in each rank's sorted keys and one
+!> `MPI_Allreduce` (`slab_owners`). A contact belongs to the owner of its
+!> first particle. Each rank holds its
 !> own particles (in file order), every contact that touches one of them
 !> (the contacts of its own first particles, then the others, each in file
 !> order) and the partners of those contacts it does not own (the halo: the
@@ -25,10 +26,13 @@
 !> refusal reported is the one the serial reader reports, the same on every
 !> rank: `agree_status`). It then sends each particle row, with its file
 !> number, to its slab's rank (`MPI_Alltoallv`), asks the rank that read
-!> each contact's particles for their slabs' ranks, sends each contact row to
+!> each contact's particles for their places (a particle's place: its
+!> number when the ranks' own particles are listed in rank order, each
+!> rank's in file order, so it tells the owner and the particle's number
+!> there without a search), sends each contact row with its two places to
 !> the ranks of its two particles, and asks the owners of its halo
 !> particles for their rows. No rank holds more than its byte ranges, its
-!> rows, its part and one rank number per row it read.
+!> rows, its part and one place per row it read.
 !>
 !> The operator. The free bodies are numbered slab by slab in rank order,
 !> in file order within a slab (in file order over the whole scene when the
@@ -68,7 +72,7 @@ module demstep_mpi_dist_scene
   use demstep_text, only: int_text
   use demstep_progress, only: progress_type
   use demstep_scene_data, only: scene_type, scene_effect, has_tangential, branch_vector
-  use demstep_scene_builders, only: new_scene, scene_set_cell, scene_set_contacts
+  use demstep_scene_builders, only: new_scene, scene_set_cell, scene_set_contacts, contact_rows_check
   use demstep_scene_input, only: scene_input_type, particle_columns, particles_from_rows, scene_input_check_dim, &
     contact_columns, scene_input_effects, scene_input_damping
   use demstep_interaction, only: dof_components
@@ -82,12 +86,13 @@ module demstep_mpi_dist_scene
   use demstep_mpi_lanczos, only: dist_operator_type, dist_halo_type, dist_halo_create, &
     dist_halo_exchange, dist_halo_free, parallel_lanczos_largest, offsets_of
   use demstep_mpi_scene, only: slab_axis, mpi_lanczos_estimates, mpi_damped_solve_done, mpi_damped_lanczos
-  use demstep_sort, only: heap_sort
+  use demstep_sort, only: heap_sort, radix_sort
   use demstep_mpi_parts, only: read_table_part, agree_status, broadcast_status, no_fault, position
   implicit none
   private
 
-  public :: mpi_read_scene, mpi_part_critical_steps, mpi_files_critical_steps, dist_scene_bytes
+  public :: mpi_read_scene, mpi_part_critical_steps, mpi_files_critical_steps, dist_scene_bytes, &
+    slab_owners, ordered_key
 
   !> This rank's part of a scene read in parts.
   type, public :: dist_scene_part_type
@@ -147,8 +152,9 @@ contains
       r(:), inertia(:), contacts(:, :), mine(:, :), buffer(:, :)
     integer, allocatable :: lines(:), pairs(:, :), quota(:), send_n(:), recv_n(:), send_at(:), &
       recv_at(:), dest(:, :), partners(:), halo(:), asked(:), ask_n(:), give_n(:), local_pairs(:, :), &
-      order(:), own_body(:), own_file(:), slab_of(:), slab_to(:), asked_of(:), halo_rank(:), slot(:)
-    integer(i8), allocatable :: read_from(:)
+      sent_row(:), own_first(:), &
+      order(:), own_body(:), own_file(:), place(:), slab_to(:), asked_of(:), halo_rank(:), earlier(:), base(:), &
+      read_from(:)
     logical, allocatable :: fixed(:)
     logical :: periodic(3)
     real(dp) :: cell_hi(3), rmax, lo(3), hi(3)
@@ -207,13 +213,17 @@ contains
 
     ! the serial scene's checks of the rows read (numbered as in the file)
     call part_arrays(rows)
-    if (allocated(inertia)) then
-      call new_scene(probe, dim, x, m, r, status, v=v, fixed=fixed, inertia=inertia, search=.false., &
-        first_number=int(row_offset) + 1)
-    else
-      call new_scene(probe, dim, x, m, r, status, v=v, fixed=fixed, search=.false., &
-        first_number=int(row_offset) + 1)
-    end if
+    block
+      ! (a scene of the rows read, for its checks only)
+      type(scene_type) :: rows_scene
+      if (allocated(inertia)) then
+        call new_scene(rows_scene, dim, x, m, r, status, v=v, fixed=fixed, inertia=inertia, search=.false., &
+          first_number=int(row_offset) + 1)
+      else
+        call new_scene(rows_scene, dim, x, m, r, status, v=v, fixed=fixed, search=.false., &
+          first_number=int(row_offset) + 1)
+      end if
+    end block
     fault = no_fault
     if (status%stat /= demstep_stat%ok) then
       select case (status%where)
@@ -247,18 +257,31 @@ contains
     call MPI_Allreduce(MPI_IN_PLACE, lo, 3, MPI_DOUBLE_PRECISION, MPI_MIN, comm)
     call MPI_Allreduce(MPI_IN_PLACE, hi, 3, MPI_DOUBLE_PRECISION, MPI_MAX, comm)
     part%axis = slab_axis(dim, lo, hi)
-    allocate(slab_of(size(rows, 2)))
-    call slab_owners(comm, ordered_key(x(part%axis, :)), row_offset, quota, slab_of)
+    allocate(place(size(rows, 2)))
+    call slab_owners(comm, ordered_key(x(part%axis, :)), row_offset, quota, place)
     deallocate(x, v, m, r, fixed)
     if (allocated(inertia)) deallocate(inertia)
     ! the rows to their ranks, each with its file number: every rank's rows
-    ! come in file order from ranks in file order, so the own rows ascend
+    ! come in file order from ranks in file order, so the own rows ascend.
+    ! Each row's place (from here on, `place` holds it instead of the rank):
+    ! its number when the ranks' own particles are listed in rank order, each
+    ! rank's in file order (rank d's own particle q has place base(d) + q)
     allocate(send_n(0:nranks - 1), recv_n(0:nranks - 1), send_at(0:nranks - 1), recv_at(0:nranks - 1), &
-      ask_n(0:nranks - 1), give_n(0:nranks - 1))
-    call group(slab_of, order, send_n)
+      ask_n(0:nranks - 1), give_n(0:nranks - 1), earlier(0:nranks - 1), source=0)
+    allocate(base(0:nranks), source=0)
+    do d = 0, nranks - 1
+      base(d + 1) = base(d) + quota(d)
+    end do
+    call group(place, order, send_n)
+    call MPI_Exscan(send_n, earlier, nranks, MPI_INTEGER, MPI_SUM, comm)
+    if (rank == 0) earlier = 0
+    send_at = offsets_of(send_n)
     allocate(buffer(ncol + 1, size(rows, 2)))
     do k = 1, size(rows, 2)
-      buffer(:, k) = [rows(:, order(k)), real(row_offset + order(k), dp)]
+      buffer(:ncol, k) = rows(:, order(k))
+      buffer(ncol + 1, k) = real(row_offset + order(k), dp)
+      d = place(order(k))
+      place(order(k)) = base(d) + earlier(d) + k - send_at(d)
     end do
     deallocate(rows, order)
     send_n = send_n*(ncol + 1)
@@ -311,9 +334,7 @@ contains
       return
     end if
     pairs = nint(rows(1:2, :))
-    probe%n = part%n_particles
-    call scene_set_contacts(probe, pairs, rows(3:, :), st)
-    deallocate(probe%contact_pairs, probe%contact_k)
+    call contact_rows_check(part%n_particles, pairs, rows(3:, :), st)
     fault = no_fault
     if (st%stat /= demstep_stat%ok) then
       fault = 0
@@ -330,54 +351,73 @@ contains
       return
     end if
     deallocate(lines)
-    ! the ranks of the contacts' particles, asked of the ranks that read them
+    ! the places of the contacts' particles, asked of the ranks that read them
     allocate(read_from(0:nranks))
-    call MPI_Allgather(row_offset, 1, MPI_INTEGER8, read_from, 1, MPI_INTEGER8, comm)
-    read_from(nranks) = n_total
-    call group([((reader(pairs(e, c)), e = 1, 2), c = 1, size(pairs, 2))], order, ask_n)
+    call MPI_Allgather(int(row_offset), 1, MPI_INTEGER, read_from, 1, MPI_INTEGER, comm)
+    read_from(nranks) = part%n_particles
+    call group([((rank_of(read_from, pairs(e, c)), e = 1, 2), c = 1, size(pairs, 2))], order, ask_n)
     asked_of = [(pairs(mod(order(k) - 1, 2) + 1, (order(k) - 1)/2 + 1), k = 1, size(order))]
     call MPI_Alltoall(ask_n, 1, MPI_INTEGER, give_n, 1, MPI_INTEGER, comm)
     allocate(asked(sum(give_n)))
     call int_exchange(asked_of, ask_n, asked, give_n)
-    asked = slab_of(asked - row_offset)
+    asked = place(asked - row_offset)
     call int_exchange(asked, give_n, asked_of, ask_n)
     allocate(dest(2, size(pairs, 2)))
     do k = 1, size(order)
       dest(mod(order(k) - 1, 2) + 1, (order(k) - 1)/2 + 1) = asked_of(k)
     end do
-    deallocate(asked, asked_of, order, slab_of)
+    deallocate(asked, asked_of, order, place)
     ! each row to the ranks of its two particles, with its file row first and
-    ! the two ranks last
+    ! the two places last
+    ! (slab_to(k): the rank of the k-th copy, of contact row sent_row(k))
     width = size(rows, 1) + 3
-    allocate(mine(width, 2*size(rows, 2)), slab_to(2*size(rows, 2)))
+    allocate(slab_to(2*size(rows, 2)), sent_row(2*size(rows, 2)))
     k = 0
     do c = 1, size(rows, 2)
       do e = 1, 2
-        if (e == 2 .and. dest(2, c) == dest(1, c)) cycle
+        d = rank_of(base, dest(e, c))
+        if (e == 2) then
+          if (d == slab_to(k)) cycle
+        end if
         k = k + 1
-        mine(:, k) = [real(c_offset + c, dp), rows(:, c), real(dest(:, c), dp)]
-        slab_to(k) = dest(e, c)
+        slab_to(k) = d
+        sent_row(k) = c
       end do
     end do
-    deallocate(rows, pairs, dest)
+    deallocate(pairs)
     call group(slab_to(:k), order, send_n)
-    mine = mine(:, order)
-    deallocate(order)
+    allocate(mine(width, k))
+    do i = 1, k
+      c = sent_row(order(i))
+      mine(1, i) = real(c_offset + c, dp)
+      mine(2:width - 2, i) = rows(:, c)
+      mine(width - 1:, i) = real(dest(:, c), dp)
+    end do
+    deallocate(rows, dest, order, slab_to, sent_row)
     send_n = send_n*width
     call MPI_Alltoall(send_n, 1, MPI_INTEGER, recv_n, 1, MPI_INTEGER, comm)
     allocate(contacts(width, sum(recv_n)/width))
     call exchange(mine, contacts)
     deallocate(mine)
-    ! own contacts first (the first particle is this rank's), each group in file order
-    allocate(local_pairs(2, size(contacts, 2)))
-    local_pairs = nint(contacts(2:3, :))
-    order = [(c, c = 1, size(contacts, 2))]
-    order = [pack(order, is_own(local_pairs(1, :))), pack(order, .not. is_own(local_pairs(1, :)))]
-    contacts = contacts(:, order)
-    local_pairs = local_pairs(:, order)
-    deallocate(order)
+    ! own contacts first (the first particle is this rank's), each group in
+    ! file order (the part's c-th contact is contacts(:, own_first(c)));
+    ! local_pairs: their particles' places
+    allocate(own_first(size(contacts, 2)))
+    n = 0
+    do c = 1, size(contacts, 2)
+      if (.not. is_own(nint(contacts(width - 1, c)))) cycle
+      n = n + 1
+      own_first(n) = c
+    end do
+    do c = 1, size(contacts, 2)
+      if (is_own(nint(contacts(width - 1, c)))) cycle
+      n = n + 1
+      own_first(n) = c
+    end do
+    local_pairs = nint(contacts(width - 1:, own_first))
 
-    ! the halo: the partners this rank does not own, in file order, and their ranks
+    ! the halo: the partners this rank does not own, by place (by owner, each
+    ! owner's in file order: their rows ascend, as the halo exchange takes them)
     allocate(partners(2*size(local_pairs, 2)))
     n = 0
     do c = 1, size(local_pairs, 2)
@@ -400,40 +440,35 @@ contains
     end do
     halo = halo(:n_halo)
     deallocate(partners)
-    allocate(halo_rank(n_halo))
-    do c = 1, size(local_pairs, 2)
-      do e = 1, 2
-        if (.not. is_own(local_pairs(e, c))) halo_rank(position(halo, local_pairs(e, c))) = &
-          nint(contacts(width - 2 + e, c))
-      end do
-    end do
-    ! ask their ranks for their rows and free-body numbers
+    ! ask their owners for their rows, file and free-body numbers
+    halo_rank = [(rank_of(base, halo(i)), i = 1, n_halo)]
     call group(halo_rank, order, ask_n)
     call MPI_Alltoall(ask_n, 1, MPI_INTEGER, give_n, 1, MPI_INTEGER, comm)
     allocate(asked(sum(give_n)))
-    call int_exchange(halo(order), ask_n, asked, give_n)
-    allocate(buffer(ncol + 1, size(asked)))
+    call int_exchange(halo, ask_n, asked, give_n)
+    allocate(buffer(ncol + 2, size(asked)))
     do i = 1, size(asked)
-      q = position(own_file, asked(i))
+      q = asked(i) - base(rank)
       buffer(:ncol, i) = own_rows(:ncol, q)
       buffer(ncol + 1, i) = real(own_body(q), dp)
+      buffer(ncol + 2, i) = real(own_file(q), dp)
     end do
-    allocate(halo_rows(ncol + 1, n_halo))
-    send_n = give_n*(ncol + 1)
-    recv_n = ask_n*(ncol + 1)
+    allocate(halo_rows(ncol + 2, n_halo))
+    send_n = give_n*(ncol + 2)
+    recv_n = ask_n*(ncol + 2)
     call exchange(buffer, halo_rows)
-    ! (the halo kept in that order: by owner, each owner's in file order;
-    ! slot(k): the part's place of the k-th in file order)
-    allocate(slot(n_halo))
-    slot(order) = [(i, i = 1, n_halo)]
-    deallocate(buffer, asked)
+    deallocate(buffer, asked, order)
 
     ! the part's scene: own particles, then the halo
-    part%global = [own_file, halo(order)]
-    deallocate(order)
+    part%global = [own_file, nint(halo_rows(ncol + 2, :))]
     part%body = [own_body, nint(halo_rows(ncol + 1, :))]
-    call part_arrays(reshape([own_rows(:ncol, :), halo_rows(:ncol, :)], [ncol, part%n_own + n_halo]))
-    deallocate(own_rows, halo_rows)
+    allocate(buffer(ncol, part%n_own + n_halo))
+    buffer(:, :part%n_own) = own_rows(:ncol, :)
+    deallocate(own_rows)
+    buffer(:, part%n_own + 1:) = halo_rows(:ncol, :)
+    deallocate(halo_rows)
+    call part_arrays(buffer)
+    deallocate(buffer)
     if (allocated(inertia)) then
       call new_scene(part%scene, dim, x, m, r, st, v=v, fixed=fixed, inertia=inertia, search=.false.)
     else
@@ -449,9 +484,10 @@ contains
         local_pairs(e, c) = local_number(local_pairs(e, c))
       end do
     end do
-    part%contact_row = nint(contacts(1, :))
-    if (st%stat == demstep_stat%ok) call scene_set_contacts(part%scene, local_pairs, contacts(4:width - 2, :), st)
-    deallocate(contacts, local_pairs)
+    part%contact_row = nint(contacts(1, own_first))
+    if (st%stat == demstep_stat%ok) call scene_set_contacts(part%scene, local_pairs, &
+      contacts(4:width - 2, own_first), st)
+    deallocate(contacts, local_pairs, own_first)
     ! (the checks above passed: a part's scene is built as the whole one)
     call agree_status(comm, st, merge(no_fault, int(rank, i8), st%stat == demstep_stat%ok))
     if (st%stat /= demstep_stat%ok) then
@@ -475,38 +511,19 @@ contains
 
   contains
 
-    !> The rank that read particle p's row.
-    integer function reader(p)
-      integer, intent(in) :: p
-      integer :: lo_r, hi_r, mid
-      lo_r = 0
-      hi_r = nranks - 1
-      ! the last rank whose rows start at or before p (ranks without rows skipped)
-      do while (lo_r < hi_r)
-        mid = (lo_r + hi_r + 1)/2
-        if (read_from(mid) < p) then
-          lo_r = mid
-        else
-          hi_r = mid - 1
-        end if
-      end do
-      reader = lo_r
-    end function reader
-
-    !> Whether particle p is this rank's.
+    !> Whether the particle at place p is this rank's.
     elemental logical function is_own(p)
       integer, intent(in) :: p
-      is_own = .false.
-      if (part%n_own > 0) is_own = own_file(position(own_file, p)) == p
+      is_own = p > base(rank) .and. p <= base(rank + 1)
     end function is_own
 
-    !> The part's number of particle p (own or halo).
+    !> The part's number of the particle at place p (own or halo).
     integer function local_number(p)
       integer, intent(in) :: p
       if (is_own(p)) then
-        local_number = position(own_file, p)
+        local_number = p - base(rank)
       else
-        local_number = part%n_own + slot(position(halo, p))
+        local_number = part%n_own + position(halo, p)
       end if
     end function local_number
 
@@ -544,6 +561,24 @@ contains
 
   end subroutine mpi_read_scene
 
+  !> The rank whose run of numbers (starts(d), starts(d + 1)] holds p: the
+  !> last d < ubound(starts) with starts(d) < p (a rank with an empty run
+  !> is never the answer).
+  pure integer function rank_of(starts, p) result(d)
+    integer, intent(in) :: starts(0:), p
+    integer :: hi, mid
+    d = 0
+    hi = ubound(starts, 1) - 1
+    do while (d < hi)
+      mid = (d + hi + 1)/2
+      if (starts(mid) < p) then
+        d = mid
+      else
+        hi = mid - 1
+      end if
+    end do
+  end function rank_of
+
   !> A stable grouping of items by rank: `order` lists the items of rank 0
   !> first, then rank 1's, ..., each in item order; `n(d)` items of rank d.
   pure subroutine group(item_rank, order, n)
@@ -573,11 +608,18 @@ contains
 
   !> The rank of each row read (`slab_of`) in the slab partition: the rows of
   !> all ranks ordered by (key, file number) and cut into consecutive runs
-  !> of quota(d) rows for rank d, in rank order. The cuts by bisection, all
-  !> at once: on the key (at most 64 steps), then on the file number among
-  !> the rows with the cut's key (at most 32), each step one count over this
-  !> rank's rows per cut and one MPI_Allreduce. No rank holds more than its
-  !> rows. Collective.
+  !> of quota(d) rows for rank d, in rank order. Each cut is the pair (key,
+  !> file number) of its run's last row; the cuts are found all at once, by
+  !> bisection on the key (at most 64 steps, four a round: the counts at the
+  !> 15 points those four steps could visit, one MPI_Allreduce a round) and
+  !> then on the file number among the rows with the cut's key (one step a
+  !> round, at most 32; none where the cut takes all those rows, as when the
+  !> keys are distinct: their largest file number is the cut's, one
+  !> MPI_Allreduce). This rank's keys are sorted once (`radix_sort`) and its
+  !> rows with a cut's key listed once, so each count is a binary search: a
+  !> round costs O(cuts log rows), and the whole search O(rows + cuts log
+  !> rows) besides the sort and the final assignment, O(rows cuts). No rank
+  !> holds more than its rows and their sorted keys. Collective.
   subroutine slab_owners(comm, key, row_offset, quota, slab_of)
     type(MPI_Comm), intent(in) :: comm
     !> `ordered_key` of this rank's rows; file number of its first less one.
@@ -586,57 +628,161 @@ contains
     integer, intent(in) :: quota(0:)
     integer, intent(out) :: slab_of(:)
     integer(i8) :: below(size(quota) - 1), lo(size(quota) - 1), hi(size(quota) - 1), &
-      mid(size(quota) - 1), cnt(size(quota) - 1), cut_key(size(quota) - 1), range(2), t(size(quota) - 1)
-    integer(i8) :: file(size(key))
-    integer :: j, i, nc
+      mid(size(quota) - 1), cnt(size(quota) - 1), cut_key(size(quota) - 1), range(2), &
+      less(2*(size(quota) - 1))
+    integer(i8), allocatable :: sorted(:), tied(:)
+    integer, parameter :: levels = 4, ways = 2**levels
+    integer(i8) :: points(0:ways, size(quota) - 1), cnts(ways - 1, size(quota) - 1)
+    integer :: first(size(quota) - 1), at(size(quota)), j, i, k, nc, step
     nc = size(quota) - 1
     slab_of = 0
     if (nc == 0) return
-    file = [(row_offset + i, i = 1, size(key))]
     do j = 1, nc
       below(j) = sum(int(quota(0:j - 1), i8))
     end do
+    sorted = key
+    call radix_sort(sorted)
     range = -huge(1_i8)
-    if (size(key) > 0) range = [-minval(key), maxval(key)]
+    if (size(key) > 0) range = [-sorted(1), sorted(size(key))]
     call MPI_Allreduce(MPI_IN_PLACE, range, 2, MPI_INTEGER8, MPI_MAX, comm)
-    ! the smallest key v with below(j) keys at or below it (none: below the least)
+    ! the smallest key v with below(j) keys at or below it (none: below the
+    ! least): `levels` bisection steps a round, the counts at the points
+    ! those steps could visit (the midpoints of the midpoints) in one MPI_Allreduce
     lo = -range(1) - 1
     hi = range(2)
     where (below == 0) hi = lo
     do
-      mid = floor_mean(lo, hi)
-      if (all(mid == lo)) exit
+      if (all(floor_mean(lo, hi) == lo)) exit
       do j = 1, nc
-        cnt(j) = count(key <= mid(j))
+        points(0, j) = lo(j)
+        points(ways, j) = hi(j)
+        step = ways
+        do while (step > 1)
+          do k = step/2, ways - 1, step
+            points(k, j) = floor_mean(points(k - step/2, j), points(k + step/2, j))
+          end do
+          step = step/2
+        end do
+        do k = 1, ways - 1
+          cnts(k, j) = keys_before(sorted, points(k, j), .true.)
+        end do
       end do
-      call MPI_Allreduce(MPI_IN_PLACE, cnt, nc, MPI_INTEGER8, MPI_SUM, comm)
-      where (mid > lo .and. cnt >= below) hi = mid
-      where (mid > lo .and. cnt < below) lo = mid
+      call MPI_Allreduce(MPI_IN_PLACE, cnts, nc*(ways - 1), MPI_INTEGER8, MPI_SUM, comm)
+      do j = 1, nc
+        k = findloc(cnts(:, j) >= below(j), .true., dim=1)
+        if (k == 0) then
+          lo(j) = points(ways - 1, j)
+        else
+          hi(j) = points(k, j)
+          lo(j) = points(k - 1, j)
+        end if
+      end do
     end do
     cut_key = hi
-    ! of the rows with that key, the first t(j) by file number
     do j = 1, nc
-      t(j) = count(key < cut_key(j))
+      less(j) = keys_before(sorted, cut_key(j), .false.)
     end do
-    call MPI_Allreduce(MPI_IN_PLACE, t, nc, MPI_INTEGER8, MPI_SUM, comm)
-    t = below - t
-    lo = -1
-    hi = sum(int(quota, i8))
-    where (t == 0) hi = 0
-    do
-      mid = floor_mean(lo, hi)
-      if (all(mid == lo)) exit
-      do j = 1, nc
-        cnt(j) = count(key == cut_key(j) .and. file <= mid(j))
-      end do
-      call MPI_Allreduce(MPI_IN_PLACE, cnt, nc, MPI_INTEGER8, MPI_SUM, comm)
-      where (mid > lo .and. cnt >= t) hi = mid
-      where (mid > lo .and. cnt < t) lo = mid
+    deallocate(sorted)
+    ! this rank's rows with a cut's key (the cuts' keys ascend): their file
+    ! numbers, ascending, listed once for the first cut with that key
+    ! (tied(at(j):at(j + 1) - 1)), and how many there are in all
+    first = [(j, j = 1, nc)]
+    do j = 2, nc
+      if (cut_key(j) == cut_key(j - 1)) first(j) = first(j - 1)
     end do
+    at = 0
     do i = 1, size(key)
-      slab_of(i) = count(key(i) > cut_key .or. (key(i) == cut_key .and. file(i) > hi))
+      j = cut_of(key(i))
+      if (j > 0) at(j + 1) = at(j + 1) + 1
     end do
+    less(nc + 1:) = at(first + 1)
+    at(1) = 1
+    do j = 1, nc
+      at(j + 1) = at(j + 1) + at(j)
+    end do
+    allocate(tied(at(nc + 1) - 1))
+    do i = 1, size(key)
+      j = cut_of(key(i))
+      if (j == 0) cycle
+      tied(at(j)) = row_offset + i
+      at(j) = at(j) + 1
+    end do
+    do j = nc, 1, -1
+      at(j + 1) = at(j)
+    end do
+    at(1) = 1
+    ! of the rows with that key (all ranks), the first t(j) by file number
+    call MPI_Allreduce(MPI_IN_PLACE, less, 2*nc, MPI_INTEGER8, MPI_SUM, comm)
+    associate (t => below - less(:nc), tied_count => less(nc + 1:))
+      ! the largest file number with the key, where the cut takes all such rows
+      mid = -1
+      do j = 1, nc
+        if (at(first(j) + 1) > at(first(j))) mid(j) = tied(at(first(j) + 1) - 1)
+      end do
+      call MPI_Allreduce(MPI_IN_PLACE, mid, nc, MPI_INTEGER8, MPI_MAX, comm)
+      lo = -1
+      hi = sum(int(quota, i8))
+      where (t == 0) hi = 0
+      where (t > 0 .and. t == tied_count)
+        hi = mid
+        lo = mid - 1
+      end where
+      do
+        mid = floor_mean(lo, hi)
+        if (all(mid == lo)) exit
+        do j = 1, nc
+          cnt(j) = keys_before(tied(at(first(j)):at(first(j) + 1) - 1), mid(j), .true.)
+        end do
+        call MPI_Allreduce(MPI_IN_PLACE, cnt, nc, MPI_INTEGER8, MPI_SUM, comm)
+        where (mid > lo .and. cnt >= t) hi = mid
+        where (mid > lo .and. cnt < t) lo = mid
+      end do
+    end associate
+    do i = 1, size(key)
+      slab_of(i) = count(key(i) > cut_key .or. (key(i) == cut_key .and. row_offset + i > hi))
+    end do
+
+  contains
+
+    !> The first cut whose key is k (0: none).
+    pure integer function cut_of(k)
+      integer(i8), intent(in) :: k
+      integer :: a, b, m
+      a = 1
+      b = nc
+      do while (a < b)
+        m = (a + b)/2
+        if (cut_key(m) < k) then
+          a = m + 1
+        else
+          b = m
+        end if
+      end do
+      cut_of = 0
+      if (cut_key(a) == k) cut_of = first(a)
+    end function cut_of
+
   end subroutine slab_owners
+
+  !> The entries of an ascending list before v: those < v, or with
+  !> `inclusive` those <= v (a binary search).
+  pure integer(i8) function keys_before(list, v, inclusive) result(n)
+    integer(i8), intent(in) :: list(:), v
+    logical, intent(in) :: inclusive
+    integer :: a, b, m
+    a = 0
+    b = size(list)
+    ! list(:a) before v, list(b + 1:) not
+    do while (a < b)
+      m = a + (b - a + 1)/2
+      if (list(m) < v .or. (inclusive .and. list(m) == v)) then
+        a = m
+      else
+        b = m - 1
+      end if
+    end do
+    n = a
+  end function keys_before
 
   !> floor((a + b)/2) without overflow.
   elemental integer(i8) function floor_mean(a, b)

@@ -6,7 +6,8 @@
 !> far below the whole scene) and sorted into slabs, with contacts across the
 !> periodic face between the first and the last rank, a 2D packing with
 !> given dashpots and CRLF lines, ranks without particles or without free
-!> ones, and the refusals (each the serial reader's message, on every rank).
+!> ones, the slab partition against a count over all rows, and the refusals
+!> (each the serial reader's message, on every rank).
 !> Prints one PASS/FAIL line per check (rank 0) and exits non-zero on a failure.
 program test_mpi_files
   use mpi_f08
@@ -21,7 +22,7 @@ program test_mpi_files
   use demstep_scene_input, only: scene_input_type, scene_from_input, scene_setup_type
   use demstep_assembly, only: critical_step_type, assembly_critical_steps, eigen_solver
   use demstep_mpi_dist_scene, only: mpi_files_critical_steps, dist_scene_part_type, mpi_read_scene, &
-    mpi_part_critical_steps
+    mpi_part_critical_steps, slab_owners, ordered_key
   implicit none
   integer :: n
   character(len=*), parameter :: stem = "build/test_mpi_files_"
@@ -69,6 +70,7 @@ program test_mpi_files
   input%periodic = [.false., .false.]
   call compare("a rank with fixed particles only", owned=tail_owned())
   call check_released()
+  call check_slab_owners()
   call refusals()
 
   if (rank == 0) then
@@ -338,6 +340,65 @@ contains
     call report("release: refused with release again", st%stat == demstep_stat%invalid_input .and. &
       st%where == "part" .and. same_status(st), msg(st))
   end subroutine check_released
+
+  !> The slab partition (`slab_owners`) against its definition, counted
+  !> over all rows: on 60 tables in random order, with many equal
+  !> coordinates (five values; -0 and 0 only, which are equal) or distinct
+  !> ones, ranks holding from none to 59 of the rows and quotas of any size
+  !> (zero too), every rank's rows are its run of the file; a row's rank is
+  !> the d with sum(quota(:d-1)) < p <= sum(quota(:d)), p its place when
+  !> all rows are ordered by (coordinate, file number). The cuts fall inside
+  !> runs of equal coordinates, so the search on file numbers is tried too.
+  subroutine check_slab_owners()
+    integer :: trial, total, i, d, f, p, bad
+    integer, allocatable :: rows_of(:), quota(:), slab(:)
+    real(dp), allocatable :: coord(:)
+    integer(i8) :: offset
+    real(dp) :: u
+    bad = 0
+    allocate(rows_of(0:nranks - 1), quota(0:nranks - 1))
+    do trial = 1, 60
+      ! (every rank draws the same numbers: the shared sequence)
+      do d = 0, nranks - 1
+        rows_of(d) = int(60*uniform())
+        if (mod(trial + d, 7) == 0) rows_of(d) = 0
+      end do
+      total = sum(rows_of)
+      do d = 0, nranks - 2
+        quota(d) = min(int((total + 1)*uniform()), total - sum(quota(:d - 1)))
+        if (mod(trial + d, 5) == 0) quota(d) = 0
+      end do
+      quota(nranks - 1) = total - sum(quota(:nranks - 2))
+      allocate(coord(total))
+      do i = 1, total
+        u = uniform()
+        select case (mod(trial, 3))
+        case (0)
+          coord(i) = real(int(5*u) - 2, dp)
+        case (1)
+          coord(i) = merge(-0.0_dp, 0.0_dp, u < 0.5_dp)
+        case default
+          coord(i) = 100*u - 50
+        end select
+      end do
+      offset = sum(rows_of(:rank - 1))
+      allocate(slab(rows_of(rank)))
+      call slab_owners(MPI_COMM_WORLD, ordered_key(coord(offset + 1:offset + rows_of(rank))), offset, &
+        quota, slab)
+      do i = 1, rows_of(rank)
+        f = int(offset) + i
+        p = count(coord < coord(f)) + count(coord(:f) == coord(f))
+        d = 0
+        do while (sum(quota(:d)) < p)
+          d = d + 1
+        end do
+        if (slab(i) /= d) bad = bad + 1
+      end do
+      deallocate(coord, slab)
+    end do
+    call report("slab_owners: each row's rank as counted over all rows (60 tables)", bad == 0, &
+      "rows misplaced "//num(real(bad, dp)))
+  end subroutine check_slab_owners
 
   !> Bad files: the serial reader's status, the same on every rank. Each bad
   !> row sits in the last rank's part (the file's second half) unless said.

@@ -1,11 +1,12 @@
 !> Small in-place sorts shared by the library: reals by insertion (the short
-!> lists of roots and breakpoints) and integers by heapsort (ids, any length).
+!> lists of roots and breakpoints), integers by heapsort (ids, any length) and
+!> 64-bit keys by radix sort (long lists of keys).
 module demstep_sort
-  use demstep_kinds, only: dp
+  use demstep_kinds, only: dp, i8
   implicit none
   private
 
-  public :: sort_ascending, heap_sort
+  public :: sort_ascending, heap_sort, radix_sort
 
 contains
 
@@ -61,5 +62,57 @@ contains
       root = child
     end do
   end subroutine sift_down
+
+  !> Sort 64-bit integers ascending in place (least significant digit radix
+  !> sort, 8 bits a digit: at most 8 stable passes over the array, a pass
+  !> skipped where every key has the same digit; n integers of scratch).
+  pure subroutine radix_sort(a)
+    integer(i8), intent(inout) :: a(:)
+    integer(i8), allocatable :: scratch(:)
+    integer :: pass
+    logical :: in_scratch, moved
+    if (size(a) < 2) return
+    allocate(scratch(size(a)))
+    in_scratch = .false.
+    do pass = 0, 7
+      if (in_scratch) then
+        call radix_pass(scratch, a, pass, moved)
+      else
+        call radix_pass(a, scratch, pass, moved)
+      end if
+      if (moved) in_scratch = .not. in_scratch
+    end do
+    if (in_scratch) a = scratch
+  end subroutine radix_sort
+
+  !> One pass of `radix_sort`: `from` ordered stably by its digit `pass`
+  !> (bits 8 pass to 8 pass + 7; the sign bit flipped in the top digit, so
+  !> negative keys come first) into `to`, unless every key has the same digit
+  !> (then `moved` is false and `to` is untouched).
+  pure subroutine radix_pass(from, to, pass, moved)
+    integer(i8), intent(in) :: from(:)
+    integer(i8), intent(inout) :: to(:)
+    integer, intent(in) :: pass
+    logical, intent(out) :: moved
+    integer :: counts(0:255), at(0:255), i, d, flip
+    flip = 0
+    if (pass == 7) flip = 128
+    counts = 0
+    do i = 1, size(from)
+      d = ieor(int(ibits(from(i), 8*pass, 8)), flip)
+      counts(d) = counts(d) + 1
+    end do
+    moved = maxval(counts) < size(from)
+    if (.not. moved) return
+    at(0) = 1
+    do d = 1, 255
+      at(d) = at(d - 1) + counts(d - 1)
+    end do
+    do i = 1, size(from)
+      d = ieor(int(ibits(from(i), 8*pass, 8)), flip)
+      to(at(d)) = from(i)
+      at(d) = at(d) + 1
+    end do
+  end subroutine radix_pass
 
 end module demstep_sort

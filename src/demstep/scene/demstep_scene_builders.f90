@@ -13,7 +13,7 @@ module demstep_scene_builders
   implicit none
   private
 
-  public :: new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, scene_set_cell, &
+  public :: new_scene, scene_add_bonds, scene_add_walls, scene_set_contacts, contact_rows_check, scene_set_cell, &
     scene_set_types, scene_set_hertz_types, scene_set_law, scene_set_bond_stiffness, scene_set_gravity, &
     scene_set_damping, scene_set_friction, scene_set_local_damping, scene_set_rolling, scene_set_effects, &
     cubic_lattice
@@ -279,43 +279,12 @@ contains
     integer, intent(in) :: pairs(:, :)
     real(dp), intent(in) :: k(:, :)
     type(demstep_status_type), intent(out) :: status
-    character(len=*), parameter :: names(8) = [character(len=3) :: "k_n", "k_t", "k_r", "k_w", &
-      "c_n", "c_t", "c_r", "c_w"]
-    integer :: c, m, q, nc, bad
+    integer :: c, m, nc
     logical :: turning
+    call contact_rows_check(scene%n, pairs, k, status)
+    if (status%stat /= demstep_stat%ok) return
     m = size(k, 1)
     nc = size(pairs, 2)
-    if (size(pairs, 1) /= 2 .or. .not. (m == 2 .or. m == 4 .or. m == 8) .or. size(k, 2) /= nc) then
-      call set_status(status, demstep_stat%invalid_input, "each contact is two particle " &
-        //"numbers and 2, 4 or 8 values (k_n, k_t, k_r, k_w, c_n, c_t, c_r, c_w)", where="contacts")
-      return
-    end if
-    ! (the rows checked in parallel: the first faulty one in list order)
-    bad = huge(bad)
-    !$omp parallel do private(c) reduction(min:bad) schedule(static) if(nc >= parallel_rows)
-    do c = 1, nc
-      if (contact_fault(pairs(:, c), k(:, c), scene%n) /= 0) bad = min(bad, c)
-    end do
-    !$omp end parallel do
-    if (bad <= nc) then
-      c = bad
-      q = contact_fault(pairs(:, c), k(:, c), scene%n)
-      if (q == -2) then
-        call set_status(status, demstep_stat%invalid_input, "names a " &
-          //"missing particle ("//int_text(pairs(1, c))//", "//int_text(pairs(2, c))//"; there are " &
-          //int_text(scene%n)//")", where="contacts", index=int(c), subscript=.true.)
-      else if (q == -1) then
-        call set_status(status, demstep_stat%invalid_input, "pairs " &
-          //"particle "//int_text(pairs(1, c))//" with itself", where="contacts", index=int(c), subscript=.true.)
-      else if (q == 1) then
-        call set_status(status, demstep_stat%invalid_input, "k_n " &
-          //"must be > 0 and finite", where="contacts", index=int(c), subscript=.true.)
-      else
-        call set_status(status, demstep_stat%invalid_input, trim(names(q)) &
-          //" must be >= 0 and finite", where="contacts", index=int(c), subscript=.true.)
-      end if
-      return
-    end if
     if (allocated(scene%contact_pairs)) deallocate(scene%contact_pairs)
     if (allocated(scene%contact_k)) deallocate(scene%contact_k)
     allocate(scene%contact_pairs(2, nc), scene%contact_k(8, nc))
@@ -334,6 +303,52 @@ contains
     if (turning) scene%effects(scene_effect%rotation) = .true.
     status%stat = demstep_stat%ok
   end subroutine scene_set_contacts
+
+  !> The checks of `scene_set_contacts` on an explicit contact list for a
+  !> scene of n particles (the same statuses), without the scene. The rows
+  !> are checked in parallel; the first faulty one in list order is named.
+  subroutine contact_rows_check(n, pairs, k, status)
+    integer, intent(in) :: n
+    integer, intent(in) :: pairs(:, :)
+    real(dp), intent(in) :: k(:, :)
+    type(demstep_status_type), intent(out) :: status
+    character(len=*), parameter :: names(8) = [character(len=3) :: "k_n", "k_t", "k_r", "k_w", &
+      "c_n", "c_t", "c_r", "c_w"]
+    integer :: c, m, q, nc, bad
+    m = size(k, 1)
+    nc = size(pairs, 2)
+    if (size(pairs, 1) /= 2 .or. .not. (m == 2 .or. m == 4 .or. m == 8) .or. size(k, 2) /= nc) then
+      call set_status(status, demstep_stat%invalid_input, "each contact is two particle " &
+        //"numbers and 2, 4 or 8 values (k_n, k_t, k_r, k_w, c_n, c_t, c_r, c_w)", where="contacts")
+      return
+    end if
+    bad = huge(bad)
+    !$omp parallel do private(c) reduction(min:bad) schedule(static) if(nc >= parallel_rows)
+    do c = 1, nc
+      if (contact_fault(pairs(:, c), k(:, c), n) /= 0) bad = min(bad, c)
+    end do
+    !$omp end parallel do
+    if (bad <= nc) then
+      c = bad
+      q = contact_fault(pairs(:, c), k(:, c), n)
+      if (q == -2) then
+        call set_status(status, demstep_stat%invalid_input, "names a " &
+          //"missing particle ("//int_text(pairs(1, c))//", "//int_text(pairs(2, c))//"; there are " &
+          //int_text(n)//")", where="contacts", index=int(c), subscript=.true.)
+      else if (q == -1) then
+        call set_status(status, demstep_stat%invalid_input, "pairs " &
+          //"particle "//int_text(pairs(1, c))//" with itself", where="contacts", index=int(c), subscript=.true.)
+      else if (q == 1) then
+        call set_status(status, demstep_stat%invalid_input, "k_n " &
+          //"must be > 0 and finite", where="contacts", index=int(c), subscript=.true.)
+      else
+        call set_status(status, demstep_stat%invalid_input, trim(names(q)) &
+          //" must be >= 0 and finite", where="contacts", index=int(c), subscript=.true.)
+      end if
+      return
+    end if
+    status%stat = demstep_stat%ok
+  end subroutine contact_rows_check
 
   !> What is wrong with one row of an explicit contact list (`scene_set_contacts`)
   !> of particles 1 to n: 0 nothing, -2 a missing particle, -1 a particle paired

@@ -1,0 +1,101 @@
+!> Tests of demstep_sort's radix sort of 64-bit keys: ascending order and the
+!> same keys, on random keys over the whole range (negative ones, the
+!> extremes, repeats), keys that share their high bytes (the passes skipped),
+!> equal keys, and the short arrays.
+module test_sort
+  use testdrive, only: new_unittest, unittest_type, error_type, check
+  use demstep_kinds, only: i8
+  use demstep_sort, only: radix_sort
+  implicit none
+  private
+  public :: collect_sort
+
+contains
+
+  subroutine collect_sort(testsuite)
+    type(unittest_type), allocatable, intent(out) :: testsuite(:)
+    testsuite = [ &
+      new_unittest("radix_sort: random keys, negative, extreme and repeated", test_radix_random), &
+      new_unittest("radix_sort: keys sharing their high bytes, all equal, short", test_radix_special) &
+      ]
+  end subroutine collect_sort
+
+  subroutine test_radix_random(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer(i8), allocatable :: a(:)
+    integer(i8) :: seed
+    integer :: i
+    seed = 12345_i8
+    allocate(a(3000))
+    do i = 1, size(a)
+      a(i) = next(seed)
+    end do
+    ! the extremes and repeats of values already present
+    a(7) = huge(1_i8)
+    a(8) = -huge(1_i8) - 1_i8
+    a(9) = 0_i8
+    a(10) = -1_i8
+    a(11:40) = a(101:130)
+    a(41:45) = -huge(1_i8) - 1_i8
+    call expect_sorted(error, a)
+  end subroutine test_radix_random
+
+  subroutine test_radix_special(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer(i8), allocatable :: a(:)
+    integer(i8) :: seed
+    integer :: i
+    seed = 777_i8
+    ! the same top six bytes: two passes move, six are skipped
+    allocate(a(1000))
+    do i = 1, size(a)
+      a(i) = ior(shiftl(int(z'12345678ABCD', i8), 16), iand(next(seed), int(z'FFFF', i8)))
+    end do
+    call expect_sorted(error, a)
+    if (allocated(error)) return
+    ! negative keys differing only in their low byte
+    a = -int(z'100', i8) + iand(a, 255_i8)
+    call expect_sorted(error, a)
+    if (allocated(error)) return
+    a = 42_i8
+    call expect_sorted(error, a)
+    if (allocated(error)) return
+    call expect_sorted(error, [-5_i8])
+    if (allocated(error)) return
+    call expect_sorted(error, [3_i8, -3_i8])
+    if (allocated(error)) return
+    deallocate(a)
+    allocate(a(0))
+    call expect_sorted(error, a)
+  end subroutine test_radix_special
+
+  !> radix_sort(a) ascends and holds a's keys, each as often (counted).
+  subroutine expect_sorted(error, keys)
+    type(error_type), allocatable, intent(out) :: error
+    integer(i8), intent(in) :: keys(:)
+    integer(i8), allocatable :: a(:)
+    integer :: i
+    a = keys
+    call radix_sort(a)
+    call check(error, size(a) == size(keys), "the same length")
+    if (allocated(error)) return
+    do i = 2, size(a)
+      call check(error, a(i - 1) <= a(i), "ascending at entry")
+      if (allocated(error)) return
+    end do
+    do i = 1, size(a)
+      call check(error, count(a == a(i)) == count(keys == a(i)), "each key as often as given")
+      if (allocated(error)) return
+    end do
+  end subroutine expect_sorted
+
+  !> A 64-bit pseudo-random key (xorshift64; every bit pattern but 0).
+  integer(i8) function next(state)
+    integer(i8), intent(inout) :: state
+    state = ieor(state, shiftl(state, 13))
+    state = ieor(state, shiftr(state, 7))
+    state = ieor(state, shiftl(state, 17))
+    next = state
+  end function next
+
+end module test_sort
