@@ -150,7 +150,7 @@ module demstep_assembly
   character(len=*), parameter :: dashpot_names(6) = [character(len=10) :: "normal", "tangential", &
     "rolling", "twisting", "bond", "drag"]
   !> Below this many springs an operator product runs on one thread.
-  integer, parameter :: parallel_springs = 4096
+  integer, parameter, public :: parallel_springs = 4096
   !> Springs per call of the product's kernel loop (`contact_products`).
   integer, parameter :: spring_block = 512
   !> Bodies per block of the operator product (`operator_set_blocks`): fixed,
@@ -367,7 +367,7 @@ contains
   !> lapack_failure; the Lanczos solver's statuses (not_converged names
   !> `tolerance`).
   subroutine assembly_critical_steps(scene, result, status, hertz_mode, impact_velocity, &
-      max_eigen_dof, prestress, solver, tolerance, progress, mode, springs_out)
+      max_eigen_dof, prestress, solver, tolerance, progress, mode, springs_out, operator_out)
     type(scene_type), intent(in) :: scene
     type(critical_step_type), intent(out) :: result
     type(demstep_status_type), intent(out) :: status
@@ -393,8 +393,12 @@ contains
     !> for `scene_participation`).
     real(dp), allocatable, intent(out), optional :: mode(:)
     type(spring_block_type), allocatable, intent(out), optional :: springs_out(:)
+    !> The operator the steps were computed on (A' unmixed: alpha 1, beta 0),
+    !> e.g. for `scene_participation`'s shares without building it again.
+    type(assembly_operator_type), intent(out), target, optional :: operator_out
     type(spring_block_type), allocatable :: springs(:)
-    type(assembly_operator_type), target :: op
+    type(assembly_operator_type), target :: op_here
+    logical :: built
     real(dp), allocatable :: vec(:)
     real(dp) :: rate, tol
     integer :: limit, choice
@@ -415,12 +419,13 @@ contains
     end if
     call assembly_check_options(scene, tol, status)
     if (status%stat /= demstep_stat%ok) return
-    call prepare(scene, hertz_mode, impact_velocity, geo, springs, op, rate, status)
-    if (status%stat /= demstep_stat%ok) return
-    result%rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
-    result%periodic = any(scene%periodic)
-    allocate(vec(op%n), source=0.0_dp)
-    call operator_critical_steps(op, springs, rate, geo, choice, limit, tol, vec, result, status, progress)
+    built = .false.
+    if (present(operator_out)) then
+      call steps_on(operator_out)
+    else
+      call steps_on(op_here)
+    end if
+    if (.not. built) return
     if (present(mode)) then
       if (status%stat == demstep_stat%ok .and. result%eigen_computed .and. any(vec /= 0.0_dp)) then
         call move_alloc(vec, mode)
@@ -429,6 +434,19 @@ contains
       end if
     end if
     if (present(springs_out)) call move_alloc(springs, springs_out)
+  contains
+    !> Build the operator into `op` and compute the steps on it.
+    subroutine steps_on(op)
+      type(assembly_operator_type), intent(inout), target :: op
+      call prepare(scene, hertz_mode, impact_velocity, geo, springs, op, rate, status)
+      if (status%stat /= demstep_stat%ok) return
+      built = .true.
+      result%rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
+      result%periodic = any(scene%periodic)
+      allocate(vec(op%n), source=0.0_dp)
+      call operator_critical_steps(op, springs, rate, geo, choice, limit, tol, vec, result, status, progress)
+      call operator_mix(op, 1.0_dp, 0.0_dp)
+    end subroutine steps_on
   end subroutine assembly_critical_steps
 
   !> The estimates of `assembly_critical_steps` from a built operator and its

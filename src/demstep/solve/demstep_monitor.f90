@@ -53,7 +53,8 @@ module demstep_monitor
   use demstep_progress, only: progress_type
   use demstep_assembly, only: critical_step_type, assembly_operator_type, spring_block_type, &
     operator_from_springs, operator_critical_steps, assembly_operator_apply, eigen_solver, &
-    default_max_eigen_dof, damped_lower_bound, scene_lanczos_ncv, assembly_matrix_rows, operator_spring_energies
+    default_max_eigen_dof, damped_lower_bound, scene_lanczos_ncv, assembly_matrix_rows, operator_spring_energies, &
+    parallel_springs
   use demstep_lapack, only: largest_eigenpair
   use demstep_lanczos, only: lanczos_tolerance_default
   use demstep_scene_data, only: scene_type
@@ -1056,27 +1057,25 @@ contains
     type(spring_block_type), allocatable :: springs(:)
     type(assembly_operator_type) :: op
     integer, allocatable :: body_particle(:)
-    real(dp) :: rate
     integer :: i, s
-    logical :: geo
+    ! (the solve's own operator: not built again)
     call assembly_critical_steps(scene, result, status, hertz_mode, impact_velocity, max_eigen_dof, &
-      prestress, solver, tolerance, progress, mode, springs)
+      prestress, solver, tolerance, progress, mode, springs, op)
     if (status%stat /= demstep_stat%ok) return
     if (size(mode) == 0) return
-    geo = .false.
-    if (present(prestress)) geo = prestress
-    call operator_from_springs(scene%dim, result%rotation, scene%mass, scene%inertia, scene%radius, springs, &
-      geo, op, rate, status, scene%fixed)
-    if (status%stat /= demstep_stat%ok) return
     body_particle = pack([(i, i = 1, scene%n)], .not. scene%fixed)
     call mode_shares(op, mode, body_particle, scene%n, part%particle_share, part%spring_share)
-    part%spring_a = springs%a
-    part%spring_b = springs%b
-    part%spring_kind = spring_kind_of(springs%a, springs%kind)
-    allocate(part%spring_k(2, size(springs)))
+    allocate(part%spring_a(size(springs)), part%spring_b(size(springs)), part%spring_kind(size(springs)), &
+      part%spring_k(2, size(springs)))
+    ! (one pass over the springs)
+    !$omp parallel do private(s) schedule(static) if(size(springs) >= parallel_springs)
     do s = 1, size(springs)
+      part%spring_a(s) = springs(s)%a
+      part%spring_b(s) = springs(s)%b
+      part%spring_kind(s) = spring_kind_of(springs(s)%a, springs(s)%kind)
       part%spring_k(:, s) = springs(s)%k(1:2)
     end do
+    !$omp end parallel do
     part%computed = .true.
   end subroutine scene_participation
 
