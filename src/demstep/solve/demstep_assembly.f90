@@ -182,10 +182,11 @@ module demstep_assembly
     !> Each spring end's generalised force (6, 2 springs) and each body's scaled
     !> displacement (6, 0:bodies; 0 the ground), filled per product.
     real(dp), allocatable :: work(:, :), xs(:, :)
-    !> Work of `operator_products` (each vector's scaled displacements) and
+    !> Work of `operator_products` (each vector's scaled displacements, each
+    !> body's sums of the products side by side) and
     !> of the damped limit's start (its vectors and products), kept with the
     !> operator: a monitor's updates reuse them.
-    real(dp), allocatable :: many_xs(:, :, :), many_x(:, :), many_y(:, :)
+    real(dp), allocatable :: many_xs(:, :, :), many_sum(:, :, :), many_x(:, :), many_y(:, :)
   end type assembly_operator_type
 
   !> The four estimates and what they rest on.
@@ -1560,7 +1561,8 @@ contains
     real(dp), intent(in) :: alpha(:), beta(:)
     !> The products (op%n, size(which)).
     real(dp), intent(out) :: y(:, :)
-    real(dp) :: f(6, 2*spring_block, size(which))
+    ! (a block's spring forces per product)
+    real(dp), allocatable :: f(:, :, :)
     real(dp) :: a0, b0, bq(size(which))
     integer :: q, nq, v, i, s, s0, m, k, j, threads
     nq = size(which)
@@ -1584,14 +1586,19 @@ contains
       if (ubound(op%many_xs, 2) /= op%n_bodies .or. size(op%many_xs, 3) < size(x, 2)) deallocate(op%many_xs)
     end if
     if (.not. allocated(op%many_xs)) allocate(op%many_xs(6, 0:op%n_bodies, size(x, 2)))
-    associate(xs => op%many_xs)
+    if (allocated(op%many_sum)) then
+      if (size(op%many_sum, 2) < nq .or. size(op%many_sum, 3) /= op%n_bodies) deallocate(op%many_sum)
+    end if
+    if (.not. allocated(op%many_sum)) allocate(op%many_sum(6, nq, op%n_bodies))
+    allocate(f(6, 2*spring_block, nq))
+    associate(xs => op%many_xs, acc => op%many_sum)
     do v = 1, size(x, 2)
       xs(:, 0, v) = 0.0_dp
       do i = 1, op%n_bodies
         xs(:, i, v) = x(6*i - 5:6*i, v)*op%w(:, i)
       end do
     end do
-    y = 0.0_dp
+    acc(:, :nq, :) = 0.0_dp
     do s0 = 1, op%n_springs, spring_block
       m = min(spring_block, op%n_springs - s0 + 1)
       ! (the block's springs, renumbered from 1: its forces are f(:, 1:2m, q))
@@ -1611,17 +1618,17 @@ contains
           i = op%ends(j, s)
           if (i == 0) cycle
           do q = 1, nq
-            y(6*i - 5:6*i, q) = y(6*i - 5:6*i, q) + f(:, 2*k - 2 + j, q)
+            acc(:, q, i) = acc(:, q, i) + f(:, 2*k - 2 + j, q)
           end do
         end do
       end do
     end do
-    end associate
-    do q = 1, nq
-      do i = 1, op%n_bodies
-        y(6*i - 5:6*i, q) = y(6*i - 5:6*i, q)*op%w(:, i)
+    do i = 1, op%n_bodies
+      do q = 1, nq
+        y(6*i - 5:6*i, q) = acc(:, q, i)*op%w(:, i)
       end do
     end do
+    end associate
   end subroutine operator_products
 
   !> The operator's matrix A' in compressed rows (each body's diagonal block
