@@ -275,16 +275,16 @@ contains
       if (allocated(error)) return
       monitor = step_monitor_type()
       do pass = 1, 2
-          ! (the first update is cold, the second confirmed)
-          if (pass == 2) monitor%confirm_every = 1
-          call pour_update(monitor, state, error)
-          if (allocated(error)) return
-          got = monitor%last%dt_critical_damped
-          call check(error, got <= state%exact*(1.0_dp + 1.0e-9_dp) .and. &
-            got >= state%exact*(1.0_dp - 2.0_dp*monitor%tolerance), &
-            state%path//merge(": cold      ", ": confirmed ", pass == 1)//real_str(got)//" against the exact " &
-            //real_str(state%exact)//" (ratio "//real_str(got/state%exact)//")")
-          if (allocated(error)) return
+        ! (the first update is cold, the second confirmed)
+        if (pass == 2) monitor%confirm_every = 1
+        call pour_update(monitor, state, error)
+        if (allocated(error)) return
+        got = monitor%last%dt_critical_damped
+        call check(error, got <= state%exact*(1.0_dp + 1.0e-9_dp) .and. &
+          got >= state%exact*(1.0_dp - 2.0_dp*monitor%tolerance), &
+          state%path//merge(": cold      ", ": confirmed ", pass == 1)//real_str(got)//" against the exact " &
+          //real_str(state%exact)//" (ratio "//real_str(got/state%exact)//")")
+        if (allocated(error)) return
       end do
     end do
   end subroutine test_pour_states
@@ -752,20 +752,20 @@ contains
       call random_number(x)
       x = x - 0.5_dp
       do pass = 1, 2
-      call operator_mix(op, 0.5_dp, 0.5_dp)
-      call operator_products(op, x, which, a, b, y, one_pass=pass == 1)
-      call check(error, abs(op%alpha - 0.5_dp) + abs(op%beta - 0.5_dp) <= 0.0_dp, "the mix left as it was")
-      if (allocated(error)) return
-      do q = 1, 4
-        call operator_mix(op, a(q), b(q))
-        call assembly_operator_apply(op, x(:, which(q)), one)
-        scale = maxval(abs(one))
-        call check(error, scale > 0.0_dp .and. maxval(abs(y(:, q) - one)) <= 1.0e-13_dp*scale, &
-          "trial "//int_str(int(trial, i8))//", pass "//int_str(int(pass, i8))//", product " &
-          //int_str(int(q, i8))//": off by " &
-          //real_str(maxval(abs(y(:, q) - one))/scale))
+        call operator_mix(op, 0.5_dp, 0.5_dp)
+        call operator_products(op, x, which, a, b, y, one_pass=pass == 1)
+        call check(error, abs(op%alpha - 0.5_dp) + abs(op%beta - 0.5_dp) <= 0.0_dp, "the mix left as it was")
         if (allocated(error)) return
-      end do
+        do q = 1, 4
+          call operator_mix(op, a(q), b(q))
+          call assembly_operator_apply(op, x(:, which(q)), one)
+          scale = maxval(abs(one))
+          call check(error, scale > 0.0_dp .and. maxval(abs(y(:, q) - one)) <= 1.0e-13_dp*scale, &
+            "trial "//int_str(int(trial, i8))//", pass "//int_str(int(pass, i8))//", product " &
+            //int_str(int(q, i8))//": off by " &
+            //real_str(maxval(abs(y(:, q) - one))/scale))
+          if (allocated(error)) return
+        end do
       end do
       deallocate(x, y, one)
     end do
