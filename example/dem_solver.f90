@@ -43,7 +43,8 @@
 !>   in_place=X       the monitor's in_place (a refined top mode overlapping
 !>                    the previous one by at least X stayed in place);
 !>   trace            one line per measured update: its kind, products and
-!>                    wall time over the mean solver step so far;
+!>                    wall time over the mean solver step of the measured
+!>                    window so far (with tile=T the steps after tiling);
 !>   verify           each measured update against a cold one on the same
 !>                    arrays (damped and undamped limits);
 !>   reference        each update and a cold one against the dense exact
@@ -120,6 +121,9 @@ program dem_solver
   integer(i8) :: c0, c1, rate, t_steps, t_updates, t_checks
   ! the second half of the run (a settled bed): its updates, checks and steps
   integer(i8) :: t2_steps, t2_updates, t2_checks
+  ! (and their CPU times, s: on a shared machine the wall times wait for the
+  ! other processes, the CPU times much less)
+  real(dp) :: cpu0, cpu1, cpu2_steps = 0.0_dp, cpu2_updates = 0.0_dp
   integer :: n2_updates, n2_checks, n2_accepted, n2_confirmed, n2_local = 0
   !> verify: each measured update against a cold one (a new monitor) on the
   !> same arrays; the largest and least ratio of their damped limits.
@@ -182,11 +186,16 @@ program dem_solver
   call system_clock(count_rate=rate)
   call forces()
   do step = 1, n_steps
+    call cpu_time(cpu0)
     call system_clock(c0)
     call verlet_step()
     call system_clock(c1)
+    call cpu_time(cpu1)
     t_steps = t_steps + (c1 - c0)
-    if (step > measure_from) t2_steps = t2_steps + (c1 - c0)
+    if (step > measure_from) then
+      t2_steps = t2_steps + (c1 - c0)
+      cpu2_steps = cpu2_steps + (cpu1 - cpu0)
+    end if
     t = t + dt
 
     if (step == settled_step) call settled()
@@ -275,6 +284,10 @@ program dem_solver
   if (verify) print '(a, i0, a, f0.6, a, f0.6)', "verify: ", n2_updates, " warm updates against cold ones: "// &
     "damped limit warm/cold from ", verify_min, " to ", verify_max
   if (verify) print '(a, f0.6, a, f0.6)', "verify: undamped limit warm/cold from ", verify_min_u, " to ", verify_max_u
+  print '(a, f0.3, a, f0.3, a, f0.2, a)', "measured window: solver step ", &
+    1.0e3_dp*real(t2_steps, dp)/rate/(n_steps - measure_from), " ms wall, ", &
+    1.0e3_dp*cpu2_steps/(n_steps - measure_from), " ms CPU; updates of ", &
+    (cpu2_updates/max(1, n2_updates))/(cpu2_steps/(n_steps - measure_from)), " solver steps in CPU time"
   print '(a, f0.2, a, f0.2, a)', "whole run (pour and settled): warm updates of ", &
     (real(t_updates, dp)/max(1, n_updates - 1))/(real(t_steps, dp)/n_steps), " solver steps, checks of ", &
     (real(t_checks, dp)/max(1, n_checks))/(real(t_steps, dp)/n_steps), " solver steps"
@@ -719,9 +732,11 @@ contains
   !> The exact (damped) limit, warm-started; the step becomes safety times it.
   subroutine update(step)
     integer, intent(in) :: step
+    call cpu_time(cpu0)
     call system_clock(c0)
     call solve(monitor)
     call system_clock(c1)
+    call cpu_time(cpu1)
     if (.not. is_ok(status)) then
       print '(a, i0, a)', "step ", step, ": "//status%message
       error stop 1
@@ -737,6 +752,7 @@ contains
     n_updates = n_updates + 1
     if (step > measure_from) then
       t2_updates = t2_updates + (c1 - c0)
+      cpu2_updates = cpu2_updates + (cpu1 - cpu0)
       n2_updates = n2_updates + 1
       if (monitor%accepted) n2_accepted = n2_accepted + 1
       if (monitor%confirmed) n2_confirmed = n2_confirmed + 1
@@ -744,7 +760,7 @@ contains
       if (verify) call verify_update()
       if (trace) print '(a, i0, a, l1, a, l1, a, l1, a, i0, a, f0.2, a)', "update at ", step, ": accepted ", &
         monitor%accepted, ", confirmed ", monitor%confirmed, ", local ", monitor%local_start, ", ", &
-        monitor%last%eigen_products, " products, ", real(c1 - c0, dp)/(real(t_steps, dp)/max(1, step)), &
+        monitor%last%eigen_products, " products, ", real(c1 - c0, dp)/(real(t2_steps, dp)/(step - measure_from)), &
         " solver steps"
     end if
     if (reference) call reference_update(step)

@@ -8,13 +8,13 @@ module test_damping
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
   use demstep_assembly, only: assembly_matrix, assembly_operator, assembly_operator_type, &
-    damped_lower_bound, eigen_solver_name
+    damped_lower_bound, eigen_solver_name, assembly_operator_apply, operator_mix, operator_products
   use demstep_csr, only: csr_matrix_type, csr_to_dense
   use demstep_interaction, only: contact_block, contact_forces, rolling_moments, contact_product
   use demstep_lapack, only: spectral_radius
   use demstep_scene_data, only: contact_values, wall_values, contact_dashpots
   use demstep_monitor, only: step_monitor_type
-  use test_support, only: real_str, seed_fixed
+  use test_support, only: real_str, int_str, seed_fixed
   implicit none
   private
   public :: collect_damping
@@ -45,7 +45,9 @@ contains
       new_unittest("setters refuse bad values by name", test_setters), &
       new_unittest("a one-dof scene by Lanczos: computed", test_one_dof), &
       new_unittest("materials: each code's dashpots per contact and on walls", test_materials), &
-      new_unittest("a drag-only top (an isolated light particle): 2 m/c, Lanczos and dense", test_drag_top) &
+      new_unittest("a drag-only top (an isolated light particle): 2 m/c, Lanczos and dense", test_drag_top), &
+      new_unittest("several products in one pass = one at a time (A', B', mixed; rotations or not)", &
+        test_fused_products) &
       ]
   end subroutine collect_damping
 
@@ -705,5 +707,68 @@ contains
     real(dp) :: c(3)
     c = [a(2)*b(3) - a(3)*b(2), a(3)*b(1) - a(1)*b(3), a(1)*b(2) - a(2)*b(1)]
   end function cross
+
+  !> `operator_products` (several products in one pass over the springs,
+  !> asked for: these scenes are below `fused_springs`; and as it chooses)
+  !> against `assembly_operator_apply` one product at a time, mixed by
+  !> `operator_mix`: a packing with rolling and twisting springs, every
+  !> dashpot, a drag (springs to the ground) and a fixed particle (springs
+  !> with one end held), then one without tangential springs (3 components
+  !> a body: the products one by one). Each body sums its springs' forces in
+  !> the same order either way, so they agree to rounding: within 1e-13 of
+  !> the largest entry (bit for bit today; the bound leaves room for a sum
+  !> taken in another order, a few ulps of each of a dozen terms).
+  subroutine test_fused_products(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(assembly_operator_type) :: op
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: x(:, :), y(:, :), one(:)
+    real(dp) :: rate, a(4), b(4), scale
+    integer :: trial, q, which(4), pass
+    a = [1.0_dp, 0.0_dp, 1.0_dp, 0.25_dp]
+    b = [0.0_dp, 1.0_dp, 0.0_dp, 3.0_dp]
+    which = [1, 1, 2, 2]
+    do trial = 1, 2
+      call random_periodic_packing(scene, 200, status, seed=11, k_normal=1.0e4_dp, &
+        k_tangential=merge(3.0e3_dp, 0.0_dp, trial == 1))
+      if (trial == 1) then
+        call scene_set_rolling(scene, 0.1_dp, 0.05_dp, status)
+        call scene_set_damping(scene, 0.3_dp, status, tangential=0.2_dp, rolling=0.1_dp, drag=0.01_dp)
+        scene%fixed(7) = .true.
+      else
+        call scene_set_damping(scene, 0.3_dp, status)
+        scene%effects(scene_effect%rotation) = .false.
+      end if
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      call assembly_operator(scene, op, rate, status)
+      call check(error, status%stat, demstep_stat%ok, status%message)
+      if (allocated(error)) return
+      call check(error, op%nc, merge(6, 3, trial == 1), "components per body")
+      if (allocated(error)) return
+      allocate(x(op%n, 2), y(op%n, 4), one(op%n))
+      call seed_fixed(23 + trial)
+      call random_number(x)
+      x = x - 0.5_dp
+      do pass = 1, 2
+        call operator_mix(op, 0.5_dp, 0.5_dp)
+        call operator_products(op, x, which, a, b, y, one_pass=pass == 1)
+        call check(error, abs(op%alpha - 0.5_dp) + abs(op%beta - 0.5_dp) <= 0.0_dp, "the mix left as it was")
+        if (allocated(error)) return
+        do q = 1, 4
+          call operator_mix(op, a(q), b(q))
+          call assembly_operator_apply(op, x(:, which(q)), one)
+          scale = maxval(abs(one))
+          call check(error, scale > 0.0_dp .and. maxval(abs(y(:, q) - one)) <= 1.0e-13_dp*scale, &
+            "trial "//int_str(int(trial, i8))//", pass "//int_str(int(pass, i8))//", product " &
+            //int_str(int(q, i8))//": off by " &
+            //real_str(maxval(abs(y(:, q) - one))/scale))
+          if (allocated(error)) return
+        end do
+      end do
+      deallocate(x, y, one)
+    end do
+  end subroutine test_fused_products
 
 end module test_damping

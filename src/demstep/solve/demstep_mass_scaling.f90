@@ -221,7 +221,7 @@ contains
         scale(monitor%body_particle) = 1.0_dp + t
         if (inner > 1 .and. new_cuts == 0) exit
         call operator_from_springs(monitor%dim, monitor%last%rotation, mass*scale, base_inertia*scale, &
-          radius, monitor%springs, .false., op, rate_of_op, status, fixed)
+          radius, monitor%springs(:monitor%n_springs), .false., op, rate_of_op, status, fixed)
         if (status%stat /= demstep_stat%ok) return
         call mix_at_target()
       end do
@@ -288,7 +288,7 @@ contains
       fresh = .false.
       if (present(cold)) fresh = cold
       call operator_from_springs(monitor%dim, monitor%last%rotation, mass*factor, base_inertia*factor, &
-        radius, monitor%springs, .false., op, rate_of_op, status, fixed)
+        radius, monitor%springs(:monitor%n_springs), .false., op, rate_of_op, status, fixed)
       if (status%stat /= demstep_stat%ok) return
       result = critical_step_type()
       result%rotation = monitor%last%rotation
@@ -296,12 +296,12 @@ contains
       ! (each solve moves the mode: the scene solve's Krylov size)
       if (fresh) then
         allocate(start(op%n), damped_start(op%n), source=0.0_dp)
-        call operator_critical_steps(op, monitor%springs, rate_of_op, .false., monitor%solver, &
+        call operator_critical_steps(op, monitor%springs(:monitor%n_springs), rate_of_op, .false., monitor%solver, &
           default_max_eigen_dof, monitor%tolerance, start, result, status, &
           bounds=[cheap_bound(op), cheap_bound(op, dashpots=.true.)], ncv=scene_lanczos_ncv, &
           damped_vec=damped_start)
       else
-        call operator_critical_steps(op, monitor%springs, rate_of_op, .false., monitor%solver, &
+        call operator_critical_steps(op, monitor%springs(:monitor%n_springs), rate_of_op, .false., monitor%solver, &
           default_max_eigen_dof, monitor%tolerance, vec, result, status, &
           bounds=[cheap_bound(op), cheap_bound(op, dashpots=.true.)], ncv=scene_lanczos_ncv, damped_vec=dvec)
       end if

@@ -207,8 +207,11 @@ module demstep_monitor
     !> contact row each spring is (> 0: row of pairs; < 0: -particle on a wall).
     real(dp), allocatable :: mode(:), damped_mode(:)
     type(assembly_operator_type) :: op
+    !> springs(1:n_springs) and spring_row(1:n_springs) are the update's (the
+    !> arrays keep their size between updates while it suffices).
     type(spring_block_type), allocatable :: springs(:)
     integer, allocatable :: body_particle(:), spring_row(:)
+    integer :: n_springs = 0
     real(dp) :: rate = 0.0_dp
     !> The top mode per particle, proportional to its physical displacement
     !> and rotation times radius (6, particles; 0 for fixed ones): the check's
@@ -219,6 +222,11 @@ module demstep_monitor
     real(dp), allocatable :: damped_particles(:, :)
     !> The check's per-particle bound rows (work arrays kept between checks).
     real(dp), allocatable, private :: check_rows(:, :)
+    !> Work of the updates, kept between them: each contact's row (or
+    !> -particle) and geometry as `solver_springs` finds them, and the
+    !> unit previous mode with its product as `stands` measures it.
+    integer, allocatable, private :: contact_hit(:)
+    real(dp), allocatable, private :: contact_geo(:, :), unit_mode(:), mode_av(:)
   contains
     !> Re-solve the exact limit, warm-started from the previous mode.
     procedure :: update => monitor_update
@@ -284,7 +292,9 @@ contains
     logical :: rotation, warm, accept, certify, stood, stood_damped
     integer :: i, nfree, ncv
     real(dp) :: a_bound, in_place
-    real(dp), allocatable :: rows(:), damped_rows(:), mode_av(:)
+    real(dp), allocatable :: rows(:), damped_rows(:)
+    ! (whether `stands` made its product: then monitor%mode_av)
+    integer :: made
     monitor%ready = .false.
     monitor%accepted = .false.
     if (monitor%solver < eigen_solver%auto .or. monitor%solver > eigen_solver%none) then
@@ -297,9 +307,8 @@ contains
         where="in_place")
       return
     end if
-    call build_operator(x, mass, radius, pairs, k_n, monitor%springs, monitor%spring_row, monitor%op, &
-      monitor%rate, rotation, status, k_t, c_n, c_t, inertia, fixed, wall_point, wall_normal, wall_k, &
-      wall_damping, periodic, cell_lo, cell_hi)
+    call build_operator(monitor, x, mass, radius, pairs, k_n, rotation, status, k_t, c_n, c_t, inertia, &
+      fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
     if (status%stat /= demstep_stat%ok) return
     ! the previous mode is a warm start while the degrees of freedom are the same
     if (allocated(monitor%mode)) then
@@ -351,8 +360,12 @@ contains
     ! use of the product)
     accept = accept .and. .not. monitor%local_start
     stood = accept
-    if (stood) stood = stands(monitor%op, monitor%mode, monitor%tolerance, mode_av)
-    if (.not. allocated(mode_av)) allocate(mode_av(0))
+    made = 0
+    if (stood) then
+      stood = stands(monitor%op, monitor%mode, monitor%tolerance, monitor%unit_mode, monitor%mode_av)
+      made = monitor%op%n
+    end if
+    if (.not. allocated(monitor%mode_av)) allocate(monitor%mode_av(0))
     certify = monitor%certify .or. .not. warm
     ! (the undamped mode's product from `stands` spares the solve's; a top
     ! re-solved in place, not moved, lets the damped mode be tried as it is)
@@ -362,21 +375,23 @@ contains
     if (accept) in_place = monitor%in_place
     stood_damped = stood .and. accept
     if (monitor%cheap) then
-      call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
+      call operator_critical_steps(monitor%op, monitor%springs(:monitor%n_springs), monitor%rate, .false., &
+        monitor%solver, &
         default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status, &
         bounds=[a_bound, bound_of_rows(damped_rows)], ncv=ncv, &
         damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=stood_damped, certify=certify, &
-        start_av=mode_av, in_place=in_place, confirm_steps=merge(ncv, 0, warm), confirmed=monitor%confirmed)
+        start_av=monitor%mode_av(:made), in_place=in_place, confirm_steps=merge(ncv, 0, warm), confirmed=monitor%confirmed)
     else
-      call operator_critical_steps(monitor%op, monitor%springs, monitor%rate, .false., monitor%solver, &
+      call operator_critical_steps(monitor%op, monitor%springs(:monitor%n_springs), monitor%rate, .false., &
+        monitor%solver, &
         default_max_eigen_dof, monitor%tolerance, monitor%mode, monitor%last, status, ncv=ncv, &
         damped_vec=monitor%damped_mode, accept_start=accept, accept_damped=stood_damped, certify=certify, &
-        start_av=mode_av, in_place=in_place, confirm_steps=merge(ncv, 0, warm), confirmed=monitor%confirmed)
+        start_av=monitor%mode_av(:made), in_place=in_place, confirm_steps=merge(ncv, 0, warm), confirmed=monitor%confirmed)
     end if
     monitor%confirmed = warm .and. monitor%confirmed
     monitor%accepted = accept .and. stood
     ! (the product `stands` made)
-    if (size(mode_av) > 0) monitor%last%eigen_products = monitor%last%eigen_products + 1
+    if (made > 0) monitor%last%eigen_products = monitor%last%eigen_products + 1
     if (status%stat /= demstep_stat%ok) then
       monitor%mode = 0.0_dp
       monitor%damped_mode = 0.0_dp
@@ -777,15 +792,23 @@ contains
 
   !> Whether a unit start vector stands as the operator's mode: its measured
   !> residual within the tolerance of its Rayleigh quotient (as
-  !> `top_eigenpair` takes a start). One product, kept in `y`.
-  logical function stands(op, vec, tol, y)
+  !> `top_eigenpair` takes a start). One product, kept in `y`; `unit` and
+  !> `y` are work kept by the caller (reallocated only when their size is
+  !> not the vector's).
+  logical function stands(op, vec, tol, unit, y)
     type(assembly_operator_type), intent(inout) :: op
     real(dp), intent(in) :: vec(:), tol
-    !> A' times the unit vector (for `operator_critical_steps`' start_av).
-    real(dp), allocatable, intent(out) :: y(:)
+    !> The unit vector, and A' times it (for `operator_critical_steps`' start_av).
+    real(dp), allocatable, intent(inout) :: unit(:), y(:)
     real(dp) :: lam, length
-    real(dp), allocatable :: unit(:)
-    allocate(y(size(vec)))
+    if (allocated(unit)) then
+      if (size(unit) /= size(vec)) deallocate(unit)
+    end if
+    if (.not. allocated(unit)) allocate(unit(size(vec)))
+    if (allocated(y)) then
+      if (size(y) /= size(vec)) deallocate(y)
+    end if
+    if (.not. allocated(y)) allocate(y(size(vec)))
     length = norm2(vec)
     stands = length > 0.0_dp
     if (.not. stands) return
@@ -1125,18 +1148,16 @@ contains
     end do
   end function top_shares
 
-  !> The solver's arrays checked, linearised (`solver_springs`) and made the
-  !> matrix-free operator (`operator_from_springs`; inertia default 2/5 m r^2).
-  subroutine build_operator(x, mass, radius, pairs, k_n, springs, rows, op, rate, rotation, status, k_t, &
-      c_n, c_t, inertia, fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
+  !> The solver's arrays checked, linearised (`solver_springs`: the monitor's
+  !> springs and spring rows) and made the monitor's matrix-free operator
+  !> (`operator_from_springs`, its arrays reused where they fit; inertia
+  !> default 2/5 m r^2), with its rate.
+  subroutine build_operator(monitor, x, mass, radius, pairs, k_n, rotation, status, k_t, c_n, c_t, inertia, &
+      fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
+    class(step_monitor_type), intent(inout) :: monitor
     real(dp), intent(in) :: x(:, :), mass(:), radius(:)
     integer, intent(in) :: pairs(:, :)
     real(dp), intent(in) :: k_n(:)
-    type(spring_block_type), allocatable, intent(inout) :: springs(:)
-    integer, allocatable, intent(inout) :: rows(:)
-    !> (kept between calls: its arrays are reused where they fit)
-    type(assembly_operator_type), intent(inout) :: op
-    real(dp), intent(out) :: rate
     logical, intent(out) :: rotation
     type(demstep_status_type), intent(out) :: status
     real(dp), intent(in), optional :: k_t(:), c_n(:), c_t(:), inertia(:)
@@ -1144,21 +1165,23 @@ contains
     real(dp), intent(in), optional :: wall_point(:, :), wall_normal(:, :), wall_k(:), wall_damping(:)
     logical, intent(in), optional :: periodic(:)
     real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
-    rate = 0.0_dp
+    monitor%rate = 0.0_dp
     rotation = .false.
     call check_solver_arrays(x, mass, radius, pairs, k_n, status, k_t, c_n, c_t, inertia, fixed, &
       wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
     if (status%stat /= demstep_stat%ok) return
-    call solver_springs(x, mass, radius, pairs, k_n, springs, rows, rotation, status, k_t, c_n, c_t, fixed, &
+    call solver_springs(monitor, x, mass, radius, pairs, k_n, rotation, status, k_t, c_n, c_t, fixed, &
       wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
     if (status%stat /= demstep_stat%ok) return
-    if (present(inertia)) then
-      call operator_from_springs(size(x, 1), rotation, mass, inertia, radius, springs, .false., op, rate, &
-        status, fixed)
-    else
-      call operator_from_springs(size(x, 1), rotation, mass, sphere_inertia(mass, radius), radius, springs, &
-        .false., op, rate, status, fixed)
-    end if
+    associate(springs => monitor%springs(:monitor%n_springs))
+      if (present(inertia)) then
+        call operator_from_springs(size(x, 1), rotation, mass, inertia, radius, springs, .false., monitor%op, &
+          monitor%rate, status, fixed)
+      else
+        call operator_from_springs(size(x, 1), rotation, mass, sphere_inertia(mass, radius), radius, springs, &
+          .false., monitor%op, monitor%rate, status, fixed)
+      end if
+    end associate
   end subroutine build_operator
 
   !> Solid spheres' moments of inertia 2/5 m r^2 (as `new_scene`'s default).
@@ -1382,16 +1405,17 @@ contains
 
   !> The linearised springs of the solver's overlapping listed pairs and wall
   !> contacts (as `linearise` makes them for a scene with the same list),
-  !> with the contact row (or -particle on a wall) of each. O(n walls + nc):
+  !> with the contact row (or -particle on a wall) of each: the monitor's
+  !> springs(1:n_springs) and spring_row(1:n_springs). O(n walls + nc):
   !> one pass finds the contacts and keeps their geometry, then the springs
-  !> are filled from it.
-  subroutine solver_springs(x, mass, radius, pairs, k_n, springs, rows, rotation, status, k_t, c_n, c_t, &
+  !> are filled from it (the monitor's arrays reallocated only when they are
+  !> too small: a solver's contacts change in number at every update).
+  subroutine solver_springs(monitor, x, mass, radius, pairs, k_n, rotation, status, k_t, c_n, c_t, &
       fixed, wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
+    class(step_monitor_type), intent(inout) :: monitor
     real(dp), intent(in) :: x(:, :), mass(:), radius(:)
     integer, intent(in) :: pairs(:, :)
     real(dp), intent(in) :: k_n(:)
-    type(spring_block_type), allocatable, intent(inout) :: springs(:)
-    integer, allocatable, intent(inout) :: rows(:)
     logical, intent(out) :: rotation
     type(demstep_status_type), intent(out) :: status
     real(dp), intent(in), optional :: k_t(:), c_n(:), c_t(:)
@@ -1399,14 +1423,11 @@ contains
     real(dp), intent(in), optional :: wall_point(:, :), wall_normal(:, :), wall_k(:), wall_damping(:)
     logical, intent(in), optional :: periodic(:)
     real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
-    integer :: dim, nc, c, i, j, m, w, n_walls, n_springs, n_pairs
+    integer :: dim, nc, c, i, j, m, w, n_walls, n_springs, n_pairs, most
     real(dp) :: d(3), box(3), dist, overlap, p(3), nw(3), mi, mj, kw(2), zw(2), xi(3)
     logical :: wrap(3), damped, touching
     ! fixed flags of every particle (none given: none fixed)
     logical, allocatable :: fx(:)
-    ! each spring's contact row or -particle, and (d, |d|) or the wall overlap
-    integer, allocatable :: hit(:)
-    real(dp), allocatable :: geo(:, :)
     ! the springs of walls 1 .. w end at wall_end(w)
     integer, allocatable :: wall_end(:)
     dim = size(x, 1)
@@ -1420,7 +1441,15 @@ contains
     else
       allocate(fx(size(mass)), source=.false.)
     end if
-    allocate(hit(nc + n_walls*size(mass)), geo(4, nc + n_walls*size(mass)), wall_end(0:n_walls))
+    allocate(wall_end(0:n_walls))
+    ! each spring's contact row or -particle (hit), and (d, |d|) or the wall
+    ! overlap (geo): the monitor's work, kept between updates
+    most = nc + n_walls*size(mass)
+    if (allocated(monitor%contact_hit)) then
+      if (size(monitor%contact_hit) < most) deallocate(monitor%contact_hit, monitor%contact_geo)
+    end if
+    if (.not. allocated(monitor%contact_hit)) allocate(monitor%contact_hit(most), monitor%contact_geo(4, most))
+    associate(hit => monitor%contact_hit, geo => monitor%contact_geo)
     ! the contacts: overlapping pairs (not both fixed) and wall contacts
     n_springs = 0
     do c = 1, nc
@@ -1431,6 +1460,7 @@ contains
       if (.not. touching) cycle
       if (.not. dist > 0.0_dp) then
         call coincident(c, status)
+        monitor%n_springs = 0
         return
       end if
       n_springs = n_springs + 1
@@ -1454,14 +1484,15 @@ contains
       end do
       wall_end(w) = n_springs
     end do
-    if (allocated(springs)) then
-      if (size(springs) /= n_springs) deallocate(springs)
+    ! (grown with an eighth to spare: the next updates' counts fit)
+    if (allocated(monitor%springs)) then
+      if (size(monitor%springs) < n_springs .or. size(monitor%spring_row) /= size(monitor%springs)) &
+        deallocate(monitor%springs, monitor%spring_row)
     end if
-    if (.not. allocated(springs)) allocate(springs(n_springs))
-    if (allocated(rows)) then
-      if (size(rows) /= n_springs) deallocate(rows)
-    end if
-    if (.not. allocated(rows)) allocate(rows(n_springs))
+    if (.not. allocated(monitor%springs)) allocate(monitor%springs(n_springs + n_springs/8), &
+      monitor%spring_row(n_springs + n_springs/8))
+    monitor%n_springs = n_springs
+    associate(springs => monitor%springs, rows => monitor%spring_row)
     do m = 1, n_pairs
       c = hit(m)
       i = pairs(1, c)
@@ -1490,6 +1521,8 @@ contains
         rows(m) = -i
       end do
     end do
+    end associate
+    end associate
     status%stat = demstep_stat%ok
   end subroutine solver_springs
 
