@@ -1057,7 +1057,7 @@ contains
     integer, allocatable :: which(:)
     real(dp) :: lam_a, vb, lam_w, vb_w
     logical :: from_vec, two
-    integer :: av, bv, aw, bw
+    integer :: av, bv, aw, bw, nq
     two = .false.
     if (present(start)) two = size(start) == op%n .and. any(start /= 0.0_dp)
     ! (in the operator's work arrays, kept between calls: taken, then given back)
@@ -1068,27 +1068,17 @@ contains
     if (two) x(:, 2) = start/norm2(start)
     ! (the products in one pass, `operator_products`: B' vec and, when not
     ! given, A' vec; A' and B' of the start; columns av, bv, aw, bw of y)
-    if (present(vec_av)) then
-      which = [1]
-      alpha = [0.0_dp]
-      beta = [1.0_dp]
-      av = 0
-      bv = 1
-    else
-      which = [1, 1]
-      alpha = [1.0_dp, 0.0_dp]
-      beta = [0.0_dp, 1.0_dp]
-      av = 1
-      bv = 2
-    end if
+    allocate(which(merge(1, 2, present(vec_av)) + merge(2, 0, two)))
+    allocate(alpha(size(which)), beta(size(which)))
+    nq = 0
+    av = 0
     aw = 0
     bw = 0
+    if (.not. present(vec_av)) call add_product(av, 1, 1.0_dp, 0.0_dp)
+    call add_product(bv, 1, 0.0_dp, 1.0_dp)
     if (two) then
-      aw = size(which) + 1
-      bw = size(which) + 2
-      which = [which, 2, 2]
-      alpha = [alpha, 1.0_dp, 0.0_dp]
-      beta = [beta, 0.0_dp, 1.0_dp]
+      call add_product(aw, 2, 1.0_dp, 0.0_dp)
+      call add_product(bw, 2, 0.0_dp, 1.0_dp)
     end if
     call fit_columns(y, op%n, size(which))
     call operator_products(op, x(:, :merge(2, 1, two)), which, alpha, beta, y(:, :size(which)))
@@ -1146,6 +1136,18 @@ contains
       if (size(start) == op%n) start = problem%vec
     end if
   contains
+    !> The next product (of x(:, vector), as alpha A' + beta B'): its column
+    !> of y.
+    subroutine add_product(column, vector, a, b)
+      integer, intent(out) :: column
+      integer, intent(in) :: vector
+      real(dp), intent(in) :: a, b
+      nq = nq + 1
+      which(nq) = vector
+      alpha(nq) = a
+      beta(nq) = b
+      column = nq
+    end subroutine add_product
     !> Whether a Newton step's start is taken as it is when it stands.
     logical function accepting()
       accepting = .false.
