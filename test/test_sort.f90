@@ -1,11 +1,12 @@
 !> Tests of demstep_sort's radix sort of 64-bit keys: ascending order and the
 !> same keys, on random keys over the whole range (negative ones, the
 !> extremes, repeats), keys that share their high bytes (the passes skipped),
-!> equal keys, and the short arrays.
+!> equal keys, and the short arrays; and of `count_before` against a count
+!> over the whole list.
 module test_sort
   use testdrive, only: new_unittest, unittest_type, error_type, check
   use demstep_kinds, only: i8
-  use demstep_sort, only: radix_sort
+  use demstep_sort, only: radix_sort, count_before
   implicit none
   private
   public :: collect_sort
@@ -16,7 +17,8 @@ contains
     type(unittest_type), allocatable, intent(out) :: testsuite(:)
     testsuite = [ &
       new_unittest("radix_sort: random keys, negative, extreme and repeated", test_radix_random), &
-      new_unittest("radix_sort: keys sharing their high bytes, all equal, short", test_radix_special) &
+      new_unittest("radix_sort: keys sharing their high bytes, all equal, short", test_radix_special), &
+      new_unittest("count_before: equal to a count over the list, both kinds", test_count_before) &
       ]
   end subroutine collect_sort
 
@@ -68,6 +70,49 @@ contains
     allocate(a(0))
     call expect_sorted(error, a)
   end subroutine test_radix_special
+
+  !> count_before on sorted lists with repeats, the extremes, values below,
+  !> between and above the entries, one entry and none: the same as count()
+  !> over the list, for default and 64-bit integers, < and <=.
+  subroutine test_count_before(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer(i8), allocatable :: a(:)
+    integer, allocatable :: b(:)
+    integer(i8) :: seed, v
+    integer :: n, i, t
+    seed = 4242_i8
+    do n = 0, 40
+      allocate(a(n))
+      do i = 1, n
+        ! (few distinct values: repeats)
+        a(i) = modulo(next(seed), 11_i8) - 5_i8
+      end do
+      if (n > 3) a(n) = huge(1_i8)
+      if (n > 4) a(1) = -huge(1_i8) - 1_i8
+      call radix_sort(a)
+      b = int(max(min(a, 1000_i8), -1000_i8))
+      do t = -7, 8
+        v = int(t, i8)
+        call check(error, count_before(a, v, .false.) == count(a < v), "64-bit, <")
+        if (allocated(error)) return
+        call check(error, count_before(a, v, .true.) == count(a <= v), "64-bit, <=")
+        if (allocated(error)) return
+        call check(error, count_before(b, t, .false.) == count(b < t), "default, <")
+        if (allocated(error)) return
+        call check(error, count_before(b, t, .true.) == count(b <= t), "default, <=")
+        if (allocated(error)) return
+      end do
+      do i = 1, n
+        call check(error, count_before(a, a(i), .true.) == count(a <= a(i)), "64-bit, <= an entry")
+        if (allocated(error)) return
+      end do
+      call check(error, count_before(a, huge(1_i8), .true.) == n, "64-bit, <= the largest")
+      if (allocated(error)) return
+      call check(error, count_before(a, -huge(1_i8) - 1_i8, .false.) == 0, "64-bit, < the smallest")
+      if (allocated(error)) return
+      deallocate(a)
+    end do
+  end subroutine test_count_before
 
   !> radix_sort(a) ascends and holds a's keys, each as often (counted).
   subroutine expect_sorted(error, keys)

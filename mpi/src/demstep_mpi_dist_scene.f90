@@ -86,8 +86,8 @@ module demstep_mpi_dist_scene
   use demstep_mpi_lanczos, only: dist_operator_type, dist_halo_type, dist_halo_create, &
     dist_halo_exchange, dist_halo_free, parallel_lanczos_largest, offsets_of
   use demstep_mpi_scene, only: slab_axis, mpi_lanczos_estimates, mpi_damped_solve_done, mpi_damped_lanczos
-  use demstep_sort, only: heap_sort, radix_sort
-  use demstep_mpi_parts, only: read_table_part, agree_status, broadcast_status, no_fault, position
+  use demstep_sort, only: heap_sort, radix_sort, count_before
+  use demstep_mpi_parts, only: read_table_part, agree_status, broadcast_status, no_fault
   implicit none
   private
 
@@ -523,7 +523,7 @@ contains
       if (is_own(p)) then
         local_number = p - base(rank)
       else
-        local_number = part%n_own + position(halo, p)
+        local_number = part%n_own + count_before(halo, p, .false.) + 1
       end if
     end function local_number
 
@@ -664,7 +664,7 @@ contains
           step = step/2
         end do
         do k = 1, ways - 1
-          cnts(k, j) = keys_before(sorted, points(k, j), .true.)
+          cnts(k, j) = count_before(sorted, points(k, j), .true.)
         end do
       end do
       call MPI_Allreduce(MPI_IN_PLACE, cnts, nc*(ways - 1), MPI_INTEGER8, MPI_SUM, comm)
@@ -680,7 +680,7 @@ contains
     end do
     cut_key = hi
     do j = 1, nc
-      less(j) = keys_before(sorted, cut_key(j), .false.)
+      less(j) = count_before(sorted, cut_key(j), .false.)
     end do
     deallocate(sorted)
     ! this rank's rows with a cut's key (the cuts' keys ascend): their file
@@ -731,7 +731,7 @@ contains
         mid = floor_mean(lo, hi)
         if (all(mid == lo)) exit
         do j = 1, nc
-          cnt(j) = keys_before(tied(at(first(j)):at(first(j) + 1) - 1), mid(j), .true.)
+          cnt(j) = count_before(tied(at(first(j)):at(first(j) + 1) - 1), mid(j), .true.)
         end do
         call MPI_Allreduce(MPI_IN_PLACE, cnt, nc, MPI_INTEGER8, MPI_SUM, comm)
         where (mid > lo .and. cnt >= t) hi = mid
@@ -747,42 +747,14 @@ contains
     !> The first cut whose key is k (0: none).
     pure integer function cut_of(k)
       integer(i8), intent(in) :: k
-      integer :: a, b, m
-      a = 1
-      b = nc
-      do while (a < b)
-        m = (a + b)/2
-        if (cut_key(m) < k) then
-          a = m + 1
-        else
-          b = m
-        end if
-      end do
+      integer :: a
+      a = count_before(cut_key, k, .false.) + 1
       cut_of = 0
+      if (a > nc) return
       if (cut_key(a) == k) cut_of = first(a)
     end function cut_of
 
   end subroutine slab_owners
-
-  !> The entries of an ascending list before v: those < v, or with
-  !> `inclusive` those <= v (a binary search).
-  pure integer(i8) function keys_before(list, v, inclusive) result(n)
-    integer(i8), intent(in) :: list(:), v
-    logical, intent(in) :: inclusive
-    integer :: a, b, m
-    a = 0
-    b = size(list)
-    ! list(:a) before v, list(b + 1:) not
-    do while (a < b)
-      m = a + (b - a + 1)/2
-      if (list(m) < v .or. (inclusive .and. list(m) == v)) then
-        a = m
-      else
-        b = m - 1
-      end if
-    end do
-    n = a
-  end function keys_before
 
   !> floor((a + b)/2) without overflow.
   elemental integer(i8) function floor_mean(a, b)

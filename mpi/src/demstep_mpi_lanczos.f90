@@ -28,8 +28,7 @@ module demstep_mpi_lanczos
   use demstep_lanczos, only: eigen_result_type, lanczos_space_type, lanczos_solve, &
     lanczos_start_vector, accurate_dot_parts
   use demstep_progress, only: progress_type
-  use demstep_sort, only: heap_sort
-  use demstep_mpi_parts, only: position
+  use demstep_sort, only: heap_sort, count_before
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -200,7 +199,7 @@ contains
       if (col(e) >= first_row .and. col(e) <= last_row) then
         matrix%col(e) = col(e) - first_row + 1
       else
-        matrix%col(e) = n_local + position(halo(:matrix%n_halo), col(e))
+        matrix%col(e) = n_local + count_before(halo(:matrix%n_halo), col(e), .false.) + 1
       end if
     end do
     allocate(matrix%x_ext(n_local + matrix%n_halo), source=0.0_dp)

@@ -23,7 +23,7 @@ module demstep_mpi_parts
   implicit none
   private
 
-  public :: read_table_part, agree_status, broadcast_status, position
+  public :: read_table_part, agree_status, broadcast_status
 
   !> The key of "no refusal here".
   integer(i8), parameter, public :: no_fault = huge(1_i8)
@@ -265,23 +265,5 @@ contains
     call MPI_Bcast(status%detail, head(4), MPI_CHARACTER, root, comm)
     call MPI_Bcast(status%message, head(5), MPI_CHARACTER, root, comm)
   end subroutine broadcast_status
-
-  !> Index of `value` in the ascending array `a` (which holds it), by bisection.
-  pure function position(a, value) result(i)
-    integer, intent(in) :: a(:), value
-    integer :: i
-    integer :: lo, hi
-    lo = 1
-    hi = size(a)
-    do while (lo < hi)
-      i = (lo + hi)/2
-      if (a(i) < value) then
-        lo = i + 1
-      else
-        hi = i
-      end if
-    end do
-    i = lo
-  end function position
 
 end module demstep_mpi_parts

@@ -1,12 +1,21 @@
 !> Small in-place sorts shared by the library: reals by insertion (the short
 !> lists of roots and breakpoints), integers by heapsort (ids, any length) and
-!> 64-bit keys by radix sort (long lists of keys).
+!> 64-bit keys by radix sort (long lists of keys); and the binary search of
+!> an ascending list (`count_before`).
 module demstep_sort
   use demstep_kinds, only: dp, i8
   implicit none
   private
 
-  public :: sort_ascending, heap_sort, radix_sort
+  public :: sort_ascending, heap_sort, radix_sort, count_before
+
+  !> The number of entries of an ascending integer list that come before a
+  !> value: those < v, or with `inclusive` those <= v (a binary search,
+  !> O(log n)). For a list of distinct entries holding v, the count plus one
+  !> is v's place.
+  interface count_before
+    module procedure count_before_int, count_before_i8
+  end interface count_before
 
 contains
 
@@ -114,5 +123,43 @@ contains
       at(d) = at(d) + 1
     end do
   end subroutine radix_pass
+
+  !> `count_before` for default integers.
+  pure integer function count_before_int(list, v, inclusive) result(n)
+    integer, intent(in) :: list(:), v
+    logical, intent(in) :: inclusive
+    integer :: a, b, m
+    a = 0
+    b = size(list)
+    ! list(:a) before v, list(b + 1:) not
+    do while (a < b)
+      m = a + (b - a + 1)/2
+      if (list(m) < v .or. (inclusive .and. list(m) == v)) then
+        a = m
+      else
+        b = m - 1
+      end if
+    end do
+    n = a
+  end function count_before_int
+
+  !> `count_before` for 64-bit integers.
+  pure integer function count_before_i8(list, v, inclusive) result(n)
+    integer(i8), intent(in) :: list(:), v
+    logical, intent(in) :: inclusive
+    integer :: a, b, m
+    a = 0
+    b = size(list)
+    ! list(:a) before v, list(b + 1:) not
+    do while (a < b)
+      m = a + (b - a + 1)/2
+      if (list(m) < v .or. (inclusive .and. list(m) == v)) then
+        a = m
+      else
+        b = m - 1
+      end if
+    end do
+    n = a
+  end function count_before_i8
 
 end module demstep_sort

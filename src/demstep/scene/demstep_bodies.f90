@@ -33,7 +33,7 @@
 !> has a larger tensor for its mass than the sum: with `union` the centre
 !> and tensor are the union's (`demstep_sphere_union`) at the body's mass.
 module demstep_bodies
-  use demstep_sort, only: heap_sort
+  use demstep_sort, only: heap_sort, count_before
   use demstep_kinds, only: dp, pi
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text
@@ -426,7 +426,7 @@ contains
     type(body_set_type), intent(inout) :: bodies
     type(demstep_status_type), intent(out) :: status
     integer, allocatable :: ids(:)
-    integer :: i, k, b, nu, lo, hi, mid
+    integer :: i, k, b, nu
     if (size(body_of) /= scene%n) then
       call set_status(status, demstep_stat%invalid_input, "needs one entry per particle ("// &
         int_text(scene%n)//"), has "//int_text(size(body_of)), where="body_of")
@@ -455,18 +455,8 @@ contains
     k = nu
     do i = 1, scene%n
       if (body_of(i) > 0) then
-        ! (binary search: ids(lo) = body_of(i))
-        lo = 1
-        hi = nu
-        do while (lo < hi)
-          mid = (lo + hi)/2
-          if (ids(mid) < body_of(i)) then
-            lo = mid + 1
-          else
-            hi = mid
-          end if
-        end do
-        bodies%body_of(i) = lo
+        ! (ids(:nu) distinct and ascending, holding body_of(i))
+        bodies%body_of(i) = count_before(ids(:nu), body_of(i), .false.) + 1
       else
         k = k + 1
         bodies%body_of(i) = k
