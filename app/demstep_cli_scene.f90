@@ -716,10 +716,10 @@ contains
       write(u, '(4x, a, t40, a)') "exact, LAPACK dsyevr", fmt_real(crit%dt_critical_eigen)// &
         "  (omega_max = "//fmt_real(crit%omega_max)//")"
     else if (crit%solver == demstep_eigen_solver%lanczos .and. crit%eigen_converged) then
-      write(u, '(4x, a, t40, a)') "exact, Lanczos (ARPACK)", fmt_real(crit%dt_critical_eigen)// &
+      write(u, '(4x, a, t40, a)') "exact, Lanczos", fmt_real(crit%dt_critical_eigen)// &
         "  (omega_max = "//fmt_real(crit%omega_max)//", "//fmt_int(crit%eigen_products)//" products)"
     else if (crit%solver == demstep_eigen_solver%lanczos) then
-      write(u, '(4x, a, t40, a)') "Lanczos (ARPACK), not converged", "omega_max in ["// &
+      write(u, '(4x, a, t40, a)') "Lanczos, not converged", "omega_max in ["// &
         fmt_real(crit%omega_max)//", "//fmt_real(crit%omega_upper)//"] after "// &
         fmt_int(crit%eigen_products)//" products"
     else
