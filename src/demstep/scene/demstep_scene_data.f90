@@ -167,15 +167,22 @@ contains
     m = reduced_mass(mi, mj)
   end function effective_mass
 
-  !> Wrap the positions along the periodic axes into [cell_lo, cell_hi).
+  !> Wrap the positions along the periodic axes into [cell_lo, cell_hi):
+  !> cell_lo + modulo(x - cell_lo, box).
   pure subroutine wrap_positions(scene)
     type(scene_type), intent(inout) :: scene
-    integer :: ax
-    real(dp) :: box
+    integer :: ax, i
+    real(dp) :: box, lo, t
     do ax = 1, 3
       if (.not. scene%periodic(ax)) cycle
-      box = scene%cell_hi(ax) - scene%cell_lo(ax)
-      scene%x(ax, :) = scene%cell_lo(ax) + modulo(scene%x(ax, :) - scene%cell_lo(ax), box)
+      lo = scene%cell_lo(ax)
+      box = scene%cell_hi(ax) - lo
+      do i = 1, size(scene%x, 2)
+        t = scene%x(ax, i) - lo
+        ! (modulo is t itself for t in [0, box): the remainder is exact)
+        if (.not. (t >= 0.0_dp .and. t < box)) t = modulo(t, box)
+        scene%x(ax, i) = lo + t
+      end do
     end do
   end subroutine wrap_positions
 

@@ -688,40 +688,51 @@ contains
   !> What the springs of an operator tell a result: their count (drag
   !> excluded), whether any is tangential, which dashpots C holds, and the
   !> per-contact rule min 2 sqrt(m*/k) over them (m* each spring's `m_eff`).
-  pure subroutine assembly_set_springs(result, springs)
+  subroutine assembly_set_springs(result, springs)
     type(critical_step_type), intent(inout) :: result
     type(spring_block_type), intent(in) :: springs(:)
-    integer :: i
-    real(dp) :: k, t, t_least
-    ! (one pass over the springs)
-    result%n_springs = 0
-    result%tangential = .false.
-    result%dashpots = .false.
-    result%dt_contact_rule = huge(1.0_dp)
-    ! the least m*/k so far: a spring whose m*/k is above it by more than
-    ! rounding (1e-12, against a few ulps in either form) cannot lower the rule
+    integer :: i, n_springs
+    real(dp) :: k, t, t_least, rule
+    logical :: tangential, dashpots(6)
+    ! (one pass over the springs, in parallel: a count, "or"s and a least
+    ! value do not depend on the order)
+    n_springs = 0
+    tangential = .false.
+    dashpots = .false.
+    rule = huge(1.0_dp)
+    ! the least m*/k so far (each thread's own): a spring whose m*/k is above
+    ! it by more than rounding (1e-12, against a few ulps in either form)
+    ! cannot lower the rule
     t_least = huge(1.0_dp)
+    !$omp parallel do private(i, k, t) firstprivate(t_least) reduction(+:n_springs) &
+    !$omp reduction(.or.:tangential, dashpots) reduction(min:rule) schedule(static) &
+    !$omp if(size(springs) >= parallel_springs)
     do i = 1, size(springs)
       associate(sp => springs(i))
-        if (sp%kind /= 6) result%n_springs = result%n_springs + 1
-        result%tangential = result%tangential .or. sp%k(2) > 0.0_dp
+        if (sp%kind /= 6) n_springs = n_springs + 1
+        tangential = tangential .or. sp%k(2) > 0.0_dp
         if (sp%kind == 0) then
-          result%dashpots(1:4) = result%dashpots(1:4) .or. sp%c > 0.0_dp
+          dashpots(1:4) = dashpots(1:4) .or. sp%c > 0.0_dp
         else if (sp%kind == 5) then
-          result%dashpots(5) = result%dashpots(5) .or. any(sp%c > 0.0_dp)
+          dashpots(5) = dashpots(5) .or. any(sp%c > 0.0_dp)
         else if (sp%kind == 6) then
-          result%dashpots(6) = .true.
+          dashpots(6) = .true.
         end if
         k = max(sp%k(1), sp%k(2))
         if (k > 0.0_dp) then
           t = sp%m_eff/k
           if (.not. t > t_least*(1.0_dp + 1.0e-12_dp)) then
-            result%dt_contact_rule = min(result%dt_contact_rule, 2.0_dp*sqrt(sp%m_eff)/sqrt(k))
+            rule = min(rule, 2.0_dp*sqrt(sp%m_eff)/sqrt(k))
             t_least = min(t_least, t)
           end if
         end if
       end associate
     end do
+    !$omp end parallel do
+    result%n_springs = n_springs
+    result%tangential = tangential
+    result%dashpots = dashpots
+    result%dt_contact_rule = rule
   end subroutine assembly_set_springs
 
   !> The options every assembly driver (serial, MPI) checks before it builds
@@ -2120,7 +2131,15 @@ contains
     if (allocated(op%xs)) then
       if (size(op%xs, 1) /= 6 .or. lbound(op%xs, 2) /= 0 .or. ubound(op%xs, 2) /= nfree) deallocate(op%xs)
     end if
-    if (.not. allocated(op%xs)) allocate(op%xs(6, 0:nfree), source=0.0_dp)
+    if (.not. allocated(op%xs)) then
+      allocate(op%xs(6, 0:nfree))
+      ! (zeroed in parallel: each thread faults in its own pages)
+      !$omp parallel do private(i) schedule(static) if(nfree >= parallel_springs)
+      do i = 0, nfree
+        op%xs(:, i) = 0.0_dp
+      end do
+      !$omp end parallel do
+    end if
     op%xs(:, 0) = 0.0_dp
     if (allocated(op%first)) then
       if (size(op%first) /= nfree + 1) deallocate(op%first)
@@ -2137,12 +2156,14 @@ contains
     else
       call fit_real2(op%dcoef, 4, 1, 0)
     end if
+    !$omp parallel do private(i) schedule(static) if(size(mass) >= parallel_springs)
     do i = 1, size(mass)
       if (body(i) > 0) then
         op%w(:, body(i)) = 1.0_dp/sqrt(dof_masses(mass(i), inertia(i), radius(i))/m_scale)
         op%rinv(body(i)) = 1.0_dp/radius(i)
       end if
     end do
+    !$omp end parallel do
     op%first = 0
     ! (each spring's entries in parallel, in the products' static partition,
     ! which then find their pages where they are used; the count after)
