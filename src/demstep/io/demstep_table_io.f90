@@ -116,7 +116,7 @@ contains
       call set_status(status, demstep_stat%invalid_input, path//": no column count allowed")
       return
     end if
-    call read_text_file(path, text, status)
+    call read_whole_file(path, text, status)
     if (status%stat /= demstep_stat%ok) then
       status%message = path//": "//status%message
       return
@@ -128,6 +128,49 @@ contains
     if (status%stat /= demstep_stat%ok) return
     call table_rows(text, path, allowed, scan, rows, status, lines, index_columns)
   end subroutine read_table_allowed
+
+  !> A file's text (`read_text_file`, and its status), a large regular file
+  !> read in parallel (OpenMP): one part per thread, each thread reading its
+  !> part through a unit of its own into its place in the text (whose pages
+  !> it thus touches first). Any part that does not open or read: the file is
+  !> read again whole by `read_text_file`, whose status then tells what is
+  !> wrong.
+  subroutine read_whole_file(path, text, status)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable, intent(out) :: text
+    type(demstep_status_type), intent(out) :: status
+    integer(i8) :: length, first, last
+    integer :: np, k, unit, ios
+    logical :: ok
+    np = 1
+    !$ np = omp_get_max_threads()
+    inquire(file=path, size=length)
+    if (length < parallel_scan_bytes .or. np < 2) then
+      call read_text_file(path, text, status)
+      return
+    end if
+    allocate(character(len=length) :: text)
+    ok = .true.
+    !$omp parallel do private(k, unit, ios, first, last) reduction(.and.:ok) schedule(static, 1)
+    do k = 1, np
+      first = (length*(k - 1))/np + 1
+      last = (length*k)/np
+      open(newunit=unit, file=path, access="stream", form="unformatted", action="read", status="old", &
+        iostat=ios)
+      if (ios == 0) then
+        read(unit, pos=first, iostat=ios) text(first:last)
+        close(unit)
+      end if
+      ok = ok .and. ios == 0
+    end do
+    !$omp end parallel do
+    if (ok) then
+      status%stat = demstep_stat%ok
+    else
+      deallocate(text)
+      call read_text_file(path, text, status)
+    end if
+  end subroutine read_whole_file
 
   !> `table_scan` of a whole text in parts, in parallel (OpenMP): the text
   !> cut after line feeds into one part per thread (a text below

@@ -2062,9 +2062,10 @@ contains
     !> springs touch no free body is then not refused.
     real(dp), intent(in), optional :: scales(2)
     integer, allocatable :: body(:)
+    integer(i8), allocatable :: at(:, :)
     real(dp) :: k_scale, m_scale, c_scale, mdof(6)
-    integer :: i, nfree, nc, s, e
-    integer(i8) :: p
+    integer :: i, nfree, nc, s, e, t, nchunk
+    integer(i8) :: p, count
     logical :: touches, damped
     rate = 0.0_dp
     k_scale = 0.0_dp
@@ -2164,7 +2165,6 @@ contains
       end if
     end do
     !$omp end parallel do
-    op%first = 0
     ! (each spring's entries in parallel, in the products' static partition,
     ! which then find their pages where they are used; the count after)
     !$omp parallel do private(s) schedule(static) if(op%n_springs >= parallel_springs)
@@ -2188,33 +2188,50 @@ contains
       end associate
     end do
     !$omp end parallel do
-    do s = 1, op%n_springs
-      do e = 1, 2
-        if (op%ends(e, s) > 0) op%first(op%ends(e, s) + 1) = op%first(op%ends(e, s) + 1) + 1
+    ! each free body's spring ends (`first`, `incident`) in spring order:
+    ! counted and placed by chunks of springs in parallel, a chunk's entries
+    ! of a body after the chunks' before it (`at`: where each chunk's next
+    ! entry of each body goes), so the lists are those of one serial pass
+    nchunk = 1
+    !$ if (op%n_springs >= parallel_springs) nchunk = max(1, omp_get_max_threads())
+    allocate(at(nfree, nchunk))
+    !$omp parallel do private(t, s, e) schedule(static, 1) if(nchunk > 1)
+    do t = 1, nchunk
+      at(:, t) = 0
+      do s = int((int(op%n_springs, i8)*(t - 1))/nchunk) + 1, int((int(op%n_springs, i8)*t)/nchunk)
+        do e = 1, 2
+          if (op%ends(e, s) > 0) at(op%ends(e, s), t) = at(op%ends(e, s), t) + 1
+        end do
       end do
     end do
+    !$omp end parallel do
     op%first(1) = 1
     do i = 1, nfree
-      op%first(i + 1) = op%first(i + 1) + op%first(i)
+      p = op%first(i)
+      do t = 1, nchunk
+        count = at(i, t)
+        at(i, t) = p
+        p = p + count
+      end do
+      op%first(i + 1) = p
     end do
     if (allocated(op%incident)) then
       if (size(op%incident, kind=i8) /= op%first(nfree + 1) - 1) deallocate(op%incident)
     end if
     if (.not. allocated(op%incident)) allocate(op%incident(op%first(nfree + 1) - 1))
-    do s = 1, op%n_springs
-      do e = 1, 2
-        i = op%ends(e, s)
-        if (i == 0) cycle
-        p = op%first(i)
-        op%incident(p) = 2*(s - 1) + e
-        op%first(i) = p + 1
+    !$omp parallel do private(t, s, e, i, p) schedule(static, 1) if(nchunk > 1)
+    do t = 1, nchunk
+      do s = int((int(op%n_springs, i8)*(t - 1))/nchunk) + 1, int((int(op%n_springs, i8)*t)/nchunk)
+        do e = 1, 2
+          i = op%ends(e, s)
+          if (i == 0) cycle
+          p = at(i, t)
+          op%incident(p) = 2*(s - 1) + e
+          at(i, t) = p + 1
+        end do
       end do
     end do
-    ! first(i) now points past body i's entries: shift back
-    do i = nfree, 1, -1
-      op%first(i + 1) = op%first(i)
-    end do
-    op%first(1) = 1
+    !$omp end parallel do
     call operator_set_blocks(op, product_block_bodies)
     rate = sqrt(k_scale)/sqrt(m_scale)
     status%stat = demstep_stat%ok
