@@ -449,15 +449,15 @@ contains
       value = merge(-0.0_dp, 0.0_dp, negative)
       return
     end if
-    if (w > two_53) then
-      ! trailing zeros of a long mantissa dropped (the same number): a field
-      ! such as 1.0000000000000000e0 then takes the one-operation path
-      do while (mod(w, 10_i8) == 0)
-        w = w/10
-        q = q + 1
-        nd = nd - 1
-      end do
-    end if
+    ! trailing zeros of a long mantissa dropped (the same number) until it
+    ! is a double: a field such as 1.0000000000000000e0 then takes the
+    ! one-operation path
+    do while (w > two_53)
+      if (mod(w, 10_i8) /= 0) exit
+      w = w/10
+      q = q + 1
+      nd = nd - 1
+    end do
     if (w <= two_53 .and. abs(q) <= 22) then
       ! one correctly rounded operation on two exact doubles
       x = real(w, dp)

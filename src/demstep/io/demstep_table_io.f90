@@ -47,10 +47,13 @@ module demstep_table_io
   !> Byte classes: a separator, a character of a number, anything else.
   integer, parameter :: other_byte = 0, separator_byte = 1, number_byte = 2
   integer, parameter :: lf = 10, cr = 13
-  !> Four bytes of 1, of 127 and of 128 each, the low four bytes of eight, and
-  !> eight blanks (as `transfer` reads eight characters into an integer).
-  integer(i8), parameter :: ones = 16843009_i8, low7 = 2139062143_i8, high7 = 2155905152_i8, &
-    low_half = 4294967295_i8, eight_blanks = 2314885530818453536_i8
+  !> Seven bytes of 1, of 127 and of 128 each, the low seven bytes of eight,
+  !> and seven blanks (for `next_line` and `plain_bytes`).
+  integer(i8), parameter :: ones = 282578800148737_i8, low7 = 35887507618889599_i8, &
+    high7 = 36170086419038336_i8, low7_bytes = 72057594037927935_i8, seven_blanks = 9042521604759584_i8
+  !> Whether `transfer` puts the first of eight characters in the lowest byte
+  !> of an integer.
+  logical, parameter :: little_endian = iand(transfer("12345678", 0_i8), 255_i8) == 49_i8
   !> Texts at least this long are scanned in parts in parallel (`parallel_scan`).
   integer(i8), parameter :: parallel_scan_bytes = 1048576_i8
   !> What `row_fault` finds in a row.
@@ -569,7 +572,7 @@ contains
   !> control character (bytes 0 to 31 but tab, and 127) among its first
   !> `checked_columns`, 0 if none; and whether it holds only spaces before the
   !> `#`. `next` moves past the line's end. Eight bytes at a time while none
-  !> of them needs a look of its own (`special_bytes`), else byte by byte.
+  !> of them needs a look of its own (`plain_bytes`, seven at a time), else byte by byte.
   pure subroutine next_line(text, next, first, last, comment, control, blank)
     character(len=*), intent(in) :: text
     integer(i8), intent(inout) :: next
@@ -585,11 +588,17 @@ contains
     i = next
     do while (i <= n)
       if (i + 7 <= n) then
+        ! (the eight bytes from i read at once, the first seven tested)
         x = transfer(text(i:i+7), x)
-        if (special_bytes(x) == 0) then
+        if (little_endian) then
+          x = iand(x, low7_bytes)
+        else
+          x = ishft(x, -8)
+        end if
+        if (plain_bytes(x)) then
           ! (no line end, control character or '#' among them)
-          if (blank .and. comment == 0) blank = x == eight_blanks
-          i = i + 8
+          if (blank .and. comment == 0) blank = x == seven_blanks
+          i = i + 7
           cycle
         end if
       end if
@@ -613,33 +622,18 @@ contains
     end if
   end subroutine next_line
 
-  !> Not 0 when one of the eight bytes of `x` is a byte below 32 or 127 or
-  !> `#` (each half of four bytes tested apart, so that no sum leaves the
-  !> integer's range; exact, without false alarms: a byte of 128 or more is
-  !> none of them).
-  elemental integer(i8) function special_bytes(x) result(found)
+  !> Whether the seven bytes of 0 <= x < 2^56 are all plain: none below 32,
+  !> 127 or `#` (bytes from 128 are plain). Per byte b, over its low seven
+  !> bits y: bit 7 of y + 96 is set from 32 up, of y + 1 from 127 up, of
+  !> (y xor 35) + 127 unless y is 35; no sum carries into the next byte, and
+  !> none leaves the integer's range. Exact, without false alarms.
+  elemental logical function plain_bytes(x) result(plain)
     integer(i8), intent(in) :: x
-    found = ior(special_half(iand(x, low_half)), special_half(ishft(x, -32)))
-  end function special_bytes
-
-  !> `special_bytes` of four bytes held in 0 <= h < 2^32: per byte, bit 7 set
-  !> for a byte below 32, 127 or 35.
-  elemental integer(i8) function special_half(h) result(found)
-    integer(i8), intent(in) :: h
-    integer(i8) :: at_least_32
-    ! (bit 7 of byte + 96 over its low seven bits: set from 32 up; the top bit
-    ! of the byte itself rules out bytes from 128)
-    at_least_32 = ior(iand(iand(h, low7) + 96_i8*ones, high7), iand(h, high7))
-    found = ior(iand(not(at_least_32), high7), ior(zero_bytes(ieor(h, 127_i8*ones)), &
-      zero_bytes(ieor(h, 35_i8*ones))))
-  end function special_half
-
-  !> Bit 7 of each zero byte of four bytes in 0 <= z < 2^32 (exact: no carry
-  !> crosses a byte).
-  elemental integer(i8) function zero_bytes(z) result(zero)
-    integer(i8), intent(in) :: z
-    zero = iand(not(ior(iand(z, low7) + low7, z)), high7)
-  end function zero_bytes
+    integer(i8) :: y, fine
+    y = iand(x, low7)
+    fine = iand(iand(y + 96_i8*ones, not(y + ones)), ieor(y, 35_i8*ones) + low7)
+    plain = iand(ior(fine, x), high7) == high7
+  end function plain_bytes
 
   !> Double the capacity of the row lists, keeping their values.
   pure subroutine grow_rows(row_first, row_last, row_line)
