@@ -196,6 +196,9 @@ contains
     do ax = 1, 3
       if (.not. scene%periodic(ax)) cycle
       box = scene%cell_hi(ax) - scene%cell_lo(ax)
+      ! (well inside half a box the image is the pair itself: anint gives 0
+      ! and d is kept as it is; 0 and -0 still go through the formula)
+      if (abs(d(ax)) < 0.25_dp*box .and. d(ax) /= 0.0_dp) cycle
       d(ax) = d(ax) - box*anint(d(ax)/box)
     end do
   end function branch_vector
