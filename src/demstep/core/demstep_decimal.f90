@@ -49,8 +49,8 @@ module demstep_decimal
   integer(i8), parameter :: zeros4 = 808464432_i8, sixes4 = 101058054_i8, high_nibbles = 4042322160_i8, &
     low_half = 4294967295_i8
   !> Whether `transfer` puts the first of eight characters in the lowest byte
-  !> of an integer.
-  logical, parameter :: little_endian = iand(transfer("12345678", 0_i8), 255_i8) == 49_i8
+  !> of an integer (readers that test several bytes at once rely on it).
+  logical, parameter, public :: little_endian = iand(transfer("12345678", 0_i8), 255_i8) == 49_i8
   !> The 52 stored mantissa bits of a double.
   integer(i8), parameter :: mantissa_bits = 4503599627370495_i8
 
@@ -489,21 +489,20 @@ contains
     call runtime_read(text, value, ok)
   end subroutine real_of
 
-  !> Eight digits are read at once as one integer x8 (`transfer`), tested
-  !> and converted four at a time (each half below 2^32, so no sum leaves the
-  !> integer's range): a byte is a digit when its high half is 3 and adding 6
-  !> keeps it so (`digits4`); the digits' values then combine pairwise, 10 a +
-  !> b in each byte, then 100 ab + cd (`value4`). Byte order: the first
-  !> character in the lowest byte (`little_endian`; otherwise digits are read
-  !> one at a time).
-  !> Whether the four bytes of 0 <= h < 2^32 are the characters 0 to 9.
+  ! (real_of reads eight digits at once as one integer x8 (`transfer`),
+  ! tested and converted four at a time, each half below 2^32 so that no sum
+  ! leaves the integer's range; byte order: the first character in the
+  ! lowest byte, `little_endian`, else the digits are read one at a time)
+
+  !> Whether the four bytes of 0 <= h < 2^32 are the characters 0 to 9: each
+  !> byte's high half is 3, and stays 3 when 6 is added.
   elemental logical function digits4(h)
     integer(i8), intent(in) :: h
     digits4 = iand(h, high_nibbles) == zeros4 .and. iand(h + sixes4, high_nibbles) == zeros4
   end function digits4
 
   !> The value of four digit characters in 0 <= h < 2^32, the first in the
-  !> lowest byte.
+  !> lowest byte: 10 a + b in each byte, then 100 ab + cd.
   elemental integer(i8) function value4(h)
     integer(i8), intent(in) :: h
     integer(i8) :: d, pairs

@@ -26,7 +26,7 @@ module demstep_table_io
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text, integer_of, printable, read_text_file
-  use demstep_decimal, only: real_of
+  use demstep_decimal, only: real_of, little_endian
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   !$ use omp_lib, only: omp_get_max_threads
   implicit none
@@ -51,9 +51,6 @@ module demstep_table_io
   !> and seven blanks (for `next_line` and `plain_bytes`).
   integer(i8), parameter :: ones = 282578800148737_i8, low7 = 35887507618889599_i8, &
     high7 = 36170086419038336_i8, low7_bytes = 72057594037927935_i8, seven_blanks = 9042521604759584_i8
-  !> Whether `transfer` puts the first of eight characters in the lowest byte
-  !> of an integer.
-  logical, parameter :: little_endian = iand(transfer("12345678", 0_i8), 255_i8) == 49_i8
   !> Texts at least this long are scanned in parts in parallel (`parallel_scan`).
   integer(i8), parameter :: parallel_scan_bytes = 1048576_i8
   !> What `row_fault` finds in a row.
