@@ -4,7 +4,8 @@
 !> input (`read(text, *)`) reads it, bit for bit, at about 20 times its speed.
 !> Most fields take one of two exact paths:
 !>
-!> - up to 15 significant digits and a decimal exponent of at most 22: the
+!> - up to 15 significant digits (trailing zeros dropped) and a decimal
+!>   exponent of at most 22: the
 !>   digits as an integer w <= 2^53 and 10^|q| are both doubles, so one IEEE
 !>   multiplication or division w 10^q is the correctly rounded result
 !>   (Clinger's fast path: W. D. Clinger, "How to read floating point numbers
@@ -43,6 +44,13 @@ module demstep_decimal
   integer(i8), parameter :: two_53 = 9007199254740992_i8
   !> The relative distance from a halfway point below which the runtime decides.
   real(dp), parameter :: margin = 2.0_dp**(-90)
+  !> Four bytes of '0', of 6 and of 0xF0, and the low four bytes of eight
+  !> (for `digits4` and `value4`).
+  integer(i8), parameter :: zeros4 = 808464432_i8, sixes4 = 101058054_i8, high_nibbles = 4042322160_i8, &
+    low_half = 4294967295_i8
+  !> Whether `transfer` puts the first of eight characters in the lowest byte
+  !> of an integer (readers that test several bytes at once rely on it).
+  logical, parameter, public :: little_endian = iand(transfer("12345678", 0_i8), 255_i8) == 49_i8
   !> The 52 stored mantissa bits of a double.
   integer(i8), parameter :: mantissa_bits = 4503599627370495_i8
 
@@ -346,7 +354,8 @@ contains
     logical, intent(out) :: ok
     integer :: i, n, c, nd, q, e, e_digits
     integer(i8) :: w, bits
-    logical :: negative, e_negative, any_digit
+    logical :: negative, e_negative, any_digit, point
+    integer(i8) :: x8, low, high
     real(dp) :: x, half
     type(dd_type) :: r
     value = 0.0_dp
@@ -366,10 +375,31 @@ contains
     nd = 0
     q = 0
     any_digit = .false.
+    point = .false.
     do while (i <= n)
+      ! eight digits at once where they fit (`digits4`, `value4`)
+      if (nd > 0 .and. nd <= max_digits - 8 .and. i + 7 <= n .and. little_endian) then
+        x8 = transfer(text(i:i+7), x8)
+        low = iand(x8, low_half)
+        high = ishft(x8, -32)
+        if (digits4(low) .and. digits4(high)) then
+          w = 100000000_i8*w + 10000_i8*value4(low) + value4(high)
+          nd = nd + 8
+          if (point) q = q - 8
+          i = i + 8
+          cycle
+        end if
+      end if
       c = iachar(text(i:i)) - iachar("0")
-      if (c < 0 .or. c > 9) exit
+      if (c < 0 .or. c > 9) then
+        ! the one decimal point; anything else ends the digits
+        if (point .or. text(i:i) /= ".") exit
+        point = .true.
+        i = i + 1
+        cycle
+      end if
       any_digit = .true.
+      if (point) q = q - 1
       if (nd > 0 .or. c /= 0) then
         nd = nd + 1
         if (nd > max_digits) exit
@@ -377,23 +407,6 @@ contains
       end if
       i = i + 1
     end do
-    if (i <= n .and. nd <= max_digits) then
-      if (text(i:i) == ".") then
-        i = i + 1
-        do while (i <= n)
-          c = iachar(text(i:i)) - iachar("0")
-          if (c < 0 .or. c > 9) exit
-          any_digit = .true.
-          q = q - 1
-          if (nd > 0 .or. c /= 0) then
-            nd = nd + 1
-            if (nd > max_digits) exit
-            w = 10*w + c
-          end if
-          i = i + 1
-        end do
-      end if
-    end if
     if (.not. any_digit .or. nd > max_digits) then
       call runtime_read(text, value, ok)
       return
@@ -436,6 +449,15 @@ contains
       value = merge(-0.0_dp, 0.0_dp, negative)
       return
     end if
+    ! trailing zeros of a long mantissa dropped (the same number) until it
+    ! is a double: a field such as 1.0000000000000000e0 then takes the
+    ! one-operation path
+    do while (w > two_53)
+      if (mod(w, 10_i8) /= 0) exit
+      w = w/10
+      q = q + 1
+      nd = nd - 1
+    end do
     if (w <= two_53 .and. abs(q) <= 22) then
       ! one correctly rounded operation on two exact doubles
       x = real(w, dp)
@@ -466,6 +488,28 @@ contains
     end if
     call runtime_read(text, value, ok)
   end subroutine real_of
+
+  ! (real_of reads eight digits at once as one integer x8 (`transfer`),
+  ! tested and converted four at a time, each half below 2^32 so that no sum
+  ! leaves the integer's range; byte order: the first character in the
+  ! lowest byte, `little_endian`, else the digits are read one at a time)
+
+  !> Whether the four bytes of 0 <= h < 2^32 are the characters 0 to 9: each
+  !> byte's high half is 3, and stays 3 when 6 is added.
+  elemental logical function digits4(h)
+    integer(i8), intent(in) :: h
+    digits4 = iand(h, high_nibbles) == zeros4 .and. iand(h + sixes4, high_nibbles) == zeros4
+  end function digits4
+
+  !> The value of four digit characters in 0 <= h < 2^32, the first in the
+  !> lowest byte: 10 a + b in each byte, then 100 ab + cd.
+  elemental integer(i8) function value4(h)
+    integer(i8), intent(in) :: h
+    integer(i8) :: d, pairs
+    d = h - zeros4
+    pairs = 10_i8*d + ishft(d, -8)
+    value4 = 100_i8*iand(pairs, 255_i8) + iand(ishft(pairs, -16), 255_i8)
+  end function value4
 
   !> The Fortran runtime's list-directed read of a field of plain-number
   !> characters (`ok` false for any other field, or when the read fails).

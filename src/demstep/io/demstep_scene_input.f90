@@ -746,16 +746,25 @@ contains
     logical, allocatable, intent(out) :: fixed(:)
     type(demstep_status_type), intent(out) :: status
     integer, intent(out), optional :: fault_line
-    integer :: ncol, bad
+    integer :: ncol, bad, k, n
+    logical :: with_inertia
     ncol = 2*dim + 3
     if (present(fault_line)) fault_line = 0
-    x = rows(1:dim, :)
-    v = rows(dim+1:2*dim, :)
-    m = rows(2*dim+1, :)
-    r = rows(2*dim+2, :)
-    fixed = rows(2*dim+3, :) /= 0.0_dp
-    if (size(rows, 1) == ncol + 1) inertia = rows(ncol + 1, :)
-    bad = findloc(rows(2*dim+3, :) /= 0.0_dp .and. rows(2*dim+3, :) /= 1.0_dp, .true., dim=1)
+    n = size(rows, 2)
+    with_inertia = size(rows, 1) == ncol + 1
+    allocate(x(dim, n), v(dim, n), m(n), r(n), fixed(n))
+    if (with_inertia) allocate(inertia(n))
+    ! (one pass over the rows, each read once; the first fixed value not 0 or 1)
+    bad = 0
+    do k = 1, n
+      x(:, k) = rows(1:dim, k)
+      v(:, k) = rows(dim+1:2*dim, k)
+      m(k) = rows(2*dim+1, k)
+      r(k) = rows(2*dim+2, k)
+      fixed(k) = rows(2*dim+3, k) /= 0.0_dp
+      if (with_inertia) inertia(k) = rows(ncol + 1, k)
+      if (bad == 0 .and. fixed(k) .and. rows(2*dim+3, k) /= 1.0_dp) bad = k
+    end do
     if (bad > 0) then
       call set_status(status, demstep_stat%invalid_input, path//": line "//int_text(lines(bad))// &
         ": column "//int_text(2*dim + 3)//": the fixed column must be 0 or 1")

@@ -26,7 +26,7 @@ module demstep_table_io
   use demstep_kinds, only: dp, i8
   use demstep_status, only: demstep_status_type, demstep_stat, set_status
   use demstep_text, only: int_text, integer_of, printable, read_text_file
-  use demstep_decimal, only: real_of
+  use demstep_decimal, only: real_of, little_endian
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   !$ use omp_lib, only: omp_get_max_threads
   implicit none
@@ -47,6 +47,10 @@ module demstep_table_io
   !> Byte classes: a separator, a character of a number, anything else.
   integer, parameter :: other_byte = 0, separator_byte = 1, number_byte = 2
   integer, parameter :: lf = 10, cr = 13
+  !> Seven bytes of 1, of 127 and of 128 each, the low seven bytes of eight,
+  !> and seven blanks (for `next_line` and `plain_bytes`).
+  integer(i8), parameter :: ones = 282578800148737_i8, low7 = 35887507618889599_i8, &
+    high7 = 36170086419038336_i8, low7_bytes = 72057594037927935_i8, seven_blanks = 9042521604759584_i8
   !> Texts at least this long are scanned in parts in parallel (`parallel_scan`).
   integer(i8), parameter :: parallel_scan_bytes = 1048576_i8
   !> What `row_fault` finds in a row.
@@ -112,7 +116,7 @@ contains
       call set_status(status, demstep_stat%invalid_input, path//": no column count allowed")
       return
     end if
-    call read_text_file(path, text, status)
+    call read_whole_file(path, text, status)
     if (status%stat /= demstep_stat%ok) then
       status%message = path//": "//status%message
       return
@@ -125,14 +129,60 @@ contains
     call table_rows(text, path, allowed, scan, rows, status, lines, index_columns)
   end subroutine read_table_allowed
 
+  !> A file's text (`read_text_file`, and its status), a large regular file
+  !> read in parallel (OpenMP): one part per thread, each thread reading its
+  !> part through a unit of its own into its place in the text (whose pages
+  !> it thus touches first). Any part that does not open or read: the file is
+  !> read again whole by `read_text_file`, whose status then tells what is
+  !> wrong.
+  subroutine read_whole_file(path, text, status)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable, intent(out) :: text
+    type(demstep_status_type), intent(out) :: status
+    integer(i8) :: length, first, last
+    integer :: np, k, unit, ios
+    logical :: ok
+    np = 1
+    !$ np = omp_get_max_threads()
+    inquire(file=path, size=length)
+    if (length < parallel_scan_bytes .or. np < 2) then
+      call read_text_file(path, text, status)
+      return
+    end if
+    allocate(character(len=length) :: text)
+    ok = .true.
+    !$omp parallel do private(k, unit, ios, first, last) reduction(.and.:ok) schedule(static, 1)
+    do k = 1, np
+      first = (length*(k - 1))/np + 1
+      last = (length*k)/np
+      open(newunit=unit, file=path, access="stream", form="unformatted", action="read", status="old", &
+        iostat=ios)
+      if (ios == 0) then
+        read(unit, pos=first, iostat=ios) text(first:last)
+        close(unit)
+      end if
+      ok = ok .and. ios == 0
+    end do
+    !$omp end parallel do
+    if (ok) then
+      status%stat = demstep_stat%ok
+    else
+      deallocate(text)
+      call read_text_file(path, text, status)
+    end if
+  end subroutine read_whole_file
+
   !> `table_scan` of a whole text in parts, in parallel (OpenMP): the text
   !> cut after line feeds into one part per thread (a text below
-  !> `parallel_scan_bytes`, or one thread: one part), the lines of each part
-  !> counted, then each part scanned with the lines before it as its offset,
-  !> and the parts' rows joined in order. The same scan as one `table_scan`
+  !> `parallel_scan_bytes`, or one thread: one part), each part scanned with
+  !> its own line numbers, then the parts' rows joined in order, their lines
+  !> moved by the lines of the parts before. The same scan as one `table_scan`
   !> of the whole text: a line feed always ends a line, so every part starts
-  !> at a line's start; the layout is the first part's that found one; the
-  !> fault refused is the first part's that has one (parts in file order).
+  !> at a line's start and ends a whole number of lines; the layout is the
+  !> first part's that found one. A part that refuses its text (or more lines
+  !> than an integer counts) is scanned again with the lines before it
+  !> counted, so that the fault refused and its message are the first part's
+  !> that has one, as one scan gives them.
   subroutine parallel_scan(text, name, allowed, scan, status)
     character(len=*), intent(in) :: text
     character(len=*), intent(in) :: name
@@ -141,9 +191,8 @@ contains
     type(demstep_status_type), intent(out) :: status
     type(table_scan_type), allocatable :: part(:)
     type(demstep_status_type), allocatable :: part_status(:)
-    integer(i8), allocatable :: cut(:)
+    integer(i8), allocatable :: cut(:), lines_before(:), rows_before(:)
     integer(i8) :: n, i, j
-    integer, allocatable :: lines_before(:)
     integer :: np, k, total
     n = len(text, i8)
     np = 1
@@ -169,74 +218,53 @@ contains
     end do
     np = k
     cut(np + 1) = n
-    allocate(part(np), part_status(np), lines_before(np + 1))
-    ! the lines of each part but the last (each ends with a line feed)
-    lines_before = 0
-    !$omp parallel do schedule(static, 1)
-    do k = 1, np - 1
-      lines_before(k + 1) = line_ends(text(cut(k) + 1:cut(k + 1)))
-    end do
-    !$omp end parallel do
-    do k = 2, np
-      ! (a count past huge: the part's own scan refuses the text at its first line)
-      lines_before(k) = int(min(int(lines_before(k - 1), i8) + lines_before(k), int(huge(1), i8)))
-    end do
+    allocate(part(np), part_status(np), lines_before(np + 1), rows_before(np + 1))
     !$omp parallel do schedule(static, 1)
     do k = 1, np
-      call table_scan(text(cut(k) + 1:cut(k + 1)), name, allowed, part(k), part_status(k), &
-        line_offset=lines_before(k))
+      call table_scan(text(cut(k) + 1:cut(k + 1)), name, allowed, part(k), part_status(k))
     end do
     !$omp end parallel do
+    lines_before(1) = 0
+    rows_before(1) = 0
     do k = 1, np
-      if (part_status(k)%stat /= demstep_stat%ok) then
-        status = part_status(k)
-        return
+      lines_before(k + 1) = lines_before(k) + part(k)%n_lines
+      rows_before(k + 1) = rows_before(k) + part(k)%n_rows
+    end do
+    do k = 1, np
+      if (part_status(k)%stat /= demstep_stat%ok .or. lines_before(k + 1) > huge(1)) then
+        ! (the parts before scanned whole: their lines are the file's before this one)
+        call table_scan(text(cut(k) + 1:cut(k + 1)), name, allowed, part(k), status, &
+          line_offset=int(min(lines_before(k), int(huge(1), i8))))
+        if (status%stat /= demstep_stat%ok) return
       end if
     end do
     ! joined: rows in order (their positions in the whole text), the first layout
-    total = sum(part%n_rows)
+    total = int(rows_before(np + 1))
     allocate(scan%row_first(max(total, 1)), scan%row_last(max(total, 1)), scan%row_line(max(total, 1)))
-    scan%n_rows = 0
+    scan%n_rows = total
     scan%ncol = 0
     scan%first_line = 0
+    ! (each part's rows copied by one thread: the pages the rows' pass reads)
+    !$omp parallel do schedule(static, 1)
     do k = 1, np
-      associate(p => part(k), m => part(k)%n_rows)
-        scan%row_first(scan%n_rows + 1:scan%n_rows + m) = p%row_first(:m) + cut(k)
-        scan%row_last(scan%n_rows + 1:scan%n_rows + m) = p%row_last(:m) + cut(k)
-        scan%row_line(scan%n_rows + 1:scan%n_rows + m) = p%row_line(:m)
-        scan%n_rows = scan%n_rows + m
-        if (scan%ncol == 0 .and. p%n_rows > 0 .and. p%ncol > 0 .and. p%first_line > 0) then
-          scan%ncol = p%ncol
-          scan%first_line = p%first_line
-        end if
+      associate(p => part(k), m => part(k)%n_rows, r => int(rows_before(k)))
+        scan%row_first(r + 1:r + m) = p%row_first(:m) + cut(k)
+        scan%row_last(r + 1:r + m) = p%row_last(:m) + cut(k)
+        scan%row_line(r + 1:r + m) = p%row_line(:m) + int(lines_before(k))
       end associate
     end do
-    scan%n_lines = part(np)%n_lines
+    !$omp end parallel do
+    do k = 1, np
+      if (part(k)%n_rows > 0 .and. part(k)%ncol > 0 .and. part(k)%first_line > 0) then
+        scan%ncol = part(k)%ncol
+        scan%first_line = part(k)%first_line + int(lines_before(k))
+        exit
+      end if
+    end do
+    scan%n_lines = int(lines_before(np + 1))
     if (scan%n_rows == 0) scan%ncol = maxval(allowed)
     status%stat = demstep_stat%ok
   end subroutine parallel_scan
-
-  !> The lines a text ends, as `next_line` counts them: each line feed, each
-  !> carriage return and line feed, each lone carriage return.
-  pure integer function line_ends(text) result(count)
-    character(len=*), intent(in) :: text
-    integer(i8) :: i, n
-    integer :: b
-    n = len(text, i8)
-    count = 0
-    do i = 1, n
-      b = iachar(text(i:i))
-      if (b == lf) then
-        count = count + 1
-      else if (b == cr) then
-        if (i == n) then
-          count = count + 1
-        else if (iachar(text(i+1:i+1)) /= lf) then
-          count = count + 1
-        end if
-      end if
-    end do
-  end function line_ends
 
   !> Pass 1 of reading a table held in `text` (a whole file, or a part of one
   !> that starts at a line's start and ends at a line's end): the text
@@ -260,11 +288,14 @@ contains
     real(dp), allocatable :: values(:)
     integer(i8), allocatable :: field_first(:), field_last(:)
     integer(i8) :: first, last, next, comment, control
-    integer :: line, count
+    integer :: line, count, capacity
     logical :: blank
     allocate(values(maxval(allowed)), field_first(maxval(allowed)), field_last(maxval(allowed)))
     if (present(fault_line)) fault_line = 0
-    allocate(scan%row_first(1024), scan%row_last(1024), scan%row_line(1024))
+    ! (room for a row per 32 characters at first: the rows' pages are touched
+    ! only as rows are found, and most tables need no regrowth)
+    capacity = int(max(1024_i8, min(len(text, i8)/32, int(huge(1), i8))))
+    allocate(scan%row_first(capacity), scan%row_last(capacity), scan%row_line(capacity))
     scan%n_rows = 0
     scan%ncol = 0
     scan%first_line = 0
@@ -537,13 +568,14 @@ contains
   !> column of its first `#` (its length + 1 if none); the column of its first
   !> control character (bytes 0 to 31 but tab, and 127) among its first
   !> `checked_columns`, 0 if none; and whether it holds only spaces before the
-  !> `#`. `next` moves past the line's end.
+  !> `#`. `next` moves past the line's end. Eight bytes at a time while none
+  !> of them needs a look of its own (`plain_bytes`, seven at a time), else byte by byte.
   pure subroutine next_line(text, next, first, last, comment, control, blank)
     character(len=*), intent(in) :: text
     integer(i8), intent(inout) :: next
     integer(i8), intent(out) :: first, last, comment, control
     logical, intent(out) :: blank
-    integer(i8) :: i, n
+    integer(i8) :: i, n, x
     integer :: b
     first = next
     n = len(text, i8)
@@ -552,6 +584,21 @@ contains
     blank = .true.
     i = next
     do while (i <= n)
+      if (i + 7 <= n) then
+        ! (the eight bytes from i read at once, the first seven tested)
+        x = transfer(text(i:i+7), x)
+        if (little_endian) then
+          x = iand(x, low7_bytes)
+        else
+          x = ishft(x, -8)
+        end if
+        if (plain_bytes(x)) then
+          ! (no line end, control character or '#' among them)
+          if (blank .and. comment == 0) blank = x == seven_blanks
+          i = i + 7
+          cycle
+        end if
+      end if
       b = iachar(text(i:i))
       if (b < 32 .or. b == 127 .or. b == 35) then
         if (b == lf .or. b == cr) exit
@@ -571,6 +618,19 @@ contains
       if (iachar(text(i:i)) == cr .and. iachar(text(i+1:i+1)) == lf) next = i + 2
     end if
   end subroutine next_line
+
+  !> Whether the seven bytes of 0 <= x < 2^56 are all plain: none below 32,
+  !> 127 or `#` (bytes from 128 are plain). Per byte b, over its low seven
+  !> bits y: bit 7 of y + 96 is set from 32 up, of y + 1 from 127 up, of
+  !> (y xor 35) + 127 unless y is 35; no sum carries into the next byte, and
+  !> none leaves the integer's range. Exact, without false alarms.
+  elemental logical function plain_bytes(x) result(plain)
+    integer(i8), intent(in) :: x
+    integer(i8) :: y, fine
+    y = iand(x, low7)
+    fine = iand(iand(y + 96_i8*ones, not(y + ones)), ieor(y, 35_i8*ones) + low7)
+    plain = iand(ior(fine, x), high7) == high7
+  end function plain_bytes
 
   !> Double the capacity of the row lists, keeping their values.
   pure subroutine grow_rows(row_first, row_last, row_line)

@@ -167,15 +167,22 @@ contains
     m = reduced_mass(mi, mj)
   end function effective_mass
 
-  !> Wrap the positions along the periodic axes into [cell_lo, cell_hi).
+  !> Wrap the positions along the periodic axes into [cell_lo, cell_hi):
+  !> cell_lo + modulo(x - cell_lo, box).
   pure subroutine wrap_positions(scene)
     type(scene_type), intent(inout) :: scene
-    integer :: ax
-    real(dp) :: box
+    integer :: ax, i
+    real(dp) :: box, lo, t
     do ax = 1, 3
       if (.not. scene%periodic(ax)) cycle
-      box = scene%cell_hi(ax) - scene%cell_lo(ax)
-      scene%x(ax, :) = scene%cell_lo(ax) + modulo(scene%x(ax, :) - scene%cell_lo(ax), box)
+      lo = scene%cell_lo(ax)
+      box = scene%cell_hi(ax) - lo
+      do i = 1, size(scene%x, 2)
+        t = scene%x(ax, i) - lo
+        ! (modulo is t itself for t in [0, box): the remainder is exact)
+        if (.not. (t >= 0.0_dp .and. t < box)) t = modulo(t, box)
+        scene%x(ax, i) = lo + t
+      end do
     end do
   end subroutine wrap_positions
 
@@ -189,6 +196,9 @@ contains
     do ax = 1, 3
       if (.not. scene%periodic(ax)) cycle
       box = scene%cell_hi(ax) - scene%cell_lo(ax)
+      ! (well inside half a box the image is the pair itself: anint gives 0
+      ! and d is kept as it is; 0 and -0 still go through the formula)
+      if (abs(d(ax)) < 0.25_dp*box .and. d(ax) /= 0.0_dp) cycle
       d(ax) = d(ax) - box*anint(d(ax)/box)
     end do
   end function branch_vector

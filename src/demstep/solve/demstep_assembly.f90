@@ -688,40 +688,51 @@ contains
   !> What the springs of an operator tell a result: their count (drag
   !> excluded), whether any is tangential, which dashpots C holds, and the
   !> per-contact rule min 2 sqrt(m*/k) over them (m* each spring's `m_eff`).
-  pure subroutine assembly_set_springs(result, springs)
+  subroutine assembly_set_springs(result, springs)
     type(critical_step_type), intent(inout) :: result
     type(spring_block_type), intent(in) :: springs(:)
-    integer :: i
-    real(dp) :: k, t, t_least
-    ! (one pass over the springs)
-    result%n_springs = 0
-    result%tangential = .false.
-    result%dashpots = .false.
-    result%dt_contact_rule = huge(1.0_dp)
-    ! the least m*/k so far: a spring whose m*/k is above it by more than
-    ! rounding (1e-12, against a few ulps in either form) cannot lower the rule
+    integer :: i, n_springs
+    real(dp) :: k, t, t_least, rule
+    logical :: tangential, dashpots(6)
+    ! (one pass over the springs, in parallel: a count, "or"s and a least
+    ! value do not depend on the order)
+    n_springs = 0
+    tangential = .false.
+    dashpots = .false.
+    rule = huge(1.0_dp)
+    ! the least m*/k so far (each thread's own): a spring whose m*/k is above
+    ! it by more than rounding (1e-12, against a few ulps in either form)
+    ! cannot lower the rule
     t_least = huge(1.0_dp)
+    !$omp parallel do private(i, k, t) firstprivate(t_least) reduction(+:n_springs) &
+    !$omp reduction(.or.:tangential, dashpots) reduction(min:rule) schedule(static) &
+    !$omp if(size(springs) >= parallel_springs)
     do i = 1, size(springs)
       associate(sp => springs(i))
-        if (sp%kind /= 6) result%n_springs = result%n_springs + 1
-        result%tangential = result%tangential .or. sp%k(2) > 0.0_dp
+        if (sp%kind /= 6) n_springs = n_springs + 1
+        tangential = tangential .or. sp%k(2) > 0.0_dp
         if (sp%kind == 0) then
-          result%dashpots(1:4) = result%dashpots(1:4) .or. sp%c > 0.0_dp
+          dashpots(1:4) = dashpots(1:4) .or. sp%c > 0.0_dp
         else if (sp%kind == 5) then
-          result%dashpots(5) = result%dashpots(5) .or. any(sp%c > 0.0_dp)
+          dashpots(5) = dashpots(5) .or. any(sp%c > 0.0_dp)
         else if (sp%kind == 6) then
-          result%dashpots(6) = .true.
+          dashpots(6) = .true.
         end if
         k = max(sp%k(1), sp%k(2))
         if (k > 0.0_dp) then
           t = sp%m_eff/k
           if (.not. t > t_least*(1.0_dp + 1.0e-12_dp)) then
-            result%dt_contact_rule = min(result%dt_contact_rule, 2.0_dp*sqrt(sp%m_eff)/sqrt(k))
+            rule = min(rule, 2.0_dp*sqrt(sp%m_eff)/sqrt(k))
             t_least = min(t_least, t)
           end if
         end if
       end associate
     end do
+    !$omp end parallel do
+    result%n_springs = n_springs
+    result%tangential = tangential
+    result%dashpots = dashpots
+    result%dt_contact_rule = rule
   end subroutine assembly_set_springs
 
   !> The options every assembly driver (serial, MPI) checks before it builds
@@ -2051,9 +2062,10 @@ contains
     !> springs touch no free body is then not refused.
     real(dp), intent(in), optional :: scales(2)
     integer, allocatable :: body(:)
+    integer(i8), allocatable :: at(:, :)
     real(dp) :: k_scale, m_scale, c_scale, mdof(6)
-    integer :: i, nfree, nc, s, e
-    integer(i8) :: p
+    integer :: i, nfree, nc, s, e, t, nchunk
+    integer(i8) :: p, count
     logical :: touches, damped
     rate = 0.0_dp
     k_scale = 0.0_dp
@@ -2120,7 +2132,15 @@ contains
     if (allocated(op%xs)) then
       if (size(op%xs, 1) /= 6 .or. lbound(op%xs, 2) /= 0 .or. ubound(op%xs, 2) /= nfree) deallocate(op%xs)
     end if
-    if (.not. allocated(op%xs)) allocate(op%xs(6, 0:nfree), source=0.0_dp)
+    if (.not. allocated(op%xs)) then
+      allocate(op%xs(6, 0:nfree))
+      ! (zeroed in parallel: each thread faults in its own pages)
+      !$omp parallel do private(i) schedule(static) if(nfree >= parallel_springs)
+      do i = 0, nfree
+        op%xs(:, i) = 0.0_dp
+      end do
+      !$omp end parallel do
+    end if
     op%xs(:, 0) = 0.0_dp
     if (allocated(op%first)) then
       if (size(op%first) /= nfree + 1) deallocate(op%first)
@@ -2137,13 +2157,14 @@ contains
     else
       call fit_real2(op%dcoef, 4, 1, 0)
     end if
+    !$omp parallel do private(i) schedule(static) if(size(mass) >= parallel_springs)
     do i = 1, size(mass)
       if (body(i) > 0) then
         op%w(:, body(i)) = 1.0_dp/sqrt(dof_masses(mass(i), inertia(i), radius(i))/m_scale)
         op%rinv(body(i)) = 1.0_dp/radius(i)
       end if
     end do
-    op%first = 0
+    !$omp end parallel do
     ! (each spring's entries in parallel, in the products' static partition,
     ! which then find their pages where they are used; the count after)
     !$omp parallel do private(s) schedule(static) if(op%n_springs >= parallel_springs)
@@ -2167,33 +2188,50 @@ contains
       end associate
     end do
     !$omp end parallel do
-    do s = 1, op%n_springs
-      do e = 1, 2
-        if (op%ends(e, s) > 0) op%first(op%ends(e, s) + 1) = op%first(op%ends(e, s) + 1) + 1
+    ! each free body's spring ends (`first`, `incident`) in spring order:
+    ! counted and placed by chunks of springs in parallel, a chunk's entries
+    ! of a body after the chunks' before it (`at`: where each chunk's next
+    ! entry of each body goes), so the lists are those of one serial pass
+    nchunk = 1
+    !$ if (op%n_springs >= parallel_springs) nchunk = max(1, omp_get_max_threads())
+    allocate(at(nfree, nchunk))
+    !$omp parallel do private(t, s, e) schedule(static, 1) if(nchunk > 1)
+    do t = 1, nchunk
+      at(:, t) = 0
+      do s = int((int(op%n_springs, i8)*(t - 1))/nchunk) + 1, int((int(op%n_springs, i8)*t)/nchunk)
+        do e = 1, 2
+          if (op%ends(e, s) > 0) at(op%ends(e, s), t) = at(op%ends(e, s), t) + 1
+        end do
       end do
     end do
+    !$omp end parallel do
     op%first(1) = 1
     do i = 1, nfree
-      op%first(i + 1) = op%first(i + 1) + op%first(i)
+      p = op%first(i)
+      do t = 1, nchunk
+        count = at(i, t)
+        at(i, t) = p
+        p = p + count
+      end do
+      op%first(i + 1) = p
     end do
     if (allocated(op%incident)) then
       if (size(op%incident, kind=i8) /= op%first(nfree + 1) - 1) deallocate(op%incident)
     end if
     if (.not. allocated(op%incident)) allocate(op%incident(op%first(nfree + 1) - 1))
-    do s = 1, op%n_springs
-      do e = 1, 2
-        i = op%ends(e, s)
-        if (i == 0) cycle
-        p = op%first(i)
-        op%incident(p) = 2*(s - 1) + e
-        op%first(i) = p + 1
+    !$omp parallel do private(t, s, e, i, p) schedule(static, 1) if(nchunk > 1)
+    do t = 1, nchunk
+      do s = int((int(op%n_springs, i8)*(t - 1))/nchunk) + 1, int((int(op%n_springs, i8)*t)/nchunk)
+        do e = 1, 2
+          i = op%ends(e, s)
+          if (i == 0) cycle
+          p = at(i, t)
+          op%incident(p) = 2*(s - 1) + e
+          at(i, t) = p + 1
+        end do
       end do
     end do
-    ! first(i) now points past body i's entries: shift back
-    do i = nfree, 1, -1
-      op%first(i + 1) = op%first(i)
-    end do
-    op%first(1) = 1
+    !$omp end parallel do
     call operator_set_blocks(op, product_block_bodies)
     rate = sqrt(k_scale)/sqrt(m_scale)
     status%stat = demstep_stat%ok

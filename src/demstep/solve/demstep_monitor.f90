@@ -1049,17 +1049,44 @@ contains
     integer, intent(in) :: body_particle(:), np
     real(dp), allocatable, intent(out) :: particle_share(:), spring_share(:)
     real(dp) :: total
-    integer :: b
-    allocate(particle_share(np), source=0.0_dp)
-    allocate(spring_share(op%n_springs), source=0.0_dp)
+    integer :: b, s
+    allocate(particle_share(np), spring_share(op%n_springs))
+    ! (the bodies' and springs' entries in parallel; the totals summed in order)
+    !$omp parallel private(b, s) if(np + op%n_springs >= parallel_springs)
+    !$omp do schedule(static)
+    do b = 1, np
+      particle_share(b) = 0.0_dp
+    end do
+    !$omp end do
+    !$omp do schedule(static)
+    do s = 1, op%n_springs
+      spring_share(s) = 0.0_dp
+    end do
+    !$omp end do
+    !$omp do schedule(static)
     do b = 1, op%n_bodies
       particle_share(body_particle(b)) = sum(mode((b - 1)*op%nc + 1:b*op%nc)**2)
     end do
-    if (sum(particle_share) > 0.0_dp) particle_share = particle_share/sum(particle_share)
+    !$omp end do
+    !$omp end parallel
+    total = sum(particle_share)
+    if (total > 0.0_dp) call scale_shares(particle_share, total)
     call operator_spring_energies(op, mode, spring_share)
     total = sum(spring_share)
-    if (total > 0.0_dp) spring_share = spring_share/total
+    if (total > 0.0_dp) call scale_shares(spring_share, total)
   end subroutine mode_shares
+
+  !> share = share/total, in parallel.
+  subroutine scale_shares(share, total)
+    real(dp), intent(inout) :: share(:)
+    real(dp), intent(in) :: total
+    integer :: i
+    !$omp parallel do schedule(static) if(size(share) >= parallel_springs)
+    do i = 1, size(share)
+      share(i) = share(i)/total
+    end do
+    !$omp end parallel do
+  end subroutine scale_shares
 
   !> The critical steps of a scene (`assembly_critical_steps`, the same
   !> options) and which particles and springs carry its top undamped mode:
@@ -1086,7 +1113,13 @@ contains
       prestress, solver, tolerance, progress, mode, springs, op)
     if (status%stat /= demstep_stat%ok) return
     if (size(mode) == 0) return
-    body_particle = pack([(i, i = 1, scene%n)], .not. scene%fixed)
+    allocate(body_particle(count(.not. scene%fixed)))
+    s = 0
+    do i = 1, scene%n
+      if (scene%fixed(i)) cycle
+      s = s + 1
+      body_particle(s) = i
+    end do
     call mode_shares(op, mode, body_particle, scene%n, part%particle_share, part%spring_share)
     allocate(part%spring_a(size(springs)), part%spring_b(size(springs)), part%spring_kind(size(springs)), &
       part%spring_k(2, size(springs)))
