@@ -42,7 +42,8 @@ module demstep_interaction
   !> Their words, in code order (`contact_law_from_name`, `contact_law_name`).
   character(len=*), parameter, public :: contact_law_names(2) = [character(len=6) :: "linear", "hertz"]
   public :: contact_law_from_name, contact_law_name
-  !> Springs per chunk of the kernel's loop (`spring_pass`).
+  !> Springs per chunk of the kernel's loop (`spring_pass`): measured at
+  !> 125 000 spheres (`bench_product`), 8 and 16 were fastest, 4 and 32 slower.
   integer, parameter :: pass_chunk = 8
 
 contains
@@ -249,7 +250,9 @@ contains
   !> springs go in chunks of `pass_chunk`: each chunk's inputs are gathered
   !> into arrays by spring (q), the kernel runs over q as loops the compiler
   !> vectorises (the same expression per spring as one at a time, so the
-  !> same bits), and the forces are stored or added in spring order.
+  !> same bits; a short chunk, as `contact_product`'s one spring, runs the
+  !> loops' scalar remainder), and the forces are stored or added in spring
+  !> order.
   pure subroutine spring_pass(first, last, listed, add, list, normal, coef, dcoef, alpha, beta, ends, rinv, &
       x, f, lo, hi, acc)
     integer, intent(in) :: first, last
@@ -283,26 +286,16 @@ contains
         arm_i(q) = coef(3, s)
         arm_j(q) = coef(4, s)
       end do
+      ! (a gather: vectorised (AVX), it made the pass slower)
+!GCC$ novector
       do q = 1, nq
         xa(q, :) = x(:, ab(q, 1))
         xb(q, :) = x(:, ab(q, 2))
         ra(q) = rinv(ab(q, 1))
         rb(q) = rinv(ab(q, 2))
       end do
-      if (nq < w) then
-        ! (the last chunk's unused places: zeros, never stored)
-        n(nq + 1:, :) = 0.0_dp
-        k(nq + 1:, :) = 0.0_dp
-        geo(nq + 1:) = 0.0_dp
-        arm_i(nq + 1:) = 0.0_dp
-        arm_j(nq + 1:) = 0.0_dp
-        xa(nq + 1:, :) = 0.0_dp
-        xb(nq + 1:, :) = 0.0_dp
-        ra(nq + 1:) = 0.0_dp
-        rb(nq + 1:) = 0.0_dp
-      end if
       ! the kernel, as `contact_product` states it
-      do q = 1, w
+      do q = 1, nq
         nn = n(q, :)
         du = xb(q, 1:3) - xa(q, 1:3)
         dn = nn(1)*du(1) + nn(2)*du(2) + nn(3)*du(3)
@@ -315,10 +308,10 @@ contains
         fa(q, 4:6) = arm_i(q)*g
         fb(q, 4:6) = arm_j(q)*g
       end do
-      turn = k(:, 3) /= 0.0_dp .or. k(:, 4) /= 0.0_dp
-      if (any(turn)) then
+      turn(:nq) = k(:nq, 3) /= 0.0_dp .or. k(:nq, 4) /= 0.0_dp
+      if (any(turn(:nq))) then
         ! rolling and twisting, on the springs that have them
-        do q = 1, w
+        do q = 1, nq
           nn = n(q, :)
           dr = rb(q)*xb(q, 4:6) - ra(q)*xa(q, 4:6)
           m = rotation_moment(nn, k(q, 3), k(q, 4), dr)
@@ -326,8 +319,8 @@ contains
           mb(q, :) = fb(q, 4:6) + rb(q)*m
         end do
         do c = 1, 3
-          fa(:, 3 + c) = merge(ma(:, c), fa(:, 3 + c), turn)
-          fb(:, 3 + c) = merge(mb(:, c), fb(:, 3 + c), turn)
+          fa(:nq, 3 + c) = merge(ma(:nq, c), fa(:nq, 3 + c), turn(:nq))
+          fb(:nq, 3 + c) = merge(mb(:nq, c), fb(:nq, 3 + c), turn(:nq))
         end do
       end if
       ! the forces, in spring order
