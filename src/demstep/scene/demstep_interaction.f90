@@ -267,7 +267,7 @@ contains
     ! arms, the ends' x and rinv; the forces on the ends)
     real(dp) :: n(w, 3), k(w, 4), geo(w), arm_i(w), arm_j(w), xa(w, 6), xb(w, 6), ra(w), rb(w)
     real(dp) :: fa(w, 6), fb(w, 6), ma(w, 3), mb(w, 3)
-    real(dp) :: nn(3), du(3), dn, pdu(3), sl(3), fn(3), g(3), dr(3), m(3), kq(4), gq
+    real(dp) :: nn(3), ta(3), tb(3), du(3), dn, pdu(3), sl(3), fn(3), g(3), dr(3), m(3), kq(4), gq
     integer :: ab(w, 2), p0, p, q, nq, s, a, b, c
     logical :: turn(w)
     do p0 = first, last, w
@@ -300,7 +300,9 @@ contains
         du = xb(q, 1:3) - xa(q, 1:3)
         dn = nn(1)*du(1) + nn(2)*du(2) + nn(3)*du(3)
         pdu = du - dn*nn
-        sl = pdu + arm_i(q)*cross_product(nn, xa(q, 4:6)) + arm_j(q)*cross_product(nn, xb(q, 4:6))
+        ta = xa(q, 4:6)
+        tb = xb(q, 4:6)
+        sl = pdu + arm_i(q)*cross_product(nn, ta) + arm_j(q)*cross_product(nn, tb)
         fn = (k(q, 1)*dn)*nn + k(q, 2)*sl - geo(q)*pdu
         g = k(q, 2)*cross_product(sl, nn)
         fa(q, 1:3) = -fn
