@@ -11,7 +11,8 @@ module test_interaction
     product_block_bodies
   use demstep_kinds, only: pi
   use demstep_interaction, only: contact_block, contact_end_blocks, contact_forces, normal_force, normal_stiffness, &
-    tangential_stiffness, reduced_radius
+    tangential_stiffness, reduced_radius, contact_product, contact_products, contact_products_listed, &
+    contact_products_add, mixed_stiffness
   use demstep_csr, only: csr_matrix_type, csr_to_dense, csr_apply, csr_abs_product
   use demstep_lapack, only: largest_eigenpair
   use test_support, only: real_str
@@ -27,6 +28,7 @@ contains
     type(unittest_type), allocatable, intent(out) :: testsuite(:)
     testsuite = [ &
       new_unittest("tangent block = finite differences of force and torque", test_block_fd), &
+      new_unittest("spring pass in chunks = the kernel spring by spring, bit for bit", test_spring_pass), &
       new_unittest("one end's columns in closed form = the kernel's block", test_end_blocks), &
       new_unittest("Coulomb friction caps the tangential force at friction F_n", test_friction), &
       new_unittest("rotating pair: omega^2 = k_t (1/m_i + 1/m_j + c_i^2/I_i + c_j^2/I_j), c = r - d/2", test_pair), &
@@ -51,6 +53,86 @@ contains
       new_unittest("Lanczos out of restarts: the bracket holds the chain's closed form", test_not_converged) &
       ]
   end subroutine collect_interaction
+
+  !> The operator's spring pass (`contact_products`, `contact_products_listed`,
+  !> `contact_products_add`; it runs in chunks of springs) against
+  !> `contact_product` called spring by spring: 37 springs (not a multiple
+  !> of a chunk) among 6 bodies and the ground (body 0: x and rot 0), some with
+  !> rolling and twisting springs, some with pre-stress, mixed alpha K + beta C
+  !> and K alone. The arithmetic per spring is the same expression, so the
+  !> forces, and the sums added in list order, are equal bit for bit.
+  subroutine test_spring_pass(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer, parameter :: ns = 37, nb = 6
+    real(dp) :: normal(3, ns), coef(7, ns), dcoef(4, ns), rinv(0:nb), x(6, 0:nb)
+    real(dp) :: f(6, 2*ns), ref(6, 2*ns), acc(6, nb), acc_ref(6, nb), k(4), geo, mix(2, 2)
+    integer :: ends(2, ns), list(ns), s, p, j, a, b
+    logical :: same
+    call random_seed_fixed(41)
+    call random_number(x)
+    x = x - 0.5_dp
+    x(:, 0) = 0.0_dp
+    call random_number(rinv)
+    rinv = 1.0_dp + rinv
+    rinv(0) = 0.0_dp
+    call random_number(coef)
+    call random_number(dcoef)
+    call random_number(normal)
+    do s = 1, ns
+      normal(:, s) = normal(:, s) - 0.5_dp
+      normal(:, s) = normal(:, s)/norm2(normal(:, s))
+      ! bodies 1..nb and the ground (every fifth spring's first end, every seventh's second)
+      ends(1, s) = mod(3*s, nb) + 1
+      ends(2, s) = mod(5*s + 1, nb) + 1
+      if (ends(2, s) == ends(1, s)) ends(2, s) = mod(ends(2, s), nb) + 1
+      if (mod(s, 5) == 0) ends(1, s) = 0
+      if (mod(s, 7) == 0) ends(2, s) = 0
+      ! rolling and twisting on every third spring, pre-stress on every other
+      if (mod(s, 3) /= 0) coef(6:7, s) = 0.0_dp
+      if (mod(s, 2) == 0) coef(5, s) = 0.0_dp
+      ! the list: the springs reversed
+      list(s) = ns + 1 - s
+    end do
+    mix = reshape([1.0_dp, 0.0_dp, 0.7_dp, 0.3_dp], [2, 2])
+    do j = 1, 2
+      ! spring by spring
+      do s = 1, ns
+        a = ends(1, s)
+        b = ends(2, s)
+        call mixed_stiffness(coef(:, s), dcoef, s, mix(1, j), mix(2, j), k, geo)
+        call contact_product(normal(:, s), k, coef(3, s), coef(4, s), rinv(a), rinv(b), geo, x(1:3, a), &
+          x(4:6, a), x(1:3, b), x(4:6, b), ref(1:3, 2*s - 1), ref(4:6, 2*s - 1), ref(1:3, 2*s), ref(4:6, 2*s))
+      end do
+      call check(error, count(coef(6, :) /= 0.0_dp) > 0 .and. count(ends == 0) > 0, "rolling springs and ground ends")
+      if (allocated(error)) return
+      ! all springs, stored
+      f = -1.0_dp
+      call contact_products(1, ns, normal, coef, dcoef, mix(1, j), mix(2, j), ends, rinv, x, f)
+      call check(error, all(f == ref), "contact_products = contact_product per spring, mix " // int_text(j))
+      if (allocated(error)) return
+      ! listed, from the third entry: spring list(p)'s forces in columns 2p - 1, 2p
+      f = -1.0_dp
+      call contact_products_listed(3, ns, list, normal, coef, dcoef, mix(1, j), mix(2, j), ends, rinv, x, f)
+      same = all(f(:, 1:4) == -1.0_dp)
+      do p = 3, ns
+        same = same .and. all(f(:, 2*p - 1) == ref(:, 2*list(p) - 1)) .and. all(f(:, 2*p) == ref(:, 2*list(p)))
+      end do
+      call check(error, same, "contact_products_listed = contact_product per spring, mix " // int_text(j))
+      if (allocated(error)) return
+      ! added to the bodies in list order (the ground's dropped)
+      acc = 0.5_dp
+      acc_ref = 0.5_dp
+      do p = 2, ns - 1
+        s = list(p)
+        if (ends(1, s) > 0) acc_ref(:, ends(1, s)) = acc_ref(:, ends(1, s)) + ref(:, 2*s - 1)
+        if (ends(2, s) > 0) acc_ref(:, ends(2, s)) = acc_ref(:, ends(2, s)) + ref(:, 2*s)
+      end do
+      call contact_products_add(2, ns - 1, list, normal, coef, dcoef, mix(1, j), mix(2, j), ends, rinv, x, &
+        1, nb, acc)
+      call check(error, all(acc == acc_ref), "contact_products_add = contact_product's sums, mix " // int_text(j))
+      if (allocated(error)) return
+    end do
+  end subroutine test_spring_pass
 
   !> Generalised forces (-f, t_i, f, t_j) of a pair displaced by q from x_i, x_j
   !> (one kernel step from a state without shear load).
