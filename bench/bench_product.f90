@@ -8,7 +8,9 @@
 !> its CPU milliseconds (all threads; on a shared machine the 1-thread CPU
 !> time is the steadier figure) and x'A'x as a checksum; then the same for
 !> the absolute product |A'| v of the bound (`operator_abs_product`, v > 0;
-!> the bound makes three) with the sum of r as its checksum.
+!> the bound makes three) with the sum of r as its checksum; then the whole
+!> bound (`operator_bound`: its products and the Collatz-Wielandt steps; on
+!> 2 threads, median of 5 runs) with its value.
 !>
 !> A second argument sets the product's block size (`operator_set_blocks`;
 !> default `product_block_bodies`); the springs that cross blocks are counted.
@@ -22,7 +24,7 @@ program bench_product
   use demstep_scene_data, only: scene_type
   use demstep_packing, only: random_periodic_packing, tile_scene
   use demstep_assembly, only: assembly_operator, assembly_operator_type, assembly_operator_apply, &
-    operator_abs_product, operator_set_blocks, product_block_bodies
+    operator_abs_product, operator_set_blocks, product_block_bodies, operator_bound
   use demstep_sort, only: sort_ascending
   use demstep_text, only: int_text
   !$ use omp_lib, only: omp_set_num_threads
@@ -32,7 +34,7 @@ program bench_product
   type(assembly_operator_type) :: op
   type(demstep_status_type) :: status
   real(dp), allocatable :: x(:), y(:, :), v(:)
-  real(dp) :: t0, t_build, t(runs), tc(runs), rate, ms(2), cpu_ms(2), c0, c1
+  real(dp) :: t0, t_build, t(runs), tc(runs), rate, ms(2), cpu_ms(2), c0, c1, bound
   integer :: k, j, r, threads, ios, block_bodies
   character(len=32) :: arg
 
@@ -72,6 +74,18 @@ program bench_product
   write(output_unit, '(4(a, f0.2), a, l1)') "abs product ms (1, 2 threads): ", ms(1), " ", ms(2), &
     "; CPU ms: ", cpu_ms(1), " ", cpu_ms(2), "; same bits: ", all(y(:, 1) == y(:, 2))
   write(output_unit, '(a, es24.16)') "abs checksum ", sum(y(:, 1))
+  do r = 1, runs
+    t0 = progress_seconds()
+    call cpu_time(c0)
+    bound = operator_bound(op)
+    call cpu_time(c1)
+    t(r) = progress_seconds() - t0
+    tc(r) = c1 - c0
+  end do
+  call sort_ascending(t)
+  call sort_ascending(tc)
+  write(output_unit, '(2(a, f0.2), a, es24.16)') "bound ms (2 threads): ", 1.0e3_dp*t((runs + 1)/2), &
+    "; CPU ms: ", 1.0e3_dp*tc((runs + 1)/2), "; bound ", bound
 contains
   !> ms and cpu_ms for 1 and 2 threads (medians of the runs) of the product
   !> into y (absolute: |A'| v, else A' x).

@@ -49,7 +49,8 @@ module demstep_assembly
   use demstep_spring, only: damped_limit
   use demstep_interaction, only: contact_law, contact_block, contact_end_blocks, contact_product, &
     contact_products, contact_products_listed, contact_products_add, mixed_stiffness, dashpot_coefficient, &
-    wall_overlap, reduced_radius, dof_components, contact_arm
+    wall_overlap, reduced_radius, dof_components, contact_arm, &
+    contact_abs_rows
   use demstep_scene_data, only: scene_type, scene_effect, effective_mass, contact_values, wall_values, &
     contact_dashpots, check_scene_damping
   use demstep_neighbours, only: contact_list
@@ -72,7 +73,7 @@ module demstep_assembly
     assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_damped, &
     damped_lower_bound, dashpot_names, damped_newton, assembly_dashpot_bound, operator_from_springs, &
     operator_critical_steps, operator_mix, assembly_set_springs, linearise, operator_abs_product, &
-    dof_masses, collatz_bound, abs_product_operator, operator_set_blocks, operator_spring_energies, &
+    dof_masses, collatz_bound, abs_product_operator, operator_bound, operator_set_blocks, operator_spring_energies, &
     operator_products
 
   !> Hertz linearisation at the current overlap, at an impact's largest
@@ -1376,18 +1377,39 @@ contains
   !> as it is mixed (alpha A' + beta B'), without its pre-stress (|A'| the assembled
   !> matrix's absolute values: each body's diagonal block summed over its springs
   !> before they are taken, so the contacts of one body cancel there). Per body,
-  !> in parallel, from the closed form of the kernel's block (`contact_end_blocks`;
-  !> the columns of the body's end of each spring are its rows, by symmetry):
-  !> O(springs), no storage.
+  !> in parallel, from the closed form of the kernel's blocks (the columns of
+  !> the body's end of each spring are its rows, by symmetry): with 6
+  !> components `contact_abs_rows` (the distinct entries of the blocks, in
+  !> the kernel loop), else `contact_end_blocks`. O(springs), no storage.
   subroutine operator_abs_product(op, v, r)
     type(assembly_operator_type), intent(in) :: op
     !> size n, >= 0.
     real(dp), intent(in) :: v(:)
     real(dp), intent(out) :: r(:)
-    real(dp) :: d(6, 6), off(6), own(6, 6), other(6, 6), row, k(4), geo
-    integer :: i, s, en, o, j, c, q, nc
+    ! (bodies per call of the 6-component kernel loop)
+    integer, parameter :: chunk = 64
+    real(dp) :: d(6, 6), off(6), own(6, 6), other(6, 6), row, k(4), geo, rows(6, chunk)
+    integer :: i, i0, i1, s, en, o, j, c, q, nc
     integer(i8) :: p
     nc = op%nc
+    if (nc == 6) then
+      !$omp parallel do private(i, i0, i1, c, rows) schedule(static) if(op%n_springs >= parallel_springs)
+      do i0 = 1, op%n_bodies, chunk
+        i1 = min(op%n_bodies, i0 + chunk - 1)
+        call contact_abs_rows(i0, i1, op%first, op%incident, op%ends, op%normal, op%coef, op%dcoef, &
+          op%alpha, op%beta, op%rinv, op%w, v, rows)
+        do i = i0, i1
+          do c = 1, 6
+            ! raised by its rounding: a sum of nc (springs + 1) positive terms,
+            ! each product rounded a few times
+            r(6*(i - 1) + c) = rows(c, i - i0 + 1)*op%w(c, i)*(1.0_dp + real(6*(op%first(i + 1) &
+              - op%first(i) + 1) + 4, dp)*epsilon(1.0_dp))
+          end do
+        end do
+      end do
+      !$omp end parallel do
+      return
+    end if
     !$omp parallel do private(i, s, en, o, j, c, q, p, d, off, own, other, row, k, geo) &
     !$omp schedule(static) if(op%n_springs >= parallel_springs)
     do i = 1, op%n_bodies
@@ -1401,17 +1423,6 @@ contains
         call contact_end_blocks(op%normal(:, s), k, op%coef(3, s), op%coef(4, s), &
           op%rinv(op%ends(1, s)), op%rinv(op%ends(2, s)), 0.0_dp, en == 1, own, other)
         j = op%ends(o, s)
-        if (nc == 6) then
-          ! (all six components: the same sums without the indirection)
-          d = d + own
-          if (j == 0) cycle
-          do c = 1, 6
-            do q = 1, 6
-              off(c) = off(c) + abs(other(q, c))*op%w(q, j)*v(6*(j - 1) + q)
-            end do
-          end do
-          cycle
-        end if
         do c = 1, nc
           d(:, c) = d(:, c) + own(:, op%comp(c))
         end do
@@ -1427,8 +1438,7 @@ contains
         do q = 1, nc
           row = row + abs(d(op%comp(q), c))*op%w(op%comp(q), i)*v((i - 1)*nc + q)
         end do
-        ! raised by its rounding: a sum of nc (springs + 1) positive terms,
-        ! each product rounded a few times
+        ! (as above)
         r((i - 1)*nc + c) = row*op%w(op%comp(c), i)*(1.0_dp + real(nc*(op%first(i + 1) - op%first(i) &
           + 1) + 4, dp)*epsilon(1.0_dp))
       end do
