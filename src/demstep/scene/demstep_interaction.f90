@@ -27,7 +27,7 @@ module demstep_interaction
   public :: reduced_radius, reduced_mass, normal_force, normal_stiffness, tangential_stiffness, &
     normal_energy, dashpot_coefficient, wall_overlap, contact_block, contact_end_blocks, contact_product, &
     contact_product_arms, contact_products, contact_products_listed, contact_products_add, mixed_stiffness, &
-    contact_abs_rows, &
+    contact_abs_springs, &
     contact_forces, rolling_moments, contact_arm, hooke_size_factor, &
     add_bond_forces, dof_components, hertz_e_star, mindlin_g_star, cross
 
@@ -443,108 +443,105 @@ contains
     other(4:6, 4:6) = (k(2)*a*b)*p - (ra*rb)*r
   end subroutine contact_end_blocks
 
-  !> The rows of the bound's absolute product (`operator_abs_product`) at the
-  !> free bodies lo..hi of a 6-DOF operator, before their own scaling:
-  !> row(c, i) = sum over the body's spring ends whose other end j is a body
-  !> of sum_q |O(q, c)| w(q, j) v(q, j), then + sum_q |D(q, c)| w(q, i) v(q, i),
-  !> each summed in that order (the ends as entries first(i)..first(i+1)-1 of
-  !> `incident`, each 2(s-1)+e for end e of spring s; q = 1..6). O and the
-  !> end's own block are `contact_end_blocks`' (no pre-stress; stiffness
-  !> `mixed_stiffness`) and D the sum of the own blocks (the ground's ends
-  !> too) before it is taken. Formed entry by entry with the same roundings
-  !> (each symmetric pair once: n_x n_y = n_y n_x, and a sign flip is
-  !> exact), so the rows are those of the blocks' sums to the last bit
-  !> (tested); only the blocks' distinct entries are formed, the arithmetic
-  !> is compiled into the loop.
-  pure subroutine contact_abs_rows(lo, hi, first, incident, ends, normal, coef, dcoef, alpha, beta, rinv, &
-      w, v, row)
-    integer, intent(in) :: lo, hi
-    integer(i8), intent(in) :: first(*)
-    integer, intent(in) :: incident(*), ends(2, *)
+  !> The sums of the bound's absolute product (`operator_abs_product`) of a
+  !> 6-DOF operator at its free bodies lo..hi, spring by spring (springs
+  !> 1..n_springs in order, each end at a body in lo..hi): acc(c, i) += sum_q
+  !> |O(q, c)| w(q, j) v(q, j) for the end at body i whose other end j is a
+  !> body, and with `diag`, dsum(:, i) += the end's own block (18 distinct
+  !> entries, `contact_abs_diag`), the ground's ends too; then
+  !> acc(c, i) += sum_q |D(q, c)| w(q, i) v(q, i), D the sum in dsum. O and the own block
+  !> are `contact_end_blocks`' (no pre-stress; stiffness `mixed_stiffness`),
+  !> formed entry by entry with the same roundings (each symmetric pair once:
+  !> n_x n_y = n_y n_x, and a sign flip is exact), each spring's common parts
+  !> once for both ends. A body's sums thus come in spring order, the order of
+  !> its entries in the operator's `incident`, q = 1..6 within an end: the
+  !> blocks' sums to the last bit (tested). The springs' data is read in order
+  !> (the arithmetic compiled into the loop).
+  pure subroutine contact_abs_springs(lo, hi, n_springs, ends, normal, coef, dcoef, alpha, beta, rinv, &
+      w, v, diag, acc, dsum)
+    integer, intent(in) :: lo, hi, n_springs
+    integer, intent(in) :: ends(2, *)
     real(dp), intent(in) :: normal(3, *), coef(7, *), dcoef(4, *), alpha, beta, rinv(0:*), w(6, *), v(6, *)
-    real(dp), intent(out) :: row(6, lo:hi)
-    real(dp) :: o(6, 6), acc(6), dq(6), dt(6), dr(6), k(4), geo, n(3), nn(6), p(3), q(6), r(6), &
-      a, b, ra, rb, t, ta, tb, kab, rab, kaa, raa
-    integer :: i, s, en, j, c, m
-    integer(i8) :: e
-    do i = lo, hi
-      acc = 0.0_dp
-      dq = 0.0_dp
-      dt = 0.0_dp
-      dr = 0.0_dp
-      do e = first(i), first(i + 1) - 1
-        s = (incident(e) + 1)/2
-        en = incident(e) - 2*(s - 1)
+    logical, intent(in) :: diag
+    real(dp), intent(inout) :: acc(6, lo:hi), dsum(18, lo:hi)
+    real(dp) :: o(6, 6), k(4), geo, n(3), nn(6), p(3), q(6), r(6), a, b, ra, rb, t, ta, tb, kab, rab, &
+      kaa, raa, term
+    integer :: s, en, i, j, c, m
+    ! (the zeros of O: N's diagonal)
+    o(1, 4) = 0.0_dp
+    o(2, 5) = 0.0_dp
+    o(3, 6) = 0.0_dp
+    o(4, 1) = 0.0_dp
+    o(5, 2) = 0.0_dp
+    o(6, 3) = 0.0_dp
+    do s = 1, n_springs
+      if ((ends(1, s) < lo .or. ends(1, s) > hi) .and. (ends(2, s) < lo .or. ends(2, s) > hi)) cycle
+      call mix_kernel(coef(:, s), dcoef, s, alpha, beta, k, geo)
+      n = normal(:, s)
+      ! n n^T, P, Q, R (entries 11, 22, 33, 12, 13, 23; P's off the diagonal
+      ! are -n n^T's)
+      nn(1) = n(1)*n(1)
+      nn(2) = n(2)*n(2)
+      nn(3) = n(3)*n(3)
+      nn(4) = n(1)*n(2)
+      nn(5) = n(1)*n(3)
+      nn(6) = n(2)*n(3)
+      p = -nn(1:3) + 1.0_dp
+      q(1:3) = k(1)*nn(1:3) + k(2)*p
+      q(4:6) = k(1)*nn(4:6) + k(2)*(-nn(4:6))
+      r(1:3) = k(3)*p + k(4)*nn(1:3)
+      r(4:6) = k(3)*(-nn(4:6)) + k(4)*nn(4:6)
+      o(1, 1) = abs(q(1))
+      o(2, 2) = abs(q(2))
+      o(3, 3) = abs(q(3))
+      o(1, 2) = abs(q(4))
+      o(2, 1) = o(1, 2)
+      o(1, 3) = abs(q(5))
+      o(3, 1) = o(1, 3)
+      o(2, 3) = abs(q(6))
+      o(3, 2) = o(2, 3)
+      do en = 1, 2
+        i = ends(en, s)
+        if (i < lo .or. i > hi) cycle
         j = ends(3 - en, s)
-        call mix_kernel(coef(:, s), dcoef, s, alpha, beta, k, geo)
-        n = normal(:, s)
+        ! a, b, r_a, r_b of the end, t = sign k_t a
+        a = coef(2 + en, s)
+        b = coef(5 - en, s)
+        ra = rinv(i)
+        rb = rinv(j)
         if (en == 1) then
-          a = coef(3, s)
-          b = coef(4, s)
-          ra = rinv(ends(1, s))
-          rb = rinv(ends(2, s))
           t = k(2)*a
         else
-          a = coef(4, s)
-          b = coef(3, s)
-          ra = rinv(ends(2, s))
-          rb = rinv(ends(1, s))
           t = (-k(2))*a
         end if
-        ! n n^T, P and Q, R (entries 11, 22, 33, 12, 13, 23; P's off the
-        ! diagonal are -n n^T's)
-        nn(1) = n(1)*n(1)
-        nn(2) = n(2)*n(2)
-        nn(3) = n(3)*n(3)
-        nn(4) = n(1)*n(2)
-        nn(5) = n(1)*n(3)
-        nn(6) = n(2)*n(3)
-        p = -nn(1:3) + 1.0_dp
-        q(1:3) = k(1)*nn(1:3) + k(2)*p
-        q(4:6) = k(1)*nn(4:6) + k(2)*(-nn(4:6))
-        r(1:3) = k(3)*p + k(4)*nn(1:3)
-        r(4:6) = k(3)*(-nn(4:6)) + k(4)*nn(4:6)
-        ! D += own = [Q, -t N; t N, k_t a^2 P + r_a^2 R], t = sign k_t a:
-        ! -t N's entries (1,5), (1,6), (2,4), (2,6), (3,4), (3,5) are
-        ! t n_3, -t n_2, -t n_3, t n_1, t n_2, -t n_1 (its diagonal is 0)
-        kaa = k(2)*a*a
-        raa = ra*ra
-        dq = dq + q
-        dt(1) = dt(1) + (-t)*(-n(3))
-        dt(2) = dt(2) + (-t)*n(2)
-        dt(3) = dt(3) + (-t)*n(3)
-        dt(4) = dt(4) + (-t)*(-n(1))
-        dt(5) = dt(5) + (-t)*(-n(2))
-        dt(6) = dt(6) + (-t)*n(1)
-        dr(1:3) = dr(1:3) + (kaa*p + raa*r(1:3))
-        dr(4:6) = dr(4:6) + (kaa*(-nn(4:6)) + raa*r(4:6))
+        if (diag) then
+          ! own = [Q, -t N; t N, k_t a^2 P + r_a^2 R]: -t N's entries (1,5),
+          ! (1,6), (2,4), (2,6), (3,4), (3,5) are t n_3, -t n_2, -t n_3,
+          ! t n_1, t n_2, -t n_1 (its diagonal is 0)
+          kaa = k(2)*a*a
+          raa = ra*ra
+          dsum(1:6, i) = dsum(1:6, i) + q
+          dsum(7, i) = dsum(7, i) + (-t)*(-n(3))
+          dsum(8, i) = dsum(8, i) + (-t)*n(2)
+          dsum(9, i) = dsum(9, i) + (-t)*n(3)
+          dsum(10, i) = dsum(10, i) + (-t)*(-n(1))
+          dsum(11, i) = dsum(11, i) + (-t)*(-n(2))
+          dsum(12, i) = dsum(12, i) + (-t)*n(1)
+          dsum(13:15, i) = dsum(13:15, i) + (kaa*p + raa*r(1:3))
+          dsum(16:18, i) = dsum(16:18, i) + (kaa*(-nn(4:6)) + raa*r(4:6))
+        end if
         if (j == 0) cycle
         ! |O|, O = [-Q, t N; sign k_t b N, k_t a b P - r_a r_b R]
         ta = abs(t)
         tb = abs(k(2)*b)
         kab = k(2)*a*b
         rab = ra*rb
-        o(1, 1) = abs(q(1))
-        o(2, 2) = abs(q(2))
-        o(3, 3) = abs(q(3))
-        o(1, 2) = abs(q(4))
-        o(2, 1) = o(1, 2)
-        o(1, 3) = abs(q(5))
-        o(3, 1) = o(1, 3)
-        o(2, 3) = abs(q(6))
-        o(3, 2) = o(2, 3)
-        o(1, 4) = 0.0_dp
-        o(2, 5) = 0.0_dp
-        o(3, 6) = 0.0_dp
         o(1, 5) = ta*abs(n(3))
         o(2, 4) = o(1, 5)
         o(1, 6) = ta*abs(n(2))
         o(3, 4) = o(1, 6)
         o(2, 6) = ta*abs(n(1))
         o(3, 5) = o(2, 6)
-        o(4, 1) = 0.0_dp
-        o(5, 2) = 0.0_dp
-        o(6, 3) = 0.0_dp
         o(4, 2) = tb*abs(n(3))
         o(5, 1) = o(4, 2)
         o(4, 3) = tb*abs(n(2))
@@ -561,48 +558,65 @@ contains
         o(5, 6) = abs(kab*(-nn(6)) - rab*r(6))
         o(6, 5) = o(5, 6)
         do c = 1, 6
+          term = acc(c, i)
           do m = 1, 6
-            acc(c) = acc(c) + o(m, c)*w(m, j)*v(m, j)
+            term = term + o(m, c)*w(m, j)*v(m, j)
           end do
-        end do
-      end do
-      ! |D| (symmetric: D's entries (x, y) and (y, x) are the same sums)
-      o(1, 1) = abs(dq(1))
-      o(2, 2) = abs(dq(2))
-      o(3, 3) = abs(dq(3))
-      o(1, 2) = abs(dq(4))
-      o(2, 1) = o(1, 2)
-      o(1, 3) = abs(dq(5))
-      o(3, 1) = o(1, 3)
-      o(2, 3) = abs(dq(6))
-      o(3, 2) = o(2, 3)
-      o(1, 4) = 0.0_dp
-      o(2, 5) = 0.0_dp
-      o(3, 6) = 0.0_dp
-      o(1, 5) = abs(dt(1))
-      o(1, 6) = abs(dt(2))
-      o(2, 4) = abs(dt(3))
-      o(2, 6) = abs(dt(4))
-      o(3, 4) = abs(dt(5))
-      o(3, 5) = abs(dt(6))
-      o(4:6, 1:3) = transpose(o(1:3, 4:6))
-      o(4, 4) = abs(dr(1))
-      o(5, 5) = abs(dr(2))
-      o(6, 6) = abs(dr(3))
-      o(4, 5) = abs(dr(4))
-      o(5, 4) = o(4, 5)
-      o(4, 6) = abs(dr(5))
-      o(6, 4) = o(4, 6)
-      o(5, 6) = abs(dr(6))
-      o(6, 5) = o(5, 6)
-      do c = 1, 6
-        row(c, i) = acc(c)
-        do m = 1, 6
-          row(c, i) = row(c, i) + o(m, c)*w(m, i)*v(m, i)
+          acc(c, i) = term
         end do
       end do
     end do
-  end subroutine contact_abs_rows
+    ! then each body's own: acc(c, i) += sum_q |D(q, c)| w(q, i) v(q, i)
+    do i = lo, hi
+      o = contact_abs_diag(dsum(:, i))
+      do c = 1, 6
+        term = acc(c, i)
+        do m = 1, 6
+          term = term + o(m, c)*w(m, i)*v(m, i)
+        end do
+        acc(c, i) = term
+      end do
+    end do
+  end subroutine contact_abs_springs
+
+  !> The magnitudes |D| of a body's diagonal block from the 18 distinct
+  !> entries dsum of `contact_abs_springs`: Q's 11, 22, 33, 12, 13, 23; the
+  !> upper right part's (1,5), (1,6), (2,4), (2,6), (3,4), (3,5) (its
+  !> diagonal and the lower left's are 0); the lower right's 44, 55, 66, 45,
+  !> 46, 56. D is symmetric to the last bit: its entries (x, y) and (y, x)
+  !> are the same sums of the same terms.
+  pure function contact_abs_diag(dsum) result(d)
+    real(dp), intent(in) :: dsum(18)
+    real(dp) :: d(6, 6)
+    d(1, 1) = abs(dsum(1))
+    d(2, 2) = abs(dsum(2))
+    d(3, 3) = abs(dsum(3))
+    d(1, 2) = abs(dsum(4))
+    d(1, 3) = abs(dsum(5))
+    d(2, 3) = abs(dsum(6))
+    d(1, 4) = 0.0_dp
+    d(1, 5) = abs(dsum(7))
+    d(1, 6) = abs(dsum(8))
+    d(2, 4) = abs(dsum(9))
+    d(2, 5) = 0.0_dp
+    d(2, 6) = abs(dsum(10))
+    d(3, 4) = abs(dsum(11))
+    d(3, 5) = abs(dsum(12))
+    d(3, 6) = 0.0_dp
+    d(4, 4) = abs(dsum(13))
+    d(5, 5) = abs(dsum(14))
+    d(6, 6) = abs(dsum(15))
+    d(4, 5) = abs(dsum(16))
+    d(4, 6) = abs(dsum(17))
+    d(5, 6) = abs(dsum(18))
+    d(2, 1) = d(1, 2)
+    d(3, 1) = d(1, 3)
+    d(3, 2) = d(2, 3)
+    d(4:6, 1:3) = transpose(d(1:3, 4:6))
+    d(5, 4) = d(4, 5)
+    d(6, 4) = d(4, 6)
+    d(6, 5) = d(5, 6)
+  end function contact_abs_diag
 
   !> Forces and torques of one interaction in the stepper. The shear displacement
   !> u_s (history, inout) is first turned into the plane normal to the current n
