@@ -464,16 +464,17 @@ contains
     real(dp), intent(in) :: normal(3, *), coef(7, *), dcoef(4, *), alpha, beta, rinv(0:*), w(6, *), v(6, *)
     logical, intent(in) :: diag
     real(dp), intent(inout) :: acc(6, lo:hi), dsum(18, lo:hi)
+    ! (o(c, q) = |O(q, c)|: the sums over q of all six c at once)
     real(dp) :: o(6, 6), k(4), geo, n(3), nn(6), p(3), q(6), r(6), a, b, ra, rb, t, ta, tb, kab, rab, &
-      kaa, raa, term
-    integer :: s, en, i, j, c, m
+      kaa, raa
+    integer :: s, en, i, j, m
     ! (the zeros of O: N's diagonal)
-    o(1, 4) = 0.0_dp
-    o(2, 5) = 0.0_dp
-    o(3, 6) = 0.0_dp
     o(4, 1) = 0.0_dp
     o(5, 2) = 0.0_dp
     o(6, 3) = 0.0_dp
+    o(1, 4) = 0.0_dp
+    o(2, 5) = 0.0_dp
+    o(3, 6) = 0.0_dp
     do s = 1, n_springs
       if ((ends(1, s) < lo .or. ends(1, s) > hi) .and. (ends(2, s) < lo .or. ends(2, s) > hi)) cycle
       call mix_kernel(coef(:, s), dcoef, s, alpha, beta, k, geo)
@@ -494,12 +495,12 @@ contains
       o(1, 1) = abs(q(1))
       o(2, 2) = abs(q(2))
       o(3, 3) = abs(q(3))
-      o(1, 2) = abs(q(4))
-      o(2, 1) = o(1, 2)
-      o(1, 3) = abs(q(5))
-      o(3, 1) = o(1, 3)
-      o(2, 3) = abs(q(6))
-      o(3, 2) = o(2, 3)
+      o(2, 1) = abs(q(4))
+      o(1, 2) = o(2, 1)
+      o(3, 1) = abs(q(5))
+      o(1, 3) = o(3, 1)
+      o(3, 2) = abs(q(6))
+      o(2, 3) = o(3, 2)
       do en = 1, 2
         i = ends(en, s)
         if (i < lo .or. i > hi) cycle
@@ -536,45 +537,38 @@ contains
         tb = abs(k(2)*b)
         kab = k(2)*a*b
         rab = ra*rb
-        o(1, 5) = ta*abs(n(3))
-        o(2, 4) = o(1, 5)
-        o(1, 6) = ta*abs(n(2))
-        o(3, 4) = o(1, 6)
-        o(2, 6) = ta*abs(n(1))
-        o(3, 5) = o(2, 6)
-        o(4, 2) = tb*abs(n(3))
-        o(5, 1) = o(4, 2)
-        o(4, 3) = tb*abs(n(2))
-        o(6, 1) = o(4, 3)
-        o(5, 3) = tb*abs(n(1))
-        o(6, 2) = o(5, 3)
+        o(5, 1) = ta*abs(n(3))
+        o(4, 2) = o(5, 1)
+        o(6, 1) = ta*abs(n(2))
+        o(4, 3) = o(6, 1)
+        o(6, 2) = ta*abs(n(1))
+        o(5, 3) = o(6, 2)
+        o(2, 4) = tb*abs(n(3))
+        o(1, 5) = o(2, 4)
+        o(3, 4) = tb*abs(n(2))
+        o(1, 6) = o(3, 4)
+        o(3, 5) = tb*abs(n(1))
+        o(2, 6) = o(3, 5)
         o(4, 4) = abs(kab*p(1) - rab*r(1))
         o(5, 5) = abs(kab*p(2) - rab*r(2))
         o(6, 6) = abs(kab*p(3) - rab*r(3))
-        o(4, 5) = abs(kab*(-nn(4)) - rab*r(4))
-        o(5, 4) = o(4, 5)
-        o(4, 6) = abs(kab*(-nn(5)) - rab*r(5))
-        o(6, 4) = o(4, 6)
-        o(5, 6) = abs(kab*(-nn(6)) - rab*r(6))
-        o(6, 5) = o(5, 6)
-        do c = 1, 6
-          term = acc(c, i)
-          do m = 1, 6
-            term = term + o(m, c)*w(m, j)*v(m, j)
-          end do
-          acc(c, i) = term
+        o(5, 4) = abs(kab*(-nn(4)) - rab*r(4))
+        o(4, 5) = o(5, 4)
+        o(6, 4) = abs(kab*(-nn(5)) - rab*r(5))
+        o(4, 6) = o(6, 4)
+        o(6, 5) = abs(kab*(-nn(6)) - rab*r(6))
+        o(5, 6) = o(6, 5)
+        do m = 1, 6
+          acc(:, i) = acc(:, i) + o(:, m)*w(m, j)*v(m, j)
         end do
       end do
     end do
     ! then each body's own: acc(c, i) += sum_q |D(q, c)| w(q, i) v(q, i)
     do i = lo, hi
+      ! (|D| is symmetric)
       o = contact_abs_diag(dsum(:, i))
-      do c = 1, 6
-        term = acc(c, i)
-        do m = 1, 6
-          term = term + o(m, c)*w(m, i)*v(m, i)
-        end do
-        acc(c, i) = term
+      do m = 1, 6
+        acc(:, i) = acc(:, i) + o(:, m)*w(m, i)*v(m, i)
       end do
     end do
   end subroutine contact_abs_springs
