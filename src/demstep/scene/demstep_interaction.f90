@@ -394,7 +394,8 @@ contains
   !> other = [-Q, sign k_t a N; sign k_t b N, k_t a b P - r_a r_b R]
   !> (from the kernel with N N = -P and N P = N; equal to `contact_block`'s to
   !> rounding, tested). One evaluation instead of six kernel calls, for the
-  !> operator's absolute product (`operator_abs_product`).
+  !> operator's absolute product (`operator_abs_product`; with 6 components
+  !> its entries are formed by `contact_abs_springs`, to the same bits).
   pure subroutine contact_end_blocks(n, k, arm_i, arm_j, rot_i, rot_j, geo, first, own, other)
     real(dp), intent(in) :: n(3), k(4), arm_i, arm_j, rot_i, rot_j, geo
     logical, intent(in) :: first
@@ -449,8 +450,8 @@ contains
   !> |O(q, c)| w(q, j) v(q, j) for the end at body i whose other end j is a
   !> body, and with `diag`, dsum(:, i) += the end's own block (18 distinct
   !> entries, `contact_abs_diag`), the ground's ends too; then
-  !> acc(c, i) += sum_q |D(q, c)| w(q, i) v(q, i), D the sum in dsum. O and the own block
-  !> are `contact_end_blocks`' (no pre-stress; stiffness `mixed_stiffness`),
+  !> acc(c, i) += sum_q |D(q, c)| w(q, i) v(q, i), D the sum in dsum. O and
+  !> the own block are `contact_end_blocks`' (no pre-stress; stiffness `mixed_stiffness`),
   !> formed entry by entry with the same roundings (each symmetric pair once:
   !> n_x n_y = n_y n_x, and a sign flip is exact), each spring's common parts
   !> once for both ends. A body's sums thus come in spring order, the order of

@@ -1399,6 +1399,8 @@ contains
     !> size n, >= 0.
     real(dp), intent(in) :: v(:)
     real(dp), intent(out) :: r(:)
+    !> (18, bodies) with 6 components (else not used); `known`: summed by an
+    !> earlier product of the operator as it is now mixed.
     real(dp), intent(inout) :: dsum(:, :)
     logical, intent(in) :: known
     real(dp) :: d(6, 6), off(6), own(6, 6), other(6, 6), row, k(4), geo
@@ -1473,6 +1475,8 @@ contains
   !> rho(|A'|): on random packings dt bound/limit 0.66 with v = 1, 0.74 and 0.77
   !> after one and two steps (one |A'| product each, the cost of the first).
   !> The smallest of the quotients (`assembly_set_bound` adds the rounding).
+  !> The first product sums the diagonal blocks for the others (18 reals a
+  !> body while it runs).
   function operator_bound(op) result(bound)
     type(assembly_operator_type), intent(in), target :: op
     real(dp) :: bound
