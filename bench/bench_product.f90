@@ -7,8 +7,11 @@
 !> build time, the product's wall milliseconds and nanoseconds per spring,
 !> its CPU milliseconds (all threads; on a shared machine the 1-thread CPU
 !> time is the steadier figure) and x'A'x as a checksum; then the same for
-!> the absolute product |A'| v of the bound (`operator_abs_product`, v > 0;
-!> the bound makes three) with the sum of r as its checksum.
+!> the absolute product |A'| v of the bound (`operator_abs_product`, v > 0,
+!> its diagonal blocks known; the bound makes three, the first summing the
+!> blocks) with the sum of r as its checksum; then the whole
+!> bound (`operator_bound`: its products and the Collatz-Wielandt steps; on
+!> 2 threads, median of 5 runs) with its value.
 !>
 !> A second argument sets the product's block size (`operator_set_blocks`;
 !> default `product_block_bodies`); the springs that cross blocks are counted.
@@ -23,7 +26,7 @@ program bench_product
   use demstep_scene_data, only: scene_type
   use demstep_packing, only: random_periodic_packing, tile_scene
   use demstep_assembly, only: assembly_operator, assembly_operator_type, assembly_operator_apply, &
-    operator_abs_product, operator_set_blocks, product_block_bodies
+    operator_abs_product, operator_set_blocks, product_block_bodies, operator_bound
   use demstep_sort, only: sort_ascending
   use demstep_text, only: int_text
   !$ use omp_lib, only: omp_set_num_threads
@@ -32,8 +35,8 @@ program bench_product
   type(scene_type) :: packing, scene
   type(assembly_operator_type) :: op
   type(demstep_status_type) :: status
-  real(dp), allocatable :: x(:), y(:, :), v(:)
-  real(dp) :: t0, t_build, t(runs), tc(runs), rate, ms(2), cpu_ms(2), c0, c1
+  real(dp), allocatable :: x(:), y(:, :), v(:), dsum(:, :)
+  real(dp) :: t0, t_build, t(runs), tc(runs), rate, ms(2), cpu_ms(2), c0, c1, bound
   integer :: k, j, r, threads, ios, block_bodies, with_abs
   character(len=32) :: arg
 
@@ -73,10 +76,24 @@ program bench_product
   if (with_abs /= 0) then
     ! the bound's absolute product on a positive vector
     v = 1.0_dp + abs(x)
+    allocate(dsum(18, op%n_bodies))
+    call operator_abs_product(op, v, y(:, 1), dsum, .false.)
     call time_products(.true.)
     write(output_unit, '(4(a, f0.2), a, l1)') "abs product ms (1, 2 threads): ", ms(1), " ", ms(2), &
       "; CPU ms: ", cpu_ms(1), " ", cpu_ms(2), "; same bits: ", all(y(:, 1) == y(:, 2))
     write(output_unit, '(a, es24.16)') "abs checksum ", sum(y(:, 1))
+    do r = 1, runs
+      t0 = progress_seconds()
+      call cpu_time(c0)
+      bound = operator_bound(op)
+      call cpu_time(c1)
+      t(r) = progress_seconds() - t0
+      tc(r) = c1 - c0
+    end do
+    call sort_ascending(t)
+    call sort_ascending(tc)
+    write(output_unit, '(2(a, f0.2), a, es24.16)') "bound ms (2 threads): ", 1.0e3_dp*t((runs + 1)/2), &
+      "; CPU ms: ", 1.0e3_dp*tc((runs + 1)/2), "; bound ", bound
   end if
 contains
   !> ms and cpu_ms for 1 and 2 threads (medians of the runs) of the product
@@ -90,7 +107,7 @@ contains
         call cpu_time(c0)
         do j = 1, products
           if (absolute) then
-            call operator_abs_product(op, v, y(:, threads))
+            call operator_abs_product(op, v, y(:, threads), dsum, .true.)
           else
             call assembly_operator_apply(op, x, y(:, threads))
           end if

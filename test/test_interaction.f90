@@ -9,6 +9,8 @@ module test_interaction
   use demstep_assembly, only: assembly_matrix, eigen_solver_name, assembly_operator_apply, &
     assembly_operator, assembly_operator_type, assembly_matrix_rows, operator_set_blocks, operator_spring_energies, &
     product_block_bodies
+  use demstep_assembly, only: operator_abs_product, operator_bound, operator_mix, bound_iterations
+  use demstep_interaction, only: mixed_stiffness
   use demstep_kinds, only: pi
   use demstep_interaction, only: contact_block, contact_end_blocks, contact_forces, normal_force, normal_stiffness, &
     tangential_stiffness, reduced_radius, contact_product, contact_products, contact_products_listed, &
@@ -37,6 +39,8 @@ contains
       new_unittest("the bound is never below the exact value with rotations", test_bound_rotations), &
       new_unittest("the bound is never below the exact value with rolling and twisting springs", &
         test_bound_rolling), &
+      new_unittest("the bound's |A'| v = its blocks' sums bit for bit; the bound >= the dense top", &
+        test_abs_product), &
       new_unittest("pre-stress: -(F_n/l)(I - n n^T) on a loaded ring", test_prestress), &
       new_unittest("periodic cell and contact list refusals", test_refusals), &
       new_unittest("materials per type: linear k_n, k_t per pair; Hertz E, nu", test_materials), &
@@ -496,6 +500,134 @@ contains
     call check(error, solved == 12 .and. raised == count([(mod(trial - 1, 4) > 0 .and. mod(trial - 1, 3) > 0, &
       trial = 1, 12)]), int_text(raised)//" trials with rolling and twisting changed the top")
   end subroutine test_bound_rolling
+
+  !> The bound's absolute product (`operator_abs_product`) and the bound
+  !> itself (`operator_bound`) against their definition computed here, body by
+  !> body: each body's own blocks (`contact_end_blocks`) summed in its
+  !> `incident` order before they are taken, the other ends' blocks' absolute
+  !> values times w v summed spring by spring (q inner), the row scaled and
+  !> raised by its rounding allowance; the bound the smallest max r/v of v = 1
+  !> and `bound_iterations` steps v <- max(r/max r, 1e-3). On 8 random
+  !> periodic packings: 3D (6 components) with fixed particles (springs to the
+  !> ground), rolling and twisting springs, the operator mixed (alpha = 0.7),
+  !> and 2D (3 components). Exact: the same roundings in the same order, so
+  !> the same bits (the products on 1 and 2 threads alike, the blocks of the
+  !> first product kept for the second). And the bound (v = 1 alone too: the
+  !> Gershgorin row sums) is never below the top eigenvalue of the assembled
+  !> matrix (dense LAPACK, accurate to a few ulps of its norm: 1e-13).
+  subroutine test_abs_product(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_type) :: scene
+    type(assembly_operator_type) :: op
+    type(csr_matrix_type) :: matrix
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: v(:), u(:), r(:), ref(:), dsum(:, :), a(:, :), z(:)
+    real(dp) :: rate, bound, ref_bound, lam, gershgorin
+    integer :: trial, dim, step, threads
+    call random_seed_fixed(29)
+    do trial = 1, 8
+      dim = 3
+      if (trial == 8) dim = 2
+      call random_packing(scene, 24 + 2*trial, dim, 0.3_dp, 0.4_dp + 0.2_dp*trial)
+      if (mod(trial, 3) == 1) scene%fixed(1:3) = .true.
+      if (mod(trial, 2) == 0 .and. dim == 3) then
+        call scene_set_rolling(scene, 0.3_dp*trial, 0.2_dp*trial, status)
+        call check(error, status%stat, demstep_stat%ok, "rolling")
+        if (allocated(error)) return
+      end if
+      call assembly_operator(scene, op, rate, status)
+      call check(error, status%stat, demstep_stat%ok, "trial "//int_text(trial)//": "//status%message)
+      if (allocated(error)) return
+      call check(error, op%nc == 3*(dim - 1), "trial "//int_text(trial)//": rotations")
+      if (allocated(error)) return
+      allocate(v(op%n), u(op%n), r(op%n), ref(op%n), dsum(18, op%n_bodies), z(op%n))
+      ! the bound of A' against the dense top of its matrix
+      call assembly_matrix(op, matrix)
+      call csr_to_dense(matrix, a)
+      call largest_eigenpair(a, lam, z, status)
+      call check(error, status%stat, demstep_stat%ok, "LAPACK")
+      if (allocated(error)) return
+      v = 1.0_dp
+      call abs_product_reference(op, v, ref)
+      gershgorin = maxval(ref)
+      bound = operator_bound(op)
+      call check(error, bound >= lam*(1.0_dp - 1.0e-13_dp) .and. gershgorin >= bound, "trial " &
+        //int_text(trial)//": bound "//real_str(bound)//", Gershgorin "//real_str(gershgorin) &
+        //", dense top "//real_str(lam))
+      if (allocated(error)) return
+      if (trial == 5) call operator_mix(op, 0.7_dp, 0.0_dp)
+      ! the products: the first sums the diagonal blocks, the second reuses them
+      call random_number(v)
+      v = 0.01_dp + v
+      call random_number(u)
+      do threads = 1, 2
+        !$ call omp_set_num_threads(threads)
+        call operator_abs_product(op, v, r, dsum, .false.)
+        call abs_product_reference(op, v, ref)
+        call check(error, all(r == ref), "trial "//int_text(trial)//", "//int_text(threads) &
+          //" threads: the product differs by "//real_str(maxval(abs(r - ref)/ref)))
+        if (allocated(error)) return
+        call operator_abs_product(op, u, r, dsum, .true.)
+        call abs_product_reference(op, u, ref)
+        call check(error, all(r == ref), "trial "//int_text(trial)//": the second product (blocks kept)")
+        if (allocated(error)) return
+      end do
+      !$ call omp_set_num_threads(omp_get_max_threads())
+      ! the bound: Collatz-Wielandt steps on the reference product
+      ref_bound = huge(1.0_dp)
+      v = 1.0_dp
+      do step = 0, bound_iterations
+        call abs_product_reference(op, v, ref)
+        ref_bound = min(ref_bound, maxval(ref/v))
+        v = max(ref/maxval(ref), 1.0e-3_dp)
+      end do
+      call check(error, operator_bound(op) == ref_bound, "trial "//int_text(trial)//": bound " &
+        //real_str(operator_bound(op))//" reference "//real_str(ref_bound))
+      if (allocated(error)) return
+      deallocate(v, u, r, ref, dsum, z)
+    end do
+  end subroutine test_abs_product
+
+  !> The bound's absolute product r = |A'| v by its definition (the body-wise
+  !> sums of `test_abs_product`).
+  subroutine abs_product_reference(op, v, r)
+    type(assembly_operator_type), intent(in) :: op
+    real(dp), intent(in) :: v(:)
+    real(dp), intent(out) :: r(:)
+    real(dp) :: d(6, 6), off(6), own(6, 6), other(6, 6), row, k(4), geo
+    integer :: i, s, en, j, c, q, nc
+    integer(i8) :: p
+    nc = op%nc
+    do i = 1, op%n_bodies
+      d = 0.0_dp
+      off = 0.0_dp
+      do p = op%first(i), op%first(i + 1) - 1
+        s = (op%incident(p) + 1)/2
+        en = op%incident(p) - 2*(s - 1)
+        call mixed_stiffness(op%coef(:, s), op%dcoef, s, op%alpha, op%beta, k, geo)
+        call contact_end_blocks(op%normal(:, s), k, op%coef(3, s), op%coef(4, s), &
+          op%rinv(op%ends(1, s)), op%rinv(op%ends(2, s)), 0.0_dp, en == 1, own, other)
+        do c = 1, nc
+          d(:, c) = d(:, c) + own(:, op%comp(c))
+        end do
+        j = op%ends(3 - en, s)
+        if (j == 0) cycle
+        do c = 1, nc
+          do q = 1, nc
+            off(c) = off(c) + abs(other(op%comp(q), op%comp(c)))*op%w(op%comp(q), j)*v((j - 1)*nc + q)
+          end do
+        end do
+      end do
+      do c = 1, nc
+        row = off(c)
+        do q = 1, nc
+          row = row + abs(d(op%comp(q), c))*op%w(op%comp(q), i)*v((i - 1)*nc + q)
+        end do
+        r((i - 1)*nc + c) = row*op%w(op%comp(c), i)*(1.0_dp + real(nc*(op%first(i + 1) - op%first(i) + 1) &
+          + 4, dp)*epsilon(1.0_dp))
+      end do
+    end do
+  end subroutine abs_product_reference
 
   subroutine test_prestress(error)
     type(error_type), allocatable, intent(out) :: error

@@ -19,7 +19,7 @@
 !> P = I - n n^T, N = [n]x; the last term is the pre-stress (geometric)
 !> stiffness of a loaded normal spring of length l whose direction turns.
 module demstep_interaction
-  use demstep_kinds, only: dp
+  use demstep_kinds, only: dp, i8
   use demstep_words, only: word_index, word_of
   implicit none
   private
@@ -27,6 +27,7 @@ module demstep_interaction
   public :: reduced_radius, reduced_mass, normal_force, normal_stiffness, tangential_stiffness, &
     normal_energy, dashpot_coefficient, wall_overlap, contact_block, contact_end_blocks, contact_product, &
     contact_product_arms, contact_products, contact_products_listed, contact_products_add, mixed_stiffness, &
+    contact_abs_springs, &
     contact_forces, rolling_moments, contact_arm, hooke_size_factor, &
     add_bond_forces, dof_components, hertz_e_star, mindlin_g_star, cross
 
@@ -444,7 +445,8 @@ contains
   !> other = [-Q, sign k_t a N; sign k_t b N, k_t a b P - r_a r_b R]
   !> (from the kernel with N N = -P and N P = N; equal to `contact_block`'s to
   !> rounding, tested). One evaluation instead of six kernel calls, for the
-  !> operator's absolute product (`operator_abs_product`).
+  !> operator's absolute product (`operator_abs_product`; with 6 components
+  !> its entries are formed by `contact_abs_springs`, to the same bits).
   pure subroutine contact_end_blocks(n, k, arm_i, arm_j, rot_i, rot_j, geo, first, own, other)
     real(dp), intent(in) :: n(3), k(4), arm_i, arm_j, rot_i, rot_j, geo
     logical, intent(in) :: first
@@ -492,6 +494,175 @@ contains
     other(4:6, 1:3) = (sgn*k(2)*b)*cn
     other(4:6, 4:6) = (k(2)*a*b)*p - (ra*rb)*r
   end subroutine contact_end_blocks
+
+  !> The sums of the bound's absolute product (`operator_abs_product`) of a
+  !> 6-DOF operator at its free bodies lo..hi, spring by spring (springs
+  !> 1..n_springs in order, each end at a body in lo..hi): acc(c, i) += sum_q
+  !> |O(q, c)| w(q, j) v(q, j) for the end at body i whose other end j is a
+  !> body, and with `diag`, dsum(:, i) += the end's own block (18 distinct
+  !> entries, `contact_abs_diag`), the ground's ends too; then
+  !> acc(c, i) += sum_q |D(q, c)| w(q, i) v(q, i), D the sum in dsum. O and
+  !> the own block are `contact_end_blocks`' (no pre-stress; stiffness `mixed_stiffness`),
+  !> formed entry by entry with the same roundings (each symmetric pair once:
+  !> n_x n_y = n_y n_x, and a sign flip is exact), each spring's common parts
+  !> once for both ends. A body's sums thus come in spring order, the order of
+  !> its entries in the operator's `incident`, q = 1..6 within an end: the
+  !> blocks' sums to the last bit (tested). The springs' data is read in order
+  !> (the arithmetic compiled into the loop).
+  pure subroutine contact_abs_springs(lo, hi, n_springs, ends, normal, coef, dcoef, alpha, beta, rinv, &
+      w, v, diag, acc, dsum)
+    integer, intent(in) :: lo, hi, n_springs
+    integer, intent(in) :: ends(2, *)
+    real(dp), intent(in) :: normal(3, *), coef(7, *), dcoef(4, *), alpha, beta, rinv(0:*), w(6, *), v(6, *)
+    logical, intent(in) :: diag
+    real(dp), intent(inout) :: acc(6, lo:hi), dsum(18, lo:hi)
+    ! (o(c, q) = |O(q, c)|: the sums over q of all six c at once)
+    real(dp) :: o(6, 6), k(4), geo, n(3), nn(6), p(3), q(6), r(6), a, b, ra, rb, t, ta, tb, kab, rab, &
+      kaa, raa
+    integer :: s, en, i, j, m
+    ! (the zeros of O: N's diagonal)
+    o(4, 1) = 0.0_dp
+    o(5, 2) = 0.0_dp
+    o(6, 3) = 0.0_dp
+    o(1, 4) = 0.0_dp
+    o(2, 5) = 0.0_dp
+    o(3, 6) = 0.0_dp
+    do s = 1, n_springs
+      if ((ends(1, s) < lo .or. ends(1, s) > hi) .and. (ends(2, s) < lo .or. ends(2, s) > hi)) cycle
+      call mix_kernel(coef(:, s), dcoef, s, alpha, beta, k, geo)
+      n = normal(:, s)
+      ! n n^T, P, Q, R (entries 11, 22, 33, 12, 13, 23; P's off the diagonal
+      ! are -n n^T's)
+      nn(1) = n(1)*n(1)
+      nn(2) = n(2)*n(2)
+      nn(3) = n(3)*n(3)
+      nn(4) = n(1)*n(2)
+      nn(5) = n(1)*n(3)
+      nn(6) = n(2)*n(3)
+      p = -nn(1:3) + 1.0_dp
+      q(1:3) = k(1)*nn(1:3) + k(2)*p
+      q(4:6) = k(1)*nn(4:6) + k(2)*(-nn(4:6))
+      r(1:3) = k(3)*p + k(4)*nn(1:3)
+      r(4:6) = k(3)*(-nn(4:6)) + k(4)*nn(4:6)
+      o(1, 1) = abs(q(1))
+      o(2, 2) = abs(q(2))
+      o(3, 3) = abs(q(3))
+      o(2, 1) = abs(q(4))
+      o(1, 2) = o(2, 1)
+      o(3, 1) = abs(q(5))
+      o(1, 3) = o(3, 1)
+      o(3, 2) = abs(q(6))
+      o(2, 3) = o(3, 2)
+      do en = 1, 2
+        i = ends(en, s)
+        if (i < lo .or. i > hi) cycle
+        j = ends(3 - en, s)
+        ! a, b, r_a, r_b of the end, t = sign k_t a
+        a = coef(2 + en, s)
+        b = coef(5 - en, s)
+        ra = rinv(i)
+        rb = rinv(j)
+        if (en == 1) then
+          t = k(2)*a
+        else
+          t = (-k(2))*a
+        end if
+        if (diag) then
+          ! own = [Q, -t N; t N, k_t a^2 P + r_a^2 R]: -t N's entries (1,5),
+          ! (1,6), (2,4), (2,6), (3,4), (3,5) are t n_3, -t n_2, -t n_3,
+          ! t n_1, t n_2, -t n_1 (its diagonal is 0)
+          kaa = k(2)*a*a
+          raa = ra*ra
+          dsum(1:6, i) = dsum(1:6, i) + q
+          dsum(7, i) = dsum(7, i) + (-t)*(-n(3))
+          dsum(8, i) = dsum(8, i) + (-t)*n(2)
+          dsum(9, i) = dsum(9, i) + (-t)*n(3)
+          dsum(10, i) = dsum(10, i) + (-t)*(-n(1))
+          dsum(11, i) = dsum(11, i) + (-t)*(-n(2))
+          dsum(12, i) = dsum(12, i) + (-t)*n(1)
+          dsum(13:15, i) = dsum(13:15, i) + (kaa*p + raa*r(1:3))
+          dsum(16:18, i) = dsum(16:18, i) + (kaa*(-nn(4:6)) + raa*r(4:6))
+        end if
+        if (j == 0) cycle
+        ! |O|, O = [-Q, t N; sign k_t b N, k_t a b P - r_a r_b R]
+        ta = abs(t)
+        tb = abs(k(2)*b)
+        kab = k(2)*a*b
+        rab = ra*rb
+        o(5, 1) = ta*abs(n(3))
+        o(4, 2) = o(5, 1)
+        o(6, 1) = ta*abs(n(2))
+        o(4, 3) = o(6, 1)
+        o(6, 2) = ta*abs(n(1))
+        o(5, 3) = o(6, 2)
+        o(2, 4) = tb*abs(n(3))
+        o(1, 5) = o(2, 4)
+        o(3, 4) = tb*abs(n(2))
+        o(1, 6) = o(3, 4)
+        o(3, 5) = tb*abs(n(1))
+        o(2, 6) = o(3, 5)
+        o(4, 4) = abs(kab*p(1) - rab*r(1))
+        o(5, 5) = abs(kab*p(2) - rab*r(2))
+        o(6, 6) = abs(kab*p(3) - rab*r(3))
+        o(5, 4) = abs(kab*(-nn(4)) - rab*r(4))
+        o(4, 5) = o(5, 4)
+        o(6, 4) = abs(kab*(-nn(5)) - rab*r(5))
+        o(4, 6) = o(6, 4)
+        o(6, 5) = abs(kab*(-nn(6)) - rab*r(6))
+        o(5, 6) = o(6, 5)
+        do m = 1, 6
+          acc(:, i) = acc(:, i) + o(:, m)*w(m, j)*v(m, j)
+        end do
+      end do
+    end do
+    ! then each body's own: acc(c, i) += sum_q |D(q, c)| w(q, i) v(q, i)
+    do i = lo, hi
+      ! (|D| is symmetric)
+      o = contact_abs_diag(dsum(:, i))
+      do m = 1, 6
+        acc(:, i) = acc(:, i) + o(:, m)*w(m, i)*v(m, i)
+      end do
+    end do
+  end subroutine contact_abs_springs
+
+  !> The magnitudes |D| of a body's diagonal block from the 18 distinct
+  !> entries dsum of `contact_abs_springs`: Q's 11, 22, 33, 12, 13, 23; the
+  !> upper right part's (1,5), (1,6), (2,4), (2,6), (3,4), (3,5) (its
+  !> diagonal and the lower left's are 0); the lower right's 44, 55, 66, 45,
+  !> 46, 56. D is symmetric to the last bit: its entries (x, y) and (y, x)
+  !> are the same sums of the same terms.
+  pure function contact_abs_diag(dsum) result(d)
+    real(dp), intent(in) :: dsum(18)
+    real(dp) :: d(6, 6)
+    d(1, 1) = abs(dsum(1))
+    d(2, 2) = abs(dsum(2))
+    d(3, 3) = abs(dsum(3))
+    d(1, 2) = abs(dsum(4))
+    d(1, 3) = abs(dsum(5))
+    d(2, 3) = abs(dsum(6))
+    d(1, 4) = 0.0_dp
+    d(1, 5) = abs(dsum(7))
+    d(1, 6) = abs(dsum(8))
+    d(2, 4) = abs(dsum(9))
+    d(2, 5) = 0.0_dp
+    d(2, 6) = abs(dsum(10))
+    d(3, 4) = abs(dsum(11))
+    d(3, 5) = abs(dsum(12))
+    d(3, 6) = 0.0_dp
+    d(4, 4) = abs(dsum(13))
+    d(5, 5) = abs(dsum(14))
+    d(6, 6) = abs(dsum(15))
+    d(4, 5) = abs(dsum(16))
+    d(4, 6) = abs(dsum(17))
+    d(5, 6) = abs(dsum(18))
+    d(2, 1) = d(1, 2)
+    d(3, 1) = d(1, 3)
+    d(3, 2) = d(2, 3)
+    d(4:6, 1:3) = transpose(d(1:3, 4:6))
+    d(5, 4) = d(4, 5)
+    d(6, 4) = d(4, 6)
+    d(6, 5) = d(5, 6)
+  end function contact_abs_diag
 
   !> Forces and torques of one interaction in the stepper. The shear displacement
   !> u_s (history, inout) is first turned into the plane normal to the current n

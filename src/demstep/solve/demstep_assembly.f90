@@ -49,7 +49,8 @@ module demstep_assembly
   use demstep_spring, only: damped_limit
   use demstep_interaction, only: contact_law, contact_block, contact_end_blocks, contact_product, &
     contact_products, contact_products_listed, contact_products_add, mixed_stiffness, dashpot_coefficient, &
-    wall_overlap, reduced_radius, dof_components, contact_arm
+    wall_overlap, reduced_radius, dof_components, contact_arm, &
+    contact_abs_springs
   use demstep_scene_data, only: scene_type, scene_effect, effective_mass, contact_values, wall_values, &
     contact_dashpots, check_scene_damping
   use demstep_neighbours, only: contact_list
@@ -72,7 +73,7 @@ module demstep_assembly
     assembly_check_options, assembly_set_bound, assembly_set_estimates, assembly_set_damped, &
     damped_lower_bound, dashpot_names, damped_newton, assembly_dashpot_bound, operator_from_springs, &
     operator_critical_steps, operator_mix, assembly_set_springs, linearise, operator_abs_product, &
-    dof_masses, collatz_bound, abs_product_operator, operator_set_blocks, operator_spring_energies, &
+    dof_masses, collatz_bound, abs_product_operator, operator_bound, operator_set_blocks, operator_spring_energies, &
     operator_products
 
   !> Hertz linearisation at the current overlap, at an impact's largest
@@ -212,6 +213,16 @@ module demstep_assembly
     !> operator: a monitor's updates reuse them.
     real(dp), allocatable :: many_xs(:, :, :), many_sum(:, :, :), many_x(:, :), many_y(:, :)
   end type assembly_operator_type
+
+  !> The context of `operator_bound`'s absolute products: the operator, its
+  !> diagonal blocks' sums (`operator_abs_product`'s dsum) and whether the
+  !> first product has made them (pointers: the products get the context
+  !> as intent(in)).
+  type, extends(lanczos_context_type) :: abs_bound_type
+    type(assembly_operator_type), pointer :: op => null()
+    real(dp), pointer :: dsum(:, :) => null()
+    logical, pointer :: known => null()
+  end type abs_bound_type
 
   !> The four estimates and what they rest on.
   !> (Plain data only: the MPI paths broadcast it as bytes.)
@@ -1386,19 +1397,52 @@ contains
   !> r = |A'| v (each entry raised by its rounding allowance) for the operator
   !> as it is mixed (alpha A' + beta B'), without its pre-stress (|A'| the assembled
   !> matrix's absolute values: each body's diagonal block summed over its springs
-  !> before they are taken, so the contacts of one body cancel there). Per body,
-  !> in parallel, from the closed form of the kernel's block (`contact_end_blocks`;
-  !> the columns of the body's end of each spring are its rows, by symmetry):
-  !> O(springs), no storage.
-  subroutine operator_abs_product(op, v, r)
+  !> before they are taken, so the contacts of one body cancel there), from
+  !> the closed form of the kernel's blocks (the columns of the body's end of
+  !> each spring are its rows, by symmetry). With 6 components spring by
+  !> spring (`contact_abs_springs`, in parallel over ranges of bodies, each
+  !> scanning the springs; a body's sums in its `incident` order), the
+  !> diagonal blocks kept in dsum(18, bodies) for the next products of the
+  !> same operator (`known`: already there); else per body from
+  !> `contact_end_blocks` (dsum unused). O(springs).
+  subroutine operator_abs_product(op, v, r, dsum, known)
     type(assembly_operator_type), intent(in) :: op
     !> size n, >= 0.
     real(dp), intent(in) :: v(:)
     real(dp), intent(out) :: r(:)
+    !> (18, bodies) with 6 components (else not used); `known`: summed by an
+    !> earlier product of the operator as it is now mixed.
+    real(dp), intent(inout) :: dsum(:, :)
+    logical, intent(in) :: known
     real(dp) :: d(6, 6), off(6), own(6, 6), other(6, 6), row, k(4), geo
-    integer :: i, s, en, o, j, c, q, nc
+    integer :: i, s, en, o, j, c, q, nc, parts, part, lo, hi
     integer(i8) :: p
     nc = op%nc
+    if (nc == 6) then
+      parts = 1
+      !$ if (op%n_springs >= parallel_springs) parts = omp_get_max_threads()
+      !$omp parallel do private(part, lo, hi) schedule(static, 1) if(parts > 1)
+      do part = 1, parts
+        lo = int((part - 1)*int(op%n_bodies, i8)/parts) + 1
+        hi = int(part*int(op%n_bodies, i8)/parts)
+        r(6*lo - 5:6*hi) = 0.0_dp
+        if (.not. known) dsum(:, lo:hi) = 0.0_dp
+        call contact_abs_springs(lo, hi, op%n_springs, op%ends, op%normal, op%coef, op%dcoef, op%alpha, &
+          op%beta, op%rinv, op%w, v, .not. known, r(6*lo - 5:6*hi), dsum(:, lo:hi))
+      end do
+      !$omp end parallel do
+      !$omp parallel do private(i, c) schedule(static) if(op%n_springs >= parallel_springs)
+      do i = 1, op%n_bodies
+        do c = 1, 6
+          ! raised by its rounding: a sum of nc (springs + 1) positive terms,
+          ! each product rounded a few times
+          r(6*(i - 1) + c) = r(6*(i - 1) + c)*op%w(c, i)*(1.0_dp + real(6*(op%first(i + 1) - op%first(i) &
+            + 1) + 4, dp)*epsilon(1.0_dp))
+        end do
+      end do
+      !$omp end parallel do
+      return
+    end if
     !$omp parallel do private(i, s, en, o, j, c, q, p, d, off, own, other, row, k, geo) &
     !$omp schedule(static) if(op%n_springs >= parallel_springs)
     do i = 1, op%n_bodies
@@ -1412,17 +1456,6 @@ contains
         call contact_end_blocks(op%normal(:, s), k, op%coef(3, s), op%coef(4, s), &
           op%rinv(op%ends(1, s)), op%rinv(op%ends(2, s)), 0.0_dp, en == 1, own, other)
         j = op%ends(o, s)
-        if (nc == 6) then
-          ! (all six components: the same sums without the indirection)
-          d = d + own
-          if (j == 0) cycle
-          do c = 1, 6
-            do q = 1, 6
-              off(c) = off(c) + abs(other(q, c))*op%w(q, j)*v(6*(j - 1) + q)
-            end do
-          end do
-          cycle
-        end if
         do c = 1, nc
           d(:, c) = d(:, c) + own(:, op%comp(c))
         end do
@@ -1438,8 +1471,7 @@ contains
         do q = 1, nc
           row = row + abs(d(op%comp(q), c))*op%w(op%comp(q), i)*v((i - 1)*nc + q)
         end do
-        ! raised by its rounding: a sum of nc (springs + 1) positive terms,
-        ! each product rounded a few times
+        ! (as above)
         r((i - 1)*nc + c) = row*op%w(op%comp(c), i)*(1.0_dp + real(nc*(op%first(i + 1) - op%first(i) &
           + 1) + 4, dp)*epsilon(1.0_dp))
       end do
@@ -1454,10 +1486,20 @@ contains
   !> rho(|A'|): on random packings dt bound/limit 0.66 with v = 1, 0.74 and 0.77
   !> after one and two steps (one |A'| product each, the cost of the first).
   !> The smallest of the quotients (`assembly_set_bound` adds the rounding).
+  !> The first product sums the diagonal blocks for the others (18 reals a
+  !> body while it runs).
   function operator_bound(op) result(bound)
-    type(assembly_operator_type), intent(in) :: op
+    type(assembly_operator_type), intent(in), target :: op
     real(dp) :: bound
-    bound = collatz_bound(op, op%n, operator_abs_product_of)
+    type(abs_bound_type) :: context
+    real(dp), allocatable, target :: dsum(:, :)
+    logical, target :: known
+    allocate(dsum(18, merge(op%n_bodies, 0, op%nc == 6)))
+    known = .false.
+    context%op => op
+    context%dsum => dsum
+    context%known => known
+    bound = collatz_bound(context, op%n, abs_bound_product)
   end function operator_bound
 
   !> The Collatz-Wielandt iteration of `operator_bound` on any operator given
@@ -1506,17 +1548,23 @@ contains
     end do
   end function collatz_bound
 
-  !> `operator_abs_product` as an `abs_product_operator` (for `collatz_bound`).
-  subroutine operator_abs_product_of(context, v, r)
+  !> `operator_abs_product` as an `abs_product_operator` (for `collatz_bound`)
+  !> on an `abs_bound_type`: the diagonal blocks summed by the first product.
+  subroutine abs_bound_product(context, v, r)
     class(lanczos_context_type), intent(in) :: context
     real(dp), intent(in) :: v(:)
     real(dp), intent(out) :: r(:)
+    real(dp), pointer :: dsum(:, :)
+    logical, pointer :: known
     r = 0.0_dp
-    select type (op => context)
-    class is (assembly_operator_type)
-      call operator_abs_product(op, v, r)
+    select type (bound => context)
+    class is (abs_bound_type)
+      dsum => bound%dsum
+      known => bound%known
+      call operator_abs_product(bound%op, v, r, dsum, known)
+      known = .true.
     end select
-  end subroutine operator_abs_product_of
+  end subroutine abs_bound_product
 
   !> The scene's mass-scaled stiffness as a matrix-free operator (see
   !> `assembly_operator_apply`), with `rate`: omega = rate sqrt(lambda) for an
