@@ -1142,17 +1142,19 @@ contains
   function scene_bound(dop) result(bound)
     type(dist_scene_operator_type), intent(inout) :: dop
     real(dp) :: bound
-    real(dp), allocatable :: v(:), r(:), v_ext(:), r_ext(:)
+    real(dp), allocatable :: v(:), r(:), v_ext(:), r_ext(:), dsum(:, :)
     real(dp) :: q(2)
     integer :: k, n
     n = dop%n_local
     allocate(v(n), r(n), v_ext(dop%op%n), r_ext(dop%op%n))
+    ! (the diagonal blocks, summed by the first product for the later ones)
+    allocate(dsum(18, merge(dop%op%n_bodies, 0, dop%op%nc == 6)))
     v = 1.0_dp
     bound = huge(1.0_dp)
     do k = 0, bound_iterations
       v_ext(1:n) = v
       call dist_halo_exchange(dop%halo, v, v_ext(n + 1:))
-      call operator_abs_product(dop%op, v_ext, r_ext)
+      call operator_abs_product(dop%op, v_ext, r_ext, dsum, k > 0)
       r = r_ext(1:n)
       q = [maxval(r/v), maxval(r)]
       call MPI_Allreduce(MPI_IN_PLACE, q, 2, MPI_DOUBLE_PRECISION, MPI_MAX, dop%comm)
