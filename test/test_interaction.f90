@@ -8,7 +8,8 @@ module test_interaction
   use demstep_neighbours, only: contact_list
   use demstep_assembly, only: assembly_matrix, eigen_solver_name, assembly_operator_apply, &
     assembly_operator, assembly_operator_type, assembly_matrix_rows, operator_set_blocks, operator_spring_energies, &
-    product_block_bodies
+    product_block_bodies, order_min_bodies, operator_products
+  use demstep_neighbours, only: spatial_order
   use demstep_assembly, only: operator_abs_product, operator_bound, operator_mix, bound_iterations
   use demstep_interaction, only: mixed_stiffness
   use demstep_kinds, only: pi
@@ -52,6 +53,8 @@ contains
       new_unittest("operator product: 1 and 2 threads agree bit for bit", test_threads), &
       new_unittest("operator product in blocks = its matrix times x; threads agree; spring energies", &
         test_product_blocks), &
+      new_unittest("operator in a locality order: products, energies, matrix, bound and mode in the caller's order", &
+        test_locality_order), &
       new_unittest("springs linearised in parallel: the first overflowing contact in list order", &
         test_overflow_first), &
       new_unittest("Lanczos out of restarts: the bracket holds the chain's closed form", test_not_converged) &
@@ -1232,6 +1235,124 @@ contains
       deallocate(x, y, y2, ref, mag, energy)
     end do
   end subroutine test_product_blocks
+
+  !> An operator numbered in a locality order (`spatial_order`, chosen by
+  !> `assembly_critical_steps` when most springs would cross the product's
+  !> blocks) against the same scene's operator in the given order
+  !> (`assembly_operator`, never reordered): a random 3D packing of 60 000
+  !> spheres (random positions, so random order: about half the springs
+  !> cross the two blocks), rotations, rolling and twisting, 30 fixed. Its products (one
+  !> and several at once), springs' energies (per spring, in the caller's
+  !> order), matrix and |A'| v are the plain operator's to 1e-13 of the sums
+  !> of magnitudes (the same terms summed in other orders, as in
+  !> `test_product_blocks`); its bound to 1e-12. The mode returned in the
+  !> caller's numbering is an eigenvector of the plain operator: its
+  !> measured residual there meets the tolerance, and rate sqrt(its
+  !> Rayleigh quotient) is omega_max to 1e-12. The same packing sorted by
+  !> position (few springs cross) keeps the given order.
+  subroutine test_locality_order(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer, parameter :: n = 60000
+    type(scene_type) :: scene, sorted
+    type(assembly_operator_type) :: op, plain
+    type(critical_step_type) :: c
+    type(csr_matrix_type) :: matrix
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: x(:, :), y(:, :), ref(:, :), mag(:), e1(:), e2(:), mode(:), r1(:), r2(:), &
+      dsum(:, :), ym(:)
+    integer, allocatable :: perm(:)
+    real(dp) :: rate, theta, res, scale
+    integer :: k, threads
+    call random_seed_fixed(23)
+    call random_packing(scene, n, 3, 0.3_dp, 1.0_dp)
+    scene%fixed(1:30) = .true.
+    call scene_set_rolling(scene, 0.5_dp, 0.7_dp, status)
+    call check(error, status%stat, demstep_stat%ok, "rolling")
+    if (allocated(error)) return
+    call check(error, n - 30 >= order_min_bodies, "enough free bodies to be reordered")
+    if (allocated(error)) return
+    call assembly_critical_steps(scene, c, status, mode=mode, operator_out=op)
+    call check(error, status%stat == demstep_stat%ok .and. c%eigen_converged .and. size(mode) == op%n, &
+      "steps: "//status%message)
+    if (allocated(error)) return
+    call check(error, allocated(op%order) .and. allocated(op%spring_order), "random order: the operator reorders")
+    if (allocated(error)) return
+    call assembly_operator(scene, plain, rate, status)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    call check(error, .not. allocated(plain%order) .and. plain%n == op%n .and. plain%n_springs == op%n_springs, &
+      "assembly_operator keeps the given order")
+    if (allocated(error)) return
+    ! products, one and three at once (mixed with the dashpots' 0)
+    allocate(x(op%n, 3), y(op%n, 3), ref(op%n, 3), mag(op%n))
+    call random_number(x)
+    x = x - 0.5_dp
+    call assembly_matrix(plain, matrix)
+    do k = 1, 3
+      call csr_apply(matrix, x(:, k), ref(:, k))
+    end do
+    call csr_abs_product(matrix, abs(x(:, 1)), mag)
+    call assembly_operator_apply(op, x(:, 1), y(:, 1))
+    call check(error, all(abs(y(:, 1) - ref(:, 1)) <= 1.0e-13_dp*mag), "A'x, largest difference over |A'||x| " &
+      //real_str(maxval(abs(y(:, 1) - ref(:, 1))/max(mag, tiny(1.0_dp)))))
+    if (allocated(error)) return
+    ! (on one thread: the one-pass path, which several threads leave to the
+    ! product one at a time)
+    threads = 1
+    !$ threads = omp_get_max_threads()
+    !$ call omp_set_num_threads(1)
+    call operator_products(op, x, [1, 2, 3], [1.0_dp, 2.0_dp, 0.5_dp], [0.0_dp, 0.0_dp, 0.0_dp], y, &
+      one_pass=.true.)
+    !$ call omp_set_num_threads(threads)
+    call check(error, all(abs(y(:, 1) - ref(:, 1)) <= 1.0e-13_dp*mag) .and. &
+      maxval(abs(y(:, 2) - 2.0_dp*ref(:, 2))) <= 1.0e-12_dp*maxval(abs(ref(:, 2))) .and. &
+      maxval(abs(y(:, 3) - 0.5_dp*ref(:, 3))) <= 1.0e-12_dp*maxval(abs(ref(:, 3))), "several products in one pass")
+    if (allocated(error)) return
+    ! the operator's own matrix, in the caller's numbering
+    call assembly_matrix(op, matrix)
+    allocate(ym(op%n))
+    call csr_apply(matrix, x(:, 1), ym)
+    call check(error, all(abs(ym - ref(:, 1)) <= 1.0e-13_dp*mag), "its matrix")
+    if (allocated(error)) return
+    ! each spring's energy, in the caller's spring order
+    allocate(e1(op%n_springs), e2(op%n_springs))
+    call operator_spring_energies(op, x(:, 1), e1)
+    call operator_spring_energies(plain, x(:, 1), e2)
+    scale = maxval(abs(e2))
+    call check(error, maxval(abs(e1 - e2)) <= 1.0e-13_dp*scale, "springs' energies, largest difference " &
+      //real_str(maxval(abs(e1 - e2))/scale))
+    if (allocated(error)) return
+    ! |A'| v and the bound
+    allocate(r1(op%n), r2(op%n), dsum(18, op%n_bodies))
+    call operator_abs_product(op, abs(x(:, 1)), r1, dsum, .false.)
+    call operator_abs_product(plain, abs(x(:, 1)), r2, dsum, .false.)
+    call check(error, all(abs(r1 - r2) <= 1.0e-13_dp*r2), "|A'| v")
+    if (allocated(error)) return
+    call check(error, abs(operator_bound(op) - operator_bound(plain)) <= 1.0e-12_dp*operator_bound(plain), &
+      "the bound")
+    if (allocated(error)) return
+    ! the mode: an eigenvector of the plain operator
+    call assembly_operator_apply(plain, mode, ym)
+    theta = dot_product(mode, ym)/dot_product(mode, mode)
+    res = norm2(ym - theta*mode)/norm2(mode)
+    call check(error, res <= c%eigen_tolerance*theta*(1.0_dp + 1.0e-6_dp), "the mode's residual on the plain " &
+      //"operator "//real_str(res/theta))
+    if (allocated(error)) return
+    call check(error, abs(rate*sqrt(theta) - c%omega_max) <= 1.0e-12_dp*c%omega_max, "omega_max from the mode")
+    if (allocated(error)) return
+    ! sorted by position: few springs cross, the given order is kept
+    perm = spatial_order(scene%x)
+    sorted = scene
+    sorted%x = scene%x(:, perm)
+    sorted%mass = scene%mass(perm)
+    sorted%radius = scene%radius(perm)
+    sorted%inertia = scene%inertia(perm)
+    sorted%fixed = scene%fixed(perm)
+    call assembly_critical_steps(sorted, c, status, solver=eigen_solver%none, operator_out=op)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    call check(error, .not. allocated(op%order), "sorted by position: the given order kept")
+  end subroutine test_locality_order
 
   !> The contacts are linearised in parallel (above 4096 of them): a Hertz
   !> tangent stiffness that overflows (E* = 0.4 huge, sqrt(R* d) above 1.25)

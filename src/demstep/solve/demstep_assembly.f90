@@ -53,7 +53,7 @@ module demstep_assembly
     contact_abs_springs
   use demstep_scene_data, only: scene_type, scene_effect, effective_mass, contact_values, wall_values, &
     contact_dashpots, check_scene_damping
-  use demstep_neighbours, only: contact_list
+  use demstep_neighbours, only: contact_list, spatial_order
   use demstep_scene_bonds, only: scene_bond_law
   use demstep_bonds, only: bond_law_type
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -167,6 +167,14 @@ module demstep_assembly
   !> one at a time (the spring forces of a product still fit in the cache), at
   !> 354 000 (108 000 spheres) 19 % less.
   integer, parameter, public :: fused_springs = 131072
+  !> An operator given the bodies' positions (`operator_from_springs`; a
+  !> scene's, by `assembly_critical_steps`) of at least this many free
+  !> bodies numbers them in a locality order (`spatial_order`) when more
+  !> than `order_crossing` of its springs between free bodies would cross
+  !> the product's blocks in the given order (a table in random order:
+  !> nearly all; a packing listed region by region: a few per cent).
+  integer, parameter, public :: order_min_bodies = product_block_bodies
+  real(dp), parameter, public :: order_crossing = 0.25_dp
 
   !> The mass-scaled stiffness A' = M'^-1/2 K' M'^-1/2 of a scene as a matrix-free
   !> operator (a Lanczos context): the linearised springs and, per free body, the
@@ -178,6 +186,12 @@ module demstep_assembly
     integer, allocatable :: comp(:)
     !> Free-body index of each end of each spring (0: ground, a wall or fixed).
     integer, allocatable :: ends(:, :)
+    !> Where the operator numbers its bodies and springs in a locality order
+    !> (`order_min_bodies`; else not allocated: the caller's order): its
+    !> body b is the vectors' free body order(b), its spring s the caller's
+    !> spring_order(s). Its per-body and per-spring arrays are in its own
+    !> numbering; products, energies and the matrix are in the caller's.
+    integer, allocatable :: order(:), spring_order(:)
     !> Unit normal and (k_n, k_t, arm_a, arm_b, geo, k_r, k_w) of each spring,
     !> scaled (stiffness over k_scale, arms over the body's radius), and its
     !> dashpots (c_n, c_t, c_r, c_w) over sqrt(k_scale m_scale) (none: size 0).
@@ -462,7 +476,7 @@ contains
     !> Build the operator into `op` and compute the steps on it.
     subroutine steps_on(op)
       type(assembly_operator_type), intent(inout), target :: op
-      call prepare(scene, hertz_mode, impact_velocity, geo, springs, op, rate, status)
+      call prepare(scene, hertz_mode, impact_velocity, geo, springs, op, rate, status, local=.true.)
       if (status%stat /= demstep_stat%ok) return
       built = .true.
       result%rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
@@ -1414,6 +1428,26 @@ contains
     !> earlier product of the operator as it is now mixed.
     real(dp), intent(inout) :: dsum(:, :)
     logical, intent(in) :: known
+    real(dp), allocatable :: v_own(:), r_own(:)
+    if (.not. allocated(op%order)) then
+      call abs_product_own(op, v, r, dsum, known)
+      return
+    end if
+    ! (in the operator's numbering, and back)
+    allocate(v_own(op%n), r_own(op%n))
+    call to_own_order(op, v, v_own)
+    call abs_product_own(op, v_own, r_own, dsum, known)
+    call to_outer_order(op, r_own, r)
+  end subroutine operator_abs_product
+
+  !> `operator_abs_product` with v and r in the operator's own numbering of
+  !> the bodies.
+  subroutine abs_product_own(op, v, r, dsum, known)
+    type(assembly_operator_type), intent(in) :: op
+    real(dp), intent(in) :: v(:)
+    real(dp), intent(out) :: r(:)
+    real(dp), intent(inout) :: dsum(:, :)
+    logical, intent(in) :: known
     real(dp) :: d(6, 6), off(6), own(6, 6), other(6, 6), row, k(4), geo
     integer :: i, s, en, o, j, c, q, nc, parts, part, lo, hi
     integer(i8) :: p
@@ -1477,7 +1511,55 @@ contains
       end do
     end do
     !$omp end parallel do
-  end subroutine operator_abs_product
+  end subroutine abs_product_own
+
+  !> The vectors' free body (the caller's numbering) of the operator's body
+  !> b (`assembly_operator_type%order`).
+  pure integer function outer_body(op, b) result(e)
+    type(assembly_operator_type), intent(in) :: op
+    integer, intent(in) :: b
+    e = b
+    if (allocated(op%order)) e = op%order(b)
+  end function outer_body
+
+  !> The caller's spring of the operator's spring s.
+  pure integer function outer_spring(op, s) result(e)
+    type(assembly_operator_type), intent(in) :: op
+    integer, intent(in) :: s
+    e = s
+    if (allocated(op%spring_order)) e = op%spring_order(s)
+  end function outer_spring
+
+  !> A vector (nc per free body) from the caller's numbering of the bodies
+  !> into the operator's (`to_own_order`), or back (`to_outer_order`).
+  subroutine to_own_order(op, x, y)
+    type(assembly_operator_type), intent(in) :: op
+    real(dp), intent(in) :: x(:)
+    real(dp), intent(out) :: y(:)
+    integer :: b, e, nc
+    nc = op%nc
+    !$omp parallel do private(b, e) schedule(static) if(op%n_bodies >= parallel_springs)
+    do b = 1, op%n_bodies
+      e = outer_body(op, b)
+      y((b - 1)*nc + 1:b*nc) = x((e - 1)*nc + 1:e*nc)
+    end do
+    !$omp end parallel do
+  end subroutine to_own_order
+
+  !> (see `to_own_order`)
+  subroutine to_outer_order(op, x, y)
+    type(assembly_operator_type), intent(in) :: op
+    real(dp), intent(in) :: x(:)
+    real(dp), intent(out) :: y(:)
+    integer :: b, e, nc
+    nc = op%nc
+    !$omp parallel do private(b, e) schedule(static) if(op%n_bodies >= parallel_springs)
+    do b = 1, op%n_bodies
+      e = outer_body(op, b)
+      y((e - 1)*nc + 1:e*nc) = x((b - 1)*nc + 1:b*nc)
+    end do
+    !$omp end parallel do
+  end subroutine to_outer_order
 
   !> The rigorous bound of omega_max^2 (scaled), without the pre-stress (which
   !> only softens): lambda_max(A') <= rho(|A'|) <= max_i (|A'| v)_i / v_i for any
@@ -1561,7 +1643,9 @@ contains
     class is (abs_bound_type)
       dsum => bound%dsum
       known => bound%known
-      call operator_abs_product(bound%op, v, r, dsum, known)
+      ! (in the operator's own numbering: the iteration, from v = 1, only
+      ! takes entrywise quotients and maxima, which no numbering changes)
+      call abs_product_own(bound%op, v, r, dsum, known)
       known = .true.
     end select
   end subroutine abs_bound_product
@@ -1600,13 +1684,13 @@ contains
     class(lanczos_context_type), intent(inout) :: context
     real(dp), intent(in) :: x(:)
     real(dp), intent(out) :: y(:)
-    integer :: k, blk, lo, hi, i, c, nc, q
+    integer :: k, blk, lo, hi, i, c, nc, q, e
     real(dp) :: f(6)
     real(dp), allocatable :: acc(:, :)
     select type (op => context)
     class is (assembly_operator_type)
       nc = op%nc
-      !$omp parallel private(blk, lo, hi, i, c, acc) if(op%n_springs >= parallel_springs)
+      !$omp parallel private(blk, lo, hi, i, c, e, acc) if(op%n_springs >= parallel_springs)
       allocate(acc(6, min(op%block_bodies, op%n_bodies)))
       !$omp do schedule(dynamic)
       do blk = 1, op%n_blocks
@@ -1619,12 +1703,14 @@ contains
         if (nc == 6) then
           ! (all six components, in order: the common 3D case without indirection)
           do i = lo, hi
-            y(6*i - 5:6*i) = acc(:, i - lo + 1)*op%w(:, i)
+            e = outer_body(op, i)
+            y(6*e - 5:6*e) = acc(:, i - lo + 1)*op%w(:, i)
           end do
         else
           do i = lo, hi
+            e = outer_body(op, i)
             do c = 1, nc
-              y((i - 1)*nc + c) = acc(op%comp(c), i - lo + 1)*op%w(op%comp(c), i)
+              y((e - 1)*nc + c) = acc(op%comp(c), i - lo + 1)*op%w(op%comp(c), i)
             end do
           end do
         end if
@@ -1638,7 +1724,7 @@ contains
           op%dcoef, op%alpha, op%beta, op%ends, op%rinv, op%xs, op%work)
       end do
       !$omp end parallel do
-      !$omp parallel do private(blk, q, i, c, f) schedule(static) if(op%n_springs >= parallel_springs)
+      !$omp parallel do private(blk, q, i, c, e, f) schedule(static) if(op%n_springs >= parallel_springs)
       do blk = 1, op%n_blocks
         f = 0.0_dp
         do q = op%cross_first(blk), op%cross_first(blk + 1) - 1
@@ -1648,11 +1734,12 @@ contains
             if (op%cross_body(q + 1) == i) cycle
           end if
           ! the body's last crossing end
+          e = outer_body(op, i)
           if (nc == 6) then
-            y(6*i - 5:6*i) = y(6*i - 5:6*i) + f*op%w(:, i)
+            y(6*e - 5:6*e) = y(6*e - 5:6*e) + f*op%w(:, i)
           else
             do c = 1, nc
-              y((i - 1)*nc + c) = y((i - 1)*nc + c) + f(op%comp(c))*op%w(op%comp(c), i)
+              y((e - 1)*nc + c) = y((e - 1)*nc + c) + f(op%comp(c))*op%w(op%comp(c), i)
             end do
           end if
           f = 0.0_dp
@@ -1670,16 +1757,17 @@ contains
     type(assembly_operator_type), intent(inout) :: op
     real(dp), intent(in) :: x(:)
     integer, intent(in) :: lo, hi
-    integer :: i, c, nc
+    integer :: i, c, nc, e
     nc = op%nc
     do i = lo, hi
+      e = outer_body(op, i)
       if (nc == 6) then
         ! (all six components, in order: the common 3D case without indirection)
-        op%xs(:, i) = x(6*i - 5:6*i)*op%w(:, i)
+        op%xs(:, i) = x(6*e - 5:6*e)*op%w(:, i)
       else
         op%xs(:, i) = 0.0_dp
         do c = 1, nc
-          op%xs(op%comp(c), i) = x((i - 1)*nc + c)*op%w(op%comp(c), i)
+          op%xs(op%comp(c), i) = x((e - 1)*nc + c)*op%w(op%comp(c), i)
         end do
       end if
     end do
@@ -1713,7 +1801,7 @@ contains
         op%ends, op%rinv, op%xs, f)
       do s = s0, s1
         j = s - s0 + 1
-        energy(s) = dot_product(op%xs(:, op%ends(1, s)), f(:, 2*j - 1)) &
+        energy(outer_spring(op, s)) = dot_product(op%xs(:, op%ends(1, s)), f(:, 2*j - 1)) &
           + dot_product(op%xs(:, op%ends(2, s)), f(:, 2*j))
       end do
     end do
@@ -1840,7 +1928,7 @@ contains
     ! (a block's spring forces per product)
     real(dp), allocatable :: f(:, :, :)
     real(dp) :: a0, b0, bq(size(which))
-    integer :: q, nq, v, i, s, s0, m, k, j, threads
+    integer :: q, nq, v, i, s, s0, m, k, j, threads, e
     logical :: fused
     nq = size(which)
     fused = op%n_springs >= fused_springs
@@ -1874,7 +1962,8 @@ contains
     do v = 1, size(x, 2)
       xs(:, 0, v) = 0.0_dp
       do i = 1, op%n_bodies
-        xs(:, i, v) = x(6*i - 5:6*i, v)*op%w(:, i)
+        e = outer_body(op, i)
+        xs(:, i, v) = x(6*e - 5:6*e, v)*op%w(:, i)
       end do
     end do
     acc(:, :nq, :) = 0.0_dp
@@ -1903,8 +1992,9 @@ contains
       end do
     end do
     do i = 1, op%n_bodies
+      e = outer_body(op, i)
       do q = 1, nq
-        y(6*i - 5:6*i, q) = acc(:, q, i)*op%w(:, i)
+        y(6*e - 5:6*e, q) = acc(:, q, i)*op%w(:, i)
       end do
     end do
     end associate
@@ -1917,11 +2007,16 @@ contains
     type(assembly_operator_type), intent(in) :: op
     type(csr_matrix_type), intent(out) :: matrix
     type(demstep_status_type) :: status
+    integer, allocatable :: bodies(:), outer(:)
     integer :: i
     matrix%n = op%n
-    ! every body in its own place: the rows cannot be refused
-    call assembly_matrix_rows(op, [(i, i = 1, op%n_bodies)], [(i, i = 1, op%n_bodies)], &
-      matrix%row_start, matrix%col, matrix%val, status)
+    ! every body in its place in the caller's numbering: the rows cannot be refused
+    allocate(bodies(op%n_bodies), outer(op%n_bodies))
+    do i = 1, op%n_bodies
+      outer(i) = outer_body(op, i)
+      bodies(outer(i)) = i
+    end do
+    call assembly_matrix_rows(op, bodies, outer, matrix%row_start, matrix%col, matrix%val, status)
   end subroutine assembly_matrix
 
   !> `assembly_matrix` for `top_eigenpair` (an `operator_matrix`).
@@ -2046,7 +2141,7 @@ contains
   !> The common start of every assembly computation: options checked, degrees
   !> of freedom numbered, scaled masses, the springs linearised and the
   !> matrix-free operator built. O(particles + springs).
-  subroutine prepare(scene, hertz_mode, impact_velocity, geo, springs, op, rate, status)
+  subroutine prepare(scene, hertz_mode, impact_velocity, geo, springs, op, rate, status, local)
     type(scene_type), intent(in) :: scene
     integer, intent(in), optional :: hertz_mode
     real(dp), intent(in), optional :: impact_velocity
@@ -2057,9 +2152,12 @@ contains
     !> (0 on failure).
     real(dp), intent(out) :: rate
     type(demstep_status_type), intent(out) :: status
+    !> Let the operator number its bodies in a locality order (from the
+    !> particles' positions; `order_min_bodies`). Default no.
+    logical, intent(in), optional :: local
     integer :: mode
     real(dp) :: v_impact
-    logical :: rotation
+    logical :: rotation, by_position
     mode = hertz_linearization%current
     if (present(hertz_mode)) mode = hertz_mode
     v_impact = 0.0_dp
@@ -2073,8 +2171,15 @@ contains
     rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
     call linearise(scene, mode, v_impact, geo, springs, status)
     if (status%stat /= demstep_stat%ok) return
-    call operator_from_springs(scene%dim, rotation, scene%mass, scene%inertia, scene%radius, springs, &
-      geo, op, rate, status, scene%fixed)
+    by_position = .false.
+    if (present(local)) by_position = local
+    if (by_position) then
+      call operator_from_springs(scene%dim, rotation, scene%mass, scene%inertia, scene%radius, springs, &
+        geo, op, rate, status, scene%fixed, position=scene%x)
+    else
+      call operator_from_springs(scene%dim, rotation, scene%mass, scene%inertia, scene%radius, springs, &
+        geo, op, rate, status, scene%fixed)
+    end if
     if (status%stat == demstep_stat%invalid_input .and. status%where == "position") then
       if (size(scene%bonds, 2) == 0 .and. .not. (scene%effects(scene_effect%contacts) .or. &
           scene%effects(scene_effect%walls))) then
@@ -2093,7 +2198,7 @@ contains
   !> An operator built before keeps its arrays where their sizes still fit
   !> (a monitor rebuilds it every update and check).
   subroutine operator_from_springs(dim, rotation, mass, inertia, radius, springs, geo, op, rate, status, fixed, &
-      scales)
+      scales, position)
     integer, intent(in) :: dim
     logical, intent(in) :: rotation
     real(dp), intent(in) :: mass(:), inertia(:), radius(:)
@@ -2109,10 +2214,13 @@ contains
     !> holding one part of a scene gives the whole scene's; a part whose
     !> springs touch no free body is then not refused.
     real(dp), intent(in), optional :: scales(2)
+    !> The bodies' positions (dim, bodies): the operator may then number its
+    !> bodies and springs in a locality order (`order_min_bodies`).
+    real(dp), intent(in), optional :: position(:, :)
     integer, allocatable :: body(:)
     integer(i8), allocatable :: at(:, :)
     real(dp) :: k_scale, m_scale, c_scale, mdof(6)
-    integer :: i, nfree, nc, s, e, t, nchunk
+    integer :: i, nfree, nc, s, e, t, nchunk, sc
     integer(i8) :: p, count
     logical :: touches, damped
     rate = 0.0_dp
@@ -2170,6 +2278,17 @@ contains
       return
     end if
 
+    ! a locality order of the bodies and springs where the given one would
+    ! scatter the product's blocks (body then holds the operator's numbers)
+    if (allocated(op%order)) deallocate(op%order)
+    if (allocated(op%spring_order)) deallocate(op%spring_order)
+    if (present(position)) then
+      if (nfree >= order_min_bodies .and. size(position, 2) == size(mass)) then
+        if (crossing_share(body, springs, product_block_bodies) > order_crossing) &
+          call locality_numbering(position, springs, body, op%order, op%spring_order)
+      end if
+    end if
+
     ! the operator: scaled springs, and each free body's spring ends in order
     op%n_springs = size(springs)
     call fit_int2(op%ends, 2, op%n_springs)
@@ -2215,9 +2334,10 @@ contains
     !$omp end parallel do
     ! (each spring's entries in parallel, in the products' static partition,
     ! which then find their pages where they are used; the count after)
-    !$omp parallel do private(s) schedule(static) if(op%n_springs >= parallel_springs)
+    !$omp parallel do private(s, sc) schedule(static) if(op%n_springs >= parallel_springs)
     do s = 1, op%n_springs
-      associate(sp => springs(s))
+      sc = outer_spring(op, s)
+      associate(sp => springs(sc))
         op%ends(:, s) = 0
         op%coef(3:4, s) = 0.0_dp
         if (sp%a > 0) then
@@ -2284,6 +2404,72 @@ contains
     rate = sqrt(k_scale)/sqrt(m_scale)
     status%stat = demstep_stat%ok
   end subroutine operator_from_springs
+
+  !> The share of the springs between two free bodies whose ends lie in two
+  !> blocks of `block` bodies, body(i) the free body of particle i (0: none).
+  function crossing_share(body, springs, block) result(share)
+    integer, intent(in) :: body(:)
+    type(spring_block_type), intent(in) :: springs(:)
+    integer, intent(in) :: block
+    real(dp) :: share
+    integer(i8) :: both, crossing
+    integer :: s, a, b
+    both = 0
+    crossing = 0
+    !$omp parallel do private(s, a, b) reduction(+:both, crossing) schedule(static) &
+    !$omp if(size(springs) >= parallel_springs)
+    do s = 1, size(springs)
+      if (springs(s)%a <= 0) cycle
+      a = body(springs(s)%a)
+      b = body(springs(s)%b)
+      if (a == 0 .or. b == 0) cycle
+      both = both + 1
+      if ((a - 1)/block /= (b - 1)/block) crossing = crossing + 1
+    end do
+    !$omp end parallel do
+    share = real(crossing, dp)/real(max(both, 1_i8), dp)
+  end function crossing_share
+
+  !> The operator's locality numbering (`assembly_operator_type%order`): the
+  !> free bodies in `spatial_order` of their positions, body(i) renumbered
+  !> to match, and the springs by their first free end in the new numbering
+  !> (a stable counting sort; springs without a free end last). O(bodies +
+  !> springs).
+  subroutine locality_numbering(position, springs, body, order, spring_order)
+    real(dp), intent(in) :: position(:, :)
+    type(spring_block_type), intent(in) :: springs(:)
+    integer, intent(inout) :: body(:)
+    integer, allocatable, intent(out) :: order(:), spring_order(:)
+    integer, allocatable :: particle(:), key(:), start(:)
+    integer :: nfree, b, s, k
+    particle = spatial_order(position, body > 0)
+    nfree = size(particle)
+    allocate(order(nfree))
+    do b = 1, nfree
+      order(b) = body(particle(b))
+      body(particle(b)) = b
+    end do
+    allocate(key(size(springs)), start(nfree + 2))
+    start = 0
+    do s = 1, size(springs)
+      k = body(springs(s)%b)
+      if (springs(s)%a > 0) then
+        if (body(springs(s)%a) > 0 .and. (k == 0 .or. body(springs(s)%a) < k)) k = body(springs(s)%a)
+      end if
+      if (k == 0) k = nfree + 1
+      key(s) = k
+      start(k + 1) = start(k + 1) + 1
+    end do
+    start(1) = 1
+    do k = 1, nfree + 1
+      start(k + 1) = start(k + 1) + start(k)
+    end do
+    allocate(spring_order(size(springs)))
+    do s = 1, size(springs)
+      spring_order(start(key(s))) = s
+      start(key(s)) = start(key(s)) + 1
+    end do
+  end subroutine locality_numbering
 
   !> The masses of a body's six components (translations u(1:3), rotations
   !> as r theta(4:6)): m, and I/r^2 for r theta.
