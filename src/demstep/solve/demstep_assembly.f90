@@ -190,8 +190,12 @@ module demstep_assembly
     !> (`order_min_bodies`; else not allocated: the caller's order): its
     !> body b is the vectors' free body order(b), its spring s the caller's
     !> spring_order(s). Its per-body and per-spring arrays are in its own
-    !> numbering; products, energies and the matrix are in the caller's.
+    !> numbering; products, energies and the matrix are in the caller's
+    !> unless `own_vectors` (`assembly_critical_steps` sets it while it
+    !> solves: its Lanczos vectors are then in the operator's numbering,
+    !> which spares each product a scattered pass through x and y).
     integer, allocatable :: order(:), spring_order(:)
+    logical :: own_vectors = .false.
     !> Unit normal and (k_n, k_t, arm_a, arm_b, geo, k_r, k_w) of each spring,
     !> scaled (stiffness over k_scale, arms over the body's radius), and its
     !> dashpots (c_n, c_t, c_r, c_w) over sqrt(k_scale m_scale) (none: size 0).
@@ -437,7 +441,7 @@ contains
     type(spring_block_type), allocatable :: springs(:)
     type(assembly_operator_type), target :: op_here
     logical :: built
-    real(dp), allocatable :: vec(:)
+    real(dp), allocatable :: vec(:), vec_out(:)
     real(dp) :: rate, tol
     integer :: limit, choice
     logical :: geo
@@ -482,7 +486,16 @@ contains
       result%rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
       result%periodic = any(scene%periodic)
       allocate(vec(op%n), source=0.0_dp)
+      ! (the solves in the operator's own numbering, from a cold start; the
+      ! mode back in the scene's)
+      op%own_vectors = allocated(op%order)
       call operator_critical_steps(op, springs, rate, geo, choice, limit, tol, vec, result, status, progress)
+      if (op%own_vectors) then
+        op%own_vectors = .false.
+        allocate(vec_out(op%n))
+        call to_outer_order(op, vec, vec_out)
+        call move_alloc(vec_out, vec)
+      end if
       call operator_mix(op, 1.0_dp, 0.0_dp)
     end subroutine steps_on
   end subroutine assembly_critical_steps
@@ -1429,7 +1442,7 @@ contains
     real(dp), intent(inout) :: dsum(:, :)
     logical, intent(in) :: known
     real(dp), allocatable :: v_own(:), r_own(:)
-    if (.not. allocated(op%order)) then
+    if (.not. allocated(op%order) .or. op%own_vectors) then
       call abs_product_own(op, v, r, dsum, known)
       return
     end if
@@ -1519,7 +1532,7 @@ contains
     type(assembly_operator_type), intent(in) :: op
     integer, intent(in) :: b
     e = b
-    if (allocated(op%order)) e = op%order(b)
+    if (allocated(op%order) .and. .not. op%own_vectors) e = op%order(b)
   end function outer_body
 
   !> The caller's spring of the operator's spring s.
@@ -1531,7 +1544,8 @@ contains
   end function outer_spring
 
   !> A vector (nc per free body) from the caller's numbering of the bodies
-  !> into the operator's (`to_own_order`), or back (`to_outer_order`).
+  !> into the operator's (`to_own_order`), or back (`to_outer_order`), for
+  !> an operator with an order.
   subroutine to_own_order(op, x, y)
     type(assembly_operator_type), intent(in) :: op
     real(dp), intent(in) :: x(:)
@@ -1540,7 +1554,7 @@ contains
     nc = op%nc
     !$omp parallel do private(b, e) schedule(static) if(op%n_bodies >= parallel_springs)
     do b = 1, op%n_bodies
-      e = outer_body(op, b)
+      e = op%order(b)
       y((b - 1)*nc + 1:b*nc) = x((e - 1)*nc + 1:e*nc)
     end do
     !$omp end parallel do
@@ -1555,7 +1569,7 @@ contains
     nc = op%nc
     !$omp parallel do private(b, e) schedule(static) if(op%n_bodies >= parallel_springs)
     do b = 1, op%n_bodies
-      e = outer_body(op, b)
+      e = op%order(b)
       y((e - 1)*nc + 1:e*nc) = x((b - 1)*nc + 1:b*nc)
     end do
     !$omp end parallel do
@@ -2282,6 +2296,7 @@ contains
     ! scatter the product's blocks (body then holds the operator's numbers)
     if (allocated(op%order)) deallocate(op%order)
     if (allocated(op%spring_order)) deallocate(op%spring_order)
+    op%own_vectors = .false.
     if (present(position)) then
       if (nfree >= order_min_bodies .and. size(position, 2) == size(mass)) then
         if (crossing_share(body, springs, product_block_bodies) > order_crossing) &
