@@ -23,9 +23,12 @@
 !> ARPACK's calls and take the cores from the OpenMP operator (2 threads were
 !> slower than 1 at 1e4 particles without it); eigsh keeps OpenBLAS's default.
 !>
-!>   OPENBLAS_NUM_THREADS=1 fpm run --example bench_scene_eigen --profile release [-- MAX_PARTICLES [noscipy [APP [MIN_PARTICLES]]]]
+!>   OPENBLAS_NUM_THREADS=1 fpm run --example bench_scene_eigen --profile release [-- MAX_PARTICLES [noscipy [APP [MIN_PARTICLES [random]]]]]
 !>
-!> (MIN_PARTICLES: the cases below it are left out, e.g. 1000000 alone.)
+!> (MIN_PARTICLES: the cases below it are left out, e.g. 1000000 alone.
+!> `random`: the app's tables are written in a fixed random order, as a DEM
+!> code's dump by particle id lists a settled pile (particles permuted,
+!> contacts renamed and permuted), in /tmp/demstep_bench_app_random_N/.)
 program bench_scene_eigen
   use, intrinsic :: iso_fortran_env, only: output_unit
   use demstep_kinds, only: dp, i8
@@ -61,7 +64,7 @@ program bench_scene_eigen
   real(dp) :: t_app, omega_app
   integer(i8) :: app_products
   integer :: c, n_max, n_min, ios, threads
-  logical :: scipy
+  logical :: scipy, shuffled
   real(dp) :: t_build, t_tile, t_bound, t_lanczos(2), t_dense, t_write, t_eigsh, lam_eigsh, omega_eigsh
   real(dp) :: t0, z, overlap, mb, peak_before
   character(len=48) :: memory
@@ -75,6 +78,8 @@ program bench_scene_eigen
   n_min = 0
   call get_command_argument(4, arg)
   if (arg /= "") read(arg, *, iostat=ios) n_min
+  call get_command_argument(5, arg)
+  shuffled = arg == "random"
   peak_before = 0.0_dp
 
   write(output_unit, '(a)') "# random periodic packings (seed 1) tiled up; 6 DOF per particle; one run each;"
@@ -171,16 +176,27 @@ contains
     real(dp), allocatable :: cn(:, :), cd(:)
     real(dp) :: times(app_repeats), t0
     type(result_group_type) :: res
-    integer :: unit, pos, i, r, k, exitstat
+    integer, allocatable :: row_of(:), new_of(:), contact_at(:)
+    integer :: unit, pos, i, r, k, exitstat, q
     dir = "/tmp/demstep_bench_app_"//int_text(s%n)
+    if (shuffled) dir = "/tmp/demstep_bench_app_random_"//int_text(s%n)
     call execute_command_line("mkdir -p "//dir, wait=.true.)
     call contact_list(s, ci, cj, cn, cd, status)
     call require("contact_list")
+    ! the rows' order: row_of(k) is the particle (contact_at(k) the contact)
+    ! written k-th, new_of(i) particle i's row
+    row_of = permutation(s%n, shuffled, 1)
+    contact_at = permutation(size(ci), shuffled, 2)
+    allocate(new_of(s%n))
+    do k = 1, s%n
+      new_of(row_of(k)) = k
+    end do
     ! particles: x y z, v, mass, radius, fixed, inertia
     open(newunit=unit, file=dir//"/particles.txt", access="stream", form="unformatted", status="replace", &
       action="write")
     pos = 0
-    do i = 1, s%n
+    do q = 1, s%n
+      i = row_of(q)
       do k = 1, 3
         call put_real(buf, pos, s%x(k, i))
         pos = pos + 1
@@ -207,11 +223,12 @@ contains
     open(newunit=unit, file=dir//"/contacts.txt", access="stream", form="unformatted", status="replace", &
       action="write")
     pos = 0
-    do i = 1, size(ci)
-      call put_integer(buf, pos, ci(i))
+    do q = 1, size(ci)
+      i = contact_at(q)
+      call put_integer(buf, pos, new_of(ci(i)))
       pos = pos + 1
       buf(pos:pos) = " "
-      call put_integer(buf, pos, cj(i))
+      call put_integer(buf, pos, new_of(cj(i)))
       pos = pos + 1
       buf(pos:pos) = " "
       call put_real(buf, pos, s%k_normal)
@@ -253,6 +270,28 @@ contains
     call result_get(res, "eigen_products", products, status)
     if (status%stat /= demstep_stat%ok) products = -1
   end subroutine run_app_files
+
+  !> 1..n in order, or (`mixed`) in a fixed pseudo-random order (Fisher-Yates
+  !> on the compiler's generator, its seed set from `seed`).
+  function permutation(n, mixed, seed) result(p)
+    integer, intent(in) :: n, seed
+    logical, intent(in) :: mixed
+    integer, allocatable :: p(:), put(:)
+    real(dp) :: u
+    integer :: i, j, t, m
+    p = [(i, i = 1, n)]
+    if (.not. mixed) return
+    call random_seed(size=m)
+    put = [(seed + 7919*i, i = 1, m)]
+    call random_seed(put=put)
+    do i = n, 2, -1
+      call random_number(u)
+      j = min(i, int(u*i) + 1)
+      t = p(i)
+      p(i) = p(j)
+      p(j) = t
+    end do
+  end function permutation
 
   !> The median of a few values.
   real(dp) function median(x)

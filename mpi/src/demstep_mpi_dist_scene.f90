@@ -819,6 +819,7 @@ contains
     logical, intent(in), optional :: release
     type(dist_scene_operator_type), target :: dop
     type(spring_block_type), allocatable :: springs(:)
+    real(dp), allocatable :: position(:, :)
     type(critical_step_type) :: mine
     type(MPI_Comm) :: rows_comm
     integer, allocatable :: comp(:), blocks(:, :), halo(:)
@@ -860,7 +861,11 @@ contains
       call agree_status(comm, status, merge(no_fault, int(rank, i8), status%stat == demstep_stat%ok))
       if (status%stat /= demstep_stat%ok) return
       if (present(release)) then
-        if (release) call release_contacts(part)
+        if (release) then
+          ! (the positions kept until the operator has chosen its order)
+          call move_alloc(scene%x, position)
+          call release_contacts(part)
+        end if
       end if
 
       ! the whole scene's scales and counts
@@ -908,8 +913,16 @@ contains
       if (active) root = rank
       call MPI_Allreduce(MPI_IN_PLACE, root, 1, MPI_INTEGER, MPI_MIN, comm)
       if (active) then
-        call operator_from_springs(scene%dim, rotation, scene%mass, scene%inertia, scene%radius, springs, &
-          geo, dop%op, rate, status, scene%fixed, scales)
+        ! (the part's bodies in a locality order where its file order
+        ! scatters them: the products' vectors stay in the part's order)
+        if (allocated(position)) then
+          call operator_from_springs(scene%dim, rotation, scene%mass, scene%inertia, scene%radius, springs, &
+            geo, dop%op, rate, status, scene%fixed, scales, position=position)
+          deallocate(position)
+        else
+          call operator_from_springs(scene%dim, rotation, scene%mass, scene%inertia, scene%radius, springs, &
+            geo, dop%op, rate, status, scene%fixed, scales, position=scene%x)
+        end if
         if (flags(2) .and. size(dop%op%dcoef, 2) == 0) then
           ! (dashpots elsewhere, none here: B' is zero on this part)
           deallocate(dop%op%dcoef)
