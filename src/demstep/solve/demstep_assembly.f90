@@ -184,7 +184,8 @@ module demstep_assembly
     integer :: n = 0, nc = 0, n_bodies = 0, n_springs = 0
     !> The components (of u(1:3), r theta(4:6)) that are degrees of freedom.
     integer, allocatable :: comp(:)
-    !> Free-body index of each end of each spring (0: ground, a wall or fixed).
+    !> Free-body index of each end of each spring (0: ground, a wall or
+    !> fixed), in the operator's numbering (`order`).
     integer, allocatable :: ends(:, :)
     !> Where the operator numbers its bodies and springs in a locality order
     !> (`order_min_bodies`; else not allocated: the caller's order): its
@@ -493,7 +494,7 @@ contains
       if (op%own_vectors) then
         op%own_vectors = .false.
         allocate(vec_out(op%n))
-        call to_outer_order(op, vec, vec_out)
+        call reorder_vector(op, vec, vec_out, .false.)
         call move_alloc(vec_out, vec)
       end if
       call operator_mix(op, 1.0_dp, 0.0_dp)
@@ -1448,9 +1449,9 @@ contains
     end if
     ! (in the operator's numbering, and back)
     allocate(v_own(op%n), r_own(op%n))
-    call to_own_order(op, v, v_own)
+    call reorder_vector(op, v, v_own, .true.)
     call abs_product_own(op, v_own, r_own, dsum, known)
-    call to_outer_order(op, r_own, r)
+    call reorder_vector(op, r_own, r, .false.)
   end subroutine operator_abs_product
 
   !> `operator_abs_product` with v and r in the operator's own numbering of
@@ -1544,36 +1545,25 @@ contains
   end function outer_spring
 
   !> A vector (nc per free body) from the caller's numbering of the bodies
-  !> into the operator's (`to_own_order`), or back (`to_outer_order`), for
-  !> an operator with an order.
-  subroutine to_own_order(op, x, y)
+  !> into the operator's (`own`), or back, for an operator with an order.
+  subroutine reorder_vector(op, x, y, own)
     type(assembly_operator_type), intent(in) :: op
     real(dp), intent(in) :: x(:)
     real(dp), intent(out) :: y(:)
+    logical, intent(in) :: own
     integer :: b, e, nc
     nc = op%nc
     !$omp parallel do private(b, e) schedule(static) if(op%n_bodies >= parallel_springs)
     do b = 1, op%n_bodies
       e = op%order(b)
-      y((b - 1)*nc + 1:b*nc) = x((e - 1)*nc + 1:e*nc)
+      if (own) then
+        y((b - 1)*nc + 1:b*nc) = x((e - 1)*nc + 1:e*nc)
+      else
+        y((e - 1)*nc + 1:e*nc) = x((b - 1)*nc + 1:b*nc)
+      end if
     end do
     !$omp end parallel do
-  end subroutine to_own_order
-
-  !> (see `to_own_order`)
-  subroutine to_outer_order(op, x, y)
-    type(assembly_operator_type), intent(in) :: op
-    real(dp), intent(in) :: x(:)
-    real(dp), intent(out) :: y(:)
-    integer :: b, e, nc
-    nc = op%nc
-    !$omp parallel do private(b, e) schedule(static) if(op%n_bodies >= parallel_springs)
-    do b = 1, op%n_bodies
-      e = op%order(b)
-      y((e - 1)*nc + 1:e*nc) = x((b - 1)*nc + 1:b*nc)
-    end do
-    !$omp end parallel do
-  end subroutine to_outer_order
+  end subroutine reorder_vector
 
   !> The rigorous bound of omega_max^2 (scaled), without the pre-stress (which
   !> only softens): lambda_max(A') <= rho(|A'|) <= max_i (|A'| v)_i / v_i for any
@@ -2242,6 +2232,10 @@ contains
     op%alpha = 1.0_dp
     op%beta = 0.0_dp
     op%n_springs = 0
+    ! (the given order unless chosen below)
+    if (allocated(op%order)) deallocate(op%order)
+    if (allocated(op%spring_order)) deallocate(op%spring_order)
+    op%own_vectors = .false.
     op%comp = dof_components(dim, rotation)
     nc = size(op%comp)
     op%nc = nc
@@ -2294,9 +2288,6 @@ contains
 
     ! a locality order of the bodies and springs where the given one would
     ! scatter the product's blocks (body then holds the operator's numbers)
-    if (allocated(op%order)) deallocate(op%order)
-    if (allocated(op%spring_order)) deallocate(op%spring_order)
-    op%own_vectors = .false.
     if (present(position)) then
       if (nfree >= order_min_bodies .and. size(position, 2) == size(mass)) then
         if (crossing_share(body, springs, product_block_bodies) > order_crossing) &
