@@ -1,12 +1,13 @@
 !> Tests of demstep_sort's radix sort of 64-bit keys: ascending order and the
 !> same keys, on random keys over the whole range (negative ones, the
 !> extremes, repeats), keys that share their high bytes (the passes skipped),
-!> equal keys, and the short arrays; and of `count_before` against a count
-!> over the whole list.
+!> equal keys, and the short arrays; of `count_before` against a count
+!> over the whole list; and of a counting sort on `bucket_starts` against
+!> the keys' order and each key's entries in their order.
 module test_sort
   use testdrive, only: new_unittest, unittest_type, error_type, check
   use demstep_kinds, only: i8
-  use demstep_sort, only: radix_sort, count_before
+  use demstep_sort, only: radix_sort, count_before, bucket_starts
   implicit none
   private
   public :: collect_sort
@@ -18,7 +19,8 @@ contains
     testsuite = [ &
       new_unittest("radix_sort: random keys, negative, extreme and repeated", test_radix_random), &
       new_unittest("radix_sort: keys sharing their high bytes, all equal, short", test_radix_special), &
-      new_unittest("count_before: equal to a count over the list, both kinds", test_count_before) &
+      new_unittest("count_before: equal to a count over the list, both kinds", test_count_before), &
+      new_unittest("bucket_starts: a counting sort by key, stable; empty buckets and lists", test_buckets) &
       ]
   end subroutine collect_sort
 
@@ -113,6 +115,56 @@ contains
       deallocate(a)
     end do
   end subroutine test_count_before
+
+  !> Entries 1..n with keys in 1..m (few keys: repeats; some keys unused)
+  !> placed by `bucket_starts`: the placed keys ascend, each key's entries
+  !> keep their order, every entry is placed once, and start(k) is 1 plus the
+  !> count of keys below k. n from 0 (no entries) to 60, m from 1 to 9.
+  subroutine test_buckets(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer, allocatable :: key(:), per_key(:), placed(:)
+    integer(i8), allocatable :: start(:), next(:)
+    integer(i8) :: seed
+    integer :: n, m, i, k
+    seed = 777_i8
+    do n = 0, 60
+      m = 1 + mod(n, 9)
+      allocate(key(n), per_key(m), placed(n))
+      per_key = 0
+      do i = 1, n
+        key(i) = int(modulo(next_key(seed), int(m, i8))) + 1
+        per_key(key(i)) = per_key(key(i)) + 1
+      end do
+      start = bucket_starts(per_key)
+      call check(error, size(start) == m + 1 .and. start(m + 1) == n + 1, "one past the last entry")
+      if (allocated(error)) return
+      do k = 1, m
+        call check(error, start(k) == 1 + count(key < k), "start of key "//char(48 + k))
+        if (allocated(error)) return
+      end do
+      next = start(:m)
+      placed = 0
+      do i = 1, n
+        placed(next(key(i))) = i
+        next(key(i)) = next(key(i)) + 1
+      end do
+      do i = 2, n
+        call check(error, key(placed(i - 1)) < key(placed(i)) .or. (key(placed(i - 1)) == key(placed(i)) &
+          .and. placed(i - 1) < placed(i)), "by key, then in order")
+        if (allocated(error)) return
+      end do
+      call check(error, all(placed > 0), "every entry placed")
+      if (allocated(error)) return
+      deallocate(key, per_key, placed)
+    end do
+  contains
+    integer(i8) function next_key(state)
+      integer(i8), intent(inout) :: state
+      ! (a small linear congruential sequence that stays far from overflow)
+      state = modulo(state*48271_i8, 2147483647_i8)
+      next_key = state/1000_i8
+    end function next_key
+  end subroutine test_buckets
 
   !> radix_sort(a) ascends and holds a's keys, each as often (counted).
   subroutine expect_sorted(error, keys)

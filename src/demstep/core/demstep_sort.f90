@@ -1,13 +1,14 @@
 !> Small in-place sorts shared by the library: reals by insertion (the short
 !> lists of roots and breakpoints), integers by heapsort (ids, any length) and
-!> 64-bit keys by radix sort (long lists of keys); and the binary search of
-!> an ascending list (`count_before`).
+!> 64-bit keys by radix sort (long lists of keys); the binary search of
+!> an ascending list (`count_before`); and the buckets of a counting sort
+!> (`bucket_starts`).
 module demstep_sort
   use demstep_kinds, only: dp, i8
   implicit none
   private
 
-  public :: sort_ascending, heap_sort, radix_sort, count_before
+  public :: sort_ascending, heap_sort, radix_sort, count_before, bucket_starts
 
   !> The number of entries of an ascending integer list that come before a
   !> value: those < v, or with `inclusive` those <= v (a binary search,
@@ -123,6 +124,22 @@ contains
       at(d) = at(d) + 1
     end do
   end subroutine radix_pass
+
+  !> The buckets of a counting sort: with count(k) entries of key k (k = 1 ..
+  !> n), start(k) = 1 + count(1) + ... + count(k - 1) for k = 1 .. n + 1
+  !> (start(n + 1): one past the last entry). Placing each entry at next(k),
+  !> next a copy of start(:n) advanced by one as each entry of key k comes,
+  !> sorts the entries by key and keeps their order within a key.
+  pure function bucket_starts(count) result(start)
+    integer, intent(in) :: count(:)
+    integer(i8), allocatable :: start(:)
+    integer :: k
+    allocate(start(size(count) + 1))
+    start(1) = 1
+    do k = 1, size(count)
+      start(k + 1) = start(k) + count(k)
+    end do
+  end function bucket_starts
 
   !> `count_before` for default integers.
   pure integer function count_before_int(list, v, inclusive) result(n)

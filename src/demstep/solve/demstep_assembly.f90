@@ -54,6 +54,7 @@ module demstep_assembly
   use demstep_scene_data, only: scene_type, scene_effect, effective_mass, contact_values, wall_values, &
     contact_dashpots, check_scene_damping
   use demstep_neighbours, only: contact_list, spatial_order
+  use demstep_sort, only: bucket_starts
   use demstep_scene_bonds, only: scene_bond_law
   use demstep_bonds, only: bond_law_type
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -1820,70 +1821,61 @@ contains
   subroutine operator_set_blocks(op, block_bodies)
     type(assembly_operator_type), intent(inout) :: op
     integer, intent(in) :: block_bodies
-    integer, allocatable :: home(:), at(:)
+    integer, allocatable :: home(:), per_block(:), per_body(:)
+    integer(i8), allocatable :: body_start(:), next_block(:), next_body(:)
     integer :: nb, s, blk, k, e, i, nx
     op%block_bodies = max(1, block_bodies)
     nb = max(1, (op%n_bodies + op%block_bodies - 1)/op%block_bodies)
     op%n_blocks = nb
-    ! each spring's block (0: crossing, -1: no free end); the counts per
-    ! block, and of crossing ends per body
-    allocate(home(op%n_springs), at(op%n_bodies + 1))
-    call fit_int1(op%block_first, nb + 1)
-    op%block_first = 0
-    at = 0
+    ! each spring's block (0: crossing, -1: no free end); the interior
+    ! springs per block, and the crossing ends per body
+    allocate(home(op%n_springs), per_block(nb), per_body(op%n_bodies))
+    per_block = 0
+    per_body = 0
     nx = 0
     do s = 1, op%n_springs
       home(s) = spring_home(op, s)
       if (home(s) > 0) then
-        op%block_first(home(s) + 1) = op%block_first(home(s) + 1) + 1
+        per_block(home(s)) = per_block(home(s)) + 1
       else if (home(s) == 0) then
         nx = nx + 1
         do e = 1, 2
-          at(op%ends(e, s) + 1) = at(op%ends(e, s) + 1) + 1
+          per_body(op%ends(e, s)) = per_body(op%ends(e, s)) + 1
         end do
       end if
     end do
-    op%block_first(1) = 1
-    do blk = 1, nb
-      op%block_first(blk + 1) = op%block_first(blk + 1) + op%block_first(blk)
-    end do
-    at(1) = 1
-    do i = 1, op%n_bodies
-      at(i + 1) = at(i + 1) + at(i)
-    end do
+    call fit_int1(op%block_first, nb + 1)
+    op%block_first = int(bucket_starts(per_block))
+    body_start = bucket_starts(per_body)
     call fit_int1(op%cross_first, nb + 1)
     do blk = 1, nb
-      op%cross_first(blk) = at((blk - 1)*op%block_bodies + 1)
+      op%cross_first(blk) = int(body_start((blk - 1)*op%block_bodies + 1))
     end do
-    op%cross_first(nb + 1) = at(op%n_bodies + 1)
+    op%cross_first(nb + 1) = int(body_start(op%n_bodies + 1))
     call fit_int1(op%block_springs, op%block_first(nb + 1) - 1)
     call fit_int1(op%cross, nx)
-    call fit_int1(op%cross_body, at(op%n_bodies + 1) - 1)
-    call fit_int1(op%cross_col, at(op%n_bodies + 1) - 1)
+    call fit_int1(op%cross_body, op%cross_first(nb + 1) - 1)
+    call fit_int1(op%cross_col, op%cross_first(nb + 1) - 1)
     call fit_real2(op%work, 6, 1, 2*nx)
-    ! the lists, in spring order (block_first(b) and at(i) run ahead as
-    ! entries are placed)
+    ! the lists, in spring order (a counting sort by block and by body)
+    next_block = op%block_first(:nb)
+    next_body = body_start(:op%n_bodies)
     k = 0
     do s = 1, op%n_springs
       if (home(s) > 0) then
-        op%block_springs(op%block_first(home(s))) = s
-        op%block_first(home(s)) = op%block_first(home(s)) + 1
+        op%block_springs(next_block(home(s))) = s
+        next_block(home(s)) = next_block(home(s)) + 1
       else if (home(s) == 0) then
         k = k + 1
         op%cross(k) = s
         do e = 1, 2
           i = op%ends(e, s)
-          op%cross_body(at(i)) = i
-          op%cross_col(at(i)) = 2*(k - 1) + e
-          at(i) = at(i) + 1
+          op%cross_body(next_body(i)) = i
+          op%cross_col(next_body(i)) = 2*(k - 1) + e
+          next_body(i) = next_body(i) + 1
         end do
       end if
     end do
-    ! block_first(b) now points past block b's entries: shift back
-    do blk = nb, 1, -1
-      op%block_first(blk + 1) = op%block_first(blk)
-    end do
-    op%block_first(1) = 1
   end subroutine operator_set_blocks
 
   !> The product's block of spring s (`operator_set_blocks`): its free ends'
@@ -2446,7 +2438,8 @@ contains
     type(spring_block_type), intent(in) :: springs(:)
     integer, intent(inout) :: body(:)
     integer, allocatable, intent(out) :: order(:), spring_order(:)
-    integer, allocatable :: particle(:), key(:), start(:)
+    integer, allocatable :: particle(:), key(:), per_key(:)
+    integer(i8), allocatable :: start(:)
     integer :: nfree, b, s, k
     particle = spatial_order(position, body > 0)
     nfree = size(particle)
@@ -2455,8 +2448,8 @@ contains
       order(b) = body(particle(b))
       body(particle(b)) = b
     end do
-    allocate(key(size(springs)), start(nfree + 2))
-    start = 0
+    allocate(key(size(springs)), per_key(nfree + 1))
+    per_key = 0
     do s = 1, size(springs)
       k = body(springs(s)%b)
       if (springs(s)%a > 0) then
@@ -2464,12 +2457,9 @@ contains
       end if
       if (k == 0) k = nfree + 1
       key(s) = k
-      start(k + 1) = start(k + 1) + 1
+      per_key(k) = per_key(k) + 1
     end do
-    start(1) = 1
-    do k = 1, nfree + 1
-      start(k + 1) = start(k + 1) + start(k)
-    end do
+    start = bucket_starts(per_key)
     allocate(spring_order(size(springs)))
     do s = 1, size(springs)
       spring_order(start(key(s))) = s

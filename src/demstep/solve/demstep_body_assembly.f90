@@ -42,6 +42,7 @@ module demstep_body_assembly
   use demstep_lanczos, only: lanczos_context_type, lanczos_tolerance_default
   use demstep_lapack, only: symmetric_eigensystem
   use demstep_csr, only: csr_matrix_type, csr_abs_product
+  use demstep_sort, only: bucket_starts
   use demstep_progress, only: progress_type
   implicit none
   private
@@ -216,10 +217,11 @@ contains
     type(spring_block_type), allocatable, intent(out) :: springs(:)
     type(spring_block_type), allocatable :: found(:)
     integer, allocatable :: free(:), member(:, :)
+    integer, allocatable :: ends_at(:)
+    integer(i8), allocatable :: next(:)
     real(dp), allocatable :: lam(:, :), vecs(:, :, :)
     real(dp) :: k_scale, m_scale, c_scale, ell, mb(2)
     integer :: b, s, e, i, nfree, ns, ba, bb, rot_dim
-    integer(i8) :: p
     logical :: keep
     rate = 0.0_dp
     call check_bodies(scene, bodies, status)
@@ -287,7 +289,7 @@ contains
     op%n = nfree*op%nc
     op%n_springs = ns
     allocate(op%ends(2, ns), op%spring(13, ns), op%lever(3, 2, ns), op%arm(2, ns))
-    allocate(op%wt(nfree), op%wr(3, 3, nfree), op%first(nfree + 1), op%work(6, 2*ns))
+    allocate(op%wt(nfree), op%wr(3, 3, nfree), op%work(6, 2*ns), ends_at(nfree))
     allocate(op%xs(6, 0:nfree), source=0.0_dp)
     if (any(springs%c(1) > 0.0_dp .or. springs%c(2) > 0.0_dp .or. springs%c(3) > 0.0_dp .or. &
         springs%c(4) > 0.0_dp)) then
@@ -306,7 +308,7 @@ contains
           *spread(vecs(:, e, b), 1, 3)/sqrt(lam(e, b)/m_scale)
       end do
     end do
-    op%first = 0
+    ends_at = 0
     do s = 1, ns
       associate(sp => springs(s))
         op%arm(:, s) = [sp%arm_a, sp%arm_b]/ell
@@ -318,30 +320,24 @@ contains
           op%ends(e, s) = free(bodies%body_of(member(e, s)))
           if (op%ends(e, s) == 0) cycle
           op%lever(:, e, s) = bodies%offset(:, member(e, s))/ell
-          op%first(op%ends(e, s) + 1) = op%first(op%ends(e, s) + 1) + 1
+          ends_at(op%ends(e, s)) = ends_at(op%ends(e, s)) + 1
         end do
         op%spring(:, s) = [sp%n, op%lever(:, 1, s) + op%arm(1, s)*sp%n, op%lever(:, 2, s) - op%arm(2, s)*sp%n, &
           sp%k/k_scale]
       end associate
     end do
-    op%first(1) = 1
-    do i = 1, nfree
-      op%first(i + 1) = op%first(i + 1) + op%first(i)
-    end do
-    allocate(op%incident(op%first(nfree + 1) - 1))
+    ! each body's spring ends, in spring order (a counting sort)
+    op%first = bucket_starts(ends_at)
+    allocate(op%incident(op%first(nfree + 1) - 1), next(nfree))
+    next = op%first(:nfree)
     do s = 1, ns
       do e = 1, 2
         i = op%ends(e, s)
         if (i == 0) cycle
-        p = op%first(i)
-        op%incident(p) = 2*(s - 1) + e
-        op%first(i) = p + 1
+        op%incident(next(i)) = 2*(s - 1) + e
+        next(i) = next(i) + 1
       end do
     end do
-    do i = nfree, 1, -1
-      op%first(i + 1) = op%first(i)
-    end do
-    op%first(1) = 1
     rate = sqrt(k_scale)/sqrt(m_scale)
     status%stat = demstep_stat%ok
   end subroutine body_operator
