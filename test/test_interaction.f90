@@ -5,11 +5,10 @@
 module test_interaction
   use testdrive, only: new_unittest, unittest_type, error_type, check, test_failed
   use demstep
-  use demstep_neighbours, only: contact_list
+  use demstep_neighbours, only: contact_list, spatial_order
   use demstep_assembly, only: assembly_matrix, eigen_solver_name, assembly_operator_apply, &
     assembly_operator, assembly_operator_type, assembly_matrix_rows, operator_set_blocks, operator_spring_energies, &
     product_block_bodies, order_min_bodies, operator_products
-  use demstep_neighbours, only: spatial_order
   use demstep_assembly, only: operator_abs_product, operator_bound, operator_mix, bound_iterations
   use demstep_interaction, only: mixed_stiffness
   use demstep_kinds, only: pi
@@ -1249,7 +1248,9 @@ contains
   !> caller's numbering is an eigenvector of the plain operator: its
   !> measured residual there meets the tolerance, and rate sqrt(its
   !> Rayleigh quotient) is omega_max to 1e-12. The same packing sorted by
-  !> position (few springs cross) keeps the given order.
+  !> position (few springs cross) keeps the given order. A 2D packing with
+  !> dashpots (three components a body): 0.5 A' + 2 B' and its matrix the
+  !> same to 1e-13.
   subroutine test_locality_order(error)
     type(error_type), allocatable, intent(out) :: error
     integer, parameter :: n = 60000
@@ -1352,6 +1353,34 @@ contains
     call check(error, status%stat, demstep_stat%ok, status%message)
     if (allocated(error)) return
     call check(error, .not. allocated(op%order), "sorted by position: the given order kept")
+    if (allocated(error)) return
+    ! 2D (three components a body) with dashpots: alpha A' + beta B'
+    call random_packing(scene, n, 2, 0.3_dp, 1.0_dp)
+    call scene_set_damping(scene, 0.3_dp, status)
+    call check(error, status%stat, demstep_stat%ok, "damping")
+    if (allocated(error)) return
+    call assembly_critical_steps(scene, c, status, solver=eigen_solver%none, operator_out=op)
+    call check(error, status%stat == demstep_stat%ok .and. allocated(op%order) .and. op%nc == 3 .and. &
+      size(op%dcoef, 2) > 0, "2D with dashpots, reordered: "//status%message)
+    if (allocated(error)) return
+    call assembly_operator(scene, plain, rate, status)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    call operator_mix(op, 0.5_dp, 2.0_dp)
+    call operator_mix(plain, 0.5_dp, 2.0_dp)
+    deallocate(x, y, ref, mag, ym)
+    allocate(x(op%n, 1), y(op%n, 1), ref(op%n, 1), mag(op%n), ym(op%n))
+    call random_number(x)
+    x = x - 0.5_dp
+    call assembly_matrix(plain, matrix)
+    call csr_apply(matrix, x(:, 1), ref(:, 1))
+    call csr_abs_product(matrix, abs(x(:, 1)), mag)
+    call assembly_operator_apply(op, x(:, 1), y(:, 1))
+    call assembly_matrix(op, matrix)
+    call csr_apply(matrix, x(:, 1), ym)
+    call check(error, all(abs(y(:, 1) - ref(:, 1)) <= 1.0e-13_dp*mag) .and. all(abs(ym - ref(:, 1)) <= &
+      1.0e-13_dp*mag), "2D, 0.5 A' + 2 B': product and matrix, largest difference over |A'||x| " &
+      //real_str(maxval(abs(y(:, 1) - ref(:, 1))/max(mag, tiny(1.0_dp)))))
   end subroutine test_locality_order
 
   !> The contacts are linearised in parallel (above 4096 of them): a Hertz

@@ -119,7 +119,8 @@ contains
   !> Entries 1..n with keys in 1..m (few keys: repeats; some keys unused)
   !> placed by `bucket_starts`: the placed keys ascend, each key's entries
   !> keep their order, every entry is placed once, and start(k) is 1 plus the
-  !> count of keys below k. n from 0 (no entries) to 60, m from 1 to 9.
+  !> count of keys below k. n from 0 (no entries) to 60, m from 1 to 9; and
+  !> no keys at all.
   subroutine test_buckets(error)
     type(error_type), allocatable, intent(out) :: error
     integer, allocatable :: key(:), per_key(:), placed(:)
@@ -127,6 +128,9 @@ contains
     integer(i8) :: seed
     integer :: n, m, i, k
     seed = 777_i8
+    start = bucket_starts([integer ::])
+    call check(error, size(start) == 1 .and. start(1) == 1, "no keys: one start, 1")
+    if (allocated(error)) return
     do n = 0, 60
       m = 1 + mod(n, 9)
       allocate(key(n), per_key(m), placed(n))

@@ -801,7 +801,8 @@ contains
   !> per-contact rule and exact damped limit). Collective; the same result
   !> and status on every rank, those of the serial path for the whole scene.
   !> With `release`, the part's positions, velocities and contacts are
-  !> released once its springs are built (the solve needs only these): the
+  !> released once its springs are built (the positions once the operator
+  !> has chosen its order; the solve needs only these): the
   !> part cannot be solved again, and a solve of a released part (on any
   !> rank) is refused with invalid_input naming `part`.
   subroutine mpi_part_critical_steps(comm, part, result, status, prestress, tolerance, progress, release)

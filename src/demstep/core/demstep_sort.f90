@@ -125,19 +125,19 @@ contains
     end do
   end subroutine radix_pass
 
-  !> The buckets of a counting sort: with count(k) entries of key k (k = 1 ..
-  !> n), start(k) = 1 + count(1) + ... + count(k - 1) for k = 1 .. n + 1
+  !> The buckets of a counting sort: with counts(k) entries of key k (k = 1 ..
+  !> n), start(k) = 1 + counts(1) + ... + counts(k - 1) for k = 1 .. n + 1
   !> (start(n + 1): one past the last entry). Placing each entry at next(k),
   !> next a copy of start(:n) advanced by one as each entry of key k comes,
   !> sorts the entries by key and keeps their order within a key.
-  pure function bucket_starts(count) result(start)
-    integer, intent(in) :: count(:)
+  pure function bucket_starts(counts) result(start)
+    integer, intent(in) :: counts(:)
     integer(i8), allocatable :: start(:)
     integer :: k
-    allocate(start(size(count) + 1))
+    allocate(start(size(counts) + 1))
     start(1) = 1
-    do k = 1, size(count)
-      start(k + 1) = start(k) + count(k)
+    do k = 1, size(counts)
+      start(k + 1) = start(k) + counts(k)
     end do
   end function bucket_starts
 

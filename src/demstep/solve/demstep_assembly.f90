@@ -192,10 +192,13 @@ module demstep_assembly
     !> (`order_min_bodies`; else not allocated: the caller's order): its
     !> body b is the vectors' free body order(b), its spring s the caller's
     !> spring_order(s). Its per-body and per-spring arrays are in its own
-    !> numbering; products, energies and the matrix are in the caller's
-    !> unless `own_vectors` (`assembly_critical_steps` sets it while it
-    !> solves: its Lanczos vectors are then in the operator's numbering,
-    !> which spares each product a scattered pass through x and y).
+    !> numbering; the vectors of products, energies, the matrix and |A'| v
+    !> are in the caller's unless `own_vectors` (`assembly_critical_steps`
+    !> sets it while it solves: its Lanczos vectors are then in the
+    !> operator's numbering, which spares each product a scattered pass
+    !> through x and y); spring energies are always by the caller's springs.
+    !> `assembly_matrix_rows`' bodies and the monitor's regions take the
+    !> operator's own body numbers.
     integer, allocatable :: order(:), spring_order(:)
     logical :: own_vectors = .false.
     !> Unit normal and (k_n, k_t, arm_a, arm_b, geo, k_r, k_w) of each spring,
@@ -482,7 +485,7 @@ contains
     !> Build the operator into `op` and compute the steps on it.
     subroutine steps_on(op)
       type(assembly_operator_type), intent(inout), target :: op
-      call prepare(scene, hertz_mode, impact_velocity, geo, springs, op, rate, status, local=.true.)
+      call prepare(scene, hertz_mode, impact_velocity, geo, springs, op, rate, status, position=scene%x)
       if (status%stat /= demstep_stat%ok) return
       built = .true.
       result%rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
@@ -2037,7 +2040,8 @@ contains
   !> do not read are not looked at (the check is O(rows asked)).
   subroutine assembly_matrix_rows(op, bodies, new_index, row_start, col, val, status)
     type(assembly_operator_type), intent(in) :: op
-    !> Free bodies (operator numbering) whose rows are wanted.
+    !> Free bodies (the operator's own numbering: `order` maps it to the
+    !> caller's where the operator chose one) whose rows are wanted.
     integer, intent(in) :: bodies(:)
     !> New number of each free body (n_bodies entries).
     integer, intent(in) :: new_index(:)
@@ -2137,7 +2141,7 @@ contains
   !> The common start of every assembly computation: options checked, degrees
   !> of freedom numbered, scaled masses, the springs linearised and the
   !> matrix-free operator built. O(particles + springs).
-  subroutine prepare(scene, hertz_mode, impact_velocity, geo, springs, op, rate, status, local)
+  subroutine prepare(scene, hertz_mode, impact_velocity, geo, springs, op, rate, status, position)
     type(scene_type), intent(in) :: scene
     integer, intent(in), optional :: hertz_mode
     real(dp), intent(in), optional :: impact_velocity
@@ -2148,12 +2152,12 @@ contains
     !> (0 on failure).
     real(dp), intent(out) :: rate
     type(demstep_status_type), intent(out) :: status
-    !> Let the operator number its bodies in a locality order (from the
-    !> particles' positions; `order_min_bodies`). Default no.
-    logical, intent(in), optional :: local
+    !> The particles' positions (the scene's): the operator may then number
+    !> its bodies in a locality order (`order_min_bodies`). Default no.
+    real(dp), intent(in), optional :: position(:, :)
     integer :: mode
     real(dp) :: v_impact
-    logical :: rotation, by_position
+    logical :: rotation
     mode = hertz_linearization%current
     if (present(hertz_mode)) mode = hertz_mode
     v_impact = 0.0_dp
@@ -2167,15 +2171,8 @@ contains
     rotation = scene%effects(scene_effect%rotation) .and. scene%dim > 1
     call linearise(scene, mode, v_impact, geo, springs, status)
     if (status%stat /= demstep_stat%ok) return
-    by_position = .false.
-    if (present(local)) by_position = local
-    if (by_position) then
-      call operator_from_springs(scene%dim, rotation, scene%mass, scene%inertia, scene%radius, springs, &
-        geo, op, rate, status, scene%fixed, position=scene%x)
-    else
-      call operator_from_springs(scene%dim, rotation, scene%mass, scene%inertia, scene%radius, springs, &
-        geo, op, rate, status, scene%fixed)
-    end if
+    call operator_from_springs(scene%dim, rotation, scene%mass, scene%inertia, scene%radius, springs, &
+      geo, op, rate, status, scene%fixed, position=position)
     if (status%stat == demstep_stat%invalid_input .and. status%where == "position") then
       if (size(scene%bonds, 2) == 0 .and. .not. (scene%effects(scene_effect%contacts) .or. &
           scene%effects(scene_effect%walls))) then
