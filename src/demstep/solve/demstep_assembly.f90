@@ -75,7 +75,7 @@ module demstep_assembly
     damped_lower_bound, dashpot_names, damped_newton, assembly_dashpot_bound, operator_from_springs, &
     operator_critical_steps, operator_mix, assembly_set_springs, linearise, operator_abs_product, &
     dof_masses, collatz_bound, abs_product_operator, operator_bound, operator_set_blocks, operator_spring_energies, &
-    operator_products
+    operator_products, locality_order
 
   !> Hertz linearisation at the current overlap, at an impact's largest
   !> overlap (`hertz_linearization%impact`), or at the larger of the two
@@ -2191,7 +2191,7 @@ contains
   !> An operator built before keeps its arrays where their sizes still fit
   !> (a monitor rebuilds it every update and check).
   subroutine operator_from_springs(dim, rotation, mass, inertia, radius, springs, geo, op, rate, status, fixed, &
-      scales, position)
+      scales, position, order)
     integer, intent(in) :: dim
     logical, intent(in) :: rotation
     real(dp), intent(in) :: mass(:), inertia(:), radius(:)
@@ -2210,6 +2210,11 @@ contains
     !> The bodies' positions (dim, bodies): the operator may then number its
     !> bodies and springs in a locality order (`order_min_bodies`).
     real(dp), intent(in), optional :: position(:, :)
+    !> Or the order itself (`locality_order`; size 0: the given order): the
+    !> free particles in the order of the operator's bodies. Its vectors are
+    !> then in that order too (`own_vectors`). Status invalid_input naming
+    !> `order` when it does not list every free particle once.
+    integer, intent(in), optional :: order(:)
     integer, allocatable :: body(:)
     integer(i8), allocatable :: at(:, :)
     real(dp) :: k_scale, m_scale, c_scale, mdof(6)
@@ -2275,12 +2280,23 @@ contains
       return
     end if
 
-    ! a locality order of the bodies and springs where the given one would
-    ! scatter the product's blocks (body then holds the operator's numbers)
-    if (present(position)) then
+    ! a locality order of the bodies and springs: the caller's, or where the
+    ! given one would scatter the product's blocks, by position (body then
+    ! holds the operator's numbers)
+    if (present(order)) then
+      if (size(order) > 0) then
+        if (.not. free_permutation(order, body)) then
+          call set_status(status, demstep_stat%invalid_input, "must list every free particle once, " &
+            //"or nothing", where="order")
+          return
+        end if
+        call locality_numbering(order, springs, body, op%order, op%spring_order)
+        op%own_vectors = .true.
+      end if
+    else if (present(position)) then
       if (nfree >= order_min_bodies .and. size(position, 2) == size(mass)) then
         if (crossing_share(body, springs, product_block_bodies) > order_crossing) &
-          call locality_numbering(position, springs, body, op%order, op%spring_order)
+          call locality_numbering(spatial_order(position, body > 0), springs, body, op%order, op%spring_order)
       end if
     end if
 
@@ -2400,6 +2416,51 @@ contains
     status%stat = demstep_stat%ok
   end subroutine operator_from_springs
 
+  !> Whether `particle` lists each free particle (body(i) > 0) once.
+  pure logical function free_permutation(particle, body) result(ok)
+    integer, intent(in) :: particle(:), body(:)
+    logical, allocatable :: seen(:)
+    integer :: k
+    ok = size(particle) == count(body > 0)
+    if (.not. ok) return
+    allocate(seen(size(body)), source=.false.)
+    do k = 1, size(particle)
+      ok = particle(k) >= 1 .and. particle(k) <= size(body)
+      if (ok) ok = body(particle(k)) > 0 .and. .not. seen(particle(k))
+      if (.not. ok) return
+      seen(particle(k)) = .true.
+    end do
+  end function free_permutation
+
+  !> The free particles (not `fixed`) in the locality order an operator of
+  !> these springs would take from these positions (`operator_from_springs`
+  !> with `position`; `order_min_bodies`, `order_crossing`), or none (size
+  !> 0) where it would keep the given order. For a caller that keeps one
+  !> order over many operators (`operator_from_springs` with `order`).
+  !> O(particles + springs).
+  function locality_order(position, springs, fixed) result(order)
+    real(dp), intent(in) :: position(:, :)
+    type(spring_block_type), intent(in) :: springs(:)
+    logical, intent(in), optional :: fixed(:)
+    integer, allocatable :: order(:)
+    integer, allocatable :: body(:)
+    integer :: i, nfree
+    allocate(body(size(position, 2)))
+    nfree = 0
+    do i = 1, size(body)
+      body(i) = 0
+      if (present(fixed)) then
+        if (fixed(i)) cycle
+      end if
+      nfree = nfree + 1
+      body(i) = nfree
+    end do
+    allocate(order(0))
+    if (nfree < order_min_bodies) return
+    if (.not. crossing_share(body, springs, product_block_bodies) > order_crossing) return
+    order = spatial_order(position, body > 0)
+  end function locality_order
+
   !> The share of the springs between two free bodies whose ends lie in two
   !> blocks of `block` bodies, body(i) the free body of particle i (0: none).
   function crossing_share(body, springs, block) result(share)
@@ -2426,19 +2487,18 @@ contains
   end function crossing_share
 
   !> The operator's locality numbering (`assembly_operator_type%order`): the
-  !> free bodies in `spatial_order` of their positions, body(i) renumbered
-  !> to match, and the springs by their first free end in the new numbering
-  !> (a stable counting sort; springs without a free end last). O(bodies +
-  !> springs).
-  subroutine locality_numbering(position, springs, body, order, spring_order)
-    real(dp), intent(in) :: position(:, :)
+  !> free bodies in the order of `particle` (the free particles, each once),
+  !> body(i) renumbered to match, and the springs by their first free end in
+  !> the new numbering (a stable counting sort; springs without a free end
+  !> last). O(bodies + springs).
+  subroutine locality_numbering(particle, springs, body, order, spring_order)
+    integer, intent(in) :: particle(:)
     type(spring_block_type), intent(in) :: springs(:)
     integer, intent(inout) :: body(:)
     integer, allocatable, intent(out) :: order(:), spring_order(:)
-    integer, allocatable :: particle(:), key(:), per_key(:)
+    integer, allocatable :: key(:), per_key(:)
     integer(i8), allocatable :: start(:)
     integer :: nfree, b, s, k
-    particle = spatial_order(position, body > 0)
     nfree = size(particle)
     allocate(order(nfree))
     do b = 1, nfree

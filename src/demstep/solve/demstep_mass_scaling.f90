@@ -221,7 +221,8 @@ contains
         scale(monitor%body_particle) = 1.0_dp + t
         if (inner > 1 .and. new_cuts == 0) exit
         call operator_from_springs(monitor%dim, monitor%last%rotation, mass*scale, base_inertia*scale, &
-          radius, monitor%springs(:monitor%n_springs), .false., op, rate_of_op, status, fixed)
+          radius, monitor%springs(:monitor%n_springs), .false., op, rate_of_op, status, fixed, &
+          order=monitor%order)
         if (status%stat /= demstep_stat%ok) return
         call mix_at_target()
       end do
@@ -288,7 +289,8 @@ contains
       fresh = .false.
       if (present(cold)) fresh = cold
       call operator_from_springs(monitor%dim, monitor%last%rotation, mass*factor, base_inertia*factor, &
-        radius, monitor%springs(:monitor%n_springs), .false., op, rate_of_op, status, fixed)
+        radius, monitor%springs(:monitor%n_springs), .false., op, rate_of_op, status, fixed, &
+        order=monitor%order)
       if (status%stat /= demstep_stat%ok) return
       result = critical_step_type()
       result%rotation = monitor%last%rotation

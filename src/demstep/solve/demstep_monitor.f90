@@ -59,7 +59,7 @@ module demstep_monitor
   use demstep_lanczos, only: lanczos_tolerance_default
   use demstep_scene_data, only: scene_type
   use demstep_packing, only: random_periodic_packing
-  use demstep_assembly, only: assembly_critical_steps
+  use demstep_assembly, only: assembly_critical_steps, locality_order
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
@@ -212,6 +212,13 @@ module demstep_monitor
     type(spring_block_type), allocatable :: springs(:)
     integer, allocatable :: body_particle(:), spring_row(:)
     integer :: n_springs = 0
+    !> The free particles in the order of the operator's bodies where its
+    !> locality order is taken (`locality_order`; size 0: the arrays' order),
+    !> chosen at the first update and kept while the particles and free
+    !> particles stay as many: the modes, rows and regions kept from update
+    !> to update are by body in this order.
+    integer, allocatable :: order(:)
+    integer :: order_n = -1, order_nfree = -1
     real(dp) :: rate = 0.0_dp
     !> The top mode per particle, proportional to its physical displacement
     !> and rotation times radius (6, particles; 0 for fixed ones): the check's
@@ -401,14 +408,19 @@ contains
     if (present(fixed)) nfree = count(.not. fixed)
     if (allocated(monitor%body_particle)) deallocate(monitor%body_particle)
     allocate(monitor%body_particle(nfree))
-    nfree = 0
-    do i = 1, size(mass)
-      if (present(fixed)) then
-        if (fixed(i)) cycle
-      end if
-      nfree = nfree + 1
-      monitor%body_particle(nfree) = i
-    end do
+    if (allocated(monitor%op%order)) then
+      ! (the operator's bodies in the monitor's locality order)
+      monitor%body_particle = monitor%order
+    else
+      nfree = 0
+      do i = 1, size(mass)
+        if (present(fixed)) then
+          if (fixed(i)) cycle
+        end if
+        nfree = nfree + 1
+        monitor%body_particle(nfree) = i
+      end do
+    end if
     if (monitor%last%eigen_computed) then
       monitor%omega2 = monitor%last%omega_max**2
       monitor%dt_limit = monitor%last%dt_critical_damped
@@ -1198,6 +1210,7 @@ contains
     real(dp), intent(in), optional :: wall_point(:, :), wall_normal(:, :), wall_k(:), wall_damping(:)
     logical, intent(in), optional :: periodic(:)
     real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
+    integer :: nfree
     monitor%rate = 0.0_dp
     rotation = .false.
     call check_solver_arrays(x, mass, radius, pairs, k_n, status, k_t, c_n, c_t, inertia, fixed, &
@@ -1207,12 +1220,32 @@ contains
       wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
     if (status%stat /= demstep_stat%ok) return
     associate(springs => monitor%springs(:monitor%n_springs))
+      ! (the bodies' order chosen again only when the particles or free
+      ! particles are not as many as when it was chosen)
+      nfree = size(mass)
+      if (present(fixed)) nfree = count(.not. fixed)
+      if (.not. allocated(monitor%order) .or. monitor%order_n /= size(mass) .or. monitor%order_nfree /= nfree) then
+        monitor%order = locality_order(x, springs, fixed)
+        monitor%order_n = size(mass)
+        monitor%order_nfree = nfree
+      end if
       if (present(inertia)) then
         call operator_from_springs(size(x, 1), rotation, mass, inertia, radius, springs, .false., monitor%op, &
-          monitor%rate, status, fixed)
+          monitor%rate, status, fixed, order=monitor%order)
       else
         call operator_from_springs(size(x, 1), rotation, mass, sphere_inertia(mass, radius), radius, springs, &
-          .false., monitor%op, monitor%rate, status, fixed)
+          .false., monitor%op, monitor%rate, status, fixed, order=monitor%order)
+      end if
+      if (status%stat == demstep_stat%invalid_input .and. status%where == "order") then
+        ! (the fixed particles changed at the same counts: an order afresh)
+        monitor%order = locality_order(x, springs, fixed)
+        if (present(inertia)) then
+          call operator_from_springs(size(x, 1), rotation, mass, inertia, radius, springs, .false., monitor%op, &
+            monitor%rate, status, fixed, order=monitor%order)
+        else
+          call operator_from_springs(size(x, 1), rotation, mass, sphere_inertia(mass, radius), radius, springs, &
+            .false., monitor%op, monitor%rate, status, fixed, order=monitor%order)
+        end if
       end if
     end associate
   end subroutine build_operator
