@@ -2219,7 +2219,7 @@ contains
     integer(i8), allocatable :: at(:, :)
     real(dp) :: k_scale, m_scale, c_scale, mdof(6)
     integer :: i, nfree, nc, s, e, t, nchunk, sc
-    integer(i8) :: p, count
+    integer(i8) :: p, ends_here
     logical :: touches, damped
     rate = 0.0_dp
     k_scale = 0.0_dp
@@ -2235,16 +2235,11 @@ contains
     op%nc = nc
     ! degrees of freedom: nc per free particle; the mass scale, the smallest
     ! mass of a component (`dof_masses`; each body's are scaled below)
-    allocate(body(size(mass)))
-    nfree = 0
+    body = free_numbers(size(mass), fixed)
+    nfree = count(body > 0)
     m_scale = huge(1.0_dp)
     do i = 1, size(mass)
-      body(i) = 0
-      if (present(fixed)) then
-        if (fixed(i)) cycle
-      end if
-      nfree = nfree + 1
-      body(i) = nfree
+      if (body(i) == 0) cycle
       mdof = dof_masses(mass(i), inertia(i), radius(i))
       m_scale = min(m_scale, minval(mdof(op%comp)))
     end do
@@ -2388,9 +2383,9 @@ contains
     do i = 1, nfree
       p = op%first(i)
       do t = 1, nchunk
-        count = at(i, t)
+        ends_here = at(i, t)
         at(i, t) = p
-        p = p + count
+        p = p + ends_here
       end do
       op%first(i + 1) = p
     end do
@@ -2415,6 +2410,23 @@ contains
     rate = sqrt(k_scale)/sqrt(m_scale)
     status%stat = demstep_stat%ok
   end subroutine operator_from_springs
+
+  !> Each of n particles' free-body number in particle order (0: `fixed`).
+  pure function free_numbers(n, fixed) result(body)
+    integer, intent(in) :: n
+    logical, intent(in), optional :: fixed(:)
+    integer :: body(n)
+    integer :: i, nfree
+    nfree = 0
+    do i = 1, n
+      body(i) = 0
+      if (present(fixed)) then
+        if (fixed(i)) cycle
+      end if
+      nfree = nfree + 1
+      body(i) = nfree
+    end do
+  end function free_numbers
 
   !> Whether `particle` lists each free particle (body(i) > 0) once.
   pure logical function free_permutation(particle, body) result(ok)
@@ -2444,19 +2456,9 @@ contains
     logical, intent(in), optional :: fixed(:)
     integer, allocatable :: order(:)
     integer, allocatable :: body(:)
-    integer :: i, nfree
-    allocate(body(size(position, 2)))
-    nfree = 0
-    do i = 1, size(body)
-      body(i) = 0
-      if (present(fixed)) then
-        if (fixed(i)) cycle
-      end if
-      nfree = nfree + 1
-      body(i) = nfree
-    end do
+    body = free_numbers(size(position, 2), fixed)
     allocate(order(0))
-    if (nfree < order_min_bodies) return
+    if (count(body > 0) < order_min_bodies) return
     if (.not. crossing_share(body, springs, product_block_bodies) > order_crossing) return
     order = spatial_order(position, body > 0)
   end function locality_order

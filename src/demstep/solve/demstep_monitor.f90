@@ -1211,6 +1211,7 @@ contains
     logical, intent(in), optional :: periodic(:)
     real(dp), intent(in), optional :: cell_lo(:), cell_hi(:)
     integer :: nfree
+    logical :: keep
     monitor%rate = 0.0_dp
     rotation = .false.
     call check_solver_arrays(x, mass, radius, pairs, k_n, status, k_t, c_n, c_t, inertia, fixed, &
@@ -1220,11 +1221,16 @@ contains
       wall_point, wall_normal, wall_k, wall_damping, periodic, cell_lo, cell_hi)
     if (status%stat /= demstep_stat%ok) return
     associate(springs => monitor%springs(:monitor%n_springs))
-      ! (the bodies' order chosen again only when the particles or free
-      ! particles are not as many as when it was chosen)
+      ! (the bodies' order kept while the particles and free particles are
+      ! as many and none it lists is fixed: it then lists the free ones)
       nfree = size(mass)
       if (present(fixed)) nfree = count(.not. fixed)
-      if (.not. allocated(monitor%order) .or. monitor%order_n /= size(mass) .or. monitor%order_nfree /= nfree) then
+      if (allocated(monitor%order)) then
+        keep = monitor%order_n == size(mass) .and. monitor%order_nfree == nfree
+        if (keep .and. present(fixed) .and. size(monitor%order) > 0) keep = .not. any(fixed(monitor%order))
+        if (.not. keep) deallocate(monitor%order)
+      end if
+      if (.not. allocated(monitor%order)) then
         monitor%order = locality_order(x, springs, fixed)
         monitor%order_n = size(mass)
         monitor%order_nfree = nfree
@@ -1235,17 +1241,6 @@ contains
       else
         call operator_from_springs(size(x, 1), rotation, mass, sphere_inertia(mass, radius), radius, springs, &
           .false., monitor%op, monitor%rate, status, fixed, order=monitor%order)
-      end if
-      if (status%stat == demstep_stat%invalid_input .and. status%where == "order") then
-        ! (the fixed particles changed at the same counts: an order afresh)
-        monitor%order = locality_order(x, springs, fixed)
-        if (present(inertia)) then
-          call operator_from_springs(size(x, 1), rotation, mass, inertia, radius, springs, .false., monitor%op, &
-            monitor%rate, status, fixed, order=monitor%order)
-        else
-          call operator_from_springs(size(x, 1), rotation, mass, sphere_inertia(mass, radius), radius, springs, &
-            .false., monitor%op, monitor%rate, status, fixed, order=monitor%order)
-        end if
       end if
     end associate
   end subroutine build_operator
