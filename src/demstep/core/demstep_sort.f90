@@ -144,39 +144,13 @@ contains
   !> `count_before` for default integers.
   pure integer function count_before_int(list, v, inclusive) result(n)
     integer, intent(in) :: list(:), v
-    logical, intent(in) :: inclusive
-    integer :: a, b, m
-    a = 0
-    b = size(list)
-    ! list(:a) before v, list(b + 1:) not
-    do while (a < b)
-      m = a + (b - a + 1)/2
-      if (list(m) < v .or. (inclusive .and. list(m) == v)) then
-        a = m
-      else
-        b = m - 1
-      end if
-    end do
-    n = a
+    include "count_before.inc"
   end function count_before_int
 
   !> `count_before` for 64-bit integers.
   pure integer function count_before_i8(list, v, inclusive) result(n)
     integer(i8), intent(in) :: list(:), v
-    logical, intent(in) :: inclusive
-    integer :: a, b, m
-    a = 0
-    b = size(list)
-    ! list(:a) before v, list(b + 1:) not
-    do while (a < b)
-      m = a + (b - a + 1)/2
-      if (list(m) < v .or. (inclusive .and. list(m) == v)) then
-        a = m
-      else
-        b = m - 1
-      end if
-    end do
-    n = a
+    include "count_before.inc"
   end function count_before_i8
 
 end module demstep_sort
