@@ -1486,10 +1486,7 @@ contains
       !$omp parallel do private(i, c) schedule(static) if(op%n_springs >= parallel_springs)
       do i = 1, op%n_bodies
         do c = 1, 6
-          ! raised by its rounding: a sum of nc (springs + 1) positive terms,
-          ! each product rounded a few times
-          r(6*(i - 1) + c) = r(6*(i - 1) + c)*op%w(c, i)*(1.0_dp + real(6*(op%first(i + 1) - op%first(i) &
-            + 1) + 4, dp)*epsilon(1.0_dp))
+          r(6*(i - 1) + c) = r(6*(i - 1) + c)*op%w(c, i)*abs_rounding(op, i)
         end do
       end do
       !$omp end parallel do
@@ -1523,13 +1520,20 @@ contains
         do q = 1, nc
           row = row + abs(d(op%comp(q), c))*op%w(op%comp(q), i)*v((i - 1)*nc + q)
         end do
-        ! (as above)
-        r((i - 1)*nc + c) = row*op%w(op%comp(c), i)*(1.0_dp + real(nc*(op%first(i + 1) - op%first(i) &
-          + 1) + 4, dp)*epsilon(1.0_dp))
+        r((i - 1)*nc + c) = row*op%w(op%comp(c), i)*abs_rounding(op, i)
       end do
     end do
     !$omp end parallel do
   end subroutine abs_product_own
+
+  !> The factor that raises body i's entries of |A'| v by their rounding: each
+  !> is a sum of nc (springs + 1) positive terms, each product rounded a few
+  !> times.
+  pure real(dp) function abs_rounding(op, i) result(f)
+    type(assembly_operator_type), intent(in) :: op
+    integer, intent(in) :: i
+    f = 1.0_dp + real(op%nc*(op%first(i + 1) - op%first(i) + 1) + 4, dp)*epsilon(1.0_dp)
+  end function abs_rounding
 
   !> The vectors' free body (the caller's numbering) of the operator's body
   !> b (`assembly_operator_type%order`).
@@ -2215,7 +2219,7 @@ contains
     !> then in that order too (`own_vectors`). Status invalid_input naming
     !> `order` when it does not list every free particle once.
     integer, intent(in), optional :: order(:)
-    integer, allocatable :: body(:)
+    integer, allocatable :: body(:), particle(:)
     integer(i8), allocatable :: at(:, :)
     real(dp) :: k_scale, m_scale, c_scale, mdof(6)
     integer :: i, nfree, nc, s, e, t, nchunk, sc
@@ -2289,9 +2293,9 @@ contains
         op%own_vectors = .true.
       end if
     else if (present(position)) then
-      if (nfree >= order_min_bodies .and. size(position, 2) == size(mass)) then
-        if (crossing_share(body, springs, product_block_bodies) > order_crossing) &
-          call locality_numbering(spatial_order(position, body > 0), springs, body, op%order, op%spring_order)
+      if (size(position, 2) == size(mass)) then
+        particle = locality_order(position, springs, fixed)
+        if (size(particle) > 0) call locality_numbering(particle, springs, body, op%order, op%spring_order)
       end if
     end if
 
