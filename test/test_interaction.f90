@@ -8,7 +8,8 @@ module test_interaction
   use demstep_neighbours, only: contact_list, spatial_order
   use demstep_assembly, only: assembly_matrix, eigen_solver_name, assembly_operator_apply, &
     assembly_operator, assembly_operator_type, assembly_matrix_rows, operator_set_blocks, operator_spring_energies, &
-    product_block_bodies, order_min_bodies, operator_products
+    product_block_bodies, order_min_bodies, operator_products, operator_from_springs, linearise, &
+    spring_block_type, hertz_linearization
   use demstep_assembly, only: operator_abs_product, operator_bound, operator_mix, bound_iterations
   use demstep_interaction, only: mixed_stiffness
   use demstep_kinds, only: pi
@@ -54,6 +55,8 @@ contains
         test_product_blocks), &
       new_unittest("operator in a locality order: products, energies, matrix, bound and mode in the caller's order", &
         test_locality_order), &
+      new_unittest("operator_from_springs with a given order: its vectors in it; bad orders refused by name", &
+        test_given_order), &
       new_unittest("springs linearised in parallel: the first overflowing contact in list order", &
         test_overflow_first), &
       new_unittest("Lanczos out of restarts: the bracket holds the chain's closed form", test_not_converged) &
@@ -1382,6 +1385,90 @@ contains
       1.0e-13_dp*mag), "2D, 0.5 A' + 2 B': product and matrix, largest difference over |A'||x| " &
       //real_str(maxval(abs(y(:, 1) - ref(:, 1))/max(mag, tiny(1.0_dp)))))
   end subroutine test_locality_order
+
+  !> `operator_from_springs` with the order given (a random 3D packing of
+  !> 40 spheres, 2 fixed, rotations): the free particles reversed give an
+  !> operator whose vectors are in that order: its A'x equals the given-order
+  !> operator's product of the same displacements, block for block, to 1e-13
+  !> of the sums of magnitudes; an order of size 0 keeps the given order.
+  !> Refused, invalid_input naming `order`: a free particle missing, one
+  !> listed twice, a fixed particle listed, a number out of range (0, n + 1).
+  subroutine test_given_order(error)
+    type(error_type), allocatable, intent(out) :: error
+    integer, parameter :: n = 40
+    type(scene_type) :: scene
+    type(spring_block_type), allocatable :: springs(:)
+    type(assembly_operator_type) :: plain, op
+    type(csr_matrix_type) :: matrix
+    type(demstep_status_type) :: status
+    real(dp), allocatable :: x(:), y(:), x_own(:), y_own(:), mag(:)
+    integer, allocatable :: order(:), ext(:), bad(:, :)
+    real(dp) :: rate
+    integer :: i, b, k, nc
+    call random_seed_fixed(31)
+    call random_packing(scene, n, 3, 0.3_dp, 0.6_dp)
+    scene%fixed(1:2) = .true.
+    call linearise(scene, hertz_linearization%current, 0.0_dp, .false., springs, status)
+    call check(error, status%stat, demstep_stat%ok, "linearise: "//status%message)
+    if (allocated(error)) return
+    call operator_from_springs(3, .true., scene%mass, scene%inertia, scene%radius, springs, .false., plain, &
+      rate, status, scene%fixed)
+    call check(error, status%stat == demstep_stat%ok .and. .not. allocated(plain%order), "the given order")
+    if (allocated(error)) return
+    ! the free particles reversed; ext(p): particle p's free number
+    order = [(i, i = n, 3, -1)]
+    allocate(ext(n))
+    ext = [(i - 2, i = 1, n)]
+    call operator_from_springs(3, .true., scene%mass, scene%inertia, scene%radius, springs, .false., op, &
+      rate, status, scene%fixed, order=order)
+    call check(error, status%stat == demstep_stat%ok .and. allocated(op%order) .and. op%own_vectors, &
+      "a given order taken: "//status%message)
+    if (allocated(error)) return
+    nc = op%nc
+    allocate(x(plain%n), y(plain%n), x_own(op%n), y_own(op%n), mag(plain%n))
+    call random_number(x)
+    x = x - 0.5_dp
+    do b = 1, size(order)
+      k = ext(order(b))
+      x_own((b - 1)*nc + 1:b*nc) = x((k - 1)*nc + 1:k*nc)
+    end do
+    call assembly_operator_apply(plain, x, y)
+    call assembly_operator_apply(op, x_own, y_own)
+    call assembly_matrix(plain, matrix)
+    call csr_abs_product(matrix, abs(x), mag)
+    do b = 1, size(order)
+      k = ext(order(b))
+      call check(error, all(abs(y_own((b - 1)*nc + 1:b*nc) - y((k - 1)*nc + 1:k*nc)) <= &
+        1.0e-13_dp*mag((k - 1)*nc + 1:k*nc)), "A'x in the given order, body "//int_text(b))
+      if (allocated(error)) return
+    end do
+    call operator_from_springs(3, .true., scene%mass, scene%inertia, scene%radius, springs, .false., op, &
+      rate, status, scene%fixed, order=[integer ::])
+    call check(error, status%stat == demstep_stat%ok .and. .not. allocated(op%order) .and. .not. op%own_vectors, &
+      "an empty order: the given one")
+    if (allocated(error)) return
+    ! missing one, one twice, a fixed one, out of range (low, high)
+    allocate(bad(n - 2, 2:5))
+    do k = 2, 5
+      bad(:, k) = order
+    end do
+    bad(1, 2) = bad(2, 2)
+    bad(1, 3) = 1
+    bad(1, 4) = 0
+    bad(1, 5) = n + 1
+    call operator_from_springs(3, .true., scene%mass, scene%inertia, scene%radius, springs, .false., op, &
+      rate, status, scene%fixed, order=order(2:))
+    call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "order", &
+      "a free particle missing: "//status%message)
+    if (allocated(error)) return
+    do k = 2, 5
+      call operator_from_springs(3, .true., scene%mass, scene%inertia, scene%radius, springs, .false., op, &
+        rate, status, scene%fixed, order=bad(:, k))
+      call check(error, status%stat == demstep_stat%invalid_input .and. status%where == "order", &
+        "bad order "//int_text(k)//" refused: "//status%message)
+      if (allocated(error)) return
+    end do
+  end subroutine test_given_order
 
   !> The contacts are linearised in parallel (above 4096 of them): a Hertz
   !> tangent stiffness that overflows (E* = 0.4 huge, sqrt(R* d) above 1.25)
