@@ -23,6 +23,8 @@ module test_lanczos_top
   use demstep_bloch, only: bloch_top
   use demstep_scene_builders, only: new_scene, scene_set_cell, scene_set_law
   use demstep_interaction, only: contact_law
+  use demstep_scene_input, only: scene_input_type, scene_setup_type, scene_from_input
+  use demstep_material, only: material_set_type
   use test_support, only: real_str
   implicit none
   private
@@ -34,6 +36,8 @@ contains
     type(unittest_type), allocatable, intent(out) :: testsuite(:)
     testsuite = [ &
       new_unittest("Bloch reference: the dense top of small tilings", test_reference), &
+      new_unittest("Yade's periodic packing from its tables, tiled 2 x 2 x 2: the top within tolerance", &
+        test_yade_tiling), &
       new_unittest("random packings tiled K = 3, 4, 6: the top within tolerance", test_tilings), &
       new_unittest("a light needle near the band's top, tiled: its cluster found", test_needle), &
       new_unittest("simple cubic lattices: a degenerate top found and certified", test_lattice) &
@@ -96,6 +100,37 @@ contains
       if (allocated(error)) return
     end do
   end subroutine test_tilings
+
+  !> The issue's case on a packing made elsewhere: Yade's periodic "random"
+  !> assembly (validation/yade: 600 spheres, the 1899 contacts Yade
+  !> integrated with their own k_n and k_t, rotations), read from its tables
+  !> as the app reads them and tiled 2 x 2 x 2 (4 800 spheres, 28 800 dof):
+  !> its top is a cluster of copies of the base's bands. (Bloch's reference
+  !> solves a dense 3600 x 3600 problem per wave vector: K = 3 takes 27 of
+  !> them, 100 s in the debug build, so K = 2.)
+  subroutine test_yade_tiling(error)
+    type(error_type), allocatable, intent(out) :: error
+    type(scene_input_type) :: input
+    type(material_set_type) :: set
+    type(scene_setup_type) :: setup
+    type(scene_type) :: base, tiled
+    type(demstep_status_type) :: status
+    integer :: part
+    input%dim = 3
+    input%particles_file = "validation/yade/data/random/particles.txt"
+    input%contacts_file = "validation/yade/data/random/contacts.txt"
+    input%periodic = [.true., .true., .true.]
+    input%cell_hi = spread(0.16332048070942493_dp, 1, 3)
+    call scene_from_input(input, set, base, setup, status, part)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    call check(error, base%n == 600 .and. base%effects(scene_effect%rotation), "Yade's 600 spheres, rotations")
+    if (allocated(error)) return
+    call tile_scene(base, [2, 2, 2], tiled, status)
+    call check(error, status%stat, demstep_stat%ok, status%message)
+    if (allocated(error)) return
+    call check_top(error, base, tiled, [2, 2, 2], "Yade's packing, K = 2")
+  end subroutine test_yade_tiling
 
   !> A light particle ("needle") whose own mode sits near the top of the
   !> bulk's band: tiled, its K^3 copies make a cluster of nearly equal
