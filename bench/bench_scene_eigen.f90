@@ -25,10 +25,18 @@
 !>
 !>   OPENBLAS_NUM_THREADS=1 fpm run --example bench_scene_eigen --profile release [-- MAX_PARTICLES [noscipy [APP [MIN_PARTICLES [random]]]]]
 !>
+!>   ... [-- MAX_PARTICLES [noscipy [APP [MIN_PARTICLES [random|tile [yade]]]]]]
+!>
 !> (MIN_PARTICLES: the cases below it are left out, e.g. 1000000 alone.
 !> `random`: the app's tables are written in a fixed random order, as a DEM
 !> code's dump by particle id lists a settled pile (particles permuted,
-!> contacts renamed and permuted), in /tmp/demstep_bench_app_random_N/.)
+!> contacts renamed and permuted), in /tmp/demstep_bench_app_random_N/.
+!> `yade`: the base is Yade's periodic "random" assembly instead
+!> (validation/yade/data/random, read as the app reads it: 600 spheres and
+!> the 1899 contacts Yade integrated, each with its own k_n and k_t), tiled
+!> K = 1, 2, 4, 6, 12 times along each axis; the app's tables, in
+!> /tmp/demstep_bench_app_yade_N/, list the tiled contacts with their own
+!> stiffness. Run it from the project's root.)
 program bench_scene_eigen
   use, intrinsic :: iso_fortran_env, only: output_unit
   use demstep_kinds, only: dp, i8
@@ -40,6 +48,8 @@ program bench_scene_eigen
   use demstep_assembly, only: assembly_critical_steps, critical_step_type, eigen_solver, &
     assembly_operator, assembly_operator_type, assembly_matrix
   use demstep_csr, only: csr_matrix_type
+  use demstep_scene_input, only: scene_input_type, scene_setup_type, scene_from_input
+  use demstep_material, only: material_set_type
   use demstep_results, only: read_result, result_get, result_group_type
   !$ use omp_lib, only: omp_set_num_threads
   implicit none
@@ -50,6 +60,8 @@ program bench_scene_eigen
   !> cases' peak memory)
   integer, parameter :: base(n_cases) = [1000, 1250, 800, 1000, 500]
   integer, parameter :: reps(3, n_cases) = reshape([1, 1, 1, 2, 2, 2, 5, 5, 5, 10, 10, 10, 1, 1, 1], [3, n_cases])
+  !> The Yade base's tilings (K along each axis: 600 K^3 spheres).
+  integer, parameter :: yade_k(5) = [1, 2, 4, 6, 12]
   integer, parameter :: dense_limit = 4000
   !> Runs of the app from files per case (the median is reported).
   integer, parameter :: app_repeats = 3
@@ -63,8 +75,8 @@ program bench_scene_eigen
   character(len=512) :: app
   real(dp) :: t_app, omega_app
   integer(i8) :: app_products
-  integer :: c, n_max, n_min, ios, threads
-  logical :: scipy, shuffled
+  integer :: c, n_max, n_min, ios, threads, nb, rp(3)
+  logical :: scipy, shuffled, yade
   real(dp) :: t_build, t_tile, t_bound, t_lanczos(2), t_dense, t_write, t_eigsh, lam_eigsh, omega_eigsh
   real(dp) :: t0, z, overlap, mb, peak_before
   character(len=48) :: memory
@@ -80,23 +92,41 @@ program bench_scene_eigen
   if (arg /= "") read(arg, *, iostat=ios) n_min
   call get_command_argument(5, arg)
   shuffled = arg == "random"
+  call get_command_argument(6, arg)
+  yade = arg == "yade"
   peak_before = 0.0_dp
 
-  write(output_unit, '(a)') "# random periodic packings (seed 1) tiled up; 6 DOF per particle; one run each;"
+  if (yade) then
+    write(output_unit, '(a)') "# Yade's periodic packing (validation/yade/data/random: its contacts, each with " &
+      //"its k_n and k_t) tiled up; 6 DOF per particle; one run each;"
+  else
+    write(output_unit, '(a)') "# random periodic packings (seed 1) tiled up; 6 DOF per particle; one run each;"
+  end if
   write(output_unit, '(a)') "# times in seconds; dt bound/limit = omega_max/omega_bound; the last columns compare " &
     //"omega_max: eigsh's (SciPy on A' from the file) and the base packing's against Lanczos'"
   write(output_unit, '(a)') "| particles | DOF | base x reps | z | mean overlap/r | build s | tile s | bound s " &
     //"| Lanczos 1 thr s | Lanczos 2 thr s | dense s | eigsh s | dt bound/limit | rel. residual " &
     //"| eigsh vs Lanczos | Lanczos vs base | MB peak | bytes/particle |"
   write(output_unit, '(a)') "|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
-  do c = 1, n_cases
-    if (base(c)*product(reps(:, c)) > n_max .or. base(c)*product(reps(:, c)) < n_min) cycle
+  do c = 1, merge(size(yade_k), n_cases, yade)
+    if (yade) then
+      nb = 600
+      rp = yade_k(c)
+    else
+      nb = base(c)
+      rp = reps(:, c)
+    end if
+    if (nb*product(rp) > n_max .or. nb*product(rp) < n_min) cycle
     t0 = progress_seconds()
-    call random_periodic_packing(packing, base(c), status, seed=1)
-    call require("random_periodic_packing")
+    if (yade) then
+      call read_yade(packing)
+    else
+      call random_periodic_packing(packing, nb, status, seed=1)
+      call require("random_periodic_packing")
+    end if
     t_build = progress_seconds() - t0
     t0 = progress_seconds()
-    call tile_scene(packing, reps(:, c), scene, status)
+    call tile_scene(packing, rp, scene, status)
     call require("tile_scene")
     t_tile = progress_seconds() - t0
     call network_statistics(packing, z, overlap)
@@ -147,7 +177,7 @@ program bench_scene_eigen
         //"; eigsh vs app omega_max "//trim(relative(omega_eigsh, omega_app))
     end if
     write(output_unit, '(a)') "| "//int_text(scene%n)//" | "//int_text(r_bound%n_dof)//" | "// &
-      int_text(base(c))//"x"//int_text(reps(1, c))//"x"//int_text(reps(2, c))//"x"//int_text(reps(3, c)) &
+      int_text(nb)//"x"//int_text(rp(1))//"x"//int_text(rp(2))//"x"//int_text(rp(3)) &
       //" | "//trim(fixed(z, 2))//" | "//trim(sci(overlap))//" | "//trim(fixed(t_build, 3))//" | " &
       //trim(fixed(t_tile, 3))//" | "//trim(fixed(t_bound, 3))//" | "//trim(fixed(t_lanczos(1), 3)) &
       //" | "//trim(fixed(t_lanczos(2), 3))//" | "//trim(fixed(t_dense, 3))//" | " &
@@ -162,6 +192,23 @@ program bench_scene_eigen
 
 contains
 
+  !> Yade's periodic "random" assembly from its tables (as the app's deck
+  !> `example/yade_random.nml` reads them).
+  subroutine read_yade(base_scene)
+    type(scene_type), intent(out) :: base_scene
+    type(scene_input_type) :: input
+    type(material_set_type) :: set
+    type(scene_setup_type) :: setup
+    integer :: part
+    input%dim = 3
+    input%particles_file = "validation/yade/data/random/particles.txt"
+    input%contacts_file = "validation/yade/data/random/contacts.txt"
+    input%periodic = [.true., .true., .true.]
+    input%cell_hi = spread(0.16332048070942493_dp, 1, 3)
+    call scene_from_input(input, set, base_scene, setup, status, part)
+    call require("Yade's tables")
+  end subroutine read_yade
+
   !> The app end to end from files (see the program's notes): the median wall
   !> time of `app_repeats` runs, its omega_max and products.
   subroutine run_app_files(s, app, t_app, omega, products)
@@ -173,16 +220,27 @@ contains
     integer, parameter :: chunk = 4000000
     character(len=chunk + 512) :: buf
     integer, allocatable :: ci(:), cj(:)
-    real(dp), allocatable :: cn(:, :), cd(:)
+    real(dp), allocatable :: cn(:, :), cd(:), kn(:), kt(:)
     real(dp) :: times(app_repeats), t0
     type(result_group_type) :: res
     integer, allocatable :: row_of(:), new_of(:), contact_at(:)
     integer :: unit, pos, i, r, k, exitstat, q
     dir = "/tmp/demstep_bench_app_"//int_text(s%n)
     if (shuffled) dir = "/tmp/demstep_bench_app_random_"//int_text(s%n)
+    if (yade) dir = "/tmp/demstep_bench_app_yade_"//int_text(s%n)
     call execute_command_line("mkdir -p "//dir, wait=.true.)
-    call contact_list(s, ci, cj, cn, cd, status)
-    call require("contact_list")
+    if (s%given_contacts) then
+      ! (the given contacts, each with its own stiffness)
+      ci = s%contact_pairs(1, :)
+      cj = s%contact_pairs(2, :)
+      kn = s%contact_k(1, :)
+      kt = s%contact_k(2, :)
+    else
+      call contact_list(s, ci, cj, cn, cd, status)
+      call require("contact_list")
+      kn = spread(s%k_normal, 1, size(ci))
+      kt = spread(s%k_tangential, 1, size(ci))
+    end if
     ! the rows' order: row_of(k) is the particle (contact_at(k) the contact)
     ! written k-th, new_of(i) particle i's row
     row_of = permutation(s%n, shuffled, 1)
@@ -231,10 +289,10 @@ contains
       call put_integer(buf, pos, new_of(cj(i)))
       pos = pos + 1
       buf(pos:pos) = " "
-      call put_real(buf, pos, s%k_normal)
+      call put_real(buf, pos, kn(i))
       pos = pos + 1
       buf(pos:pos) = " "
-      call put_real(buf, pos, s%k_tangential)
+      call put_real(buf, pos, kt(i))
       pos = pos + 1
       buf(pos:pos) = new_line("a")
       if (pos > chunk) then
