@@ -36,6 +36,7 @@ contains
     type(assembly_operator_type) :: op
     type(csr_matrix_type) :: m
     complex(dp), allocatable :: h(:, :)
+    complex(dp) :: phase
     real(dp), allocatable :: hr(:, :), vec(:)
     real(dp) :: box(3), kvec(3), shift(3), lam_k
     integer :: j(3), jm(3), r, bi, bj, nc, t
@@ -75,45 +76,35 @@ contains
       if (real_phases) then
         if (.not. allocated(hr)) allocate(hr(m%n, m%n), vec(m%n))
         hr = 0.0_dp
-        do r = 1, m%n
-          bi = (r - 1)/nc + 1
-          do p = m%row_start(r), m%row_start(r + 1) - 1
-            bj = (m%col(p) - 1)/nc + 1
-            shift = 0.0_dp
-            if (p - m%row_start(r) >= nc) then
-              where (base%periodic) shift = anint((base%x(:, bi) - base%x(:, bj))/box)
-            end if
-            ! (the phase exp(i k.shift) = (-1)^(sum of the shifts along axes where j = K/2))
-            if (mod(nint(sum(merge(shift, 0.0_dp, 2*j == reps))), 2) == 0) then
-              hr(r, m%col(p)) = hr(r, m%col(p)) + m%val(p)
-            else
-              hr(r, m%col(p)) = hr(r, m%col(p)) - m%val(p)
-            end if
-          end do
-        end do
-        call largest_eigenpair(hr, lam_k, vec, status)
-        if (status%stat /= demstep_stat%ok) return
-        lam = max(lam, lam_k)
-        cycle
+      else
+        if (.not. allocated(h)) allocate(h(m%n, m%n))
+        h = (0.0_dp, 0.0_dp)
       end if
-      if (.not. allocated(h)) allocate(h(m%n, m%n))
-      h = (0.0_dp, 0.0_dp)
       do r = 1, m%n
         bi = (r - 1)/nc + 1
         do p = m%row_start(r), m%row_start(r + 1) - 1
           bj = (m%col(p) - 1)/nc + 1
-          if (p - m%row_start(r) < nc) then
-            ! the body's own (diagonal) block
-            h(r, m%col(p)) = h(r, m%col(p)) + m%val(p)
-          else
-            ! the cells from body bi to the image of bj it touches
+          ! (1 on the body's own (diagonal) block; else from the cells from
+          ! body bi to the image of bj it touches)
+          phase = (1.0_dp, 0.0_dp)
+          if (p - m%row_start(r) >= nc) then
             shift = 0.0_dp
             where (base%periodic) shift = anint((base%x(:, bi) - base%x(:, bj))/box)
-            h(r, m%col(p)) = h(r, m%col(p)) + m%val(p)*exp(cmplx(0.0_dp, dot_product(kvec, shift), dp))
+            phase = exp(cmplx(0.0_dp, dot_product(kvec, shift), dp))
+          end if
+          if (real_phases) then
+            ! (the cosine of a multiple of pi, at its extremum: exactly +-1)
+            hr(r, m%col(p)) = hr(r, m%col(p)) + m%val(p)*real(phase, dp)
+          else
+            h(r, m%col(p)) = h(r, m%col(p)) + m%val(p)*phase
           end if
         end do
       end do
-      call largest_hermitian_eigenvalue(h, lam_k, status)
+      if (real_phases) then
+        call largest_eigenpair(hr, lam_k, vec, status)
+      else
+        call largest_hermitian_eigenvalue(h, lam_k, status)
+      end if
       if (status%stat /= demstep_stat%ok) return
       lam = max(lam, lam_k)
     end do
